@@ -1,0 +1,42 @@
+#include "sim/body.hpp"
+
+#include "sim/error.hpp"
+#include "sim/primitives.hpp"
+
+namespace simreel {
+
+const char* to_string(ShapeKind s) {
+  switch (s) {
+    case ShapeKind::box: return "box";
+    case ShapeKind::sphere: return "sphere";
+    case ShapeKind::cylinder: return "cylinder";
+    case ShapeKind::capsule: return "capsule";
+    case ShapeKind::mesh: return "mesh";
+  }
+  return "?";
+}
+
+MassProperties primitive_mass(const Collider& c, double rho) {
+  switch (c.shape) {
+    case ShapeKind::box: return box_mass(c.size, rho);
+    case ShapeKind::sphere: return sphere_mass(c.radius, rho);
+    case ShapeKind::cylinder: return cylinder_mass(c.radius, c.height, rho);
+    case ShapeKind::capsule: return capsule_mass(c.radius, c.height, rho);
+    case ShapeKind::mesh: break;
+  }
+  throw InputError("primitive_mass called for a mesh collider");
+}
+
+MassProperties compose(const std::vector<Collider>& colliders) {
+  MassAccumulator acc;
+  for (const Collider& c : colliders) acc.add(placed(c.props_C, c.q_BC.toRotationMatrix(), c.p_BC));
+  return acc.result();
+}
+
+const MassProperties& BodyDef::add_collider(Collider c) {
+  colliders.push_back(std::move(c));
+  mass_B_ = compose(colliders);
+  return mass_B_;
+}
+
+}  // namespace simreel

@@ -1,0 +1,54 @@
+// What a body is made of, before simulation: colliders placed in the body frame, composed into
+// the body's mass properties (the article's Collider and RigidBody::AddCollider).
+#pragma once
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "sim/mesh_mass.hpp"
+
+namespace simreel {
+
+enum class ShapeKind { box, sphere, cylinder, capsule, mesh };
+const char* to_string(ShapeKind s);
+
+struct Collider {
+  ShapeKind shape = ShapeKind::box;
+  Vec3 size = Vec3::Ones();  ///< m, box full extents
+  double radius = 0.5;       ///< m, sphere, cylinder, capsule
+  double height = 1.0;       ///< m, cylinder, capsule (tip to tip); axis along the collider's z
+  std::shared_ptr<const TriangleMesh> mesh;  ///< mesh shapes: the surface as weighed (mesh axes)
+  MassProperties props_C;    ///< in the collider frame C (mesh: mesh axes)
+  Vec3 p_BC = Vec3::Zero();  ///< m, collider frame origin in the body frame
+  Quat q_BC = Quat::Identity();
+  std::string label;  ///< for messages: "collider 2 (mesh assets/t.obj)"
+};
+
+// Collider mass properties for a primitive shape from its size and density (kg/m^3).
+MassProperties primitive_mass(const Collider& c, double density);
+
+struct BodyDef {
+  std::string name;
+  Vec3 p_WB = Vec3::Zero();      ///< m, body origin in the world (the article's m_position)
+  Quat q_WB = Quat::Identity();  ///< body to world
+  Vec3 v_W = Vec3::Zero();       ///< m/s, centre-of-mass velocity, world frame
+  Vec3 w_W = Vec3::Zero();       ///< rad/s, angular velocity, world frame
+  bool is_static = false;
+  std::array<float, 3> color{0.8f, 0.8f, 0.8f};  ///< linear RGB in [0, 1]
+  std::vector<Collider> colliders;
+
+  // The article's AddCollider: appends and returns the updated composite mass properties.
+  const MassProperties& add_collider(Collider c);
+  // Composite mass, centroid (the article's m_localCentroid) and inertia about it, body frame.
+  const MassProperties& mass_B() const { return mass_B_; }
+
+ private:
+  MassProperties mass_B_;
+};
+
+// The composition of a list of colliders (body frame): total mass, mass-weighted centroid,
+// inertia about it by the parallel axis theorem, each collider first rotated (R I R^T).
+MassProperties compose(const std::vector<Collider>& colliders);
+
+}  // namespace simreel

@@ -1,0 +1,14 @@
+// Bad input found while building a model (a mesh that is open, a negative mass, ...). Loaders
+// catch it and add where the input came from (file, line, key); the CLI maps it to exit code 2.
+#pragma once
+#include <stdexcept>
+#include <string>
+
+namespace simreel {
+
+class InputError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+}  // namespace simreel

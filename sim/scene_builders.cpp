@@ -1,0 +1,58 @@
+#include "sim/scene_builders.hpp"
+
+#include <cmath>
+
+#include "sim/primitives.hpp"
+
+namespace simreel {
+
+uint64_t SplitMix64::next() {
+  uint64_t z = (s += 0x9E3779B97F4A7C15ull);
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  return z ^ (z >> 31);
+}
+double SplitMix64::uniform() { return (double)(next() >> 11) * (1.0 / 9007199254740992.0); }
+double SplitMix64::uniform(double a, double b) { return a + (b - a) * uniform(); }
+
+BodyDef box_body(const char* name, const Vec3& size, double mass) {
+  BodyDef b;
+  b.name = name;
+  Collider c;
+  c.shape = ShapeKind::box;
+  c.size = size;
+  c.props_C = box_mass(size, mass / box_volume(size));
+  c.label = "box";
+  b.add_collider(c);
+  return b;
+}
+
+BodyDef r1_tumble_body() {
+  BodyDef b = box_body("tumbler", Vec3(3, 2, 1), 6.0);
+  b.w_W = Vec3(0.01, 5.0, 0.01);
+  return b;
+}
+
+std::vector<BodyDef> r2_free_boxes(int n, uint64_t seed) {
+  SplitMix64 rng(seed);
+  std::vector<BodyDef> v;
+  v.reserve(n);
+  const int side = (int)std::ceil(std::cbrt((double)n));
+  for (int i = 0; i < n; ++i) {
+    // Draw order as in the anchors: half extents, orientation, spin direction, spin rate.
+    const Vec3 half(rng.uniform(0.1, 0.5), rng.uniform(0.1, 0.5), rng.uniform(0.1, 0.5));
+    const Vec3 size = 2.0 * half;
+    BodyDef b = box_body("box", size, 1000.0 * box_volume(size));
+    b.name = "box" + std::to_string(i);
+    const int ix = i % side, iy = (i / side) % side, iz = i / (side * side);
+    b.p_WB = Vec3(3.0 * ix, 3.0 * iy, 3.0 * iz + 100.0);
+    const double qw = rng.uniform(-1, 1), qx = rng.uniform(-1, 1), qy = rng.uniform(-1, 1), qz = rng.uniform(-1, 1);
+    b.q_WB = Quat(qw, qx, qy, qz).normalized();
+    const double dx = rng.uniform(-1, 1), dy = rng.uniform(-1, 1), dz = rng.uniform(-1, 1);
+    b.w_W = Vec3(dx, dy, dz).normalized() * rng.uniform(0.0, 10.0);
+    v.push_back(std::move(b));
+  }
+  return v;
+}
+
+}  // namespace simreel

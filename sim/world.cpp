@@ -1,0 +1,353 @@
+#include "sim/world.hpp"
+
+#include <algorithm>
+#include <barrier>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+#include <thread>
+
+#include "sim/error.hpp"
+#include "sim/mass_properties.hpp"
+
+namespace simreel {
+
+const char* to_string(Stage s) {
+  switch (s) {
+    case Stage::forces: return "forces";
+    case Stage::integrate: return "integrate";
+    case Stage::clear: return "clear";
+    case Stage::check: return "check";
+    case Stage::derived: return "derived";
+    case Stage::count: break;
+  }
+  return "?";
+}
+
+// Persistent workers released by a barrier each step; the caller runs chunk 0 itself. Work is a
+// plain function pointer and context, so dispatch allocates nothing.
+class WorkerPool {
+ public:
+  using Fn = void (*)(void* ctx, int chunk, int chunks);
+  explicit WorkerPool(int threads) : n_(threads), start_(threads), done_(threads) {
+    for (int c = 1; c < n_; ++c)
+      workers_.emplace_back([this, c] {
+        for (;;) {
+          start_.arrive_and_wait();
+          if (quit_) return;
+          fn_(ctx_, c, n_);
+          done_.arrive_and_wait();
+        }
+      });
+  }
+  ~WorkerPool() {
+    quit_ = true;
+    start_.arrive_and_wait();
+    for (auto& t : workers_) t.join();
+  }
+  void run(Fn fn, void* ctx) {
+    fn_ = fn;
+    ctx_ = ctx;
+    start_.arrive_and_wait();
+    fn_(ctx_, 0, n_);
+    done_.arrive_and_wait();
+  }
+
+ private:
+  int n_;
+  std::barrier<> start_, done_;
+  Fn fn_ = nullptr;
+  void* ctx_ = nullptr;
+  bool quit_ = false;
+  std::vector<std::thread> workers_;
+};
+
+namespace {
+
+std::string body_label(const std::vector<BodyDef>& defs, int i) {
+  return "body " + std::to_string(i) + " ('" + defs[i].name + "')";
+}
+
+struct Timer {
+  bool on;
+  double* acc;
+  std::chrono::steady_clock::time_point t0;
+  Timer(bool enabled, double* sink) : on(enabled), acc(sink) {
+    if (on) t0 = std::chrono::steady_clock::now();
+  }
+  ~Timer() {
+    if (on) *acc += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
+};
+
+}  // namespace
+
+World::World(const WorldConfig& config, std::vector<BodyDef> bodies) : cfg_(config), defs_(std::move(bodies)) {
+  if (!(cfg_.dt > 0) || !std::isfinite(cfg_.dt)) throw InputError("timestep must be a positive number");
+  if (!all_finite(cfg_.gravity)) throw InputError("gravity must be finite");
+  if (cfg_.threads < 1) throw InputError("threads must be at least 1");
+  const int n = (int)defs_.size();
+  model_.resize(n);
+  state_.resize(n);
+  wrench_.resize(n);
+  inv_I_W_.assign(n, Mat3::Zero());
+  spin_warned_.assign(n, 0);
+  for (int i = 0; i < n; ++i) {
+    const BodyDef& d = defs_[i];
+    BodyModel& m = model_[i];
+    MotionState& s = state_[i];
+    if (!all_finite(d.p_WB) || !all_finite(d.v_W) || !all_finite(d.w_W) || !d.q_WB.coeffs().allFinite())
+      throw InputError(body_label(defs_, i) + ": initial state is not finite");
+    if (std::fabs(d.q_WB.norm() - 1.0) > 1e-6)
+      throw InputError(body_label(defs_, i) + ": orientation quaternion is not unit length (norm " +
+                       std::to_string(d.q_WB.norm()) + ")");
+    if (d.colliders.empty()) throw InputError(body_label(defs_, i) + " has no colliders");
+    const MassProperties mp = compose(d.colliders);
+    if (!(mp.mass > 0) || !std::isfinite(mp.mass))
+      throw InputError(body_label(defs_, i) + ": mass must be positive");
+    const std::string bad = inertia_problem(mp.inertia, 1e-7);
+    if (!bad.empty()) throw InputError(body_label(defs_, i) + ": " + bad);
+    const PrincipalAxes pa = principal_axes(mp.inertia);
+    m.mass = mp.mass;
+    m.c_B = mp.com;
+    m.I_P = pa.moments;
+    m.q_BP = Quat(pa.R).normalized();
+    m.is_static = d.is_static;
+    m.inv_mass = d.is_static ? 0.0 : 1.0 / mp.mass;
+    m.inv_I_P = d.is_static ? Vec3::Zero() : Vec3(pa.moments.cwiseInverse());
+    m.isotropic = (pa.moments.maxCoeff() - pa.moments.minCoeff()) <= 1e-12 * pa.moments.maxCoeff();
+    const Vec3& I = pa.moments;
+    m.gyro_rate = std::max({1.0, std::fabs(I[1] - I[2]) / I[0], std::fabs(I[2] - I[0]) / I[1],
+                            std::fabs(I[0] - I[1]) / I[2]});
+    const Quat q_WB = d.q_WB.normalized();
+    s.q_WP = (q_WB * m.q_BP).normalized();
+    s.x_W = d.p_WB + q_WB * m.c_B;
+    s.v_W = d.is_static ? Vec3::Zero() : d.v_W;
+    s.w_P = d.is_static ? Vec3::Zero() : Vec3(s.q_WP.conjugate() * d.w_W);
+    if (!d.is_static) dynamic_.push_back(i);
+  }
+  if (cfg_.threads > 1) pool_ = std::make_unique<WorkerPool>(cfg_.threads);
+  check_spin();
+}
+
+World::~World() = default;
+
+// ------------------------------------------------------------------ the step pipeline
+void World::step() {
+  double* sec = profile_.seconds;
+  profile_.skipped[(int)Stage::forces]++;  // no force fields yet: gravity is applied in integrate
+  {
+    Timer t(profiling_, &sec[(int)Stage::integrate]);
+    stage_integrate();
+  }
+  profile_.runs[(int)Stage::integrate]++;
+  if (wrench_dirty_) {
+    Timer t(profiling_, &sec[(int)Stage::clear]);
+    stage_clear();
+    profile_.runs[(int)Stage::clear]++;
+  } else {
+    profile_.skipped[(int)Stage::clear]++;
+  }
+  ++steps_;
+  {
+    Timer t(profiling_, &sec[(int)Stage::check]);
+    stage_check();
+  }
+  profile_.runs[(int)Stage::check]++;
+  if (keep_derived_) {
+    Timer t(profiling_, &sec[(int)Stage::derived]);
+    stage_derived();
+    profile_.runs[(int)Stage::derived]++;
+  } else {
+    profile_.skipped[(int)Stage::derived]++;
+  }
+  profile_.steps++;
+}
+
+void World::stage_integrate() {
+  const Wrench* wr = wrench_dirty_ ? wrench_.data() : nullptr;
+  if (!pool_) {
+    integrate(cfg_.integrator, dynamic_.data(), (int)dynamic_.size(), state_.data(), model_.data(), wr,
+              cfg_.gravity, cfg_.dt);
+    return;
+  }
+  struct Ctx {
+    World* w;
+    const Wrench* wr;
+  } ctx{this, wr};
+  pool_->run(
+      [](void* p, int c, int nc) {
+        Ctx& x = *static_cast<Ctx*>(p);
+        const long n = (long)x.w->dynamic_.size();
+        const int b = (int)(n * c / nc), e = (int)(n * (c + 1) / nc);
+        integrate(x.w->cfg_.integrator, x.w->dynamic_.data() + b, e - b, x.w->state_.data(), x.w->model_.data(),
+                  x.wr, x.w->cfg_.gravity, x.w->cfg_.dt);
+      },
+      &ctx);
+}
+
+void World::stage_clear() {
+  for (Wrench& w : wrench_) w = Wrench{};
+  wrench_dirty_ = false;
+}
+
+void World::stage_check() const {
+  // One running sum over the values every integrator writes: a NaN or inf anywhere in a body's
+  // state reaches its orientation or centroid within the step, and then the sum.
+  double sum = 0;
+  for (int i : dynamic_) {
+    const MotionState& s = state_[i];
+    sum += s.q_WP.w() + s.x_W.x() + s.x_W.y() + s.x_W.z();
+  }
+  if (!std::isfinite(sum)) check_state();
+}
+
+void World::stage_derived() {
+  for (int i : dynamic_) inv_I_W_[i] = inverse_inertia_world(i);
+}
+
+void World::check_state() const {
+  for (int i : dynamic_) {
+    const MotionState& s = state_[i];
+    const char* what = !s.q_WP.coeffs().allFinite() ? "orientation"
+                       : !all_finite(s.x_W)         ? "position"
+                       : !all_finite(s.v_W)         ? "linear velocity"
+                       : !all_finite(s.w_P)         ? "angular velocity"
+                                                    : nullptr;
+    if (what) {
+      std::ostringstream os;
+      os << body_label(defs_, i) << ": " << what << " became non-finite (NaN or infinity) at t = " << time()
+         << " s (step " << steps_ << ")";
+      throw StateError(os.str());
+    }
+  }
+}
+
+void World::check_spin(double max_angle) {
+  for (int i : dynamic_) {
+    const double a = state_[i].w_P.norm() * cfg_.dt;
+    if (a > max_angle && !spin_warned_[i]) {
+      spin_warned_[i] = 1;
+      std::ostringstream os;
+      os << body_label(defs_, i) << " turns " << a << " rad per step at t = " << time()
+         << " s; the rotation is under-resolved, use a timestep below " << max_angle / state_[i].w_P.norm() << " s";
+      warnings_.push_back(os.str());
+    }
+  }
+}
+
+// ------------------------------------------------------------------ the article's interface
+Quat World::orientation(int i) const { return state_[i].q_WP * model_[i].q_BP.conjugate(); }
+
+void World::set_orientation(int i, const Quat& q_WB) {
+  const Vec3 p = origin_position(i);
+  const Vec3 w = angular_velocity(i);
+  state_[i].q_WP = (q_WB.normalized() * model_[i].q_BP).normalized();
+  set_origin_position(i, p);
+  set_angular_velocity(i, w);
+}
+
+Vec3 World::origin_position(int i) const { return state_[i].x_W - orientation(i) * model_[i].c_B; }
+
+void World::set_origin_position(int i, const Vec3& p_W) { state_[i].x_W = p_W + orientation(i) * model_[i].c_B; }
+
+Vec3 World::local_to_world(int i, const Vec3& p_B) const { return orientation(i) * p_B + origin_position(i); }
+Vec3 World::world_to_local(int i, const Vec3& p_W) const {
+  return orientation(i).conjugate() * (p_W - origin_position(i));
+}
+Vec3 World::local_to_world_vec(int i, const Vec3& v_B) const { return orientation(i) * v_B; }
+Vec3 World::world_to_local_vec(int i, const Vec3& v_W) const { return orientation(i).conjugate() * v_W; }
+
+void World::set_angular_velocity(int i, const Vec3& w_W) {
+  state_[i].w_P = model_[i].is_static ? Vec3::Zero() : Vec3(state_[i].q_WP.conjugate() * w_W);
+}
+
+Vec3 World::angular_momentum(int i) const {
+  return state_[i].q_WP * Vec3(model_[i].I_P.cwiseProduct(state_[i].w_P));
+}
+
+Mat3 World::inverse_inertia_world(int i) const {
+  const Mat3 R = state_[i].q_WP.toRotationMatrix();
+  return R * model_[i].inv_I_P.asDiagonal() * R.transpose();
+}
+
+Mat3 World::inertia_world(int i) const {
+  const Mat3 R = state_[i].q_WP.toRotationMatrix();
+  return R * model_[i].I_P.asDiagonal() * R.transpose();
+}
+
+Wrench& World::wrench(int i) {
+  wrench_dirty_ = true;
+  return wrench_[i];
+}
+
+void World::apply_force(int i, const Vec3& f_W, const Vec3& at_W) {
+  Wrench& w = wrench(i);
+  w.f_W += f_W;
+  w.tau_W += (at_W - state_[i].x_W).cross(f_W);
+}
+
+void World::apply_force_local(int i, const Vec3& f_B, const Vec3& at_B) {
+  apply_force(i, local_to_world_vec(i, f_B), local_to_world(i, at_B));
+}
+
+void World::apply_central_force(int i, const Vec3& f_W) { wrench(i).f_W += f_W; }
+
+void World::apply_torque(int i, const Vec3& tau_W) { wrench(i).tau_W += tau_W; }
+
+void World::apply_impulse(int i, const Vec3& J_W, const Vec3& at_W) {
+  if (model_[i].is_static) return;
+  state_[i].v_W += model_[i].inv_mass * J_W;
+  apply_angular_impulse(i, (at_W - state_[i].x_W).cross(J_W));
+}
+
+void World::apply_angular_impulse(int i, const Vec3& dL_W) {
+  if (model_[i].is_static) return;
+  state_[i].w_P += model_[i].inv_I_P.cwiseProduct(state_[i].q_WP.conjugate() * dL_W);
+}
+
+void World::normalize_orientation(int i) { state_[i].q_WP.normalize(); }
+
+// ------------------------------------------------------------------ whole-world quantities
+double World::kinetic_energy() const {
+  double e = 0;
+  for (int i : dynamic_) {
+    const BodyModel& m = model_[i];
+    const MotionState& s = state_[i];
+    e += 0.5 * m.mass * s.v_W.squaredNorm() + 0.5 * s.w_P.dot(m.I_P.cwiseProduct(s.w_P));
+  }
+  return e;
+}
+
+double World::potential_energy() const {
+  double e = 0;
+  for (int i : dynamic_) e -= model_[i].mass * cfg_.gravity.dot(state_[i].x_W);
+  return e;
+}
+
+Vec3 World::total_momentum() const {
+  Vec3 p = Vec3::Zero();
+  for (int i : dynamic_) p += model_[i].mass * state_[i].v_W;
+  return p;
+}
+
+Vec3 World::total_angular_momentum() const {
+  // About the system's centre of mass: uniform gravity exerts no torque about it, so this is
+  // conserved in free flight whatever the gravity.
+  double M = 0;
+  Vec3 X = Vec3::Zero(), V = Vec3::Zero();
+  for (int i : dynamic_) {
+    M += model_[i].mass;
+    X += model_[i].mass * state_[i].x_W;
+    V += model_[i].mass * state_[i].v_W;
+  }
+  if (M == 0) return Vec3::Zero();
+  X /= M;
+  V /= M;
+  Vec3 L = Vec3::Zero();
+  for (int i : dynamic_)
+    L += model_[i].mass * (state_[i].x_W - X).cross(state_[i].v_W - V) + angular_momentum(i);
+  return L;
+}
+
+}  // namespace simreel
