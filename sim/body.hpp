@@ -6,6 +6,9 @@
 #include <string>
 #include <vector>
 
+#include <optional>
+
+#include "sim/integrators.hpp"
 #include "sim/mesh_mass.hpp"
 
 namespace simreel {
@@ -35,6 +38,7 @@ struct BodyDef {
   Vec3 v_W = Vec3::Zero();       ///< m/s, centre-of-mass velocity, world frame
   Vec3 w_W = Vec3::Zero();       ///< rad/s, angular velocity, world frame
   bool is_static = false;
+  std::optional<Integrator> integrator;  ///< overrides the world's for this body (side-by-side demos)
   std::array<float, 3> color{0.8f, 0.8f, 0.8f};  ///< linear RGB in [0, 1]
   std::vector<Collider> colliders;
 

@@ -124,7 +124,13 @@ World::World(const WorldConfig& config, std::vector<BodyDef> bodies) : cfg_(conf
     s.x_W = d.p_WB + q_WB * m.c_B;
     s.v_W = d.is_static ? Vec3::Zero() : d.v_W;
     s.w_P = d.is_static ? Vec3::Zero() : Vec3(s.q_WP.conjugate() * d.w_W);
-    if (!d.is_static) dynamic_.push_back(i);
+    if (!d.is_static) {
+      dynamic_.push_back(i);
+      const Integrator method = d.integrator.value_or(cfg_.integrator);
+      auto g = std::find_if(groups_.begin(), groups_.end(), [&](const Group& x) { return x.method == method; });
+      if (g == groups_.end()) g = groups_.insert(groups_.end(), Group{method, {}});
+      g->bodies.push_back(i);
+    }
   }
   if (cfg_.threads > 1) pool_ = std::make_unique<WorkerPool>(cfg_.threads);
   check_spin();
@@ -166,24 +172,27 @@ void World::step() {
 
 void World::stage_integrate() {
   const Wrench* wr = wrench_dirty_ ? wrench_.data() : nullptr;
-  if (!pool_) {
-    integrate(cfg_.integrator, dynamic_.data(), (int)dynamic_.size(), state_.data(), model_.data(), wr,
-              cfg_.gravity, cfg_.dt);
-    return;
+  for (const Group& g : groups_) {
+    if (!pool_) {
+      integrate(g.method, g.bodies.data(), (int)g.bodies.size(), state_.data(), model_.data(), wr, cfg_.gravity,
+                cfg_.dt);
+      continue;
+    }
+    struct Ctx {
+      World* w;
+      const Group* g;
+      const Wrench* wr;
+    } ctx{this, &g, wr};
+    pool_->run(
+        [](void* p, int c, int nc) {
+          Ctx& x = *static_cast<Ctx*>(p);
+          const long n = (long)x.g->bodies.size();
+          const int b = (int)(n * c / nc), e = (int)(n * (c + 1) / nc);
+          integrate(x.g->method, x.g->bodies.data() + b, e - b, x.w->state_.data(), x.w->model_.data(), x.wr,
+                    x.w->cfg_.gravity, x.w->cfg_.dt);
+        },
+        &ctx);
   }
-  struct Ctx {
-    World* w;
-    const Wrench* wr;
-  } ctx{this, wr};
-  pool_->run(
-      [](void* p, int c, int nc) {
-        Ctx& x = *static_cast<Ctx*>(p);
-        const long n = (long)x.w->dynamic_.size();
-        const int b = (int)(n * c / nc), e = (int)(n * (c + 1) / nc);
-        integrate(x.w->cfg_.integrator, x.w->dynamic_.data() + b, e - b, x.w->state_.data(), x.w->model_.data(),
-                  x.wr, x.w->cfg_.gravity, x.w->cfg_.dt);
-      },
-      &ctx);
 }
 
 void World::stage_clear() {

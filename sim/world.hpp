@@ -125,6 +125,11 @@ class World {
   std::vector<Wrench> wrench_;
   std::vector<Mat3> inv_I_W_;
   std::vector<int> dynamic_;  ///< indices of dynamic bodies, ascending
+  struct Group {
+    Integrator method;
+    std::vector<int> bodies;  ///< ascending
+  };
+  std::vector<Group> groups_;  ///< dynamic bodies by integrator, in order of first use
   std::vector<char> spin_warned_;
   std::vector<std::string> warnings_;
   bool wrench_dirty_ = false;

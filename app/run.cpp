@@ -1,0 +1,90 @@
+#include "app/run.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include "app/text.hpp"
+
+namespace simreel {
+
+FramePlan plan_frames(double duration, double dt, double fps) {
+  FramePlan p;
+  // The 1e-9 slack keeps exact multiples (20 s / (1/240)) from gaining a step to rounding.
+  p.total_steps = (long)std::ceil(duration / dt - 1e-9);
+  const long frames = (long)std::floor(duration * fps + 1e-9) + 1;
+  p.frame_step.resize(frames);
+  for (long k = 0; k < frames; ++k) {
+    const long s = (long)std::ceil((double)k / fps / dt - 1e-9);
+    p.frame_step[k] = std::min(s, p.total_steps);
+  }
+  return p;
+}
+
+Drift::Drift(const World& w) : E0_(w.kinetic_energy() + w.potential_energy()), L0_(w.total_angular_momentum()) {
+  scale_ = std::max(std::fabs(E0_), w.kinetic_energy());
+}
+
+void Drift::sample(const World& w) {
+  const double ke = w.kinetic_energy();
+  scale_ = std::max(scale_, ke);
+  max_dE_ = std::max(max_dE_, std::fabs(ke + w.potential_energy() - E0_));
+  max_dL_ = std::max(max_dL_, (w.total_angular_momentum() - L0_).norm());
+}
+
+double Drift::energy_rel() const { return scale_ > 0 ? max_dE_ / scale_ : 0.0; }
+double Drift::momentum_rel() const { return L0_.norm() > 0 ? max_dL_ / L0_.norm() : max_dL_; }
+
+WorldConfig world_config(const Scene& s, int threads) {
+  WorldConfig c;
+  c.dt = s.timestep;
+  c.gravity = s.gravity;
+  c.integrator = s.integrator;
+  c.threads = threads;
+  return c;
+}
+
+std::string summary_text(const RunSummary& s) {
+  std::ostringstream o;
+  o << s.scene << ": " << s.steps << " steps of " << s.timestep << " s (" << to_string(s.integrator) << "), "
+    << s.bodies << " bodies (" << s.dynamic_bodies << " dynamic), " << s.frames << " frames\n";
+  o << "  stepping: " << s.step_seconds << " s wall";
+  if (s.steps > 0 && s.step_seconds > 0) o << " (" << s.step_seconds / s.steps * 1e6 << " us/step)";
+  o << "\n";
+  if (s.render_seconds >= 0) o << "  rendering: " << s.render_seconds << " s, encoding thread busy " << s.encode_seconds << " s\n";
+  o << "  energy drift: " << s.energy_rel_drift << " (relative), angular momentum drift: " << s.momentum_rel_drift << "\n";
+  if (s.profile) {
+    o << "  profile (stage: seconds, steps run, steps skipped):\n";
+    for (int i = 0; i < (int)Stage::count; ++i)
+      o << "    " << to_string((Stage)i) << ": " << s.profile->seconds[i] << " s, " << s.profile->runs[i] << ", "
+        << s.profile->skipped[i] << "\n";
+  }
+  for (const std::string& w : s.warnings) o << "  warning: " << w << "\n";
+  if (!s.output.empty()) o << "  wrote " << s.output << "\n";
+  return o.str();
+}
+
+std::string summary_json(const RunSummary& s) {
+  std::ostringstream o;
+  o << "{\"scene\": " << json_string(s.scene) << ", \"integrator\": " << json_string(to_string(s.integrator))
+    << ", \"timestep\": " << json_number(s.timestep) << ", \"duration\": " << json_number(s.duration)
+    << ", \"steps\": " << s.steps << ", \"bodies\": " << s.bodies << ", \"dynamic_bodies\": " << s.dynamic_bodies
+    << ", \"frames\": " << s.frames << ", \"step_seconds\": " << json_number(s.step_seconds)
+    << ", \"energy_rel_drift\": " << json_number(s.energy_rel_drift)
+    << ", \"momentum_rel_drift\": " << json_number(s.momentum_rel_drift);
+  if (s.render_seconds >= 0)
+    o << ", \"render_seconds\": " << json_number(s.render_seconds)
+      << ", \"encode_seconds\": " << json_number(s.encode_seconds);
+  if (s.profile) {
+    o << ", \"profile\": {";
+    for (int i = 0; i < (int)Stage::count; ++i)
+      o << (i ? ", " : "") << json_string(to_string((Stage)i)) << ": {\"seconds\": "
+        << json_number(s.profile->seconds[i]) << ", \"runs\": " << s.profile->runs[i]
+        << ", \"skipped\": " << s.profile->skipped[i] << "}";
+    o << "}";
+  }
+  if (!s.output.empty()) o << ", \"output\": " << json_string(s.output);
+  o << ", \"warnings\": " << json_strings(s.warnings) << "}";
+  return o.str();
+}
+
+}  // namespace simreel

@@ -1,0 +1,52 @@
+// Running a scene: the frame schedule, conservation bookkeeping and the summary both commands share.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "app/scene.hpp"
+#include "sim/world.hpp"
+
+namespace simreel {
+
+// Frame k shows simulation time k / fps; it is taken after the first step whose time reaches it
+// (physics keeps its own fixed step). Frames run from t = 0 to the last k / fps <= duration.
+struct FramePlan {
+  long total_steps = 0;           ///< ceil(duration / dt)
+  std::vector<long> frame_step;   ///< step count at which frame k is taken
+};
+FramePlan plan_frames(double duration, double dt, double fps);
+
+// Energy (kinetic + gravitational) and angular momentum about the system's centre of mass,
+// sampled along the run. Relative drift: max |E - E0| / max(|E0|, max KE) and max |L - L0| / |L0|.
+class Drift {
+ public:
+  explicit Drift(const World& w);
+  void sample(const World& w);
+  double energy_rel() const;
+  double momentum_rel() const;
+
+ private:
+  double E0_, scale_, max_dE_ = 0, max_dL_ = 0;
+  Vec3 L0_;
+};
+
+WorldConfig world_config(const Scene& s, int threads);
+
+// The summary of a run: text for people, one JSON object for scripts.
+struct RunSummary {
+  std::string scene;
+  Integrator integrator;
+  double timestep = 0, duration = 0;
+  long steps = 0;
+  int bodies = 0, dynamic_bodies = 0, frames = 0;
+  double step_seconds = 0;  ///< wall time inside World::step only
+  double energy_rel_drift = 0, momentum_rel_drift = 0;
+  std::vector<std::string> warnings;
+  const Profile* profile = nullptr;  ///< set with --profile
+  double render_seconds = -1, encode_seconds = -1;  ///< render command only
+  std::string output;
+};
+std::string summary_text(const RunSummary& s);
+std::string summary_json(const RunSummary& s);
+
+}  // namespace simreel

@@ -1,0 +1,402 @@
+#include "app/scene.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <set>
+#include <sstream>
+
+#include "app/mesh_import.hpp"
+#include "sim/error.hpp"
+#include "sim/primitives.hpp"
+
+namespace simreel {
+
+namespace fs = std::filesystem;
+
+std::optional<std::string> nearest(const std::string& w, const std::vector<std::string>& cands) {
+  auto dist = [](const std::string& a, const std::string& b) {
+    std::vector<size_t> row(b.size() + 1);
+    for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+    for (size_t i = 1; i <= a.size(); ++i) {
+      size_t prev = row[0];
+      row[0] = i;
+      for (size_t j = 1; j <= b.size(); ++j) {
+        const size_t cur = row[j];
+        row[j] = std::min({row[j] + 1, row[j - 1] + 1, prev + (a[i - 1] == b[j - 1] ? 0 : 1)});
+        prev = cur;
+      }
+    }
+    return row[b.size()];
+  };
+  std::optional<std::string> best;
+  size_t bd = std::max<size_t>(2, w.size() / 3) + 1;
+  for (const std::string& c : cands) {
+    const size_t d = dist(w, c);
+    if (d < bd) bd = d, best = c;
+  }
+  return best;
+}
+
+namespace {
+
+// Where a value sits: the file, its line and column, and the dotted key path to it.
+class Ctx {
+ public:
+  Ctx(std::string file, std::string key) : file_(std::move(file)), key_(std::move(key)) {}
+  Ctx child(const std::string& k) const { return Ctx(file_, key_.empty() ? k : key_ + "." + k); }
+  Ctx index(size_t i) const { return Ctx(file_, key_ + "[" + std::to_string(i) + "]"); }
+  [[noreturn]] void fail(const YAML::Node& n, const std::string& what) const {
+    std::ostringstream os;
+    os << file_;
+    if (n.IsDefined() && n.Mark().line >= 0) os << ":" << n.Mark().line + 1 << ":" << n.Mark().column + 1;
+    os << ": " << (key_.empty() ? std::string("scene") : key_) << ": " << what;
+    throw InputError(os.str());
+  }
+  const std::string& key() const { return key_; }
+  const std::string& file() const { return file_; }
+
+ private:
+  std::string file_, key_;
+};
+
+std::string show(const YAML::Node& n) {
+  if (n.IsScalar()) return "'" + n.Scalar() + "'";
+  if (n.IsSequence()) return "a list";
+  if (n.IsMap()) return "a mapping";
+  return "nothing";
+}
+
+// Every key of a mapping must be known; a typo gets the nearest known key suggested.
+void check_keys(const YAML::Node& map, const Ctx& c, const std::vector<std::string>& known) {
+  if (!map.IsMap()) c.fail(map, "expected a mapping of keys, got " + show(map));
+  for (const auto& kv : map) {
+    const std::string k = kv.first.as<std::string>();
+    if (std::find(known.begin(), known.end(), k) != known.end()) continue;
+    std::string msg = "unknown key '" + k + "'";
+    if (auto s = nearest(k, known)) msg += "; did you mean '" + *s + "'?";
+    c.child(k).fail(kv.first, msg);
+  }
+}
+
+double number(const YAML::Node& n, const Ctx& c) {
+  if (!n.IsScalar()) c.fail(n, "expected a number, got " + show(n));
+  const std::string& s = n.Scalar();
+  // YAML 1.2 spells the non-finite floats .inf, -.inf, .nan (any case).
+  std::string low = s;
+  for (char& ch : low) ch = (char)std::tolower((unsigned char)ch);
+  if (low == ".inf" || low == "+.inf" || low == "-.inf" || low == ".nan")
+    c.fail(n, "must be a finite number, got " + show(n));
+  char* end = nullptr;
+  const double v = std::strtod(s.c_str(), &end);
+  if (s.empty() || end != s.c_str() + s.size()) c.fail(n, "expected a number, got " + show(n));
+  if (!std::isfinite(v)) c.fail(n, "must be a finite number, got " + show(n));
+  return v;
+}
+
+double positive(const YAML::Node& n, const Ctx& c) {
+  const double v = number(n, c);
+  if (!(v > 0)) c.fail(n, "must be positive, got " + show(n));
+  return v;
+}
+
+bool boolean(const YAML::Node& n, const Ctx& c) {
+  if (n.IsScalar()) {
+    const std::string& s = n.Scalar();
+    if (s == "true" || s == "yes" || s == "on") return true;
+    if (s == "false" || s == "no" || s == "off") return false;
+  }
+  c.fail(n, "expected true or false, got " + show(n));
+}
+
+std::string text(const YAML::Node& n, const Ctx& c) {
+  if (!n.IsScalar() || n.Scalar().empty()) c.fail(n, "expected a text value, got " + show(n));
+  return n.Scalar();
+}
+
+template <int N>
+Eigen::Matrix<double, N, 1> vec(const YAML::Node& n, const Ctx& c) {
+  if (!n.IsSequence() || n.size() != N)
+    c.fail(n, "expected a list of " + std::to_string(N) + " numbers, got " +
+                  (n.IsSequence() ? "a list of " + std::to_string(n.size()) : show(n)));
+  Eigen::Matrix<double, N, 1> v;
+  for (int i = 0; i < N; ++i) v[i] = number(n[i], c.index(i));
+  return v;
+}
+
+Quat unit_quaternion(const YAML::Node& n, const Ctx& c) {
+  const Eigen::Vector4d q = vec<4>(n, c);
+  const double norm = q.norm();
+  if (std::fabs(norm - 1.0) > 1e-3)
+    c.fail(n, "must be a unit quaternion [w, x, y, z], its norm is " + std::to_string(norm));
+  return Quat(q[0], q[1], q[2], q[3]).normalized();
+}
+
+std::array<float, 3> color(const YAML::Node& n, const Ctx& c) {
+  const Vec3 v = vec<3>(n, c);
+  for (int i = 0; i < 3; ++i)
+    if (v[i] < 0 || v[i] > 1) c.index(i).fail(n[i], "colour components must lie in [0, 1]");
+  return {(float)v[0], (float)v[1], (float)v[2]};
+}
+
+int whole(const YAML::Node& n, const Ctx& c, int lo, int hi) {
+  const double v = number(n, c);
+  if (v != std::floor(v) || v < lo || v > hi)
+    c.fail(n, "expected a whole number from " + std::to_string(lo) + " to " + std::to_string(hi) + ", got " + show(n));
+  return (int)v;
+}
+
+Integrator integrator(const YAML::Node& n, const Ctx& c) {
+  const std::string name = text(n, c);
+  const auto i = integrator_from_name(name);
+  if (!i) {
+    std::string msg = "unknown integrator '" + name + "' (" + integrator_names() + ")";
+    if (auto s = nearest(name, {"auto", "seed", "euler_gyro", "rk4", "splitting"})) msg += "; did you mean '" + *s + "'?";
+    c.fail(n, msg);
+  }
+  return *i;
+}
+
+struct Loader {
+  Scene& scene;
+  fs::path dir;
+  fs::path assets;
+  std::map<std::string, std::shared_ptr<const TriangleMesh>> meshes;  // by resolved path + scale
+
+  std::string resolve(const YAML::Node& n, const Ctx& c) {
+    const std::string f = text(n, c);
+    std::vector<fs::path> tried;
+    for (const fs::path& base : {dir, assets, fs::path(".")}) {
+      const fs::path p = fs::path(f).is_absolute() ? fs::path(f) : base / f;
+      std::error_code ec;
+      if (fs::is_regular_file(p, ec)) return p.lexically_normal().string();
+      tried.push_back(p.lexically_normal());
+    }
+    std::string msg = "mesh file '" + f + "' not found (looked in";
+    for (size_t i = 0; i < tried.size(); ++i) msg += (i ? ", " : " ") + tried[i].string();
+    c.fail(n, msg + ")");
+  }
+
+  Collider collider(const YAML::Node& n, const Ctx& c, const std::string& body) {
+    check_keys(n, c, {"shape", "size", "radius", "height", "file", "scale", "mode", "thickness", "density",
+                      "mass", "position", "orientation"});
+    Collider col;
+    if (!n["shape"]) c.fail(n, "missing key 'shape' (box, sphere, cylinder, capsule or mesh)");
+    const std::string shape = text(n["shape"], c.child("shape"));
+    const std::vector<std::string> shapes = {"box", "sphere", "cylinder", "capsule", "mesh"};
+    const auto it = std::find(shapes.begin(), shapes.end(), shape);
+    if (it == shapes.end()) {
+      std::string msg = "unknown shape '" + shape + "' (box, sphere, cylinder, capsule or mesh)";
+      if (auto s = nearest(shape, shapes)) msg += "; did you mean '" + *s + "'?";
+      c.child("shape").fail(n["shape"], msg);
+    }
+    col.shape = (ShapeKind)(it - shapes.begin());
+    auto need = [&](const char* k) {
+      if (!n[k]) c.fail(n, std::string("a ") + shape + " needs '" + k + "'");
+      return n[k];
+    };
+    auto forbid = [&](std::initializer_list<const char*> keys) {
+      for (const char* k : keys)
+        if (n[k]) c.child(k).fail(n[k], std::string("does not apply to a ") + shape);
+    };
+    if (n["position"]) col.p_BC = vec<3>(n["position"], c.child("position"));
+    if (n["orientation"]) col.q_BC = unit_quaternion(n["orientation"], c.child("orientation"));
+    if (n["density"] && n["mass"]) c.child("mass").fail(n["mass"], "give either 'density' or 'mass', not both");
+    const double density = n["density"] ? positive(n["density"], c.child("density")) : 1000.0;
+    switch (col.shape) {
+      case ShapeKind::box:
+        forbid({"radius", "height", "file", "scale", "mode", "thickness"});
+        col.size = vec<3>(need("size"), c.child("size"));
+        for (int i = 0; i < 3; ++i)
+          if (!(col.size[i] > 0)) c.child("size").index(i).fail(n["size"][i], "must be positive");
+        break;
+      case ShapeKind::sphere:
+        forbid({"size", "height", "file", "scale", "mode", "thickness"});
+        col.radius = positive(need("radius"), c.child("radius"));
+        break;
+      case ShapeKind::cylinder:
+      case ShapeKind::capsule:
+        forbid({"size", "file", "scale", "mode", "thickness"});
+        col.radius = positive(need("radius"), c.child("radius"));
+        col.height = positive(need("height"), c.child("height"));
+        if (col.shape == ShapeKind::capsule && col.height < 2 * col.radius)
+          c.child("height").fail(n["height"], "a capsule's height (tip to tip) must be at least twice its radius");
+        break;
+      case ShapeKind::mesh: {
+        forbid({"size", "radius", "height"});
+        const std::string file = resolve(need("file"), c.child("file"));
+        Vec3 scale = Vec3::Ones();
+        if (n["scale"]) {
+          scale = n["scale"].IsSequence() ? vec<3>(n["scale"], c.child("scale"))
+                                          : Vec3::Constant(positive(n["scale"], c.child("scale")));
+          for (int i = 0; i < 3; ++i)
+            if (!(scale[i] > 0)) c.child("scale").fail(n["scale"], "scale factors must be positive");
+        }
+        MeshMassOptions opt;
+        opt.density = 1.0;
+        if (n["mode"]) {
+          const std::string m = text(n["mode"], c.child("mode"));
+          if (m == "solid") opt.mode = MassMode::solid;
+          else if (m == "shell") opt.mode = MassMode::shell;
+          else if (m == "hull") opt.mode = MassMode::hull;
+          else {
+            std::string msg = "unknown mode '" + m + "' (solid, shell or hull)";
+            if (auto s = nearest(m, {"solid", "shell", "hull"})) msg += "; did you mean '" + *s + "'?";
+            c.child("mode").fail(n["mode"], msg);
+          }
+        }
+        if (n["thickness"]) {
+          if (opt.mode != MassMode::shell) c.child("thickness").fail(n["thickness"], "applies to mode: shell only");
+          opt.thickness = positive(n["thickness"], c.child("thickness"));
+        }
+        const std::string mkey = file + "|" + std::to_string(scale.x()) + "," + std::to_string(scale.y()) + "," +
+                                 std::to_string(scale.z());
+        MeshReport rep;
+        try {
+          if (!meshes.count(mkey)) meshes[mkey] = std::make_shared<const TriangleMesh>(import_mesh(file, scale));
+          rep = analyze_mesh(*meshes[mkey], opt);
+        } catch (const InputError& e) {
+          c.child("file").fail(n["file"], e.what());
+        }
+        col.mesh = meshes[mkey];
+        for (const std::string& w : rep.warnings)
+          scene.notes.push_back(c.file() + ": body '" + body + "', " + c.key() + " (" + file + "): " + w);
+        // Mass properties at density 1, then scaled: by the density, or to the requested mass.
+        const double rho = n["mass"] ? positive(n["mass"], c.child("mass")) / rep.props.mass : density;
+        col.props_C = rep.props;
+        col.props_C.mass *= rho;
+        col.props_C.inertia *= rho;
+        col.label = file;
+        return col;
+      }
+    }
+    const MassProperties unit = primitive_mass(col, 1.0);
+    const double rho = n["mass"] ? positive(n["mass"], c.child("mass")) / unit.mass : density;
+    col.props_C = primitive_mass(col, rho);
+    col.label = shape;
+    return col;
+  }
+
+  BodyDef body(const YAML::Node& n, const Ctx& c, size_t i) {
+    check_keys(n, c, {"name", "position", "orientation", "linear_velocity", "angular_velocity", "static", "color",
+                      "integrator", "colliders"});
+    BodyDef b;
+    b.name = n["name"] ? text(n["name"], c.child("name")) : "body" + std::to_string(i);
+    if (n["position"]) b.p_WB = vec<3>(n["position"], c.child("position"));
+    if (n["orientation"]) b.q_WB = unit_quaternion(n["orientation"], c.child("orientation"));
+    if (n["linear_velocity"]) b.v_W = vec<3>(n["linear_velocity"], c.child("linear_velocity"));
+    if (n["angular_velocity"]) b.w_W = vec<3>(n["angular_velocity"], c.child("angular_velocity"));
+    if (n["static"]) b.is_static = boolean(n["static"], c.child("static"));
+    if (n["color"]) b.color = color(n["color"], c.child("color"));
+    if (n["integrator"]) b.integrator = integrator(n["integrator"], c.child("integrator"));
+    const YAML::Node cols = n["colliders"];
+    if (!cols) c.fail(n, "body '" + b.name + "' needs 'colliders' (a list of shapes)");
+    if (!cols.IsSequence() || cols.size() == 0)
+      c.child("colliders").fail(cols, "expected a non-empty list of colliders, got " + show(cols));
+    for (size_t k = 0; k < cols.size(); ++k) b.add_collider(collider(cols[k], c.child("colliders").index(k), b.name));
+    return b;
+  }
+};
+
+}  // namespace
+
+Scene load_scene(const std::string& path) {
+  Scene s;
+  s.path = path;
+  s.name = fs::path(path).stem().string();
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) throw InputError(path + ": scene file does not exist or is not a file");
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(path);
+  } catch (const YAML::ParserException& e) {
+    std::ostringstream os;
+    os << path << ":" << e.mark.line + 1 << ":" << e.mark.column + 1 << ": YAML syntax error: " << e.msg;
+    throw InputError(os.str());
+  } catch (const YAML::BadFile&) {
+    throw InputError(path + ": cannot read the scene file");
+  }
+  const Ctx top(path, "");
+  if (!root.IsMap()) top.fail(root, "a scene is a mapping with keys simulation, video, camera, render, bodies");
+  check_keys(root, top, {"simulation", "video", "camera", "render", "bodies"});
+
+  if (const YAML::Node sim = root["simulation"]) {
+    const Ctx c = top.child("simulation");
+    check_keys(sim, c, {"duration", "timestep", "integrator", "gravity"});
+    if (sim["duration"]) s.duration = positive(sim["duration"], c.child("duration"));
+    if (sim["timestep"]) s.timestep = positive(sim["timestep"], c.child("timestep"));
+    if (sim["gravity"]) s.gravity = vec<3>(sim["gravity"], c.child("gravity"));
+    if (sim["integrator"]) s.integrator = integrator(sim["integrator"], c.child("integrator"));
+    if (s.timestep > s.duration) c.child("timestep").fail(sim["timestep"], "is longer than the duration");
+  }
+  if (const YAML::Node v = root["video"]) {
+    const Ctx c = top.child("video");
+    check_keys(v, c, {"width", "height", "fps"});
+    if (v["width"]) s.video.width = whole(v["width"], c.child("width"), 16, 16384);
+    if (v["height"]) s.video.height = whole(v["height"], c.child("height"), 16, 16384);
+    if (v["fps"]) s.video.fps = positive(v["fps"], c.child("fps"));
+  }
+  if (const YAML::Node cam = root["camera"]) {
+    const Ctx c = top.child("camera");
+    check_keys(cam, c, {"position", "look_at", "up", "fov", "follow"});
+    if (cam["position"]) s.camera.position = vec<3>(cam["position"], c.child("position"));
+    if (cam["look_at"]) s.camera.look_at = vec<3>(cam["look_at"], c.child("look_at"));
+    if (cam["up"]) s.camera.up = vec<3>(cam["up"], c.child("up"));
+    if (cam["fov"]) {
+      s.camera.fov = positive(cam["fov"], c.child("fov"));
+      if (s.camera.fov >= 179) c.child("fov").fail(cam["fov"], "must be below 179 degrees");
+    }
+    if (cam["follow"]) s.camera.follow = text(cam["follow"], c.child("follow"));
+    if ((s.camera.position - s.camera.look_at).norm() == 0)
+      c.child("look_at").fail(cam["look_at"], "coincides with the camera position");
+    if (s.camera.up.cross(s.camera.position - s.camera.look_at).norm() == 0)
+      c.child("up").fail(cam["up"] ? cam["up"] : cam, "is parallel to the viewing direction (or zero)");
+  }
+  if (const YAML::Node r = root["render"]) {
+    const Ctx c = top.child("render");
+    check_keys(r, c, {"shadows", "msaa", "background", "ground"});
+    if (r["shadows"]) s.render.shadows = boolean(r["shadows"], c.child("shadows"));
+    if (r["msaa"]) {
+      s.render.msaa = whole(r["msaa"], c.child("msaa"), 1, 4);
+      if (s.render.msaa == 3) c.child("msaa").fail(r["msaa"], "must be 1, 2 or 4");
+    }
+    if (r["background"]) s.render.background = color(r["background"], c.child("background"));
+    if (const YAML::Node g = r["ground"]) {
+      const Ctx gc = c.child("ground");
+      if (g.IsScalar()) {
+        s.render.ground = boolean(g, gc);
+      } else {
+        check_keys(g, gc, {"height", "size", "tile"});
+        s.render.ground = true;
+        if (g["height"]) s.render.ground_height = number(g["height"], gc.child("height"));
+        if (g["size"]) s.render.ground_size = positive(g["size"], gc.child("size"));
+        if (g["tile"]) s.render.ground_tile = positive(g["tile"], gc.child("tile"));
+      }
+    }
+  }
+  const YAML::Node bodies = root["bodies"];
+  if (!bodies) top.fail(root, "missing key 'bodies' (a list of bodies)");
+  if (!bodies.IsSequence() || bodies.size() == 0)
+    top.child("bodies").fail(bodies, "expected a non-empty list of bodies, got " + show(bodies));
+  Loader L{s, fs::path(path).parent_path(), fs::path("assets"), {}};
+  // Assets next to the scene's folder (scenes/../assets) as well as the working directory's.
+  const fs::path up_assets = fs::path(path).parent_path().parent_path() / "assets";
+  if (fs::is_directory(up_assets, ec)) L.assets = up_assets;
+  std::set<std::string> names;
+  for (size_t i = 0; i < bodies.size(); ++i) {
+    const Ctx c = top.child("bodies").index(i);
+    s.bodies.push_back(L.body(bodies[i], c, i));
+    if (!names.insert(s.bodies.back().name).second)
+      c.child("name").fail(bodies[i]["name"], "another body is already named '" + s.bodies.back().name + "'");
+  }
+  if (!s.camera.follow.empty() && !names.count(s.camera.follow))
+    top.child("camera").child("follow").fail(root["camera"]["follow"],
+                                             "no body is named '" + s.camera.follow + "'");
+  return s;
+}
+
+}  // namespace simreel

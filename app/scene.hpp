@@ -1,0 +1,57 @@
+// A scene file (YAML, documented key by key in scenes/README.md) turned into bodies and settings.
+#pragma once
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "sim/body.hpp"
+#include "sim/integrators.hpp"
+
+namespace simreel {
+
+struct VideoSpec {
+  int width = 1280;  ///< px
+  int height = 720;  ///< px
+  double fps = 30;   ///< frames per second of simulated time
+};
+
+struct CameraSpec {
+  Vec3 position = Vec3(8, -8, 5);  ///< m
+  Vec3 look_at = Vec3::Zero();     ///< m
+  Vec3 up = Vec3::UnitZ();
+  double fov = 40;     ///< degrees, vertical
+  std::string follow;  ///< body name: look_at tracks its centre of mass, position keeps its offset
+};
+
+struct RenderSpec {
+  bool shadows = true;
+  int msaa = 4;  ///< samples per pixel: 1, 2 or 4
+  std::array<float, 3> background{0.60f, 0.70f, 0.82f};  ///< linear RGB, top of the sky
+  bool ground = false;       ///< draw a checkered ground plane
+  double ground_height = 0;  ///< m, z of the plane
+  double ground_size = 20;   ///< m, side of the square
+  double ground_tile = 1;    ///< m, checker tile
+};
+
+struct Scene {
+  std::string path;  ///< as given
+  std::string name;  ///< file stem: default output out/<name>.mp4
+  double duration = 10.0;        ///< s
+  double timestep = 1.0 / 240;   ///< s
+  Integrator integrator = Integrator::automatic;
+  Vec3 gravity = Vec3(0, 0, -9.81);  ///< m/s^2
+  VideoSpec video;
+  CameraSpec camera;
+  RenderSpec render;
+  std::vector<BodyDef> bodies;
+  std::vector<std::string> notes;  ///< what was done with mesh defects, with file and collider
+};
+
+// Throws InputError "FILE:LINE:COL: KEY: what is wrong" for anything a user could get wrong.
+Scene load_scene(const std::string& path);
+
+// Nearest candidate by edit distance, if close enough to be a likely typo.
+std::optional<std::string> nearest(const std::string& word, const std::vector<std::string>& candidates);
+
+}  // namespace simreel

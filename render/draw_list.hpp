@@ -1,0 +1,43 @@
+// Simulation state to a draw list: what to draw, where, in which colour. sim/ knows nothing of GL;
+// the GL passes in renderer.cpp know nothing of bodies. Overlays (arrows, axes, trails, text)
+// will be further item kinds here.
+#pragma once
+#include <Eigen/Core>
+#include <array>
+#include <vector>
+
+#include "render/tessellate.hpp"
+#include "sim/world.hpp"
+
+namespace simreel {
+
+struct DrawItem {
+  int mesh = 0;                  ///< index into the renderer's uploaded meshes
+  Eigen::Matrix4f model;         ///< collider frame to world
+  std::array<float, 3> color{};  ///< linear RGB
+};
+
+struct CameraView {
+  Vec3 eye = Vec3(8, -8, 5), target = Vec3::Zero(), up = Vec3::UnitZ();  ///< m
+  double fov_deg = 40;  ///< vertical
+};
+
+struct DrawList {
+  std::vector<DrawItem> items;
+  CameraView camera;
+  Vec3 bounds_center = Vec3::Zero();  ///< m, sphere holding every body this frame
+  double bounds_radius = 1;           ///< m
+};
+
+// The static side: one render mesh per collider, in body order, made once.
+struct SceneMeshes {
+  std::vector<RenderMesh> meshes;
+  std::vector<int> first_mesh;  ///< per body: index of its first collider's mesh
+  explicit SceneMeshes(const World& w);
+};
+
+// Fills `out` (reusing its storage) from the world's current state. With follow >= 0 the camera
+// target tracks that body's centre of mass and the eye keeps its offset from it.
+void build_draw_list(const World& w, const SceneMeshes& sm, const CameraView& cam, int follow, DrawList& out);
+
+}  // namespace simreel

@@ -1,0 +1,369 @@
+#define GL_GLEXT_PROTOTYPES 1
+#include "render/renderer.hpp"
+
+#include <GL/gl.h>
+#include <GL/glext.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "render/gl_context.hpp"
+
+namespace simreel {
+namespace {
+
+using M4 = Eigen::Matrix4f;
+using V3f = Eigen::Vector3f;
+
+M4 look_at(const V3f& eye, const V3f& target, const V3f& up) {
+  const V3f f = (target - eye).normalized(), s = f.cross(up).normalized(), u = s.cross(f);
+  M4 m = M4::Identity();
+  m.row(0) << s.transpose(), -s.dot(eye);
+  m.row(1) << u.transpose(), -u.dot(eye);
+  m.row(2) << -f.transpose(), f.dot(eye);
+  return m;
+}
+
+M4 perspective(float fovy_rad, float aspect, float n, float f) {
+  const float t = 1.0f / std::tan(fovy_rad / 2);
+  M4 m = M4::Zero();
+  m(0, 0) = t / aspect;
+  m(1, 1) = t;
+  m(2, 2) = (f + n) / (n - f);
+  m(2, 3) = 2 * f * n / (n - f);
+  m(3, 2) = -1;
+  return m;
+}
+
+M4 ortho(float r, float n, float f) {
+  M4 m = M4::Identity();
+  m(0, 0) = 1 / r;
+  m(1, 1) = 1 / r;
+  m(2, 2) = -2 / (f - n);
+  m(2, 3) = -(f + n) / (f - n);
+  return m;
+}
+
+const char* kLitVS = R"(#version 330 core
+layout(location = 0) in vec3 a_pos;
+layout(location = 1) in vec3 a_nrm;
+uniform mat4 u_model, u_viewproj, u_lightvp;
+out vec3 v_pos;
+out vec3 v_nrm;
+out vec4 v_lpos;
+void main() {
+  vec4 w = u_model * vec4(a_pos, 1.0);
+  v_pos = w.xyz;
+  v_nrm = mat3(u_model) * a_nrm;
+  v_lpos = u_lightvp * w;
+  gl_Position = u_viewproj * w;
+}
+)";
+
+// Key light: Blinn-Phong, shadowed with 5 bilinear depth-compare taps (soft edges); fill: a
+// hemisphere ambient from ground bounce to sky. Lighting is done in linear RGB, then gamma 2.2.
+const char* kLitFS = R"(#version 330 core
+in vec3 v_pos;
+in vec3 v_nrm;
+in vec4 v_lpos;
+uniform vec3 u_color, u_light_dir, u_eye;
+uniform int u_shadows, u_checker;
+uniform float u_tile, u_bias;
+uniform sampler2DShadow u_shadow_map;
+out vec4 o_color;
+float lit_fraction() {
+  vec3 p = v_lpos.xyz / v_lpos.w * 0.5 + 0.5;
+  if (u_shadows == 0 || p.z > 1.0) return 1.0;
+  vec2 t = 1.0 / vec2(textureSize(u_shadow_map, 0));
+  float z = p.z - u_bias;
+  float s = texture(u_shadow_map, vec3(p.xy, z));
+  s += texture(u_shadow_map, vec3(p.xy + vec2( 1.2,  1.2) * t, z));
+  s += texture(u_shadow_map, vec3(p.xy + vec2(-1.2,  1.2) * t, z));
+  s += texture(u_shadow_map, vec3(p.xy + vec2( 1.2, -1.2) * t, z));
+  s += texture(u_shadow_map, vec3(p.xy + vec2(-1.2, -1.2) * t, z));
+  return s / 5.0;
+}
+void main() {
+  vec3 n = normalize(v_nrm);
+  if (!gl_FrontFacing) n = -n;
+  vec3 base = u_color;
+  if (u_checker == 1) {
+    ivec2 c = ivec2(floor(v_pos.xy / u_tile));
+    if (((c.x + c.y) & 1) == 1) base *= 0.72;
+  }
+  float ndl = max(dot(n, u_light_dir), 0.0);
+  vec3 v = normalize(u_eye - v_pos);
+  vec3 h = normalize(u_light_dir + v);
+  float spec = ndl > 0.0 ? 0.22 * pow(max(dot(n, h), 0.0), 48.0) : 0.0;
+  float sh = lit_fraction();
+  vec3 fill = mix(vec3(0.16, 0.15, 0.14), vec3(0.30, 0.34, 0.42), 0.5 + 0.5 * n.z);
+  vec3 lin = base * (fill + 1.15 * ndl * sh * vec3(1.0, 0.97, 0.92)) + spec * sh;
+  o_color = vec4(pow(clamp(lin, 0.0, 1.0), vec3(1.0 / 2.2)), 1.0);
+}
+)";
+
+const char* kDepthVS = R"(#version 330 core
+layout(location = 0) in vec3 a_pos;
+uniform mat4 u_mvp;
+void main() { gl_Position = u_mvp * vec4(a_pos, 1.0); }
+)";
+const char* kDepthFS = R"(#version 330 core
+void main() {}
+)";
+
+GLuint compile(GLenum type, const char* src) {
+  const GLuint s = glCreateShader(type);
+  glShaderSource(s, 1, &src, nullptr);
+  glCompileShader(s);
+  GLint ok = 0;
+  glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    char log[2048];
+    glGetShaderInfoLog(s, sizeof log, nullptr, log);
+    throw std::runtime_error(std::string("shader compilation failed: ") + log);
+  }
+  return s;
+}
+
+GLuint program(const char* vs, const char* fs) {
+  const GLuint p = glCreateProgram(), v = compile(GL_VERTEX_SHADER, vs), f = compile(GL_FRAGMENT_SHADER, fs);
+  glAttachShader(p, v);
+  glAttachShader(p, f);
+  glLinkProgram(p);
+  GLint ok = 0;
+  glGetProgramiv(p, GL_LINK_STATUS, &ok);
+  if (!ok) {
+    char log[2048];
+    glGetProgramInfoLog(p, sizeof log, nullptr, log);
+    throw std::runtime_error(std::string("shader link failed: ") + log);
+  }
+  glDeleteShader(v);
+  glDeleteShader(f);
+  return p;
+}
+
+struct GpuMesh {
+  GLuint vao = 0, vbo = 0, ebo = 0;
+  GLsizei count = 0;
+};
+
+GpuMesh upload(const RenderMesh& m) {
+  GpuMesh g;
+  glGenVertexArrays(1, &g.vao);
+  glBindVertexArray(g.vao);
+  glGenBuffers(1, &g.vbo);
+  glBindBuffer(GL_ARRAY_BUFFER, g.vbo);
+  glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(m.vertices.size() * sizeof(float)), m.vertices.data(), GL_STATIC_DRAW);
+  glGenBuffers(1, &g.ebo);
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, g.ebo);
+  glBufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)(m.indices.size() * sizeof(uint32_t)), m.indices.data(),
+               GL_STATIC_DRAW);
+  glEnableVertexAttribArray(0);
+  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), (void*)0);
+  glEnableVertexAttribArray(1);
+  glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), (void*)(3 * sizeof(float)));
+  g.count = (GLsizei)m.indices.size();
+  glBindVertexArray(0);
+  return g;
+}
+
+}  // namespace
+
+struct Renderer::Impl {
+  RenderSettings s;
+  std::unique_ptr<GlContext> ctx;
+  GLuint lit = 0, depth = 0;
+  GLint u_model, u_viewproj, u_lightvp, u_color, u_light_dir, u_eye, u_shadows, u_checker, u_tile, u_bias, u_map,
+      u_mvp;
+  std::vector<GpuMesh> meshes;
+  GpuMesh ground;
+  GLuint msaa_fbo = 0, msaa_color = 0, msaa_depth = 0;
+  GLuint shadow_fbo = 0, shadow_tex = 0;
+  std::vector<M4> last_models;  // poses the shadow map was drawn for
+  M4 last_lightvp = M4::Zero();
+  V3f light_dir = V3f(-0.45f, -0.30f, 0.84f).normalized();  // towards the key light
+  RenderStats stats;
+
+  void setup_targets() {
+    if (s.msaa > 1) {
+      glGenFramebuffers(1, &msaa_fbo);
+      glBindFramebuffer(GL_FRAMEBUFFER, msaa_fbo);
+      glGenRenderbuffers(1, &msaa_color);
+      glBindRenderbuffer(GL_RENDERBUFFER, msaa_color);
+      glRenderbufferStorageMultisample(GL_RENDERBUFFER, s.msaa, GL_RGBA8, s.width, s.height);
+      glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, msaa_color);
+      glGenRenderbuffers(1, &msaa_depth);
+      glBindRenderbuffer(GL_RENDERBUFFER, msaa_depth);
+      glRenderbufferStorageMultisample(GL_RENDERBUFFER, s.msaa, GL_DEPTH_COMPONENT24, s.width, s.height);
+      glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, msaa_depth);
+      if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+        throw std::runtime_error("multisampled framebuffer incomplete (msaa " + std::to_string(s.msaa) + ")");
+    }
+    if (s.shadows) {
+      glGenTextures(1, &shadow_tex);
+      glBindTexture(GL_TEXTURE_2D, shadow_tex);
+      glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT24, s.shadow_size, s.shadow_size, 0, GL_DEPTH_COMPONENT,
+                   GL_UNSIGNED_INT, nullptr);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_BORDER);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_BORDER);
+      const float border[4] = {1, 1, 1, 1};
+      glTexParameterfv(GL_TEXTURE_2D, GL_TEXTURE_BORDER_COLOR, border);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
+      glGenFramebuffers(1, &shadow_fbo);
+      glBindFramebuffer(GL_FRAMEBUFFER, shadow_fbo);
+      glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, shadow_tex, 0);
+      glDrawBuffer(GL_NONE);
+      glReadBuffer(GL_NONE);
+      if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+        throw std::runtime_error("shadow framebuffer incomplete");
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  }
+
+  // Orthographic light frustum around the bodies' bounding sphere, deep enough to reach the
+  // ground below them. Everything a body shades lies inside the sphere's light-space disk.
+  M4 light_viewproj(const DrawList& dl) const {
+    const V3f c = dl.bounds_center.cast<float>();
+    const float r = (float)dl.bounds_radius * 1.02f;
+    const V3f eye = c + light_dir * (r + 1.0f);
+    V3f up = std::fabs(light_dir.z()) > 0.99f ? V3f::UnitY() : V3f::UnitZ();
+    float far = 2 * r + 1.0f;
+    if (s.ground) {
+      const float below = std::max(0.0f, c.z() - (float)s.ground_height);
+      far += below / std::max(light_dir.z(), 0.05f);
+    }
+    return ortho(r, 0.0f, far) * look_at(eye, c, up);
+  }
+
+  bool poses_unchanged(const DrawList& dl, const M4& lvp) const {
+    if (last_models.size() != dl.items.size() || lvp != last_lightvp) return false;
+    for (size_t i = 0; i < dl.items.size(); ++i)
+      if (dl.items[i].model != last_models[i]) return false;
+    return true;
+  }
+
+  void shadow_pass(const DrawList& dl, const M4& lvp) {
+    if (poses_unchanged(dl, lvp)) {
+      ++stats.shadow_reused;
+      return;
+    }
+    ++stats.shadow_passes;
+    glBindFramebuffer(GL_FRAMEBUFFER, shadow_fbo);
+    glViewport(0, 0, s.shadow_size, s.shadow_size);
+    glClear(GL_DEPTH_BUFFER_BIT);
+    glUseProgram(depth);
+    glEnable(GL_POLYGON_OFFSET_FILL);
+    glPolygonOffset(1.5f, 2.0f);
+    for (const DrawItem& it : dl.items) {
+      const M4 mvp = lvp * it.model;
+      glUniformMatrix4fv(u_mvp, 1, GL_FALSE, mvp.data());
+      glBindVertexArray(meshes[it.mesh].vao);
+      glDrawElements(GL_TRIANGLES, meshes[it.mesh].count, GL_UNSIGNED_INT, nullptr);
+    }
+    glDisable(GL_POLYGON_OFFSET_FILL);
+    last_models.resize(dl.items.size());
+    for (size_t i = 0; i < dl.items.size(); ++i) last_models[i] = dl.items[i].model;
+    last_lightvp = lvp;
+  }
+
+  void draw(const GpuMesh& g, const M4& model, const std::array<float, 3>& color, int checker) {
+    glUniformMatrix4fv(u_model, 1, GL_FALSE, model.data());
+    glUniform3f(u_color, color[0], color[1], color[2]);
+    glUniform1i(u_checker, checker);
+    glBindVertexArray(g.vao);
+    glDrawElements(GL_TRIANGLES, g.count, GL_UNSIGNED_INT, nullptr);
+  }
+};
+
+Renderer::Renderer(const RenderSettings& s, const SceneMeshes& sm) : p_(std::make_unique<Impl>()) {
+  Impl& P = *p_;
+  P.s = s;
+  P.ctx = make_offscreen_context(s.width, s.height);
+  GLint max_samples = 1;
+  glGetIntegerv(GL_MAX_SAMPLES, &max_samples);
+  P.s.msaa = std::max(1, std::min(P.s.msaa, (int)max_samples));
+  P.lit = program(kLitVS, kLitFS);
+  P.depth = program(kDepthVS, kDepthFS);
+  const GLuint L = P.lit;
+  P.u_model = glGetUniformLocation(L, "u_model");
+  P.u_viewproj = glGetUniformLocation(L, "u_viewproj");
+  P.u_lightvp = glGetUniformLocation(L, "u_lightvp");
+  P.u_color = glGetUniformLocation(L, "u_color");
+  P.u_light_dir = glGetUniformLocation(L, "u_light_dir");
+  P.u_eye = glGetUniformLocation(L, "u_eye");
+  P.u_shadows = glGetUniformLocation(L, "u_shadows");
+  P.u_checker = glGetUniformLocation(L, "u_checker");
+  P.u_tile = glGetUniformLocation(L, "u_tile");
+  P.u_bias = glGetUniformLocation(L, "u_bias");
+  P.u_map = glGetUniformLocation(L, "u_shadow_map");
+  P.u_mvp = glGetUniformLocation(P.depth, "u_mvp");
+  for (const RenderMesh& m : sm.meshes) P.meshes.push_back(upload(m));
+  if (s.ground) P.ground = upload(tessellate_plane(s.ground_size));
+  P.setup_targets();
+  glEnable(GL_DEPTH_TEST);
+  glEnable(GL_CULL_FACE);
+  glCullFace(GL_BACK);
+  if (glGetError() != GL_NO_ERROR) throw std::runtime_error("OpenGL error while setting up the renderer");
+}
+
+Renderer::~Renderer() = default;
+
+const uint8_t* Renderer::render(const DrawList& dl) {
+  Impl& P = *p_;
+  const RenderSettings& s = P.s;
+  const M4 lvp = P.light_viewproj(dl);
+  if (s.shadows) P.shadow_pass(dl, lvp);
+
+  glBindFramebuffer(GL_FRAMEBUFFER, s.msaa > 1 ? P.msaa_fbo : 0);
+  glViewport(0, 0, s.width, s.height);
+  const auto g = [](float c) { return std::pow(c, 1.0f / 2.2f); };
+  glClearColor(g(s.background[0]), g(s.background[1]), g(s.background[2]), 1.0f);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+
+  const CameraView& cam = dl.camera;
+  const V3f eye = cam.eye.cast<float>();
+  const float dist = (cam.eye - dl.bounds_center).norm();
+  const float reach = dist + (float)dl.bounds_radius + (s.ground ? (float)s.ground_size : 0.0f);
+  const float near = std::max(0.01f, std::min(0.1f * dist, dist - (float)dl.bounds_radius) * 0.5f);
+  const M4 vp = perspective((float)(cam.fov_deg * M_PI / 180.0), (float)s.width / s.height, near, reach * 1.5f) *
+                look_at(eye, cam.target.cast<float>(), cam.up.cast<float>());
+  glUseProgram(P.lit);
+  glUniformMatrix4fv(P.u_viewproj, 1, GL_FALSE, vp.data());
+  glUniformMatrix4fv(P.u_lightvp, 1, GL_FALSE, lvp.data());
+  glUniform3f(P.u_light_dir, P.light_dir.x(), P.light_dir.y(), P.light_dir.z());
+  glUniform3f(P.u_eye, eye.x(), eye.y(), eye.z());
+  glUniform1i(P.u_shadows, s.shadows ? 1 : 0);
+  glUniform1f(P.u_tile, (float)s.ground_tile);
+  // Depth bias: about two shadow-map texels of depth, relative to the frustum depth.
+  glUniform1f(P.u_bias, 0.0015f);
+  glUniform1i(P.u_map, 0);
+  glActiveTexture(GL_TEXTURE0);
+  glBindTexture(GL_TEXTURE_2D, P.shadow_tex);
+  for (const DrawItem& it : dl.items) P.draw(P.meshes[it.mesh], it.model, it.color, 0);
+  if (s.ground) {
+    M4 m = M4::Identity();
+    m(2, 3) = (float)s.ground_height;
+    m(0, 3) = (float)std::round(dl.bounds_center.x() / s.ground_tile / 2) * 2 * (float)s.ground_tile;
+    m(1, 3) = (float)std::round(dl.bounds_center.y() / s.ground_tile / 2) * 2 * (float)s.ground_tile;
+    P.draw(P.ground, m, s.ground_color, 1);
+  }
+  if (s.msaa > 1) {
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, P.msaa_fbo);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
+    glBlitFramebuffer(0, 0, s.width, s.height, 0, 0, s.width, s.height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+  }
+  P.ctx->finish();
+  ++P.stats.frames;
+  return P.ctx->pixels();
+}
+
+const RenderStats& Renderer::stats() const { return p_->stats; }
+std::string Renderer::description() const { return p_->ctx->description(); }
+
+}  // namespace simreel

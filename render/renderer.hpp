@@ -1,0 +1,42 @@
+// GL passes over a draw list: shadow depth from the key light (orthographic frustum fitted to the
+// bodies, skipped while nothing moved), then the lit pass (Blinn-Phong key light with 5-tap PCF
+// shadows, hemisphere fill, checker ground), multisampled and resolved into the frame, gamma 2.2.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <memory>
+
+#include "render/draw_list.hpp"
+
+namespace simreel {
+
+struct RenderSettings {
+  int width = 1280, height = 720;  ///< px
+  int msaa = 4;                    ///< 1, 2 or 4 samples
+  bool shadows = true;
+  int shadow_size = 2048;          ///< px, square shadow map
+  std::array<float, 3> background{0.60f, 0.70f, 0.82f};  ///< linear RGB
+  bool ground = false;
+  double ground_height = 0, ground_size = 20, ground_tile = 1;  ///< m
+  std::array<float, 3> ground_color{0.62f, 0.62f, 0.58f};
+};
+
+struct RenderStats {
+  long frames = 0, shadow_passes = 0, shadow_reused = 0;
+};
+
+class Renderer {
+ public:
+  Renderer(const RenderSettings& s, const SceneMeshes& meshes);  ///< uploads every mesh once
+  ~Renderer();
+  // Draws and returns the frame: RGBA8, top row first, width*height*4 bytes, valid until the next call.
+  const uint8_t* render(const DrawList& dl);
+  const RenderStats& stats() const;
+  std::string description() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> p_;
+};
+
+}  // namespace simreel

@@ -1,0 +1,162 @@
+#include "render/tessellate.hpp"
+
+#include <cmath>
+#include <numbers>
+
+namespace simreel {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+void push(RenderMesh& m, const Vec3& p, const Vec3& n) {
+  for (double v : {p.x(), p.y(), p.z(), n.x(), n.y(), n.z()}) m.vertices.push_back((float)v);
+  m.radius = std::max(m.radius, (float)p.norm());
+}
+uint32_t count(const RenderMesh& m) { return (uint32_t)(m.vertices.size() / 6); }
+
+// A surface of revolution about z from a profile (radius, z, normal in the rz plane).
+struct ProfilePoint {
+  double r, z, nr, nz;
+};
+void revolve(RenderMesh& m, const std::vector<ProfilePoint>& prof, int seg) {
+  const uint32_t base = count(m);
+  for (const ProfilePoint& p : prof)
+    for (int j = 0; j <= seg; ++j) {
+      const double a = 2 * kPi * j / seg, c = std::cos(a), s = std::sin(a);
+      push(m, Vec3(p.r * c, p.r * s, p.z), Vec3(p.nr * c, p.nr * s, p.nz));
+    }
+  for (size_t i = 0; i + 1 < prof.size(); ++i)
+    for (int j = 0; j < seg; ++j) {
+      const uint32_t a = base + (uint32_t)(i * (seg + 1) + j), b = a + seg + 1;
+      m.indices.insert(m.indices.end(), {a, a + 1, b + 1, a, b + 1, b});
+    }
+}
+
+void disk(RenderMesh& m, double r, double z, double nz, int seg) {
+  const uint32_t c = count(m);
+  push(m, Vec3(0, 0, z), Vec3(0, 0, nz));
+  for (int j = 0; j <= seg; ++j) {
+    const double a = 2 * kPi * j / seg;
+    push(m, Vec3(r * std::cos(a), r * std::sin(a), z), Vec3(0, 0, nz));
+  }
+  for (int j = 0; j < seg; ++j) {
+    const uint32_t a = c + 1 + j;
+    if (nz > 0)
+      m.indices.insert(m.indices.end(), {c, a, a + 1});
+    else
+      m.indices.insert(m.indices.end(), {c, a + 1, a});
+  }
+}
+
+}  // namespace
+
+RenderMesh tessellate_box(const Vec3& s) {
+  RenderMesh m;
+  const Vec3 h = 0.5 * s;
+  for (int axis = 0; axis < 3; ++axis)
+    for (int sign : {-1, 1}) {
+      Vec3 n = Vec3::Zero();
+      n[axis] = sign;
+      const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+      const uint32_t b = count(m);
+      for (int k = 0; k < 4; ++k) {
+        Vec3 p;
+        p[axis] = sign * h[axis];
+        p[u] = ((k == 1 || k == 2) ? 1 : -1) * h[u];
+        p[v] = (k >= 2 ? 1 : -1) * h[v];
+        push(m, p, n);
+      }
+      if (sign > 0)
+        m.indices.insert(m.indices.end(), {b, b + 1, b + 2, b, b + 2, b + 3});
+      else
+        m.indices.insert(m.indices.end(), {b, b + 2, b + 1, b, b + 3, b + 2});
+    }
+  return m;
+}
+
+RenderMesh tessellate_sphere(double r, int rings) {
+  RenderMesh m;
+  std::vector<ProfilePoint> prof;
+  for (int i = 0; i <= rings; ++i) {
+    const double th = kPi * i / rings;  // from the south pole up
+    prof.push_back({r * std::sin(th), -r * std::cos(th), std::sin(th), -std::cos(th)});
+  }
+  revolve(m, prof, 2 * rings);
+  return m;
+}
+
+RenderMesh tessellate_cylinder(double r, double h, int seg) {
+  RenderMesh m;
+  revolve(m, {{r, -h / 2, 1, 0}, {r, h / 2, 1, 0}}, seg);
+  disk(m, r, h / 2, 1, seg);
+  disk(m, r, -h / 2, -1, seg);
+  return m;
+}
+
+RenderMesh tessellate_capsule(double r, double h, int seg) {
+  RenderMesh m;
+  const double half = h / 2 - r;  // centre of each hemisphere
+  std::vector<ProfilePoint> prof;
+  const int q = seg / 4;
+  for (int i = 0; i <= q; ++i) {
+    const double th = kPi / 2 * i / q;
+    prof.push_back({r * std::sin(th), -half - r * std::cos(th), std::sin(th), -std::cos(th)});
+  }
+  for (int i = 0; i <= q; ++i) {
+    const double th = kPi / 2 + kPi / 2 * i / q;
+    prof.push_back({r * std::sin(th), half - r * std::cos(th), std::sin(th), -std::cos(th)});
+  }
+  revolve(m, prof, seg);
+  return m;
+}
+
+RenderMesh tessellate_plane(double size) {
+  RenderMesh m;
+  const double h = size / 2;
+  push(m, Vec3(-h, -h, 0), Vec3::UnitZ());
+  push(m, Vec3(h, -h, 0), Vec3::UnitZ());
+  push(m, Vec3(h, h, 0), Vec3::UnitZ());
+  push(m, Vec3(-h, h, 0), Vec3::UnitZ());
+  m.indices = {0, 1, 2, 0, 2, 3};
+  return m;
+}
+
+RenderMesh tessellate_mesh(const TriangleMesh& tm, double crease_deg) {
+  // Each corner gets the area-weighted average of the normals of the faces around its vertex that
+  // lie within crease_deg of its own face normal: smooth curved surfaces, sharp edges kept.
+  RenderMesh m;
+  const size_t nf = tm.triangles.size();
+  std::vector<Vec3> fn(nf);
+  std::vector<std::vector<int>> around(tm.vertices.size());
+  for (size_t f = 0; f < nf; ++f) {
+    const auto& t = tm.triangles[f];
+    fn[f] = (tm.vertices[t[1]] - tm.vertices[t[0]]).cross(tm.vertices[t[2]] - tm.vertices[t[0]]);
+    for (int k = 0; k < 3; ++k) around[t[k]].push_back((int)f);
+  }
+  const double cos_crease = std::cos(crease_deg * kPi / 180);
+  for (size_t f = 0; f < nf; ++f) {
+    const Vec3 own = fn[f].normalized();
+    for (int k = 0; k < 3; ++k) {
+      const int v = tm.triangles[f][k];
+      Vec3 n = Vec3::Zero();
+      for (int g : around[v])
+        if (fn[g].normalized().dot(own) >= cos_crease) n += fn[g];
+      push(m, tm.vertices[v], n.norm() > 0 ? Vec3(n.normalized()) : own);
+      m.indices.push_back(count(m) - 1);
+    }
+  }
+  return m;
+}
+
+RenderMesh tessellate_collider(const Collider& c) {
+  switch (c.shape) {
+    case ShapeKind::box: return tessellate_box(c.size);
+    case ShapeKind::sphere: return tessellate_sphere(c.radius);
+    case ShapeKind::cylinder: return tessellate_cylinder(c.radius, c.height);
+    case ShapeKind::capsule: return tessellate_capsule(c.radius, c.height);
+    case ShapeKind::mesh: return tessellate_mesh(*c.mesh);
+  }
+  return {};
+}
+
+}  // namespace simreel

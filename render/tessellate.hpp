@@ -1,0 +1,25 @@
+// Render meshes: positions and normals for GL, made once per collider in the collider frame.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "sim/body.hpp"
+
+namespace simreel {
+
+struct RenderMesh {
+  std::vector<float> vertices;   ///< interleaved x y z nx ny nz
+  std::vector<uint32_t> indices; ///< triangles
+  float radius = 0;              ///< m, bounding sphere about the collider origin
+};
+
+RenderMesh tessellate_box(const Vec3& size);
+RenderMesh tessellate_sphere(double r, int rings = 24);
+RenderMesh tessellate_cylinder(double r, double h, int segments = 48);
+RenderMesh tessellate_capsule(double r, double h, int segments = 48);
+RenderMesh tessellate_plane(double size);  ///< square in z = 0, normal +z, centred on the origin
+// Triangle mesh with normals split at edges sharper than crease_deg (smooth elsewhere).
+RenderMesh tessellate_mesh(const TriangleMesh& m, double crease_deg = 35.0);
+RenderMesh tessellate_collider(const Collider& c);
+
+}  // namespace simreel

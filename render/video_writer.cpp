@@ -1,0 +1,269 @@
+#include "render/video_writer.hpp"
+
+extern "C" {
+#include <libavcodec/avcodec.h>
+#include <libavformat/avformat.h>
+#include <libavutil/imgutils.h>
+#include <libavutil/opt.h>
+#include <libswscale/swscale.h>
+}
+
+#include <unistd.h>
+
+#include <chrono>
+#include <condition_variable>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <mutex>
+#include <stdexcept>
+#include <thread>
+#include <vector>
+
+#include "render/png_writer.hpp"
+
+namespace simreel {
+namespace {
+
+std::string av_err(int e) {
+  char b[AV_ERROR_MAX_STRING_SIZE] = {};
+  av_strerror(e, b, sizeof b);
+  return b;
+}
+
+}  // namespace
+
+struct VideoWriter::Impl {
+  VideoSettings s;
+  std::string tmp;
+  AVFormatContext* fmt = nullptr;
+  AVCodecContext* enc = nullptr;
+  AVStream* st = nullptr;
+  AVFrame* frame = nullptr;
+  AVPacket* pkt = nullptr;
+  SwsContext* sws = nullptr;
+  bool header_written = false, finished = false;
+
+  // Bounded queue: slots cycle free -> filled (by push) -> free (by the encoder thread).
+  std::vector<std::vector<uint8_t>> slots;
+  size_t head = 0, tail = 0, filled = 0;  // ring indices, guarded by mu
+  bool closing = false;
+  std::string error;  // first error on the encoder thread
+  std::mutex mu;
+  std::condition_variable cv_push, cv_pop;
+  std::thread worker;
+  long nframes = 0;
+  double busy = 0;
+
+  void open_video() {
+    const std::filesystem::path target(s.path);
+    tmp = (target.parent_path() / (target.stem().string() + ".partial-" + std::to_string(getpid()) +
+                                   target.extension().string()))
+              .string();
+    if (avformat_alloc_output_context2(&fmt, nullptr, nullptr, s.path.c_str()) < 0 || !fmt)
+      throw std::runtime_error("no video format for '" + s.path + "' (use .mp4, .webm or .gif)");
+    const std::string ext = target.extension().string();
+    const bool gif = ext == ".gif", webm = ext == ".webm";
+    const AVCodec* codec = avcodec_find_encoder_by_name(gif ? "gif" : webm ? "libvpx-vp9" : "libx264");
+    if (!codec) throw std::runtime_error("this FFmpeg has no encoder for '" + ext + "'");
+    st = avformat_new_stream(fmt, nullptr);
+    enc = avcodec_alloc_context3(codec);
+    enc->width = s.width;
+    enc->height = s.height;
+    const AVRational rate = av_d2q(s.fps, 100000);
+    enc->time_base = av_inv_q(rate);
+    enc->framerate = rate;
+    enc->pix_fmt = gif ? AV_PIX_FMT_RGB8 : AV_PIX_FMT_YUV420P;
+    enc->gop_size = (int)std::max(1.0, s.fps * 2);
+    if (!gif) {
+      enc->color_range = AVCOL_RANGE_MPEG;
+      enc->colorspace = AVCOL_SPC_BT709;
+      enc->color_primaries = AVCOL_PRI_BT709;
+      enc->color_trc = AVCOL_TRC_BT709;
+    }
+    if (fmt->oformat->flags & AVFMT_GLOBALHEADER) enc->flags |= AV_CODEC_FLAG_GLOBAL_HEADER;
+    AVDictionary* opts = nullptr;
+    if (!gif && !webm) {
+      av_dict_set(&opts, "preset", s.preset.c_str(), 0);
+      av_dict_set(&opts, "crf", std::to_string(s.crf).c_str(), 0);
+    } else if (webm) {
+      av_dict_set(&opts, "deadline", "realtime", 0);
+      av_dict_set(&opts, "cpu-used", "8", 0);
+      av_dict_set(&opts, "crf", "32", 0);
+      enc->bit_rate = 0;
+    }
+    int e = avcodec_open2(enc, codec, &opts);
+    av_dict_free(&opts);
+    if (e < 0) throw std::runtime_error("cannot open the " + std::string(codec->name) + " encoder: " + av_err(e));
+    avcodec_parameters_from_context(st->codecpar, enc);
+    st->time_base = enc->time_base;
+    st->avg_frame_rate = rate;
+    // The muxer reopens its url for +faststart: point it at the temporary file we write.
+    av_freep(&fmt->url);
+    fmt->url = av_strdup(tmp.c_str());
+    if ((e = avio_open(&fmt->pb, tmp.c_str(), AVIO_FLAG_WRITE)) < 0)
+      throw std::runtime_error("cannot write '" + tmp + "': " + av_err(e));
+    AVDictionary* mopts = nullptr;
+    if (ext == ".mp4" || ext == ".mov") av_dict_set(&mopts, "movflags", "+faststart", 0);
+    e = avformat_write_header(fmt, &mopts);
+    av_dict_free(&mopts);
+    if (e < 0) throw std::runtime_error("cannot start '" + s.path + "': " + av_err(e));
+    header_written = true;
+    frame = av_frame_alloc();
+    frame->format = enc->pix_fmt;
+    frame->width = s.width;
+    frame->height = s.height;
+    frame->color_range = enc->color_range;
+    frame->colorspace = enc->colorspace;
+    frame->color_primaries = enc->color_primaries;
+    frame->color_trc = enc->color_trc;
+    if (av_frame_get_buffer(frame, 0) < 0) throw std::runtime_error("out of memory for a video frame");
+    pkt = av_packet_alloc();
+    sws = sws_getContext(s.width, s.height, AV_PIX_FMT_RGBA, s.width, s.height, enc->pix_fmt,
+                         SWS_BILINEAR | (gif ? SWS_ERROR_DIFFUSION : 0), nullptr, nullptr, nullptr);
+    if (!sws) throw std::runtime_error("libswscale cannot convert RGBA to the video's pixel format");
+    if (!gif) {
+      // RGB to BT.709 limited-range YUV.
+      const int* coef = sws_getCoefficients(SWS_CS_ITU709);
+      sws_setColorspaceDetails(sws, coef, 1, coef, 0, 0, 1 << 16, 1 << 16);
+    }
+  }
+
+  void drain_packets() {
+    for (;;) {
+      const int e = avcodec_receive_packet(enc, pkt);
+      if (e == AVERROR(EAGAIN) || e == AVERROR_EOF) return;
+      if (e < 0) throw std::runtime_error("encoding failed: " + av_err(e));
+      av_packet_rescale_ts(pkt, enc->time_base, st->time_base);
+      pkt->stream_index = st->index;
+      const int w = av_interleaved_write_frame(fmt, pkt);
+      if (w < 0) throw std::runtime_error("writing the video failed: " + av_err(w));
+    }
+  }
+
+  void encode(const uint8_t* rgba, long index) {
+    if (!s.frames_dir.empty()) {
+      char name[32];
+      std::snprintf(name, sizeof name, "frame_%05ld.png", index);
+      write_png((std::filesystem::path(s.frames_dir) / name).string(), rgba, s.width, s.height);
+    }
+    if (!enc) return;
+    if (av_frame_make_writable(frame) < 0) throw std::runtime_error("video frame not writable");
+    const uint8_t* src[1] = {rgba};
+    const int stride[1] = {4 * s.width};
+    sws_scale(sws, src, stride, 0, s.height, frame->data, frame->linesize);
+    frame->pts = index;
+    const int e = avcodec_send_frame(enc, frame);
+    if (e < 0) throw std::runtime_error("encoding failed: " + av_err(e));
+    drain_packets();
+  }
+
+  void run() {
+    long index = 0;
+    for (;;) {
+      std::unique_lock<std::mutex> lk(mu);
+      cv_pop.wait(lk, [&] { return filled > 0 || closing; });
+      if (filled == 0 && closing) return;
+      std::vector<uint8_t>& slot = slots[tail];
+      lk.unlock();
+      const auto t0 = std::chrono::steady_clock::now();
+      try {
+        if (error.empty()) encode(slot.data(), index);
+      } catch (const std::exception& ex) {
+        std::lock_guard<std::mutex> g(mu);
+        error = ex.what();
+      }
+      busy += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      ++index;
+      lk.lock();
+      tail = (tail + 1) % slots.size();
+      --filled;
+      cv_push.notify_one();
+    }
+  }
+
+  void stop_worker() {
+    {
+      std::lock_guard<std::mutex> g(mu);
+      closing = true;
+    }
+    cv_pop.notify_all();
+    if (worker.joinable()) worker.join();
+  }
+
+  void release() {
+    sws_freeContext(sws);
+    av_packet_free(&pkt);
+    av_frame_free(&frame);
+    avcodec_free_context(&enc);
+    if (fmt) {
+      if (fmt->pb) avio_closep(&fmt->pb);
+      avformat_free_context(fmt);
+      fmt = nullptr;
+    }
+  }
+};
+
+VideoWriter::VideoWriter(const VideoSettings& s) : p_(std::make_unique<Impl>()) {
+  Impl& P = *p_;
+  P.s = s;
+  av_log_set_level(AV_LOG_ERROR);  // encoder statistics are not for the user's terminal
+  if (!s.path.empty()) {
+    if (s.width % 2 || s.height % 2)
+      throw std::runtime_error("video width and height must be even for yuv420p (got " + std::to_string(s.width) +
+                               "x" + std::to_string(s.height) + ")");
+    try {
+      P.open_video();
+    } catch (...) {
+      P.release();
+      if (!P.tmp.empty()) std::remove(P.tmp.c_str());
+      throw;
+    }
+  }
+  P.slots.assign(std::max(1, s.queue), std::vector<uint8_t>((size_t)s.width * s.height * 4));
+  P.worker = std::thread([this] { p_->run(); });
+}
+
+VideoWriter::~VideoWriter() {
+  Impl& P = *p_;
+  P.stop_worker();
+  P.release();
+  if (!P.finished && !P.tmp.empty()) std::remove(P.tmp.c_str());
+}
+
+void VideoWriter::push(const uint8_t* rgba) {
+  Impl& P = *p_;
+  std::unique_lock<std::mutex> lk(P.mu);
+  P.cv_push.wait(lk, [&] { return P.filled < P.slots.size(); });
+  if (!P.error.empty()) throw std::runtime_error(P.error);
+  std::vector<uint8_t>& slot = P.slots[P.head];
+  lk.unlock();
+  std::memcpy(slot.data(), rgba, slot.size());  // the only writer of this slot until it is filled
+  lk.lock();
+  P.head = (P.head + 1) % P.slots.size();
+  ++P.filled;
+  ++P.nframes;
+  P.cv_pop.notify_one();
+}
+
+void VideoWriter::finish() {
+  Impl& P = *p_;
+  P.stop_worker();
+  if (!P.error.empty()) throw std::runtime_error(P.error);
+  if (P.enc) {
+    avcodec_send_frame(P.enc, nullptr);
+    P.drain_packets();
+    const int e = av_write_trailer(P.fmt);
+    avio_closep(&P.fmt->pb);
+    if (e < 0) throw std::runtime_error("cannot finish '" + P.s.path + "': " + av_err(e));
+    std::error_code ec;
+    std::filesystem::rename(P.tmp, P.s.path, ec);
+    if (ec) throw std::runtime_error("cannot move the video into place at '" + P.s.path + "': " + ec.message());
+  }
+  P.finished = true;
+}
+
+long VideoWriter::frames() const { return p_->nframes; }
+double VideoWriter::encode_seconds() const { return p_->busy; }
+
+}  // namespace simreel

@@ -1,0 +1,41 @@
+// Frames to a video file (and/or a PNG sequence) on an encoding thread with a bounded queue, so
+// rendering and encoding overlap and memory stays flat however long the clip.
+//   .mp4 .mov .mkv  H.264 (libx264, yuv420p, CRF, +faststart), BT.709 tagged
+//   .webm           VP9 (libvpx-vp9, realtime, CRF)
+//   .gif            GIF (fixed 3-3-2 palette with dithering)
+// The file is written beside the target as "<name>.partial-<pid>.<ext>" and renamed into place by
+// finish(); destroying the writer without finish() removes it. The target never holds a partial file.
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <string>
+
+namespace simreel {
+
+struct VideoSettings {
+  std::string path;        ///< output video; empty for PNG frames only
+  std::string frames_dir;  ///< if set, also frame_00000.png ... here
+  int width = 1280, height = 720;  ///< px; even for yuv420p
+  double fps = 30;
+  int crf = 20;  ///< x264 quality (lower is better; 18-23 typical)
+  std::string preset = "veryfast";
+  int queue = 4;  ///< frames in flight between renderer and encoder
+};
+
+class VideoWriter {
+ public:
+  explicit VideoWriter(const VideoSettings& s);  ///< throws std::runtime_error
+  ~VideoWriter();
+  // Copies one RGBA frame (top row first) into the queue; blocks while the queue is full.
+  void push(const uint8_t* rgba);
+  // Drains the queue, flushes the encoder, writes the trailer and renames into place.
+  void finish();
+  long frames() const;
+  double encode_seconds() const;  ///< time the encoding thread spent working
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> p_;
+};
+
+}  // namespace simreel

@@ -1,0 +1,182 @@
+// The simreel command line as scripts see it: exit codes, outputs, and no file left by bad input.
+#include <gtest/gtest.h>
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <thread>
+
+#include "tests/render/decode.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result {
+  int code;
+  std::string out;  // stdout and stderr together
+};
+
+Result run(const std::string& args) {
+  const std::string cmd = std::string(SIMREEL_BIN) + " " + args + " 2>&1";
+  FILE* p = popen(cmd.c_str(), "r");
+  std::string out;
+  char buf[4096];
+  size_t n;
+  while ((n = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
+  const int st = pclose(p);
+  return {WIFEXITED(st) ? WEXITSTATUS(st) : -1, out};
+}
+
+fs::path tmp(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / "simreel_cli_test";
+  fs::create_directories(d);
+  return d / name;
+}
+
+std::string write(const std::string& name, const std::string& text) {
+  const fs::path p = tmp(name);
+  std::ofstream(p) << text;
+  return p.string();
+}
+
+const char* kGood =
+    "simulation: { duration: 1.0, timestep: 0.01, gravity: [0, 0, -9.81] }\n"
+    "video: { width: 64, height: 48, fps: 10 }\n"
+    "bodies:\n"
+    "  - name: a\n    angular_velocity: [0.1, 3, 0.1]\n"
+    "    colliders: [ { shape: box, size: [3, 2, 1], mass: 6 } ]\n"
+    "  - name: b\n    position: [5, 0, 0]\n"
+    "    colliders: [ { shape: sphere, radius: 0.5 } ]\n";
+
+TEST(Cli, UsageErrorsExitWith2) {
+  EXPECT_EQ(run("").code, 2);
+  const Result r = run("simulat x.yaml");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("did you mean 'simulate'?"), std::string::npos) << r.out;
+  EXPECT_EQ(run("simulate " + write("g.yaml", kGood) + " --integrator nope").code, 2);
+  EXPECT_EQ(run("simulate " + write("g.yaml", kGood) + " --timestep -1").code, 2);
+  EXPECT_EQ(run("simulate " + write("g.yaml", kGood) + " --bogus").code, 2);
+  for (const char* c : {"render", "simulate", "inspect"}) {
+    const Result h = run(std::string(c) + " --help");
+    EXPECT_EQ(h.code, 0) << c;
+    EXPECT_NE(h.out.find("usage: simreel"), std::string::npos) << c;
+  }
+}
+
+TEST(Cli, BadSceneExitsWith2AndLeavesNoOutput) {
+  const fs::path csv = tmp("bad.csv"), mp4 = tmp("bad.mp4");
+  fs::remove(csv);
+  fs::remove(mp4);
+  const std::string bad = write("bad.yaml", "simulation: { duration: 1 }\nbodies:\n  - colliders: [ { shape: box } ]\n");
+  const Result r = run("simulate " + bad + " --csv " + csv.string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("bad.yaml:3:"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("needs 'size'"), std::string::npos) << r.out;
+  EXPECT_FALSE(fs::exists(csv));
+  EXPECT_EQ(run("render " + bad + " -o " + mp4.string()).code, 2);
+  EXPECT_FALSE(fs::exists(mp4));
+  EXPECT_EQ(run("simulate " + tmp("missing.yaml").string()).code, 2);
+}
+
+TEST(Cli, SimulateWritesTheCsvAtEveryFrameAndAJsonSummary) {
+  const fs::path csv = tmp("good.csv");
+  const Result r = run("simulate " + write("good.yaml", kGood) + " --csv " + csv.string() + " --json");
+  ASSERT_EQ(r.code, 0) << r.out;
+  for (const char* k : {"\"steps\": 100", "\"bodies\": 2", "\"step_seconds\":", "\"energy_rel_drift\":",
+                        "\"momentum_rel_drift\":"})
+    EXPECT_NE(r.out.find(k), std::string::npos) << k << " in " << r.out;
+  std::ifstream in(csv);
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, "t,body,px,py,pz,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz");
+  int rows = 0;
+  std::string first, last;
+  while (std::getline(in, line)) {
+    if (rows == 0) first = line;
+    last = line;
+    ++rows;
+  }
+  EXPECT_EQ(rows, 11 * 2);  // frames at t = 0, 0.1, ..., 1.0, two bodies each
+  EXPECT_EQ(first.rfind("0,a,0,0,0,1,0,0,0,", 0), 0u) << first;
+  EXPECT_EQ(last.rfind("1,b,5,0,", 0), 0u) << last;
+  // Free fall of b: z = -g t^2 / 2 at t = 1 (the default integrator is exact for constant g).
+  std::stringstream ss(last);
+  std::string f;
+  for (int i = 0; i < 5; ++i) std::getline(ss, f, ',');
+  EXPECT_NEAR(std::stod(f), -9.81 / 2, 1e-12);
+}
+
+TEST(Cli, SameSceneGivesByteIdenticalTrajectories) {
+  const std::string g = write("good.yaml", kGood);
+  ASSERT_EQ(run("simulate " + g + " --quiet --csv " + tmp("a.csv").string()).code, 0);
+  ASSERT_EQ(run("simulate " + g + " --quiet --threads 2 --csv " + tmp("b.csv").string()).code, 0);
+  std::ifstream a(tmp("a.csv")), b(tmp("b.csv"));
+  const std::string sa((std::istreambuf_iterator<char>(a)), {}), sb((std::istreambuf_iterator<char>(b)), {});
+  EXPECT_EQ(sa, sb);
+}
+
+TEST(Cli, NonFiniteStateStopsTheRunNamingBodyAndTime) {
+  const std::string s = write("nan.yaml",
+                              "simulation: { duration: 1, timestep: 0.01 }\nbodies:\n  - name: wild\n"
+                              "    angular_velocity: [1e200, 1e200, 1e150]\n"
+                              "    colliders: [ { shape: box, size: [3, 2, 1] } ]\n");
+  const Result r = run("simulate " + s);
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_NE(r.out.find("'wild'"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("t = "), std::string::npos) << r.out;
+}
+
+TEST(Cli, InspectReportsMassPropertiesAsJson) {
+  const Result r = run("inspect assets/tetra.off --json --density 1000");
+  ASSERT_EQ(r.code, 0) << r.out;
+  for (const char* k : {"\"volume\":", "\"mass\":", "\"centroid\":", "\"inertia\":", "\"principal_moments\":",
+                        "\"closed\": true", "\"consistently_oriented\": true", "\"warnings\": []"})
+    EXPECT_NE(r.out.find(k), std::string::npos) << k;
+  const Result open = run("inspect assets/open_box.obj");
+  EXPECT_EQ(open.code, 2);
+  EXPECT_NE(open.out.find("mode: shell"), std::string::npos);
+  const Result hull = run("inspect assets/open_box.obj --mode hull --json");
+  EXPECT_EQ(hull.code, 0);
+  EXPECT_NE(hull.out.find("\"closed\": false"), std::string::npos);
+  EXPECT_EQ(run("inspect " + write("junk.obj", "this is not a mesh\n")).code, 2);
+}
+
+TEST(Cli, InterruptedRenderLeavesAPlayableVideoOfTheFramesDone) {
+  const std::string scene = write("long.yaml",
+                                  "simulation: { duration: 600, timestep: 0.01, gravity: [0, 0, 0] }\n"
+                                  "video: { width: 320, height: 240, fps: 30 }\n"
+                                  "bodies:\n  - angular_velocity: [0.1, 3, 0.1]\n"
+                                  "    colliders: [ { shape: box, size: [3, 2, 1] } ]\n");
+  const fs::path out = tmp("long.mp4");
+  fs::remove(out);
+  const pid_t pid = fork();
+  if (pid == 0) {
+    const int devnull = open("/dev/null", 1);
+    dup2(devnull, 1);
+    dup2(devnull, 2);
+    execl(SIMREEL_BIN, SIMREEL_BIN, "render", scene.c_str(), "-o", out.string().c_str(), "--quiet", (char*)nullptr);
+    _exit(99);
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(2500));
+  EXPECT_FALSE(fs::exists(out)) << "the video appeared before it was complete";
+  kill(pid, SIGINT);
+  int st = 0;
+  waitpid(pid, &st, 0);
+  ASSERT_TRUE(WIFEXITED(st));
+  EXPECT_EQ(WEXITSTATUS(st), 128 + SIGINT);
+  ASSERT_TRUE(fs::exists(out));
+  const simreel::test::Decoded d = simreel::test::decode(out.string());
+  EXPECT_EQ(d.codec, "h264");
+  EXPECT_GT(d.frames, 0);
+  for (const auto& e : fs::directory_iterator(out.parent_path()))
+    EXPECT_EQ(e.path().filename().string().find("long.partial"), std::string::npos);
+}
+
+}  // namespace

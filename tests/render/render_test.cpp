@@ -1,0 +1,230 @@
+// Tiny renders (160 x 120) checked pixel by pixel, and a video encoded then decoded back.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <vector>
+
+#include "render/draw_list.hpp"
+#include "tests/render/decode.hpp"
+#include "render/renderer.hpp"
+#include "render/video_writer.hpp"
+#include "sim/primitives.hpp"
+#include "sim/scene_builders.hpp"
+
+namespace simreel {
+namespace {
+
+constexpr int W = 160, H = 120;
+
+struct Px {
+  int r, g, b;
+  int sum() const { return r + g + b; }
+};
+Px at(const uint8_t* img, int x, int y) {
+  const uint8_t* p = img + ((size_t)y * W + x) * 4;
+  return {p[0], p[1], p[2]};
+}
+
+BodyDef colored(BodyDef b, std::array<float, 3> c, Vec3 pos) {
+  b.color = c;
+  b.p_WB = pos;
+  return b;
+}
+
+struct Fixture {
+  std::unique_ptr<World> world;
+  std::unique_ptr<SceneMeshes> meshes;
+  std::unique_ptr<Renderer> renderer;
+  CameraView cam;
+  std::vector<uint8_t> frame;
+  Fixture(std::vector<BodyDef> bodies, CameraView c, bool ground, bool shadows = true) : cam(c) {
+    WorldConfig wc;
+    wc.gravity = Vec3::Zero();
+    world = std::make_unique<World>(wc, bodies);
+    meshes = std::make_unique<SceneMeshes>(*world);
+    RenderSettings rs;
+    rs.width = W;
+    rs.height = H;
+    rs.ground = ground;
+    rs.shadows = shadows;
+    rs.ground_size = 40;
+    rs.ground_tile = 100;  // one colour: no checker edges in the way of the shadow test
+    renderer = std::make_unique<Renderer>(rs, *meshes);
+  }
+  const uint8_t* render() {
+    DrawList dl;
+    build_draw_list(*world, *meshes, cam, -1, dl);
+    const uint8_t* p = renderer->render(dl);
+    frame.assign(p, p + (size_t)W * H * 4);
+    return frame.data();
+  }
+};
+
+CameraView top_down() {
+  CameraView c;
+  c.eye = Vec3(0, 0, 10);
+  c.target = Vec3::Zero();
+  c.up = Vec3::UnitY();
+  c.fov_deg = 40;
+  return c;
+}
+
+TEST(Render, RedBoxAtTheCentreAndBackgroundAtTheCorners) {
+  Fixture s({colored(box_body("b", Vec3(1, 1, 1), 1), {0.9f, 0.05f, 0.05f}, Vec3::Zero())}, top_down(), false);
+  const uint8_t* img = s.render();
+  const Px c = at(img, W / 2, H / 2);
+  EXPECT_GT(c.r, 2 * c.g) << c.r << " " << c.g << " " << c.b;
+  EXPECT_GT(c.r, 2 * c.b);
+  // Background is the sky colour (0.60, 0.70, 0.82) after gamma 2.2: (202, 217, 234).
+  for (auto [x, y] : {std::pair{0, 0}, {W - 1, 0}, {0, H - 1}, {W - 1, H - 1}}) {
+    const Px p = at(img, x, y);
+    EXPECT_NEAR(p.r, 202, 2);
+    EXPECT_NEAR(p.g, 217, 2);
+    EXPECT_NEAR(p.b, 234, 2);
+  }
+}
+
+TEST(Render, SideFacingTheLightIsBrighter) {
+  // A sphere seen from above; the key light comes from (-0.45, -0.30, 0.84): image left and
+  // bottom. A point toward the light is brighter than the mirror point away from it.
+  BodyDef b;
+  b.name = "s";
+  Collider c;
+  c.shape = ShapeKind::sphere;
+  c.radius = 1.5;
+  c.props_C = sphere_mass(1.5, 1);
+  b.add_collider(c);
+  Fixture s({colored(b, {0.7f, 0.7f, 0.7f}, Vec3::Zero())}, top_down(), false);
+  const uint8_t* img = s.render();
+  const int d = 14;  // px: well inside the sphere's 30 px image radius
+  EXPECT_GT(at(img, W / 2 - d, H / 2 + d).sum(), at(img, W / 2 + d, H / 2 - d).sum() + 60);
+}
+
+TEST(Render, ShadowedGroundIsDarkerThanLitGround) {
+  // Box at z = 2 over the ground z = 0: its shadow lands 2/0.84 along (0.45, 0.30), at (1.07, 0.71),
+  // which projects to about pixel (98, 48); the box itself covers 75..85.
+  Fixture s({colored(box_body("b", Vec3(0.5, 0.5, 0.5), 1), {0.8f, 0.8f, 0.8f}, Vec3(0, 0, 2))}, top_down(), true);
+  const uint8_t* img = s.render();
+  // Same checker tile (x > 0, y > 0), away from the shadow: lit.
+  const int shadow = at(img, 98, 48).sum(), lit = at(img, 135, 15).sum();
+  EXPECT_LT(shadow, lit - 100) << "shadow " << shadow << " lit " << lit;
+  // With shadows off the very same pixel is lit.
+  Fixture n({colored(box_body("b", Vec3(0.5, 0.5, 0.5), 1), {0.8f, 0.8f, 0.8f}, Vec3(0, 0, 2))}, top_down(), true,
+            false);
+  EXPECT_GT(at(n.render(), 98, 48).sum(), shadow + 100);
+}
+
+TEST(Render, BodyHighInTheSceneIsInTheUpperHalf) {
+  // GL rows run bottom-up; the frame must come out upright.
+  CameraView side;
+  side.eye = Vec3(0, -10, 0);
+  side.target = Vec3::Zero();
+  side.up = Vec3::UnitZ();
+  Fixture s({colored(box_body("b", Vec3(0.5, 0.5, 0.5), 1), {0.1f, 0.1f, 0.9f}, Vec3(0, 0, 2))}, side, false);
+  const uint8_t* img = s.render();
+  int lo = H, hi = -1;
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      const Px p = at(img, x, y);
+      if (p.b > p.r + 60) lo = std::min(lo, y), hi = std::max(hi, y);
+    }
+  ASSERT_GE(hi, 0) << "box not visible";
+  EXPECT_LT(hi, H / 2);
+}
+
+TEST(Render, SameSceneTwiceGivesIdenticalFrames) {
+  std::vector<uint8_t> a, b;
+  for (auto* out : {&a, &b}) {
+    CameraView c;
+    c.eye = Vec3(4, -4, 3);
+    Fixture s(r2_free_boxes(8), c, true);
+    for (int k = 0; k < 10; ++k) s.world->step();
+    s.cam.target = s.world->centroid(0);
+    s.cam.eye = s.cam.target + Vec3(6, -6, 4);
+    s.render();
+    *out = s.frame;
+  }
+  EXPECT_EQ(a, b);
+}
+
+TEST(Render, ShadowMapIsReusedWhileNothingMoves) {
+  Fixture s({box_body("b", Vec3(1, 1, 1), 1)}, top_down(), true);
+  s.render();
+  s.render();
+  EXPECT_EQ(s.renderer->stats().shadow_passes, 1);
+  EXPECT_EQ(s.renderer->stats().shadow_reused, 1);
+}
+
+double psnr_rgb(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b) {
+  double se = 0;
+  size_t n = 0;
+  for (size_t i = 0; i < a.size(); i += 4)
+    for (int c = 0; c < 3; ++c, ++n) se += std::pow((double)a[i + c] - b[i + c], 2);
+  return 10 * std::log10(255.0 * 255.0 / (se / n));
+}
+
+TEST(Video, EncodeThirtyFramesAndDecodeThemBack) {
+  const std::string path = (std::filesystem::temp_directory_path() / "simreel_video_test.mp4").string();
+  std::remove(path.c_str());
+  CameraView c;
+  c.eye = Vec3(3, -3, 2);
+  Fixture s({colored(r1_tumble_body(), {0.8f, 0.4f, 0.2f}, Vec3::Zero())}, c, true);
+  VideoSettings vs;
+  vs.path = path;
+  vs.width = W;
+  vs.height = H;
+  vs.fps = 30;
+  std::vector<uint8_t> first;
+  {
+    VideoWriter v(vs);
+    for (int k = 0; k < 30; ++k) {
+      for (int j = 0; j < 8; ++j) s.world->step();
+      const uint8_t* img = s.render();
+      if (k == 0) first = s.frame;
+      v.push(img);
+    }
+    EXPECT_FALSE(std::filesystem::exists(path)) << "visible before finish()";
+    v.finish();
+  }
+  const test::Decoded d = test::decode(path);
+  EXPECT_EQ(d.codec, "h264");
+  EXPECT_EQ(d.pix_fmt, "yuv420p");
+  EXPECT_EQ(d.width, W);
+  EXPECT_EQ(d.height, H);
+  EXPECT_EQ(d.frames, 30);
+  EXPECT_NEAR(d.fps, 30.0, 1e-9);
+  EXPECT_NEAR(d.duration, 1.0, 0.05);
+  ASSERT_EQ(d.first_rgba.size(), first.size());
+  EXPECT_GT(psnr_rgb(d.first_rgba, first), 35.0);
+  // Nothing else was left beside it.
+  for (const auto& e : std::filesystem::directory_iterator(std::filesystem::temp_directory_path()))
+    EXPECT_EQ(e.path().string().find("simreel_video_test.partial"), std::string::npos);
+}
+
+TEST(Video, WriterDestroyedWithoutFinishLeavesNothing) {
+  const std::string path = (std::filesystem::temp_directory_path() / "simreel_abort_test.mp4").string();
+  std::remove(path.c_str());
+  {
+    VideoSettings vs;
+    vs.path = path;
+    vs.width = W;
+    vs.height = H;
+    VideoWriter v(vs);
+    std::vector<uint8_t> grey((size_t)W * H * 4, 128);
+    v.push(grey.data());
+  }
+  EXPECT_FALSE(std::filesystem::exists(path));
+}
+
+TEST(Video, OddSizeIsRejected) {
+  VideoSettings vs;
+  vs.path = (std::filesystem::temp_directory_path() / "simreel_odd.mp4").string();
+  vs.width = 161;
+  vs.height = 120;
+  EXPECT_THROW(VideoWriter{vs}, std::runtime_error);
+}
+
+}  // namespace
+}  // namespace simreel
