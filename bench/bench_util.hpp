@@ -1,0 +1,30 @@
+// Timing helpers for bench/: warm-up run, then the minimum and median of N timed runs.
+#pragma once
+#include <algorithm>
+#include <chrono>
+#include <vector>
+
+namespace simreel::bench {
+
+inline double now_s() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+struct Timing {
+  double min = 0, median = 0;
+  int repeats = 0;
+};
+// f() runs once untimed (warm-up), then `repeats` timed runs.
+template <typename F>
+Timing time_runs(int repeats, F f) {
+  f();
+  std::vector<double> t;
+  for (int i = 0; i < repeats; ++i) {
+    const double t0 = now_s();
+    f();
+    t.push_back(now_s() - t0);
+  }
+  std::sort(t.begin(), t.end());
+  return {t.front(), t[t.size() / 2], repeats};
+}
+
+}  // namespace simreel::bench
