@@ -123,7 +123,8 @@ void apply_overrides(const ParsedArgs& a, Scene& s) {
     const auto i = integrator_from_name(n);
     if (!i) {
       std::string msg = "unknown integrator '" + n + "' (" + integrator_names() + ")";
-      if (auto m = nearest(n, {"auto", "seed", "euler_gyro", "rk4", "splitting"})) msg += "; did you mean '" + *m + "'?";
+      if (auto m = nearest(n, {"auto", "seed", "euler_gyro", "rk4", "splitting"}))
+        msg += "; did you mean '" + *m + "'?";
       throw UsageError(msg);
     }
     s.integrator = *i;
@@ -135,9 +136,16 @@ void apply_overrides(const ParsedArgs& a, Scene& s) {
 }
 
 int cmd_simulate(const std::vector<std::string>& args) {
-  const ParsedArgs a = parse_args(args, {{"--csv", true}, {"--json", false}, {"--integrator", true},
-                                         {"--timestep", true}, {"--duration", true}, {"--quiet", false},
-                                         {"--profile", false}, {"--threads", true}, {"--help", false}, {"-h", false}});
+  const ParsedArgs a = parse_args(args, {{"--csv", true},
+                                         {"--json", false},
+                                         {"--integrator", true},
+                                         {"--timestep", true},
+                                         {"--duration", true},
+                                         {"--quiet", false},
+                                         {"--profile", false},
+                                         {"--threads", true},
+                                         {"--help", false},
+                                         {"-h", false}});
   if (a.has("--help") || a.has("-h")) {
     std::fputs(kSimulateHelp, stdout);
     return kExitOk;
@@ -162,9 +170,10 @@ int cmd_simulate(const std::vector<std::string>& args) {
     for (int i = 0; i < world.body_count(); ++i) {
       const Vec3 p = world.origin_position(i), v = world.linear_velocity(i), w = world.angular_velocity(i);
       const Quat q = world.orientation(i);
-      std::fprintf(csv->get(), "%.17g,%s,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n",
-                   world.time(), world.def(i).name.c_str(), p.x(), p.y(), p.z(), q.w(), q.x(), q.y(), q.z(), v.x(),
-                   v.y(), v.z(), w.x(), w.y(), w.z());
+      std::fprintf(csv->get(),
+                   "%.17g,%s,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n",
+                   world.time(), world.def(i).name.c_str(), p.x(), p.y(), p.z(), q.w(), q.x(), q.y(), q.z(),
+                   v.x(), v.y(), v.z(), w.x(), w.y(), w.z());
     }
   };
 
@@ -192,20 +201,7 @@ int cmd_simulate(const std::vector<std::string>& args) {
   progress.finish();
   if (csv) csv->commit();
 
-  RunSummary s;
-  s.scene = scene.path;
-  s.integrator = scene.integrator;
-  s.timestep = scene.timestep;
-  s.duration = scene.duration;
-  s.steps = world.steps();
-  s.bodies = world.body_count();
-  s.dynamic_bodies = world.dynamic_count();
-  s.frames = (int)plan.frame_step.size();
-  s.step_seconds = step_seconds;
-  s.energy_rel_drift = drift.energy_rel();
-  s.momentum_rel_drift = drift.momentum_rel();
-  s.warnings = world.warnings();
-  s.warnings.insert(s.warnings.end(), scene.notes.begin(), scene.notes.end());
+  RunSummary s = make_summary(scene, world, drift, (int)plan.frame_step.size(), step_seconds);
   if (a.has("--profile")) s.profile = &world.profile();
   if (csv) s.output = a.options.at("--csv");
   std::fputs(a.has("--json") ? (summary_json(s) + "\n").c_str() : summary_text(s).c_str(), stdout);
@@ -213,8 +209,13 @@ int cmd_simulate(const std::vector<std::string>& args) {
 }
 
 int cmd_inspect(const std::vector<std::string>& args) {
-  const ParsedArgs a = parse_args(args, {{"--json", false}, {"--density", true}, {"--mode", true},
-                                         {"--thickness", true}, {"--scale", true}, {"--help", false}, {"-h", false}});
+  const ParsedArgs a = parse_args(args, {{"--json", false},
+                                         {"--density", true},
+                                         {"--mode", true},
+                                         {"--thickness", true},
+                                         {"--scale", true},
+                                         {"--help", false},
+                                         {"-h", false}});
   if (a.has("--help") || a.has("-h")) {
     std::fputs(kInspectHelp, stdout);
     return kExitOk;
@@ -225,10 +226,14 @@ int cmd_inspect(const std::vector<std::string>& args) {
   if (a.has("--thickness")) opt.thickness = a.number("--thickness", true);
   if (a.has("--mode")) {
     const std::string m = a.options.at("--mode");
-    if (m == "solid") opt.mode = MassMode::solid;
-    else if (m == "shell") opt.mode = MassMode::shell;
-    else if (m == "hull") opt.mode = MassMode::hull;
-    else throw UsageError("unknown --mode '" + m + "' (solid, shell or hull)");
+    if (m == "solid")
+      opt.mode = MassMode::solid;
+    else if (m == "shell")
+      opt.mode = MassMode::shell;
+    else if (m == "hull")
+      opt.mode = MassMode::hull;
+    else
+      throw UsageError("unknown --mode '" + m + "' (solid, shell or hull)");
   }
   const double scale = a.has("--scale") ? a.number("--scale", true) : 1.0;
   const std::string path = a.positional[0];
@@ -247,11 +252,12 @@ int cmd_inspect(const std::vector<std::string>& args) {
         "\"principal_axes\": %s, \"closed\": %s, \"consistently_oriented\": %s, \"welded_vertices\": %d, "
         "\"degenerate_faces\": %d, \"reoriented_faces\": %d, \"inverted\": %s, \"warnings\": %s}\n",
         json_string(path).c_str(), json_string(to_string(opt.mode)).c_str(), json_number(opt.density).c_str(),
-        mesh.vertices.size(), mesh.triangles.size(), json_number(r.volume).c_str(), json_number(r.area).c_str(),
-        json_number(r.props.mass).c_str(), json_vec(r.props.com).c_str(), json_mat(r.props.inertia).c_str(),
-        json_vec(pa.moments).c_str(), json_mat(pa.R.transpose()).c_str(), r.closed ? "true" : "false",
-        r.consistently_oriented ? "true" : "false", r.welded_vertices, r.degenerate_faces, r.reoriented_faces,
-        r.inverted ? "true" : "false", json_strings(r.warnings).c_str());
+        mesh.vertices.size(), mesh.triangles.size(), json_number(r.volume).c_str(),
+        json_number(r.area).c_str(), json_number(r.props.mass).c_str(), json_vec(r.props.com).c_str(),
+        json_mat(r.props.inertia).c_str(), json_vec(pa.moments).c_str(), json_mat(pa.R.transpose()).c_str(),
+        r.closed ? "true" : "false", r.consistently_oriented ? "true" : "false", r.welded_vertices,
+        r.degenerate_faces, r.reoriented_faces, r.inverted ? "true" : "false",
+        json_strings(r.warnings).c_str());
     return kExitOk;
   }
   auto row = [](const Vec3& v) {
@@ -259,12 +265,12 @@ int cmd_inspect(const std::vector<std::string>& args) {
     std::snprintf(b, sizeof b, "[% .10g, % .10g, % .10g]", v.x(), v.y(), v.z());
     return std::string(b);
   };
-  std::printf("%s (%s, %zu vertices, %zu faces as loaded)\n", path.c_str(), to_string(opt.mode), mesh.vertices.size(),
-              mesh.triangles.size());
+  std::printf("%s (%s, %zu vertices, %zu faces as loaded)\n", path.c_str(), to_string(opt.mode),
+              mesh.vertices.size(), mesh.triangles.size());
   std::printf("  closed: %s, consistently oriented: %s\n", r.closed ? "yes" : "no",
               r.consistently_oriented ? "yes" : "no");
-  std::printf("  volume:   %.12g m^3\n  area:     %.12g m^2\n  mass:     %.12g kg (density %g kg/m^3)\n", r.volume,
-              r.area, r.props.mass, opt.density);
+  std::printf("  volume:   %.12g m^3\n  area:     %.12g m^2\n  mass:     %.12g kg (density %g kg/m^3)\n",
+              r.volume, r.area, r.props.mass, opt.density);
   std::printf("  centroid: %s m\n", row(r.props.com).c_str());
   std::printf("  inertia about the centroid, mesh axes (kg m^2):\n");
   for (int i = 0; i < 3; ++i) std::printf("    %s\n", row(r.props.inertia.row(i)).c_str());

@@ -12,7 +12,8 @@ namespace simreel {
 
 TriangleMesh import_mesh(const std::string& path, const Vec3& scale) {
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) throw InputError("mesh file '" + path + "' does not exist");
+  if (!std::filesystem::is_regular_file(path, ec))
+    throw InputError("mesh file '" + path + "' does not exist");
   Assimp::Importer imp;
   // Keep points and lines out of the triangle lists; we report files that have nothing else.
   imp.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, 0);
@@ -51,7 +52,8 @@ TriangleMesh import_mesh(const std::string& path, const Vec3& scale) {
     throw InputError("mesh '" + path + "' has no triangles" +
                      (points ? " (only " + std::to_string(points) + " points or lines)" : std::string()));
   for (const Vec3& v : out.vertices)
-    if (!all_finite(v)) throw InputError("mesh '" + path + "' has a vertex with a NaN or infinite coordinate");
+    if (!all_finite(v))
+      throw InputError("mesh '" + path + "' has a vertex with a NaN or infinite coordinate");
   return out;
 }
 

@@ -39,17 +39,30 @@ options:
 )";
 
 std::atomic<int> g_signal{0};
-extern "C" void on_signal(int sig) { g_signal = sig; }
+extern "C" void on_signal(int sig) {
+  g_signal = sig;
+}
 
 }  // namespace
 
 #ifdef SIMREEL_HAVE_RENDER
 int cmd_render(const std::vector<std::string>& args) {
-  const ParsedArgs a = parse_args(
-      args, {{"-o", true}, {"--frames-dir", true}, {"--no-video", false}, {"--width", true}, {"--height", true},
-             {"--fps", true}, {"--duration", true}, {"--integrator", true}, {"--timestep", true}, {"--msaa", true},
-             {"--no-shadows", false}, {"--crf", true}, {"--json", false}, {"--quiet", false}, {"--help", false},
-             {"-h", false}});
+  const ParsedArgs a = parse_args(args, {{"-o", true},
+                                         {"--frames-dir", true},
+                                         {"--no-video", false},
+                                         {"--width", true},
+                                         {"--height", true},
+                                         {"--fps", true},
+                                         {"--duration", true},
+                                         {"--integrator", true},
+                                         {"--timestep", true},
+                                         {"--msaa", true},
+                                         {"--no-shadows", false},
+                                         {"--crf", true},
+                                         {"--json", false},
+                                         {"--quiet", false},
+                                         {"--help", false},
+                                         {"-h", false}});
   if (a.has("--help") || a.has("-h")) {
     std::fputs(kRenderHelp, stdout);
     return kExitOk;
@@ -61,8 +74,8 @@ int cmd_render(const std::vector<std::string>& args) {
   for (const std::string& n : scene.notes) std::fprintf(stderr, "note: %s\n", n.c_str());
   int w = scene.video.width, h = scene.video.height;
   if (w % 2 || h % 2) {
-    std::fprintf(stderr, "note: %dx%d rounded up to %dx%d (yuv420p video needs even sizes)\n", w, h, w + w % 2,
-                 h + h % 2);
+    std::fprintf(stderr, "note: %dx%d rounded up to %dx%d (yuv420p video needs even sizes)\n", w, h,
+                 w + w % 2, h + h % 2);
     w += w % 2, h += h % 2;
   }
 
@@ -132,22 +145,9 @@ int cmd_render(const std::vector<std::string>& args) {
   std::signal(SIGTERM, SIG_DFL);
   if (done > 0) writer.finish();  // with no frame at all, the destructor removes the partial file
 
-  RunSummary s;
-  s.scene = scene.path;
-  s.integrator = scene.integrator;
-  s.timestep = scene.timestep;
-  s.duration = scene.duration;
-  s.steps = world.steps();
-  s.bodies = world.body_count();
-  s.dynamic_bodies = world.dynamic_count();
-  s.frames = (int)done;
-  s.step_seconds = step_s;
+  RunSummary s = make_summary(scene, world, drift, (int)done, step_s);
   s.render_seconds = render_s;
   s.encode_seconds = writer.encode_seconds();
-  s.energy_rel_drift = drift.energy_rel();
-  s.momentum_rel_drift = drift.momentum_rel();
-  s.warnings = world.warnings();
-  s.warnings.insert(s.warnings.end(), scene.notes.begin(), scene.notes.end());
   if (done > 0) s.output = vs.path.empty() ? vs.frames_dir : vs.path;
   if (g_signal) {
     s.warnings.push_back("interrupted by signal " + std::to_string(g_signal.load()) + " after " +

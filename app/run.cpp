@@ -20,7 +20,8 @@ FramePlan plan_frames(double duration, double dt, double fps) {
   return p;
 }
 
-Drift::Drift(const World& w) : E0_(w.kinetic_energy() + w.potential_energy()), L0_(w.total_angular_momentum()) {
+Drift::Drift(const World& w)
+    : E0_(w.kinetic_energy() + w.potential_energy()), L0_(w.total_angular_momentum()) {
   scale_ = std::max(std::fabs(E0_), w.kinetic_energy());
 }
 
@@ -31,8 +32,12 @@ void Drift::sample(const World& w) {
   max_dL_ = std::max(max_dL_, (w.total_angular_momentum() - L0_).norm());
 }
 
-double Drift::energy_rel() const { return scale_ > 0 ? max_dE_ / scale_ : 0.0; }
-double Drift::momentum_rel() const { return L0_.norm() > 0 ? max_dL_ / L0_.norm() : max_dL_; }
+double Drift::energy_rel() const {
+  return scale_ > 0 ? max_dE_ / scale_ : 0.0;
+}
+double Drift::momentum_rel() const {
+  return L0_.norm() > 0 ? max_dL_ / L0_.norm() : max_dL_;
+}
 
 WorldConfig world_config(const Scene& s, int threads) {
   WorldConfig c;
@@ -43,6 +48,25 @@ WorldConfig world_config(const Scene& s, int threads) {
   return c;
 }
 
+RunSummary make_summary(const Scene& scene, const World& world, const Drift& drift, int frames,
+                        double step_seconds) {
+  RunSummary s;
+  s.scene = scene.path;
+  s.integrator = scene.integrator;
+  s.timestep = scene.timestep;
+  s.duration = scene.duration;
+  s.steps = world.steps();
+  s.bodies = world.body_count();
+  s.dynamic_bodies = world.dynamic_count();
+  s.frames = frames;
+  s.step_seconds = step_seconds;
+  s.energy_rel_drift = drift.energy_rel();
+  s.momentum_rel_drift = drift.momentum_rel();
+  s.warnings = world.warnings();
+  s.warnings.insert(s.warnings.end(), scene.notes.begin(), scene.notes.end());
+  return s;
+}
+
 std::string summary_text(const RunSummary& s) {
   std::ostringstream o;
   o << s.scene << ": " << s.steps << " steps of " << s.timestep << " s (" << to_string(s.integrator) << "), "
@@ -50,13 +74,15 @@ std::string summary_text(const RunSummary& s) {
   o << "  stepping: " << s.step_seconds << " s wall";
   if (s.steps > 0 && s.step_seconds > 0) o << " (" << s.step_seconds / s.steps * 1e6 << " us/step)";
   o << "\n";
-  if (s.render_seconds >= 0) o << "  rendering: " << s.render_seconds << " s, encoding thread busy " << s.encode_seconds << " s\n";
-  o << "  energy drift: " << s.energy_rel_drift << " (relative), angular momentum drift: " << s.momentum_rel_drift << "\n";
+  if (s.render_seconds >= 0)
+    o << "  rendering: " << s.render_seconds << " s, encoding thread busy " << s.encode_seconds << " s\n";
+  o << "  energy drift: " << s.energy_rel_drift
+    << " (relative), angular momentum drift: " << s.momentum_rel_drift << "\n";
   if (s.profile) {
     o << "  profile (stage: seconds, steps run, steps skipped):\n";
     for (int i = 0; i < (int)Stage::count; ++i)
-      o << "    " << to_string((Stage)i) << ": " << s.profile->seconds[i] << " s, " << s.profile->runs[i] << ", "
-        << s.profile->skipped[i] << "\n";
+      o << "    " << to_string((Stage)i) << ": " << s.profile->seconds[i] << " s, " << s.profile->runs[i]
+        << ", " << s.profile->skipped[i] << "\n";
   }
   for (const std::string& w : s.warnings) o << "  warning: " << w << "\n";
   if (!s.output.empty()) o << "  wrote " << s.output << "\n";
@@ -67,8 +93,9 @@ std::string summary_json(const RunSummary& s) {
   std::ostringstream o;
   o << "{\"scene\": " << json_string(s.scene) << ", \"integrator\": " << json_string(to_string(s.integrator))
     << ", \"timestep\": " << json_number(s.timestep) << ", \"duration\": " << json_number(s.duration)
-    << ", \"steps\": " << s.steps << ", \"bodies\": " << s.bodies << ", \"dynamic_bodies\": " << s.dynamic_bodies
-    << ", \"frames\": " << s.frames << ", \"step_seconds\": " << json_number(s.step_seconds)
+    << ", \"steps\": " << s.steps << ", \"bodies\": " << s.bodies
+    << ", \"dynamic_bodies\": " << s.dynamic_bodies << ", \"frames\": " << s.frames
+    << ", \"step_seconds\": " << json_number(s.step_seconds)
     << ", \"energy_rel_drift\": " << json_number(s.energy_rel_drift)
     << ", \"momentum_rel_drift\": " << json_number(s.momentum_rel_drift);
   if (s.render_seconds >= 0)
@@ -77,8 +104,8 @@ std::string summary_json(const RunSummary& s) {
   if (s.profile) {
     o << ", \"profile\": {";
     for (int i = 0; i < (int)Stage::count; ++i)
-      o << (i ? ", " : "") << json_string(to_string((Stage)i)) << ": {\"seconds\": "
-        << json_number(s.profile->seconds[i]) << ", \"runs\": " << s.profile->runs[i]
+      o << (i ? ", " : "") << json_string(to_string((Stage)i))
+        << ": {\"seconds\": " << json_number(s.profile->seconds[i]) << ", \"runs\": " << s.profile->runs[i]
         << ", \"skipped\": " << s.profile->skipped[i] << "}";
     o << "}";
   }

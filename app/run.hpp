@@ -11,8 +11,8 @@ namespace simreel {
 // Frame k shows simulation time k / fps; it is taken after the first step whose time reaches it
 // (physics keeps its own fixed step). Frames run from t = 0 to the last k / fps <= duration.
 struct FramePlan {
-  long total_steps = 0;           ///< ceil(duration / dt)
-  std::vector<long> frame_step;   ///< step count at which frame k is taken
+  long total_steps = 0;          ///< ceil(duration / dt)
+  std::vector<long> frame_step;  ///< step count at which frame k is taken
 };
 FramePlan plan_frames(double duration, double dt, double fps);
 
@@ -42,10 +42,13 @@ struct RunSummary {
   double step_seconds = 0;  ///< wall time inside World::step only
   double energy_rel_drift = 0, momentum_rel_drift = 0;
   std::vector<std::string> warnings;
-  const Profile* profile = nullptr;  ///< set with --profile
+  const Profile* profile = nullptr;                 ///< set with --profile
   double render_seconds = -1, encode_seconds = -1;  ///< render command only
   std::string output;
 };
+// The fields every command fills the same way: scene, world counters, drift, warnings and notes.
+RunSummary make_summary(const Scene& scene, const World& world, const Drift& drift, int frames,
+                        double step_seconds);
 std::string summary_text(const RunSummary& s);
 std::string summary_json(const RunSummary& s);
 

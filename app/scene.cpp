@@ -146,7 +146,8 @@ std::array<float, 3> color(const YAML::Node& n, const Ctx& c) {
 int whole(const YAML::Node& n, const Ctx& c, int lo, int hi) {
   const double v = number(n, c);
   if (v != std::floor(v) || v < lo || v > hi)
-    c.fail(n, "expected a whole number from " + std::to_string(lo) + " to " + std::to_string(hi) + ", got " + show(n));
+    c.fail(n, "expected a whole number from " + std::to_string(lo) + " to " + std::to_string(hi) + ", got " +
+                  show(n));
   return (int)v;
 }
 
@@ -155,7 +156,8 @@ Integrator integrator(const YAML::Node& n, const Ctx& c) {
   const auto i = integrator_from_name(name);
   if (!i) {
     std::string msg = "unknown integrator '" + name + "' (" + integrator_names() + ")";
-    if (auto s = nearest(name, {"auto", "seed", "euler_gyro", "rk4", "splitting"})) msg += "; did you mean '" + *s + "'?";
+    if (auto s = nearest(name, {"auto", "seed", "euler_gyro", "rk4", "splitting"}))
+      msg += "; did you mean '" + *s + "'?";
     c.fail(n, msg);
   }
   return *i;
@@ -182,8 +184,9 @@ struct Loader {
   }
 
   Collider collider(const YAML::Node& n, const Ctx& c, const std::string& body) {
-    check_keys(n, c, {"shape", "size", "radius", "height", "file", "scale", "mode", "thickness", "density",
-                      "mass", "position", "orientation"});
+    check_keys(n, c,
+               {"shape", "size", "radius", "height", "file", "scale", "mode", "thickness", "density", "mass",
+                "position", "orientation"});
     Collider col;
     if (!n["shape"]) c.fail(n, "missing key 'shape' (box, sphere, cylinder, capsule or mesh)");
     const std::string shape = text(n["shape"], c.child("shape"));
@@ -205,7 +208,8 @@ struct Loader {
     };
     if (n["position"]) col.p_BC = vec<3>(n["position"], c.child("position"));
     if (n["orientation"]) col.q_BC = unit_quaternion(n["orientation"], c.child("orientation"));
-    if (n["density"] && n["mass"]) c.child("mass").fail(n["mass"], "give either 'density' or 'mass', not both");
+    if (n["density"] && n["mass"])
+      c.child("mass").fail(n["mass"], "give either 'density' or 'mass', not both");
     const double density = n["density"] ? positive(n["density"], c.child("density")) : 1000.0;
     switch (col.shape) {
       case ShapeKind::box:
@@ -224,7 +228,8 @@ struct Loader {
         col.radius = positive(need("radius"), c.child("radius"));
         col.height = positive(need("height"), c.child("height"));
         if (col.shape == ShapeKind::capsule && col.height < 2 * col.radius)
-          c.child("height").fail(n["height"], "a capsule's height (tip to tip) must be at least twice its radius");
+          c.child("height").fail(n["height"],
+                                 "a capsule's height (tip to tip) must be at least twice its radius");
         break;
       case ShapeKind::mesh: {
         forbid({"size", "radius", "height"});
@@ -240,9 +245,12 @@ struct Loader {
         opt.density = 1.0;
         if (n["mode"]) {
           const std::string m = text(n["mode"], c.child("mode"));
-          if (m == "solid") opt.mode = MassMode::solid;
-          else if (m == "shell") opt.mode = MassMode::shell;
-          else if (m == "hull") opt.mode = MassMode::hull;
+          if (m == "solid")
+            opt.mode = MassMode::solid;
+          else if (m == "shell")
+            opt.mode = MassMode::shell;
+          else if (m == "hull")
+            opt.mode = MassMode::hull;
           else {
             std::string msg = "unknown mode '" + m + "' (solid, shell or hull)";
             if (auto s = nearest(m, {"solid", "shell", "hull"})) msg += "; did you mean '" + *s + "'?";
@@ -250,14 +258,16 @@ struct Loader {
           }
         }
         if (n["thickness"]) {
-          if (opt.mode != MassMode::shell) c.child("thickness").fail(n["thickness"], "applies to mode: shell only");
+          if (opt.mode != MassMode::shell)
+            c.child("thickness").fail(n["thickness"], "applies to mode: shell only");
           opt.thickness = positive(n["thickness"], c.child("thickness"));
         }
-        const std::string mkey = file + "|" + std::to_string(scale.x()) + "," + std::to_string(scale.y()) + "," +
-                                 std::to_string(scale.z());
+        const std::string mkey = file + "|" + std::to_string(scale.x()) + "," + std::to_string(scale.y()) +
+                                 "," + std::to_string(scale.z());
         MeshReport rep;
         try {
-          if (!meshes.count(mkey)) meshes[mkey] = std::make_shared<const TriangleMesh>(import_mesh(file, scale));
+          if (!meshes.count(mkey))
+            meshes[mkey] = std::make_shared<const TriangleMesh>(import_mesh(file, scale));
           rep = analyze_mesh(*meshes[mkey], opt);
         } catch (const InputError& e) {
           c.child("file").fail(n["file"], e.what());
@@ -282,8 +292,9 @@ struct Loader {
   }
 
   BodyDef body(const YAML::Node& n, const Ctx& c, size_t i) {
-    check_keys(n, c, {"name", "position", "orientation", "linear_velocity", "angular_velocity", "static", "color",
-                      "integrator", "colliders"});
+    check_keys(n, c,
+               {"name", "position", "orientation", "linear_velocity", "angular_velocity", "static", "color",
+                "integrator", "colliders"});
     BodyDef b;
     b.name = n["name"] ? text(n["name"], c.child("name")) : "body" + std::to_string(i);
     if (n["position"]) b.p_WB = vec<3>(n["position"], c.child("position"));
@@ -297,7 +308,8 @@ struct Loader {
     if (!cols) c.fail(n, "body '" + b.name + "' needs 'colliders' (a list of shapes)");
     if (!cols.IsSequence() || cols.size() == 0)
       c.child("colliders").fail(cols, "expected a non-empty list of colliders, got " + show(cols));
-    for (size_t k = 0; k < cols.size(); ++k) b.add_collider(collider(cols[k], c.child("colliders").index(k), b.name));
+    for (size_t k = 0; k < cols.size(); ++k)
+      b.add_collider(collider(cols[k], c.child("colliders").index(k), b.name));
     return b;
   }
 };
@@ -321,7 +333,8 @@ Scene load_scene(const std::string& path) {
     throw InputError(path + ": cannot read the scene file");
   }
   const Ctx top(path, "");
-  if (!root.IsMap()) top.fail(root, "a scene is a mapping with keys simulation, video, camera, render, bodies");
+  if (!root.IsMap())
+    top.fail(root, "a scene is a mapping with keys simulation, video, camera, render, bodies");
   check_keys(root, top, {"simulation", "video", "camera", "render", "bodies"});
 
   if (const YAML::Node sim = root["simulation"]) {

@@ -26,19 +26,19 @@ struct CameraSpec {
 
 struct RenderSpec {
   bool shadows = true;
-  int msaa = 4;  ///< samples per pixel: 1, 2 or 4
+  int msaa = 4;                                          ///< samples per pixel: 1, 2 or 4
   std::array<float, 3> background{0.60f, 0.70f, 0.82f};  ///< linear RGB, top of the sky
-  bool ground = false;       ///< draw a checkered ground plane
-  double ground_height = 0;  ///< m, z of the plane
-  double ground_size = 20;   ///< m, side of the square
-  double ground_tile = 1;    ///< m, checker tile
+  bool ground = false;                                   ///< draw a checkered ground plane
+  double ground_height = 0;                              ///< m, z of the plane
+  double ground_size = 20;                               ///< m, side of the square
+  double ground_tile = 1;                                ///< m, checker tile
 };
 
 struct Scene {
-  std::string path;  ///< as given
-  std::string name;  ///< file stem: default output out/<name>.mp4
-  double duration = 10.0;        ///< s
-  double timestep = 1.0 / 240;   ///< s
+  std::string path;             ///< as given
+  std::string name;             ///< file stem: default output out/<name>.mp4
+  double duration = 10.0;       ///< s
+  double timestep = 1.0 / 240;  ///< s
   Integrator integrator = Integrator::automatic;
   Vec3 gravity = Vec3(0, 0, -9.81);  ///< m/s^2
   VideoSpec video;

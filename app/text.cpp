@@ -12,11 +12,21 @@ std::string json_string(const std::string& s) {
   std::string o = "\"";
   for (unsigned char ch : s) {
     switch (ch) {
-      case '"': o += "\\\""; break;
-      case '\\': o += "\\\\"; break;
-      case '\n': o += "\\n"; break;
-      case '\t': o += "\\t"; break;
-      case '\r': o += "\\r"; break;
+      case '"':
+        o += "\\\"";
+        break;
+      case '\\':
+        o += "\\\\";
+        break;
+      case '\n':
+        o += "\\n";
+        break;
+      case '\t':
+        o += "\\t";
+        break;
+      case '\r':
+        o += "\\r";
+        break;
       default:
         if (ch < 0x20) {
           char b[8];
@@ -91,7 +101,8 @@ void AtomicFile::commit() {
   const bool ok = std::fflush(f_) == 0 && !std::ferror(f_);
   std::fclose(f_);
   f_ = nullptr;
-  if (!ok || std::rename(tmp_.c_str(), path_.c_str()) != 0) throw std::runtime_error("cannot write '" + path_ + "'");
+  if (!ok || std::rename(tmp_.c_str(), path_.c_str()) != 0)
+    throw std::runtime_error("cannot write '" + path_ + "'");
   done_ = true;
 }
 

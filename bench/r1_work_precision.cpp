@@ -70,10 +70,12 @@ int main() {
     self = std::max(self, angle(ref[k], ref2[k]));
     jac = std::max(jac, (wref[k] - top.angular_velocity(k / 30.0)).norm() / 5.0);
   }
-  std::printf("# reference: long-double RK4 at dt = 1/7680; vs dt = 1/15360: %.2e rad; w vs Jacobi: %.2e relative\n",
-              self, jac);
-  std::printf("integrator,dt_inv,steps,wall_s_min,wall_s_median,us_per_step,max_orient_err_rad,max_rel_energy_err,"
-              "max_rel_momentum_err\n");
+  std::printf(
+      "# reference: long-double RK4 at dt = 1/7680; vs dt = 1/15360: %.2e rad; w vs Jacobi: %.2e relative\n",
+      self, jac);
+  std::printf(
+      "integrator,dt_inv,steps,wall_s_min,wall_s_median,us_per_step,max_orient_err_rad,max_rel_energy_err,"
+      "max_rel_momentum_err\n");
   for (Integrator m : {Integrator::seed, Integrator::euler_gyro, Integrator::splitting, Integrator::rk4,
                        Integrator::automatic}) {
     for (int dtinv : {30, 60, 120, 240, 480, 960, 1920, 3840}) {

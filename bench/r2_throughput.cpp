@@ -27,15 +27,17 @@ struct PlainBody {
 };
 
 int main() {
-  std::printf("engine,variant,N,threads,steps,wall_s_min,wall_s_median,body_steps_per_s,ns_per_body_step,"
-              "state_bytes_per_body\n");
+  std::printf(
+      "engine,variant,N,threads,steps,wall_s_min,wall_s_median,body_steps_per_s,ns_per_body_step,"
+      "state_bytes_per_body\n");
   for (int N : {1000, 10000}) {
     const std::vector<BodyDef> defs = r2_free_boxes(N);
     {
       std::vector<PlainBody> init;
       for (const BodyDef& d : defs) {
         const MassProperties& mp = d.mass_B();
-        init.push_back({d.p_WB, Vec3::Zero(), d.w_W, d.q_WB.toRotationMatrix(), mp.inertia.diagonal(), mp.mass});
+        init.push_back(
+            {d.p_WB, Vec3::Zero(), d.w_W, d.q_WB.toRotationMatrix(), mp.inertia.diagonal(), mp.mass});
       }
       const bench::Timing t = bench::time_runs(3, [&] {
         std::vector<PlainBody> b = init;
@@ -46,8 +48,8 @@ int main() {
       std::printf("plain_article_loop,seed_matrices,%d,1,1000,%.5f,%.5f,%.4e,%.2f,%zu\n", N, t.min, t.median,
                   N * 1000.0 / t.min, t.min / (N * 1000.0) * 1e9, sizeof(PlainBody));
     }
-    for (Integrator m : {Integrator::automatic, Integrator::rk4, Integrator::splitting, Integrator::euler_gyro,
-                         Integrator::seed}) {
+    for (Integrator m : {Integrator::automatic, Integrator::rk4, Integrator::splitting,
+                         Integrator::euler_gyro, Integrator::seed}) {
       for (int threads : {1, 2}) {
         WorldConfig c;
         c.integrator = m;

@@ -11,7 +11,8 @@ SceneMeshes::SceneMeshes(const World& w) {
   }
 }
 
-void build_draw_list(const World& w, const SceneMeshes& sm, const CameraView& cam, int follow, DrawList& out) {
+void build_draw_list(const World& w, const SceneMeshes& sm, const CameraView& cam, int follow,
+                     DrawList& out) {
   out.items.clear();
   Vec3 lo = Vec3::Constant(INFINITY), hi = Vec3::Constant(-INFINITY);
   for (int i = 0; i < w.body_count(); ++i) {

@@ -19,7 +19,7 @@ struct DrawItem {
 
 struct CameraView {
   Vec3 eye = Vec3(8, -8, 5), target = Vec3::Zero(), up = Vec3::UnitZ();  ///< m
-  double fov_deg = 40;  ///< vertical
+  double fov_deg = 40;                                                   ///< vertical
 };
 
 struct DrawList {

@@ -13,14 +13,27 @@ namespace {
 class OsMesaContext final : public GlContext {
  public:
   OsMesaContext(int w, int h) : w_(w), h_(h), buf_((size_t)w * h * 4) {
-    const int attribs[] = {OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 24, OSMESA_STENCIL_BITS, 0,
-                           OSMESA_ACCUM_BITS, 0, OSMESA_PROFILE, OSMESA_CORE_PROFILE,
-                           OSMESA_CONTEXT_MAJOR_VERSION, 3, OSMESA_CONTEXT_MINOR_VERSION, 3, 0};
+    const int attribs[] = {OSMESA_FORMAT,
+                           OSMESA_RGBA,
+                           OSMESA_DEPTH_BITS,
+                           24,
+                           OSMESA_STENCIL_BITS,
+                           0,
+                           OSMESA_ACCUM_BITS,
+                           0,
+                           OSMESA_PROFILE,
+                           OSMESA_CORE_PROFILE,
+                           OSMESA_CONTEXT_MAJOR_VERSION,
+                           3,
+                           OSMESA_CONTEXT_MINOR_VERSION,
+                           3,
+                           0};
     ctx_ = OSMesaCreateContextAttribs(attribs, nullptr);
     if (!ctx_) throw std::runtime_error("OSMesa could not create an OpenGL 3.3 core context");
     if (!OSMesaMakeCurrent(ctx_, buf_.data(), GL_UNSIGNED_BYTE, w, h)) {
       OSMesaDestroyContext(ctx_);
-      throw std::runtime_error("OSMesa could not bind a " + std::to_string(w) + "x" + std::to_string(h) + " buffer");
+      throw std::runtime_error("OSMesa could not bind a " + std::to_string(w) + "x" + std::to_string(h) +
+                               " buffer");
     }
     OSMesaPixelStore(OSMESA_Y_UP, 0);  // row 0 of the buffer is the top of the image
   }

@@ -156,7 +156,8 @@ GpuMesh upload(const RenderMesh& m) {
   glBindVertexArray(g.vao);
   glGenBuffers(1, &g.vbo);
   glBindBuffer(GL_ARRAY_BUFFER, g.vbo);
-  glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(m.vertices.size() * sizeof(float)), m.vertices.data(), GL_STATIC_DRAW);
+  glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(m.vertices.size() * sizeof(float)), m.vertices.data(),
+               GL_STATIC_DRAW);
   glGenBuffers(1, &g.ebo);
   glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, g.ebo);
   glBufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)(m.indices.size() * sizeof(uint32_t)), m.indices.data(),
@@ -176,8 +177,8 @@ struct Renderer::Impl {
   RenderSettings s;
   std::unique_ptr<GlContext> ctx;
   GLuint lit = 0, depth = 0;
-  GLint u_model, u_viewproj, u_lightvp, u_color, u_light_dir, u_eye, u_shadows, u_checker, u_tile, u_bias, u_map,
-      u_mvp;
+  GLint u_model, u_viewproj, u_lightvp, u_color, u_light_dir, u_eye, u_shadows, u_checker, u_tile, u_bias,
+      u_map, u_mvp;
   std::vector<GpuMesh> meshes;
   GpuMesh ground;
   GLuint msaa_fbo = 0, msaa_color = 0, msaa_depth = 0;
@@ -205,8 +206,8 @@ struct Renderer::Impl {
     if (s.shadows) {
       glGenTextures(1, &shadow_tex);
       glBindTexture(GL_TEXTURE_2D, shadow_tex);
-      glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT24, s.shadow_size, s.shadow_size, 0, GL_DEPTH_COMPONENT,
-                   GL_UNSIGNED_INT, nullptr);
+      glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT24, s.shadow_size, s.shadow_size, 0,
+                   GL_DEPTH_COMPONENT, GL_UNSIGNED_INT, nullptr);
       glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
       glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
       glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_BORDER);
@@ -331,8 +332,9 @@ const uint8_t* Renderer::render(const DrawList& dl) {
   const float dist = (cam.eye - dl.bounds_center).norm();
   const float reach = dist + (float)dl.bounds_radius + (s.ground ? (float)s.ground_size : 0.0f);
   const float near = std::max(0.01f, std::min(0.1f * dist, dist - (float)dl.bounds_radius) * 0.5f);
-  const M4 vp = perspective((float)(cam.fov_deg * M_PI / 180.0), (float)s.width / s.height, near, reach * 1.5f) *
-                look_at(eye, cam.target.cast<float>(), cam.up.cast<float>());
+  const M4 vp =
+      perspective((float)(cam.fov_deg * M_PI / 180.0), (float)s.width / s.height, near, reach * 1.5f) *
+      look_at(eye, cam.target.cast<float>(), cam.up.cast<float>());
   glUseProgram(P.lit);
   glUniformMatrix4fv(P.u_viewproj, 1, GL_FALSE, vp.data());
   glUniformMatrix4fv(P.u_lightvp, 1, GL_FALSE, lvp.data());
@@ -363,7 +365,11 @@ const uint8_t* Renderer::render(const DrawList& dl) {
   return P.ctx->pixels();
 }
 
-const RenderStats& Renderer::stats() const { return p_->stats; }
-std::string Renderer::description() const { return p_->ctx->description(); }
+const RenderStats& Renderer::stats() const {
+  return p_->stats;
+}
+std::string Renderer::description() const {
+  return p_->ctx->description();
+}
 
 }  // namespace simreel

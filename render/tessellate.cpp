@@ -12,7 +12,9 @@ void push(RenderMesh& m, const Vec3& p, const Vec3& n) {
   for (double v : {p.x(), p.y(), p.z(), n.x(), n.y(), n.z()}) m.vertices.push_back((float)v);
   m.radius = std::max(m.radius, (float)p.norm());
 }
-uint32_t count(const RenderMesh& m) { return (uint32_t)(m.vertices.size() / 6); }
+uint32_t count(const RenderMesh& m) {
+  return (uint32_t)(m.vertices.size() / 6);
+}
 
 // A surface of revolution about z from a profile (radius, z, normal in the rz plane).
 struct ProfilePoint {
@@ -150,11 +152,16 @@ RenderMesh tessellate_mesh(const TriangleMesh& tm, double crease_deg) {
 
 RenderMesh tessellate_collider(const Collider& c) {
   switch (c.shape) {
-    case ShapeKind::box: return tessellate_box(c.size);
-    case ShapeKind::sphere: return tessellate_sphere(c.radius);
-    case ShapeKind::cylinder: return tessellate_cylinder(c.radius, c.height);
-    case ShapeKind::capsule: return tessellate_capsule(c.radius, c.height);
-    case ShapeKind::mesh: return tessellate_mesh(*c.mesh);
+    case ShapeKind::box:
+      return tessellate_box(c.size);
+    case ShapeKind::sphere:
+      return tessellate_sphere(c.radius);
+    case ShapeKind::cylinder:
+      return tessellate_cylinder(c.radius, c.height);
+    case ShapeKind::capsule:
+      return tessellate_capsule(c.radius, c.height);
+    case ShapeKind::mesh:
+      return tessellate_mesh(*c.mesh);
   }
   return {};
 }

@@ -8,9 +8,9 @@
 namespace simreel {
 
 struct RenderMesh {
-  std::vector<float> vertices;   ///< interleaved x y z nx ny nz
-  std::vector<uint32_t> indices; ///< triangles
-  float radius = 0;              ///< m, bounding sphere about the collider origin
+  std::vector<float> vertices;    ///< interleaved x y z nx ny nz
+  std::vector<uint32_t> indices;  ///< triangles
+  float radius = 0;               ///< m, bounding sphere about the collider origin
 };
 
 RenderMesh tessellate_box(const Vec3& size);

@@ -57,8 +57,8 @@ struct VideoWriter::Impl {
 
   void open_video() {
     const std::filesystem::path target(s.path);
-    tmp = (target.parent_path() / (target.stem().string() + ".partial-" + std::to_string(getpid()) +
-                                   target.extension().string()))
+    tmp = (target.parent_path() /
+           (target.stem().string() + ".partial-" + std::to_string(getpid()) + target.extension().string()))
               .string();
     if (avformat_alloc_output_context2(&fmt, nullptr, nullptr, s.path.c_str()) < 0 || !fmt)
       throw std::runtime_error("no video format for '" + s.path + "' (use .mp4, .webm or .gif)");
@@ -94,7 +94,8 @@ struct VideoWriter::Impl {
     }
     int e = avcodec_open2(enc, codec, &opts);
     av_dict_free(&opts);
-    if (e < 0) throw std::runtime_error("cannot open the " + std::string(codec->name) + " encoder: " + av_err(e));
+    if (e < 0)
+      throw std::runtime_error("cannot open the " + std::string(codec->name) + " encoder: " + av_err(e));
     avcodec_parameters_from_context(st->codecpar, enc);
     st->time_base = enc->time_base;
     st->avg_frame_rate = rate;
@@ -210,8 +211,8 @@ VideoWriter::VideoWriter(const VideoSettings& s) : p_(std::make_unique<Impl>()) 
   av_log_set_level(AV_LOG_ERROR);  // encoder statistics are not for the user's terminal
   if (!s.path.empty()) {
     if (s.width % 2 || s.height % 2)
-      throw std::runtime_error("video width and height must be even for yuv420p (got " + std::to_string(s.width) +
-                               "x" + std::to_string(s.height) + ")");
+      throw std::runtime_error("video width and height must be even for yuv420p (got " +
+                               std::to_string(s.width) + "x" + std::to_string(s.height) + ")");
     try {
       P.open_video();
     } catch (...) {
@@ -258,12 +259,17 @@ void VideoWriter::finish() {
     if (e < 0) throw std::runtime_error("cannot finish '" + P.s.path + "': " + av_err(e));
     std::error_code ec;
     std::filesystem::rename(P.tmp, P.s.path, ec);
-    if (ec) throw std::runtime_error("cannot move the video into place at '" + P.s.path + "': " + ec.message());
+    if (ec)
+      throw std::runtime_error("cannot move the video into place at '" + P.s.path + "': " + ec.message());
   }
   P.finished = true;
 }
 
-long VideoWriter::frames() const { return p_->nframes; }
-double VideoWriter::encode_seconds() const { return p_->busy; }
+long VideoWriter::frames() const {
+  return p_->nframes;
+}
+double VideoWriter::encode_seconds() const {
+  return p_->busy;
+}
 
 }  // namespace simreel

@@ -7,22 +7,32 @@ namespace simreel {
 
 const char* to_string(ShapeKind s) {
   switch (s) {
-    case ShapeKind::box: return "box";
-    case ShapeKind::sphere: return "sphere";
-    case ShapeKind::cylinder: return "cylinder";
-    case ShapeKind::capsule: return "capsule";
-    case ShapeKind::mesh: return "mesh";
+    case ShapeKind::box:
+      return "box";
+    case ShapeKind::sphere:
+      return "sphere";
+    case ShapeKind::cylinder:
+      return "cylinder";
+    case ShapeKind::capsule:
+      return "capsule";
+    case ShapeKind::mesh:
+      return "mesh";
   }
   return "?";
 }
 
 MassProperties primitive_mass(const Collider& c, double rho) {
   switch (c.shape) {
-    case ShapeKind::box: return box_mass(c.size, rho);
-    case ShapeKind::sphere: return sphere_mass(c.radius, rho);
-    case ShapeKind::cylinder: return cylinder_mass(c.radius, c.height, rho);
-    case ShapeKind::capsule: return capsule_mass(c.radius, c.height, rho);
-    case ShapeKind::mesh: break;
+    case ShapeKind::box:
+      return box_mass(c.size, rho);
+    case ShapeKind::sphere:
+      return sphere_mass(c.radius, rho);
+    case ShapeKind::cylinder:
+      return cylinder_mass(c.radius, c.height, rho);
+    case ShapeKind::capsule:
+      return capsule_mass(c.radius, c.height, rho);
+    case ShapeKind::mesh:
+      break;
   }
   throw InputError("primitive_mass called for a mesh collider");
 }

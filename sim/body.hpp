@@ -22,8 +22,8 @@ struct Collider {
   double radius = 0.5;       ///< m, sphere, cylinder, capsule
   double height = 1.0;       ///< m, cylinder, capsule (tip to tip); axis along the collider's z
   std::shared_ptr<const TriangleMesh> mesh;  ///< mesh shapes: the surface as weighed (mesh axes)
-  MassProperties props_C;    ///< in the collider frame C (mesh: mesh axes)
-  Vec3 p_BC = Vec3::Zero();  ///< m, collider frame origin in the body frame
+  MassProperties props_C;                    ///< in the collider frame C (mesh: mesh axes)
+  Vec3 p_BC = Vec3::Zero();                  ///< m, collider frame origin in the body frame
   Quat q_BC = Quat::Identity();
   std::string label;  ///< for messages: "collider 2 (mesh assets/t.obj)"
 };
@@ -38,7 +38,7 @@ struct BodyDef {
   Vec3 v_W = Vec3::Zero();       ///< m/s, centre-of-mass velocity, world frame
   Vec3 w_W = Vec3::Zero();       ///< rad/s, angular velocity, world frame
   bool is_static = false;
-  std::optional<Integrator> integrator;  ///< overrides the world's for this body (side-by-side demos)
+  std::optional<Integrator> integrator;          ///< overrides the world's for this body (side-by-side demos)
   std::array<float, 3> color{0.8f, 0.8f, 0.8f};  ///< linear RGB in [0, 1]
   std::vector<Collider> colliders;
 

@@ -66,7 +66,7 @@ JacobiSnCnDn jacobi(double u, double m) {
 
 FreeTop::FreeTop(const Vec3& I, const Vec3& w0) : I_(I) {
   if (!(I[0] < I[1] && I[1] < I[2])) throw std::domain_error("FreeTop needs strictly ascending moments");
-  const double E2 = (I.array() * w0.array() * w0.array()).sum();          // 2E
+  const double E2 = (I.array() * w0.array() * w0.array()).sum();              // 2E
   const double L2 = (I.array() * I.array() * w0.array() * w0.array()).sum();  // |L|^2
   E_ = 0.5 * E2;
   L_ = std::sqrt(L2);
@@ -96,9 +96,15 @@ Vec3 FreeTop::angular_velocity(double t) const {
   return swapped_ ? Vec3(u[2], u[1], u[0]) : u;
 }
 
-double FreeTop::flip_half_period() const { return 2.0 * K_ / lambda_; }
+double FreeTop::flip_half_period() const {
+  return 2.0 * K_ / lambda_;
+}
 
-double symmetric_top_body_precession(double It, double I3, double w3) { return (I3 - It) * w3 / It; }
-double symmetric_top_space_precession(double It, double L_norm) { return L_norm / It; }
+double symmetric_top_body_precession(double It, double I3, double w3) {
+  return (I3 - It) * w3 / It;
+}
+double symmetric_top_space_precession(double It, double L_norm) {
+  return L_norm / It;
+}
 
 }  // namespace simreel

@@ -25,8 +25,8 @@ class FreeTop {
   Vec3 angular_velocity(double t) const;  ///< rad/s, principal frame
   double flip_half_period() const;        ///< s, 2 K(m) / lambda: w2 goes from +max to -max
   double modulus_m() const { return m_; }
-  double energy() const { return E_; }        ///< J
-  double momentum_norm() const { return L_; } ///< kg m^2/s
+  double energy() const { return E_; }         ///< J
+  double momentum_norm() const { return L_; }  ///< kg m^2/s
 
  private:
   Vec3 I_;

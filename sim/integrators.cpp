@@ -7,11 +7,16 @@ namespace simreel {
 
 const char* to_string(Integrator i) {
   switch (i) {
-    case Integrator::automatic: return "auto";
-    case Integrator::seed: return "seed";
-    case Integrator::euler_gyro: return "euler_gyro";
-    case Integrator::rk4: return "rk4";
-    case Integrator::splitting: return "splitting";
+    case Integrator::automatic:
+      return "auto";
+    case Integrator::seed:
+      return "seed";
+    case Integrator::euler_gyro:
+      return "euler_gyro";
+    case Integrator::rk4:
+      return "rk4";
+    case Integrator::splitting:
+      return "splitting";
   }
   return "?";
 }
@@ -23,7 +28,9 @@ std::optional<Integrator> integrator_from_name(std::string_view n) {
   return std::nullopt;
 }
 
-const char* integrator_names() { return "auto, seed, euler_gyro, rk4, splitting"; }
+const char* integrator_names() {
+  return "auto, seed, euler_gyro, rk4, splitting";
+}
 
 Quat rotation_increment(const Vec3& w, double h) {
   const double wn = w.norm();
@@ -106,7 +113,8 @@ inline void rk4_rotation(MotionState& st, const BodyModel& m, const Vec3& tau_W,
   st.w_P = Vec3(s[4], s[5], s[6]);
 }
 
-inline void rk4_body(MotionState& s, const BodyModel& m, const Wrench* w, const Vec3& g, double h, bool gyro) {
+inline void rk4_body(MotionState& s, const BodyModel& m, const Wrench* w, const Vec3& g, double h,
+                     bool gyro) {
   linear_exact(s, acceleration(m, w, g), h);
   const bool torque = w && !w->tau_W.isZero(0.0);
   if (gyro) {
@@ -223,13 +231,21 @@ inline void loop(Kernel k, const int* idx, int n, MotionState* st, const BodyMod
 
 }  // namespace
 
-void integrate(Integrator method, const int* idx, int n, MotionState* st, const BodyModel* mo, const Wrench* wr,
-               const Vec3& g, double h) {
+void integrate(Integrator method, const int* idx, int n, MotionState* st, const BodyModel* mo,
+               const Wrench* wr, const Vec3& g, double h) {
   switch (method) {
-    case Integrator::automatic: loop(auto_body, idx, n, st, mo, wr, g, h); break;
-    case Integrator::seed: loop(seed_body, idx, n, st, mo, wr, g, h); break;
-    case Integrator::euler_gyro: loop(euler_gyro_body, idx, n, st, mo, wr, g, h); break;
-    case Integrator::splitting: loop(splitting_body, idx, n, st, mo, wr, g, h); break;
+    case Integrator::automatic:
+      loop(auto_body, idx, n, st, mo, wr, g, h);
+      break;
+    case Integrator::seed:
+      loop(seed_body, idx, n, st, mo, wr, g, h);
+      break;
+    case Integrator::euler_gyro:
+      loop(euler_gyro_body, idx, n, st, mo, wr, g, h);
+      break;
+    case Integrator::splitting:
+      loop(splitting_body, idx, n, st, mo, wr, g, h);
+      break;
     case Integrator::rk4:
       loop([](MotionState& s, const BodyModel& m, const Wrench* w, const Vec3& gg,
               double hh) { rk4_body(s, m, w, gg, hh, true); },

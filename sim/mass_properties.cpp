@@ -14,7 +14,9 @@ MassProperties placed(const MassProperties& mp, const Mat3& R_BC, const Vec3& p_
   return out;
 }
 
-Mat3 parallel_axis(double m, const Vec3& r) { return m * (r.squaredNorm() * Mat3::Identity() - r * r.transpose()); }
+Mat3 parallel_axis(double m, const Vec3& r) {
+  return m * (r.squaredNorm() * Mat3::Identity() - r * r.transpose());
+}
 
 void MassAccumulator::add(const MassProperties& mp) {
   if (n_ == 0) ref_ = mp.com;
@@ -65,7 +67,8 @@ std::string inertia_problem(const Mat3& I, double rel_tol) {
     return os.str();
   }
   if (m[2] > (m[0] + m[1]) * (1.0 + rel_tol)) {
-    os << "principal moments (" << m[0] << ", " << m[1] << ", " << m[2] << ") violate the triangle inequality";
+    os << "principal moments (" << m[0] << ", " << m[1] << ", " << m[2]
+       << ") violate the triangle inequality";
     return os.str();
   }
   return {};

@@ -10,9 +10,9 @@ namespace simreel {
 // Mass, centre of mass and inertia tensor about the centre of mass, all expressed in one frame F
 // (the frame is whatever the owner says: a collider's C, then the body's B after placement).
 struct MassProperties {
-  double mass = 0.0;                                                          ///< kg
-  Vec3 com = Vec3::Zero();                                                    ///< m, in F
-  Mat3 inertia = Mat3::Constant(std::numeric_limits<double>::quiet_NaN());   ///< kg m^2, about com, axes of F
+  double mass = 0.0;                                                        ///< kg
+  Vec3 com = Vec3::Zero();                                                  ///< m, in F
+  Mat3 inertia = Mat3::Constant(std::numeric_limits<double>::quiet_NaN());  ///< kg m^2, about com, axes of F
 };
 
 // Re-expresses `mp` (given in frame C) in frame B, where C sits at p_BC with orientation R_BC:

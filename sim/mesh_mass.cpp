@@ -14,9 +14,12 @@ namespace simreel {
 
 const char* to_string(MassMode m) {
   switch (m) {
-    case MassMode::solid: return "solid";
-    case MassMode::shell: return "shell";
-    case MassMode::hull: return "hull";
+    case MassMode::solid:
+      return "solid";
+    case MassMode::shell:
+      return "shell";
+    case MassMode::hull:
+      return "hull";
   }
   return "?";
 }
@@ -43,8 +46,8 @@ void validate(const TriangleMesh& m) {
   for (size_t f = 0; f < m.triangles.size(); ++f)
     for (int k = 0; k < 3; ++k)
       if (m.triangles[f][k] < 0 || m.triangles[f][k] >= n)
-        throw InputError("face " + std::to_string(f) + " refers to vertex " + std::to_string(m.triangles[f][k]) +
-                         ", but the mesh has " + plural(n, "vertex"));
+        throw InputError("face " + std::to_string(f) + " refers to vertex " +
+                         std::to_string(m.triangles[f][k]) + ", but the mesh has " + plural(n, "vertex"));
 }
 
 struct BitsHash {
@@ -88,7 +91,9 @@ Vec3 bbox_centre(const std::vector<Vec3>& v, double* diag) {
   return 0.5 * (lo + hi);
 }
 
-uint64_t edge_key(int a, int b) { return (uint64_t)(uint32_t)a << 32 | (uint32_t)b; }
+uint64_t edge_key(int a, int b) {
+  return (uint64_t)(uint32_t)a << 32 | (uint32_t)b;
+}
 
 // Signed volume integrals of a closed surface about `ref` (density 1).
 struct SolidIntegrals {
@@ -96,7 +101,8 @@ struct SolidIntegrals {
   Vec3 first = Vec3::Zero();
   Mat3 second = Mat3::Zero();
 };
-SolidIntegrals solid_integrals(const TriangleMesh& m, const Vec3& ref, const std::vector<int>* faces = nullptr) {
+SolidIntegrals solid_integrals(const TriangleMesh& m, const Vec3& ref,
+                               const std::vector<int>* faces = nullptr) {
   SolidIntegrals s;
   auto add = [&](const Tri& t) {
     const Vec3 a = m.vertices[t[0]] - ref, b = m.vertices[t[1]] - ref, c = m.vertices[t[2]] - ref;
@@ -104,7 +110,8 @@ SolidIntegrals solid_integrals(const TriangleMesh& m, const Vec3& ref, const std
     const Vec3 sum = a + b + c;
     s.vol += d / 6.0;
     s.first += d / 24.0 * sum;
-    s.second += d / 120.0 * (a * a.transpose() + b * b.transpose() + c * c.transpose() + sum * sum.transpose());
+    s.second +=
+        d / 120.0 * (a * a.transpose() + b * b.transpose() + c * c.transpose() + sum * sum.transpose());
   };
   if (faces)
     for (int f : *faces) add(m.triangles[f]);
@@ -115,7 +122,8 @@ SolidIntegrals solid_integrals(const TriangleMesh& m, const Vec3& ref, const std
 
 // Mass properties from volume (or area) integrals C about ref: density rho, centroid first/vol,
 // covariance shifted to the centroid, I = tr(C) 1 - C.
-MassProperties from_integrals(double measure, const Vec3& first, const Mat3& second, const Vec3& ref, double rho) {
+MassProperties from_integrals(double measure, const Vec3& first, const Mat3& second, const Vec3& ref,
+                              double rho) {
   MassProperties mp;
   const Vec3 c = first / measure;
   const Mat3 C = rho * (second - measure * c * c.transpose());
@@ -166,7 +174,8 @@ TriangleMesh prepare(const TriangleMesh& in, MeshReport& rep, bool require_close
   kept.reserve(m.triangles.size());
   for (const Tri& t : m.triangles) {
     const bool repeated = t[0] == t[1] || t[1] == t[2] || t[0] == t[2];
-    const double area2 = (m.vertices[t[1]] - m.vertices[t[0]]).cross(m.vertices[t[2]] - m.vertices[t[0]]).norm();
+    const double area2 =
+        (m.vertices[t[1]] - m.vertices[t[0]]).cross(m.vertices[t[2]] - m.vertices[t[0]]).norm();
     if (repeated || !(0.5 * area2 > area_eps))
       ++rep.degenerate_faces;
     else
@@ -215,7 +224,8 @@ TriangleMesh prepare(const TriangleMesh& in, MeshReport& rep, bool require_close
   if (unbalanced) {
     if (nonmanifold)
       throw InputError("mesh has " + plural(unbalanced, "edge") + " whose faces disagree on winding and " +
-                       plural(nonmanifold, "edge") + " shared by more than two faces; cannot repair it, "
+                       plural(nonmanifold, "edge") +
+                       " shared by more than two faces; cannot repair it, "
                        "use `mode: hull` or fix the file");
     std::vector<int> flip(m.triangles.size(), -1);
     std::vector<int> queue;
@@ -240,7 +250,8 @@ TriangleMesh prepare(const TriangleMesh& in, MeshReport& rep, bool require_close
               flip[g] = want;
               queue.push_back(g);
             } else if (flip[g] != want) {
-              throw InputError("mesh surface is not orientable (like a Moebius strip); it cannot bound a solid");
+              throw InputError(
+                  "mesh surface is not orientable (like a Moebius strip); it cannot bound a solid");
             }
           }
         }
@@ -294,17 +305,29 @@ TriangleMesh prepare(const TriangleMesh& in, MeshReport& rep, bool require_close
   }
   if (inverted_parts) {
     rep.inverted = true;
-    rep.warnings.push_back(ncomp == 1 ? std::string("surface was inside-out (negative volume): flipped every face")
-                                      : "flipped " + plural(inverted_parts, "inside-out part") + " of " +
-                                            std::to_string(ncomp));
+    rep.warnings.push_back(
+        ncomp == 1 ? std::string("surface was inside-out (negative volume): flipped every face")
+                   : "flipped " + plural(inverted_parts, "inside-out part") + " of " + std::to_string(ncomp));
   }
   if (ncomp > 1)
-    rep.warnings.push_back("mesh has " + std::to_string(ncomp) + " separate closed parts; weighed as one body");
+    rep.warnings.push_back("mesh has " + std::to_string(ncomp) +
+                           " separate closed parts; weighed as one body");
 
   const double v = solid_integrals(m, ref).vol;
   if (!(std::fabs(v) > 1e-12 * diag * diag * diag))
     throw InputError("mesh is flat (it encloses no volume); use `mode: shell` to weigh it as a thin surface");
   return m;
+}
+
+// Volume, area and mass properties of a closed, outward-wound surface, into rep.
+void weigh_solid(const TriangleMesh& m, double rho, MeshReport& rep) {
+  double diag;
+  const Vec3 ref = bbox_centre(m.vertices, &diag);
+  const SolidIntegrals s = solid_integrals(m, ref);
+  rep.volume = s.vol;
+  for (const Tri& t : m.triangles)
+    rep.area += 0.5 * (m.vertices[t[1]] - m.vertices[t[0]]).cross(m.vertices[t[2]] - m.vertices[t[0]]).norm();
+  rep.props = from_integrals(s.vol, s.first, s.second, ref, rho);
 }
 
 }  // namespace
@@ -315,18 +338,13 @@ TriangleMesh repaired_mesh(const TriangleMesh& mesh, MeshReport* report) {
 }
 
 MeshReport analyze_mesh(const TriangleMesh& mesh, const MeshMassOptions& opt) {
-  if (!(opt.density > 0) || !std::isfinite(opt.density)) throw InputError("density must be a positive number");
+  if (!(opt.density > 0) || !std::isfinite(opt.density))
+    throw InputError("density must be a positive number");
   MeshReport rep;
   switch (opt.mode) {
     case MassMode::solid: {
       const TriangleMesh m = prepare(mesh, rep, true);
-      double diag;
-      const Vec3 ref = bbox_centre(m.vertices, &diag);
-      const SolidIntegrals s = solid_integrals(m, ref);
-      rep.volume = s.vol;
-      for (const Tri& t : m.triangles)
-        rep.area += 0.5 * (m.vertices[t[1]] - m.vertices[t[0]]).cross(m.vertices[t[2]] - m.vertices[t[0]]).norm();
-      rep.props = from_integrals(s.vol, s.first, s.second, ref, opt.density);
+      weigh_solid(m, opt.density, rep);
       break;
     }
     case MassMode::shell: {
@@ -365,15 +383,9 @@ MeshReport analyze_mesh(const TriangleMesh& mesh, const MeshMassOptions& opt) {
       }
       rep.closed = topo.closed;
       rep.consistently_oriented = topo.consistently_oriented;
-      double diag;
-      const Vec3 ref = bbox_centre(m.vertices, &diag);
-      const SolidIntegrals s = solid_integrals(m, ref);
-      rep.volume = s.vol;
-      for (const Tri& t : m.triangles)
-        rep.area += 0.5 * (m.vertices[t[1]] - m.vertices[t[0]]).cross(m.vertices[t[2]] - m.vertices[t[0]]).norm();
-      rep.props = from_integrals(s.vol, s.first, s.second, ref, opt.density);
-      rep.warnings.push_back("weighed the convex hull (" + plural((long)m.triangles.size(), "face") + ") of " +
-                             plural((long)welded.vertices.size(), "vertex"));
+      weigh_solid(m, opt.density, rep);
+      rep.warnings.push_back("weighed the convex hull (" + plural((long)m.triangles.size(), "face") +
+                             ") of " + plural((long)welded.vertices.size(), "vertex"));
       break;
     }
   }

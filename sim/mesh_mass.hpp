@@ -27,16 +27,16 @@ enum class MassMode { solid, shell, hull };
 const char* to_string(MassMode m);
 
 struct MeshReport {
-  MassProperties props;              ///< at the requested density; com and inertia in mesh axes
-  double volume = 0.0;               ///< m^3 of the solid (of the hull in hull mode; 0 for a shell)
-  double area = 0.0;                 ///< m^2 of the surface used
-  bool closed = false;               ///< every directed edge has its reverse (after welding)
-  bool consistently_oriented = false;///< no directed edge is used twice (as loaded)
-  int welded_vertices = 0;           ///< duplicate positions merged (STL stores one set per face)
-  int degenerate_faces = 0;          ///< zero-area faces skipped
-  int reoriented_faces = 0;          ///< faces flipped to agree with their neighbours
-  bool inverted = false;             ///< the whole surface was inside-out and was flipped
-  std::vector<std::string> warnings; ///< one sentence per defect and what was done about it
+  MassProperties props;                ///< at the requested density; com and inertia in mesh axes
+  double volume = 0.0;                 ///< m^3 of the solid (of the hull in hull mode; 0 for a shell)
+  double area = 0.0;                   ///< m^2 of the surface used
+  bool closed = false;                 ///< every directed edge has its reverse (after welding)
+  bool consistently_oriented = false;  ///< no directed edge is used twice (as loaded)
+  int welded_vertices = 0;             ///< duplicate positions merged (STL stores one set per face)
+  int degenerate_faces = 0;            ///< zero-area faces skipped
+  int reoriented_faces = 0;            ///< faces flipped to agree with their neighbours
+  bool inverted = false;               ///< the whole surface was inside-out and was flipped
+  std::vector<std::string> warnings;   ///< one sentence per defect and what was done about it
 };
 
 struct MeshMassOptions {

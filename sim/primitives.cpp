@@ -16,10 +16,18 @@ MassProperties diagonal(double m, double ixx, double iyy, double izz) {
 }
 }  // namespace
 
-double box_volume(const Vec3& s) { return s.x() * s.y() * s.z(); }
-double sphere_volume(double r) { return 4.0 / 3.0 * kPi * r * r * r; }
-double cylinder_volume(double r, double h) { return kPi * r * r * h; }
-double capsule_volume(double r, double h) { return cylinder_volume(r, h - 2.0 * r) + sphere_volume(r); }
+double box_volume(const Vec3& s) {
+  return s.x() * s.y() * s.z();
+}
+double sphere_volume(double r) {
+  return 4.0 / 3.0 * kPi * r * r * r;
+}
+double cylinder_volume(double r, double h) {
+  return kPi * r * r * h;
+}
+double capsule_volume(double r, double h) {
+  return cylinder_volume(r, h - 2.0 * r) + sphere_volume(r);
+}
 
 MassProperties box_mass(const Vec3& s, double rho) {
   const double m = rho * box_volume(s);

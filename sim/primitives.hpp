@@ -7,10 +7,10 @@
 
 namespace simreel {
 
-double box_volume(const Vec3& size);                  ///< m^3; size = full extents (m)
-double sphere_volume(double radius);                  ///< m^3
-double cylinder_volume(double radius, double height); ///< m^3
-double capsule_volume(double radius, double height);  ///< m^3; height is tip to tip, >= 2 radius
+double box_volume(const Vec3& size);                   ///< m^3; size = full extents (m)
+double sphere_volume(double radius);                   ///< m^3
+double cylinder_volume(double radius, double height);  ///< m^3
+double capsule_volume(double radius, double height);   ///< m^3; height is tip to tip, >= 2 radius
 
 MassProperties box_mass(const Vec3& size, double density);
 MassProperties sphere_mass(double radius, double density);

@@ -12,8 +12,12 @@ uint64_t SplitMix64::next() {
   z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
   return z ^ (z >> 31);
 }
-double SplitMix64::uniform() { return (double)(next() >> 11) * (1.0 / 9007199254740992.0); }
-double SplitMix64::uniform(double a, double b) { return a + (b - a) * uniform(); }
+double SplitMix64::uniform() {
+  return (double)(next() >> 11) * (1.0 / 9007199254740992.0);
+}
+double SplitMix64::uniform(double a, double b) {
+  return a + (b - a) * uniform();
+}
 
 BodyDef box_body(const char* name, const Vec3& size, double mass) {
   BodyDef b;
@@ -46,7 +50,8 @@ std::vector<BodyDef> r2_free_boxes(int n, uint64_t seed) {
     b.name = "box" + std::to_string(i);
     const int ix = i % side, iy = (i / side) % side, iz = i / (side * side);
     b.p_WB = Vec3(3.0 * ix, 3.0 * iy, 3.0 * iz + 100.0);
-    const double qw = rng.uniform(-1, 1), qx = rng.uniform(-1, 1), qy = rng.uniform(-1, 1), qz = rng.uniform(-1, 1);
+    const double qw = rng.uniform(-1, 1), qx = rng.uniform(-1, 1), qy = rng.uniform(-1, 1),
+                 qz = rng.uniform(-1, 1);
     b.q_WB = Quat(qw, qx, qy, qz).normalized();
     const double dx = rng.uniform(-1, 1), dy = rng.uniform(-1, 1), dz = rng.uniform(-1, 1);
     b.w_W = Vec3(dx, dy, dz).normalized() * rng.uniform(0.0, 10.0);

@@ -19,8 +19,8 @@ struct SplitMix64 {
   uint64_t s;
   explicit SplitMix64(uint64_t seed) : s(seed) {}
   uint64_t next();
-  double uniform();                  ///< [0, 1)
-  double uniform(double a, double b);///< [a, b)
+  double uniform();                    ///< [0, 1)
+  double uniform(double a, double b);  ///< [a, b)
 };
 
 BodyDef box_body(const char* name, const Vec3& size, double mass);

@@ -8,12 +8,12 @@
 namespace simreel {
 
 struct BodyModel {
-  double mass = 0;      ///< kg
-  double inv_mass = 0;  ///< 1/kg (0 for static bodies)
-  Vec3 I_P = Vec3::Zero();      ///< kg m^2, principal moments, ascending
-  Vec3 inv_I_P = Vec3::Zero();  ///< 1/(kg m^2)
-  Quat q_BP = Quat::Identity(); ///< principal frame P in the body frame B
-  Vec3 c_B = Vec3::Zero();      ///< m, centre of mass in the body frame (the article's local centroid)
+  double mass = 0;               ///< kg
+  double inv_mass = 0;           ///< 1/kg (0 for static bodies)
+  Vec3 I_P = Vec3::Zero();       ///< kg m^2, principal moments, ascending
+  Vec3 inv_I_P = Vec3::Zero();   ///< 1/(kg m^2)
+  Quat q_BP = Quat::Identity();  ///< principal frame P in the body frame B
+  Vec3 c_B = Vec3::Zero();       ///< m, centre of mass in the body frame (the article's local centroid)
   bool is_static = false;
   bool isotropic = false;  ///< I_P equal to 1e-12 relative: no gyroscopic term, rotation is exact
   // Bound on Euler's equations' rate per unit |w|: max(1, max_i |I_j - I_k| / I_i). The fastest

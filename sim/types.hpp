@@ -23,6 +23,8 @@ inline Mat3 skew(const Vec3& a) {
   return m;
 }
 
-inline bool all_finite(const Vec3& v) { return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z()); }
+inline bool all_finite(const Vec3& v) {
+  return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z());
+}
 
 }  // namespace simreel

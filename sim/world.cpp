@@ -1,7 +1,7 @@
 #include "sim/world.hpp"
 
 #include <algorithm>
-#include <barrier>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <sstream>
@@ -14,51 +14,85 @@ namespace simreel {
 
 const char* to_string(Stage s) {
   switch (s) {
-    case Stage::forces: return "forces";
-    case Stage::integrate: return "integrate";
-    case Stage::clear: return "clear";
-    case Stage::check: return "check";
-    case Stage::derived: return "derived";
-    case Stage::count: break;
+    case Stage::forces:
+      return "forces";
+    case Stage::integrate:
+      return "integrate";
+    case Stage::clear:
+      return "clear";
+    case Stage::check:
+      return "check";
+    case Stage::derived:
+      return "derived";
+    case Stage::count:
+      break;
   }
   return "?";
 }
 
-// Persistent workers released by a barrier each step; the caller runs chunk 0 itself. Work is a
-// plain function pointer and context, so dispatch allocates nothing.
+// Persistent workers released by a generation counter each step; the caller runs chunk 0 itself.
+// Workers spin briefly (a step's work arrives within microseconds while stepping) and then block
+// in atomic::wait, so an idle pool costs nothing. std::barrier's futex hand-off cost more than the
+// work it split at N = 1000..10000 on this machine (2 threads were slower than 1). Work is a plain
+// function pointer and context, so dispatch allocates nothing.
 class WorkerPool {
  public:
   using Fn = void (*)(void* ctx, int chunk, int chunks);
-  explicit WorkerPool(int threads) : n_(threads), start_(threads), done_(threads) {
+  explicit WorkerPool(int threads) : n_(threads) {
     for (int c = 1; c < n_; ++c)
       workers_.emplace_back([this, c] {
+        unsigned seen = 0;
         for (;;) {
-          start_.arrive_and_wait();
-          if (quit_) return;
+          seen = await_change(gen_, seen);
+          if (quit_.load(std::memory_order_acquire)) return;
           fn_(ctx_, c, n_);
-          done_.arrive_and_wait();
+          if (done_.fetch_add(1, std::memory_order_acq_rel) + 1 == n_ - 1) done_.notify_one();
         }
       });
   }
   ~WorkerPool() {
-    quit_ = true;
-    start_.arrive_and_wait();
+    quit_.store(true, std::memory_order_release);
+    gen_.fetch_add(1, std::memory_order_acq_rel);
+    gen_.notify_all();
     for (auto& t : workers_) t.join();
   }
   void run(Fn fn, void* ctx) {
     fn_ = fn;
     ctx_ = ctx;
-    start_.arrive_and_wait();
+    done_.store(0, std::memory_order_relaxed);
+    gen_.fetch_add(1, std::memory_order_acq_rel);
+    gen_.notify_all();
     fn_(ctx_, 0, n_);
-    done_.arrive_and_wait();
+    for (int spins = 0;; ++spins) {
+      const int d = done_.load(std::memory_order_acquire);
+      if (d == n_ - 1) break;
+      cpu_relax();
+      if (spins > 4000) done_.wait(d, std::memory_order_acquire);
+    }
   }
 
  private:
+  // Tells an SMT sibling that this thread is only waiting (x86 pause), so it keeps the core's
+  // issue slots for the thread doing the work.
+  static void cpu_relax() {
+#if defined(__x86_64__) || defined(__i386__)
+    __builtin_ia32_pause();
+#endif
+  }
+  static unsigned await_change(std::atomic<unsigned>& a, unsigned seen) {
+    for (int spins = 0;; ++spins) {
+      const unsigned v = a.load(std::memory_order_acquire);
+      if (v != seen) return v;
+      cpu_relax();
+      if (spins > 4000) a.wait(v, std::memory_order_acquire);
+    }
+  }
   int n_;
-  std::barrier<> start_, done_;
+  std::atomic<unsigned> gen_{0};
+  std::atomic<int> done_{0};
+  std::atomic<bool> quit_{false};
   Fn fn_ = nullptr;
   void* ctx_ = nullptr;
-  bool quit_ = false;
   std::vector<std::thread> workers_;
 };
 
@@ -82,7 +116,8 @@ struct Timer {
 
 }  // namespace
 
-World::World(const WorldConfig& config, std::vector<BodyDef> bodies) : cfg_(config), defs_(std::move(bodies)) {
+World::World(const WorldConfig& config, std::vector<BodyDef> bodies)
+    : cfg_(config), defs_(std::move(bodies)) {
   if (!(cfg_.dt > 0) || !std::isfinite(cfg_.dt)) throw InputError("timestep must be a positive number");
   if (!all_finite(cfg_.gravity)) throw InputError("gravity must be finite");
   if (cfg_.threads < 1) throw InputError("threads must be at least 1");
@@ -117,8 +152,8 @@ World::World(const WorldConfig& config, std::vector<BodyDef> bodies) : cfg_(conf
     m.inv_I_P = d.is_static ? Vec3::Zero() : Vec3(pa.moments.cwiseInverse());
     m.isotropic = (pa.moments.maxCoeff() - pa.moments.minCoeff()) <= 1e-12 * pa.moments.maxCoeff();
     const Vec3& I = pa.moments;
-    m.gyro_rate = std::max({1.0, std::fabs(I[1] - I[2]) / I[0], std::fabs(I[2] - I[0]) / I[1],
-                            std::fabs(I[0] - I[1]) / I[2]});
+    m.gyro_rate = std::max(
+        {1.0, std::fabs(I[1] - I[2]) / I[0], std::fabs(I[2] - I[0]) / I[1], std::fabs(I[0] - I[1]) / I[2]});
     const Quat q_WB = d.q_WB.normalized();
     s.q_WP = (q_WB * m.q_BP).normalized();
     s.x_W = d.p_WB + q_WB * m.c_B;
@@ -127,7 +162,8 @@ World::World(const WorldConfig& config, std::vector<BodyDef> bodies) : cfg_(conf
     if (!d.is_static) {
       dynamic_.push_back(i);
       const Integrator method = d.integrator.value_or(cfg_.integrator);
-      auto g = std::find_if(groups_.begin(), groups_.end(), [&](const Group& x) { return x.method == method; });
+      auto g =
+          std::find_if(groups_.begin(), groups_.end(), [&](const Group& x) { return x.method == method; });
       if (g == groups_.end()) g = groups_.insert(groups_.end(), Group{method, {}});
       g->bodies.push_back(i);
     }
@@ -174,8 +210,8 @@ void World::stage_integrate() {
   const Wrench* wr = wrench_dirty_ ? wrench_.data() : nullptr;
   for (const Group& g : groups_) {
     if (!pool_) {
-      integrate(g.method, g.bodies.data(), (int)g.bodies.size(), state_.data(), model_.data(), wr, cfg_.gravity,
-                cfg_.dt);
+      integrate(g.method, g.bodies.data(), (int)g.bodies.size(), state_.data(), model_.data(), wr,
+                cfg_.gravity, cfg_.dt);
       continue;
     }
     struct Ctx {
@@ -239,14 +275,17 @@ void World::check_spin(double max_angle) {
       spin_warned_[i] = 1;
       std::ostringstream os;
       os << body_label(defs_, i) << " turns " << a << " rad per step at t = " << time()
-         << " s; the rotation is under-resolved, use a timestep below " << max_angle / state_[i].w_P.norm() << " s";
+         << " s; the rotation is under-resolved, use a timestep below " << max_angle / state_[i].w_P.norm()
+         << " s";
       warnings_.push_back(os.str());
     }
   }
 }
 
 // ------------------------------------------------------------------ the article's interface
-Quat World::orientation(int i) const { return state_[i].q_WP * model_[i].q_BP.conjugate(); }
+Quat World::orientation(int i) const {
+  return state_[i].q_WP * model_[i].q_BP.conjugate();
+}
 
 void World::set_orientation(int i, const Quat& q_WB) {
   const Vec3 p = origin_position(i);
@@ -256,16 +295,26 @@ void World::set_orientation(int i, const Quat& q_WB) {
   set_angular_velocity(i, w);
 }
 
-Vec3 World::origin_position(int i) const { return state_[i].x_W - orientation(i) * model_[i].c_B; }
+Vec3 World::origin_position(int i) const {
+  return state_[i].x_W - orientation(i) * model_[i].c_B;
+}
 
-void World::set_origin_position(int i, const Vec3& p_W) { state_[i].x_W = p_W + orientation(i) * model_[i].c_B; }
+void World::set_origin_position(int i, const Vec3& p_W) {
+  state_[i].x_W = p_W + orientation(i) * model_[i].c_B;
+}
 
-Vec3 World::local_to_world(int i, const Vec3& p_B) const { return orientation(i) * p_B + origin_position(i); }
+Vec3 World::local_to_world(int i, const Vec3& p_B) const {
+  return orientation(i) * p_B + origin_position(i);
+}
 Vec3 World::world_to_local(int i, const Vec3& p_W) const {
   return orientation(i).conjugate() * (p_W - origin_position(i));
 }
-Vec3 World::local_to_world_vec(int i, const Vec3& v_B) const { return orientation(i) * v_B; }
-Vec3 World::world_to_local_vec(int i, const Vec3& v_W) const { return orientation(i).conjugate() * v_W; }
+Vec3 World::local_to_world_vec(int i, const Vec3& v_B) const {
+  return orientation(i) * v_B;
+}
+Vec3 World::world_to_local_vec(int i, const Vec3& v_W) const {
+  return orientation(i).conjugate() * v_W;
+}
 
 void World::set_angular_velocity(int i, const Vec3& w_W) {
   state_[i].w_P = model_[i].is_static ? Vec3::Zero() : Vec3(state_[i].q_WP.conjugate() * w_W);
@@ -300,9 +349,13 @@ void World::apply_force_local(int i, const Vec3& f_B, const Vec3& at_B) {
   apply_force(i, local_to_world_vec(i, f_B), local_to_world(i, at_B));
 }
 
-void World::apply_central_force(int i, const Vec3& f_W) { wrench(i).f_W += f_W; }
+void World::apply_central_force(int i, const Vec3& f_W) {
+  wrench(i).f_W += f_W;
+}
 
-void World::apply_torque(int i, const Vec3& tau_W) { wrench(i).tau_W += tau_W; }
+void World::apply_torque(int i, const Vec3& tau_W) {
+  wrench(i).tau_W += tau_W;
+}
 
 void World::apply_impulse(int i, const Vec3& J_W, const Vec3& at_W) {
   if (model_[i].is_static) return;
@@ -315,7 +368,9 @@ void World::apply_angular_impulse(int i, const Vec3& dL_W) {
   state_[i].w_P += model_[i].inv_I_P.cwiseProduct(state_[i].q_WP.conjugate() * dL_W);
 }
 
-void World::normalize_orientation(int i) { state_[i].q_WP.normalize(); }
+void World::normalize_orientation(int i) {
+  state_[i].q_WP.normalize();
+}
 
 // ------------------------------------------------------------------ whole-world quantities
 double World::kinetic_energy() const {

@@ -23,10 +23,10 @@
 namespace simreel {
 
 struct WorldConfig {
-  double dt = 1.0 / 240.0;                 ///< s, fixed step
-  Vec3 gravity = Vec3(0.0, 0.0, -9.81);    ///< m/s^2
+  double dt = 1.0 / 240.0;               ///< s, fixed step
+  Vec3 gravity = Vec3(0.0, 0.0, -9.81);  ///< m/s^2
   Integrator integrator = Integrator::automatic;
-  int threads = 1;                         ///< worker threads for integration (results identical)
+  int threads = 1;  ///< worker threads for integration (results identical)
 };
 
 // A non-finite value appeared in the state.
@@ -68,15 +68,15 @@ class World {
   // ---- The article's RigidBody interface, by body index (sim/README.md maps the names).
   const Vec3& local_centroid(int i) const { return model_[i].c_B; }  ///< m, body frame
   const Vec3& centroid(int i) const { return state_[i].x_W; }        ///< m, world
-  Vec3 origin_position(int i) const;               ///< UpdatePositionFromGlobalCentroid
-  void set_origin_position(int i, const Vec3& p_W);///< UpdateGlobalCentroidFromPosition
-  Quat orientation(int i) const;                   ///< q_WB, body to world
-  void set_orientation(int i, const Quat& q_WB);   ///< keeps the centroid, normalises
-  Mat3 rotation(int i) const { return orientation(i).toRotationMatrix(); }                  ///< R_WB
-  Mat3 inverse_rotation(int i) const { return rotation(i).transpose(); }                    ///< R_BW
-  Vec3 local_to_world(int i, const Vec3& p_B) const;      ///< point, m
-  Vec3 world_to_local(int i, const Vec3& p_W) const;      ///< point, m
-  Vec3 local_to_world_vec(int i, const Vec3& v_B) const;  ///< direction: rotation only
+  Vec3 origin_position(int i) const;                                 ///< UpdatePositionFromGlobalCentroid
+  void set_origin_position(int i, const Vec3& p_W);                  ///< UpdateGlobalCentroidFromPosition
+  Quat orientation(int i) const;                                     ///< q_WB, body to world
+  void set_orientation(int i, const Quat& q_WB);                     ///< keeps the centroid, normalises
+  Mat3 rotation(int i) const { return orientation(i).toRotationMatrix(); }  ///< R_WB
+  Mat3 inverse_rotation(int i) const { return rotation(i).transpose(); }    ///< R_BW
+  Vec3 local_to_world(int i, const Vec3& p_B) const;                        ///< point, m
+  Vec3 world_to_local(int i, const Vec3& p_W) const;                        ///< point, m
+  Vec3 local_to_world_vec(int i, const Vec3& v_B) const;                    ///< direction: rotation only
   Vec3 world_to_local_vec(int i, const Vec3& v_W) const;
   const Vec3& linear_velocity(int i) const { return state_[i].v_W; }  ///< m/s, of the centroid
   void set_linear_velocity(int i, const Vec3& v_W) { state_[i].v_W = v_W; }
@@ -88,16 +88,16 @@ class World {
   // Force f_W (N) at world point at_W (m): torque (at - centroid) x f about the centroid.
   void apply_force(int i, const Vec3& f_W, const Vec3& at_W);
   void apply_force_local(int i, const Vec3& f_B, const Vec3& at_B);  ///< both in the body frame
-  void apply_central_force(int i, const Vec3& f_W);                 ///< at the centroid, no torque
-  void apply_torque(int i, const Vec3& tau_W);                      ///< N m, world
-  void apply_impulse(int i, const Vec3& J_W, const Vec3& at_W);     ///< N s at a world point, instant
-  void apply_angular_impulse(int i, const Vec3& dL_W);              ///< N m s, instant
+  void apply_central_force(int i, const Vec3& f_W);                  ///< at the centroid, no torque
+  void apply_torque(int i, const Vec3& tau_W);                       ///< N m, world
+  void apply_impulse(int i, const Vec3& J_W, const Vec3& at_W);      ///< N s at a world point, instant
+  void apply_angular_impulse(int i, const Vec3& dL_W);               ///< N m s, instant
   void normalize_orientation(int i);  ///< UpdateOrientation: re-orthonormalise via the quaternion
 
   // ---- Whole-world quantities (dynamic bodies only).
-  double kinetic_energy() const;    ///< J
-  double potential_energy() const; ///< J, uniform gravity, zero at the world origin
-  Vec3 total_momentum() const;      ///< kg m/s
+  double kinetic_energy() const;        ///< J
+  double potential_energy() const;      ///< J, uniform gravity, zero at the world origin
+  Vec3 total_momentum() const;          ///< kg m/s
   Vec3 total_angular_momentum() const;  ///< kg m^2/s about the system's centre of mass
   // Throws StateError naming the body and time if any state value is not finite.
   void check_state() const;

@@ -1,6 +1,6 @@
 // The simreel command line as scripts see it: exit codes, outputs, and no file left by bad input.
-#include <gtest/gtest.h>
 #include <fcntl.h>
+#include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -74,7 +74,8 @@ TEST(Cli, BadSceneExitsWith2AndLeavesNoOutput) {
   const fs::path csv = tmp("bad.csv"), mp4 = tmp("bad.mp4");
   fs::remove(csv);
   fs::remove(mp4);
-  const std::string bad = write("bad.yaml", "simulation: { duration: 1 }\nbodies:\n  - colliders: [ { shape: box } ]\n");
+  const std::string bad =
+      write("bad.yaml", "simulation: { duration: 1 }\nbodies:\n  - colliders: [ { shape: box } ]\n");
   const Result r = run("simulate " + bad + " --csv " + csv.string());
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.out.find("bad.yaml:3:"), std::string::npos) << r.out;
@@ -89,8 +90,8 @@ TEST(Cli, SimulateWritesTheCsvAtEveryFrameAndAJsonSummary) {
   const fs::path csv = tmp("good.csv");
   const Result r = run("simulate " + write("good.yaml", kGood) + " --csv " + csv.string() + " --json");
   ASSERT_EQ(r.code, 0) << r.out;
-  for (const char* k : {"\"steps\": 100", "\"bodies\": 2", "\"step_seconds\":", "\"energy_rel_drift\":",
-                        "\"momentum_rel_drift\":"})
+  for (const char* k : {"\"steps\": 100", "\"bodies\": 2",
+                        "\"step_seconds\":", "\"energy_rel_drift\":", "\"momentum_rel_drift\":"})
     EXPECT_NE(r.out.find(k), std::string::npos) << k << " in " << r.out;
   std::ifstream in(csv);
   std::string line;
@@ -161,7 +162,8 @@ TEST(Cli, InterruptedRenderLeavesAPlayableVideoOfTheFramesDone) {
     const int devnull = open("/dev/null", 1);
     dup2(devnull, 1);
     dup2(devnull, 2);
-    execl(SIMREEL_BIN, SIMREEL_BIN, "render", scene.c_str(), "-o", out.string().c_str(), "--quiet", (char*)nullptr);
+    execl(SIMREEL_BIN, SIMREEL_BIN, "render", scene.c_str(), "-o", out.string().c_str(), "--quiet",
+          (char*)nullptr);
     _exit(99);
   }
   std::this_thread::sleep_for(std::chrono::milliseconds(2500));

@@ -35,9 +35,10 @@ std::string error_of(const std::string& text) {
 const char* kBox = "    colliders:\n      - { shape: box, size: [1, 2, 3], density: 10 }\n";
 
 TEST(Scene, ValidSceneLoadsWithDefaultsAndUnits) {
-  const std::string path = write_scene("ok.yaml", std::string("simulation:\n  duration: 2\n  timestep: 0.01\n"
-                                                              "bodies:\n  - name: a\n    position: [1, 2, 3]\n") +
-                                                      kBox);
+  const std::string path =
+      write_scene("ok.yaml", std::string("simulation:\n  duration: 2\n  timestep: 0.01\n"
+                                         "bodies:\n  - name: a\n    position: [1, 2, 3]\n") +
+                                 kBox);
   const Scene s = load_scene(path);
   EXPECT_EQ(s.name, "ok");
   EXPECT_EQ(s.duration, 2.0);
@@ -56,28 +57,37 @@ TEST(Scene, UnknownKeySuggestsTheNearestAndNamesLineAndColumn) {
 }
 
 TEST(Scene, WrongTypesAndLengthsNameTheKey) {
-  EXPECT_NE(error_of("simulation:\n  timestep: fast\nbodies: []\n").find(":2:13: simulation.timestep: expected a number"),
+  EXPECT_NE(error_of("simulation:\n  timestep: fast\nbodies: []\n")
+                .find(":2:13: simulation.timestep: expected a number"),
             std::string::npos);
   const std::string m = error_of("bodies:\n  - name: a\n    position: [1, 2]\n" + std::string(kBox));
-  EXPECT_NE(m.find(":3:15: bodies[0].position: expected a list of 3 numbers, got a list of 2"), std::string::npos) << m;
+  EXPECT_NE(m.find(":3:15: bodies[0].position: expected a list of 3 numbers, got a list of 2"),
+            std::string::npos)
+      << m;
 }
 
 TEST(Scene, NonFiniteAndNonPositiveValuesAreRejected) {
-  EXPECT_NE(error_of("simulation:\n  duration: .nan\nbodies: []\n").find("simulation.duration: must be a finite number"),
+  EXPECT_NE(error_of("simulation:\n  duration: .nan\nbodies: []\n")
+                .find("simulation.duration: must be a finite number"),
             std::string::npos);
-  EXPECT_NE(error_of("simulation:\n  timestep: -0.1\nbodies: []\n").find("simulation.timestep: must be positive"),
-            std::string::npos);
+  EXPECT_NE(
+      error_of("simulation:\n  timestep: -0.1\nbodies: []\n").find("simulation.timestep: must be positive"),
+      std::string::npos);
   const std::string m = error_of("bodies:\n  - colliders:\n      - { shape: sphere, radius: 0 }\n");
   EXPECT_NE(m.find(":3:34: bodies[0].colliders[0].radius: must be positive"), std::string::npos) << m;
-  const std::string n = error_of("bodies:\n  - colliders:\n      - { shape: box, size: [1, 1, 1], density: -3 }\n");
+  const std::string n =
+      error_of("bodies:\n  - colliders:\n      - { shape: box, size: [1, 1, 1], density: -3 }\n");
   EXPECT_NE(n.find("bodies[0].colliders[0].density: must be positive"), std::string::npos) << n;
   const std::string inf = error_of("bodies:\n  - position: [0, .inf, 0]\n" + std::string(kBox));
   EXPECT_NE(inf.find("bodies[0].position[1]: must be a finite number"), std::string::npos) << inf;
 }
 
 TEST(Scene, MassAndDensityTogetherIsAnError) {
-  const std::string m = error_of("bodies:\n  - colliders:\n      - { shape: box, size: [1, 1, 1], density: 3, mass: 2 }\n");
-  EXPECT_NE(m.find("bodies[0].colliders[0].mass: give either 'density' or 'mass', not both"), std::string::npos) << m;
+  const std::string m =
+      error_of("bodies:\n  - colliders:\n      - { shape: box, size: [1, 1, 1], density: 3, mass: 2 }\n");
+  EXPECT_NE(m.find("bodies[0].colliders[0].mass: give either 'density' or 'mass', not both"),
+            std::string::npos)
+      << m;
 }
 
 TEST(Scene, UnknownShapeAndIntegratorSuggestNames) {
@@ -107,7 +117,8 @@ TEST(Scene, MissingMeshFileAndOpenMeshAreExplained) {
 
 TEST(Scene, MeshModesAndMassScaling) {
   const std::string path = write_scene(
-      "mesh.yaml", "bodies:\n  - colliders:\n      - { shape: mesh, file: open_box.obj, mode: hull, mass: 5 }\n");
+      "mesh.yaml",
+      "bodies:\n  - colliders:\n      - { shape: mesh, file: open_box.obj, mode: hull, mass: 5 }\n");
   const Scene s = load_scene(path);
   EXPECT_NEAR(s.bodies[0].mass_B().mass, 5.0, 1e-12);
   // The unit cube's hull: I = m / 6 about each axis.

@@ -42,8 +42,9 @@ inline Decoded decode(const std::string& path) {
     while (avcodec_receive_frame(dec, fr) == 0) {
       if (d.frames++ == 0) {
         d.first_rgba.resize((size_t)fr->width * fr->height * 4);
-        SwsContext* sws = sws_getContext(fr->width, fr->height, (AVPixelFormat)fr->format, fr->width, fr->height,
-                                         AV_PIX_FMT_RGBA, SWS_BILINEAR, nullptr, nullptr, nullptr);
+        SwsContext* sws =
+            sws_getContext(fr->width, fr->height, (AVPixelFormat)fr->format, fr->width, fr->height,
+                           AV_PIX_FMT_RGBA, SWS_BILINEAR, nullptr, nullptr, nullptr);
         const int* coef = sws_getCoefficients(SWS_CS_ITU709);
         sws_setColorspaceDetails(sws, coef, 0, coef, 1, 0, 1 << 16, 1 << 16);
         uint8_t* dst[1] = {d.first_rgba.data()};

@@ -7,11 +7,11 @@
 #include <vector>
 
 #include "render/draw_list.hpp"
-#include "tests/render/decode.hpp"
 #include "render/renderer.hpp"
 #include "render/video_writer.hpp"
 #include "sim/primitives.hpp"
 #include "sim/scene_builders.hpp"
+#include "tests/render/decode.hpp"
 
 namespace simreel {
 namespace {
@@ -72,7 +72,8 @@ CameraView top_down() {
 }
 
 TEST(Render, RedBoxAtTheCentreAndBackgroundAtTheCorners) {
-  Fixture s({colored(box_body("b", Vec3(1, 1, 1), 1), {0.9f, 0.05f, 0.05f}, Vec3::Zero())}, top_down(), false);
+  Fixture s({colored(box_body("b", Vec3(1, 1, 1), 1), {0.9f, 0.05f, 0.05f}, Vec3::Zero())}, top_down(),
+            false);
   const uint8_t* img = s.render();
   const Px c = at(img, W / 2, H / 2);
   EXPECT_GT(c.r, 2 * c.g) << c.r << " " << c.g << " " << c.b;
@@ -105,14 +106,15 @@ TEST(Render, SideFacingTheLightIsBrighter) {
 TEST(Render, ShadowedGroundIsDarkerThanLitGround) {
   // Box at z = 2 over the ground z = 0: its shadow lands 2/0.84 along (0.45, 0.30), at (1.07, 0.71),
   // which projects to about pixel (98, 48); the box itself covers 75..85.
-  Fixture s({colored(box_body("b", Vec3(0.5, 0.5, 0.5), 1), {0.8f, 0.8f, 0.8f}, Vec3(0, 0, 2))}, top_down(), true);
+  Fixture s({colored(box_body("b", Vec3(0.5, 0.5, 0.5), 1), {0.8f, 0.8f, 0.8f}, Vec3(0, 0, 2))}, top_down(),
+            true);
   const uint8_t* img = s.render();
   // Same checker tile (x > 0, y > 0), away from the shadow: lit.
   const int shadow = at(img, 98, 48).sum(), lit = at(img, 135, 15).sum();
   EXPECT_LT(shadow, lit - 100) << "shadow " << shadow << " lit " << lit;
   // With shadows off the very same pixel is lit.
-  Fixture n({colored(box_body("b", Vec3(0.5, 0.5, 0.5), 1), {0.8f, 0.8f, 0.8f}, Vec3(0, 0, 2))}, top_down(), true,
-            false);
+  Fixture n({colored(box_body("b", Vec3(0.5, 0.5, 0.5), 1), {0.8f, 0.8f, 0.8f}, Vec3(0, 0, 2))}, top_down(),
+            true, false);
   EXPECT_GT(at(n.render(), 98, 48).sum(), shadow + 100);
 }
 

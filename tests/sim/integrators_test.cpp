@@ -21,7 +21,9 @@ WorldConfig config(Integrator i, double dt, Vec3 g = Vec3::Zero()) {
   return c;
 }
 
-std::vector<BodyDef> one(BodyDef b) { return {std::move(b)}; }
+std::vector<BodyDef> one(BodyDef b) {
+  return {std::move(b)};
+}
 
 // Times at which body-frame w2 changes sign, by linear interpolation between steps.
 std::vector<double> w2_zero_crossings(World& w, double T) {
@@ -161,8 +163,8 @@ INSTANTIATE_TEST_SUITE_P(AllMethods, Convergence,
 
 TEST(Conservation, SplittingKeepsWorldMomentumExactAndEnergyBounded) {
   // Each sub-step is an exact rotation: world L is conserved to rounding, at most ~n eps after n
-  // steps (48000 x 1.1e-16 = 5e-12; measured 3e-12). The energy error of a symplectic method oscillates without
-  // drift: its maximum over the second half of the run is no larger than over the first.
+  // steps (48000 x 1.1e-16 = 5e-12; measured 3e-12). The energy error of a symplectic method oscillates
+  // without drift: its maximum over the second half of the run is no larger than over the first.
   World w(config(Integrator::splitting, 1.0 / 240), one(r1_tumble_body()));
   const Vec3 L0 = w.angular_momentum(0);
   const double E0 = w.kinetic_energy();

@@ -194,7 +194,8 @@ TEST(MeshMass, BrokenInputIsAnErrorNotACrash) {
 
 TEST(ConvexHull, CubeCornersWithInteriorPoints) {
   std::vector<Vec3> pts = test::box_mesh(Vec3::Ones()).vertices;
-  for (int i = 1; i < 50; ++i) pts.push_back(Vec3(0.02 * i, 0.5 + 0.3 * std::sin(i), 0.5 + 0.3 * std::cos(i)));
+  for (int i = 1; i < 50; ++i)
+    pts.push_back(Vec3(0.02 * i, 0.5 + 0.3 * std::sin(i), 0.5 + 0.3 * std::cos(i)));
   const TriangleMesh h = convex_hull(pts);
   EXPECT_EQ(h.vertices.size(), 8u);
   MeshMassOptions o;

@@ -72,6 +72,8 @@ inline TriangleMesh uv_sphere(double r, int n) {
   return m;
 }
 
-inline double rel_err(const Mat3& a, const Mat3& b) { return (a - b).norm() / b.norm(); }
+inline double rel_err(const Mat3& a, const Mat3& b) {
+  return (a - b).norm() / b.norm();
+}
 
 }  // namespace simreel::test

@@ -75,7 +75,8 @@ TEST(Stress, ThinRodInertiaRatio1e4) {
     const double E0 = w.kinetic_energy();
     const Vec3 L0 = w.angular_momentum(0);
     for (int k = 0; k < 24000; ++k) w.step();
-    const double dE = std::fabs(w.kinetic_energy() - E0) / E0, dL = (w.angular_momentum(0) - L0).norm() / L0.norm();
+    const double dE = std::fabs(w.kinetic_energy() - E0) / E0,
+                 dL = (w.angular_momentum(0) - L0).norm() / L0.norm();
     if (m == Integrator::automatic) {
       EXPECT_LT(dE, 5e-4);
       EXPECT_LT(dL, 5e-3);

@@ -16,7 +16,8 @@ namespace {
 BodyDef l_body() {
   BodyDef b;
   b.name = "ell";
-  for (auto [size, at] : {std::pair{Vec3(2, 1, 1), Vec3(1, 0.5, 0.5)}, std::pair{Vec3(1, 1, 1), Vec3(0.5, 1.5, 0.5)}}) {
+  for (auto [size, at] :
+       {std::pair{Vec3(2, 1, 1), Vec3(1, 0.5, 0.5)}, std::pair{Vec3(1, 1, 1), Vec3(0.5, 1.5, 0.5)}}) {
     Collider c;
     c.size = size;
     c.props_C = box_mass(size, 10.0);
