@@ -225,15 +225,9 @@ int cmd_inspect(const std::vector<std::string>& args) {
   if (a.has("--density")) opt.density = a.number("--density", true);
   if (a.has("--thickness")) opt.thickness = a.number("--thickness", true);
   if (a.has("--mode")) {
-    const std::string m = a.options.at("--mode");
-    if (m == "solid")
-      opt.mode = MassMode::solid;
-    else if (m == "shell")
-      opt.mode = MassMode::shell;
-    else if (m == "hull")
-      opt.mode = MassMode::hull;
-    else
-      throw UsageError("unknown --mode '" + m + "' (solid, shell or hull)");
+    const auto mode = mass_mode_from_name(a.options.at("--mode"));
+    if (!mode) throw UsageError("unknown --mode '" + a.options.at("--mode") + "' (solid, shell or hull)");
+    opt.mode = *mode;
   }
   const double scale = a.has("--scale") ? a.number("--scale", true) : 1.0;
   const std::string path = a.positional[0];

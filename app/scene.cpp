@@ -245,17 +245,13 @@ struct Loader {
         opt.density = 1.0;
         if (n["mode"]) {
           const std::string m = text(n["mode"], c.child("mode"));
-          if (m == "solid")
-            opt.mode = MassMode::solid;
-          else if (m == "shell")
-            opt.mode = MassMode::shell;
-          else if (m == "hull")
-            opt.mode = MassMode::hull;
-          else {
+          const auto mode = mass_mode_from_name(m);
+          if (!mode) {
             std::string msg = "unknown mode '" + m + "' (solid, shell or hull)";
-            if (auto s = nearest(m, {"solid", "shell", "hull"})) msg += "; did you mean '" + *s + "'?";
+            if (auto sug = nearest(m, {"solid", "shell", "hull"})) msg += "; did you mean '" + *sug + "'?";
             c.child("mode").fail(n["mode"], msg);
           }
+          opt.mode = *mode;
         }
         if (n["thickness"]) {
           if (opt.mode != MassMode::shell)

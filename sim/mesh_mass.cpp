@@ -24,6 +24,12 @@ const char* to_string(MassMode m) {
   return "?";
 }
 
+std::optional<MassMode> mass_mode_from_name(std::string_view n) {
+  for (MassMode m : {MassMode::solid, MassMode::shell, MassMode::hull})
+    if (n == to_string(m)) return m;
+  return std::nullopt;
+}
+
 namespace {
 
 using Tri = std::array<int, 3>;

@@ -11,7 +11,9 @@
 // Hull: the solid formula on the convex hull of the vertices.
 #pragma once
 #include <array>
+#include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "sim/mass_properties.hpp"
@@ -25,6 +27,7 @@ struct TriangleMesh {
 
 enum class MassMode { solid, shell, hull };
 const char* to_string(MassMode m);
+std::optional<MassMode> mass_mode_from_name(std::string_view name);  ///< solid, shell, hull
 
 struct MeshReport {
   MassProperties props;                ///< at the requested density; com and inertia in mesh axes
