@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "tests/render/decode.hpp"
+#include "tests/scratch.hpp"
 
 namespace {
 
@@ -35,9 +36,7 @@ Result run(const std::string& args) {
 }
 
 fs::path tmp(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / "simreel_cli_test";
-  fs::create_directories(d);
-  return d / name;
+  return simreel::test::scratch(name);
 }
 
 std::string write(const std::string& name, const std::string& text) {

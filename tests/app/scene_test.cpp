@@ -6,6 +6,7 @@
 
 #include "app/scene.hpp"
 #include "sim/error.hpp"
+#include "tests/scratch.hpp"
 
 namespace simreel {
 namespace {
@@ -13,9 +14,7 @@ namespace {
 namespace fs = std::filesystem;
 
 std::string write_scene(const std::string& name, const std::string& text) {
-  const fs::path dir = fs::temp_directory_path() / "simreel_scene_test";
-  fs::create_directories(dir);
-  const fs::path p = dir / name;
+  const fs::path p = test::scratch(name);
   std::ofstream(p) << text;
   return p.string();
 }

@@ -12,6 +12,7 @@
 #include "sim/primitives.hpp"
 #include "sim/scene_builders.hpp"
 #include "tests/render/decode.hpp"
+#include "tests/scratch.hpp"
 
 namespace simreel {
 namespace {
@@ -168,7 +169,7 @@ double psnr_rgb(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b) {
 }
 
 TEST(Video, EncodeThirtyFramesAndDecodeThemBack) {
-  const std::string path = (std::filesystem::temp_directory_path() / "simreel_video_test.mp4").string();
+  const std::string path = test::scratch("video_test.mp4");
   std::remove(path.c_str());
   CameraView c;
   c.eye = Vec3(3, -3, 2);
@@ -201,12 +202,12 @@ TEST(Video, EncodeThirtyFramesAndDecodeThemBack) {
   ASSERT_EQ(d.first_rgba.size(), first.size());
   EXPECT_GT(psnr_rgb(d.first_rgba, first), 35.0);
   // Nothing else was left beside it.
-  for (const auto& e : std::filesystem::directory_iterator(std::filesystem::temp_directory_path()))
-    EXPECT_EQ(e.path().string().find("simreel_video_test.partial"), std::string::npos);
+  for (const auto& e : std::filesystem::directory_iterator(test::scratch_dir()))
+    EXPECT_EQ(e.path().filename(), "video_test.mp4") << "left beside the video";
 }
 
 TEST(Video, WriterDestroyedWithoutFinishLeavesNothing) {
-  const std::string path = (std::filesystem::temp_directory_path() / "simreel_abort_test.mp4").string();
+  const std::string path = test::scratch("abort_test.mp4");
   std::remove(path.c_str());
   {
     VideoSettings vs;
@@ -222,7 +223,7 @@ TEST(Video, WriterDestroyedWithoutFinishLeavesNothing) {
 
 TEST(Video, OddSizeIsRejected) {
   VideoSettings vs;
-  vs.path = (std::filesystem::temp_directory_path() / "simreel_odd.mp4").string();
+  vs.path = test::scratch("odd.mp4");
   vs.width = 161;
   vs.height = 120;
   EXPECT_THROW(VideoWriter{vs}, std::runtime_error);
