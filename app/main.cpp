@@ -231,27 +231,31 @@ int cmd_inspect(const std::vector<std::string>& args) {
   }
   const double scale = a.has("--scale") ? a.number("--scale", true) : 1.0;
   const std::string path = a.positional[0];
-  const TriangleMesh mesh = import_mesh(path, Vec3::Constant(scale));
+  const ImportedMesh im = import_mesh(path, Vec3::Constant(scale));
+  const TriangleMesh& mesh = im.mesh;
   MeshReport r;
   try {
     r = analyze_mesh(mesh, opt);
   } catch (const InputError& e) {
     throw InputError(path + ": " + e.what());
   }
+  r.warnings.insert(r.warnings.begin(), im.notes.begin(), im.notes.end());
   const PrincipalAxes pa = principal_axes(r.props.inertia);
   if (a.has("--json")) {
     std::printf(
-        "{\"file\": %s, \"mode\": %s, \"density\": %s, \"vertices\": %zu, \"faces\": %zu, \"volume\": %s, "
+        "{\"file\": %s, \"reader\": %s, \"precision\": %s, \"mode\": %s, \"density\": %s, \"vertices\": %zu, "
+        "\"faces\": %zu, \"volume\": %s, "
         "\"area\": %s, \"mass\": %s, \"centroid\": %s, \"inertia\": %s, \"principal_moments\": %s, "
         "\"principal_axes\": %s, \"closed\": %s, \"consistently_oriented\": %s, \"welded_vertices\": %d, "
         "\"degenerate_faces\": %d, \"reoriented_faces\": %d, \"inverted\": %s, \"warnings\": %s}\n",
-        json_string(path).c_str(), json_string(to_string(opt.mode)).c_str(), json_number(opt.density).c_str(),
-        mesh.vertices.size(), mesh.triangles.size(), json_number(r.volume).c_str(),
-        json_number(r.area).c_str(), json_number(r.props.mass).c_str(), json_vec(r.props.com).c_str(),
-        json_mat(r.props.inertia).c_str(), json_vec(pa.moments).c_str(), json_mat(pa.R.transpose()).c_str(),
-        r.closed ? "true" : "false", r.consistently_oriented ? "true" : "false", r.welded_vertices,
-        r.degenerate_faces, r.reoriented_faces, r.inverted ? "true" : "false",
-        json_strings(r.warnings).c_str());
+        json_string(path).c_str(), json_string(im.reader).c_str(),
+        json_string(im.double_precision ? "double" : "float32").c_str(),
+        json_string(to_string(opt.mode)).c_str(), json_number(opt.density).c_str(), mesh.vertices.size(),
+        mesh.triangles.size(), json_number(r.volume).c_str(), json_number(r.area).c_str(),
+        json_number(r.props.mass).c_str(), json_vec(r.props.com).c_str(), json_mat(r.props.inertia).c_str(),
+        json_vec(pa.moments).c_str(), json_mat(pa.R.transpose()).c_str(), r.closed ? "true" : "false",
+        r.consistently_oriented ? "true" : "false", r.welded_vertices, r.degenerate_faces, r.reoriented_faces,
+        r.inverted ? "true" : "false", json_strings(r.warnings).c_str());
     return kExitOk;
   }
   auto row = [](const Vec3& v) {
@@ -259,8 +263,9 @@ int cmd_inspect(const std::vector<std::string>& args) {
     std::snprintf(b, sizeof b, "[% .10g, % .10g, % .10g]", v.x(), v.y(), v.z());
     return std::string(b);
   };
-  std::printf("%s (%s, %zu vertices, %zu faces as loaded)\n", path.c_str(), to_string(opt.mode),
-              mesh.vertices.size(), mesh.triangles.size());
+  std::printf("%s (%s, %zu vertices, %zu faces as loaded; read by %s in %s precision)\n", path.c_str(),
+              to_string(opt.mode), mesh.vertices.size(), mesh.triangles.size(), im.reader.c_str(),
+              im.double_precision ? "double" : "single");
   std::printf("  closed: %s, consistently oriented: %s\n", r.closed ? "yes" : "no",
               r.consistently_oriented ? "yes" : "no");
   std::printf("  volume:   %.12g m^3\n  area:     %.12g m^2\n  mass:     %.12g kg (density %g kg/m^3)\n",

@@ -1,14 +1,50 @@
-// Triangle meshes from files through assimp (OBJ, STL, PLY, OFF, glTF 2.0, ...).
+// Triangle meshes from files.
+//
+// OBJ, OFF, STL (ASCII and binary) and PLY (ASCII and binary) are read by simreel's own readers in
+// double precision, so a coordinate written "0.1" is 0.1 to the last bit and mass properties stay
+// exact to rounding. Everything else assimp reads (glTF 2.0, COLLADA, 3MF, FBX, ...) goes through
+// assimp, whose Debian build stores coordinates in single precision (about 6e-8 relative; glTF
+// positions are float32 in the file anyway). Node transforms are applied.
 #pragma once
+#include <array>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "sim/mesh_mass.hpp"
 
 namespace simreel {
 
-// Node transforms applied, polygons triangulated, points and lines dropped, each vertex scaled by
+struct ImportedMesh {
+  TriangleMesh mesh;   ///< vertices in m after `scale`; only vertices that faces use
+  std::string reader;  ///< "obj", "off", "stl-ascii", "stl-binary", "ply-ascii", "ply-binary", "assimp"
+  bool double_precision = true;               ///< false when coordinates passed through assimp's float32
+  std::optional<std::array<float, 3>> color;  ///< diffuse colour of the material most faces use
+  std::vector<std::string> notes;             ///< what the reader did that the user should know
+};
+
+// Polygons triangulated, points and lines dropped (counted in a note), each vertex scaled by
 // `scale` (per axis). Vertices are not welded here: analyze_mesh welds by exact position.
-// Throws InputError naming the file for unreadable, empty or broken files.
-TriangleMesh import_mesh(const std::string& path, const Vec3& scale = Vec3::Ones());
+// Throws InputError naming the file (and the line for text formats) for unreadable, empty or
+// broken files.
+ImportedMesh import_mesh(const std::string& path, const Vec3& scale = Vec3::Ones());
+
+namespace detail {
+// The native readers; nullopt when the file needs assimp (a non-convex polygon, say).
+struct RawMesh {
+  std::vector<Vec3> vertices;
+  std::vector<Eigen::Vector3f> normals;  ///< per vertex (PLY) or the OBJ vn list
+  std::vector<std::array<int, 3>> triangles;
+  std::vector<std::array<int, 3>> triangle_normals;  ///< indices into normals, OBJ only
+  std::vector<int> triangle_material;                ///< index into materials, OBJ only
+  std::vector<std::array<float, 3>> materials;
+  long points_and_lines = 0;
+  std::vector<std::string> notes;
+};
+std::optional<RawMesh> read_obj(const std::string& path);
+std::optional<RawMesh> read_off(const std::string& path);
+std::optional<RawMesh> read_stl(const std::string& path, std::string* kind);
+std::optional<RawMesh> read_ply(const std::string& path, std::string* kind);
+}  // namespace detail
 
 }  // namespace simreel

@@ -167,7 +167,7 @@ struct Loader {
   Scene& scene;
   fs::path dir;
   fs::path assets;
-  std::map<std::string, std::shared_ptr<const TriangleMesh>> meshes;  // by resolved path + scale
+  std::map<std::string, std::shared_ptr<const ImportedMesh>> meshes;  // by resolved path + scale
 
   std::string resolve(const YAML::Node& n, const Ctx& c) {
     const std::string f = text(n, c);
@@ -262,13 +262,17 @@ struct Loader {
                                  "," + std::to_string(scale.z());
         MeshReport rep;
         try {
-          if (!meshes.count(mkey))
-            meshes[mkey] = std::make_shared<const TriangleMesh>(import_mesh(file, scale));
-          rep = analyze_mesh(*meshes[mkey], opt);
+          if (!meshes.count(mkey)) {
+            meshes[mkey] = std::make_shared<const ImportedMesh>(import_mesh(file, scale));
+            for (const std::string& w : meshes[mkey]->notes) scene.notes.push_back(file + ": " + w);
+          }
+          rep = analyze_mesh(meshes[mkey]->mesh, opt);
         } catch (const InputError& e) {
           c.child("file").fail(n["file"], e.what());
         }
-        col.mesh = meshes[mkey];
+        // The collider shares the imported mesh (aliasing constructor: one allocation, one owner).
+        col.mesh = std::shared_ptr<const TriangleMesh>(meshes[mkey], &meshes[mkey]->mesh);
+        col.color = meshes[mkey]->color;
         for (const std::string& w : rep.warnings)
           scene.notes.push_back(c.file() + ": body '" + body + "', " + c.key() + " (" + file + "): " + w);
         // Mass properties at density 1, then scaled: by the density, or to the requested mass.
@@ -304,8 +308,11 @@ struct Loader {
     if (!cols) c.fail(n, "body '" + b.name + "' needs 'colliders' (a list of shapes)");
     if (!cols.IsSequence() || cols.size() == 0)
       c.child("colliders").fail(cols, "expected a non-empty list of colliders, got " + show(cols));
-    for (size_t k = 0; k < cols.size(); ++k)
-      b.add_collider(collider(cols[k], c.child("colliders").index(k), b.name));
+    for (size_t k = 0; k < cols.size(); ++k) {
+      Collider col = collider(cols[k], c.child("colliders").index(k), b.name);
+      if (n["color"]) col.color.reset();  // the scene's colour wins over the file's material
+      b.add_collider(std::move(col));
+    }
     return b;
   }
 };

@@ -29,7 +29,7 @@ void build_draw_list(const World& w, const SceneMeshes& sm, const CameraView& ca
       DrawItem it;
       it.mesh = sm.first_mesh[i] + (int)k;
       it.model = T.matrix().cast<float>();
-      it.color = d.color;
+      it.color = c.color ? *c.color : d.color;
       out.items.push_back(it);
       const double r = sm.meshes[it.mesh].radius;
       lo = lo.cwiseMin(T.translation() - Vec3::Constant(r));

@@ -136,8 +136,17 @@ RenderMesh tessellate_mesh(const TriangleMesh& tm, double crease_deg) {
     for (int k = 0; k < 3; ++k) around[t[k]].push_back((int)f);
   }
   const double cos_crease = std::cos(crease_deg * kPi / 180);
+  const bool from_file = tm.corner_normals.size() == nf;
   for (size_t f = 0; f < nf; ++f) {
     const Vec3 own = fn[f].normalized();
+    if (from_file) {  // the file's own shading normals, where it gives a usable one
+      for (int k = 0; k < 3; ++k) {
+        const Vec3 n = tm.corner_normals[f][k].cast<double>();
+        push(m, tm.vertices[tm.triangles[f][k]], n.squaredNorm() > 0.5 ? n : own);
+        m.indices.push_back(count(m) - 1);
+      }
+      continue;
+    }
     for (int k = 0; k < 3; ++k) {
       const int v = tm.triangles[f][k];
       Vec3 n = Vec3::Zero();

@@ -26,6 +26,9 @@ struct Collider {
   Vec3 p_BC = Vec3::Zero();                  ///< m, collider frame origin in the body frame
   Quat q_BC = Quat::Identity();
   std::string label;  ///< for messages: "collider 2 (mesh assets/t.obj)"
+  /// Linear RGB from the mesh file's material, drawn instead of the body colour when the scene
+  /// gives the body none (drawing only).
+  std::optional<std::array<float, 3>> color;
 };
 
 // Collider mass properties for a primitive shape from its size and density (kg/m^3).

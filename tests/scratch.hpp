@@ -27,6 +27,8 @@ inline std::filesystem::path scratch_dir() {
   return dir;
 }
 
-inline std::string scratch(const std::string& file) { return (scratch_dir() / file).string(); }
+inline std::string scratch(const std::string& file) {
+  return (scratch_dir() / file).string();
+}
 
 }  // namespace simreel::test

@@ -1,0 +1,602 @@
+// simreel's own double-precision readers for the common text and binary mesh formats.
+//
+// Why not assimp for these: its Debian build keeps coordinates in float32, so a cube written with
+// "0.1" corners weighs 1e-8 wrong, not 1e-16. Numbers are parsed with std::from_chars (correctly
+// rounded, locale independent). Formats: OBJ (Wavefront, with .mtl Kd colours), OFF (Princeton
+// shape benchmark), STL (3D Systems, ASCII and binary), PLY (Turk 1994, ASCII and both binary
+// byte orders). Polygons are fanned when convex; a non-convex one sends the file to assimp, which
+// ear-clips.
+#include <algorithm>
+#include <bit>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "app/mesh_import.hpp"
+#include "sim/error.hpp"
+
+namespace simreel::detail {
+namespace {
+
+std::string slurp(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) throw InputError("cannot open mesh '" + path + "'");
+  std::ostringstream ss;
+  ss << f.rdbuf();
+  return ss.str();
+}
+
+[[noreturn]] void fail(const std::string& path, long line, const std::string& what) {
+  throw InputError(path + (line > 0 ? ":" + std::to_string(line) : std::string()) + ": " + what);
+}
+
+// Whitespace-separated tokens of one line, comments (from `comment` on) removed.
+std::vector<std::string_view> tokens(std::string_view line, char comment = '#') {
+  if (comment) {
+    const size_t c = line.find(comment);
+    if (c != std::string_view::npos) line = line.substr(0, c);
+  }
+  std::vector<std::string_view> out;
+  size_t i = 0;
+  while (i < line.size()) {
+    while (i < line.size() && std::isspace((unsigned char)line[i])) ++i;
+    size_t j = i;
+    while (j < line.size() && !std::isspace((unsigned char)line[j])) ++j;
+    if (j > i) out.push_back(line.substr(i, j - i));
+    i = j;
+  }
+  return out;
+}
+
+// Lines with their 1-based numbers; handles \n and \r\n.
+class Lines {
+ public:
+  explicit Lines(std::string_view text) : text_(text) {}
+  bool next(std::string_view* line) {
+    if (pos_ >= text_.size()) return false;
+    size_t e = text_.find('\n', pos_);
+    if (e == std::string_view::npos) e = text_.size();
+    *line = text_.substr(pos_, e - pos_);
+    if (!line->empty() && line->back() == '\r') line->remove_suffix(1);
+    pos_ = e + 1;
+    ++number_;
+    return true;
+  }
+  long number() const { return number_; }
+  size_t offset() const { return pos_; }
+
+ private:
+  std::string_view text_;
+  size_t pos_ = 0;
+  long number_ = 0;
+};
+
+double number(std::string_view t, const std::string& path, long line) {
+  double v = 0;
+  const char* b = t.data();
+  if (!t.empty() && t[0] == '+') ++b;  // from_chars refuses a leading '+', files have them
+  const auto r = std::from_chars(b, t.data() + t.size(), v);
+  if (r.ec != std::errc() || r.ptr != t.data() + t.size())
+    fail(path, line, "'" + std::string(t) + "' is not a number");
+  if (!std::isfinite(v)) fail(path, line, "coordinate '" + std::string(t) + "' is not finite");
+  return v;
+}
+
+long integer(std::string_view t, const std::string& path, long line) {
+  long v = 0;
+  const char* b = t.data();
+  if (!t.empty() && t[0] == '+') ++b;
+  const auto r = std::from_chars(b, t.data() + t.size(), v);
+  if (r.ec != std::errc() || r.ptr != t.data() + t.size())
+    fail(path, line, "'" + std::string(t) + "' is not an integer");
+  return v;
+}
+
+// Appends a polygon as a triangle fan. Returns false if it is not convex (the caller hands the
+// file to assimp). Polygons with fewer than three corners are lines or points: counted, skipped.
+bool add_polygon(RawMesh& m, const std::vector<int>& v, const std::vector<int>& vn, int material) {
+  const size_t n = v.size();
+  if (n < 3) {
+    ++m.points_and_lines;
+    return true;
+  }
+  if (n > 3) {
+    // Newell's normal of the polygon; every turn must agree with it for a fan to be exact.
+    Vec3 nn = Vec3::Zero();
+    double scale2 = 0;
+    for (size_t i = 0; i < n; ++i) {
+      const Vec3& a = m.vertices[v[i]];
+      const Vec3& b = m.vertices[v[(i + 1) % n]];
+      nn += (a - b).cross(a + b);
+      scale2 = std::max(scale2, (b - a).squaredNorm());
+    }
+    for (size_t i = 0; i < n; ++i) {
+      const Vec3& a = m.vertices[v[i]];
+      const Vec3& b = m.vertices[v[(i + 1) % n]];
+      const Vec3& c = m.vertices[v[(i + 2) % n]];
+      if ((b - a).cross(c - b).dot(nn) < -1e-12 * scale2 * nn.norm()) return false;
+    }
+  }
+  for (size_t i = 1; i + 1 < n; ++i) {
+    m.triangles.push_back({v[0], v[i], v[i + 1]});
+    if (!vn.empty()) m.triangle_normals.push_back({vn[0], vn[i], vn[i + 1]});
+    m.triangle_material.push_back(material);
+  }
+  return true;
+}
+
+}  // namespace
+
+// ---- OBJ ------------------------------------------------------------------------------------
+
+namespace {
+
+// "Kd r g b" of every "newmtl" in a material library.
+void read_mtl(const std::string& path, std::map<std::string, std::array<float, 3>>& out) {
+  const std::string text = slurp(path);
+  Lines lines(text);
+  std::string_view line;
+  std::string current;
+  while (lines.next(&line)) {
+    const auto t = tokens(line);
+    if (t.size() >= 2 && t[0] == "newmtl") current = std::string(t[1]);
+    if (t.size() >= 4 && t[0] == "Kd" && !current.empty()) {
+      std::array<float, 3> c;
+      for (int k = 0; k < 3; ++k) c[k] = (float)std::clamp(number(t[1 + k], path, lines.number()), 0.0, 1.0);
+      out[current] = c;
+    }
+  }
+}
+
+}  // namespace
+
+std::optional<RawMesh> read_obj(const std::string& path) {
+  const std::string text = slurp(path);
+  RawMesh m;
+  std::vector<std::string> libraries;
+  std::vector<std::string> material_names;
+  int material = -1;
+  bool every_corner_has_normal = true;
+  Lines lines(text);
+  std::string_view line;
+  std::vector<int> v, vn;
+  while (lines.next(&line)) {
+    const long ln = lines.number();
+    const auto t = tokens(line);
+    if (t.empty()) continue;
+    if (t[0] == "v") {
+      if (t.size() < 4) fail(path, ln, "a vertex needs x y z");
+      Vec3 p(number(t[1], path, ln), number(t[2], path, ln), number(t[3], path, ln));
+      if (t.size() == 5) {  // x y z w: homogeneous (x y z r g b is a vertex colour, ignored)
+        const double w = number(t[4], path, ln);
+        if (w == 0) fail(path, ln, "vertex has w = 0 (a point at infinity)");
+        p /= w;
+      }
+      m.vertices.push_back(p);
+    } else if (t[0] == "vn") {
+      if (t.size() < 4) fail(path, ln, "a normal needs x y z");
+      m.normals.emplace_back((float)number(t[1], path, ln), (float)number(t[2], path, ln),
+                             (float)number(t[3], path, ln));
+    } else if (t[0] == "f" || t[0] == "fo") {
+      v.clear();
+      vn.clear();
+      bool normals_here = true;
+      for (size_t i = 1; i < t.size(); ++i) {
+        // v, v/vt, v//vn or v/vt/vn; negative indices count back from the latest.
+        const std::string_view tok = t[i];
+        const size_t s1 = tok.find('/');
+        const long raw = integer(tok.substr(0, s1), path, ln);
+        const long nv = (long)m.vertices.size();
+        const long vi = raw < 0 ? nv + raw : raw - 1;
+        if (raw == 0 || vi < 0 || vi >= nv)
+          fail(path, ln,
+               "face refers to vertex " + std::to_string(raw) + " but " + std::to_string(nv) +
+                   " are defined before it");
+        v.push_back((int)vi);
+        const size_t s2 = s1 == std::string_view::npos ? s1 : tok.find('/', s1 + 1);
+        if (s2 != std::string_view::npos && s2 + 1 < tok.size()) {
+          const long rn = integer(tok.substr(s2 + 1), path, ln);
+          const long nn = (long)m.normals.size();
+          const long ni = rn < 0 ? nn + rn : rn - 1;
+          if (rn == 0 || ni < 0 || ni >= nn)
+            fail(path, ln, "face refers to normal " + std::to_string(rn) + " that does not exist");
+          vn.push_back((int)ni);
+        } else {
+          normals_here = false;
+        }
+      }
+      if (!normals_here) {
+        every_corner_has_normal = false;
+        vn.clear();
+      }
+      if (!add_polygon(m, v, vn, material)) return std::nullopt;
+    } else if (t[0] == "l" || t[0] == "p") {
+      ++m.points_and_lines;
+    } else if (t[0] == "mtllib") {
+      for (size_t i = 1; i < t.size(); ++i) libraries.emplace_back(t[i]);
+    } else if (t[0] == "usemtl" && t.size() >= 2) {
+      const std::string name(t[1]);
+      auto it = std::find(material_names.begin(), material_names.end(), name);
+      material = (int)(it - material_names.begin());
+      if (it == material_names.end()) material_names.push_back(name);
+    }
+  }
+  if (!every_corner_has_normal) m.triangle_normals.clear();
+  // Materials: colours from the libraries beside the OBJ file.
+  std::map<std::string, std::array<float, 3>> kd;
+  const std::filesystem::path dir = std::filesystem::path(path).parent_path();
+  for (const std::string& lib : libraries) {
+    const std::filesystem::path p = dir / lib;
+    if (std::filesystem::is_regular_file(p))
+      read_mtl(p.string(), kd);
+    else
+      m.notes.push_back("material library '" + lib + "' not found; colours from the scene");
+  }
+  m.materials.assign(material_names.size(), {-1.f, -1.f, -1.f});  // -1: no Kd known
+  for (size_t i = 0; i < material_names.size(); ++i)
+    if (kd.count(material_names[i])) m.materials[i] = kd[material_names[i]];
+  return m;
+}
+
+// ---- OFF ------------------------------------------------------------------------------------
+
+std::optional<RawMesh> read_off(const std::string& path) {
+  const std::string text = slurp(path);
+  Lines lines(text);
+  std::string_view line;
+  RawMesh m;
+  auto next_tokens = [&](std::vector<std::string_view>* t) {
+    while (lines.next(&line)) {
+      *t = tokens(line);
+      if (!t->empty()) return true;
+    }
+    return false;
+  };
+  std::vector<std::string_view> t;
+  if (!next_tokens(&t)) fail(path, 0, "empty file");
+  // Header: [ST][C][N][4][n]OFF, possibly followed by the counts on the same line.
+  const std::string_view head = t[0];
+  if (head.size() < 3 || head.substr(head.size() - 3) != "OFF")
+    fail(path, lines.number(), "not an OFF file (no OFF header)");
+  if (head.find('4') != std::string_view::npos || head.find('n') != std::string_view::npos)
+    fail(path, lines.number(), "only 3-dimensional OFF files are supported");
+  t.erase(t.begin());
+  if (t.empty() && !next_tokens(&t)) fail(path, lines.number(), "missing vertex and face counts");
+  if (t.size() < 2) fail(path, lines.number(), "expected 'vertices faces edges' counts");
+  const long nv = integer(t[0], path, lines.number()), nf = integer(t[1], path, lines.number());
+  if (nv < 0 || nf < 0) fail(path, lines.number(), "negative count");
+  m.vertices.reserve(nv);
+  for (long i = 0; i < nv; ++i) {
+    if (!next_tokens(&t))
+      fail(path, lines.number(),
+           "file ends after " + std::to_string(i) + " of " + std::to_string(nv) + " vertices");
+    if (t.size() < 3) fail(path, lines.number(), "a vertex needs x y z");
+    const long ln = lines.number();
+    m.vertices.emplace_back(number(t[0], path, ln), number(t[1], path, ln), number(t[2], path, ln));
+  }
+  std::vector<int> v;
+  for (long f = 0; f < nf; ++f) {
+    if (!next_tokens(&t))
+      fail(path, lines.number(),
+           "file ends after " + std::to_string(f) + " of " + std::to_string(nf) + " faces");
+    const long ln = lines.number();
+    const long k = integer(t[0], path, ln);
+    if (k < 0 || (long)t.size() < k + 1)
+      fail(path, ln, "face lists fewer indices than its count " + std::to_string(k));
+    v.clear();
+    for (long i = 0; i < k; ++i) {
+      const long vi = integer(t[1 + i], path, ln);
+      if (vi < 0 || vi >= nv)
+        fail(path, ln, "face refers to vertex " + std::to_string(vi) + " of " + std::to_string(nv));
+      v.push_back((int)vi);
+    }
+    if (!add_polygon(m, v, {}, -1)) return std::nullopt;
+  }
+  return m;
+}
+
+// ---- STL ------------------------------------------------------------------------------------
+
+std::optional<RawMesh> read_stl(const std::string& path, std::string* kind) {
+  const std::string text = slurp(path);
+  RawMesh m;
+  // Binary: 80-byte header, uint32 count, 50 bytes a triangle. Many binary files also begin with
+  // "solid", so the size decides.
+  if (text.size() >= 84) {
+    uint32_t n;
+    std::memcpy(&n, text.data() + 80, 4);
+    if (84 + 50ull * n == text.size()) {
+      *kind = "stl-binary";
+      for (uint32_t f = 0; f < n; ++f) {
+        const char* rec = text.data() + 84 + 50ull * f + 12;  // skip the facet normal
+        std::array<int, 3> tri;
+        for (int k = 0; k < 3; ++k) {
+          float c[3];
+          std::memcpy(c, rec + 12 * k, 12);  // little-endian IEEE float32, as the format defines
+          for (float x : c)
+            if (!std::isfinite(x))
+              fail(path, 0, "triangle " + std::to_string(f) + " has a non-finite coordinate");
+          tri[k] = (int)m.vertices.size();
+          m.vertices.emplace_back(c[0], c[1], c[2]);
+        }
+        m.triangles.push_back(tri);
+      }
+      return m;
+    }
+  }
+  {
+    const auto first = tokens(std::string_view(text).substr(0, 512), 0);
+    if (first.empty() || first[0] != "solid")
+      fail(path, 0,
+           "neither ASCII STL (no 'solid') nor binary STL (size " + std::to_string(text.size()) +
+               " bytes does not match 84 + 50 x its triangle count)");
+  }
+  *kind = "stl-ascii";
+  Lines lines(text);
+  std::string_view line;
+  std::vector<int> loop;
+  while (lines.next(&line)) {
+    const auto t = tokens(line, 0);
+    if (t.empty()) continue;
+    const long ln = lines.number();
+    if (t[0] == "vertex") {
+      if (t.size() < 4) fail(path, ln, "a vertex needs x y z");
+      loop.push_back((int)m.vertices.size());
+      m.vertices.emplace_back(number(t[1], path, ln), number(t[2], path, ln), number(t[3], path, ln));
+    } else if (t[0] == "outer") {
+      loop.clear();
+    } else if (t[0] == "endloop") {
+      if (loop.size() < 3)
+        fail(path, ln, "a facet loop needs 3 vertices, found " + std::to_string(loop.size()));
+      if (!add_polygon(m, loop, {}, -1)) return std::nullopt;
+      loop.clear();
+    }
+  }
+  return m;
+}
+
+// ---- PLY ------------------------------------------------------------------------------------
+
+namespace {
+
+enum class PlyType { i8, u8, i16, u16, i32, u32, f32, f64 };
+
+std::optional<PlyType> ply_type(std::string_view s) {
+  static const std::pair<const char*, PlyType> names[] = {
+      {"char", PlyType::i8},    {"int8", PlyType::i8},     {"uchar", PlyType::u8},
+      {"uint8", PlyType::u8},   {"short", PlyType::i16},   {"int16", PlyType::i16},
+      {"ushort", PlyType::u16}, {"uint16", PlyType::u16},  {"int", PlyType::i32},
+      {"int32", PlyType::i32},  {"uint", PlyType::u32},    {"uint32", PlyType::u32},
+      {"float", PlyType::f32},  {"float32", PlyType::f32}, {"double", PlyType::f64},
+      {"float64", PlyType::f64}};
+  for (const auto& [n, t] : names)
+    if (s == n) return t;
+  return std::nullopt;
+}
+
+int ply_size(PlyType t) {
+  switch (t) {
+    case PlyType::i8:
+    case PlyType::u8:
+      return 1;
+    case PlyType::i16:
+    case PlyType::u16:
+      return 2;
+    case PlyType::i32:
+    case PlyType::u32:
+    case PlyType::f32:
+      return 4;
+    case PlyType::f64:
+      return 8;
+  }
+  return 1;
+}
+
+struct PlyProperty {
+  std::string name;
+  PlyType type;
+  bool is_list = false;
+  PlyType count_type = PlyType::u8;
+};
+
+struct PlyElement {
+  std::string name;
+  long count = 0;
+  std::vector<PlyProperty> props;
+};
+
+// Values of the body, in ASCII or binary, as doubles (integers up to 2^32 are exact).
+class PlyReader {
+ public:
+  PlyReader(const std::string& text, size_t start, int format, const std::string& path)
+      : text_(text), pos_(start), format_(format), path_(path) {}
+
+  double read(PlyType t) {
+    if (format_ == 0) return ascii();
+    const int n = ply_size(t);
+    if (pos_ + n > text_.size()) fail(path_, 0, "binary data ends early");
+    unsigned char b[8];
+    std::memcpy(b, text_.data() + pos_, n);
+    pos_ += n;
+    const bool little = format_ == 1;
+    if (little != (std::endian::native == std::endian::little)) std::reverse(b, b + n);
+    switch (t) {
+      case PlyType::i8:
+        return (double)(int8_t)b[0];
+      case PlyType::u8:
+        return (double)b[0];
+      case PlyType::i16: {
+        int16_t v;
+        std::memcpy(&v, b, 2);
+        return v;
+      }
+      case PlyType::u16: {
+        uint16_t v;
+        std::memcpy(&v, b, 2);
+        return v;
+      }
+      case PlyType::i32: {
+        int32_t v;
+        std::memcpy(&v, b, 4);
+        return v;
+      }
+      case PlyType::u32: {
+        uint32_t v;
+        std::memcpy(&v, b, 4);
+        return v;
+      }
+      case PlyType::f32: {
+        float v;
+        std::memcpy(&v, b, 4);
+        return v;
+      }
+      case PlyType::f64: {
+        double v;
+        std::memcpy(&v, b, 8);
+        return v;
+      }
+    }
+    return 0;
+  }
+  long line() const { return line_; }
+
+ private:
+  double ascii() {
+    while (pos_ < text_.size() && std::isspace((unsigned char)text_[pos_])) {
+      if (text_[pos_] == '\n') ++line_;
+      ++pos_;
+    }
+    size_t e = pos_;
+    while (e < text_.size() && !std::isspace((unsigned char)text_[e])) ++e;
+    if (e == pos_) fail(path_, line_, "data ends early");
+    const std::string_view tok(text_.data() + pos_, e - pos_);
+    pos_ = e;
+    return number(tok, path_, line_);
+  }
+  const std::string& text_;
+  size_t pos_;
+  int format_;  // 0 ascii, 1 little endian, 2 big endian
+  const std::string& path_;
+
+ public:
+  long line_ = 0;
+};
+
+}  // namespace
+
+std::optional<RawMesh> read_ply(const std::string& path, std::string* kind) {
+  const std::string text = slurp(path);
+  Lines lines(text);
+  std::string_view line;
+  if (!lines.next(&line) || tokens(line, 0) != std::vector<std::string_view>{"ply"})
+    fail(path, 1, "not a PLY file (first line is not 'ply')");
+  int format = -1;
+  std::vector<PlyElement> elements;
+  bool ended = false;
+  while (lines.next(&line)) {
+    const long ln = lines.number();
+    const auto t = tokens(line, 0);
+    if (t.empty() || t[0] == "comment" || t[0] == "obj_info") continue;
+    if (t[0] == "end_header") {
+      ended = true;
+      break;
+    }
+    if (t[0] == "format") {
+      if (t.size() < 2) fail(path, ln, "format needs a name");
+      format = t[1] == "ascii"                  ? 0
+               : t[1] == "binary_little_endian" ? 1
+               : t[1] == "binary_big_endian"    ? 2
+                                                : -2;
+      if (format == -2) fail(path, ln, "unknown PLY format '" + std::string(t[1]) + "'");
+    } else if (t[0] == "element") {
+      if (t.size() < 3) fail(path, ln, "element needs a name and a count");
+      const long n = integer(t[2], path, ln);
+      if (n < 0) fail(path, ln, "negative element count");
+      elements.push_back({std::string(t[1]), n, {}});
+    } else if (t[0] == "property") {
+      if (elements.empty()) fail(path, ln, "property before any element");
+      PlyProperty p;
+      if (t.size() >= 5 && t[1] == "list") {
+        const auto ct = ply_type(t[2]), it = ply_type(t[3]);
+        if (!ct || !it) fail(path, ln, "unknown property type");
+        p = {std::string(t[4]), *it, true, *ct};
+      } else if (t.size() >= 3) {
+        const auto ty = ply_type(t[1]);
+        if (!ty) fail(path, ln, "unknown property type '" + std::string(t[1]) + "'");
+        p = {std::string(t[2]), *ty};
+      } else {
+        fail(path, ln, "property needs a type and a name");
+      }
+      elements.back().props.push_back(p);
+    } else {
+      fail(path, ln, "unexpected header line '" + std::string(line) + "'");
+    }
+  }
+  if (!ended) fail(path, 0, "header has no end_header");
+  if (format < 0) fail(path, 0, "header has no format line");
+  *kind = format == 0 ? "ply-ascii" : "ply-binary";
+  RawMesh m;
+  PlyReader r(text, lines.offset(), format, path);
+  r.line_ = lines.number() + 1;
+  long nv = -1;
+  std::vector<int> v;
+  for (const PlyElement& e : elements) {
+    const bool is_vertex = e.name == "vertex", is_face = e.name == "face";
+    int ix = -1, iy = -1, iz = -1, inx = -1, iny = -1, inz = -1, iface = -1;
+    for (int i = 0; i < (int)e.props.size(); ++i) {
+      const std::string& n = e.props[i].name;
+      if (n == "x") ix = i;
+      if (n == "y") iy = i;
+      if (n == "z") iz = i;
+      if (n == "nx") inx = i;
+      if (n == "ny") iny = i;
+      if (n == "nz") inz = i;
+      if ((n == "vertex_indices" || n == "vertex_index") && e.props[i].is_list) iface = i;
+    }
+    if (is_vertex && (ix < 0 || iy < 0 || iz < 0)) fail(path, 0, "vertex element has no x, y and z");
+    if (is_face && iface < 0) fail(path, 0, "face element has no vertex_indices list");
+    const bool normals = is_vertex && inx >= 0 && iny >= 0 && inz >= 0;
+    if (is_vertex) nv = e.count;
+    std::vector<double> vals(e.props.size());
+    for (long k = 0; k < e.count; ++k) {
+      v.clear();
+      for (int i = 0; i < (int)e.props.size(); ++i) {
+        const PlyProperty& p = e.props[i];
+        if (!p.is_list) {
+          vals[i] = r.read(p.type);
+          continue;
+        }
+        const double cnt = r.read(p.count_type);
+        if (cnt < 0 || cnt > 1e6)
+          fail(path, format == 0 ? r.line() : 0, "list length " + std::to_string(cnt) + " is not sensible");
+        for (long j = 0; j < (long)cnt; ++j) {
+          const double x = r.read(p.type);
+          if (i == iface) {
+            if (nv < 0) fail(path, 0, "faces come before vertices");
+            if (x < 0 || x >= nv || x != std::floor(x))
+              fail(path, format == 0 ? r.line() : 0,
+                   "face " + std::to_string(k) + " refers to vertex " + std::to_string((long)x) + " of " +
+                       std::to_string(nv));
+            v.push_back((int)x);
+          }
+        }
+      }
+      if (is_vertex) {
+        const Vec3 p(vals[ix], vals[iy], vals[iz]);
+        if (!all_finite(p))
+          fail(path, format == 0 ? r.line() : 0,
+               "vertex " + std::to_string(k) + " has a non-finite coordinate");
+        m.vertices.push_back(p);
+        if (normals) m.normals.emplace_back((float)vals[inx], (float)vals[iny], (float)vals[inz]);
+      }
+      if (is_face && !add_polygon(m, v, {}, -1)) return std::nullopt;
+    }
+  }
+  return m;
+}
+
+}  // namespace simreel::detail

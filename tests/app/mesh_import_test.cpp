@@ -1,0 +1,321 @@
+// Mesh files: every reader gives the closed-form mass properties of a box, in double precision;
+// glTF goes through assimp with its node transforms and material; broken files name file and line.
+#include <gtest/gtest.h>
+
+#include <bit>
+#include <cstring>
+#include <fstream>
+
+#include "app/mesh_import.hpp"
+#include "sim/error.hpp"
+#include "tests/scratch.hpp"
+
+namespace simreel {
+namespace {
+
+// A box with corners written as decimals, which float32 cannot hold: 0.1 as a float is
+// 0.100000001490116..., which moves the volume by ~1e-8 relative. Double precision keeps it to
+// rounding (~1e-16), so a 1e-13 tolerance tells the two apart by five orders of magnitude.
+const Vec3 kLo(0.1, 0.2, -0.3), kHi(0.4, 0.9, 0.6);
+const char* kLoText[3] = {"0.1", "0.2", "-0.3"};
+const char* kHiText[3] = {"0.4", "0.9", "0.6"};
+// Corner i has x from bit 0, y from bit 1, z from bit 2; faces counter-clockwise from outside.
+const int kQuads[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
+
+std::string corner_text(int i) {
+  std::string s;
+  for (int k = 0; k < 3; ++k) s += std::string(k ? " " : "") + ((i >> k) & 1 ? kHiText[k] : kLoText[k]);
+  return s;
+}
+
+Vec3 corner(int i) {
+  return Vec3(i & 1 ? kHi.x() : kLo.x(), i & 2 ? kHi.y() : kLo.y(), i & 4 ? kHi.z() : kLo.z());
+}
+
+std::string write(const std::string& name, const std::string& text) {
+  const std::string p = test::scratch(name);
+  std::ofstream(p, std::ios::binary) << text;
+  return p;
+}
+
+// Closed form, density 1: m = abc, I_xx = m (b^2 + c^2) / 12, ..., centroid at the middle.
+void expect_decimal_box(const ImportedMesh& im, const std::string& reader) {
+  SCOPED_TRACE(reader);
+  EXPECT_EQ(im.reader, reader);
+  EXPECT_TRUE(im.double_precision);
+  MeshMassOptions opt;
+  opt.density = 1;
+  const MeshReport r = analyze_mesh(im.mesh, opt);
+  EXPECT_TRUE(r.closed);
+  EXPECT_TRUE(r.warnings.empty());
+  const Vec3 s = kHi - kLo;
+  const double m = s.prod();
+  EXPECT_NEAR(r.props.mass, m, 1e-13 * m);
+  EXPECT_LT((r.props.com - 0.5 * (kLo + kHi)).norm(), 1e-15);
+  const Vec3 I(m * (s.y() * s.y() + s.z() * s.z()) / 12, m * (s.x() * s.x() + s.z() * s.z()) / 12,
+               m * (s.x() * s.x() + s.y() * s.y()) / 12);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(r.props.inertia(k, k), I[k], 1e-13 * I[k]);
+  EXPECT_LT(r.props.inertia.norm() - r.props.inertia.diagonal().norm(), 1e-15);
+}
+
+TEST(MeshImport, FloatWouldNotPassTheDecimalBoxTolerance) {
+  // The premise of the tests below: the same box through float32 is ~1e-8 off.
+  const Vec3 sf = (kHi.cast<float>() - kLo.cast<float>()).cast<double>();
+  const double m = (kHi - kLo).prod();
+  EXPECT_GT(std::abs(sf.prod() - m), 1e-9 * m);
+}
+
+TEST(MeshImport, ObjQuadsNegativeIndicesNormalsAndMaterial) {
+  std::string obj = "# decimal box\nmtllib box.mtl\no box\n";
+  for (int i = 0; i < 8; ++i) obj += "v " + corner_text(i) + "\n";
+  obj += "vn 0 0 1\nusemtl teal\ns off\n";
+  for (const auto& q : kQuads) {  // relative indices, with a normal on every corner
+    obj += "f";
+    for (int k : q) obj += " " + std::to_string(k - 8) + "//1";
+    obj += "\n";
+  }
+  write("box.mtl", "newmtl teal\nKa 0 0 0\nKd 0.1 0.5 0.6\n");
+  const ImportedMesh im = import_mesh(write("box.obj", obj));
+  expect_decimal_box(im, "obj");
+  EXPECT_EQ(im.mesh.triangles.size(), 12u);
+  ASSERT_TRUE(im.color.has_value());
+  EXPECT_FLOAT_EQ((*im.color)[1], 0.5f);
+  ASSERT_EQ(im.mesh.corner_normals.size(), 12u);
+  EXPECT_EQ(im.mesh.corner_normals[0][0], Eigen::Vector3f(0, 0, 1));
+}
+
+TEST(MeshImport, ObjMissingMaterialLibraryIsANoteNotAnError) {
+  std::string obj = "mtllib nowhere.mtl\nusemtl x\n";
+  for (int i = 0; i < 8; ++i) obj += "v " + corner_text(i) + "\n";
+  for (const auto& q : kQuads)
+    obj += "f " + std::to_string(q[0] + 1) + " " + std::to_string(q[1] + 1) + " " + std::to_string(q[2] + 1) +
+           " " + std::to_string(q[3] + 1) + "\n";
+  const ImportedMesh im = import_mesh(write("nomtl.obj", obj));
+  expect_decimal_box(im, "obj");
+  EXPECT_FALSE(im.color.has_value());
+  ASSERT_EQ(im.notes.size(), 1u);
+  EXPECT_NE(im.notes[0].find("nowhere.mtl"), std::string::npos);
+}
+
+TEST(MeshImport, OffWithCommentsAndColours) {
+  std::string off = "OFF\n# a box\n8 6 12\n";
+  for (int i = 0; i < 8; ++i) off += corner_text(i) + "\n";
+  for (const auto& q : kQuads)
+    off += "4 " + std::to_string(q[0]) + " " + std::to_string(q[1]) + " " + std::to_string(q[2]) + " " +
+           std::to_string(q[3]) + " 255 0 0\n";  // a face colour after the indices
+  expect_decimal_box(import_mesh(write("box.off", off)), "off");
+}
+
+TEST(MeshImport, AsciiStlSoupIsWeldedAndExact) {
+  std::string stl = "solid box\n";
+  for (const auto& q : kQuads)
+    for (int t = 0; t < 2; ++t) {
+      const int c[3] = {q[0], q[1 + t], q[2 + t]};
+      stl += "  facet normal 0 0 0\n    outer loop\n";
+      for (int k : c) stl += "      vertex " + corner_text(k) + "\n";
+      stl += "    endloop\n  endfacet\n";
+    }
+  stl += "endsolid box\n";
+  const ImportedMesh im = import_mesh(write("box.stl", stl));
+  EXPECT_EQ(im.mesh.vertices.size(), 36u);  // one set per face, as STL stores it
+  expect_decimal_box(im, "stl-ascii");
+}
+
+// A binary STL cube as exporters write it, header beginning with "solid" (a classic trap).
+TEST(MeshImport, BinaryStlCubeStartingWithSolid) {
+  std::string bin(80, ' ');
+  std::memcpy(bin.data(), "solid exported by a CAD tool", 28);
+  const uint32_t n = 12;
+  bin.append(reinterpret_cast<const char*>(&n), 4);
+  for (const auto& q : kQuads)
+    for (int t = 0; t < 2; ++t) {
+      const int c[3] = {q[0], q[1 + t], q[2 + t]};
+      float rec[12] = {0, 0, 0};
+      for (int k = 0; k < 3; ++k)
+        for (int j = 0; j < 3; ++j)
+          rec[3 + 3 * k + j] = (float)(((c[k] >> j) & 1) ? 2.0 : -0.5);  // exact in float
+      bin.append(reinterpret_cast<const char*>(rec), sizeof rec);
+      bin.append(2, '\0');
+    }
+  const ImportedMesh im = import_mesh(write("cube.stl", bin));
+  EXPECT_EQ(im.reader, "stl-binary");
+  MeshMassOptions opt;
+  opt.density = 1;
+  const MeshReport r = analyze_mesh(im.mesh, opt);
+  EXPECT_TRUE(r.closed);
+  EXPECT_EQ(r.welded_vertices, 36 - 8);
+  EXPECT_NEAR(r.props.mass, 2.5 * 2.5 * 2.5, 1e-13);
+  EXPECT_LT((r.props.com - Vec3::Constant(0.75)).norm(), 1e-15);
+  EXPECT_NEAR(r.props.inertia(0, 0), std::pow(2.5, 5) / 6, 1e-13);  // m a^2 / 6
+}
+
+TEST(MeshImport, PlyAsciiAndBinaryBothByteOrders) {
+  std::string head =
+      "ply\nformat ascii 1.0\ncomment decimal box\nelement vertex 8\nproperty double x\n"
+      "property double y\nproperty double z\nproperty uchar red\nelement face 6\n"
+      "property list uchar int vertex_indices\nend_header\n";
+  std::string ascii = head;
+  for (int i = 0; i < 8; ++i) ascii += corner_text(i) + " 200\n";
+  for (const auto& q : kQuads)
+    ascii += "4 " + std::to_string(q[0]) + " " + std::to_string(q[1]) + " " + std::to_string(q[2]) + " " +
+             std::to_string(q[3]) + "\n";
+  expect_decimal_box(import_mesh(write("ascii.ply", ascii)), "ply-ascii");
+
+  for (const bool big : {false, true}) {
+    std::string b = head;
+    b.replace(b.find("ascii"), 5, big ? "binary_big_endian" : "binary_little_endian");
+    auto put = [&](const void* p, int n) {
+      std::string s(static_cast<const char*>(p), n);
+      if (big == (std::endian::native == std::endian::little)) std::reverse(s.begin(), s.end());
+      b += s;
+    };
+    for (int i = 0; i < 8; ++i) {
+      for (int k = 0; k < 3; ++k) {
+        const double x = corner(i)[k];
+        put(&x, 8);
+      }
+      const uint8_t red = 200;
+      put(&red, 1);
+    }
+    for (const auto& q : kQuads) {
+      const uint8_t four = 4;
+      put(&four, 1);
+      for (int k : q) {
+        const int32_t v = k;
+        put(&v, 4);
+      }
+    }
+    expect_decimal_box(import_mesh(write(big ? "big.ply" : "little.ply", b)), "ply-binary");
+  }
+}
+
+std::string base64(const std::string& in) {
+  static const char* t = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  for (size_t i = 0; i < in.size(); i += 3) {
+    uint32_t v = (uint8_t)in[i] << 16;
+    if (i + 1 < in.size()) v |= (uint8_t)in[i + 1] << 8;
+    if (i + 2 < in.size()) v |= (uint8_t)in[i + 2];
+    out += t[v >> 18];
+    out += t[(v >> 12) & 63];
+    out += i + 1 < in.size() ? t[(v >> 6) & 63] : '=';
+    out += i + 2 < in.size() ? t[v & 63] : '=';
+  }
+  return out;
+}
+
+// A unit cube in glTF 2.0, under a parent node translated by (0, 0, 5) and a child scaled by
+// (2, 3, 4) and translated by (10, 0, 0): a 2 x 3 x 4 box with its centroid at (11, 1.5, 7).
+TEST(MeshImport, GltfThroughAssimpAppliesNodeTransformsAndBaseColour) {
+  std::string buf;
+  for (int i = 0; i < 8; ++i)
+    for (int k = 0; k < 3; ++k) {
+      const float x = (float)((i >> k) & 1);
+      buf.append(reinterpret_cast<const char*>(&x), 4);
+    }
+  for (const auto& q : kQuads)
+    for (int k : {q[0], q[1], q[2], q[0], q[2], q[3]}) {
+      const uint16_t v = (uint16_t)k;
+      buf.append(reinterpret_cast<const char*>(&v), 2);
+    }
+  const std::string gltf = R"({
+  "asset": {"version": "2.0"},
+  "scene": 0, "scenes": [{"nodes": [0]}],
+  "nodes": [{"translation": [0, 0, 5], "children": [1]},
+            {"mesh": 0, "translation": [10, 0, 0], "scale": [2, 3, 4]}],
+  "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "material": 0}]}],
+  "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [0.2, 0.4, 0.6, 1.0]}}],
+  "buffers": [{"byteLength": 168, "uri": "data:application/octet-stream;base64,)" +
+                           base64(buf) + R"("}],
+  "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 96},
+                  {"buffer": 0, "byteOffset": 96, "byteLength": 72}],
+  "accessors": [{"bufferView": 0, "componentType": 5126, "count": 8, "type": "VEC3",
+                 "min": [0, 0, 0], "max": [1, 1, 1]},
+                {"bufferView": 1, "componentType": 5123, "count": 36, "type": "SCALAR"}]
+})";
+  ASSERT_EQ(buf.size(), 168u);
+  const ImportedMesh im = import_mesh(write("cube.gltf", gltf));
+  EXPECT_EQ(im.reader, "assimp");
+  EXPECT_FALSE(im.double_precision);
+  MeshMassOptions opt;
+  opt.density = 1;
+  const MeshReport r = analyze_mesh(im.mesh, opt);
+  EXPECT_TRUE(r.closed);
+  EXPECT_NEAR(r.props.mass, 24.0, 1e-12);  // every coordinate is exact in float32
+  EXPECT_LT((r.props.com - Vec3(11, 1.5, 7)).norm(), 1e-12);
+  EXPECT_NEAR(r.props.inertia(2, 2), 24.0 * (4 + 9) / 12, 1e-12);
+  ASSERT_TRUE(im.color.has_value());
+  EXPECT_NEAR((*im.color)[2], 0.6f, 1e-6);
+}
+
+TEST(MeshImport, NonConvexPolygonGoesToAssimpWithANote) {
+  // An L-shaped prism whose two caps are single non-convex hexagons: a fan would be wrong
+  // for drawing, so the file is read by assimp (ear clipping); the coordinates are integers, exact.
+  const double L[6][2] = {{0, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 3}, {0, 3}};
+  std::string obj;
+  for (int z = 0; z < 2; ++z)
+    for (const auto& p : L)
+      obj +=
+          "v " + std::to_string((int)p[0]) + " " + std::to_string((int)p[1]) + " " + std::to_string(z) + "\n";
+  obj += "f 6 5 4 3 2 1\nf 7 8 9 10 11 12\n";
+  for (int i = 0; i < 6; ++i) {
+    const int a = i + 1, b = (i + 1) % 6 + 1;
+    obj += "f " + std::to_string(a) + " " + std::to_string(b) + " " + std::to_string(b + 6) + " " +
+           std::to_string(a + 6) + "\n";
+  }
+  const ImportedMesh im = import_mesh(write("l.obj", obj));
+  EXPECT_EQ(im.reader, "assimp");
+  ASSERT_EQ(im.notes.size(), 1u);
+  EXPECT_NE(im.notes[0].find("non-convex"), std::string::npos);
+  MeshMassOptions opt;
+  opt.density = 1;
+  const MeshReport r = analyze_mesh(im.mesh, opt);
+  EXPECT_TRUE(r.closed);
+  EXPECT_NEAR(r.props.mass, 4.0, 1e-12);  // area 2 + 2 times height 1
+}
+
+std::string error_of(const std::string& name, const std::string& text) {
+  try {
+    import_mesh(write(name, text));
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << name << " was accepted";
+  return "";
+}
+
+TEST(MeshImport, BrokenFilesNameFileAndLine) {
+  EXPECT_NE(error_of("idx.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n")
+                .find("idx.obj:4: face refers to vertex 4 but 3"),
+            std::string::npos);
+  EXPECT_NE(error_of("nan.obj", "v 0 0 0\nv nan 0 0\n").find("nan.obj:2: coordinate 'nan' is not finite"),
+            std::string::npos);
+  EXPECT_NE(error_of("word.off", "OFF\n3 1 0\n0 0 0\n1 zero 0\n").find("word.off:4: 'zero' is not a number"),
+            std::string::npos);
+  EXPECT_NE(error_of("short.off", "OFF\n4 4 0\n0 0 0\n1 0 0\n").find("file ends after 2 of 4 vertices"),
+            std::string::npos);
+  EXPECT_NE(error_of("points.obj", "v 0 0 0\nv 1 0 0\np 1 2\nl 1 2\n")
+                .find("has no triangles (only 2 points or lines)"),
+            std::string::npos);
+  EXPECT_NE(error_of("junk.stl", "this is not a mesh").find("neither ASCII STL"), std::string::npos);
+  EXPECT_NE(
+      error_of("loop.stl", "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nendloop\n")
+          .find("loop.stl:6: a facet loop needs 3 vertices, found 2"),
+      std::string::npos);
+  EXPECT_NE(error_of("face.ply",
+                     "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                     "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                     "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n")
+                .find("face 0 refers to vertex 7 of 3"),
+            std::string::npos);
+  EXPECT_NE(error_of("trunc.ply",
+                     "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n"
+                     "property float y\nproperty float z\nend_header\n\x01\x02")
+                .find("binary data ends early"),
+            std::string::npos);
+  EXPECT_NE(error_of("empty.gltf", "{\"asset\": {\"version\": \"2.0\"}}").find("empty.gltf"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace simreel
