@@ -79,12 +79,11 @@ float lit_fraction() {
   if (u_shadows == 0 || p.z > 1.0) return 1.0;
   vec2 t = 1.0 / vec2(textureSize(u_shadow_map, 0));
   float z = p.z - u_bias;
-  float s = texture(u_shadow_map, vec3(p.xy, z));
-  s += texture(u_shadow_map, vec3(p.xy + vec2( 1.2,  1.2) * t, z));
-  s += texture(u_shadow_map, vec3(p.xy + vec2(-1.2,  1.2) * t, z));
-  s += texture(u_shadow_map, vec3(p.xy + vec2( 1.2, -1.2) * t, z));
-  s += texture(u_shadow_map, vec3(p.xy + vec2(-1.2, -1.2) * t, z));
-  return s / 5.0;
+  // Two bilinear comparison taps half a texel apart along the diagonal: 8 depth tests, soft
+  // edges, 2.5x cheaper than 5 taps on llvmpipe.
+  float s = texture(u_shadow_map, vec3(p.xy + vec2(0.5, 0.5) * t, z));
+  s += texture(u_shadow_map, vec3(p.xy - vec2(0.5, 0.5) * t, z));
+  return 0.5 * s;
 }
 void main() {
   vec3 n = normalize(v_nrm);

@@ -1,0 +1,159 @@
+// Render and encode throughput (issue 4): a 300-frame 1280x720 clip of 100 tumbling boxes over a
+// checker ground, with shadows and anti-aliasing, timed
+//   - render only (frames/s of the GL passes, for several anti-aliasing settings),
+//   - end to end in-process (simulate + draw + encode to H.264 MP4 on the encoder thread),
+//   - against the ceiling: the `ffmpeg` command-line tool encoding the same raw RGBA frames with
+//     the same encoder settings (libx264 veryfast, CRF 20, yuv420p), i.e. encoding alone.
+// CSV on stdout. Usage: bench_render_throughput [FRAMES]   (default 300; ffmpeg must be on PATH
+// for the ceiling row; the raw frames need FRAMES x 3.7 MB in the temp folder).
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "bench/bench_util.hpp"
+#include "render/draw_list.hpp"
+#include "render/renderer.hpp"
+#include "render/video_writer.hpp"
+#include "sim/scene_builders.hpp"
+#include "sim/world.hpp"
+
+using namespace simreel;
+
+namespace {
+
+constexpr int W = 1280, H = 720, kFps = 30;
+
+// 100 boxes of assorted sizes in a 10 x 10 grid, 1.5 m apart, 1 m over the ground, spinning
+// with random angular velocities (no gravity, so the view stays full for the whole clip).
+std::vector<BodyDef> hundred_boxes() {
+  SplitMix64 rng(2026);
+  std::vector<BodyDef> bodies;
+  for (int i = 0; i < 100; ++i) {
+    const Vec3 size(0.3 + 0.5 * rng.uniform(), 0.3 + 0.5 * rng.uniform(), 0.3 + 0.5 * rng.uniform());
+    BodyDef b = box_body(("box" + std::to_string(i)).c_str(), size, 1.0);
+    b.p_WB = Vec3(1.5 * (i % 10) - 6.75, 1.5 * (i / 10) - 6.75, 1.0);
+    b.w_W = Vec3(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5) * 4.0;
+    b.color = {0.25f + 0.7f * (float)rng.uniform(), 0.25f + 0.7f * (float)rng.uniform(),
+               0.25f + 0.7f * (float)rng.uniform()};
+    bodies.push_back(b);
+  }
+  return bodies;
+}
+
+struct Setup {
+  World world;
+  SceneMeshes meshes;
+  CameraView cam;
+  explicit Setup(const std::vector<BodyDef>& b) : world(config(), b), meshes(world) {
+    cam.eye = Vec3(0, -16, 9);
+    cam.target = Vec3(0, 0, 0.5);
+  }
+  static WorldConfig config() {
+    WorldConfig c;
+    c.dt = 1.0 / 240;
+    c.gravity = Vec3::Zero();
+    return c;
+  }
+  void advance() {
+    for (int k = 0; k < 240 / kFps; ++k) world.step();
+  }
+};
+
+RenderSettings settings(int msaa, bool shadows = true, int shadow_size = 1024) {
+  RenderSettings rs;
+  rs.width = W;
+  rs.height = H;
+  rs.msaa = msaa;
+  rs.shadow_size = shadow_size;
+  rs.shadows = shadows;
+  rs.ground = true;
+  rs.ground_size = 40;
+  return rs;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const int frames = argc > 1 ? std::atoi(argv[1]) : 300;
+  const auto bodies = hundred_boxes();
+  std::printf("case,frames,width,height,seconds,fps,note\n");
+  auto row = [&](const char* name, double s, const std::string& note) {
+    std::printf("%s,%d,%d,%d,%.3f,%.1f,%s\n", name, frames, W, H, s, frames / s, note.c_str());
+    std::fflush(stdout);
+  };
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "simreel-bench";
+  std::filesystem::create_directories(dir);
+  const std::string raw = (dir / "frames.rgba").string();
+
+  // Render only, each anti-aliasing setting in a fresh context; the MSAA 4 run also keeps the raw
+  // frames for the ffmpeg ceiling.
+  struct Mode {
+    const char* name;
+    int msaa;
+    bool shadows;
+    int shadow_size;
+  };
+  for (const Mode m : {Mode{"msaa4_shadow1024", 4, true, 1024}, Mode{"msaa4_shadow2048", 4, true, 2048},
+                       Mode{"msaa1_shadow1024", 1, true, 1024}, Mode{"msaa4_no_shadows", 4, false, 0},
+                       Mode{"msaa1_no_shadows", 1, false, 0}}) {
+    Setup s(bodies);
+    Renderer r(settings(m.msaa, m.shadows, m.shadow_size), s.meshes);
+    DrawList dl;
+    build_draw_list(s.world, s.meshes, s.cam, -1, dl);
+    r.render(dl);                                                 // first frame compiles shaders: not timed
+    const bool keep = std::string(m.name) == "msaa4_shadow1024";  // the defaults
+    FILE* out = keep ? std::fopen(raw.c_str(), "wb") : nullptr;
+    double t = 0;
+    for (int f = 0; f < frames; ++f) {
+      s.advance();
+      const double t0 = bench::now_s();
+      build_draw_list(s.world, s.meshes, s.cam, -1, dl);
+      const uint8_t* img = r.render(dl);
+      t += bench::now_s() - t0;
+      if (out) std::fwrite(img, 1, (size_t)W * H * 4, out);
+    }
+    if (out) std::fclose(out);
+    row((std::string("render_only_") + m.name).c_str(), t, "draw list + GL passes + finish");
+  }
+
+  // End to end, in process: what `simreel render` does.
+  {
+    const double t0 = bench::now_s();
+    Setup s(bodies);
+    Renderer r(settings(4), s.meshes);
+    VideoSettings vs;
+    vs.path = (dir / "e2e.mp4").string();
+    vs.width = W;
+    vs.height = H;
+    vs.fps = kFps;
+    VideoWriter v(vs);
+    DrawList dl;
+    for (int f = 0; f < frames; ++f) {
+      if (f) s.advance();
+      build_draw_list(s.world, s.meshes, s.cam, -1, dl);
+      v.push(r.render(dl));
+    }
+    v.finish();
+    row("end_to_end", bench::now_s() - t0,
+        "simulate + render + libx264 veryfast crf20 on its thread; encoder busy " +
+            std::to_string(v.encode_seconds()) + " s; " +
+            std::to_string(std::filesystem::file_size(vs.path)) + " bytes");
+  }
+
+  // The ceiling: encoding alone, by the ffmpeg CLI, same encoder settings.
+  const std::string cmd = "ffmpeg -loglevel error -y -f rawvideo -pix_fmt rgba -s " + std::to_string(W) +
+                          "x" + std::to_string(H) + " -r " + std::to_string(kFps) + " -i " + raw +
+                          " -c:v libx264 -preset veryfast -crf 20 -pix_fmt yuv420p -movflags +faststart " +
+                          (dir / "ceiling.mp4").string();
+  const double t0 = bench::now_s();
+  const int rc = std::system(cmd.c_str());
+  const double t = bench::now_s() - t0;
+  if (rc == 0)
+    row("ffmpeg_cli_encode_only", t, "the ceiling: raw RGBA from a file -> libx264 veryfast crf20");
+  else
+    std::printf("ffmpeg_cli_encode_only,%d,%d,%d,,,ffmpeg not available (SIMREEL_BENCH=1 bash .ci/setup)\n",
+                frames, W, H);
+  std::filesystem::remove(raw);
+  return 0;
+}
