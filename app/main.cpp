@@ -249,7 +249,7 @@ int cmd_inspect(const std::vector<std::string>& args) {
         "\"principal_axes\": %s, \"closed\": %s, \"consistently_oriented\": %s, \"welded_vertices\": %d, "
         "\"degenerate_faces\": %d, \"reoriented_faces\": %d, \"inverted\": %s, \"warnings\": %s}\n",
         json_string(path).c_str(), json_string(im.reader).c_str(),
-        json_string(im.double_precision ? "double" : "float32").c_str(),
+        json_string(im.double_precision() ? "double" : "float32").c_str(),
         json_string(to_string(opt.mode)).c_str(), json_number(opt.density).c_str(), mesh.vertices.size(),
         mesh.triangles.size(), json_number(r.volume).c_str(), json_number(r.area).c_str(),
         json_number(r.props.mass).c_str(), json_vec(r.props.com).c_str(), json_mat(r.props.inertia).c_str(),
@@ -265,7 +265,7 @@ int cmd_inspect(const std::vector<std::string>& args) {
   };
   std::printf("%s (%s, %zu vertices, %zu faces as loaded; read by %s in %s precision)\n", path.c_str(),
               to_string(opt.mode), mesh.vertices.size(), mesh.triangles.size(), im.reader.c_str(),
-              im.double_precision ? "double" : "single");
+              im.double_precision() ? "double" : "single");
   std::printf("  closed: %s, consistently oriented: %s\n", r.closed ? "yes" : "no",
               r.consistently_oriented ? "yes" : "no");
   std::printf("  volume:   %.12g m^3\n  area:     %.12g m^2\n  mass:     %.12g kg (density %g kg/m^3)\n",

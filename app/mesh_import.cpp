@@ -101,7 +101,6 @@ ImportedMesh import_mesh(const std::string& path, const Vec3& scale) {
           "precision (coordinates rounded to float32)");
     raw = read_with_assimp(path);
     out.reader = "assimp";
-    out.double_precision = false;
   }
   detail::RawMesh& r = *raw;
   out.notes.insert(out.notes.end(), r.notes.begin(), r.notes.end());

@@ -18,7 +18,8 @@ namespace simreel {
 struct ImportedMesh {
   TriangleMesh mesh;   ///< vertices in m after `scale`; only vertices that faces use
   std::string reader;  ///< "obj", "off", "stl-ascii", "stl-binary", "ply-ascii", "ply-binary", "assimp"
-  bool double_precision = true;               ///< false when coordinates passed through assimp's float32
+  /// False when the coordinates passed through assimp's float32.
+  bool double_precision() const { return reader != "assimp"; }
   std::optional<std::array<float, 3>> color;  ///< diffuse colour of the material most faces use
   std::vector<std::string> notes;             ///< what the reader did that the user should know
 };

@@ -75,25 +75,25 @@ class Lines {
   long number_ = 0;
 };
 
-double number(std::string_view t, const std::string& path, long line) {
-  double v = 0;
-  const char* b = t.data();
-  if (!t.empty() && t[0] == '+') ++b;  // from_chars refuses a leading '+', files have them
+// A whole token as a T (double or long): from_chars, with the leading '+' files have and it refuses.
+template <typename T>
+T parse(std::string_view t, const std::string& path, long line, const char* what) {
+  T v{};
+  const char* b = t.data() + (!t.empty() && t[0] == '+');
   const auto r = std::from_chars(b, t.data() + t.size(), v);
   if (r.ec != std::errc() || r.ptr != t.data() + t.size())
-    fail(path, line, "'" + std::string(t) + "' is not a number");
+    fail(path, line, "'" + std::string(t) + "' is not " + what);
+  return v;
+}
+
+double number(std::string_view t, const std::string& path, long line) {
+  const double v = parse<double>(t, path, line, "a number");
   if (!std::isfinite(v)) fail(path, line, "coordinate '" + std::string(t) + "' is not finite");
   return v;
 }
 
 long integer(std::string_view t, const std::string& path, long line) {
-  long v = 0;
-  const char* b = t.data();
-  if (!t.empty() && t[0] == '+') ++b;
-  const auto r = std::from_chars(b, t.data() + t.size(), v);
-  if (r.ec != std::errc() || r.ptr != t.data() + t.size())
-    fail(path, line, "'" + std::string(t) + "' is not an integer");
-  return v;
+  return parse<long>(t, path, line, "an integer");
 }
 
 // Appends a polygon as a triangle fan. Returns false if it is not convex (the caller hands the
@@ -412,8 +412,8 @@ struct PlyElement {
 // Values of the body, in ASCII or binary, as doubles (integers up to 2^32 are exact).
 class PlyReader {
  public:
-  PlyReader(const std::string& text, size_t start, int format, const std::string& path)
-      : text_(text), pos_(start), format_(format), path_(path) {}
+  PlyReader(const std::string& text, size_t start, long first_line, int format, const std::string& path)
+      : text_(text), pos_(start), format_(format), path_(path), line_(first_line) {}
 
   double read(PlyType t) {
     if (format_ == 0) return ascii();
@@ -481,9 +481,7 @@ class PlyReader {
   size_t pos_;
   int format_;  // 0 ascii, 1 little endian, 2 big endian
   const std::string& path_;
-
- public:
-  long line_ = 0;
+  long line_;  // of the next token, ASCII only
 };
 
 }  // namespace
@@ -540,8 +538,7 @@ std::optional<RawMesh> read_ply(const std::string& path, std::string* kind) {
   if (format < 0) fail(path, 0, "header has no format line");
   *kind = format == 0 ? "ply-ascii" : "ply-binary";
   RawMesh m;
-  PlyReader r(text, lines.offset(), format, path);
-  r.line_ = lines.number() + 1;
+  PlyReader r(text, lines.offset(), lines.number() + 1, format, path);
   long nv = -1;
   std::vector<int> v;
   for (const PlyElement& e : elements) {

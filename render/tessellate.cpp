@@ -128,15 +128,16 @@ RenderMesh tessellate_mesh(const TriangleMesh& tm, double crease_deg) {
   // lie within crease_deg of its own face normal: smooth curved surfaces, sharp edges kept.
   RenderMesh m;
   const size_t nf = tm.triangles.size();
+  const bool from_file = tm.corner_normals.size() == nf;
   std::vector<Vec3> fn(nf);
-  std::vector<std::vector<int>> around(tm.vertices.size());
+  std::vector<std::vector<int>> around(from_file ? 0 : tm.vertices.size());  // only for crease normals
   for (size_t f = 0; f < nf; ++f) {
     const auto& t = tm.triangles[f];
     fn[f] = (tm.vertices[t[1]] - tm.vertices[t[0]]).cross(tm.vertices[t[2]] - tm.vertices[t[0]]);
-    for (int k = 0; k < 3; ++k) around[t[k]].push_back((int)f);
+    if (!from_file)
+      for (int k = 0; k < 3; ++k) around[t[k]].push_back((int)f);
   }
   const double cos_crease = std::cos(crease_deg * kPi / 180);
-  const bool from_file = tm.corner_normals.size() == nf;
   for (size_t f = 0; f < nf; ++f) {
     const Vec3 own = fn[f].normalized();
     if (from_file) {  // the file's own shading normals, where it gives a usable one

@@ -42,7 +42,7 @@ std::string write(const std::string& name, const std::string& text) {
 void expect_decimal_box(const ImportedMesh& im, const std::string& reader) {
   SCOPED_TRACE(reader);
   EXPECT_EQ(im.reader, reader);
-  EXPECT_TRUE(im.double_precision);
+  EXPECT_TRUE(im.double_precision());
   MeshMassOptions opt;
   opt.density = 1;
   const MeshReport r = analyze_mesh(im.mesh, opt);
@@ -236,7 +236,7 @@ TEST(MeshImport, GltfThroughAssimpAppliesNodeTransformsAndBaseColour) {
   ASSERT_EQ(buf.size(), 168u);
   const ImportedMesh im = import_mesh(write("cube.gltf", gltf));
   EXPECT_EQ(im.reader, "assimp");
-  EXPECT_FALSE(im.double_precision);
+  EXPECT_FALSE(im.double_precision());
   MeshMassOptions opt;
   opt.density = 1;
   const MeshReport r = analyze_mesh(im.mesh, opt);

@@ -121,7 +121,23 @@ TEST(Scene, MeshModesAndMassScaling) {
   const Scene s = load_scene(path);
   EXPECT_NEAR(s.bodies[0].mass_B().mass, 5.0, 1e-12);
   // The unit cube's hull: I = m / 6 about each axis.
-  EXPECT_NEAR(s.bodies[0].mass_B().inertia(0, 0), 5.0 / 6.0, 1e-6);  // float32 coordinates from assimp
+  // Integer corners read in double precision and a hull of 12 triangles: rounding only.
+  EXPECT_NEAR(s.bodies[0].mass_B().inertia(0, 0), 5.0 / 6.0, 1e-12);
+}
+
+TEST(Scene, MaterialColourFromTheFileUnlessTheBodySetsOne) {
+  write_scene("tet.mtl", "newmtl red\nKd 0.9 0.1 0.1\n");
+  write_scene("tet.obj",
+              "mtllib tet.mtl\nusemtl red\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"
+              "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n");
+  const std::string col = "    colliders: [ { shape: mesh, file: tet.obj }, { shape: sphere, radius: 1 } ]\n";
+  const Scene s = load_scene(
+      write_scene("tet.yaml", "bodies:\n  - name: a\n" + col + "  - name: b\n    color: [0, 0, 1]\n" + col));
+  ASSERT_TRUE(s.bodies[0].colliders[0].color.has_value());
+  EXPECT_FLOAT_EQ((*s.bodies[0].colliders[0].color)[0], 0.9f);
+  EXPECT_FALSE(s.bodies[0].colliders[1].color.has_value());              // a primitive has no file material
+  EXPECT_FALSE(s.bodies[1].colliders[0].color.has_value());              // the scene's body colour wins
+  EXPECT_NEAR(s.bodies[0].colliders[0].props_C.mass, 1000.0 / 6, 1e-9);  // V = 1/6 at 1000 kg/m^3
 }
 
 TEST(Scene, DuplicateNamesAndBadFollowAreErrors) {
