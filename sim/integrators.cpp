@@ -65,24 +65,50 @@ inline Vec3 acceleration(const BodyModel& m, const Wrench* w, const Vec3& g) {
   return w ? Vec3(g + m.inv_mass * w->f_W) : g;
 }
 
+// The RK4 rotation kernel is written once over a lane type T: `double` for one body, `Lanes` for
+// four bodies at once (a GCC/Clang vector: one AVX2 register where the CPU has it, two SSE2
+// halves otherwise). Each lane runs the same IEEE operations in the same order as the scalar code
+// (no FMA: -ffp-contract=off, and the AVX2 clone does not enable FMA), so a body's result is
+// bit-identical whether it was stepped alone or in a block, whatever the thread split.
+using Lanes = double __attribute__((vector_size(32)));
+constexpr int kLanes = 4;
+
+// Scales the quaternion s[0..4) to unit length (out-parameter: returning a 32-byte vector by
+// value would change the calling convention between the AVX2 and default clones).
+inline void normalize_quat(double* s) {
+  const double n = 1.0 / std::sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2] + s[3] * s[3]);
+  for (int i = 0; i < 4; ++i) s[i] *= n;
+}
+[[gnu::always_inline]] inline void normalize_quat(Lanes* s) {
+  const Lanes sq = s[0] * s[0] + s[1] * s[1] + s[2] * s[2] + s[3] * s[3];
+  Lanes n;
+  for (int l = 0; l < kLanes; ++l) n[l] = 1.0 / std::sqrt(sq[l]);
+  for (int i = 0; i < 4; ++i) s[i] *= n;
+}
+
 // Right-hand side of the rotational equations in the principal frame, on (q, w):
 //   q' = 1/2 q (x) (0, w)                                  (quaternion kinematics)
 //   w' = I^-1 (tau_P - w x I w),  tau_P = R(q)^T tau_W     (Euler's equations)
 // Gyro = false drops w x I w (exact for isotropic bodies); Torque = false drops tau.
-template <bool Gyro, bool Torque>
-inline void rhs(const double* s, const double* I, const double* invI, const Vec3& tau_W, double* d) {
-  const double qw = s[0], qx = s[1], qy = s[2], qz = s[3], wx = s[4], wy = s[5], wz = s[6];
+// s = (qw, qx, qy, qz, wx, wy, wz); tau_P = conj(q) tau_W q as Eigen computes a rotation:
+// t = 2 u x v, v' = v + w t + u x t with u = -q.vec().
+template <bool Gyro, bool Torque, typename T>
+[[gnu::always_inline]] inline void rhs(const T* s, const T* I, const T* invI, const T* tau_W, T* d) {
+  const T qw = s[0], qx = s[1], qy = s[2], qz = s[3], wx = s[4], wy = s[5], wz = s[6];
   d[0] = 0.5 * (-qx * wx - qy * wy - qz * wz);
   d[1] = 0.5 * (qw * wx + qy * wz - qz * wy);
   d[2] = 0.5 * (qw * wy + qz * wx - qx * wz);
   d[3] = 0.5 * (qw * wz + qx * wy - qy * wx);
-  double tx = 0, ty = 0, tz = 0;
+  T tx{}, ty{}, tz{};
   if constexpr (Torque) {
-    const Vec3 t = Quat(qw, qx, qy, qz).conjugate() * tau_W;
-    tx = t.x(), ty = t.y(), tz = t.z();
+    const T ux = -qx, uy = -qy, uz = -qz, vx = tau_W[0], vy = tau_W[1], vz = tau_W[2];
+    const T cx = 2.0 * (uy * vz - uz * vy), cy = 2.0 * (uz * vx - ux * vz), cz = 2.0 * (ux * vy - uy * vx);
+    tx = vx + qw * cx + (uy * cz - uz * cy);
+    ty = vy + qw * cy + (uz * cx - ux * cz);
+    tz = vz + qw * cz + (ux * cy - uy * cx);
   }
   if constexpr (Gyro) {
-    const double Lx = I[0] * wx, Ly = I[1] * wy, Lz = I[2] * wz;
+    const T Lx = I[0] * wx, Ly = I[1] * wy, Lz = I[2] * wz;
     tx -= wy * Lz - wz * Ly;
     ty -= wz * Lx - wx * Lz;
     tz -= wx * Ly - wy * Lx;
@@ -92,13 +118,10 @@ inline void rhs(const double* s, const double* I, const double* invI, const Vec3
   d[6] = invI[2] * tz;
 }
 
-// Classical fourth-order Runge-Kutta on (q, w_P), quaternion renormalised after the step.
-template <bool Gyro, bool Torque>
-inline void rk4_rotation(MotionState& st, const BodyModel& m, const Vec3& tau_W, double h) {
-  const double* I = m.I_P.data();
-  const double* invI = m.inv_I_P.data();
-  double s[7] = {st.q_WP.w(), st.q_WP.x(), st.q_WP.y(), st.q_WP.z(), st.w_P.x(), st.w_P.y(), st.w_P.z()};
-  double k1[7], k2[7], k3[7], k4[7], t[7];
+// Classical fourth-order Runge-Kutta on s = (q, w_P) in place, quaternion renormalised after.
+template <bool Gyro, bool Torque, typename T>
+[[gnu::always_inline]] inline void rk4_rotation(T* s, const T* I, const T* invI, const T* tau_W, double h) {
+  T k1[7], k2[7], k3[7], k4[7], t[7];
   rhs<Gyro, Torque>(s, I, invI, tau_W, k1);
   for (int i = 0; i < 7; ++i) t[i] = s[i] + 0.5 * h * k1[i];
   rhs<Gyro, Torque>(t, I, invI, tau_W, k2);
@@ -108,9 +131,36 @@ inline void rk4_rotation(MotionState& st, const BodyModel& m, const Vec3& tau_W,
   rhs<Gyro, Torque>(t, I, invI, tau_W, k4);
   const double h6 = h / 6.0;
   for (int i = 0; i < 7; ++i) s[i] += h6 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
-  const double n = 1.0 / std::sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2] + s[3] * s[3]);
-  st.q_WP = Quat(s[0] * n, s[1] * n, s[2] * n, s[3] * n);
+  normalize_quat(s);
+}
+
+template <bool Gyro, bool Torque>
+inline void rk4_rotation(MotionState& st, const BodyModel& m, const Vec3& tau_W, double h) {
+  double s[7] = {st.q_WP.w(), st.q_WP.x(), st.q_WP.y(), st.q_WP.z(), st.w_P.x(), st.w_P.y(), st.w_P.z()};
+  rk4_rotation<Gyro, Torque>(s, m.I_P.data(), m.inv_I_P.data(), tau_W.data(), h);
+  st.q_WP = Quat(s[0], s[1], s[2], s[3]);
   st.w_P = Vec3(s[4], s[5], s[6]);
+}
+
+// Four torque-free gyroscopic bodies, one per lane: gather, step, scatter. A separate function so
+// that it can be cloned for AVX2 (chosen at load time; both clones give identical results).
+__attribute__((target_clones("avx2", "default"))) void rk4_rotation_block(MotionState* st,
+                                                                          const BodyModel* mo, const int* idx,
+                                                                          double h) {
+  MotionState* b[kLanes];
+  const BodyModel* m[kLanes];
+  for (int l = 0; l < kLanes; ++l) b[l] = &st[idx[l]], m[l] = &mo[idx[l]];
+  Lanes s[7], I[3], invI[3];
+  for (int l = 0; l < kLanes; ++l) {
+    s[0][l] = b[l]->q_WP.w(), s[1][l] = b[l]->q_WP.x(), s[2][l] = b[l]->q_WP.y(), s[3][l] = b[l]->q_WP.z();
+    for (int k = 0; k < 3; ++k)
+      s[4 + k][l] = b[l]->w_P[k], I[k][l] = m[l]->I_P[k], invI[k][l] = m[l]->inv_I_P[k];
+  }
+  rk4_rotation<true, false, Lanes>(s, I, invI, nullptr, h);
+  for (int l = 0; l < kLanes; ++l) {
+    b[l]->q_WP = Quat(s[0][l], s[1][l], s[2][l], s[3][l]);
+    b[l]->w_P = Vec3(s[4][l], s[5][l], s[6][l]);
+  }
 }
 
 inline void rk4_body(MotionState& s, const BodyModel& m, const Wrench* w, const Vec3& g, double h,
@@ -199,24 +249,60 @@ inline void splitting_body(MotionState& s, const BodyModel& m, const Wrench* w, 
 
 // Per body, what it needs: an isotropic body without torque keeps w (L = I w is conserved and
 // w x I w = 0), so its rotation over the step is exactly exp(h w / 2); with torque it needs no
-// gyroscopic work; everything else gets RK4 with the gyroscopic term.
-inline void auto_body(MotionState& s, const BodyModel& m, const Wrench* w, const Vec3& g, double h) {
-  if (m.isotropic && !(w && !w->tau_W.isZero(0.0))) {
+// gyroscopic work; everything else gets RK4 with the gyroscopic term. Fast spinners are
+// substepped so that RK4 stays accurate and stable (World::check_spin warns); everything at
+// ordinary rates takes exactly one step. Returns false for the common case, a torque-free
+// gyroscopic body at an ordinary rate, which the caller steps in blocks.
+inline bool auto_body_special(MotionState& s, const BodyModel& m, const Wrench* w, bool torque, const Vec3& g,
+                              double h) {
+  if (m.isotropic && !torque) {
     linear_exact(s, acceleration(m, w, g), h);
     s.q_WP = (s.q_WP * rotation_increment(s.w_P, h)).normalized();
-    return;
+    return true;
   }
-  // Fast spinners are substepped so that RK4 stays accurate and stable (a warning is raised by
-  // World::check_spin); everything at ordinary rates takes exactly one step.
   const double r = m.gyro_rate * h;
   const double w2 = s.w_P.squaredNorm();
-  if (w2 * r * r <= kAutoMaxStepAngle * kAutoMaxStepAngle) {
-    rk4_body(s, m, w, g, h, !m.isotropic);
-    return;
+  if (w2 * r * r > kAutoMaxStepAngle * kAutoMaxStepAngle) {
+    const int n = (int)std::min<double>(kAutoMaxSubsteps, std::ceil(std::sqrt(w2) * r / kAutoMaxStepAngle));
+    const double hs = h / n;
+    for (int k = 0; k < n; ++k) rk4_body(s, m, w, g, hs, !m.isotropic);
+    return true;
   }
-  const int n = (int)std::min<double>(kAutoMaxSubsteps, std::ceil(std::sqrt(w2) * r / kAutoMaxStepAngle));
-  const double hs = h / n;
-  for (int k = 0; k < n; ++k) rk4_body(s, m, w, g, hs, !m.isotropic);
+  if (torque || m.isotropic) {
+    rk4_body(s, m, w, g, h, !m.isotropic);
+    return true;
+  }
+  return false;
+}
+
+// RK4 (Auto = false) or auto over a group: the torque-free gyroscopic bodies go through the
+// four-lane kernel in blocks, the rest (and a last partial block) one by one; the results are the
+// same either way (see Lanes).
+template <bool Auto>
+void rk4_group(const int* idx, int n, MotionState* st, const BodyModel* mo, const Wrench* wr, const Vec3& g,
+               double h) {
+  int block[kLanes];
+  int nb = 0;
+  for (int j = 0; j < n; ++j) {
+    const int i = idx[j];
+    MotionState& s = st[i];
+    const BodyModel& m = mo[i];
+    const Wrench* w = wr ? &wr[i] : nullptr;
+    const bool torque = w && !w->tau_W.isZero(0.0);
+    if constexpr (Auto) {
+      if (auto_body_special(s, m, w, torque, g, h)) continue;
+    } else if (torque) {
+      rk4_body(s, m, w, g, h, true);
+      continue;
+    }
+    linear_exact(s, acceleration(m, w, g), h);
+    block[nb++] = i;
+    if (nb == kLanes) {
+      rk4_rotation_block(st, mo, block, h);
+      nb = 0;
+    }
+  }
+  for (int k = 0; k < nb; ++k) rk4_rotation<true, false>(st[block[k]], mo[block[k]], Vec3::Zero(), h);
 }
 
 template <typename Kernel>
@@ -235,7 +321,7 @@ void integrate(Integrator method, const int* idx, int n, MotionState* st, const 
                const Wrench* wr, const Vec3& g, double h) {
   switch (method) {
     case Integrator::automatic:
-      loop(auto_body, idx, n, st, mo, wr, g, h);
+      rk4_group<true>(idx, n, st, mo, wr, g, h);
       break;
     case Integrator::seed:
       loop(seed_body, idx, n, st, mo, wr, g, h);
@@ -247,9 +333,7 @@ void integrate(Integrator method, const int* idx, int n, MotionState* st, const 
       loop(splitting_body, idx, n, st, mo, wr, g, h);
       break;
     case Integrator::rk4:
-      loop([](MotionState& s, const BodyModel& m, const Wrench* w, const Vec3& gg,
-              double hh) { rk4_body(s, m, w, gg, hh, true); },
-           idx, n, st, mo, wr, g, h);
+      rk4_group<false>(idx, n, st, mo, wr, g, h);
       break;
   }
 }

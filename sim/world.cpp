@@ -176,6 +176,7 @@ World::World(const WorldConfig& config, std::vector<BodyDef> bodies)
     }
   }
   if (cfg_.threads > 1) pool_ = std::make_unique<WorkerPool>(cfg_.threads);
+  chunk_sum_.resize(cfg_.threads);
   check_spin();
 }
 
@@ -185,11 +186,11 @@ World::~World() = default;
 void World::step() {
   double* sec = profile_.seconds;
   profile_.skipped[(int)Stage::forces]++;  // no force fields yet: gravity is applied in integrate
-  {
-    Timer t(profiling_, &sec[(int)Stage::integrate]);
-    stage_integrate();
-  }
+  const bool finite = stage_integrate_and_check();
   profile_.runs[(int)Stage::integrate]++;
+  profile_.runs[(int)Stage::check]++;
+  ++steps_;
+  if (!finite) check_state();  // throws, naming the body and the time
   if (wrench_dirty_) {
     Timer t(profiling_, &sec[(int)Stage::clear]);
     stage_clear();
@@ -197,12 +198,6 @@ void World::step() {
   } else {
     profile_.skipped[(int)Stage::clear]++;
   }
-  ++steps_;
-  {
-    Timer t(profiling_, &sec[(int)Stage::check]);
-    stage_check();
-  }
-  profile_.runs[(int)Stage::check]++;
   if (keep_derived_) {
     Timer t(profiling_, &sec[(int)Stage::derived]);
     stage_derived();
@@ -213,45 +208,73 @@ void World::step() {
   profile_.steps++;
 }
 
-void World::stage_integrate() {
-  const Wrench* wr = wrench_dirty_ ? wrench_.data() : nullptr;
-  for (const Group& g : groups_) {
-    if (!pool_) {
-      integrate(g.method, g.bodies.data(), (int)g.bodies.size(), state_.data(), model_.data(), wr,
-                cfg_.gravity, cfg_.dt);
-      continue;
-    }
-    struct Ctx {
-      World* w;
-      const Group* g;
-      const Wrench* wr;
-    } ctx{this, &g, wr};
-    pool_->run(
-        [](void* p, int c, int nc) {
-          Ctx& x = *static_cast<Ctx*>(p);
-          const long n = (long)x.g->bodies.size();
-          const int b = (int)(n * c / nc), e = (int)(n * (c + 1) / nc);
-          integrate(x.g->method, x.g->bodies.data() + b, e - b, x.w->state_.data(), x.w->model_.data(), x.wr,
-                    x.w->cfg_.gravity, x.w->cfg_.dt);
-        },
-        &ctx);
+// Runs f(chunk, chunks) once per thread, chunk 0 on the calling thread. Every group is split the
+// same way each step (chunk c is always the same bodies), so a body's state stays in the cache of
+// the core that integrates it. This is also why the check runs in the same pass: when the main
+// thread alone checked every body after a two-thread integration, each step moved the other
+// core's half of the state between caches and two threads ran no faster than one.
+template <typename F>
+void World::for_each_chunk(F& f) {
+  if (!pool_) {
+    f(0, 1);
+    return;
   }
+  pool_->run([](void* p, int c, int nc) { (*static_cast<F*>(p))(c, nc); }, &f);
+}
+
+namespace {
+inline void chunk_range(const std::vector<int>& v, int c, int nc, const int*& begin, int& count) {
+  const long n = (long)v.size();
+  const int b = (int)(n * c / nc), e = (int)(n * (c + 1) / nc);
+  begin = v.data() + b;
+  count = e - b;
+}
+}  // namespace
+
+// Stages 2 (integrate) and 4 (check) in one pass over each thread's chunk. The check is one
+// running sum over values every integrator writes: a NaN or inf anywhere in a body's state
+// reaches its orientation or centroid within the step, and then the sum; only then are the
+// bodies searched (check_state) to name the first bad one. Profile: integrate is timed on the
+// calling thread up to the end of its own chunk, check from there until every thread is done.
+bool World::stage_integrate_and_check() {
+  using clock = std::chrono::steady_clock;
+  const Wrench* wr = wrench_dirty_ ? wrench_.data() : nullptr;
+  clock::time_point t0, t_mid;
+  if (profiling_) t0 = clock::now();
+  auto work = [&](int c, int nc) {
+    for (const Group& g : groups_) {
+      const int* idx;
+      int n;
+      chunk_range(g.bodies, c, nc, idx, n);
+      integrate(g.method, idx, n, state_.data(), model_.data(), wr, cfg_.gravity, cfg_.dt);
+    }
+    if (c == 0 && profiling_) t_mid = clock::now();
+    double sum = 0;
+    for (const Group& g : groups_) {
+      const int* idx;
+      int n;
+      chunk_range(g.bodies, c, nc, idx, n);
+      for (int j = 0; j < n; ++j) {
+        const MotionState& s = state_[idx[j]];
+        sum += s.q_WP.w() + s.x_W.x() + s.x_W.y() + s.x_W.z();
+      }
+    }
+    chunk_sum_[c].value = sum;
+  };
+  for_each_chunk(work);
+  if (profiling_) {
+    const clock::time_point t1 = clock::now();
+    profile_.seconds[(int)Stage::integrate] += std::chrono::duration<double>(t_mid - t0).count();
+    profile_.seconds[(int)Stage::check] += std::chrono::duration<double>(t1 - t_mid).count();
+  }
+  bool finite = true;
+  for (const ChunkSum& s : chunk_sum_) finite = finite && std::isfinite(s.value);
+  return finite;
 }
 
 void World::stage_clear() {
   for (Wrench& w : wrench_) w = Wrench{};
   wrench_dirty_ = false;
-}
-
-void World::stage_check() const {
-  // One running sum over the values every integrator writes: a NaN or inf anywhere in a body's
-  // state reaches its orientation or centroid within the step, and then the sum.
-  double sum = 0;
-  for (int i : dynamic_) {
-    const MotionState& s = state_[i];
-    sum += s.q_WP.w() + s.x_W.x() + s.x_W.y() + s.x_W.z();
-  }
-  if (!std::isfinite(sum)) check_state();
 }
 
 void World::stage_derived() {

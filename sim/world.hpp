@@ -4,8 +4,9 @@
 //   1. forces     user force fields into the accumulators (skipped: none exist yet; gravity is a
 //                 uniform acceleration applied inside integration, so it costs no pass)
 //   2. integrate  the selected integrator over the dynamic bodies (static bodies are never visited)
+//   4. check      NaN/inf guard over the new state; stops the run naming the body and time (run in
+//                 the same pass over each thread's bodies as 2, while they are in its cache)
 //   3. clear      zero the force/torque accumulators (skipped unless something was applied)
-//   4. check      NaN/inf guard over the new state; stops the run naming the body and time
 //   5. derived    world inverse inertia for consumers that need it every step (skipped unless
 //                 requested; contacts will)
 // Thread count never changes results: bodies are split into fixed contiguous chunks and each body
@@ -112,9 +113,10 @@ class World {
   const Mat3& cached_inverse_inertia_world(int i) const { return inv_I_W_[i]; }
 
  private:
-  void stage_integrate();
+  bool stage_integrate_and_check();  ///< false if a non-finite value appeared
   void stage_clear();
-  void stage_check() const;
+  template <typename F>
+  void for_each_chunk(F& f);
   void stage_derived();
   Wrench& wrench(int i);
 
@@ -129,7 +131,11 @@ class World {
     Integrator method;
     std::vector<int> bodies;  ///< ascending
   };
-  std::vector<Group> groups_;  ///< dynamic bodies by integrator, in order of first use
+  std::vector<Group> groups_;    ///< dynamic bodies by integrator, in order of first use
+  struct alignas(64) ChunkSum {  // one cache line per thread
+    double value = 0;
+  };
+  std::vector<ChunkSum> chunk_sum_;
   std::vector<char> spin_warned_;
   std::vector<std::string> warnings_;
   bool wrench_dirty_ = false;
