@@ -2,11 +2,53 @@
 // dt = 1/240, 1000 steps; body-steps per second for each integrator with 1 and 2 threads, beside
 // the plain article loop (state as matrices, as ../shared/anchors/src/ref_seed.cpp) run here.
 #include <cstdio>
+#include <memory>
 
 #include "bench/bench_util.hpp"
 #include "sim/scene_builders.hpp"
 
+#ifdef SIMREEL_BENCH_BULLET
+#include <btBulletDynamicsCommon.h>
+#endif
+
 using namespace simreel;
+
+#ifdef SIMREEL_BENCH_BULLET
+// Bullet 3.24 double precision (Debian's libbullet-dev, -float64 libraries) on the same boxes, as
+// the anchors run it: one btDiscreteDynamicsWorld, each body in collision group 1 with mask 0 so
+// no pair is ever tested (free bodies), deactivation off, default flags (implicit gyroscopic
+// term), stepSimulation(dt, 0) = exactly one internal step. Returns the stepping wall time.
+static double bullet_r2_seconds(const std::vector<BodyDef>& defs) {
+  btDefaultCollisionConfiguration cfg;
+  btCollisionDispatcher disp(&cfg);
+  btDbvtBroadphase bp;
+  btSequentialImpulseConstraintSolver solver;
+  btDiscreteDynamicsWorld world(&disp, &bp, &solver, &cfg);
+  world.setGravity(btVector3(0, 0, -9.81));
+  std::vector<std::unique_ptr<btBoxShape>> shapes;
+  std::vector<std::unique_ptr<btRigidBody>> bodies;
+  for (const BodyDef& d : defs) {
+    // Boxes are single colliders centred on the body origin with principal axes along the body
+    // axes, so Bullet's body frame and ours coincide.
+    const MassProperties& mp = d.mass_B();
+    const Vec3 half = 0.5 * d.colliders[0].size;
+    shapes.push_back(std::make_unique<btBoxShape>(btVector3(half.x(), half.y(), half.z())));
+    const Vec3 I = mp.inertia.diagonal();
+    btRigidBody::btRigidBodyConstructionInfo ci(mp.mass, nullptr, shapes.back().get(), btVector3(I.x(), I.y(), I.z()));
+    ci.m_startWorldTransform = btTransform(btQuaternion(d.q_WB.x(), d.q_WB.y(), d.q_WB.z(), d.q_WB.w()),
+                                           btVector3(d.p_WB.x(), d.p_WB.y(), d.p_WB.z()));
+    bodies.push_back(std::make_unique<btRigidBody>(ci));
+    world.addRigidBody(bodies.back().get(), 1, 0);
+    bodies.back()->setActivationState(DISABLE_DEACTIVATION);
+    bodies.back()->setAngularVelocity(btVector3(d.w_W.x(), d.w_W.y(), d.w_W.z()));
+  }
+  const double t0 = bench::now_s();
+  for (int s = 0; s < 1000; ++s) world.stepSimulation(btScalar(1.0 / 240), 0);
+  const double wall = bench::now_s() - t0;
+  for (auto& b : bodies) world.removeRigidBody(b.get());
+  return wall;
+}
+#endif
 
 // The article's loop as the anchors measured it: one struct per body, rotation matrix state,
 // world inverse inertia R I^-1 R^T, axis-angle update, re-orthonormalise through a quaternion.
@@ -48,6 +90,17 @@ int main() {
       std::printf("plain_article_loop,seed_matrices,%d,1,1000,%.5f,%.5f,%.4e,%.2f,%zu\n", N, t.min, t.median,
                   N * 1000.0 / t.min, t.min / (N * 1000.0) * 1e9, sizeof(PlainBody));
     }
+#ifdef SIMREEL_BENCH_BULLET
+    {
+      // One timed run at N = 10000 (about 13 s), three at N = 1000; no warm-up run.
+      std::vector<double> walls;
+      for (int r = 0; r < (N >= 10000 ? 1 : 3); ++r) walls.push_back(bullet_r2_seconds(defs));
+      std::sort(walls.begin(), walls.end());
+      const double mn = walls.front(), md = walls[walls.size() / 2];
+      std::printf("bullet_f64,default_no_pairs,%d,1,1000,%.5f,%.5f,%.4e,%.2f,%zu\n", N, mn, md, N * 1000.0 / mn,
+                  mn / (N * 1000.0) * 1e9, sizeof(btRigidBody));
+    }
+#endif
     for (Integrator m : {Integrator::automatic, Integrator::rk4, Integrator::splitting,
                          Integrator::euler_gyro, Integrator::seed}) {
       for (int threads : {1, 2}) {

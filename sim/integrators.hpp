@@ -1,20 +1,15 @@
 // Time integrators: each advances a range of bodies by one fixed step h under a uniform
 // acceleration g and each body's wrench (held constant over the step). All work in the principal
-// frame P, where the inertia tensor is diagonal.
-//
-// | name       | order | conserves (torque free)                  | cost/step | use it for |
-// |------------|-------|------------------------------------------|-----------|---------------------------------|
-// | seed       | 1     | world angular velocity (wrongly: no      | lowest    | comparison with the article |
-// |            |       | gyroscopic term, never precesses)        |           | | | euler_gyro | 1     |
-// nothing exactly; implicit gyroscopic     | low       | contact-heavy scenes (later)    | |            | |
-// term damps energy instead of exploding   |           |                                 | | rk4        | 4
-// | nothing exactly; drift O(h^4)            | 4 evals   | smooth motion, general torques  | | splitting  | 2
-// | world L exactly, |L| exactly, energy     | 5 sincos  | very long runs                  | |            |
-// | error bounded (symplectic)               |           |                                 | | auto       | 4
-// | per body: exact for isotropic bodies     | <= rk4    | default                         | |            |
-// | without torque, rk4 otherwise            |           |                                 | Linear motion:
-// seed and euler_gyro use semi-implicit Euler (v += h a; x += h v), as the article; the others the exact
-// update for a constant acceleration (x += h v + h^2/2 a; v += h a).
+// frame P, where the inertia tensor is diagonal. sim/README.md tabulates order, conservation,
+// measured cost and use; in short:
+//   seed        1st order, the article's scheme: no gyroscopic term, never precesses. Comparison.
+//   euler_gyro  1st order, implicit gyroscopic term (Catto 2015, Bullet): stable, damps energy.
+//   rk4         4th order on (q, w_P), renormalised; torque-free bodies four per vector.
+//   splitting   2nd order symplectic (DLM 1997): world L and |L| exact, energy error bounded.
+//   auto        the default: exact rotation for isotropic torque-free bodies, rk4 otherwise,
+//               substeps for fast spinners.
+// Linear motion: seed and euler_gyro use semi-implicit Euler (v += h a; x += h v), as the article;
+// the others the exact update for a constant acceleration (x += h v + h^2/2 a; v += h a).
 #pragma once
 #include <optional>
 #include <string>
