@@ -83,6 +83,9 @@ std::string summary_text(const RunSummary& s) {
     for (int i = 0; i < (int)Stage::count; ++i)
       o << "    " << to_string((Stage)i) << ": " << s.profile->seconds[i] << " s, " << s.profile->runs[i]
         << ", " << s.profile->skipped[i] << "\n";
+    o << "  bodies: " << s.profile->gyroscopic_bodies << " with gyroscopic dynamics, "
+      << s.profile->isotropic_bodies << " isotropic (no gyroscopic work), " << s.profile->static_bodies
+      << " static (never integrated)\n";
   }
   for (const std::string& w : s.warnings) o << "  warning: " << w << "\n";
   if (!s.output.empty()) o << "  wrote " << s.output << "\n";
@@ -107,7 +110,9 @@ std::string summary_json(const RunSummary& s) {
       o << (i ? ", " : "") << json_string(to_string((Stage)i))
         << ": {\"seconds\": " << json_number(s.profile->seconds[i]) << ", \"runs\": " << s.profile->runs[i]
         << ", \"skipped\": " << s.profile->skipped[i] << "}";
-    o << "}";
+    o << ", \"bodies\": {\"gyroscopic\": " << s.profile->gyroscopic_bodies
+      << ", \"isotropic_no_gyroscopic_work\": " << s.profile->isotropic_bodies
+      << ", \"static_never_integrated\": " << s.profile->static_bodies << "}}";
   }
   if (!s.output.empty()) o << ", \"output\": " << json_string(s.output);
   o << ", \"warnings\": " << json_strings(s.warnings) << "}";

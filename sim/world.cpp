@@ -166,9 +166,13 @@ World::World(const WorldConfig& config, std::vector<BodyDef> bodies)
     s.x_W = d.p_WB + q_WB * m.c_B;
     s.v_W = d.is_static ? Vec3::Zero() : d.v_W;
     s.w_P = d.is_static ? Vec3::Zero() : Vec3(s.q_WP.conjugate() * d.w_W);
-    if (!d.is_static) {
+    if (d.is_static) {
+      profile_.static_bodies++;
+    } else {
       dynamic_.push_back(i);
       const Integrator method = d.integrator.value_or(cfg_.integrator);
+      const bool no_gyro = m.isotropic && method == Integrator::automatic;
+      (no_gyro ? profile_.isotropic_bodies : profile_.gyroscopic_bodies)++;
       auto g =
           std::find_if(groups_.begin(), groups_.end(), [&](const Group& x) { return x.method == method; });
       if (g == groups_.end()) g = groups_.insert(groups_.end(), Group{method, {}});

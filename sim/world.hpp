@@ -44,6 +44,10 @@ struct Profile {
   long runs[(int)Stage::count] = {};       ///< steps in which the stage did work
   long skipped[(int)Stage::count] = {};    ///< steps in which it had nothing to do
   long steps = 0;
+  // What the integrate stage does with each body (fixed when the world is built):
+  int static_bodies = 0;      ///< never visited
+  int isotropic_bodies = 0;   ///< dynamic under `auto` with isotropic inertia: no gyroscopic work
+  int gyroscopic_bodies = 0;  ///< dynamic, full rotational dynamics
 };
 
 class WorkerPool;

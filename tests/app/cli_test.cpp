@@ -113,6 +113,25 @@ TEST(Cli, SimulateWritesTheCsvAtEveryFrameAndAJsonSummary) {
   EXPECT_NEAR(std::stod(f), -9.81 / 2, 1e-12);
 }
 
+// --profile: time per stage and what each stage skipped. kGood plus a static box: the box is
+// gyroscopic, the sphere isotropic (auto gives it no gyroscopic work), the static box is never
+// integrated; no force field or wrench, so forces and clear are skipped in every step.
+TEST(Cli, ProfileShowsStagesAndWhatWasSkipped) {
+  const std::string scene = std::string(kGood) +
+                            "  - name: floor\n    static: true\n"
+                            "    colliders: [ { shape: box, size: [10, 10, 1] } ]\n";
+  const Result r = run("simulate " + write("profile.yaml", scene) + " --profile --json");
+  ASSERT_EQ(r.code, 0) << r.out;
+  for (const char* k : {"\"forces\": {\"seconds\": 0, \"runs\": 0, \"skipped\": 100}",
+                        "\"integrate\": {\"seconds\": ", "\"runs\": 100, \"skipped\": 0}",
+                        "\"clear\": {\"seconds\": 0, \"runs\": 0, \"skipped\": 100}",
+                        "\"bodies\": {\"gyroscopic\": 1, \"isotropic_no_gyroscopic_work\": 1, "
+                        "\"static_never_integrated\": 1}"})
+    EXPECT_NE(r.out.find(k), std::string::npos) << k << " in " << r.out;
+  const Result text = run("simulate " + write("profile.yaml", scene) + " --profile");
+  EXPECT_NE(text.out.find("1 static (never integrated)"), std::string::npos) << text.out;
+}
+
 TEST(Cli, SameSceneGivesByteIdenticalTrajectories) {
   const std::string g = write("good.yaml", kGood);
   ASSERT_EQ(run("simulate " + g + " --quiet --csv " + tmp("a.csv").string()).code, 0);

@@ -89,18 +89,23 @@ TEST(World, ZeroAngularVelocityStaysFiniteInEveryIntegrator) {
 }
 
 TEST(World, NonFiniteStateStopsTheRunNamingBodyAndTime) {
-  std::vector<BodyDef> bodies = {l_body(), l_body()};
-  bodies[1].name = "victim";
-  World w(WorldConfig{}, bodies);
-  for (int k = 0; k < 3; ++k) w.step();
-  w.apply_force(1, Vec3(std::numeric_limits<double>::infinity(), 0, 0), w.centroid(1));
-  try {
-    w.step();
-    FAIL() << "infinite force went unnoticed";
-  } catch (const StateError& e) {
-    const std::string msg = e.what();
-    EXPECT_NE(msg.find("victim"), std::string::npos) << msg;
-    EXPECT_NE(msg.find("t = 0.0166"), std::string::npos) << msg;  // 4 steps of 1/240 s
+  // With two threads the check runs on each thread's own bodies; "victim" is in the second chunk.
+  for (int threads : {1, 2}) {
+    std::vector<BodyDef> bodies = {l_body(), l_body()};
+    bodies[1].name = "victim";
+    WorldConfig c;
+    c.threads = threads;
+    World w(c, bodies);
+    for (int k = 0; k < 3; ++k) w.step();
+    w.apply_force(1, Vec3(std::numeric_limits<double>::infinity(), 0, 0), w.centroid(1));
+    try {
+      w.step();
+      ADD_FAILURE() << "infinite force went unnoticed with " << threads << " threads";
+    } catch (const StateError& e) {
+      const std::string msg = e.what();
+      EXPECT_NE(msg.find("victim"), std::string::npos) << msg;
+      EXPECT_NE(msg.find("t = 0.0166"), std::string::npos) << msg;  // 4 steps of 1/240 s
+    }
   }
 }
 
