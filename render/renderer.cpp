@@ -147,6 +147,7 @@ GLuint program(const char* vs, const char* fs) {
 struct GpuMesh {
   GLuint vao = 0, vbo = 0, ebo = 0;
   GLsizei count = 0;
+  bool two_sided = false;
 };
 
 GpuMesh upload(const RenderMesh& m) {
@@ -166,6 +167,7 @@ GpuMesh upload(const RenderMesh& m) {
   glEnableVertexAttribArray(1);
   glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), (void*)(3 * sizeof(float)));
   g.count = (GLsizei)m.indices.size();
+  g.two_sided = m.two_sided;
   glBindVertexArray(0);
   return g;
 }
@@ -263,8 +265,11 @@ struct Renderer::Impl {
     for (const DrawItem& it : dl.items) {
       const M4 mvp = lvp * it.model;
       glUniformMatrix4fv(u_mvp, 1, GL_FALSE, mvp.data());
-      glBindVertexArray(meshes[it.mesh].vao);
-      glDrawElements(GL_TRIANGLES, meshes[it.mesh].count, GL_UNSIGNED_INT, nullptr);
+      const GpuMesh& g = meshes[it.mesh];
+      glBindVertexArray(g.vao);
+      if (g.two_sided) glDisable(GL_CULL_FACE);
+      glDrawElements(GL_TRIANGLES, g.count, GL_UNSIGNED_INT, nullptr);
+      if (g.two_sided) glEnable(GL_CULL_FACE);
     }
     glDisable(GL_POLYGON_OFFSET_FILL);
     last_models.resize(dl.items.size());
@@ -277,7 +282,9 @@ struct Renderer::Impl {
     glUniform3f(u_color, color[0], color[1], color[2]);
     glUniform1i(u_checker, checker);
     glBindVertexArray(g.vao);
+    if (g.two_sided) glDisable(GL_CULL_FACE);
     glDrawElements(GL_TRIANGLES, g.count, GL_UNSIGNED_INT, nullptr);
+    if (g.two_sided) glEnable(GL_CULL_FACE);
   }
 };
 

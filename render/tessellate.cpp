@@ -127,6 +127,7 @@ RenderMesh tessellate_mesh(const TriangleMesh& tm, double crease_deg) {
   // Each corner gets the area-weighted average of the normals of the faces around its vertex that
   // lie within crease_deg of its own face normal: smooth curved surfaces, sharp edges kept.
   RenderMesh m;
+  m.two_sided = true;
   const size_t nf = tm.triangles.size();
   const bool from_file = tm.corner_normals.size() == nf;
   std::vector<Vec3> fn(nf);
@@ -143,7 +144,7 @@ RenderMesh tessellate_mesh(const TriangleMesh& tm, double crease_deg) {
     if (from_file) {  // the file's own shading normals, where it gives a usable one
       for (int k = 0; k < 3; ++k) {
         const Vec3 n = tm.corner_normals[f][k].cast<double>();
-        push(m, tm.vertices[tm.triangles[f][k]], n.squaredNorm() > 0.5 ? n : own);
+        push(m, tm.vertices[tm.triangles[f][k]], n.squaredNorm() > 0.5 ? (n.dot(own) < 0 ? -n : n) : own);
         m.indices.push_back(count(m) - 1);
       }
       continue;

@@ -11,6 +11,9 @@ struct RenderMesh {
   std::vector<float> vertices;    ///< interleaved x y z nx ny nz
   std::vector<uint32_t> indices;  ///< triangles
   float radius = 0;               ///< m, bounding sphere about the collider origin
+  // Drawn without back-face culling, lit on the side seen. Set for meshes from files, whose winding
+  // may be inside-out or open (shells): they must look the same as the repaired solid was weighed.
+  bool two_sided = false;
 };
 
 RenderMesh tessellate_box(const Vec3& size);
@@ -18,7 +21,9 @@ RenderMesh tessellate_sphere(double r, int rings = 24);
 RenderMesh tessellate_cylinder(double r, double h, int segments = 48);
 RenderMesh tessellate_capsule(double r, double h, int segments = 48);
 RenderMesh tessellate_plane(double size);  ///< square in z = 0, normal +z, centred on the origin
-// Triangle mesh with normals split at edges sharper than crease_deg (smooth elsewhere).
+// Triangle mesh with normals split at edges sharper than crease_deg (smooth elsewhere), two-sided.
+// Every normal points to the side the triangle's winding calls front (a file normal that points
+// the other way is turned round), so the renderer's "flip for back faces" lights the seen side.
 RenderMesh tessellate_mesh(const TriangleMesh& m, double crease_deg = 35.0);
 RenderMesh tessellate_collider(const Collider& c);
 

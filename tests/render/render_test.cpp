@@ -9,6 +9,7 @@
 #include "render/draw_list.hpp"
 #include "render/renderer.hpp"
 #include "render/video_writer.hpp"
+#include "sim/mesh_mass.hpp"
 #include "sim/primitives.hpp"
 #include "sim/scene_builders.hpp"
 #include "tests/render/decode.hpp"
@@ -135,6 +136,38 @@ TEST(Render, BodyHighInTheSceneIsInTheUpperHalf) {
     }
   ASSERT_GE(hi, 0) << "box not visible";
   EXPECT_LT(hi, H / 2);
+}
+
+// A mesh from a file may be wound inside-out (the mass code flips it and says so). It must render
+// like the correctly wound mesh, not show its inside: same frame within shading rounding.
+TEST(Render, InsideOutMeshLooksLikeTheCorrectOne) {
+  TriangleMesh cube;
+  for (int i = 0; i < 8; ++i)
+    cube.vertices.push_back(Vec3((i & 1) ? 1 : -1, (i & 2) ? 1 : -1, (i & 4) ? 1 : -1));
+  cube.triangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                    {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+  TriangleMesh inverted = cube;
+  for (auto& t : inverted.triangles) std::swap(t[1], t[2]);
+  auto frame_of = [](const TriangleMesh& m) {
+    Collider c;
+    c.shape = ShapeKind::mesh;
+    c.mesh = std::make_shared<const TriangleMesh>(m);
+    c.props_C = analyze_mesh(m, MeshMassOptions{}).props;
+    BodyDef b;
+    b.name = "cube";
+    b.colliders = {c};
+    b.color = {0.2f, 0.5f, 0.9f};
+    b.q_WB = Quat(Eigen::AngleAxisd(0.6, Vec3(1, 2, 0).normalized()));
+    CameraView cam;
+    cam.eye = Vec3(5, -6, 4);
+    Fixture f({b}, cam, /*ground=*/true);
+    f.render();
+    return f.frame;
+  };
+  const std::vector<uint8_t> good = frame_of(cube), bad = frame_of(inverted);
+  int worst = 0;
+  for (size_t i = 0; i < good.size(); ++i) worst = std::max(worst, std::abs(good[i] - bad[i]));
+  EXPECT_LE(worst, 2) << "inside-out mesh rendered differently";
 }
 
 TEST(Render, SameSceneTwiceGivesIdenticalFrames) {
