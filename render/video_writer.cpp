@@ -1,5 +1,7 @@
 #include "render/video_writer.hpp"
 
+#include "render/palette.hpp"
+
 extern "C" {
 #include <libavcodec/avcodec.h>
 #include <libavformat/avformat.h>
@@ -42,6 +44,8 @@ struct VideoWriter::Impl {
   AVFrame* frame = nullptr;
   AVPacket* pkt = nullptr;
   SwsContext* sws = nullptr;
+  Palette palette;               // GIF only
+  std::vector<int> dither_rows;  // GIF only: error-diffusion scratch, reused
   bool header_written = false, finished = false;
 
   // Bounded queue: slots cycle free -> filled (by push) -> free (by the encoder thread).
@@ -73,7 +77,7 @@ struct VideoWriter::Impl {
     const AVRational rate = av_d2q(s.fps, 100000);
     enc->time_base = av_inv_q(rate);
     enc->framerate = rate;
-    enc->pix_fmt = gif ? AV_PIX_FMT_RGB8 : AV_PIX_FMT_YUV420P;
+    enc->pix_fmt = gif ? AV_PIX_FMT_PAL8 : AV_PIX_FMT_YUV420P;
     enc->gop_size = (int)std::max(1.0, s.fps * 2);
     if (!gif) {
       enc->color_range = AVCOL_RANGE_MPEG;
@@ -120,14 +124,13 @@ struct VideoWriter::Impl {
     frame->color_trc = enc->color_trc;
     if (av_frame_get_buffer(frame, 0) < 0) throw std::runtime_error("out of memory for a video frame");
     pkt = av_packet_alloc();
-    sws = sws_getContext(s.width, s.height, AV_PIX_FMT_RGBA, s.width, s.height, enc->pix_fmt,
-                         SWS_BILINEAR | (gif ? SWS_ERROR_DIFFUSION : 0), nullptr, nullptr, nullptr);
+    if (gif) return;  // palette mapping, no libswscale (see encode)
+    sws = sws_getContext(s.width, s.height, AV_PIX_FMT_RGBA, s.width, s.height, enc->pix_fmt, SWS_BILINEAR,
+                         nullptr, nullptr, nullptr);
     if (!sws) throw std::runtime_error("libswscale cannot convert RGBA to the video's pixel format");
-    if (!gif) {
-      // RGB to BT.709 limited-range YUV.
-      const int* coef = sws_getCoefficients(SWS_CS_ITU709);
-      sws_setColorspaceDetails(sws, coef, 1, coef, 0, 0, 1 << 16, 1 << 16);
-    }
+    // RGB to BT.709 limited-range YUV.
+    const int* coef = sws_getCoefficients(SWS_CS_ITU709);
+    sws_setColorspaceDetails(sws, coef, 1, coef, 0, 0, 1 << 16, 1 << 16);
   }
 
   void drain_packets() {
@@ -150,9 +153,16 @@ struct VideoWriter::Impl {
     }
     if (!enc) return;
     if (av_frame_make_writable(frame) < 0) throw std::runtime_error("video frame not writable");
-    const uint8_t* src[1] = {rgba};
-    const int stride[1] = {4 * s.width};
-    sws_scale(sws, src, stride, 0, s.height, frame->data, frame->linesize);
+    if (enc->pix_fmt == AV_PIX_FMT_PAL8) {
+      // GIF: one palette for the clip, fitted to its first frame (render/palette.hpp).
+      if (index == 0) palette = fit_palette(rgba, s.width, s.height);
+      map_to_palette(palette, rgba, s.width, s.height, frame->data[0], frame->linesize[0], dither_rows);
+      std::memcpy(frame->data[1], palette.argb.data(), sizeof palette.argb);
+    } else {
+      const uint8_t* src[1] = {rgba};
+      const int stride[1] = {4 * s.width};
+      sws_scale(sws, src, stride, 0, s.height, frame->data, frame->linesize);
+    }
     frame->pts = index;
     const int e = avcodec_send_frame(enc, frame);
     if (e < 0) throw std::runtime_error("encoding failed: " + av_err(e));

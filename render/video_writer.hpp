@@ -2,7 +2,7 @@
 // rendering and encoding overlap and memory stays flat however long the clip.
 //   .mp4 .mov .mkv  H.264 (libx264, yuv420p, CRF, +faststart), BT.709 tagged
 //   .webm           VP9 (libvpx-vp9, realtime, CRF)
-//   .gif            GIF (fixed 3-3-2 palette with dithering)
+//   .gif            GIF (256-colour palette fitted to the first frame, Floyd-Steinberg dithered)
 // The file is written beside the target as "<name>.partial-<pid>.<ext>" and renamed into place by
 // finish(); destroying the writer without finish() removes it. The target never holds a partial file.
 #pragma once
