@@ -31,6 +31,7 @@ options:
   --no-video          with --frames-dir: PNG frames only
   --width W, --height H, --fps F, --duration S    override the scene (odd sizes round up to even)
   --integrator NAME, --timestep DT                 override the scene's physics
+  --threads N         integration threads (frames are identical for any N); default 1
   --msaa N            samples per pixel, 1, 2 or 4 (scene default 4)
   --no-shadows        skip shadow mapping
   --crf N             H.264 quality, 0-51 (default 20; lower is better and larger)
@@ -57,6 +58,7 @@ int cmd_render(const std::vector<std::string>& args) {
                                          {"--integrator", true},
                                          {"--timestep", true},
                                          {"--msaa", true},
+                                         {"--threads", true},
                                          {"--no-shadows", false},
                                          {"--crf", true},
                                          {"--json", false},
@@ -94,7 +96,8 @@ int cmd_render(const std::vector<std::string>& args) {
     if (ec) throw std::runtime_error("cannot create '" + vs.frames_dir + "': " + ec.message());
   }
 
-  World world(world_config(scene, 1), scene.bodies);
+  const int threads = a.has("--threads") ? a.whole("--threads", 1, 256) : 1;
+  World world(world_config(scene, threads), scene.bodies);
   const SceneMeshes meshes(world);
   RenderSettings rs;
   rs.width = w;

@@ -24,8 +24,9 @@ struct Result {
   std::string out;  // stdout and stderr together
 };
 
-Result run(const std::string& args) {
-  const std::string cmd = std::string(SIMREEL_BIN) + " " + args + " 2>&1";
+Result run(const std::string& args, const std::string& env = "") {
+  const std::string cmd =
+      (env.empty() ? "" : "env " + env + " ") + std::string(SIMREEL_BIN) + " " + args + " 2>&1";
   FILE* p = popen(cmd.c_str(), "r");
   std::string out;
   char buf[4096];
@@ -165,6 +166,49 @@ TEST(Cli, InspectReportsMassPropertiesAsJson) {
   EXPECT_EQ(hull.code, 0);
   EXPECT_NE(hull.out.find("\"closed\": false"), std::string::npos);
   EXPECT_EQ(run("inspect " + write("junk.obj", "this is not a mesh\n")).code, 2);
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), {});
+}
+
+// Byte-identical PNG frames from separate processes, whatever llvmpipe's rasteriser thread count
+// (LP_NUM_THREADS 1, 2, 3) and the physics thread count, with shadows and 4x MSAA on.
+TEST(Cli, PngFramesAreIdenticalAcrossProcessesAndThreadCounts) {
+  const std::string scene =
+      write("det.yaml",
+            "simulation: { duration: 0.5, timestep: 0.005, gravity: [0, 0, -9.81] }\n"
+            "video: { width: 96, height: 64, fps: 10 }\n"
+            "camera: { position: [5, -5, 3], look_at: [0, 0, 0] }\n"
+            "render: { ground: { height: -2 } }\n"
+            "bodies:\n"
+            "  - { name: a, angular_velocity: [0.1, 3, 0.1], color: [0.8, 0.3, 0.2],\n"
+            "      colliders: [ { shape: box, size: [3, 2, 1] } ] }\n"
+            "  - { name: b, position: [1, 1, 1], colliders: [ { shape: sphere, radius: 0.5 } ] }\n");
+  const char* runs[][2] = {{"1", "1"}, {"2", "2"}, {"3", "1"}};
+  std::vector<std::vector<std::string>> frames;
+  for (const auto& r : runs) {
+    const fs::path dir = tmp(std::string("frames_lp") + r[0]);
+    fs::create_directories(dir);
+    const Result res = run(std::string("render ") + scene + " --frames-dir " + dir.string() +
+                               " --no-video --quiet --threads " + r[1],
+                           std::string("LP_NUM_THREADS=") + r[0]);
+    ASSERT_EQ(res.code, 0) << res.out;
+    std::vector<std::string> f;
+    for (int k = 0; k <= 5; ++k) {
+      char name[32];
+      std::snprintf(name, sizeof name, "frame_%05d.png", k);
+      ASSERT_TRUE(fs::exists(dir / name)) << dir / name;
+      f.push_back(slurp(dir / name));
+    }
+    frames.push_back(f);
+  }
+  for (size_t r = 1; r < frames.size(); ++r)
+    for (size_t k = 0; k < frames[0].size(); ++k)
+      EXPECT_TRUE(frames[r][k] == frames[0][k])
+          << "frame " << k << " differs with LP_NUM_THREADS=" << runs[r][0];
+  EXPECT_NE(frames[0][0], frames[0][5]) << "the scene should move";
 }
 
 TEST(Cli, InterruptedRenderLeavesAPlayableVideoOfTheFramesDone) {
