@@ -1,6 +1,7 @@
-// An off-screen OpenGL 3.3+ core context whose default framebuffer is a CPU-side RGBA buffer.
-// The OSMesa backend is the one Debian 12 ships; OSMesa left Mesa in 25.1, so the renderer only
-// talks to this interface and a headless EGL (surfaceless + pbuffer/FBO) backend can slot in.
+// An off-screen OpenGL 3.3+ core context, made current on the calling thread. The renderer draws
+// into its own framebuffer objects and reads frames back with glReadPixels, so it needs no default
+// framebuffer at all: exactly what a headless EGL (surfaceless) context offers. The OSMesa backend
+// is the one Debian 12 ships; OSMesa left Mesa in 25.1, and an EGL backend slots in here.
 #pragma once
 #include <cstdint>
 #include <memory>
@@ -11,15 +12,11 @@ namespace simreel {
 class GlContext {
  public:
   virtual ~GlContext() = default;
-  virtual int width() const = 0;
-  virtual int height() const = 0;
-  // After finish(): the default framebuffer, RGBA8, top row first, width*height*4 bytes.
-  virtual const uint8_t* pixels() const = 0;
   virtual void finish() = 0;
   virtual std::string description() const = 0;  ///< renderer and version strings
 };
 
 // Throws std::runtime_error if no context can be made.
-std::unique_ptr<GlContext> make_offscreen_context(int width, int height);
+std::unique_ptr<GlContext> make_offscreen_context();
 
 }  // namespace simreel
