@@ -151,6 +151,30 @@ int whole(const YAML::Node& n, const Ctx& c, int lo, int hi) {
   return (int)v;
 }
 
+}  // namespace
+
+const char* to_string(AntiAliasing a) {
+  switch (a) {
+    case AntiAliasing::none:
+      return "none";
+    case AntiAliasing::fxaa:
+      return "fxaa";
+    case AntiAliasing::msaa2:
+      return "msaa2";
+    case AntiAliasing::msaa4:
+      return "msaa4";
+  }
+  return "?";
+}
+
+std::optional<AntiAliasing> antialiasing_from_name(const std::string& name) {
+  for (AntiAliasing a : {AntiAliasing::none, AntiAliasing::fxaa, AntiAliasing::msaa2, AntiAliasing::msaa4})
+    if (name == to_string(a)) return a;
+  return std::nullopt;
+}
+
+namespace {
+
 Integrator integrator(const YAML::Node& n, const Ctx& c) {
   const std::string name = text(n, c);
   const auto i = integrator_from_name(name);
@@ -374,11 +398,14 @@ Scene load_scene(const std::string& path) {
   }
   if (const YAML::Node r = root["render"]) {
     const Ctx c = top.child("render");
-    check_keys(r, c, {"shadows", "msaa", "background", "ground"});
+    check_keys(r, c, {"shadows", "antialiasing", "background", "ground"});
     if (r["shadows"]) s.render.shadows = boolean(r["shadows"], c.child("shadows"));
-    if (r["msaa"]) {
-      s.render.msaa = whole(r["msaa"], c.child("msaa"), 1, 4);
-      if (s.render.msaa == 3) c.child("msaa").fail(r["msaa"], "must be 1, 2 or 4");
+    if (r["antialiasing"]) {
+      const Ctx ac = c.child("antialiasing");
+      const std::string name = text(r["antialiasing"], ac);
+      const auto a = antialiasing_from_name(name);
+      if (!a) ac.fail(r["antialiasing"], "unknown anti-aliasing '" + name + "' (fxaa, msaa2, msaa4, none)");
+      s.render.antialiasing = *a;
     }
     if (r["background"]) s.render.background = color(r["background"], c.child("background"));
     if (const YAML::Node g = r["ground"]) {

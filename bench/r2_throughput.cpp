@@ -34,7 +34,8 @@ static double bullet_r2_seconds(const std::vector<BodyDef>& defs) {
     const Vec3 half = 0.5 * d.colliders[0].size;
     shapes.push_back(std::make_unique<btBoxShape>(btVector3(half.x(), half.y(), half.z())));
     const Vec3 I = mp.inertia.diagonal();
-    btRigidBody::btRigidBodyConstructionInfo ci(mp.mass, nullptr, shapes.back().get(), btVector3(I.x(), I.y(), I.z()));
+    btRigidBody::btRigidBodyConstructionInfo ci(mp.mass, nullptr, shapes.back().get(),
+                                                btVector3(I.x(), I.y(), I.z()));
     ci.m_startWorldTransform = btTransform(btQuaternion(d.q_WB.x(), d.q_WB.y(), d.q_WB.z(), d.q_WB.w()),
                                            btVector3(d.p_WB.x(), d.p_WB.y(), d.p_WB.z()));
     bodies.push_back(std::make_unique<btRigidBody>(ci));
@@ -97,8 +98,8 @@ int main() {
       for (int r = 0; r < (N >= 10000 ? 1 : 3); ++r) walls.push_back(bullet_r2_seconds(defs));
       std::sort(walls.begin(), walls.end());
       const double mn = walls.front(), md = walls[walls.size() / 2];
-      std::printf("bullet_f64,default_no_pairs,%d,1,1000,%.5f,%.5f,%.4e,%.2f,%zu\n", N, mn, md, N * 1000.0 / mn,
-                  mn / (N * 1000.0) * 1e9, sizeof(btRigidBody));
+      std::printf("bullet_f64,default_no_pairs,%d,1,1000,%.5f,%.5f,%.4e,%.2f,%zu\n", N, mn, md,
+                  N * 1000.0 / mn, mn / (N * 1000.0) * 1e9, sizeof(btRigidBody));
     }
 #endif
     for (Integrator m : {Integrator::automatic, Integrator::rk4, Integrator::splitting,

@@ -60,11 +60,13 @@ struct Setup {
   }
 };
 
-RenderSettings settings(int msaa, bool shadows = true, int shadow_size = 1024) {
+// aa: "fxaa" (the default), "msaa4", "msaa2" or "none".
+RenderSettings settings(const std::string& aa, bool shadows = true, int shadow_size = 1024) {
   RenderSettings rs;
   rs.width = W;
   rs.height = H;
-  rs.msaa = msaa;
+  rs.msaa = aa == "msaa4" ? 4 : aa == "msaa2" ? 2 : 1;
+  rs.fxaa = aa == "fxaa";
   rs.shadow_size = shadow_size;
   rs.shadows = shadows;
   rs.ground = true;
@@ -90,19 +92,20 @@ int main(int argc, char** argv) {
   // frames for the ffmpeg ceiling.
   struct Mode {
     const char* name;
-    int msaa;
+    const char* aa;
     bool shadows;
     int shadow_size;
   };
-  for (const Mode m : {Mode{"msaa4_shadow1024", 4, true, 1024}, Mode{"msaa4_shadow2048", 4, true, 2048},
-                       Mode{"msaa1_shadow1024", 1, true, 1024}, Mode{"msaa4_no_shadows", 4, false, 0},
-                       Mode{"msaa1_no_shadows", 1, false, 0}}) {
+  for (const Mode m :
+       {Mode{"fxaa_shadow1024", "fxaa", true, 1024}, Mode{"msaa4_shadow1024", "msaa4", true, 1024},
+        Mode{"none_shadow1024", "none", true, 1024}, Mode{"fxaa_shadow2048", "fxaa", true, 2048},
+        Mode{"fxaa_no_shadows", "fxaa", false, 0}, Mode{"none_no_shadows", "none", false, 0}}) {
     Setup s(bodies);
-    Renderer r(settings(m.msaa, m.shadows, m.shadow_size), s.meshes);
+    Renderer r(settings(m.aa, m.shadows, m.shadow_size), s.meshes);
     DrawList dl;
     build_draw_list(s.world, s.meshes, s.cam, -1, dl);
-    r.render(dl);                                                 // first frame compiles shaders: not timed
-    const bool keep = std::string(m.name) == "msaa4_shadow1024";  // the defaults
+    r.render(dl);                                                // first frame compiles shaders: not timed
+    const bool keep = std::string(m.name) == "fxaa_shadow1024";  // the defaults
     FILE* out = keep ? std::fopen(raw.c_str(), "wb") : nullptr;
     double t = 0;
     for (int f = 0; f < frames; ++f) {
@@ -114,14 +117,14 @@ int main(int argc, char** argv) {
       if (out) std::fwrite(img, 1, (size_t)W * H * 4, out);
     }
     if (out) std::fclose(out);
-    row((std::string("render_only_") + m.name).c_str(), t, "draw list + GL passes + finish");
+    row((std::string("render_only_") + m.name).c_str(), t, "draw list + GL passes + readback (+ FXAA)");
   }
 
-  // End to end, in process: what `simreel render` does.
-  {
+  // End to end, in process: what `simreel render` does, with the defaults and with 4x MSAA.
+  for (const char* aa : {"fxaa", "msaa4"}) {
     const double t0 = bench::now_s();
     Setup s(bodies);
-    Renderer r(settings(4), s.meshes);
+    Renderer r(settings(aa), s.meshes);
     VideoSettings vs;
     vs.path = (dir / "e2e.mp4").string();
     vs.width = W;
@@ -135,7 +138,7 @@ int main(int argc, char** argv) {
       v.push(r.render(dl));
     }
     v.finish();
-    row("end_to_end", bench::now_s() - t0,
+    row((std::string("end_to_end_") + aa).c_str(), bench::now_s() - t0,
         "simulate + render + libx264 veryfast crf20 on its thread; encoder busy " +
             std::to_string(v.encode_seconds()) + " s; " +
             std::to_string(std::filesystem::file_size(vs.path)) + " bytes");

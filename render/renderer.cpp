@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "render/fxaa.hpp"
 #include "render/gl_context.hpp"
 
 namespace simreel {
@@ -185,6 +186,8 @@ struct Renderer::Impl {
   GLuint msaa_fbo = 0, msaa_color = 0, msaa_depth = 0;
   GLuint frame_fbo = 0, frame_color = 0, frame_depth = 0;  // single-sample, read back
   std::vector<uint8_t> frame;                              // RGBA8, top row first
+  std::vector<uint8_t> aa_frame;                           // after FXAA
+  FxaaBuffers fxaa_buffers;
   GLuint shadow_fbo = 0, shadow_tex = 0;
   std::vector<M4> last_models;  // poses the shadow map was drawn for
   M4 last_lightvp = M4::Zero();
@@ -391,7 +394,10 @@ const uint8_t* Renderer::render(const DrawList& dl) {
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
   glReadPixels(0, 0, s.width, s.height, GL_RGBA, GL_UNSIGNED_BYTE, P.frame.data());  // waits for the frame
   ++P.stats.frames;
-  return P.frame.data();
+  if (!s.fxaa) return P.frame.data();
+  P.aa_frame.resize(P.frame.size());
+  fxaa(P.frame.data(), P.aa_frame.data(), s.width, s.height, P.fxaa_buffers);
+  return P.aa_frame.data();
 }
 
 const RenderStats& Renderer::stats() const {

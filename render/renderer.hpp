@@ -1,6 +1,7 @@
 // GL passes over a draw list: shadow depth from the key light (orthographic frustum fitted to the
-// bodies, skipped while nothing moved), then the lit pass (Blinn-Phong key light with 5-tap PCF
-// shadows, hemisphere fill, checker ground), multisampled and resolved into the frame, gamma 2.2.
+// bodies, skipped while nothing moved), then the lit pass (Blinn-Phong key light with 2 bilinear
+// PCF taps, hemisphere fill, checker ground, gamma 2.2) into an FBO (multisampled and resolved if
+// msaa > 1), read back, then FXAA on the CPU if enabled.
 #pragma once
 #include <array>
 #include <cstdint>
@@ -12,7 +13,8 @@ namespace simreel {
 
 struct RenderSettings {
   int width = 1280, height = 720;  ///< px
-  int msaa = 4;                    ///< 1, 2 or 4 samples
+  int msaa = 1;                    ///< 1, 2 or 4 samples per pixel (GL multisampling)
+  bool fxaa = true;                ///< CPU edge anti-aliasing after readback (render/fxaa.hpp)
   bool shadows = true;
   int shadow_size =
       1024;  ///< px, square shadow map over the fitted frustum (2048 costs 4.9 ms more a 720p frame)

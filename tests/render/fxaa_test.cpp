@@ -1,0 +1,94 @@
+// FXAA against the exact answer: a hard-edged half-plane, where each pixel's true value is the
+// fraction of its area on the bright side (computed here by 64 x 64 supersampling).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "render/fxaa.hpp"
+
+namespace simreel {
+namespace {
+
+constexpr int W = 96, H = 64;
+
+// Bright (230) above the line y = y0 + slope * x, dark (30) below; `coverage` the exact pixel
+// means, `img` what a one-sample rasteriser gives (the pixel centre decides).
+struct HalfPlane {
+  std::vector<uint8_t> img;
+  std::vector<double> coverage;
+  HalfPlane(double slope, double y0) : img((size_t)W * H * 4), coverage((size_t)W * H) {
+    auto bright = [&](double x, double y) { return y < y0 + slope * x; };
+    for (int y = 0; y < H; ++y)
+      for (int x = 0; x < W; ++x) {
+        int in = 0;
+        for (int j = 0; j < 64; ++j)
+          for (int i = 0; i < 64; ++i) in += bright(x + (i + 0.5) / 64, y + (j + 0.5) / 64);
+        coverage[(size_t)y * W + x] = 30 + 200 * in / 4096.0;
+        const uint8_t v = bright(x + 0.5, y + 0.5) ? 230 : 30;
+        uint8_t* p = &img[4 * ((size_t)y * W + x)];
+        p[0] = p[1] = p[2] = v;
+        p[3] = 255;
+      }
+  }
+  // Root-mean-square difference from the exact coverage over pixels the edge passes through.
+  double rms_on_edge(const std::vector<uint8_t>& im) const {
+    double se = 0;
+    int n = 0;
+    for (size_t i = 0; i < coverage.size(); ++i)
+      if (coverage[i] > 31 && coverage[i] < 229) {
+        se += std::pow(im[4 * i] - coverage[i], 2);
+        ++n;
+      }
+    return std::sqrt(se / n);
+  }
+};
+
+// Shallow edges are where aliasing shows (long stair steps) and where FXAA's edge search earns
+// its keep. The aliased image is off by 52-58 grey levels (rms, of 200) on edge pixels and FXAA
+// brings that to 13-22; the test asks for at least half, and every pixel away from the edge
+// untouched.
+TEST(Fxaa, ShallowEdgeApproachesTheExactCoverage) {
+  for (double slope : {0.1, 0.22, -0.15, 0.4}) {
+    const HalfPlane hp(slope, 20.3);
+    std::vector<uint8_t> out(hp.img.size());
+    FxaaBuffers buf;
+    fxaa(hp.img.data(), out.data(), W, H, buf);
+    const double before = hp.rms_on_edge(hp.img), after = hp.rms_on_edge(out);
+    EXPECT_LT(after, 0.5 * before) << "slope " << slope << ": rms " << before << " -> " << after;
+    for (size_t i = 0; i < hp.coverage.size(); ++i) {
+      const int y = (int)(i / W), x = (int)(i % W);
+      const double line = 20.3 + slope * (x + 0.5);
+      if (std::fabs(y + 0.5 - line) > 3) {
+        ASSERT_EQ(out[4 * i], hp.img[4 * i]) << x << "," << y;
+      }
+    }
+  }
+}
+
+TEST(Fxaa, SteepEdgesToo) {  // the same by symmetry with x and y swapped: a near-vertical edge
+  const HalfPlane hp(0.12, 10.0);
+  std::vector<uint8_t> t(hp.img.size());
+  // Transpose into a H x W image (so the edge is near vertical), run, and compare transposed.
+  std::vector<uint8_t> tin((size_t)W * H * 4), tout(tin.size());
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x)
+      for (int c = 0; c < 4; ++c) tin[4 * ((size_t)x * H + y) + c] = hp.img[4 * ((size_t)y * W + x) + c];
+  FxaaBuffers buf;
+  fxaa(tin.data(), tout.data(), H, W, buf);
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x)
+      for (int c = 0; c < 4; ++c) t[4 * ((size_t)y * W + x) + c] = tout[4 * ((size_t)x * H + y) + c];
+  EXPECT_LT(hp.rms_on_edge(t), 0.5 * hp.rms_on_edge(hp.img));
+}
+
+TEST(Fxaa, FlatAndLowContrastImagesAreUntouched) {
+  std::vector<uint8_t> img((size_t)W * H * 4), out(img.size());
+  for (size_t i = 0; i < img.size(); ++i) img[i] = (uint8_t)(100 + (i / 4) % 7);  // below threshold
+  FxaaBuffers buf;
+  fxaa(img.data(), out.data(), W, H, buf);
+  EXPECT_EQ(img, out);
+}
+
+}  // namespace
+}  // namespace simreel
