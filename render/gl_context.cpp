@@ -43,11 +43,14 @@ class OsMesaContext final : public GlContext {
                            0};
     ctx_ = OSMesaCreateContextAttribs(attribs, nullptr);
     if (!ctx_) throw std::runtime_error("OSMesa could not create an OpenGL 3.3 core context");
-    // OSMesa needs a buffer to make the context current; frames go to FBOs, so a token one does.
-    if (!OSMesaMakeCurrent(ctx_, buf_.data(), GL_UNSIGNED_BYTE, kSide, kSide)) {
+    if (!bind()) {
       OSMesaDestroyContext(ctx_);
       throw std::runtime_error("OSMesa could not make its context current");
     }
+  }
+  void make_current() override {
+    if (OSMesaGetCurrentContext() != ctx_ && !bind())
+      throw std::runtime_error("OSMesa could not make its context current");
   }
   ~OsMesaContext() override {
     OSMesaDestroyContext(ctx_);
@@ -62,6 +65,10 @@ class OsMesaContext final : public GlContext {
   }
 
  private:
+  // OSMesa needs a buffer to make the context current; frames go to FBOs, so a token one does.
+  bool bind() {
+    return OSMesaMakeCurrent(ctx_, buf_.data(), GL_UNSIGNED_BYTE, kSide, kSide);
+  }
   static constexpr int kSide = 16;
   std::vector<uint8_t> buf_;
   OSMesaContext ctx_ = nullptr;

@@ -12,6 +12,7 @@ namespace simreel {
 class GlContext {
  public:
   virtual ~GlContext() = default;
+  virtual void make_current() = 0;  ///< several renderers may live in one thread
   virtual void finish() = 0;
   virtual std::string description() const = 0;  ///< renderer and version strings
 };

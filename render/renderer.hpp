@@ -22,10 +22,12 @@ struct RenderSettings {
   bool ground = false;
   double ground_height = 0, ground_size = 20, ground_tile = 1;  ///< m
   std::array<float, 3> ground_color{0.62f, 0.62f, 0.58f};
+  bool cache_ground = true;  ///< draw the unshadowed ground once per camera; see Renderer::render
 };
 
 struct RenderStats {
   long frames = 0, shadow_passes = 0, shadow_reused = 0;
+  long ground_cached = 0, ground_reused = 0;  ///< frames that drew / copied the cached ground
 };
 
 class Renderer {
