@@ -110,7 +110,8 @@ int cmd_render(const std::vector<std::string>& args) {
     aa = *m;
   }
   rs.msaa = aa == AntiAliasing::msaa4 ? 4 : aa == AntiAliasing::msaa2 ? 2 : 1;
-  rs.fxaa = aa == AntiAliasing::fxaa;
+  rs.fxaa = false;  // FXAA runs on the writer's thread, overlapping the next frame's rendering
+  vs.fxaa = aa == AntiAliasing::fxaa;
   rs.shadows = scene.render.shadows && !a.has("--no-shadows");
   rs.background = scene.render.background;
   rs.ground = scene.render.ground;

@@ -124,8 +124,11 @@ int main(int argc, char** argv) {
   for (const char* aa : {"fxaa", "msaa4"}) {
     const double t0 = bench::now_s();
     Setup s(bodies);
-    Renderer r(settings(aa), s.meshes);
+    RenderSettings rs = settings(aa);
+    rs.fxaa = false;  // as `simreel render`: FXAA on the writer's thread
+    Renderer r(rs, s.meshes);
     VideoSettings vs;
+    vs.fxaa = std::string(aa) == "fxaa";
     vs.path = (dir / "e2e.mp4").string();
     vs.width = W;
     vs.height = H;

@@ -19,14 +19,15 @@ constexpr float kSubpix = 0.75f;
 constexpr int kSteps[] = {1, 1, 2, 2, 2, 2, 4, 8};  // FXAA 3.11 preset 12's spacing, whole pixels
 }  // namespace
 
-void fxaa(const uint8_t* in, uint8_t* out, int w, int h, FxaaBuffers& buf) {
+void fxaa(uint8_t* img, int w, int h, FxaaBuffers& buf) {
+  const uint8_t* in = img;
   const size_t n = (size_t)w * h;
   buf.luma.resize(n);
   uint8_t* L = buf.luma.data();
   // Luma of the gamma-encoded colour (Rec. 601 weights, as FXAA uses), in 8 bits.
   for (size_t i = 0; i < n; ++i)
     L[i] = (uint8_t)((77 * in[4 * i] + 150 * in[4 * i + 1] + 29 * in[4 * i + 2] + 128) >> 8);
-  std::memcpy(out, in, n * 4);
+  buf.changes.clear();
   if (w < 3 || h < 3) return;
   buf.edge.resize(w);
   uint8_t* edge = buf.edge.data();
@@ -104,10 +105,14 @@ void fxaa(const uint8_t* in, uint8_t* out, int w, int h, FxaaBuffers& buf) {
       const int nx = horizontal ? x : x + across, ny = horizontal ? y + across : y;
       const uint8_t* p = in + ((size_t)y * w + x) * 4;
       const uint8_t* q = in + ((size_t)ny * w + nx) * 4;
-      uint8_t* o = out + ((size_t)y * w + x) * 4;
-      for (int c = 0; c < 3; ++c) o[c] = (uint8_t)(p[c] + t * ((float)q[c] - p[c]) + 0.5f);  // in [0, 255.5]
+      FxaaBuffers::Change ch;
+      ch.index = (uint32_t)((size_t)y * w + x);
+      for (int c = 0; c < 3; ++c)
+        ch.rgb[c] = (uint8_t)(p[c] + t * ((float)q[c] - p[c]) + 0.5f);  // in [0, 255.5]
+      buf.changes.push_back(ch);
     }
   }
+  for (const FxaaBuffers::Change& ch : buf.changes) std::memcpy(img + 4 * (size_t)ch.index, ch.rgb, 3);
 }
 
 }  // namespace simreel

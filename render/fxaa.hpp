@@ -15,9 +15,15 @@ namespace simreel {
 struct FxaaBuffers {
   std::vector<uint8_t> luma;  ///< one byte per pixel, sized on first use, then reused
   std::vector<uint8_t> edge;  ///< one row of edge flags
+  struct Change {
+    uint32_t index;  ///< pixel
+    uint8_t rgb[3];
+  };
+  std::vector<Change> changes;  ///< blended pixels, applied once every pixel has been read
 };
 
-// `in` and `out` are RGBA8 images of width x height, rows top first, and must not overlap.
-void fxaa(const uint8_t* in, uint8_t* out, int width, int height, FxaaBuffers& buffers);
+// In place on an RGBA8 image of width x height, rows top first. Every decision reads the image as
+// it was on entry; alpha is left alone.
+void fxaa(uint8_t* rgba, int width, int height, FxaaBuffers& buffers);
 
 }  // namespace simreel

@@ -205,8 +205,7 @@ struct Renderer::Impl {
   GLuint foot_vao = 0, foot_vbo = 0;
   std::vector<float> foot_vertices;
   size_t foot_capacity = 0;
-  std::vector<uint8_t> frame;     // RGBA8, top row first
-  std::vector<uint8_t> aa_frame;  // after FXAA
+  std::vector<uint8_t> frame;  // RGBA8, top row first
   FxaaBuffers fxaa_buffers;
   GLuint shadow_fbo = 0, shadow_tex = 0;
   std::vector<M4> last_models;  // poses the shadow map was drawn for
@@ -517,10 +516,8 @@ const uint8_t* Renderer::render(const DrawList& dl) {
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
   glReadPixels(0, 0, s.width, s.height, GL_RGBA, GL_UNSIGNED_BYTE, P.frame.data());  // waits for the frame
   ++P.stats.frames;
-  if (!s.fxaa) return P.frame.data();
-  P.aa_frame.resize(P.frame.size());
-  fxaa(P.frame.data(), P.aa_frame.data(), s.width, s.height, P.fxaa_buffers);
-  return P.aa_frame.data();
+  if (s.fxaa) fxaa(P.frame.data(), s.width, s.height, P.fxaa_buffers);
+  return P.frame.data();
 }
 
 const RenderStats& Renderer::stats() const {

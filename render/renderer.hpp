@@ -14,7 +14,8 @@ namespace simreel {
 struct RenderSettings {
   int width = 1280, height = 720;  ///< px
   int msaa = 1;                    ///< 1, 2 or 4 samples per pixel (GL multisampling)
-  bool fxaa = true;                ///< CPU edge anti-aliasing after readback (render/fxaa.hpp)
+  bool fxaa = true;  ///< CPU edge anti-aliasing after readback (render/fxaa.hpp); `simreel render`
+                     ///< leaves it to the video writer's thread instead (VideoSettings::fxaa)
   bool shadows = true;
   int shadow_size =
       1024;  ///< px, square shadow map over the fitted frustum (2048 costs 4.9 ms more a 720p frame)

@@ -1,5 +1,6 @@
 #include "render/video_writer.hpp"
 
+#include "render/fxaa.hpp"
 #include "render/palette.hpp"
 
 extern "C" {
@@ -46,6 +47,7 @@ struct VideoWriter::Impl {
   SwsContext* sws = nullptr;
   Palette palette;               // GIF only
   std::vector<int> dither_rows;  // GIF only: error-diffusion scratch, reused
+  FxaaBuffers fxaa_buffers;
   bool header_written = false, finished = false;
 
   // Bounded queue: slots cycle free -> filled (by push) -> free (by the encoder thread).
@@ -145,7 +147,8 @@ struct VideoWriter::Impl {
     }
   }
 
-  void encode(const uint8_t* rgba, long index) {
+  void encode(uint8_t* rgba, long index) {
+    if (s.fxaa) fxaa(rgba, s.width, s.height, fxaa_buffers);
     if (!s.frames_dir.empty()) {
       char name[32];
       std::snprintf(name, sizeof name, "frame_%05ld.png", index);

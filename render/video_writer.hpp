@@ -20,6 +20,9 @@ struct VideoSettings {
   int crf = 20;  ///< x264 quality (lower is better; 18-23 typical)
   std::string preset = "veryfast";
   int queue = 4;  ///< frames in flight between renderer and encoder
+  // FXAA (render/fxaa.hpp) on each frame, on the encoding thread, before PNG and video: there it
+  // overlaps the rendering of the next frame instead of delaying it.
+  bool fxaa = false;
 };
 
 class VideoWriter {

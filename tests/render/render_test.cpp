@@ -1,5 +1,6 @@
 // Tiny renders (160 x 120) checked pixel by pixel, and a video encoded then decoded back.
 #include <gtest/gtest.h>
+#include <png.h>
 
 #include <cmath>
 #include <cstring>
@@ -357,6 +358,40 @@ TEST(Video, GifRoundTripUsesAPaletteFittedToTheClip) {
   ASSERT_EQ(r.decoded.first_rgba.size(), r.first.size());
   const double psnr = psnr_rgb(r.decoded.first_rgba, r.first);
   EXPECT_GT(psnr, 30.0);
+}
+
+std::vector<uint8_t> read_png(const std::string& path) {
+  png_image im{};
+  im.version = PNG_IMAGE_VERSION;
+  if (!png_image_begin_read_from_file(&im, path.c_str())) return {};
+  im.format = PNG_FORMAT_RGBA;
+  std::vector<uint8_t> px(PNG_IMAGE_SIZE(im));
+  if (!png_image_finish_read(&im, nullptr, px.data(), 0, nullptr)) return {};
+  return px;
+}
+
+// `simreel render` hands FXAA to the writer's thread; the frames must be those the renderer
+// makes with FXAA itself, byte for byte.
+TEST(Video, WriterFxaaMatchesRendererFxaa) {
+  CameraView c;
+  c.eye = Vec3(3, -3, 2);
+  auto raw = [](RenderSettings& rs) { rs.fxaa = false; };
+  Fixture with({colored(r1_tumble_body(), {0.8f, 0.4f, 0.2f}, Vec3::Zero())}, c, true);
+  Fixture without({colored(r1_tumble_body(), {0.8f, 0.4f, 0.2f}, Vec3::Zero())}, c, true, true, raw);
+  with.render();
+  without.render();
+  ASSERT_NE(with.frame, without.frame) << "FXAA changed nothing";
+  VideoSettings vs;
+  vs.frames_dir = test::scratch_dir().string();
+  vs.width = W;
+  vs.height = H;
+  vs.fxaa = true;
+  {
+    VideoWriter v(vs);
+    v.push(without.frame.data());
+    v.finish();
+  }
+  EXPECT_EQ(read_png(test::scratch("frame_00000.png")), with.frame);
 }
 
 TEST(Video, WriterDestroyedWithoutFinishLeavesNothing) {
