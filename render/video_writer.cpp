@@ -2,13 +2,13 @@
 
 #include "render/fxaa.hpp"
 #include "render/palette.hpp"
+#include "render/yuv.hpp"
 
 extern "C" {
 #include <libavcodec/avcodec.h>
 #include <libavformat/avformat.h>
 #include <libavutil/imgutils.h>
 #include <libavutil/opt.h>
-#include <libswscale/swscale.h>
 }
 
 #include <unistd.h>
@@ -44,7 +44,6 @@ struct VideoWriter::Impl {
   AVStream* st = nullptr;
   AVFrame* frame = nullptr;
   AVPacket* pkt = nullptr;
-  SwsContext* sws = nullptr;
   Palette palette;               // GIF only
   std::vector<int> dither_rows;  // GIF only: error-diffusion scratch, reused
   FxaaBuffers fxaa_buffers;
@@ -126,13 +125,7 @@ struct VideoWriter::Impl {
     frame->color_trc = enc->color_trc;
     if (av_frame_get_buffer(frame, 0) < 0) throw std::runtime_error("out of memory for a video frame");
     pkt = av_packet_alloc();
-    if (gif) return;  // palette mapping, no libswscale (see encode)
-    sws = sws_getContext(s.width, s.height, AV_PIX_FMT_RGBA, s.width, s.height, enc->pix_fmt, SWS_BILINEAR,
-                         nullptr, nullptr, nullptr);
-    if (!sws) throw std::runtime_error("libswscale cannot convert RGBA to the video's pixel format");
-    // RGB to BT.709 limited-range YUV.
-    const int* coef = sws_getCoefficients(SWS_CS_ITU709);
-    sws_setColorspaceDetails(sws, coef, 1, coef, 0, 0, 1 << 16, 1 << 16);
+    // Pixel conversion in encode(): palette mapping for GIF, render/yuv.hpp for YUV 4:2:0.
   }
 
   void drain_packets() {
@@ -162,9 +155,8 @@ struct VideoWriter::Impl {
       map_to_palette(palette, rgba, s.width, s.height, frame->data[0], frame->linesize[0], dither_rows);
       std::memcpy(frame->data[1], palette.argb.data(), sizeof palette.argb);
     } else {
-      const uint8_t* src[1] = {rgba};
-      const int stride[1] = {4 * s.width};
-      sws_scale(sws, src, stride, 0, s.height, frame->data, frame->linesize);
+      rgba_to_yuv420_bt709(rgba, s.width, s.height, frame->data[0], frame->linesize[0], frame->data[1],
+                           frame->linesize[1], frame->data[2], frame->linesize[2]);
     }
     frame->pts = index;
     const int e = avcodec_send_frame(enc, frame);
@@ -206,7 +198,6 @@ struct VideoWriter::Impl {
   }
 
   void release() {
-    sws_freeContext(sws);
     av_packet_free(&pkt);
     av_frame_free(&frame);
     avcodec_free_context(&enc);
