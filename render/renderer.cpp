@@ -5,6 +5,7 @@
 #include <GL/glext.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -48,17 +49,34 @@ M4 ortho(float r, float n, float f) {
   return m;
 }
 
+// Bodies are drawn in one call: every body mesh lives in one vertex buffer whose vertices carry
+// their mesh's index (a_item), and each frame the meshes' model matrices and colours go into a
+// buffer texture (5 RGBA32F texels per mesh). With u_batched == 0 a single mesh is drawn with
+// the u_model and u_color uniforms (the ground, and the fallback).
 const char* kLitVS = R"(#version 330 core
 layout(location = 0) in vec3 a_pos;
 layout(location = 1) in vec3 a_nrm;
+layout(location = 2) in uint a_item;
 uniform mat4 u_model, u_viewproj, u_lightvp;
+uniform vec3 u_color;
+uniform int u_batched;
+uniform samplerBuffer u_items;
 out vec3 v_pos;
 out vec3 v_nrm;
 out vec4 v_lpos;
+flat out vec3 v_color;
 void main() {
-  vec4 w = u_model * vec4(a_pos, 1.0);
+  mat4 model = u_model;
+  v_color = u_color;
+  if (u_batched == 1) {
+    int b = int(a_item) * 5;
+    model = mat4(texelFetch(u_items, b), texelFetch(u_items, b + 1), texelFetch(u_items, b + 2),
+                 texelFetch(u_items, b + 3));
+    v_color = texelFetch(u_items, b + 4).rgb;
+  }
+  vec4 w = model * vec4(a_pos, 1.0);
   v_pos = w.xyz;
-  v_nrm = mat3(u_model) * a_nrm;
+  v_nrm = mat3(model) * a_nrm;
   v_lpos = u_lightvp * w;
   gl_Position = u_viewproj * w;
 }
@@ -70,7 +88,8 @@ const char* kLitFS = R"(#version 330 core
 in vec3 v_pos;
 in vec3 v_nrm;
 in vec4 v_lpos;
-uniform vec3 u_color, u_light_dir, u_eye;
+flat in vec3 v_color;
+uniform vec3 u_light_dir, u_eye;
 uniform int u_shadows, u_checker;
 uniform float u_tile, u_bias;
 uniform sampler2DShadow u_shadow_map;
@@ -89,7 +108,7 @@ float lit_fraction() {
 void main() {
   vec3 n = normalize(v_nrm);
   if (!gl_FrontFacing) n = -n;
-  vec3 base = u_color;
+  vec3 base = v_color;
   if (u_checker == 1) {
     ivec2 c = ivec2(floor(v_pos.xy / u_tile));
     if (((c.x + c.y) & 1) == 1) base *= 0.72;
@@ -107,8 +126,20 @@ void main() {
 
 const char* kDepthVS = R"(#version 330 core
 layout(location = 0) in vec3 a_pos;
+layout(location = 2) in uint a_item;
 uniform mat4 u_mvp;
-void main() { gl_Position = u_mvp * vec4(a_pos, 1.0); }
+uniform int u_batched;
+uniform samplerBuffer u_items;
+void main() {
+  if (u_batched == 1) {
+    int b = int(a_item) * 5;
+    mat4 model = mat4(texelFetch(u_items, b), texelFetch(u_items, b + 1), texelFetch(u_items, b + 2),
+                      texelFetch(u_items, b + 3));
+    gl_Position = u_mvp * (model * vec4(a_pos, 1.0));
+  } else {
+    gl_Position = u_mvp * vec4(a_pos, 1.0);
+  }
+}
 )";
 const char* kDepthFS = R"(#version 330 core
 void main() {}
@@ -192,6 +223,13 @@ struct Renderer::Impl {
       u_map, u_mvp;
   std::vector<GpuMesh> meshes;
   GpuMesh ground;
+  // All body meshes in one buffer for one draw call (see kLitVS): one-sided meshes' triangles
+  // first, then the two-sided ones.
+  GLuint batch_vao = 0, batch_vbo = 0, batch_item_vbo = 0, batch_ebo = 0, items_tbo = 0, items_tex = 0;
+  GLsizei batch_one = 0, batch_two = 0;
+  std::vector<float> item_data;  // 20 floats per mesh: model matrix (column-major), colour, 0
+  std::vector<char> item_seen;
+  GLint u_batched = -1, u_items = -1, d_batched = -1, d_items = -1;
   GLuint msaa_fbo = 0, msaa_color = 0, msaa_depth = 0;
   GLuint frame_fbo = 0, frame_color = 0, frame_depth = 0;  // single-sample, read back
   // The ground and sky without shadows, drawn once per camera and ground placement, copied into
@@ -298,7 +336,7 @@ struct Renderer::Impl {
     return true;
   }
 
-  void shadow_pass(const DrawList& dl, const M4& lvp) {
+  void shadow_pass(const DrawList& dl, const M4& lvp, bool batched) {
     if (poses_unchanged(dl, lvp)) {
       ++stats.shadow_reused;
       return;
@@ -311,19 +349,104 @@ struct Renderer::Impl {
     glFrontFace(GL_CCW);
     glEnable(GL_POLYGON_OFFSET_FILL);
     glPolygonOffset(1.5f, 2.0f);
-    for (const DrawItem& it : dl.items) {
-      const M4 mvp = lvp * it.model;
-      glUniformMatrix4fv(u_mvp, 1, GL_FALSE, mvp.data());
-      const GpuMesh& g = meshes[it.mesh];
-      glBindVertexArray(g.vao);
-      if (g.two_sided) glDisable(GL_CULL_FACE);
-      glDrawElements(GL_TRIANGLES, g.count, GL_UNSIGNED_INT, nullptr);
-      if (g.two_sided) glEnable(GL_CULL_FACE);
-    }
+    if (batched) glUniformMatrix4fv(u_mvp, 1, GL_FALSE, lvp.data());
+    draw_bodies(dl, batched, d_batched, &lvp);
     glDisable(GL_POLYGON_OFFSET_FILL);
     last_models.resize(dl.items.size());
     for (size_t i = 0; i < dl.items.size(); ++i) last_models[i] = dl.items[i].model;
     last_lightvp = lvp;
+  }
+
+  void build_batch(const SceneMeshes& sm) {
+    std::vector<float> v;
+    std::vector<uint32_t> item, one, two;
+    for (size_t i = 0; i < sm.meshes.size(); ++i) {
+      const RenderMesh& m = sm.meshes[i];
+      const uint32_t base = (uint32_t)(v.size() / 6);
+      v.insert(v.end(), m.vertices.begin(), m.vertices.end());
+      item.insert(item.end(), m.vertices.size() / 6, (uint32_t)i);
+      for (uint32_t k : m.indices) (m.two_sided ? two : one).push_back(base + k);
+    }
+    batch_one = (GLsizei)one.size();
+    batch_two = (GLsizei)two.size();
+    one.insert(one.end(), two.begin(), two.end());
+    glGenVertexArrays(1, &batch_vao);
+    glBindVertexArray(batch_vao);
+    glGenBuffers(1, &batch_vbo);
+    glBindBuffer(GL_ARRAY_BUFFER, batch_vbo);
+    glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(v.size() * sizeof(float)), v.data(), GL_STATIC_DRAW);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), (void*)0);
+    glEnableVertexAttribArray(1);
+    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), (void*)(3 * sizeof(float)));
+    glGenBuffers(1, &batch_item_vbo);
+    glBindBuffer(GL_ARRAY_BUFFER, batch_item_vbo);
+    glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(item.size() * sizeof(uint32_t)), item.data(), GL_STATIC_DRAW);
+    glEnableVertexAttribArray(2);
+    glVertexAttribIPointer(2, 1, GL_UNSIGNED_INT, 0, (void*)0);
+    glGenBuffers(1, &batch_ebo);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, batch_ebo);
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)(one.size() * sizeof(uint32_t)), one.data(),
+                 GL_STATIC_DRAW);
+    glBindVertexArray(0);
+    item_data.assign(std::max<size_t>(1, sm.meshes.size()) * 20, 0.0f);
+    item_seen.assign(sm.meshes.size(), 0);
+    glGenBuffers(1, &items_tbo);
+    glBindBuffer(GL_TEXTURE_BUFFER, items_tbo);
+    glBufferData(GL_TEXTURE_BUFFER, (GLsizeiptr)(item_data.size() * sizeof(float)), nullptr, GL_STREAM_DRAW);
+    glGenTextures(1, &items_tex);
+    glBindTexture(GL_TEXTURE_BUFFER, items_tex);
+    glTexBuffer(GL_TEXTURE_BUFFER, GL_RGBA32F, items_tbo);
+  }
+
+  // This frame's model matrices and colours into the buffer texture. False if the draw list is
+  // not one item per mesh (then every item is drawn on its own). A mesh without an item gets a
+  // zero matrix: its triangles collapse and draw nothing.
+  bool fill_items(const DrawList& dl) {
+    std::fill(item_data.begin(), item_data.end(), 0.0f);
+    std::fill(item_seen.begin(), item_seen.end(), 0);
+    for (const DrawItem& it : dl.items) {
+      if (it.mesh < 0 || it.mesh >= (int)item_seen.size() || item_seen[it.mesh]) return false;
+      item_seen[it.mesh] = 1;
+      float* d = &item_data[20 * (size_t)it.mesh];
+      std::copy(it.model.data(), it.model.data() + 16, d);
+      d[16] = it.color[0], d[17] = it.color[1], d[18] = it.color[2];
+    }
+    glBindBuffer(GL_TEXTURE_BUFFER, items_tbo);
+    glBufferSubData(GL_TEXTURE_BUFFER, 0, (GLsizeiptr)(item_data.size() * sizeof(float)), item_data.data());
+    return true;
+  }
+
+  // Every body, with the program in use (lit or depth): one draw per winding kind when batched.
+  void draw_bodies(const DrawList& dl, bool batched, GLint batched_loc, const M4* light_vp) {
+    if (batched) {
+      glUniform1i(batched_loc, 1);
+      glActiveTexture(GL_TEXTURE1);
+      glBindTexture(GL_TEXTURE_BUFFER, items_tex);
+      glActiveTexture(GL_TEXTURE0);
+      glBindVertexArray(batch_vao);
+      if (batch_one) glDrawElements(GL_TRIANGLES, batch_one, GL_UNSIGNED_INT, nullptr);
+      if (batch_two) {
+        glDisable(GL_CULL_FACE);
+        glDrawElements(GL_TRIANGLES, batch_two, GL_UNSIGNED_INT, (void*)(batch_one * sizeof(uint32_t)));
+        glEnable(GL_CULL_FACE);
+      }
+      glUniform1i(batched_loc, 0);
+      return;
+    }
+    for (const DrawItem& it : dl.items) {
+      if (light_vp) {
+        const M4 mvp = *light_vp * it.model;
+        glUniformMatrix4fv(u_mvp, 1, GL_FALSE, mvp.data());
+        const GpuMesh& g = meshes[it.mesh];
+        glBindVertexArray(g.vao);
+        if (g.two_sided) glDisable(GL_CULL_FACE);
+        glDrawElements(GL_TRIANGLES, g.count, GL_UNSIGNED_INT, nullptr);
+        if (g.two_sided) glEnable(GL_CULL_FACE);
+      } else {
+        draw(meshes[it.mesh], it.model, it.color, 0);
+      }
+    }
   }
 
   // Ground rectangles that hold every shadow a body can cast on the ground this frame: the 8
@@ -407,7 +530,19 @@ Renderer::Renderer(const RenderSettings& s, const SceneMeshes& sm) : p_(std::mak
   P.u_bias = glGetUniformLocation(L, "u_bias");
   P.u_map = glGetUniformLocation(L, "u_shadow_map");
   P.u_mvp = glGetUniformLocation(P.depth, "u_mvp");
+  P.u_batched = glGetUniformLocation(L, "u_batched");
+  P.u_items = glGetUniformLocation(L, "u_items");
+  P.d_batched = glGetUniformLocation(P.depth, "u_batched");
+  P.d_items = glGetUniformLocation(P.depth, "u_items");
+  glUseProgram(P.lit);
+  glUniform1i(P.u_items, 1);  // texture unit 1
+  glUniform1i(P.u_batched, 0);
+  glUseProgram(P.depth);
+  glUniform1i(P.d_items, 1);
+  glUniform1i(P.d_batched, 0);
+  glUseProgram(0);
   for (const RenderMesh& m : sm.meshes) P.meshes.push_back(upload(m));
+  P.build_batch(sm);
   if (s.ground) P.ground = upload(tessellate_plane(s.ground_size));
   P.setup_targets();
   glEnable(GL_DEPTH_TEST);
@@ -423,7 +558,8 @@ const uint8_t* Renderer::render(const DrawList& dl) {
   const RenderSettings& s = P.s;
   P.ctx->make_current();
   const M4 lvp = P.light_viewproj(dl);
-  if (s.shadows) P.shadow_pass(dl, lvp);
+  const bool batched = P.fill_items(dl);
+  if (s.shadows) P.shadow_pass(dl, lvp, batched);
 
   const GLuint target = s.msaa > 1 ? P.msaa_fbo : P.frame_fbo;
   glViewport(0, 0, s.width, s.height);
@@ -500,7 +636,8 @@ const uint8_t* Renderer::render(const DrawList& dl) {
   glBindFramebuffer(GL_FRAMEBUFFER, target);
   if (!cached) glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   glUniform1i(P.u_shadows, s.shadows ? 1 : 0);
-  for (const DrawItem& it : dl.items) P.draw(P.meshes[it.mesh], it.model, it.color, 0);
+  glUniform1i(P.u_checker, 0);
+  P.draw_bodies(dl, batched, P.u_batched, nullptr);
   if (cached) {
     if (s.shadows) P.draw_shadow_footprints(dl, lvp);
   } else if (s.ground) {

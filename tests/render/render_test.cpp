@@ -213,6 +213,29 @@ TEST(Render, CachedGroundLooksLikeTheFullGround) {
   EXPECT_GT(shadowed, 200) << "no shadows on the ground";
 }
 
+// Bodies are drawn in one batched call when the draw list has one item per mesh; a list that
+// draws a mesh twice (an overlay might) takes the one-draw-per-item path. Both copies must show,
+// and the batched frame must equal the per-item frame of the same single item.
+TEST(Render, MeshDrawnTwiceUsesThePerItemPathAndShowsBoth) {
+  Fixture s({colored(box_body("b", Vec3(1, 1, 1), 1), {0.9f, 0.1f, 0.1f}, Vec3::Zero())}, top_down(), false);
+  DrawList dl;
+  build_draw_list(*s.world, *s.meshes, s.cam, -1, dl);
+  const uint8_t* one = s.renderer->render(dl);
+  const std::vector<uint8_t> single(one, one + (size_t)W * H * 4);
+  DrawItem left = dl.items[0], right = dl.items[0];
+  left.model(0, 3) = -2.0f;
+  right.model(0, 3) = 2.0f;
+  dl.items = {left, right};
+  const uint8_t* two = s.renderer->render(dl);
+  // x = -2 and +2 m at 10 m with a 40 degree fov: about 41 px either side of the centre.
+  // Red: much more red than green; the sky between them is bluish grey (g > r - 20).
+  auto red = [](Px p) { return p.r > p.g + 60; };
+  EXPECT_TRUE(red(at(two, W / 2 - 41, H / 2)));
+  EXPECT_TRUE(red(at(two, W / 2 + 41, H / 2)));
+  EXPECT_FALSE(red(at(two, W / 2, H / 2)));
+  EXPECT_TRUE(red(at(single.data(), W / 2, H / 2)));
+}
+
 TEST(Render, SameSceneTwiceGivesIdenticalFrames) {
   std::vector<uint8_t> a, b;
   for (auto* out : {&a, &b}) {
