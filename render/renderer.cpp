@@ -181,6 +181,7 @@ struct GpuMesh {
   GLsizei count = 0;
   bool two_sided = false;
   V3f lo = V3f::Zero(), hi = V3f::Zero();  ///< m, bounding box in the mesh frame
+  float reach = 0;                         ///< m, farthest vertex from the mesh origin
 };
 
 GpuMesh upload(const RenderMesh& m) {
@@ -207,6 +208,7 @@ GpuMesh upload(const RenderMesh& m) {
       const V3f p(m.vertices[i], m.vertices[i + 1], m.vertices[i + 2]);
       g.lo = g.lo.cwiseMin(p);
       g.hi = g.hi.cwiseMax(p);
+      g.reach = std::max(g.reach, p.norm());
     }
   }
   glBindVertexArray(0);
@@ -316,9 +318,10 @@ struct Renderer::Impl {
 
   // Orthographic light frustum around the bodies' bounding sphere, deep enough to reach the
   // ground below them. Everything a body shades lies inside the sphere's light-space disk.
+  static float light_radius(const DrawList& dl) { return (float)dl.bounds_radius * 1.02f; }  ///< m
   M4 light_viewproj(const DrawList& dl) const {
     const V3f c = dl.bounds_center.cast<float>();
-    const float r = (float)dl.bounds_radius * 1.02f;
+    const float r = light_radius(dl);
     const V3f eye = c + light_dir * (r + 1.0f);
     V3f up = std::fabs(light_dir.z()) > 0.99f ? V3f::UnitY() : V3f::UnitZ();
     float far = 2 * r + 1.0f;
@@ -451,11 +454,12 @@ struct Renderer::Impl {
 
   // Ground rectangles that hold every shadow a body can cast on the ground this frame: the 8
   // corners of its mesh's bounding box, projected along the light onto the plane (x - L (x_z -
-  // z_g) / L_z), bound it; widened by two shadow-map texels for the soft edge. Bodies wholly
+  // z_g) / L_z), bound it; widened by three shadow-map texels for the soft edge. Bodies wholly
   // below the ground cast nothing on it.
-  void draw_shadow_footprints(const DrawList& dl, const M4& lvp) {
+  void draw_shadow_footprints(const DrawList& dl, bool over_ground_depth) {
     const float zg = (float)s.ground_height, lz = std::max(light_dir.z(), 0.05f);
-    const float margin = 2 * 2.0f / lvp(0, 0) / (float)s.shadow_size;  // two shadow-map texels, m
+    // The shadow map spans 2 r over shadow_size texels; the PCF taps reach 1.5 texels: take 3.
+    const float margin = 3 * 2 * light_radius(dl) / (float)s.shadow_size;  // m
     foot_vertices.clear();
     for (const DrawItem& it : dl.items) {
       const GpuMesh& g = meshes[it.mesh];
@@ -488,13 +492,17 @@ struct Renderer::Impl {
     glUniformMatrix4fv(u_model, 1, GL_FALSE, identity.data());
     glUniform3f(u_color, s.ground_color[0], s.ground_color[1], s.ground_color[2]);
     glUniform1i(u_checker, 1);
-    // In front of the cached ground's depth by a hair, behind everything else.
-    glEnable(GL_POLYGON_OFFSET_FILL);
-    glPolygonOffset(-1.0f, -4.0f);
+    // Over the cached ground's depth: in front of it by a hair, and not written.
+    if (over_ground_depth) {
+      glEnable(GL_POLYGON_OFFSET_FILL);
+      glPolygonOffset(-1.0f, -4.0f);
+      glDepthMask(GL_FALSE);
+    }
     glDisable(GL_CULL_FACE);
     glDrawArrays(GL_TRIANGLES, 0, (GLsizei)(foot_vertices.size() / 6));
     glEnable(GL_CULL_FACE);
     glDisable(GL_POLYGON_OFFSET_FILL);
+    glDepthMask(GL_TRUE);
   }
 
   void draw(const GpuMesh& g, const M4& model, const std::array<float, 3>& color, int checker) {
@@ -628,18 +636,34 @@ const uint8_t* Renderer::render(const DrawList& dl) {
     } else {
       ++P.stats.ground_reused;
     }
+  }
+  // The ground's depth matters only if the ground can hide part of a body: the camera below the
+  // plane, or a body reaching under it. Otherwise (the usual case) the cache's colour is enough,
+  // and the footprints need no depth offset against the ground's own depth (on llvmpipe the
+  // polygon offset and the depth copy cost ~1.5 ms a 720p frame).
+  bool ground_depth = !cached || eye.z() <= (float)s.ground_height;
+  for (size_t i = 0; i < dl.items.size() && !ground_depth; ++i)
+    ground_depth = dl.items[i].model(2, 3) - P.meshes[dl.items[i].mesh].reach < (float)s.ground_height;
+  if (cached) {
     glBindFramebuffer(GL_READ_FRAMEBUFFER, P.cache_fbo);
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
     glBlitFramebuffer(0, 0, s.width, s.height, 0, 0, s.width, s.height,
-                      GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT, GL_NEAREST);
+                      GL_COLOR_BUFFER_BIT | (ground_depth ? GL_DEPTH_BUFFER_BIT : 0), GL_NEAREST);
   }
   glBindFramebuffer(GL_FRAMEBUFFER, target);
-  if (!cached) glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  if (!cached)
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  else if (!ground_depth)
+    glClear(GL_DEPTH_BUFFER_BIT);
   glUniform1i(P.u_shadows, s.shadows ? 1 : 0);
+  // Footprints over the ground's depth go first and write no depth, so the bodies then meet the
+  // ground's own depth exactly as when the whole ground is drawn; without it they go last, where
+  // the bodies hide part of them.
+  if (cached && s.shadows && ground_depth) P.draw_shadow_footprints(dl, true);
   glUniform1i(P.u_checker, 0);
   P.draw_bodies(dl, batched, P.u_batched, nullptr);
   if (cached) {
-    if (s.shadows) P.draw_shadow_footprints(dl, lvp);
+    if (s.shadows && !ground_depth) P.draw_shadow_footprints(dl, false);
   } else if (s.ground) {
     P.draw(P.ground, ground, s.ground_color, 1);
   }

@@ -180,37 +180,42 @@ TEST(Render, InsideOutMeshLooksLikeTheCorrectOne) {
 // reused), frame by frame within 2 levels per channel (the footprints interpolate the same plane
 // from other vertices), and the shadows really there (footprints not missing any).
 TEST(Render, CachedGroundLooksLikeTheFullGround) {
-  std::vector<BodyDef> bodies = r2_free_boxes(27);
-  for (BodyDef& b : bodies) b.p_WB = 0.5 * b.p_WB - Vec3(2, 2, 49);  // a 3 x 3 x 3 block over z = 0
-  CameraView c;
-  c.eye = Vec3(6, -9, 7);
-  c.target = Vec3(-0.5, -0.5, 1);
-  auto checker = [](RenderSettings& rs) { rs.ground_tile = 0.5; };
-  auto full = [](RenderSettings& rs) {
-    rs.ground_tile = 0.5;
-    rs.cache_ground = false;
-  };
-  Fixture a(bodies, c, true, true, checker), b(bodies, c, true, true, full);
-  int worst = 0;
-  long shadowed = 0;
-  for (int f = 0; f < 5; ++f) {
-    for (int k = 0; k < 8; ++k) a.world->step(), b.world->step();
-    a.render();
-    b.render();
-    for (size_t i = 0; i < a.frame.size(); ++i) worst = std::max(worst, std::abs(a.frame[i] - b.frame[i]));
+  // Twice: all bodies above the ground (the cache's colour only, no ground depth), and with one
+  // body sunk halfway into it (ground depth copied too, footprints offset in depth).
+  for (bool sunk : {false, true}) {
+    std::vector<BodyDef> bodies = r2_free_boxes(27);
+    for (BodyDef& b : bodies) b.p_WB = 0.5 * b.p_WB - Vec3(2, 2, 49);  // a 3 x 3 x 3 block over z = 0
+    if (sunk) bodies[0].p_WB.z() = 0.0;
+    CameraView c;
+    c.eye = Vec3(6, -9, 7);
+    c.target = Vec3(-0.5, -0.5, 1);
+    auto checker = [](RenderSettings& rs) { rs.ground_tile = 0.5; };
+    auto full = [](RenderSettings& rs) {
+      rs.ground_tile = 0.5;
+      rs.cache_ground = false;
+    };
+    Fixture a(bodies, c, true, true, checker), b(bodies, c, true, true, full);
+    int worst = 0;
+    for (int f = 0; f < 5; ++f) {
+      for (int k = 0; k < 8; ++k) a.world->step(), b.world->step();
+      a.render();
+      b.render();
+      for (size_t i = 0; i < a.frame.size(); ++i) worst = std::max(worst, std::abs(a.frame[i] - b.frame[i]));
+    }
+    EXPECT_LE(worst, 2) << (sunk ? "with a sunk body" : "all above the ground");
+    // Frame 1 draws the ground directly (a new camera might be moving), frame 2 fills the cache,
+    // frames 3-5 copy it.
+    EXPECT_EQ(a.renderer->stats().ground_cached, 1);
+    EXPECT_EQ(a.renderer->stats().ground_reused, 3);
+    // Shadows are really there: many ground pixels darker than without shadows.
+    Fixture d(bodies, c, true, false, checker);
+    for (int f = 0; f < 5; ++f)
+      for (int k = 0; k < 8; ++k) d.world->step();
+    d.render();
+    long shadowed = 0;
+    for (size_t i = 0; i < a.frame.size(); i += 4) shadowed += a.frame[i] + 20 < d.frame[i];
+    EXPECT_GT(shadowed, 200) << "no shadows on the ground";
   }
-  EXPECT_LE(worst, 2);
-  // Frame 1 draws the ground directly (a new camera might be moving), frame 2 fills the cache,
-  // frames 3-5 copy it.
-  EXPECT_EQ(a.renderer->stats().ground_cached, 1);
-  EXPECT_EQ(a.renderer->stats().ground_reused, 3);
-  // Same without shadows would differ: compare with an unshadowed render to see shadows exist.
-  Fixture d(bodies, c, true, false, checker);
-  for (int f = 0; f < 5; ++f)
-    for (int k = 0; k < 8; ++k) d.world->step();
-  d.render();
-  for (size_t i = 0; i < a.frame.size(); i += 4) shadowed += a.frame[i] + 20 < d.frame[i];
-  EXPECT_GT(shadowed, 200) << "no shadows on the ground";
 }
 
 // Bodies are drawn in one batched call when the draw list has one item per mesh; a list that
