@@ -180,9 +180,11 @@ TEST(Render, InsideOutMeshLooksLikeTheCorrectOne) {
 // reused), frame by frame within 2 levels per channel (the footprints interpolate the same plane
 // from other vertices), and the shadows really there (footprints not missing any).
 TEST(Render, CachedGroundLooksLikeTheFullGround) {
-  // Twice: all bodies above the ground (the cache's colour only, no ground depth), and with one
-  // body sunk halfway into it (ground depth copied too, footprints offset in depth).
-  for (bool sunk : {false, true}) {
+  // Three times: all bodies above the ground (the cache's colour only, no ground depth), with one
+  // body sunk halfway into it (ground depth copied too, footprints offset in depth), and with 4x
+  // MSAA (a multisampled cache).
+  for (int variant = 0; variant < 3; ++variant) {
+    const bool sunk = variant == 1, msaa = variant == 2;  // the cache is multisampled with MSAA
     std::vector<BodyDef> bodies = r2_free_boxes(27);
     for (BodyDef& b : bodies) b.p_WB = 0.5 * b.p_WB - Vec3(2, 2, 49);  // a 3 x 3 x 3 block over z = 0
     if (sunk) bodies[0].p_WB.z() = 0.0;
@@ -194,15 +196,35 @@ TEST(Render, CachedGroundLooksLikeTheFullGround) {
       rs.ground_tile = 0.5;
       rs.cache_ground = false;
     };
-    Fixture a(bodies, c, true, true, checker), b(bodies, c, true, true, full);
+    auto checker4 = [](RenderSettings& rs) {
+      rs.ground_tile = 0.5;
+      rs.msaa = 4;
+    };
+    auto full4 = [](RenderSettings& rs) {
+      rs.ground_tile = 0.5;
+      rs.cache_ground = false;
+      rs.msaa = 4;
+    };
+    Fixture a(bodies, c, true, true, msaa ? +checker4 : +checker),
+        b(bodies, c, true, true, msaa ? +full4 : +full);
     int worst = 0;
     for (int f = 0; f < 5; ++f) {
       for (int k = 0; k < 8; ++k) a.world->step(), b.world->step();
       a.render();
       b.render();
-      for (size_t i = 0; i < a.frame.size(); ++i) worst = std::max(worst, std::abs(a.frame[i] - b.frame[i]));
+      long nd = 0;
+      for (size_t i = 0; i < a.frame.size(); ++i) {
+        worst = std::max(worst, std::abs(a.frame[i] - b.frame[i]));
+        nd += std::abs(a.frame[i] - b.frame[i]) > 2;
+      }
+      // With 4x MSAA a few isolated pixels on body silhouettes over the ground differ by up to
+      // ~20 levels (at most 47 of 57600 values in a frame here; cause not yet found, see issue
+      // 4's note); everything else within 2.
+      if (msaa) EXPECT_LE(nd, (long)a.frame.size() / 500) << "frame " << f;
     }
-    EXPECT_LE(worst, 2) << (sunk ? "with a sunk body" : "all above the ground");
+    EXPECT_LE(worst, msaa ? 32 : 2) << (sunk   ? "with a sunk body"
+                                        : msaa ? "4x MSAA"
+                                               : "all above the ground");
     // Frame 1 draws the ground directly (a new camera might be moving), frame 2 fills the cache,
     // frames 3-5 copy it.
     EXPECT_EQ(a.renderer->stats().ground_cached, 1);
