@@ -474,7 +474,18 @@ struct Renderer::Impl {
         ztop = std::max(ztop, w.z());
       }
       if (ztop < zg) continue;
-      x0 -= margin, x1 += margin, y0 -= margin, y1 += margin;
+      // With multisampling a pixel on the footprint's edge can be partly outside it while its
+      // centre, where the ground is shaded for all its samples, is in the shadow's soft edge:
+      // widen by the size of a pixel on the ground there, d 2 tan(fov/2) / height / sin(elevation).
+      float m = margin;
+      if (s.msaa > 1) {
+        const V3f c(0.5f * (x0 + x1), 0.5f * (y0 + y1), zg);
+        const V3f eye = dl.camera.eye.cast<float>();
+        const float d = (eye - c).norm();
+        const float sin_el = std::max(std::fabs(eye.z() - zg) / std::max(d, 1e-6f), 0.05f);
+        m += 1.5f * d * 2 * std::tan((float)(dl.camera.fov_deg * M_PI / 360.0)) / (float)s.height / sin_el;
+      }
+      x0 -= m, x1 += m, y0 -= m, y1 += m;
       const float xs[4] = {x0, x1, x1, x0}, ys[4] = {y0, y0, y1, y1};
       for (int k : {0, 1, 2, 0, 2, 3})
         for (float v : {xs[k], ys[k], zg, 0.0f, 0.0f, 1.0f}) foot_vertices.push_back(v);
