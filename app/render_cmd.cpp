@@ -146,7 +146,8 @@ int cmd_render(const std::vector<std::string>& args) {
     world.check_spin();
     drift.sample(world);
     build_draw_list(world, meshes, cam, follow, dl);
-    writer.push(renderer.render(dl));
+    renderer.render(dl, writer.acquire());  // read back straight into the writer's queue
+    writer.commit();
     const auto t2 = std::chrono::steady_clock::now();
     step_s += std::chrono::duration<double>(t1 - t0).count();
     render_s += std::chrono::duration<double>(t2 - t1).count();

@@ -138,7 +138,8 @@ int main(int argc, char** argv) {
     for (int f = 0; f < frames; ++f) {
       if (f) s.advance();
       build_draw_list(s.world, s.meshes, s.cam, -1, dl);
-      v.push(r.render(dl));
+      r.render(dl, v.acquire());
+      v.commit();
     }
     v.finish();
     row((std::string("end_to_end_") + aa).c_str(), bench::now_s() - t0,

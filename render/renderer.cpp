@@ -572,7 +572,7 @@ Renderer::Renderer(const RenderSettings& s, const SceneMeshes& sm) : p_(std::mak
 
 Renderer::~Renderer() = default;
 
-const uint8_t* Renderer::render(const DrawList& dl) {
+const uint8_t* Renderer::render(const DrawList& dl, uint8_t* out) {
   Impl& P = *p_;
   const RenderSettings& s = P.s;
   P.ctx->make_current();
@@ -686,10 +686,11 @@ const uint8_t* Renderer::render(const DrawList& dl) {
   glBindFramebuffer(GL_READ_FRAMEBUFFER, P.frame_fbo);
   glReadBuffer(GL_COLOR_ATTACHMENT0);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glReadPixels(0, 0, s.width, s.height, GL_RGBA, GL_UNSIGNED_BYTE, P.frame.data());  // waits for the frame
+  uint8_t* img = out ? out : P.frame.data();
+  glReadPixels(0, 0, s.width, s.height, GL_RGBA, GL_UNSIGNED_BYTE, img);  // waits for the frame
   ++P.stats.frames;
-  if (s.fxaa) fxaa(P.frame.data(), s.width, s.height, P.fxaa_buffers);
-  return P.frame.data();
+  if (s.fxaa) fxaa(img, s.width, s.height, P.fxaa_buffers);
+  return img;
 }
 
 const RenderStats& Renderer::stats() const {

@@ -35,8 +35,9 @@ class Renderer {
  public:
   Renderer(const RenderSettings& s, const SceneMeshes& meshes);  ///< uploads every mesh once
   ~Renderer();
-  // Draws and returns the frame: RGBA8, top row first, width*height*4 bytes, valid until the next call.
-  const uint8_t* render(const DrawList& dl);
+  // Draws and returns the frame: RGBA8, top row first, width*height*4 bytes, valid until the next
+  // call; read back into `out` instead of the renderer's own buffer if given.
+  const uint8_t* render(const DrawList& dl, uint8_t* out = nullptr);
   const RenderStats& stats() const;
   std::string description() const;
 

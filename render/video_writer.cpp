@@ -236,19 +236,26 @@ VideoWriter::~VideoWriter() {
   if (!P.finished && !P.tmp.empty()) std::remove(P.tmp.c_str());
 }
 
-void VideoWriter::push(const uint8_t* rgba) {
+uint8_t* VideoWriter::acquire() {
   Impl& P = *p_;
   std::unique_lock<std::mutex> lk(P.mu);
   P.cv_push.wait(lk, [&] { return P.filled < P.slots.size(); });
   if (!P.error.empty()) throw std::runtime_error(P.error);
-  std::vector<uint8_t>& slot = P.slots[P.head];
-  lk.unlock();
-  std::memcpy(slot.data(), rgba, slot.size());  // the only writer of this slot until it is filled
-  lk.lock();
+  return P.slots[P.head].data();  // the caller is the only writer of this slot until commit()
+}
+
+void VideoWriter::commit() {
+  Impl& P = *p_;
+  std::lock_guard<std::mutex> lk(P.mu);
   P.head = (P.head + 1) % P.slots.size();
   ++P.filled;
   ++P.nframes;
   P.cv_pop.notify_one();
+}
+
+void VideoWriter::push(const uint8_t* rgba) {
+  std::memcpy(acquire(), rgba, p_->slots[0].size());
+  commit();
 }
 
 void VideoWriter::finish() {

@@ -31,6 +31,10 @@ class VideoWriter {
   ~VideoWriter();
   // Copies one RGBA frame (top row first) into the queue; blocks while the queue is full.
   void push(const uint8_t* rgba);
+  // The same without the copy: acquire() returns the next free frame buffer (width*height*4
+  // bytes; blocks while the queue is full), the caller fills it, commit() queues it.
+  uint8_t* acquire();
+  void commit();
   // Drains the queue, flushes the encoder, writes the trailer and renames into place.
   void finish();
   long frames() const;
