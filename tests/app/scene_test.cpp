@@ -98,6 +98,19 @@ TEST(Scene, UnknownShapeAndIntegratorSuggestNames) {
   EXPECT_NE(i.find("did you mean 'rk4'?"), std::string::npos) << i;
 }
 
+TEST(Scene, AntiAliasingModes) {
+  const std::string bodies = std::string("bodies:\n  - name: a\n") + kBox;
+  EXPECT_EQ(load_scene(write_scene("aa.yaml", bodies)).render.antialiasing, AntiAliasing::fxaa);  // default
+  EXPECT_EQ(
+      load_scene(write_scene("aa4.yaml", "render: { antialiasing: msaa4 }\n" + bodies)).render.antialiasing,
+      AntiAliasing::msaa4);
+  const std::string e = error_of("render:\n  antialiasing: msaa3\n" + bodies);
+  EXPECT_NE(e.find(":2:"), std::string::npos) << e;
+  EXPECT_NE(e.find("render.antialiasing: unknown anti-aliasing 'msaa3' (fxaa, msaa2, msaa4, none)"),
+            std::string::npos)
+      << e;
+}
+
 TEST(Scene, YamlSyntaxErrorNamesTheLine) {
   const std::string m = error_of("simulation:\n  duration: [1, 2\nbodies: []\n");
   EXPECT_NE(m.find("bad.yaml:3:"), std::string::npos) << m;
