@@ -85,6 +85,7 @@ struct VideoWriter::Impl {
       enc->colorspace = AVCOL_SPC_BT709;
       enc->color_primaries = AVCOL_PRI_BT709;
       enc->color_trc = AVCOL_TRC_BT709;
+      enc->chroma_sample_location = AVCHROMA_LOC_CENTER;  // render/yuv.hpp averages 2x2 blocks
     }
     if (fmt->oformat->flags & AVFMT_GLOBALHEADER) enc->flags |= AV_CODEC_FLAG_GLOBAL_HEADER;
     AVDictionary* opts = nullptr;

@@ -6,8 +6,9 @@
 
 namespace simreel {
 
-// width and height even. Chroma is computed from the 2x2 block's mean colour (the MPEG-2/H.264
-// chroma siting libswscale also uses for this conversion by default: centred).
+// width and height even. Chroma is the 2x2 block's mean colour, i.e. sited at the block's centre;
+// the video writer tags its streams AVCHROMA_LOC_CENTER to say so (H.264's untagged default is
+// left-sited, a quarter-pixel chroma shift).
 void rgba_to_yuv420_bt709(const uint8_t* rgba, int width, int height, uint8_t* y, int y_stride, uint8_t* cb,
                           int cb_stride, uint8_t* cr, int cr_stride);
 

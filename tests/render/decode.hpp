@@ -14,7 +14,7 @@ namespace simreel::test {
 
 // Decodes a video file: codec, pixel format, size, frame count, rate, duration, first frame RGBA.
 struct Decoded {
-  std::string codec, pix_fmt;
+  std::string codec, pix_fmt, chroma_location;
   int width = 0, height = 0, frames = 0;
   double fps = 0, duration = 0;
   std::vector<uint8_t> first_rgba;
@@ -32,6 +32,7 @@ inline Decoded decode(const std::string& path) {
   avcodec_open2(dec, codec, nullptr);
   d.codec = codec->name;
   d.pix_fmt = av_get_pix_fmt_name((AVPixelFormat)st->codecpar->format);
+  if (const char* cl = av_chroma_location_name(st->codecpar->chroma_location)) d.chroma_location = cl;
   d.width = st->codecpar->width;
   d.height = st->codecpar->height;
   d.fps = av_q2d(st->avg_frame_rate);

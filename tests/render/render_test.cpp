@@ -332,6 +332,7 @@ void expect_yuv_round_trip(const std::string& name, const std::string& codec) {
   const RoundTrip r = encode_thirty(name);
   EXPECT_EQ(r.decoded.codec, codec);
   EXPECT_EQ(r.decoded.pix_fmt, "yuv420p");
+  EXPECT_EQ(r.decoded.chroma_location, "center");  // as render/yuv.hpp samples chroma
   expect_thirty_frames_at_30_fps(r.decoded);
   ASSERT_EQ(r.decoded.first_rgba.size(), r.first.size());
   EXPECT_GT(psnr_rgb(r.decoded.first_rgba, r.first), 35.0);
