@@ -13,6 +13,7 @@
 
 #include "render/fxaa.hpp"
 #include "render/gl_context.hpp"
+#include "render/shaders.hpp"
 
 namespace simreel {
 namespace {
@@ -47,133 +48,6 @@ M4 ortho(float r, float n, float f) {
   m(2, 2) = -2 / (f - n);
   m(2, 3) = -(f + n) / (f - n);
   return m;
-}
-
-// Bodies are drawn in one call: every body mesh lives in one vertex buffer whose vertices carry
-// their mesh's index (a_item), and each frame the meshes' model matrices and colours go into a
-// buffer texture (5 RGBA32F texels per mesh). With u_batched == 0 a single mesh is drawn with
-// the u_model and u_color uniforms (the ground, and the fallback).
-const char* kLitVS = R"(#version 330 core
-layout(location = 0) in vec3 a_pos;
-layout(location = 1) in vec3 a_nrm;
-layout(location = 2) in uint a_item;
-uniform mat4 u_model, u_viewproj, u_lightvp;
-uniform vec3 u_color;
-uniform int u_batched;
-uniform samplerBuffer u_items;
-out vec3 v_pos;
-out vec3 v_nrm;
-out vec4 v_lpos;
-flat out vec3 v_color;
-void main() {
-  mat4 model = u_model;
-  v_color = u_color;
-  if (u_batched == 1) {
-    int b = int(a_item) * 5;
-    model = mat4(texelFetch(u_items, b), texelFetch(u_items, b + 1), texelFetch(u_items, b + 2),
-                 texelFetch(u_items, b + 3));
-    v_color = texelFetch(u_items, b + 4).rgb;
-  }
-  vec4 w = model * vec4(a_pos, 1.0);
-  v_pos = w.xyz;
-  v_nrm = mat3(model) * a_nrm;
-  v_lpos = u_lightvp * w;
-  gl_Position = u_viewproj * w;
-}
-)";
-
-// Key light: Blinn-Phong, shadowed with 5 bilinear depth-compare taps (soft edges); fill: a
-// hemisphere ambient from ground bounce to sky. Lighting is done in linear RGB, then gamma 2.2.
-const char* kLitFS = R"(#version 330 core
-in vec3 v_pos;
-in vec3 v_nrm;
-in vec4 v_lpos;
-flat in vec3 v_color;
-uniform vec3 u_light_dir, u_eye;
-uniform int u_shadows, u_checker;
-uniform float u_tile, u_bias;
-uniform sampler2DShadow u_shadow_map;
-out vec4 o_color;
-float lit_fraction() {
-  vec3 p = v_lpos.xyz / v_lpos.w * 0.5 + 0.5;
-  if (u_shadows == 0 || p.z > 1.0) return 1.0;
-  vec2 t = 1.0 / vec2(textureSize(u_shadow_map, 0));
-  float z = p.z - u_bias;
-  // Two bilinear comparison taps half a texel apart along the diagonal: 8 depth tests, soft
-  // edges, 2.5x cheaper than 5 taps on llvmpipe.
-  float s = texture(u_shadow_map, vec3(p.xy + vec2(0.5, 0.5) * t, z));
-  s += texture(u_shadow_map, vec3(p.xy - vec2(0.5, 0.5) * t, z));
-  return 0.5 * s;
-}
-void main() {
-  vec3 n = normalize(v_nrm);
-  if (!gl_FrontFacing) n = -n;
-  vec3 base = v_color;
-  if (u_checker == 1) {
-    ivec2 c = ivec2(floor(v_pos.xy / u_tile));
-    if (((c.x + c.y) & 1) == 1) base *= 0.72;
-  }
-  float ndl = max(dot(n, u_light_dir), 0.0);
-  vec3 v = normalize(u_eye - v_pos);
-  vec3 h = normalize(u_light_dir + v);
-  float spec = ndl > 0.0 ? 0.22 * pow(max(dot(n, h), 0.0), 48.0) : 0.0;
-  float sh = lit_fraction();
-  vec3 fill = mix(vec3(0.16, 0.15, 0.14), vec3(0.30, 0.34, 0.42), 0.5 + 0.5 * n.z);
-  vec3 lin = base * (fill + 1.15 * ndl * sh * vec3(1.0, 0.97, 0.92)) + spec * sh;
-  o_color = vec4(pow(clamp(lin, 0.0, 1.0), vec3(1.0 / 2.2)), 1.0);
-}
-)";
-
-const char* kDepthVS = R"(#version 330 core
-layout(location = 0) in vec3 a_pos;
-layout(location = 2) in uint a_item;
-uniform mat4 u_mvp;
-uniform int u_batched;
-uniform samplerBuffer u_items;
-void main() {
-  if (u_batched == 1) {
-    int b = int(a_item) * 5;
-    mat4 model = mat4(texelFetch(u_items, b), texelFetch(u_items, b + 1), texelFetch(u_items, b + 2),
-                      texelFetch(u_items, b + 3));
-    gl_Position = u_mvp * (model * vec4(a_pos, 1.0));
-  } else {
-    gl_Position = u_mvp * vec4(a_pos, 1.0);
-  }
-}
-)";
-const char* kDepthFS = R"(#version 330 core
-void main() {}
-)";
-
-GLuint compile(GLenum type, const char* src) {
-  const GLuint s = glCreateShader(type);
-  glShaderSource(s, 1, &src, nullptr);
-  glCompileShader(s);
-  GLint ok = 0;
-  glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    char log[2048];
-    glGetShaderInfoLog(s, sizeof log, nullptr, log);
-    throw std::runtime_error(std::string("shader compilation failed: ") + log);
-  }
-  return s;
-}
-
-GLuint program(const char* vs, const char* fs) {
-  const GLuint p = glCreateProgram(), v = compile(GL_VERTEX_SHADER, vs), f = compile(GL_FRAGMENT_SHADER, fs);
-  glAttachShader(p, v);
-  glAttachShader(p, f);
-  glLinkProgram(p);
-  GLint ok = 0;
-  glGetProgramiv(p, GL_LINK_STATUS, &ok);
-  if (!ok) {
-    char log[2048];
-    glGetProgramInfoLog(p, sizeof log, nullptr, log);
-    throw std::runtime_error(std::string("shader link failed: ") + log);
-  }
-  glDeleteShader(v);
-  glDeleteShader(f);
-  return p;
 }
 
 struct GpuMesh {
@@ -215,23 +89,51 @@ GpuMesh upload(const RenderMesh& m) {
   return g;
 }
 
+// One specialisation of the lit program (render/shaders.hpp) and its uniform locations.
+struct LitProgram {
+  GLuint id = 0;
+  GLint model = -1, viewproj = -1, lightvp = -1, color = -1, light_dir = -1, eye = -1, shadows = -1,
+        tile = -1, bias = -1, texel = -1, map = -1, batched = -1, items = -1;
+
+  void create(LitKind kind) {
+    id = link_program(lit_vertex_shader(), lit_fragment_shader(kind).c_str());
+    model = glGetUniformLocation(id, "u_model");
+    viewproj = glGetUniformLocation(id, "u_viewproj");
+    lightvp = glGetUniformLocation(id, "u_lightvp");
+    color = glGetUniformLocation(id, "u_color");
+    light_dir = glGetUniformLocation(id, "u_light_dir");
+    eye = glGetUniformLocation(id, "u_eye");
+    shadows = glGetUniformLocation(id, "u_shadows");
+    tile = glGetUniformLocation(id, "u_tile");
+    bias = glGetUniformLocation(id, "u_bias");
+    texel = glGetUniformLocation(id, "u_texel");
+    map = glGetUniformLocation(id, "u_shadow_map");
+    batched = glGetUniformLocation(id, "u_batched");
+    items = glGetUniformLocation(id, "u_items");
+    glUseProgram(id);
+    glUniform1i(items, 1);  // texture unit 1
+    glUniform1i(batched, 0);
+    glUniform1i(map, 0);  // texture unit 0
+  }
+};
+
 }  // namespace
 
 struct Renderer::Impl {
   RenderSettings s;
   std::unique_ptr<GlContext> ctx;
-  GLuint lit = 0, depth = 0;
-  GLint u_model, u_viewproj, u_lightvp, u_color, u_light_dir, u_eye, u_shadows, u_checker, u_tile, u_bias,
-      u_map, u_mvp;
+  LitProgram body_prog, ground_prog;  // the lit shader for bodies and for the ground
+  GLuint depth = 0;
+  GLint u_mvp = -1;
   std::vector<GpuMesh> meshes;
   GpuMesh ground;
-  // All body meshes in one buffer for one draw call (see kLitVS): one-sided meshes' triangles
+  // All body meshes in one buffer for one draw call (see the lit vertex shader in render/shaders.cpp): one-sided meshes' triangles
   // first, then the two-sided ones.
   GLuint batch_vao = 0, batch_vbo = 0, batch_item_vbo = 0, batch_ebo = 0, items_tbo = 0, items_tex = 0;
   GLsizei batch_one = 0, batch_two = 0;
   std::vector<float> item_data;  // 20 floats per mesh: model matrix (column-major), colour, 0
   std::vector<char> item_seen;
-  GLint u_batched = -1, u_items = -1, d_batched = -1, d_items = -1;
+  GLint d_batched = -1, d_items = -1;
   GLuint msaa_fbo = 0, msaa_color = 0, msaa_depth = 0;
   GLuint frame_fbo = 0, frame_color = 0, frame_depth = 0;  // single-sample, read back
   // The ground and sky without shadows, drawn once per camera and ground placement, copied into
@@ -444,7 +346,7 @@ struct Renderer::Impl {
         glUniformMatrix4fv(u_mvp, 1, GL_FALSE, mvp.data());
         draw_mesh(meshes[it.mesh]);
       } else {
-        draw(meshes[it.mesh], it.model, it.color, 0);
+        draw(body_prog, meshes[it.mesh], it.model, it.color);
       }
     }
   }
@@ -497,9 +399,9 @@ struct Renderer::Impl {
     }
     glBufferSubData(GL_ARRAY_BUFFER, 0, (GLsizeiptr)bytes, foot_vertices.data());
     const M4 identity = M4::Identity();
-    glUniformMatrix4fv(u_model, 1, GL_FALSE, identity.data());
-    glUniform3f(u_color, s.ground_color[0], s.ground_color[1], s.ground_color[2]);
-    glUniform1i(u_checker, 1);
+    glUseProgram(ground_prog.id);
+    glUniformMatrix4fv(ground_prog.model, 1, GL_FALSE, identity.data());
+    glUniform3f(ground_prog.color, s.ground_color[0], s.ground_color[1], s.ground_color[2]);
     // Over the cached ground's depth: in front of it by a hair, and not written.
     if (over_ground_depth) {
       glEnable(GL_POLYGON_OFFSET_FILL);
@@ -521,10 +423,11 @@ struct Renderer::Impl {
     if (g.two_sided) glEnable(GL_CULL_FACE);
   }
 
-  void draw(const GpuMesh& g, const M4& model, const std::array<float, 3>& color, int checker) {
-    glUniformMatrix4fv(u_model, 1, GL_FALSE, model.data());
-    glUniform3f(u_color, color[0], color[1], color[2]);
-    glUniform1i(u_checker, checker);
+  // One mesh with the program `lp` (made current here) at pose `model` in colour `color`.
+  static void draw(const LitProgram& lp, const GpuMesh& g, const M4& model, const std::array<float, 3>& color) {
+    glUseProgram(lp.id);
+    glUniformMatrix4fv(lp.model, 1, GL_FALSE, model.data());
+    glUniform3f(lp.color, color[0], color[1], color[2]);
     draw_mesh(g);
   }
 };
@@ -536,28 +439,12 @@ Renderer::Renderer(const RenderSettings& s, const SceneMeshes& sm) : p_(std::mak
   GLint max_samples = 1;
   glGetIntegerv(GL_MAX_SAMPLES, &max_samples);
   P.s.msaa = std::max(1, std::min(P.s.msaa, (int)max_samples));
-  P.lit = program(kLitVS, kLitFS);
-  P.depth = program(kDepthVS, kDepthFS);
-  const GLuint L = P.lit;
-  P.u_model = glGetUniformLocation(L, "u_model");
-  P.u_viewproj = glGetUniformLocation(L, "u_viewproj");
-  P.u_lightvp = glGetUniformLocation(L, "u_lightvp");
-  P.u_color = glGetUniformLocation(L, "u_color");
-  P.u_light_dir = glGetUniformLocation(L, "u_light_dir");
-  P.u_eye = glGetUniformLocation(L, "u_eye");
-  P.u_shadows = glGetUniformLocation(L, "u_shadows");
-  P.u_checker = glGetUniformLocation(L, "u_checker");
-  P.u_tile = glGetUniformLocation(L, "u_tile");
-  P.u_bias = glGetUniformLocation(L, "u_bias");
-  P.u_map = glGetUniformLocation(L, "u_shadow_map");
+  P.body_prog.create(LitKind::body);
+  P.ground_prog.create(LitKind::ground);
+  P.depth = link_program(depth_vertex_shader(), depth_fragment_shader());
   P.u_mvp = glGetUniformLocation(P.depth, "u_mvp");
-  P.u_batched = glGetUniformLocation(L, "u_batched");
-  P.u_items = glGetUniformLocation(L, "u_items");
   P.d_batched = glGetUniformLocation(P.depth, "u_batched");
   P.d_items = glGetUniformLocation(P.depth, "u_items");
-  glUseProgram(P.lit);
-  glUniform1i(P.u_items, 1);  // texture unit 1
-  glUniform1i(P.u_batched, 0);
   glUseProgram(P.depth);
   glUniform1i(P.d_items, 1);
   glUniform1i(P.d_batched, 0);
@@ -613,15 +500,18 @@ const uint8_t* Renderer::render(const DrawList& dl, uint8_t* out) {
   ground(1, 3) = (float)std::round(dl.bounds_center.y() / s.ground_tile / 2) * 2 * (float)s.ground_tile;
 
   glFrontFace(GL_CW);
-  glUseProgram(P.lit);
-  glUniformMatrix4fv(P.u_viewproj, 1, GL_FALSE, vp.data());
-  glUniformMatrix4fv(P.u_lightvp, 1, GL_FALSE, lvp.data());
-  glUniform3f(P.u_light_dir, P.light_dir.x(), P.light_dir.y(), P.light_dir.z());
-  glUniform3f(P.u_eye, eye.x(), eye.y(), eye.z());
-  glUniform1f(P.u_tile, (float)s.ground_tile);
-  // Depth bias: about two shadow-map texels of depth, relative to the frustum depth.
-  glUniform1f(P.u_bias, 0.0015f);
-  glUniform1i(P.u_map, 0);
+  for (const LitProgram* lp : {&P.body_prog, &P.ground_prog}) {
+    glUseProgram(lp->id);
+    glUniformMatrix4fv(lp->viewproj, 1, GL_FALSE, vp.data());
+    glUniformMatrix4fv(lp->lightvp, 1, GL_FALSE, lvp.data());
+    glUniform3f(lp->light_dir, P.light_dir.x(), P.light_dir.y(), P.light_dir.z());
+    glUniform3f(lp->eye, eye.x(), eye.y(), eye.z());
+    glUniform1f(lp->tile, (float)s.ground_tile);
+    // Depth bias: about two shadow-map texels of depth, relative to the frustum depth.
+    glUniform1f(lp->bias, 0.0015f);
+    glUniform1f(lp->texel, 1.0f / (float)s.shadow_size);
+    glUniform1i(lp->shadows, s.shadows ? 1 : 0);
+  }
   glActiveTexture(GL_TEXTURE0);
   glBindTexture(GL_TEXTURE_2D, P.shadow_tex);
 
@@ -640,8 +530,10 @@ const uint8_t* Renderer::render(const DrawList& dl, uint8_t* out) {
     if (!P.cache_valid || vp != P.cache_vp || ground != P.cache_ground) {
       glBindFramebuffer(GL_FRAMEBUFFER, P.cache_fbo);
       glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-      glUniform1i(P.u_shadows, 0);
-      P.draw(P.ground, ground, s.ground_color, 1);
+      glUseProgram(P.ground_prog.id);
+      glUniform1i(P.ground_prog.shadows, 0);
+      P.draw(P.ground_prog, P.ground, ground, s.ground_color);
+      glUniform1i(P.ground_prog.shadows, s.shadows ? 1 : 0);
       P.cache_vp = vp;
       P.cache_ground = ground;
       P.cache_valid = true;
@@ -668,17 +560,16 @@ const uint8_t* Renderer::render(const DrawList& dl, uint8_t* out) {
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   else if (!ground_depth)
     glClear(GL_DEPTH_BUFFER_BIT);
-  glUniform1i(P.u_shadows, s.shadows ? 1 : 0);
   // Footprints over the ground's depth go first and write no depth, so the bodies then meet the
   // ground's own depth exactly as when the whole ground is drawn; without it they go last, where
   // the bodies hide part of them.
   if (cached && s.shadows && ground_depth) P.draw_shadow_footprints(dl, true);
-  glUniform1i(P.u_checker, 0);
-  P.draw_bodies(dl, batched, P.u_batched, nullptr);
+  glUseProgram(P.body_prog.id);
+  P.draw_bodies(dl, batched, P.body_prog.batched, nullptr);
   if (cached) {
     if (s.shadows && !ground_depth) P.draw_shadow_footprints(dl, false);
   } else if (s.ground) {
-    P.draw(P.ground, ground, s.ground_color, 1);
+    P.draw(P.ground_prog, P.ground, ground, s.ground_color);
   }
   if (s.msaa > 1) {
     glBindFramebuffer(GL_READ_FRAMEBUFFER, P.msaa_fbo);
