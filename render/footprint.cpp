@@ -1,5 +1,6 @@
 #include "render/footprint.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace simreel {
@@ -16,7 +17,7 @@ void min_area_rectangle(const Eigen::Vector2f* p, int n, float margin, Eigen::Ve
       float a0 = INFINITY, a1 = -INFINITY, b0 = INFINITY, b1 = -INFINITY;
       for (int k = 0; k < n; ++k) {
         const float a = u.dot(p[k]), b = v.dot(p[k]);
-        a0 = std::fmin(a0, a), a1 = std::fmax(a1, a), b0 = std::fmin(b0, b), b1 = std::fmax(b1, b);
+        a0 = std::min(a0, a), a1 = std::max(a1, a), b0 = std::min(b0, b), b1 = std::max(b1, b);
       }
       const float area = (a1 - a0) * (b1 - b0);
       if (area < best_area) best_area = area, best_u = u;
@@ -26,7 +27,7 @@ void min_area_rectangle(const Eigen::Vector2f* p, int n, float margin, Eigen::Ve
   float a0 = INFINITY, a1 = -INFINITY, b0 = INFINITY, b1 = -INFINITY;
   for (int k = 0; k < n; ++k) {
     const float a = u.dot(p[k]), b = v.dot(p[k]);
-    a0 = std::fmin(a0, a), a1 = std::fmax(a1, a), b0 = std::fmin(b0, b), b1 = std::fmax(b1, b);
+    a0 = std::min(a0, a), a1 = std::max(a1, a), b0 = std::min(b0, b), b1 = std::max(b1, b);
   }
   a0 -= margin, a1 += margin, b0 -= margin, b1 += margin;
   corners[0] = u * a0 + v * b0;
