@@ -153,8 +153,8 @@ int main(int argc, char** argv) {
   // every 2 s). Negative if ffmpeg fails.
   const std::string cmd = "ffmpeg -loglevel error -y -f rawvideo -pix_fmt rgba -s " + std::to_string(W) +
                           "x" + std::to_string(H) + " -r " + std::to_string(kFps) + " -i " + raw +
-                          " -c:v libx264 -preset veryfast -crf 20 -g " + std::to_string(2 * kFps) + " -pix_fmt yuv420p -movflags +faststart " +
-                          (dir / "ceiling.mp4").string();
+                          " -c:v libx264 -preset veryfast -crf 20 -g " + std::to_string(2 * kFps) +
+                          " -pix_fmt yuv420p -movflags +faststart " + (dir / "ceiling.mp4").string();
   auto ceiling = [&] {
     const double t0 = bench::now_s();
     const int rc = std::system(cmd.c_str());
@@ -183,8 +183,8 @@ int main(int argc, char** argv) {
     std::sort(ratios.begin(), ratios.end());
     std::string all;
     for (double q : ratios) all += (all.empty() ? "" : " ") + std::to_string(q).substr(0, 4);
-    std::printf("end_to_end_over_ceiling,%d,%d,%d,,,median %.2f of the pairs' ratios (%s); target 1.5\n", frames,
-                W, H, ratios[ratios.size() / 2], all.c_str());
+    std::printf("end_to_end_over_ceiling,%d,%d,%d,,,median %.2f of the pairs' ratios (%s); target 1.5\n",
+                frames, W, H, ratios[ratios.size() / 2], all.c_str());
   }
   {
     std::string note;

@@ -128,8 +128,8 @@ struct Renderer::Impl {
   GLint u_mvp = -1;
   std::vector<GpuMesh> meshes;
   GpuMesh ground;
-  // All body meshes in one buffer for one draw call (see the lit vertex shader in render/shaders.cpp): one-sided meshes' triangles
-  // first, then the two-sided ones.
+  // All body meshes in one buffer for one draw call (see the lit vertex shader in render/shaders.cpp):
+  // one-sided meshes' triangles first, then the two-sided ones.
   GLuint batch_vao = 0, batch_vbo = 0, batch_item_vbo = 0, batch_ebo = 0, items_tbo = 0, items_tex = 0;
   GLsizei batch_one = 0, batch_two = 0;
   std::vector<float> item_data;  // 20 floats per mesh: model matrix (column-major), colour, 0
@@ -434,7 +434,8 @@ struct Renderer::Impl {
   }
 
   // One mesh with the program `lp` (made current here) at pose `model` in colour `color`.
-  static void draw(const LitProgram& lp, const GpuMesh& g, const M4& model, const std::array<float, 3>& color) {
+  static void draw(const LitProgram& lp, const GpuMesh& g, const M4& model,
+                   const std::array<float, 3>& color) {
     glUseProgram(lp.id);
     glUniformMatrix4fv(lp.model, 1, GL_FALSE, model.data());
     glUniform3f(lp.color, color[0], color[1], color[2]);

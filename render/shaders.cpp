@@ -141,14 +141,21 @@ GLuint compile(GLenum type, const char* src) {
 
 }  // namespace
 
-const char* lit_vertex_shader() { return kLitVS; }
-const char* depth_vertex_shader() { return kDepthVS; }
-const char* depth_fragment_shader() { return kDepthFS; }
+const char* lit_vertex_shader() {
+  return kLitVS;
+}
+const char* depth_vertex_shader() {
+  return kDepthVS;
+}
+const char* depth_fragment_shader() {
+  return kDepthFS;
+}
 
 std::string lit_fragment_shader(LitKind kind) {
   char head[256];
   // %.9g prints each float so that it reads back as the same float.
-  std::snprintf(head, sizeof head, "#version 330 core\n#define GROUND %d\nconst vec4 kGamma = vec4(%.9g, %.9g, %.9g, %.9g);\n",
+  std::snprintf(head, sizeof head,
+                "#version 330 core\n#define GROUND %d\nconst vec4 kGamma = vec4(%.9g, %.9g, %.9g, %.9g);\n",
                 kind == LitKind::ground ? 1 : 0, (double)kGammaFit[0], (double)kGammaFit[1],
                 (double)kGammaFit[2], (double)kGammaFit[3]);
   return head + std::string(kLitFS);

@@ -11,7 +11,9 @@ namespace {
 
 using V2 = Eigen::Vector2f;
 
-float area(const V2 c[4]) { return (c[1] - c[0]).norm() * (c[3] - c[0]).norm(); }
+float area(const V2 c[4]) {
+  return (c[1] - c[0]).norm() * (c[3] - c[0]).norm();
+}
 
 // Signed distance of q inside the rectangle's side from c[i] to c[i + 1] (corners go round it,
 // either way): positive inside.

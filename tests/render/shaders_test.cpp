@@ -37,8 +37,9 @@ TEST(Shaders, FragmentShaderCarriesTheFittedCoefficients) {
     const size_t at = src.find("const vec4 kGamma = vec4(");
     ASSERT_NE(at, std::string::npos);
     float c[4];
-    ASSERT_EQ(std::sscanf(src.c_str() + at, "const vec4 kGamma = vec4(%f, %f, %f, %f)", &c[0], &c[1], &c[2], &c[3]),
-              4);
+    ASSERT_EQ(
+        std::sscanf(src.c_str() + at, "const vec4 kGamma = vec4(%f, %f, %f, %f)", &c[0], &c[1], &c[2], &c[3]),
+        4);
     for (int k = 0; k < 4; ++k) EXPECT_EQ(c[k], kGammaFit[k]);
     EXPECT_NE(src.find(kind == LitKind::ground ? "#define GROUND 1" : "#define GROUND 0"), std::string::npos);
   }
