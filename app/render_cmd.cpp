@@ -35,6 +35,8 @@ options:
   --aa MODE           anti-aliasing: fxaa (default: cheap, on the CPU), msaa2, msaa4 (GL
                       multisampling, smoother, ~2x the render time on llvmpipe), none
   --no-shadows        skip shadow mapping
+  --gl BACKEND        OpenGL context: osmesa (the default where built) or egl (Mesa's surfaceless
+                      platform or the first EGL device); the same frames on llvmpipe
   --crf N             H.264 quality, 0-51 (default 20; lower is better and larger)
   --json              print the summary as one JSON object
   --quiet             no progress bar
@@ -59,6 +61,7 @@ int cmd_render(const std::vector<std::string>& args) {
                                          {"--integrator", true},
                                          {"--timestep", true},
                                          {"--aa", true},
+                                         {"--gl", true},
                                          {"--threads", true},
                                          {"--no-shadows", false},
                                          {"--crf", true},
@@ -101,6 +104,13 @@ int cmd_render(const std::vector<std::string>& args) {
   World world(world_config(scene, threads), scene.bodies);
   const SceneMeshes meshes(world);
   RenderSettings rs;
+  if (a.has("--gl")) {
+    const auto b = gl_backend_from_name(a.options.at("--gl"));
+    if (!b) throw UsageError("unknown --gl '" + a.options.at("--gl") + "' (osmesa, egl)");
+    if (!gl_backend_built(*b))
+      throw UsageError("this simreel was built without the " + a.options.at("--gl") + " backend");
+    rs.gl = *b;
+  }
   rs.width = w;
   rs.height = h;
   AntiAliasing aa = scene.render.antialiasing;
@@ -160,6 +170,7 @@ int cmd_render(const std::vector<std::string>& args) {
 
   RunSummary s = make_summary(scene, world, drift, (int)done, step_s);
   s.render_seconds = render_s;
+  s.renderer = renderer.description();
   s.encode_seconds = writer.encode_seconds();
   if (done > 0) s.output = vs.path.empty() ? vs.frames_dir : vs.path;
   if (g_signal) {

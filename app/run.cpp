@@ -75,7 +75,8 @@ std::string summary_text(const RunSummary& s) {
   if (s.steps > 0 && s.step_seconds > 0) o << " (" << s.step_seconds / s.steps * 1e6 << " us/step)";
   o << "\n";
   if (s.render_seconds >= 0)
-    o << "  rendering: " << s.render_seconds << " s, encoding thread busy " << s.encode_seconds << " s\n";
+    o << "  rendering: " << s.render_seconds << " s, encoding thread busy " << s.encode_seconds << " s ("
+      << s.renderer << ")\n";
   o << "  energy drift: " << s.energy_rel_drift
     << " (relative), angular momentum drift: " << s.momentum_rel_drift << "\n";
   if (s.profile) {
@@ -103,7 +104,8 @@ std::string summary_json(const RunSummary& s) {
     << ", \"momentum_rel_drift\": " << json_number(s.momentum_rel_drift);
   if (s.render_seconds >= 0)
     o << ", \"render_seconds\": " << json_number(s.render_seconds)
-      << ", \"encode_seconds\": " << json_number(s.encode_seconds);
+      << ", \"encode_seconds\": " << json_number(s.encode_seconds)
+      << ", \"renderer\": " << json_string(s.renderer);
   if (s.profile) {
     o << ", \"profile\": {";
     for (int i = 0; i < (int)Stage::count; ++i)

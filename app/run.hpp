@@ -44,6 +44,7 @@ struct RunSummary {
   std::vector<std::string> warnings;
   const Profile* profile = nullptr;                 ///< set with --profile
   double render_seconds = -1, encode_seconds = -1;  ///< render command only
+  std::string renderer;                             ///< render command only: GL backend, renderer, version
   std::string output;
 };
 // The fields every command fills the same way: scene, world counters, drift, warnings and notes.

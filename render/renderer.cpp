@@ -446,7 +446,7 @@ struct Renderer::Impl {
 Renderer::Renderer(const RenderSettings& s, const SceneMeshes& sm) : p_(std::make_unique<Impl>()) {
   Impl& P = *p_;
   P.s = s;
-  P.ctx = make_offscreen_context();
+  P.ctx = make_offscreen_context(s.gl);
   GLint max_samples = 1;
   glGetIntegerv(GL_MAX_SAMPLES, &max_samples);
   P.s.msaa = std::max(1, std::min(P.s.msaa, (int)max_samples));

@@ -268,6 +268,41 @@ TEST(Render, SameSceneTwiceGivesIdenticalFrames) {
   EXPECT_EQ(a, b);
 }
 
+// The EGL backend (headless, no window system) draws the same frames as OSMesa: both are Mesa's
+// llvmpipe here, so byte for byte. A moving scene with shadows over a checker ground, three
+// frames (the cached ground is drawn on the second and reused on the third), then 4x MSAA. One
+// backend after the other, each renderer destroyed before the next is made.
+TEST(Render, EglBackendDrawsTheSameFramesAsOsMesa) {
+  if (!gl_backend_built(GlBackend::egl) || !gl_backend_built(GlBackend::osmesa))
+    GTEST_SKIP() << "built without both backends";
+  for (bool msaa : {false, true}) {
+    std::vector<uint8_t> frames[2];
+    std::string description[2];
+    for (int k = 0; k < 2; ++k) {
+      CameraView c;
+      c.eye = Vec3(6, -9, 7);
+      c.target = Vec3(-0.5, -0.5, 1);
+      std::vector<BodyDef> bodies = r2_free_boxes(8);
+      for (BodyDef& b : bodies) b.p_WB = 0.5 * b.p_WB - Vec3(1, 1, 49);
+      auto osmesa = [](RenderSettings& rs) { rs.gl = GlBackend::osmesa, rs.ground_tile = 0.5; };
+      auto egl = [](RenderSettings& rs) { rs.gl = GlBackend::egl, rs.ground_tile = 0.5; };
+      auto osmesa4 = [](RenderSettings& rs) { rs.gl = GlBackend::osmesa, rs.ground_tile = 0.5, rs.msaa = 4; };
+      auto egl4 = [](RenderSettings& rs) { rs.gl = GlBackend::egl, rs.ground_tile = 0.5, rs.msaa = 4; };
+      Fixture s(bodies, c, true, true, k == 0 ? (msaa ? +osmesa4 : +osmesa) : (msaa ? +egl4 : +egl));
+      description[k] = s.renderer->description();
+      for (int f = 0; f < 3; ++f) {
+        for (int i = 0; i < 8; ++i) s.world->step();
+        s.render();
+        frames[k].insert(frames[k].end(), s.frame.begin(), s.frame.end());
+      }
+    }
+    EXPECT_EQ(description[0].rfind("OSMesa: ", 0), 0u) << description[0];
+    EXPECT_EQ(description[1].rfind("EGL: ", 0), 0u) << description[1];
+    EXPECT_TRUE(frames[0] == frames[1])
+        << (msaa ? "4x MSAA: " : "") << description[0] << " vs " << description[1];
+  }
+}
+
 TEST(Render, ShadowMapIsReusedWhileNothingMoves) {
   Fixture s({box_body("b", Vec3(1, 1, 1), 1)}, top_down(), true);
   s.render();
