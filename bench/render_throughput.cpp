@@ -81,44 +81,68 @@ int main(int argc, char** argv) {
   const int frames = argc > 1 ? std::atoi(argv[1]) : 300;
   const auto bodies = hundred_boxes();
   std::printf("case,frames,width,height,seconds,fps,note\n");
+  // The note is quoted (RFC 4180): renderer strings hold commas.
   auto row = [&](const char* name, double s, const std::string& note) {
-    std::printf("%s,%d,%d,%d,%.3f,%.1f,%s\n", name, frames, W, H, s, frames / s, note.c_str());
+    std::string q;
+    for (char c : note) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+    std::printf("%s,%d,%d,%d,%.3f,%.1f,\"%s\"\n", name, frames, W, H, s, frames / s, q.c_str());
     std::fflush(stdout);
   };
   const std::filesystem::path dir = std::filesystem::temp_directory_path() / "simreel-bench";
   std::filesystem::create_directories(dir);
   const std::string raw = (dir / "frames.rgba").string();
 
-  // Render only, each anti-aliasing setting in a fresh context; the MSAA 4 run also keeps the raw
-  // frames for the ffmpeg ceiling.
+  // Render only, each setting in a fresh context. The settings run in turn, three rounds, and each
+  // row is the median of its three runs: this VM's speed drifts within a run. The first round of
+  // the defaults keeps the raw frames for the ffmpeg ceiling.
   struct Mode {
     const char* name;
     const char* aa;
     bool shadows;
     int shadow_size;
+    GlBackend gl = default_gl_backend();
   };
+  std::vector<Mode> modes;
   for (const Mode m :
        {Mode{"fxaa_shadow1024", "fxaa", true, 1024}, Mode{"msaa4_shadow1024", "msaa4", true, 1024},
         Mode{"none_shadow1024", "none", true, 1024}, Mode{"fxaa_shadow2048", "fxaa", true, 2048},
-        Mode{"fxaa_no_shadows", "fxaa", false, 0}, Mode{"none_no_shadows", "none", false, 0}}) {
-    Setup s(bodies);
-    Renderer r(settings(m.aa, m.shadows, m.shadow_size), s.meshes);
-    DrawList dl;
-    build_draw_list(s.world, s.meshes, s.cam, -1, dl);
-    r.render(dl);                                                // first frame compiles shaders: not timed
-    const bool keep = std::string(m.name) == "fxaa_shadow1024";  // the defaults
-    FILE* out = keep ? std::fopen(raw.c_str(), "wb") : nullptr;
-    double t = 0;
-    for (int f = 0; f < frames; ++f) {
-      s.advance();
-      const double t0 = bench::now_s();
+        Mode{"fxaa_no_shadows", "fxaa", false, 0}, Mode{"none_no_shadows", "none", false, 0},
+        Mode{"fxaa_shadow1024_egl", "fxaa", true, 1024, GlBackend::egl}})
+    if (gl_backend_built(m.gl)) modes.push_back(m);
+  std::vector<std::vector<double>> seconds(modes.size());
+  std::vector<std::string> described(modes.size());
+  for (int round = 0; round < 3; ++round)
+    for (size_t i = 0; i < modes.size(); ++i) {
+      const Mode& m = modes[i];
+      Setup s(bodies);
+      RenderSettings rs = settings(m.aa, m.shadows, m.shadow_size);
+      rs.gl = m.gl;
+      Renderer r(rs, s.meshes);
+      DrawList dl;
       build_draw_list(s.world, s.meshes, s.cam, -1, dl);
-      const uint8_t* img = r.render(dl);
-      t += bench::now_s() - t0;
-      if (out) std::fwrite(img, 1, (size_t)W * H * 4, out);
+      r.render(dl);  // first frame compiles shaders: not timed
+      FILE* out = round == 0 && i == 0 ? std::fopen(raw.c_str(), "wb") : nullptr;  // the defaults
+      double t = 0;
+      for (int f = 0; f < frames; ++f) {
+        s.advance();
+        const double t0 = bench::now_s();
+        build_draw_list(s.world, s.meshes, s.cam, -1, dl);
+        const uint8_t* img = r.render(dl);
+        t += bench::now_s() - t0;
+        if (out) std::fwrite(img, 1, (size_t)W * H * 4, out);
+      }
+      if (out) std::fclose(out);
+      seconds[i].push_back(t);
+      described[i] = r.description();
     }
-    if (out) std::fclose(out);
-    row((std::string("render_only_") + m.name).c_str(), t, "draw list + GL passes + readback (+ FXAA)");
+  for (size_t i = 0; i < modes.size(); ++i) {
+    std::vector<double> v = seconds[i];
+    std::sort(v.begin(), v.end());
+    char runs[96];
+    std::snprintf(runs, sizeof runs, "runs %.3f %.3f %.3f s, the median reported; ", seconds[i][0], seconds[i][1],
+                  seconds[i][2]);
+    row((std::string("render_only_") + modes[i].name).c_str(), v[1],
+        std::string("draw list + GL passes + readback (+ FXAA); ") + runs + described[i]);
   }
 
   // End to end, in process: what `simreel render` does (FXAA on the writer's thread).
@@ -171,8 +195,9 @@ int main(int argc, char** argv) {
     row("end_to_end_fxaa", e2e, note + "; pair " + std::to_string(pair));
     const double c = ceiling();
     if (c < 0) {
-      std::printf("ffmpeg_cli_encode_only,%d,%d,%d,,,ffmpeg not available (SIMREEL_BENCH=1 bash .ci/setup)\n",
-                  frames, W, H);
+      std::printf(
+          "ffmpeg_cli_encode_only,%d,%d,%d,,,\"ffmpeg not available (SIMREEL_BENCH=1 bash .ci/setup)\"\n",
+          frames, W, H);
       continue;
     }
     row("ffmpeg_cli_encode_only", c,
@@ -183,7 +208,7 @@ int main(int argc, char** argv) {
     std::sort(ratios.begin(), ratios.end());
     std::string all;
     for (double q : ratios) all += (all.empty() ? "" : " ") + std::to_string(q).substr(0, 4);
-    std::printf("end_to_end_over_ceiling,%d,%d,%d,,,median %.2f of the pairs' ratios (%s); target 1.5\n",
+    std::printf("end_to_end_over_ceiling,%d,%d,%d,,,\"median %.2f of the pairs' ratios (%s); target 1.5\"\n",
                 frames, W, H, ratios[ratios.size() / 2], all.c_str());
   }
   {
