@@ -139,8 +139,8 @@ int main(int argc, char** argv) {
     std::vector<double> v = seconds[i];
     std::sort(v.begin(), v.end());
     char runs[96];
-    std::snprintf(runs, sizeof runs, "runs %.3f %.3f %.3f s, the median reported; ", seconds[i][0], seconds[i][1],
-                  seconds[i][2]);
+    std::snprintf(runs, sizeof runs, "runs %.3f %.3f %.3f s, the median reported; ", seconds[i][0],
+                  seconds[i][1], seconds[i][2]);
     row((std::string("render_only_") + modes[i].name).c_str(), v[1],
         std::string("draw list + GL passes + readback (+ FXAA); ") + runs + described[i]);
   }

@@ -125,23 +125,21 @@ class EglContext final : public GlContext {
     // No config and no surface (EGL_KHR_no_config_context, EGL_KHR_surfaceless_context): frames
     // go to the renderer's own framebuffer objects.
     ctx_ = eglCreateContext(dpy_, EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, attribs);
-    if (ctx_ == EGL_NO_CONTEXT) {
-      eglTerminate(dpy_);
+    if (ctx_ == EGL_NO_CONTEXT)
       throw std::runtime_error(egl_error("could not create an OpenGL 3.3 core context without a config"));
-    }
     try {
       make_current();
     } catch (...) {
       eglDestroyContext(dpy_, ctx_);
-      eglTerminate(dpy_);
       throw;
     }
   }
   ~EglContext() override {
     if (eglGetCurrentContext() == ctx_) eglMakeCurrent(dpy_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
     eglDestroyContext(dpy_, ctx_);
-    // The display is shared by every context on it and reference-counted by nothing: leave it
-    // initialised (eglTerminate would pull it from under other renderers).
+    // The display is shared by every context on it and reference-counted by nothing: it stays
+    // initialised, here and when a constructor fails (eglTerminate would pull it from under other
+    // renderers).
   }
   void finish() override { glFinish(); }
   std::string description() const override { return "EGL: " + gl_strings(); }

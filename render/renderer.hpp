@@ -14,8 +14,8 @@ namespace simreel {
 
 struct RenderSettings {
   GlBackend gl = default_gl_backend();  ///< OSMesa or EGL; the same frames on llvmpipe
-  int width = 1280, height = 720;  ///< px
-  int msaa = 1;                    ///< 1, 2 or 4 samples per pixel (GL multisampling)
+  int width = 1280, height = 720;       ///< px
+  int msaa = 1;                         ///< 1, 2 or 4 samples per pixel (GL multisampling)
   bool fxaa = true;  ///< CPU edge anti-aliasing after readback (render/fxaa.hpp); `simreel render`
                      ///< leaves it to the video writer's thread instead (VideoSettings::fxaa)
   bool shadows = true;

@@ -45,9 +45,10 @@ void main() {
   vec4 w = model * vec4(a_pos, 1.0);
   v_pos = w.xyz;
   v_nrm = mat3(model) * a_nrm;
-  // Shadow-map coordinates in [0, 1]. The light's projection is orthographic (w = 1), so they
-  // are affine in the position and interpolate exactly.
-  v_lpos = u_lightvp * w;  // divided per fragment: the ground and its footprints then agree
+  // Light clip coordinates; the fragment shader divides and maps them to [0, 1]. Doing that here
+  // (exact for the orthographic light) made the footprints disagree with the whole ground at a
+  // few shadow-edge pixels (render/shaders.hpp).
+  v_lpos = u_lightvp * w;
   gl_Position = u_viewproj * w;
 }
 )";
