@@ -7,7 +7,6 @@
 // llvmpipe and give the same frames byte for byte. GL calls go through Mesa's shared dispatch,
 // which both backends set; a build without OSMesa (-DSIMREEL_OSMESA=OFF) links libOpenGL instead.
 #pragma once
-#include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
