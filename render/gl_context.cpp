@@ -4,6 +4,7 @@
 #include <GL/gl.h>
 #include <malloc.h>
 
+#include <cstdint>
 #include <cstdio>
 #include <stdexcept>
 #include <vector>
