@@ -325,7 +325,7 @@ struct Loader {
     if (n["orientation"]) b.q_WB = unit_quaternion(n["orientation"], c.child("orientation"));
     if (n["linear_velocity"]) b.v_W = vec<3>(n["linear_velocity"], c.child("linear_velocity"));
     if (n["angular_velocity"]) b.w_W = vec<3>(n["angular_velocity"], c.child("angular_velocity"));
-    if (n["static"]) b.is_static = boolean(n["static"], c.child("static"));
+    if (n["static"] && boolean(n["static"], c.child("static"))) b.type = BodyType::static_body;
     if (n["color"]) b.color = color(n["color"], c.child("color"));
     if (n["integrator"]) b.integrator = integrator(n["integrator"], c.child("integrator"));
     const YAML::Node cols = n["colliders"];

@@ -17,6 +17,22 @@ const char* to_string(ShapeKind s) {
       return "capsule";
     case ShapeKind::mesh:
       return "mesh";
+    case ShapeKind::plane:
+      return "plane";
+    case ShapeKind::ellipsoid:
+      return "ellipsoid";
+  }
+  return "?";
+}
+
+const char* to_string(BodyType t) {
+  switch (t) {
+    case BodyType::static_body:
+      return "static";
+    case BodyType::kinematic:
+      return "kinematic";
+    case BodyType::dynamic:
+      return "dynamic";
   }
   return "?";
 }
@@ -31,6 +47,10 @@ MassProperties primitive_mass(const Collider& c, double rho) {
       return cylinder_mass(c.radius, c.height, rho);
     case ShapeKind::capsule:
       return capsule_mass(c.radius, c.height, rho);
+    case ShapeKind::ellipsoid:
+      return ellipsoid_mass(c.radii, rho);
+    case ShapeKind::plane:
+      throw InputError("a plane has no mass: it may only be a collider of a static body");
     case ShapeKind::mesh:
       break;
   }

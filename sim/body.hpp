@@ -10,22 +10,44 @@
 
 #include "sim/integrators.hpp"
 #include "sim/mesh_mass.hpp"
+#include "sim/polyhedron.hpp"
 
 namespace simreel {
 
-enum class ShapeKind { box, sphere, cylinder, capsule, mesh };
+enum class ShapeKind { box, sphere, cylinder, capsule, mesh, plane, ellipsoid };
 const char* to_string(ShapeKind s);
+
+// static: never moves (zero velocity whatever is set). kinematic: moves with its given velocity,
+// infinite mass, pushes dynamic bodies and is never pushed (a conveyor, a paddle). dynamic: moved
+// by forces, gravity and contacts.
+enum class BodyType { static_body, kinematic, dynamic };
+const char* to_string(BodyType t);
+
+// How a mesh collider on a dynamic body collides: as the convex hull of its vertices (default),
+// or one convex hull per object of the file (`mode: parts`).
+enum class MeshCollision { hull, parts };
 
 struct Collider {
   ShapeKind shape = ShapeKind::box;
-  Vec3 size = Vec3::Ones();  ///< m, box full extents
-  double radius = 0.5;       ///< m, sphere, cylinder, capsule
-  double height = 1.0;       ///< m, cylinder, capsule (tip to tip); axis along the collider's z
+  Vec3 size = Vec3::Ones();   ///< m, box full extents
+  double radius = 0.5;        ///< m, sphere, cylinder, capsule
+  double height = 1.0;        ///< m, cylinder, capsule (tip to tip); axis along the collider's z
+  Vec3 radii = Vec3::Ones();  ///< m, ellipsoid semi-axes along the collider's x, y, z
   std::shared_ptr<const TriangleMesh> mesh;  ///< mesh shapes: the surface as weighed (mesh axes)
   MassProperties props_C;                    ///< in the collider frame C (mesh: mesh axes)
   Vec3 p_BC = Vec3::Zero();                  ///< m, collider frame origin in the body frame
   Quat q_BC = Quat::Identity();
   std::string label;  ///< for messages: "collider 2 (mesh assets/t.obj)"
+  // ---- Contact (sim/README.md "Contacts"). A pair uses sqrt(f_a f_b) and max(e_a, e_b).
+  double friction = 0.6;     ///< Coulomb coefficient, >= 0
+  double restitution = 0.0;  ///< in [0, 1]: normal speed kept after an impact above the threshold
+  bool collide = true;       ///< false: mass only, never touches anything
+  uint32_t group = 1;        ///< bits this collider belongs to
+  uint32_t mask =
+      0xFFFFFFFFu;  ///< bits it collides with: a and b touch if (a.group & b.mask) && (b.group & a.mask)
+  /// Collision hulls of a mesh collider (one, or one per object with MeshCollision::parts), in the
+  /// collider frame; empty for primitives (built by the World when absent).
+  std::vector<std::shared_ptr<const ConvexPolyhedron>> hulls;
   /// Linear RGB from the mesh file's material, drawn instead of the body colour when the scene
   /// gives the body none (drawing only).
   std::optional<std::array<float, 3>> color;
@@ -40,7 +62,7 @@ struct BodyDef {
   Quat q_WB = Quat::Identity();  ///< body to world
   Vec3 v_W = Vec3::Zero();       ///< m/s, centre-of-mass velocity, world frame
   Vec3 w_W = Vec3::Zero();       ///< rad/s, angular velocity, world frame
-  bool is_static = false;
+  BodyType type = BodyType::dynamic;
   std::optional<Integrator> integrator;          ///< overrides the world's for this body (side-by-side demos)
   std::array<float, 3> color{0.8f, 0.8f, 0.8f};  ///< linear RGB in [0, 1]
   std::vector<Collider> colliders;

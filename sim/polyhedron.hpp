@@ -29,11 +29,11 @@ struct ConvexPolyhedron {
     double offset = 0;           ///< m, normal . v for every vertex v of the face
     int edge = -1;               ///< one half-edge of the face
   };
-  std::vector<Vec3> vertices;     ///< m, shape frame
-  std::vector<HalfEdge> edges;    ///< twin pairs (2k, 2k+1)
+  std::vector<Vec3> vertices;   ///< m, shape frame
+  std::vector<HalfEdge> edges;  ///< twin pairs (2k, 2k+1)
   std::vector<Face> faces;
-  Vec3 centroid = Vec3::Zero();   ///< m, volume centroid (a point well inside, for SAT and GJK seeds)
-  double inner_radius = 0;        ///< m, distance from centroid to the nearest face plane
+  Vec3 centroid = Vec3::Zero();  ///< m, volume centroid (a point well inside, for SAT and GJK seeds)
+  double inner_radius = 0;       ///< m, distance from centroid to the nearest face plane
 
   int edge_count() const { return (int)edges.size() / 2; }
   // Index of the vertex maximising d . v (ties broken by the lowest index: deterministic).

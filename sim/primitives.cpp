@@ -47,6 +47,18 @@ MassProperties cylinder_mass(double r, double h, double rho) {
   return diagonal(m, ixx, ixx, 0.5 * m * r * r);
 }
 
+double ellipsoid_volume(const Vec3& r) {
+  return 4.0 / 3.0 * kPi * r.x() * r.y() * r.z();
+}
+
+// Solid ellipsoid x^2/a^2 + y^2/b^2 + z^2/c^2 <= 1: I_xx = m (b^2 + c^2) / 5, cyclically (the unit
+// ball's second moment m/5 per axis, scaled by each semi-axis squared).
+MassProperties ellipsoid_mass(const Vec3& r, double rho) {
+  const double m = rho * ellipsoid_volume(r);
+  const Vec3 q = r.cwiseProduct(r);
+  return diagonal(m, m / 5.0 * (q.y() + q.z()), m / 5.0 * (q.x() + q.z()), m / 5.0 * (q.x() + q.y()));
+}
+
 MassProperties capsule_mass(double r, double h, double rho) {
   const double L = h - 2.0 * r;  // length of the cylindrical part
   const double mc = rho * cylinder_volume(r, L);

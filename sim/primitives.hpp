@@ -11,10 +11,12 @@ double box_volume(const Vec3& size);                   ///< m^3; size = full ext
 double sphere_volume(double radius);                   ///< m^3
 double cylinder_volume(double radius, double height);  ///< m^3
 double capsule_volume(double radius, double height);   ///< m^3; height is tip to tip, >= 2 radius
+double ellipsoid_volume(const Vec3& radii);            ///< m^3; semi-axes
 
 MassProperties box_mass(const Vec3& size, double density);
 MassProperties sphere_mass(double radius, double density);
 MassProperties cylinder_mass(double radius, double height, double density);
 MassProperties capsule_mass(double radius, double height, double density);
+MassProperties ellipsoid_mass(const Vec3& radii, double density);
 
 }  // namespace simreel

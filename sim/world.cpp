@@ -154,9 +154,9 @@ World::World(const WorldConfig& config, std::vector<BodyDef> bodies)
     m.c_B = mp.com;
     m.I_P = pa.moments;
     m.q_BP = Quat(pa.R).normalized();
-    m.is_static = d.is_static;
-    m.inv_mass = d.is_static ? 0.0 : 1.0 / mp.mass;
-    m.inv_I_P = d.is_static ? Vec3::Zero() : Vec3(pa.moments.cwiseInverse());
+    m.is_static = d.type == BodyType::static_body;
+    m.inv_mass = m.is_static ? 0.0 : 1.0 / mp.mass;
+    m.inv_I_P = m.is_static ? Vec3::Zero() : Vec3(pa.moments.cwiseInverse());
     m.isotropic = (pa.moments.maxCoeff() - pa.moments.minCoeff()) <= 1e-12 * pa.moments.maxCoeff();
     const Vec3& I = pa.moments;
     m.gyro_rate = std::max(
@@ -164,9 +164,9 @@ World::World(const WorldConfig& config, std::vector<BodyDef> bodies)
     const Quat q_WB = d.q_WB.normalized();
     s.q_WP = (q_WB * m.q_BP).normalized();
     s.x_W = d.p_WB + q_WB * m.c_B;
-    s.v_W = d.is_static ? Vec3::Zero() : d.v_W;
-    s.w_P = d.is_static ? Vec3::Zero() : Vec3(s.q_WP.conjugate() * d.w_W);
-    if (d.is_static) {
+    s.v_W = m.is_static ? Vec3::Zero() : d.v_W;
+    s.w_P = m.is_static ? Vec3::Zero() : Vec3(s.q_WP.conjugate() * d.w_W);
+    if (m.is_static) {
       profile_.static_bodies++;
     } else {
       dynamic_.push_back(i);

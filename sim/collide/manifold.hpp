@@ -29,9 +29,9 @@ struct Manifold {
 };
 
 // Per-pair state the narrow phase keeps between steps (a cached separating axis or feature for
-// box and hull pairs, so a resting contact re-tests the same axis first). Zero-initialised means
-// "no cache". Part of the saved world state: results must not depend on whether it was cached.
-// Rule: the cache may only make the query faster, never change its answer.
+// box and hull pairs, so a resting contact re-tests the same axis first). Default-initialised means
+// "no cache". It is part of the saved world state (sim/snapshot), so a resumed run equals a
+// straight one even where the cache decides between near-equal axes.
 struct PairCache {
   uint8_t type = 0;  ///< 0 none; the rest is the pair function's own
   int32_t a = -1, b = -1;
@@ -42,7 +42,7 @@ struct PairCache {
 // most `speculative` (m) and returns out.count. The pair may come in either order: the function
 // swaps internally and reports the normal from A to B. Deterministic: the same inputs (including
 // the cache) give bit-identical output. Never allocates.
-int collide(const CollideShape& a, const Pose& xa, const CollideShape& b, const Pose& xb,
-            double speculative, PairCache& cache, Manifold& out);
+int collide(const CollideShape& a, const Pose& xa, const CollideShape& b, const Pose& xb, double speculative,
+            PairCache& cache, Manifold& out);
 
 }  // namespace simreel

@@ -17,13 +17,13 @@ const char* to_string(CollideKind k);
 struct CollideShape {
   CollideKind kind = CollideKind::sphere;
   // plane: the plane z = 0 of frame C, solid below (normal +z_C); static bodies only.
-  double radius = 0;                  ///< m: sphere; capsule and cylinder (around z_C)
-  double half_length = 0;             ///< m: capsule, half the segment between its sphere centres (z_C);
-                                      ///<    cylinder, half its height (z_C)
-  Vec3 half_extents = Vec3::Zero();   ///< m: box
-  Vec3 radii = Vec3::Zero();          ///< m: ellipsoid semi-axes along x_C, y_C, z_C
+  double radius = 0;                       ///< m: sphere; capsule and cylinder (around z_C)
+  double half_length = 0;                  ///< m: capsule, half the segment between its sphere centres (z_C);
+                                           ///<    cylinder, half its height (z_C)
+  Vec3 half_extents = Vec3::Zero();        ///< m: box
+  Vec3 radii = Vec3::Zero();               ///< m: ellipsoid semi-axes along x_C, y_C, z_C
   const ConvexPolyhedron* hull = nullptr;  ///< hull (and box: make_box_polyhedron, owned elsewhere)
-  double bounding_radius = 0;         ///< m, about C's origin (planes: 0, unbounded)
+  double bounding_radius = 0;              ///< m, about C's origin (planes: 0, unbounded)
 };
 
 // Rigid transform from a shape frame C to the world: p_W = R p_C + p.

@@ -123,7 +123,7 @@ TEST(World, BadBodiesAreRejected) {
 
 TEST(World, StaticBodiesNeverMove) {
   BodyDef s = l_body();
-  s.is_static = true;
+  s.type = BodyType::static_body;
   World w(WorldConfig{}, {s, l_body()});
   const Vec3 p = w.origin_position(0);
   for (int k = 0; k < 100; ++k) w.step();
