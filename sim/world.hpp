@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "sim/body.hpp"
+#include "sim/contact_settings.hpp"
 #include "sim/integrators.hpp"
 #include "sim/state.hpp"
 
@@ -28,6 +29,9 @@ struct WorldConfig {
   Vec3 gravity = Vec3(0.0, 0.0, -9.81);  ///< m/s^2
   Integrator integrator = Integrator::automatic;
   int threads = 1;  ///< worker threads for integration (results identical)
+  ContactSettings contacts;
+  /// Pairs of body indices that never collide with each other (scene: simulation.ignore_pairs).
+  std::vector<std::pair<int, int>> ignore_pairs;
 };
 
 // A non-finite value appeared in the state.
