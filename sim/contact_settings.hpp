@@ -5,15 +5,15 @@
 namespace simreel {
 
 struct ContactSettings {
-  int substeps = 4;                     ///< solver substeps per step
-  int iterations = 1;                   ///< solve iterations per substep (and relax iterations)
-  double contact_hertz = 30;            ///< Hz, stiffness of the soft contact constraint
-  double damping_ratio = 10;            ///< dimensionless, of the soft contact constraint
-  double max_push_out = 3;              ///< m/s, fastest speed at which overlap is removed
-  double restitution_threshold = 1;     ///< m/s, approach speeds below this do not bounce
-  double speculative_distance = 0.02;   ///< m, contacts are created this far before touching
-  double linear_slop = 0.0005;          ///< m, overlap left uncorrected (keeps resting contacts quiet)
-  double rolling_resistance = 0;        ///< dimensionless (m of lever per m of radius), 0 = off
+  int substeps = 4;                    ///< solver substeps per step
+  int iterations = 1;                  ///< solve iterations per substep (and relax iterations)
+  double contact_hertz = 30;           ///< Hz, stiffness of the soft contact constraint
+  double damping_ratio = 10;           ///< dimensionless, of the soft contact constraint
+  double max_push_out = 3;             ///< m/s, fastest speed at which overlap is removed
+  double restitution_threshold = 1;    ///< m/s, approach speeds below this do not bounce
+  double speculative_distance = 0.02;  ///< m, contacts are created this far before touching
+  double linear_slop = 0.0005;         ///< m, overlap left uncorrected (keeps resting contacts quiet)
+  double rolling_resistance = 0;       ///< dimensionless (m of lever per m of radius), 0 = off
 };
 
 }  // namespace simreel

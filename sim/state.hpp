@@ -14,8 +14,9 @@ struct BodyModel {
   Vec3 inv_I_P = Vec3::Zero();   ///< 1/(kg m^2)
   Quat q_BP = Quat::Identity();  ///< principal frame P in the body frame B
   Vec3 c_B = Vec3::Zero();       ///< m, centre of mass in the body frame (the article's local centroid)
-  bool is_static = false;
-  bool isotropic = false;  ///< I_P equal to 1e-12 relative: no gyroscopic term, rotation is exact
+  bool is_static = false;        ///< never moves
+  bool is_kinematic = false;     ///< moves at its given velocity, infinite mass
+  bool isotropic = false;        ///< I_P equal to 1e-12 relative: no gyroscopic term, rotation is exact
   // Bound on Euler's equations' rate per unit |w|: max(1, max_i |I_j - I_k| / I_i). The fastest
   // motion of w or q is at most gyro_rate |w| rad/s; `auto` substeps when that times h is large.
   double gyro_rate = 1.0;

@@ -13,21 +13,23 @@
 namespace simreel {
 
 const char* to_string(Stage s) {
-  switch (s) {
-    case Stage::forces:
-      return "forces";
-    case Stage::integrate:
-      return "integrate";
-    case Stage::clear:
-      return "clear";
-    case Stage::check:
-      return "check";
-    case Stage::derived:
-      return "derived";
-    case Stage::count:
-      break;
-  }
-  return "?";
+  static const char* const names[] = {"forces",
+                                      "update_broad_phase",
+                                      "collide",
+                                      "prepare_contacts",
+                                      "integrate_velocities",
+                                      "warm_start",
+                                      "solve",
+                                      "integrate_positions",
+                                      "relax",
+                                      "restitution",
+                                      "store_impulses",
+                                      "integrate",
+                                      "check",
+                                      "clear",
+                                      "derived"};
+  static_assert(sizeof(names) / sizeof(names[0]) == (size_t)Stage::count);
+  return (int)s >= 0 && s < Stage::count ? names[(int)s] : "?";
 }
 
 // Persistent workers released by a generation counter each step; the caller runs chunk 0 itself.
@@ -144,23 +146,34 @@ World::World(const WorldConfig& config, std::vector<BodyDef> bodies)
       throw InputError(body_label(defs_, i) + ": orientation quaternion is not unit length (norm " +
                        std::to_string(d.q_WB.norm()) + ")");
     if (d.colliders.empty()) throw InputError(body_label(defs_, i) + " has no colliders");
-    const MassProperties mp = compose(d.colliders);
-    if (!(mp.mass > 0) || !std::isfinite(mp.mass))
-      throw InputError(body_label(defs_, i) + ": mass must be positive");
-    const std::string bad = inertia_problem(mp.inertia, 1e-7);
-    if (!bad.empty()) throw InputError(body_label(defs_, i) + ": " + bad);
-    const PrincipalAxes pa = principal_axes(mp.inertia);
-    m.mass = mp.mass;
-    m.c_B = mp.com;
-    m.I_P = pa.moments;
-    m.q_BP = Quat(pa.R).normalized();
     m.is_static = d.type == BodyType::static_body;
-    m.inv_mass = m.is_static ? 0.0 : 1.0 / mp.mass;
-    m.inv_I_P = m.is_static ? Vec3::Zero() : Vec3(pa.moments.cwiseInverse());
-    m.isotropic = (pa.moments.maxCoeff() - pa.moments.minCoeff()) <= 1e-12 * pa.moments.maxCoeff();
-    const Vec3& I = pa.moments;
-    m.gyro_rate = std::max(
-        {1.0, std::fabs(I[1] - I[2]) / I[0], std::fabs(I[2] - I[0]) / I[1], std::fabs(I[0] - I[1]) / I[2]});
+    m.is_kinematic = d.type == BodyType::kinematic;
+    // Planes have no mass; a static body made of planes only is massless (it never moves).
+    std::vector<Collider> massive;
+    for (const Collider& c : d.colliders)
+      if (c.shape != ShapeKind::plane) massive.push_back(c);
+    if (massive.empty() && !m.is_static)
+      throw InputError(body_label(defs_, i) + ": a plane collider needs a static body");
+    const MassProperties mp = massive.empty() ? MassProperties{} : compose(massive);
+    if (!massive.empty()) {
+      if (!(mp.mass > 0) || !std::isfinite(mp.mass))
+        throw InputError(body_label(defs_, i) + ": mass must be positive");
+      const std::string bad = inertia_problem(mp.inertia, 1e-7);
+      if (!bad.empty()) throw InputError(body_label(defs_, i) + ": " + bad);
+      const PrincipalAxes pa = principal_axes(mp.inertia);
+      m.mass = mp.mass;
+      m.c_B = mp.com;
+      m.I_P = pa.moments;
+      m.q_BP = Quat(pa.R).normalized();
+    }
+    const bool dynamic = d.type == BodyType::dynamic;
+    m.inv_mass = dynamic ? 1.0 / m.mass : 0.0;
+    m.inv_I_P = dynamic ? Vec3(m.I_P.cwiseInverse()) : Vec3::Zero();
+    const Vec3& I = m.I_P;
+    m.isotropic = (I.maxCoeff() - I.minCoeff()) <= 1e-12 * I.maxCoeff();
+    if (dynamic)
+      m.gyro_rate = std::max(
+          {1.0, std::fabs(I[1] - I[2]) / I[0], std::fabs(I[2] - I[0]) / I[1], std::fabs(I[0] - I[1]) / I[2]});
     const Quat q_WB = d.q_WB.normalized();
     s.q_WP = (q_WB * m.q_BP).normalized();
     s.x_W = d.p_WB + q_WB * m.c_B;
@@ -168,6 +181,9 @@ World::World(const WorldConfig& config, std::vector<BodyDef> bodies)
     s.w_P = m.is_static ? Vec3::Zero() : Vec3(s.q_WP.conjugate() * d.w_W);
     if (m.is_static) {
       profile_.static_bodies++;
+    } else if (m.is_kinematic) {
+      profile_.kinematic_bodies++;
+      kinematic_.push_back(i);
     } else {
       dynamic_.push_back(i);
       const Integrator method = d.integrator.value_or(cfg_.integrator);
@@ -181,6 +197,7 @@ World::World(const WorldConfig& config, std::vector<BodyDef> bodies)
   }
   if (cfg_.threads > 1) pool_ = std::make_unique<WorkerPool>(cfg_.threads);
   chunk_sum_.resize(cfg_.threads);
+  init_contacts();
   check_spin();
 }
 
@@ -189,25 +206,52 @@ World::~World() = default;
 // ------------------------------------------------------------------ the step pipeline
 void World::step() {
   double* sec = profile_.seconds;
-  profile_.skipped[(int)Stage::forces]++;  // no force fields yet: gravity is applied in integrate
-  const bool finite = stage_integrate_and_check();
-  profile_.runs[(int)Stage::integrate]++;
-  profile_.runs[(int)Stage::check]++;
+  long* runs = profile_.runs;
+  long* skipped = profile_.skipped;
+  skipped[(int)Stage::forces]++;  // no force fields yet: gravity is applied in integration
+  bool finite = true;
+  bool solved = false;
+  if (collide_enabled_) {
+    {
+      Timer t(profiling_, &sec[(int)Stage::update_broad_phase]);
+      stage_broad_phase();
+    }
+    runs[(int)Stage::update_broad_phase]++;
+    {
+      Timer t(profiling_, &sec[(int)Stage::collide]);
+      stage_collide();
+    }
+    runs[(int)Stage::collide]++;
+    solved = !contact_bodies_.empty();
+    if (solved) finite = stage_solve_contacts();
+  } else {
+    skipped[(int)Stage::update_broad_phase]++;
+    skipped[(int)Stage::collide]++;
+  }
+  if (!solved) {
+    for (Stage st : {Stage::prepare_contacts, Stage::integrate_velocities, Stage::warm_start, Stage::solve,
+                     Stage::integrate_positions, Stage::relax, Stage::restitution, Stage::store_impulses})
+      skipped[(int)st]++;
+  }
+  finite = stage_integrate_and_check() && finite;
+  runs[(int)Stage::integrate]++;
+  runs[(int)Stage::check]++;
+  if (!kinematic_.empty()) stage_kinematic();
   ++steps_;
   if (!finite) check_state();  // throws, naming the body and the time
   if (wrench_dirty_) {
     Timer t(profiling_, &sec[(int)Stage::clear]);
     stage_clear();
-    profile_.runs[(int)Stage::clear]++;
+    runs[(int)Stage::clear]++;
   } else {
-    profile_.skipped[(int)Stage::clear]++;
+    skipped[(int)Stage::clear]++;
   }
   if (keep_derived_) {
     Timer t(profiling_, &sec[(int)Stage::derived]);
     stage_derived();
-    profile_.runs[(int)Stage::derived]++;
+    runs[(int)Stage::derived]++;
   } else {
-    profile_.skipped[(int)Stage::derived]++;
+    skipped[(int)Stage::derived]++;
   }
   profile_.steps++;
 }
@@ -245,19 +289,24 @@ bool World::stage_integrate_and_check() {
   const Wrench* wr = wrench_dirty_ ? wrench_.data() : nullptr;
   clock::time_point t0, t_mid;
   if (profiling_) t0 = clock::now();
+  // Bodies the contact solver stepped this step are left out (free_ holds the rest).
+  const bool some_in_contact = !contact_bodies_.empty();
+  auto list = [&](size_t g) -> const std::vector<int>& {
+    return some_in_contact ? free_[g] : groups_[g].bodies;
+  };
   auto work = [&](int c, int nc) {
-    for (const Group& g : groups_) {
+    for (size_t g = 0; g < groups_.size(); ++g) {
       const int* idx;
       int n;
-      chunk_range(g.bodies, c, nc, idx, n);
-      integrate(g.method, idx, n, state_.data(), model_.data(), wr, cfg_.gravity, cfg_.dt);
+      chunk_range(list(g), c, nc, idx, n);
+      integrate(groups_[g].method, idx, n, state_.data(), model_.data(), wr, cfg_.gravity, cfg_.dt);
     }
     if (c == 0 && profiling_) t_mid = clock::now();
     double sum = 0;
-    for (const Group& g : groups_) {
+    for (size_t g = 0; g < groups_.size(); ++g) {
       const int* idx;
       int n;
-      chunk_range(g.bodies, c, nc, idx, n);
+      chunk_range(list(g), c, nc, idx, n);
       for (int j = 0; j < n; ++j) {
         const MotionState& s = state_[idx[j]];
         sum += s.q_WP.w() + s.x_W.x() + s.x_W.y() + s.x_W.z();
@@ -392,13 +441,13 @@ void World::apply_torque(int i, const Vec3& tau_W) {
 }
 
 void World::apply_impulse(int i, const Vec3& J_W, const Vec3& at_W) {
-  if (model_[i].is_static) return;
+  if (model_[i].inv_mass == 0) return;
   state_[i].v_W += model_[i].inv_mass * J_W;
   apply_angular_impulse(i, (at_W - state_[i].x_W).cross(J_W));
 }
 
 void World::apply_angular_impulse(int i, const Vec3& dL_W) {
-  if (model_[i].is_static) return;
+  if (model_[i].inv_mass == 0) return;
   state_[i].w_P += model_[i].inv_I_P.cwiseProduct(state_[i].q_WP.conjugate() * dL_W);
 }
 

@@ -1,16 +1,25 @@
 // The simulated world: bodies as plain arrays reached by index, advanced by a fixed step.
 //
-// World::step() is the pipeline, each stage timed into Profile when profiling is on:
-//   1. forces     user force fields into the accumulators (skipped: none exist yet; gravity is a
-//                 uniform acceleration applied inside integration, so it costs no pass)
-//   2. integrate  the selected integrator over the dynamic bodies (static bodies are never visited)
-//   4. check      NaN/inf guard over the new state; stops the run naming the body and time (run in
-//                 the same pass over each thread's bodies as 2, while they are in its cache)
-//   3. clear      zero the force/torque accumulators (skipped unless something was applied)
-//   5. derived    world inverse inertia for consumers that need it every step (skipped unless
-//                 requested; contacts will)
-// Thread count never changes results: bodies are split into fixed contiguous chunks and each body
-// is advanced independently.
+// World::step() is the pipeline (Box2D v3's b2World_Step, Box3D's solver stages), each stage an
+// entry of `Stage`, timed into Profile when profiling is on and counted as skipped when it had
+// nothing to do:
+//   forces               user force fields into the accumulators (none yet: gravity is applied
+//                        inside integration, so it costs no pass)
+//   update_broad_phase   world boxes of the colliding shapes, sort and sweep -> candidate pairs
+//   collide              narrow phase on each pair -> manifolds matched to last step's by feature
+//                        id (warm-start impulses carried over)
+//   prepare_contacts     solver bodies (world frame, fresh R I^-1 R^T) and constraints for the
+//                        bodies in contact this step
+//   per substep: integrate_velocities, warm_start, solve, integrate_positions, relax
+//   restitution, store_impulses, then the solved bodies' motion is written back
+//   integrate            the free-flight integrators over the dynamic bodies touching nothing this
+//                        step (static bodies are never visited), kinematic bodies at their velocity
+//   check                NaN/inf guard over the new state; stops the run naming the body and time
+//   clear                zero the force/torque accumulators (skipped unless something was applied)
+//   derived              world inverse inertia for consumers that need it every step
+// A scene without colliding shapes skips every contact stage and pays nothing for them.
+// Thread count never changes results: free-flight bodies are split into fixed contiguous chunks
+// and each body is advanced independently; the contact stages run in one fixed order.
 #pragma once
 #include <memory>
 #include <stdexcept>
@@ -18,8 +27,12 @@
 #include <vector>
 
 #include "sim/body.hpp"
+#include "sim/broad_phase.hpp"
+#include "sim/contact.hpp"
 #include "sim/contact_settings.hpp"
+#include "sim/contact_solver.hpp"
 #include "sim/integrators.hpp"
+#include "sim/shapes.hpp"
 #include "sim/state.hpp"
 
 namespace simreel {
@@ -40,7 +53,24 @@ class StateError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-enum class Stage { forces, integrate, clear, check, derived, count };
+enum class Stage {
+  forces,
+  update_broad_phase,
+  collide,
+  prepare_contacts,
+  integrate_velocities,
+  warm_start,
+  solve,
+  integrate_positions,
+  relax,
+  restitution,
+  store_impulses,
+  integrate,
+  check,
+  clear,
+  derived,
+  count
+};
 const char* to_string(Stage s);
 
 struct Profile {
@@ -52,6 +82,17 @@ struct Profile {
   int static_bodies = 0;      ///< never visited
   int isotropic_bodies = 0;   ///< dynamic under `auto` with isotropic inertia: no gyroscopic work
   int gyroscopic_bodies = 0;  ///< dynamic, full rotational dynamics
+  int kinematic_bodies = 0;   ///< moved at their given velocity
+  int shapes = 0;             ///< colliding shapes (planes included)
+  long pairs = 0;             ///< candidate pairs from the broad phase, summed over steps
+  long contact_points = 0;    ///< manifold points, summed over steps
+  long solver_bodies = 0;     ///< bodies stepped by the contact solver, summed over steps
+};
+
+// What contact did over the run (simulate --json).
+struct ContactStats {
+  int contacts_max = 0;        ///< most manifold points in one step
+  double max_penetration = 0;  ///< m, deepest overlap seen at the start of a step
 };
 
 class WorkerPool;
@@ -70,6 +111,7 @@ class World {
   const WorldConfig& config() const { return cfg_; }
   int body_count() const { return (int)defs_.size(); }
   int dynamic_count() const { return (int)dynamic_.size(); }
+  BodyType type(int i) const { return defs_[i].type; }
   const BodyDef& def(int i) const { return defs_[i]; }
   const BodyModel& model(int i) const { return model_[i]; }
   const MotionState& state(int i) const { return state_[i]; }
@@ -114,6 +156,12 @@ class World {
   void check_spin(double max_angle = 0.5);
   const std::vector<std::string>& warnings() const { return warnings_; }
 
+  // ---- Contacts.
+  const ShapeTable& shapes() const { return *shapes_; }
+  const std::vector<Contact>& contacts() const { return contacts_; }  ///< by (shape a, shape b)
+  const ContactStats& contact_stats() const { return contact_stats_; }
+  bool has_contacts() const { return collide_enabled_; }  ///< false: contact stages always skipped
+
   void set_profiling(bool on) { profiling_ = on; }
   const Profile& profile() const { return profile_; }
   // Ask for the world inverse inertia to be refreshed every step (stage 5).
@@ -122,6 +170,12 @@ class World {
 
  private:
   bool stage_integrate_and_check();  ///< false if a non-finite value appeared
+  void init_contacts();
+  bool shapes_may_touch(int a, int b) const;
+  void stage_broad_phase();
+  void stage_collide();
+  bool stage_solve_contacts();  ///< false if a non-finite value appeared
+  void stage_kinematic();
   void stage_clear();
   template <typename F>
   void for_each_chunk(F& f);
@@ -152,6 +206,25 @@ class World {
   long steps_ = 0;
   Profile profile_;
   std::unique_ptr<WorkerPool> pool_;
+
+  // ---- Contact data (sim/shapes.hpp, broad_phase.hpp, contact.hpp, contact_solver.hpp).
+  std::unique_ptr<ShapeTable> shapes_;
+  bool collide_enabled_ = false;
+  std::vector<int> sweep_shapes_, plane_shapes_;  ///< non-plane and plane colliding shapes
+  std::vector<Pose> plane_poses_;
+  std::vector<char> shape_moving_;           ///< per shape: its body is not static
+  std::vector<Aabb> boxes_;                  ///< per shape, this step
+  std::vector<std::pair<int, int>> ignore_;  ///< body pairs, (lo, hi), sorted
+  BroadPhase broad_;
+  std::vector<uint64_t> pairs_;
+  std::vector<Contact> contacts_, contacts_next_;
+  std::vector<char> in_contact_;        ///< per body, this step
+  std::vector<int> contact_bodies_;     ///< dynamic and kinematic bodies in contact, ascending
+  std::vector<int> solver_index_;       ///< per body, this step (0: not in the solver)
+  std::vector<std::vector<int>> free_;  ///< per group: its bodies not in contact this step
+  std::vector<int> kinematic_;
+  ContactSolver solver_;
+  ContactStats contact_stats_;
 };
 
 }  // namespace simreel

@@ -1,0 +1,107 @@
+// The contact solver: Box2D v3's "soft step" (Catto, "Solver2D", 2024; Box3D src/solver.c and
+// contact_solver.c), written here in double precision for 3D. Per step:
+//   prepare           solver bodies in the world frame (v, w, 1/m, R I^-1 R^T fresh from this
+//                     step's orientation) and one constraint per touching manifold (anchors,
+//                     effective masses, tangent basis, warm-start impulses);
+//   per substep h = dt / substeps:
+//     integrate velocities  v += h (g + f/m); w += h I_W^-1 tau, then the implicit gyroscopic
+//                           term (one Newton step of I (w' - w) + h w' x I w' = 0, Catto 2015);
+//     warm start            apply last step's accumulated impulses;
+//     solve                 normal (soft, with bias) then friction, Gauss-Seidel in a fixed order;
+//     integrate positions   dp += h v; dq <- exp(h w / 2) dq (exact rotation for constant w);
+//     relax                 solve again without bias, so push-out does not become velocity;
+//     restitution           points that hit faster than the threshold this substep bounce;
+//   store impulses    back into the contact cache for the next step's warm start.
+// The soft constraint (a stiff damped spring solved implicitly, Catto GDC 2011 "Soft
+// constraints"): with w = 2 pi f, a1 = 2 zeta + h w, a2 = h w a1, a3 = 1 / (1 + a2):
+//   bias = (w / a1) s (capped at max_push_out), impulse = -m_eff (a2 a3) (vn + bias) - a3 lambda.
+#pragma once
+#include <vector>
+
+#include "sim/contact.hpp"
+#include "sim/contact_settings.hpp"
+#include "sim/state.hpp"
+
+namespace simreel {
+
+struct SolverBody {
+  Vec3 v = Vec3::Zero();       ///< m/s, centre-of-mass velocity, world
+  Vec3 w = Vec3::Zero();       ///< rad/s, world
+  Vec3 dp = Vec3::Zero();      ///< m, centre-of-mass displacement so far this step
+  Quat dq = Quat::Identity();  ///< rotation so far this step (world)
+  double inv_mass = 0;         ///< 1/kg (0: static or kinematic)
+  Mat3 inv_I = Mat3::Zero();   ///< 1/(kg m^2), world, R I^-1 R^T at the step's start
+};
+
+struct Softness {
+  double bias_rate = 0;      ///< 1/s
+  double mass_scale = 1;     ///< dimensionless
+  double impulse_scale = 0;  ///< dimensionless
+};
+Softness make_softness(double hertz, double damping_ratio, double h);
+
+struct ConstraintPoint {
+  Vec3 rA = Vec3::Zero(), rB = Vec3::Zero();               ///< m, anchors from each centre of mass, world
+  double adjusted_separation = 0;                          ///< m, separation - n.(rB - rA)
+  double normal_mass = 0, tangent_mass[2] = {0, 0};        ///< kg, effective masses
+  double normal_impulse = 0, tangent_impulse[2] = {0, 0};  ///< N s, accumulated this step
+  double max_normal_impulse = 0;                           ///< N s
+  double relative_velocity = 0;  ///< m/s, fastest normal approach seen this step (restitution)
+  bool bounced = false;          ///< restitution applied this step
+};
+
+struct ContactConstraint {
+  int a = 0, b = 0;  ///< solver body indices (0 is the shared static body)
+  int contact = -1;  ///< index into the contact list
+  Vec3 n = Vec3::UnitZ(), t[2] = {Vec3::UnitX(), Vec3::UnitY()};
+  double friction = 0, restitution = 0, rolling = 0;
+  double rolling_impulse_limit = 0;  ///< m, lever: rolling torque impulse <= rolling * this * sum lambda_n
+  Vec3 rolling_impulse = Vec3::Zero();
+  Mat3 rolling_mass = Mat3::Zero();
+  int count = 0;
+  Softness soft;
+  ConstraintPoint p[4];
+};
+
+// What the solver needs of the world for one step (arrays owned by World, indexed by body).
+struct SolverInput {
+  const BodyModel* model = nullptr;
+  const MotionState* state = nullptr;
+  const Wrench* wrench = nullptr;  ///< may be null
+  Vec3 gravity = Vec3::Zero();
+  double dt = 0;
+  ContactSettings settings;
+};
+
+class ContactSolver {
+ public:
+  // Solver body index of each body this step: 0 for static bodies and bodies not in contact.
+  // `bodies` lists the dynamic and kinematic bodies in contact, ascending. Reuses storage.
+  void prepare(const SolverInput& in, const std::vector<int>& bodies, const std::vector<Contact>& contacts,
+               std::vector<int>& solver_index);
+  void integrate_velocities(double h);
+  void warm_start();
+  void solve(double h, bool use_bias);
+  void integrate_positions(double h);
+  void restitution(double threshold);  ///< call after each substep's relax
+  void store_impulses(std::vector<Contact>& contacts) const;
+  // Writes the solved motion of the dynamic bodies back to the state (kinematic bodies are
+  // advanced by their own exact rule in World).
+  void finish(const BodyModel* model, MotionState* state) const;
+
+  const std::vector<int>& bodies() const { return bodies_; }
+  const std::vector<ContactConstraint>& constraints() const { return cons_; }
+
+ private:
+  SolverInput in_;
+  std::vector<int> bodies_;      ///< body index of solver body k + 1
+  std::vector<SolverBody> sb_;   ///< [0] is the static body
+  std::vector<Mat3> I_W_;        ///< world inertia of each solver body (gyroscopic term)
+  std::vector<char> gyro_;       ///< needs the gyroscopic term
+  std::vector<Vec3> accel_;      ///< m/s^2, g + f/m
+  std::vector<Vec3> ang_accel_;  ///< rad/s^2, I^-1 tau
+  std::vector<ContactConstraint> cons_;
+  Softness soft_, static_soft_;
+};
+
+}  // namespace simreel

@@ -1,0 +1,275 @@
+// World's contact stages (the pipeline is in world.cpp): broad phase, collide, the solver's
+// substeps, and kinematic bodies.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include "sim/error.hpp"
+#include "sim/world.hpp"
+
+namespace simreel {
+
+namespace {
+
+struct StageTimer {
+  bool on;
+  double* acc;
+  std::chrono::steady_clock::time_point t0;
+  StageTimer(bool enabled, double* sink) : on(enabled), acc(sink) {
+    if (on) t0 = std::chrono::steady_clock::now();
+  }
+  ~StageTimer() {
+    if (on) *acc += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
+};
+
+}  // namespace
+
+void World::init_contacts() {
+  const int n = (int)defs_.size();
+  const ContactSettings& cs = cfg_.contacts;
+  if (cs.substeps < 1 || cs.iterations < 1)
+    throw InputError("contacts: substeps and iterations must be at least 1");
+  if (!(cs.contact_hertz >= 0) || !(cs.damping_ratio >= 0) || !(cs.max_push_out >= 0) ||
+      !(cs.restitution_threshold >= 0) || !(cs.speculative_distance >= 0) || !(cs.linear_slop >= 0) ||
+      !(cs.rolling_resistance >= 0))
+    throw InputError("contacts: settings must be non-negative numbers");
+  std::vector<std::string> notes;
+  shapes_ = std::make_unique<ShapeTable>(defs_, model_, notes);
+  for (std::string& s : notes) warnings_.push_back(std::move(s));
+  for (const auto& [a, b] : cfg_.ignore_pairs) {
+    if (a < 0 || b < 0 || a >= n || b >= n) throw InputError("ignore_pairs: body index out of range");
+    ignore_.emplace_back(std::min(a, b), std::max(a, b));
+  }
+  std::sort(ignore_.begin(), ignore_.end());
+  const ShapeTable& st = *shapes_;
+  profile_.shapes = st.size();
+  shape_moving_.assign(st.size(), 0);
+  boxes_.assign(st.size(), Aabb{});
+  bool any_moving = false;
+  for (int i = 0; i < st.size(); ++i) {
+    const ShapeRecord& r = st[i];
+    // A shape that belongs to no group or collides with no group never touches anything.
+    if (r.group == 0 || r.mask == 0) continue;
+    shape_moving_[i] = !model_[r.body].is_static;
+    if (r.geom.kind == CollideKind::plane) {
+      plane_shapes_.push_back(i);
+      plane_poses_.push_back(ShapeTable::world_pose(r, state_[r.body]));
+    } else {
+      sweep_shapes_.push_back(i);
+      any_moving = any_moving || shape_moving_[i];
+      if (!shape_moving_[i]) {
+        Aabb b = ShapeTable::bounds(r.geom, ShapeTable::world_pose(r, state_[r.body]));
+        const Vec3 m = Vec3::Constant(cs.speculative_distance);
+        boxes_[i] = Aabb{b.lo - m, b.hi + m};
+      }
+    }
+  }
+  collide_enabled_ = any_moving && (sweep_shapes_.size() + plane_shapes_.size() >= 2);
+  in_contact_.assign(n, 0);
+  solver_index_.assign(n, 0);
+  free_.resize(groups_.size());
+  if (!collide_enabled_) return;
+  // Bodies overlapping at the start: a warning naming the pair and the depth.
+  stage_broad_phase();
+  stage_collide();
+  for (const Contact& c : contacts_) {
+    double depth = 0;
+    for (int j = 0; j < c.count; ++j) depth = std::max(depth, -c.points[j].separation);
+    if (depth > cs.linear_slop) {
+      std::ostringstream os;
+      os << "bodies '" << defs_[c.body_a].name << "' and '" << defs_[c.body_b].name << "' overlap by "
+         << depth << " m at the start; contacts will push them apart (at most " << cs.max_push_out << " m/s)";
+      warnings_.push_back(os.str());
+    }
+  }
+  contact_stats_ = ContactStats{};
+  profile_.pairs = profile_.contact_points = 0;
+}
+
+bool World::shapes_may_touch(int a, int b) const {
+  const ShapeRecord& A = (*shapes_)[a];
+  const ShapeRecord& B = (*shapes_)[b];
+  if (A.body == B.body) return false;
+  if (model_[A.body].inv_mass == 0 && model_[B.body].inv_mass == 0) return false;
+  if (!filters_allow(A, B)) return false;
+  if (!ignore_.empty()) {
+    const std::pair<int, int> p(std::min(A.body, B.body), std::max(A.body, B.body));
+    if (std::binary_search(ignore_.begin(), ignore_.end(), p)) return false;
+  }
+  return true;
+}
+
+// World boxes of the moving shapes, grown by the speculative distance and by the farthest any
+// point of the shape can travel this step (|v| + |w| r) dt, so a pair that can touch within the
+// step is found before it does.
+void World::stage_broad_phase() {
+  const ShapeTable& st = *shapes_;
+  const double spec = cfg_.contacts.speculative_distance, dt = cfg_.dt;
+  for (int i : sweep_shapes_) {
+    if (!shape_moving_[i]) continue;
+    const ShapeRecord& r = st[i];
+    const MotionState& s = state_[r.body];
+    const Aabb b = ShapeTable::bounds(r.geom, ShapeTable::world_pose(r, s));
+    const double reach = (r.p_PC.norm() + r.geom.bounding_radius) * s.w_P.norm();
+    const Vec3 m = Vec3::Constant(spec + (s.v_W.norm() + reach) * dt);
+    boxes_[i] = Aabb{b.lo - m, b.hi + m};
+  }
+  broad_.update(
+      boxes_, sweep_shapes_, plane_shapes_, plane_poses_, shape_moving_,
+      [this](int a, int b) { return shapes_may_touch(a, b); }, pairs_);
+  profile_.pairs += (long)pairs_.size();
+}
+
+// Narrow phase on each candidate pair, in key order; last step's contact for the same pair
+// (found by a merge of the two sorted lists) gives its cache and its points' impulses by id.
+void World::stage_collide() {
+  const ShapeTable& st = *shapes_;
+  const double spec = cfg_.contacts.speculative_distance, dt = cfg_.dt;
+  contacts_next_.clear();
+  size_t old = 0;
+  int points = 0;
+  std::fill(in_contact_.begin(), in_contact_.end(), 0);
+  for (uint64_t key : pairs_) {
+    const int a = (int)(key >> 32), b = (int)(key & 0xFFFFFFFFu);
+    while (old < contacts_.size() && contacts_[old].key() < key) ++old;
+    const Contact* prev = (old < contacts_.size() && contacts_[old].key() == key) ? &contacts_[old] : nullptr;
+    const ShapeRecord& A = st[a];
+    const ShapeRecord& B = st[b];
+    const MotionState& sa = state_[A.body];
+    const MotionState& sb = state_[B.body];
+    Contact c;
+    c.shape_a = a;
+    c.shape_b = b;
+    c.body_a = A.body;
+    c.body_b = B.body;
+    c.friction = std::sqrt(A.friction * B.friction);
+    c.restitution = std::max(A.restitution, B.restitution);
+    if (prev) c.cache = prev->cache;
+    // How far the two can close this step, bounded: relative speed of their farthest points.
+    const double reach_a = (A.p_PC.norm() + A.geom.bounding_radius) * sa.w_P.norm();
+    const double reach_b = (B.p_PC.norm() + B.geom.bounding_radius) * sb.w_P.norm();
+    const double closing = ((sa.v_W - sb.v_W).norm() + reach_a + reach_b) * dt;
+    Manifold m;
+    const int n = collide(A.geom, ShapeTable::world_pose(A, sa), B.geom, ShapeTable::world_pose(B, sb),
+                          spec + closing, c.cache, m);
+    c.normal_W = m.normal_W;
+    c.count = n;
+    for (int j = 0; j < n; ++j) {
+      ContactPoint& p = c.points[j];
+      p.id = m.points[j].id;
+      p.p_W = m.points[j].p_W;
+      p.separation = m.points[j].separation;
+      if (prev) {
+        for (int k = 0; k < prev->count; ++k)
+          if (prev->points[k].id == p.id) {
+            p.normal_impulse = prev->points[k].normal_impulse;
+            p.tangent_impulse_W = prev->points[k].tangent_impulse_W;
+            break;
+          }
+      }
+      contact_stats_.max_penetration = std::max(contact_stats_.max_penetration, -p.separation);
+    }
+    if (n > 0) {
+      points += n;
+      in_contact_[A.body] = in_contact_[A.body] || !model_[A.body].is_static;
+      in_contact_[B.body] = in_contact_[B.body] || !model_[B.body].is_static;
+    }
+    contacts_next_.push_back(c);
+  }
+  contacts_.swap(contacts_next_);
+  contact_stats_.contacts_max = std::max(contact_stats_.contacts_max, points);
+  profile_.contact_points += points;
+  contact_bodies_.clear();
+  for (int i = 0; i < (int)in_contact_.size(); ++i)
+    if (in_contact_[i]) contact_bodies_.push_back(i);
+  if (!contact_bodies_.empty()) {
+    for (size_t g = 0; g < groups_.size(); ++g) {
+      free_[g].clear();
+      for (int i : groups_[g].bodies)
+        if (!in_contact_[i]) free_[g].push_back(i);
+    }
+  }
+}
+
+// The soft step over the bodies in contact (sim/contact_solver.hpp), then their new state.
+bool World::stage_solve_contacts() {
+  double* sec = profile_.seconds;
+  long* runs = profile_.runs;
+  const ContactSettings& cs = cfg_.contacts;
+  const double h = cfg_.dt / cs.substeps;
+  {
+    StageTimer t(profiling_, &sec[(int)Stage::prepare_contacts]);
+    SolverInput in;
+    in.model = model_.data();
+    in.state = state_.data();
+    in.wrench = wrench_dirty_ ? wrench_.data() : nullptr;
+    in.gravity = cfg_.gravity;
+    in.dt = cfg_.dt;
+    in.settings = cs;
+    solver_.prepare(in, contact_bodies_, contacts_, solver_index_);
+  }
+  runs[(int)Stage::prepare_contacts]++;
+  for (int sub = 0; sub < cs.substeps; ++sub) {
+    {
+      StageTimer t(profiling_, &sec[(int)Stage::integrate_velocities]);
+      solver_.integrate_velocities(h);
+    }
+    {
+      StageTimer t(profiling_, &sec[(int)Stage::warm_start]);
+      solver_.warm_start();
+    }
+    {
+      StageTimer t(profiling_, &sec[(int)Stage::solve]);
+      for (int it = 0; it < cs.iterations; ++it) solver_.solve(h, true);
+    }
+    {
+      StageTimer t(profiling_, &sec[(int)Stage::integrate_positions]);
+      solver_.integrate_positions(h);
+    }
+    {
+      StageTimer t(profiling_, &sec[(int)Stage::relax]);
+      for (int it = 0; it < cs.iterations; ++it) solver_.solve(h, false);
+    }
+    {
+      StageTimer t(profiling_, &sec[(int)Stage::restitution]);
+      solver_.restitution(cs.restitution_threshold);
+    }
+  }
+  for (Stage s : {Stage::integrate_velocities, Stage::warm_start, Stage::solve, Stage::integrate_positions,
+                  Stage::relax})
+    runs[(int)s]++;
+  runs[(int)Stage::restitution]++;
+  bool finite = true;
+  {
+    StageTimer t(profiling_, &sec[(int)Stage::store_impulses]);
+    solver_.store_impulses(contacts_);
+    solver_.finish(model_.data(), state_.data());
+    double sum = 0;
+    for (int i : contact_bodies_) {
+      const MotionState& s = state_[i];
+      sum += s.q_WP.w() + s.x_W.x() + s.x_W.y() + s.x_W.z() + s.v_W.x() + s.w_P.x();
+      solver_index_[i] = 0;
+    }
+    finite = std::isfinite(sum);
+  }
+  runs[(int)Stage::store_impulses]++;
+  profile_.solver_bodies += (long)contact_bodies_.size();
+  return finite;
+}
+
+// Kinematic bodies move at their given velocity, exactly: x += h v, and a constant world angular
+// velocity w turns the orientation by exp(h w / 2) (w_P is re-expressed so that w stays fixed).
+void World::stage_kinematic() {
+  const double h = cfg_.dt;
+  for (int i : kinematic_) {
+    MotionState& s = state_[i];
+    const Vec3 w_W = s.q_WP * s.w_P;
+    s.x_W += h * s.v_W;
+    s.q_WP = (rotation_increment(w_W, h) * s.q_WP).normalized();
+    s.w_P = s.q_WP.conjugate() * w_W;
+  }
+}
+
+}  // namespace simreel
