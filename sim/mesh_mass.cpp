@@ -386,49 +386,56 @@ TriangleMesh prepare(const TriangleMesh& in, MeshReport& rep, bool require_close
                            " whose winding disagreed with their neighbours");
   }
 
-  // Parts: volume (slivers add nothing), bounding box, and a point on the surface (the centroid
-  // of its largest face) for the point-in-solid test.
+  // Parts: volume (slivers add nothing), bounding box, and up to 9 probe points on the surface
+  // (centroids of faces spread over the part) for the point-in-solid test.
   std::vector<std::vector<int>> faces_of(ncomp), solid_faces(ncomp);
   for (size_t f = 0; f < m.triangles.size(); ++f) {
     faces_of[comp[f]].push_back((int)f);
     if (!s.sliver[f]) solid_faces[comp[f]].push_back((int)f);
   }
   std::vector<double> vol(ncomp, 0.0);
-  std::vector<Vec3> lo(ncomp, Vec3::Constant(INFINITY)), hi(ncomp, Vec3::Constant(-INFINITY)), probe(ncomp);
+  std::vector<Vec3> lo(ncomp, Vec3::Constant(INFINITY)), hi(ncomp, Vec3::Constant(-INFINITY));
+  std::vector<std::vector<Vec3>> probes(ncomp);
   for (int c = 0; c < ncomp; ++c) {
     vol[c] = solid_integrals(m, ref, &solid_faces[c]).vol;
-    double best = -1;
-    for (int f : faces_of[c]) {
-      const Tri& t = m.triangles[f];
-      for (int v : t) {
+    for (int f : faces_of[c])
+      for (int v : m.triangles[f]) {
         lo[c] = lo[c].cwiseMin(m.vertices[v]);
         hi[c] = hi[c].cwiseMax(m.vertices[v]);
       }
-      const Vec3 &a = m.vertices[t[0]], &b = m.vertices[t[1]], &cc = m.vertices[t[2]];
-      const double area2 = (b - a).cross(cc - a).squaredNorm();
-      if (area2 > best) {
-        best = area2;
-        probe[c] = (a + b + cc) / 3.0;
-      }
+    const size_t n = solid_faces[c].size(), step = std::max<size_t>(1, n / 9);
+    for (size_t i = 0; i < n && probes[c].size() < 9; i += step) {
+      const Tri& t = m.triangles[solid_faces[c][i]];
+      probes[c].push_back((m.vertices[t[0]] + m.vertices[t[1]] + m.vertices[t[2]]) / 3.0);
     }
   }
-  // Which larger, outward part (if any) holds each part: the part's probe point has winding
-  // number 1 about it. Only parts whose box holds this part's box need the test.
-  std::vector<int> holder(ncomp, -1);
+  // Which larger, outward part (if any) holds each part: every probe has winding number 1 about
+  // it (0 outside; about 1/2 on its surface, where parts touch, which decides nothing). Some
+  // probes in and some out: the two surfaces cross. Only parts whose box holds this part's box
+  // are tested.
+  std::vector<int> holder(ncomp, -1), crossed(ncomp, -1);
   if (ncomp > 1)
     for (int c = 0; c < ncomp; ++c)
       for (int o = 0; o < ncomp && holder[c] < 0; ++o) {
         if (o == c || !(vol[o] > std::fabs(vol[c])) || !(lo[o].array() <= lo[c].array()).all() ||
             !(hi[o].array() >= hi[c].array()).all())
           continue;
-        // 1 inside, 0 outside; about 1/2 on the surface (parts that touch): not inside.
-        if (winding_number(m, solid_faces[o], probe[c]) > 0.75) holder[c] = o;
+        int in = 0, out = 0;
+        for (const Vec3& p : probes[c]) {
+          const double w = winding_number(m, solid_faces[o], p);
+          in += w > 0.75;
+          out += w < 0.25;
+        }
+        if (in && !out) holder[c] = o;
+        if (in && out && crossed[c] < 0) crossed[c] = o;
       }
   // Inside-out parts: a part with negative volume is flipped, unless it lies inside a larger
   // outward part (then it is a cavity, which is legitimate). Both are named.
-  std::vector<std::string> flipped_parts, cavities, overlaps;
+  std::vector<std::string> flipped_parts, cavities, overlaps, crossings;
   for (int c = 0; c < ncomp; ++c) {
     const std::string name = part_name(c, faces_of[c], s.orig);
+    if (holder[c] < 0 && crossed[c] >= 0)
+      crossings.push_back(name + " and " + part_name(crossed[c], faces_of[crossed[c]], s.orig));
     if (vol[c] >= 0) {
       if (holder[c] >= 0)
         overlaps.push_back(name + " inside " + part_name(holder[c], faces_of[holder[c]], s.orig));
@@ -441,6 +448,11 @@ TriangleMesh prepare(const TriangleMesh& in, MeshReport& rep, bool require_close
     for (int f : faces_of[c]) std::swap(m.triangles[f][1], m.triangles[f][2]);
     flipped_parts.push_back(name);
   }
+  if (!crossings.empty())
+    rep.warnings.push_back(plural((long)crossings.size(), "part") +
+                           " cut into a larger part (their surfaces cross), so the material they share is "
+                           "counted twice: " +
+                           name_list(crossings));
   if (!flipped_parts.empty()) {
     rep.inverted = true;
     rep.warnings.push_back(ncomp == 1
