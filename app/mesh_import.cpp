@@ -95,10 +95,6 @@ ImportedMesh import_mesh(const std::string& path, const Vec3& scale) {
     raw = detail::read_ply(path, &out.reader);
   }
   if (!raw) {
-    if (!out.reader.empty())
-      out.notes.push_back(
-          "has a non-convex polygon: read through assimp, which triangulates it, in single "
-          "precision (coordinates rounded to float32)");
     raw = read_with_assimp(path);
     out.reader = "assimp";
   }

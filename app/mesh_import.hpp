@@ -1,10 +1,10 @@
 // Triangle meshes from files.
 //
-// OBJ, OFF, STL (ASCII and binary) and PLY (ASCII and binary) are read by simreel's own readers in
-// double precision, so a coordinate written "0.1" is 0.1 to the last bit and mass properties stay
-// exact to rounding. Everything else assimp reads (glTF 2.0, COLLADA, 3MF, FBX, ...) goes through
-// assimp, whose Debian build stores coordinates in single precision (about 6e-8 relative; glTF
-// positions are float32 in the file anyway). Node transforms are applied.
+// OBJ, OFF, STL (ASCII and binary) and PLY (ASCII and binary; faces and triangle strips) are read
+// by simreel's own readers in double precision, polygons of any shape included, so a coordinate written "0.1"
+// is 0.1 to the last bit and mass properties stay exact to rounding. Everything else assimp reads (glTF 2.0,
+// COLLADA, 3MF, FBX, ...) goes through assimp, whose Debian build stores coordinates in single precision
+// (about 6e-8 relative; glTF positions are float32 in the file anyway). Node transforms are applied.
 #pragma once
 #include <array>
 #include <optional>
@@ -31,7 +31,9 @@ struct ImportedMesh {
 ImportedMesh import_mesh(const std::string& path, const Vec3& scale = Vec3::Ones());
 
 namespace detail {
-// The native readers; nullopt when the file needs assimp (a non-convex polygon, say).
+// The native readers. They triangulate every polygon themselves (fan when convex, ear clipping in
+// the polygon's plane otherwise), so they always return a mesh or throw; optional is kept for a
+// reader that hands a file on to assimp.
 struct RawMesh {
   std::vector<Vec3> vertices;
   std::vector<Eigen::Vector3f> normals;  ///< per vertex (PLY) or the OBJ vn list

@@ -4,8 +4,8 @@
 // "0.1" corners weighs 1e-8 wrong, not 1e-16. Numbers are parsed with std::from_chars (correctly
 // rounded, locale independent). Formats: OBJ (Wavefront, with .mtl Kd colours), OFF (Princeton
 // shape benchmark), STL (3D Systems, ASCII and binary), PLY (Turk 1994, ASCII and both binary
-// byte orders). Polygons are fanned when convex; a non-convex one sends the file to assimp, which
-// ear-clips.
+// byte orders, faces and triangle strips). Polygons are fanned when convex and ear-clipped in their
+// plane otherwise, in double precision, so no file of these formats needs assimp.
 #include <algorithm>
 #include <bit>
 #include <charconv>
@@ -96,17 +96,32 @@ long integer(std::string_view t, const std::string& path, long line) {
   return parse<long>(t, path, line, "an integer");
 }
 
-// Appends a polygon as a triangle fan. Returns false if it is not convex (the caller hands the
-// file to assimp). Polygons with fewer than three corners are lines or points: counted, skipped.
-bool add_polygon(RawMesh& m, const std::vector<int>& v, const std::vector<int>& vn, int material) {
+// Twice the signed area of the 2-D triangle (a, b, c).
+double orient2(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
+  return (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
+}
+
+// Appends a polygon as triangles, in double precision. A convex polygon is fanned from its first
+// corner; any other is ear-clipped in its plane (the coordinate along which Newell's normal is
+// largest dropped, which is exact), trying ears in corner order, so a convex polygon gets the fan
+// too. A corner in line with its neighbours is never an ear tip, so collinear corners (a T-junction
+// along an edge) make no zero-area triangles unless nothing else is left. Polygons with fewer than
+// three corners are lines or points: counted, skipped.
+void add_polygon(RawMesh& m, const std::vector<int>& v, const std::vector<int>& vn, int material) {
   const size_t n = v.size();
   if (n < 3) {
     ++m.points_and_lines;
-    return true;
+    return;
   }
+  auto emit = [&](size_t i, size_t j, size_t k) {
+    m.triangles.push_back({v[i], v[j], v[k]});
+    if (!vn.empty()) m.triangle_normals.push_back({vn[i], vn[j], vn[k]});
+    m.triangle_material.push_back(material);
+  };
+  bool convex = true;
+  Vec3 nn = Vec3::Zero();
   if (n > 3) {
     // Newell's normal of the polygon; every turn must agree with it for a fan to be exact.
-    Vec3 nn = Vec3::Zero();
     double scale2 = 0;
     for (size_t i = 0; i < n; ++i) {
       const Vec3& a = m.vertices[v[i]];
@@ -114,19 +129,55 @@ bool add_polygon(RawMesh& m, const std::vector<int>& v, const std::vector<int>& 
       nn += (a - b).cross(a + b);
       scale2 = std::max(scale2, (b - a).squaredNorm());
     }
-    for (size_t i = 0; i < n; ++i) {
+    for (size_t i = 0; i < n && convex; ++i) {
       const Vec3& a = m.vertices[v[i]];
       const Vec3& b = m.vertices[v[(i + 1) % n]];
       const Vec3& c = m.vertices[v[(i + 2) % n]];
-      if ((b - a).cross(c - b).dot(nn) < -1e-12 * scale2 * nn.norm()) return false;
+      if ((b - a).cross(c - b).dot(nn) < -1e-12 * scale2 * nn.norm()) convex = false;
     }
   }
-  for (size_t i = 1; i + 1 < n; ++i) {
-    m.triangles.push_back({v[0], v[i], v[i + 1]});
-    if (!vn.empty()) m.triangle_normals.push_back({vn[0], vn[i], vn[i + 1]});
-    m.triangle_material.push_back(material);
+  if (convex) {
+    for (size_t i = 1; i + 1 < n; ++i) emit(0, i, i + 1);
+    return;
   }
-  return true;
+  int ax = 0;
+  nn.cwiseAbs().maxCoeff(&ax);
+  int u = (ax + 1) % 3, w = (ax + 2) % 3;
+  if (nn[ax] < 0) std::swap(u, w);  // counter-clockwise in the (u, w) plane
+  std::vector<Eigen::Vector2d> p(n);
+  for (size_t i = 0; i < n; ++i) p[i] = Eigen::Vector2d(m.vertices[v[i]][u], m.vertices[v[i]][w]);
+  std::vector<size_t> idx(n);
+  for (size_t i = 0; i < n; ++i) idx[i] = i;
+  while (idx.size() > 3) {
+    const size_t k = idx.size();
+    size_t best = k;
+    double most = -INFINITY;
+    size_t most_at = 1;
+    for (size_t t = 0; t < k && best == k; ++t) {
+      const size_t s = (t + 1) % k;
+      const size_t i0 = idx[(s + k - 1) % k], i1 = idx[s], i2 = idx[(s + 1) % k];
+      const double o = orient2(p[i0], p[i1], p[i2]);
+      if (o > most) {
+        most = o;
+        most_at = s;
+      }
+      if (!(o > 0)) continue;  // reflex or in line: not an ear tip
+      bool empty = true;
+      for (size_t j : idx) {
+        if (j == i0 || j == i1 || j == i2 || p[j] == p[i0] || p[j] == p[i1] || p[j] == p[i2]) continue;
+        if (orient2(p[i0], p[i1], p[j]) >= 0 && orient2(p[i1], p[i2], p[j]) >= 0 &&
+            orient2(p[i2], p[i0], p[j]) >= 0) {
+          empty = false;
+          break;
+        }
+      }
+      if (empty) best = s;
+    }
+    if (best == k) best = most_at;  // no clean ear (a self-touching polygon): the most convex corner
+    emit(idx[(best + k - 1) % k], idx[best], idx[(best + 1) % k]);
+    idx.erase(idx.begin() + (long)best);
+  }
+  emit(idx[0], idx[1], idx[2]);
 }
 
 }  // namespace
@@ -213,7 +264,7 @@ std::optional<RawMesh> read_obj(const std::string& path) {
         every_corner_has_normal = false;
         vn.clear();
       }
-      if (!add_polygon(m, v, vn, material)) return std::nullopt;
+      add_polygon(m, v, vn, material);
     } else if (t[0] == "l" || t[0] == "p") {
       ++m.points_and_lines;
     } else if (t[0] == "mtllib") {
@@ -269,32 +320,51 @@ std::optional<RawMesh> read_off(const std::string& path) {
   if (t.size() < 2) fail(path, lines.number(), "expected 'vertices faces edges' counts");
   const long nv = integer(t[0], path, lines.number()), nf = integer(t[1], path, lines.number());
   if (nv < 0 || nf < 0) fail(path, lines.number(), "negative count");
+  // The body as a stream of tokens: a vertex or face may run over several lines (some writers
+  // wrap long faces). What follows a record on its last line (colours, normals) is skipped.
+  size_t ti = t.size();
+  auto token = [&](std::string_view* tok) {
+    while (ti >= t.size()) {
+      if (!lines.next(&line)) return false;
+      t = tokens(line);
+      ti = 0;
+    }
+    *tok = t[ti++];
+    return true;
+  };
+  std::string_view tok;
   m.vertices.reserve(nv);
   for (long i = 0; i < nv; ++i) {
-    if (!next_tokens(&t))
-      fail(path, lines.number(),
-           "file ends after " + std::to_string(i) + " of " + std::to_string(nv) + " vertices");
-    if (t.size() < 3) fail(path, lines.number(), "a vertex needs x y z");
-    const long ln = lines.number();
-    m.vertices.emplace_back(number(t[0], path, ln), number(t[1], path, ln), number(t[2], path, ln));
+    double c[3];
+    for (int k = 0; k < 3; ++k) {
+      if (!token(&tok))
+        fail(path, lines.number(),
+             "file ends after " + std::to_string(i) + " of " + std::to_string(nv) + " vertices");
+      c[k] = number(tok, path, lines.number());
+    }
+    m.vertices.emplace_back(c[0], c[1], c[2]);
+    ti = t.size();
   }
   std::vector<int> v;
   for (long f = 0; f < nf; ++f) {
-    if (!next_tokens(&t))
+    auto ends = [&] {
       fail(path, lines.number(),
            "file ends after " + std::to_string(f) + " of " + std::to_string(nf) + " faces");
-    const long ln = lines.number();
-    const long k = integer(t[0], path, ln);
-    if (k < 0 || (long)t.size() < k + 1)
-      fail(path, ln, "face lists fewer indices than its count " + std::to_string(k));
+    };
+    if (!token(&tok)) ends();
+    const long k = integer(tok, path, lines.number());
+    if (k < 0) fail(path, lines.number(), "face has a negative count " + std::to_string(k));
     v.clear();
     for (long i = 0; i < k; ++i) {
-      const long vi = integer(t[1 + i], path, ln);
+      if (!token(&tok)) ends();
+      const long ln = lines.number();
+      const long vi = integer(tok, path, ln);
       if (vi < 0 || vi >= nv)
         fail(path, ln, "face refers to vertex " + std::to_string(vi) + " of " + std::to_string(nv));
       v.push_back((int)vi);
     }
-    if (!add_polygon(m, v, {}, -1)) return std::nullopt;
+    ti = t.size();
+    add_polygon(m, v, {}, -1);
   }
   return m;
 }
@@ -352,7 +422,7 @@ std::optional<RawMesh> read_stl(const std::string& path, std::string* kind) {
     } else if (t[0] == "endloop") {
       if (loop.size() < 3)
         fail(path, ln, "a facet loop needs 3 vertices, found " + std::to_string(loop.size()));
-      if (!add_polygon(m, loop, {}, -1)) return std::nullopt;
+      add_polygon(m, loop, {}, -1);
       loop.clear();
     }
   }
@@ -463,6 +533,7 @@ class PlyReader {
     return 0;
   }
   long line() const { return line_; }
+  size_t remaining() const { return text_.size() - pos_; }
 
  private:
   double ascii() {
@@ -530,19 +601,20 @@ std::optional<RawMesh> read_ply(const std::string& path, std::string* kind) {
         fail(path, ln, "property needs a type and a name");
       }
       elements.back().props.push_back(p);
-    } else {
-      fail(path, ln, "unexpected header line '" + std::string(line) + "'");
     }
+    // Anything else is a line real exporters write without "comment" (Blender 2.4x: "Created by
+    // Blender3D ..."): nothing to read in it.
   }
   if (!ended) fail(path, 0, "header has no end_header");
   if (format < 0) fail(path, 0, "header has no format line");
   *kind = format == 0 ? "ply-ascii" : "ply-binary";
   RawMesh m;
   PlyReader r(text, lines.offset(), lines.number() + 1, format, path);
-  long nv = -1;
+  long nv = -1, strip_triangles = 0, strip_joins = 0;
   std::vector<int> v;
   for (const PlyElement& e : elements) {
-    const bool is_vertex = e.name == "vertex", is_face = e.name == "face";
+    const bool is_vertex = e.name == "vertex", is_strip = e.name == "tristrips";
+    const bool is_face = e.name == "face" || is_strip;
     int ix = -1, iy = -1, iz = -1, inx = -1, iny = -1, inz = -1, iface = -1;
     for (int i = 0; i < (int)e.props.size(); ++i) {
       const std::string& n = e.props[i].name;
@@ -568,12 +640,16 @@ std::optional<RawMesh> read_ply(const std::string& path, std::string* kind) {
           continue;
         }
         const double cnt = r.read(p.count_type);
-        if (cnt < 0 || cnt > 1e6)
+        if (cnt < 0 || cnt > 2147483647.0 || (format != 0 && cnt * ply_size(p.type) > (double)r.remaining()))
           fail(path, format == 0 ? r.line() : 0, "list length " + std::to_string(cnt) + " is not sensible");
         for (long j = 0; j < (long)cnt; ++j) {
           const double x = r.read(p.type);
           if (i == iface) {
             if (nv < 0) fail(path, 0, "faces come before vertices");
+            if (is_strip && x == -1) {  // restarts the strip
+              v.push_back(-1);
+              continue;
+            }
             if (x < 0 || x >= nv || x != std::floor(x))
               fail(path, format == 0 ? r.line() : 0,
                    "face " + std::to_string(k) + " refers to vertex " + std::to_string((long)x) + " of " +
@@ -590,9 +666,38 @@ std::optional<RawMesh> read_ply(const std::string& path, std::string* kind) {
         m.vertices.push_back(p);
         if (normals) m.normals.emplace_back((float)vals[inx], (float)vals[iny], (float)vals[inz]);
       }
-      if (is_face && !add_polygon(m, v, {}, -1)) return std::nullopt;
+      if (is_strip) {
+        // Triangle strips: every three consecutive indices make a triangle, the winding
+        // alternating; -1 starts a new strip. Triangles with a repeated corner join strips and
+        // are not part of the surface.
+        size_t start = 0;
+        for (size_t i = 0; i <= v.size(); ++i) {
+          if (i < v.size() && v[i] >= 0) continue;
+          for (size_t j = start; j + 2 < i; ++j) {
+            const int a = v[j], b = v[j + 1], c = v[j + 2];
+            if (a == b || b == c || a == c) {
+              ++strip_joins;
+              continue;
+            }
+            if ((j - start) % 2 == 0)
+              m.triangles.push_back({a, b, c});
+            else
+              m.triangles.push_back({b, a, c});
+            m.triangle_material.push_back(-1);
+            ++strip_triangles;
+          }
+          start = i + 1;
+        }
+      } else if (is_face) {
+        add_polygon(m, v, {}, -1);
+      }
     }
   }
+  if (strip_triangles)
+    m.notes.push_back("read " + std::to_string(strip_triangles) + " triangles from triangle strips" +
+                      (strip_joins ? " (left out " + std::to_string(strip_joins) +
+                                         " with a repeated corner, which only join strips)"
+                                   : std::string()));
   return m;
 }
 

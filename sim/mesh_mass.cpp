@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <numbers>
 #include <numeric>
 #include <sstream>
 #include <unordered_map>
@@ -36,7 +37,8 @@ using Tri = std::array<int, 3>;
 
 std::string plural(long n, const char* word) {
   std::ostringstream os;
-  os << n << " " << word << (n == 1 ? "" : "s");
+  const std::string w = word;
+  os << n << " " << (n == 1 ? w : w == "vertex" ? "vertices" : w + "s");
   return os.str();
 }
 
@@ -165,72 +167,176 @@ int components(const TriangleMesh& m, const std::unordered_map<uint64_t, std::ve
   return n;
 }
 
-// Welds, drops degenerate faces, makes the winding consistent and outward. With require_closed,
-// an open or flat surface is an error (it cannot bound a solid).
-TriangleMesh prepare(const TriangleMesh& in, MeshReport& rep, bool require_closed) {
-  validate(in);
-  TriangleMesh m = weld(in, &rep.welded_vertices);
-  double diag = 0;
-  const Vec3 ref = bbox_centre(m.vertices, &diag);
-  if (!(diag > 0)) throw InputError("mesh is a single point (all vertices coincide)");
+// "part 2 (480 faces, the first is face 12)": parts are numbered in the order of their first face;
+// face numbers are those of the mesh as given.
+std::string part_name(int c, const std::vector<int>& faces, const std::vector<int>& orig) {
+  return "part " + std::to_string(c + 1) + " (" + plural((long)faces.size(), "face") +
+         ", the first is face " + std::to_string(orig[faces.front()]) + ")";
+}
 
-  // Degenerate faces: repeated corners or an area below rounding level for this mesh's size.
-  const double area_eps = 1e-13 * diag * diag;
+// Generalized winding number of the closed surface `faces` about p (Jacobson, Kavan and
+// Sorkine-Hornung 2013): the sum of the signed solid angles of its triangles over 4 pi, each by van
+// Oosterom and Strackee's formula. For a closed, outward-wound surface it is 1 inside, 0 outside
+// (an integer up to rounding for any point off the surface): a point-in-solid test that does not
+// care how the surface is triangulated.
+double winding_number(const TriangleMesh& m, const std::vector<int>& faces, const Vec3& p) {
+  double sum = 0;
+  for (int f : faces) {
+    const Tri& t = m.triangles[f];
+    const Vec3 a = m.vertices[t[0]] - p, b = m.vertices[t[1]] - p, c = m.vertices[t[2]] - p;
+    const double la = a.norm(), lb = b.norm(), lc = c.norm();
+    const double num = a.dot(b.cross(c));
+    const double den = la * lb * lc + a.dot(b) * lc + a.dot(c) * lb + b.dot(c) * la;
+    sum += 2.0 * std::atan2(num, den);
+  }
+  return sum / (4.0 * std::numbers::pi);
+}
+
+// Lists at most `limit` names, then "and N more".
+std::string name_list(const std::vector<std::string>& names, size_t limit = 8) {
+  std::string s;
+  for (size_t i = 0; i < names.size() && i < limit; ++i) s += (i ? "; " : "") + names[i];
+  if (names.size() > limit) s += "; and " + std::to_string(names.size() - limit) + " more";
+  return s;
+}
+
+// The surface as given, after welding: faces with a repeated corner are dropped (they add an edge
+// and its reverse, so they change no edge count that matters), zero-area faces with three distinct
+// corners (slivers, as at a T-junction) are kept for the topology and only marked in `sliver`, and
+// the edge census fills closed, consistently_oriented and nonmanifold_edges. `orig` maps each kept
+// face to its number in the input.
+struct Surface {
+  TriangleMesh m;
+  std::vector<char> sliver;
+  std::vector<int> orig;
+  std::unordered_map<uint64_t, std::vector<int>> undirected;  ///< faces on each edge {min, max}
+  long boundary = 0, unbalanced = 0;
+  double diag = 0;
+};
+
+Surface surface(const TriangleMesh& in, MeshReport& rep) {
+  validate(in);
+  Surface s;
+  TriangleMesh& m = s.m;
+  m = weld(in, &rep.welded_vertices);
+  bbox_centre(m.vertices, &s.diag);
+  if (!(s.diag > 0)) throw InputError("mesh is a single point (all vertices coincide)");
+
+  // Degenerate faces: repeated corners, or an area below rounding level for this mesh's size.
+  const double area_eps = 1e-13 * s.diag * s.diag;
   std::vector<Tri> kept;
   kept.reserve(m.triangles.size());
-  for (const Tri& t : m.triangles) {
-    const bool repeated = t[0] == t[1] || t[1] == t[2] || t[0] == t[2];
+  long repeated = 0, slivers = 0;
+  for (size_t f = 0; f < m.triangles.size(); ++f) {
+    const Tri& t = m.triangles[f];
+    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) {
+      ++repeated;
+      continue;
+    }
     const double area2 =
         (m.vertices[t[1]] - m.vertices[t[0]]).cross(m.vertices[t[2]] - m.vertices[t[0]]).norm();
-    if (repeated || !(0.5 * area2 > area_eps))
-      ++rep.degenerate_faces;
-    else
-      kept.push_back(t);
+    const bool thin = !(0.5 * area2 > area_eps);
+    slivers += thin;
+    kept.push_back(t);
+    s.sliver.push_back(thin);
+    s.orig.push_back((int)f);
   }
-  if (rep.degenerate_faces)
-    rep.warnings.push_back("skipped " + plural(rep.degenerate_faces, "degenerate face") + " (zero area)");
+  rep.degenerate_faces = (int)(repeated + slivers);
+  if (rep.degenerate_faces) {
+    std::string w =
+        "skipped " + plural(rep.degenerate_faces, "degenerate face") + " (zero area) in the integrals";
+    if (slivers)
+      w += " (" + plural(slivers, "sliver") +
+           " with three distinct corners, which still count for closedness" +
+           (repeated ? ", and " + std::to_string(repeated) + " with a repeated corner)" : std::string(")"));
+    rep.warnings.push_back(w);
+  }
   m.triangles = std::move(kept);
-  if (m.triangles.empty()) throw InputError("mesh has no face with a non-zero area");
+  if (slivers == (long)m.triangles.size()) throw InputError("mesh has no face with a non-zero area");
 
   // Edge census. Balanced directed edges (count(a,b) == count(b,a)) make a closed, consistently
-  // wound surface; an undirected edge with an odd number of faces is a hole (or a crack).
+  // wound surface; an undirected edge with an odd number of faces is a hole (or a crack); an edge
+  // whose directions differ by more than one has two faces that disagree on the winding (a
+  // boundary edge has one face, so one direction, and agrees with everything).
   std::unordered_map<uint64_t, int> directed;
-  std::unordered_map<uint64_t, std::vector<int>> undirected;
   directed.reserve(m.triangles.size() * 4);
-  undirected.reserve(m.triangles.size() * 2);
+  s.undirected.reserve(m.triangles.size() * 2);
   for (size_t f = 0; f < m.triangles.size(); ++f)
     for (int k = 0; k < 3; ++k) {
       const int a = m.triangles[f][k], b = m.triangles[f][(k + 1) % 3];
       ++directed[edge_key(a, b)];
-      undirected[edge_key(std::min(a, b), std::max(a, b))].push_back((int)f);
+      s.undirected[edge_key(std::min(a, b), std::max(a, b))].push_back((int)f);
     }
-  long boundary = 0, nonmanifold = 0, unbalanced = 0;
-  for (const auto& [key, faces] : undirected) {
-    if (faces.size() % 2) ++boundary;
+  long nonmanifold = 0, disagree = 0;
+  for (const auto& [key, faces] : s.undirected) {
+    if (faces.size() % 2) ++s.boundary;
     if (faces.size() > 2) ++nonmanifold;
     const int a = (int)(key >> 32), b = (int)(key & 0xffffffffu);
     const auto ab = directed.find(edge_key(a, b)), ba = directed.find(edge_key(b, a));
-    if ((ab == directed.end() ? 0 : ab->second) != (ba == directed.end() ? 0 : ba->second)) ++unbalanced;
+    const int nab = ab == directed.end() ? 0 : ab->second, nba = ba == directed.end() ? 0 : ba->second;
+    if (nab != nba) ++s.unbalanced;
+    if (std::abs(nab - nba) > 1) ++disagree;
   }
-  rep.closed = boundary == 0;
-  rep.consistently_oriented = unbalanced == 0;
+  rep.closed = s.boundary == 0;
+  rep.consistently_oriented = disagree == 0;
+  rep.nonmanifold_edges = (int)nonmanifold;
+  if (nonmanifold)
+    rep.warnings.push_back(plural(nonmanifold, "edge") + (nonmanifold == 1 ? " is" : " are") +
+                           " shared by more than two faces (non-manifold)");
+  return s;
+}
+
+// All vertices within rounding of one plane?
+bool coplanar(const std::vector<Vec3>& v, double diag) {
+  const Vec3 o = v[0];
+  size_t i1 = 0;
+  for (size_t i = 1; i < v.size(); ++i)
+    if ((v[i] - o).squaredNorm() > (v[i1] - o).squaredNorm()) i1 = i;
+  const Vec3 d = (v[i1] - o).normalized();
+  Vec3 n = Vec3::Zero();
+  for (const Vec3& p : v) {
+    const Vec3 c = d.cross(p - o);
+    if (c.squaredNorm() > n.squaredNorm()) n = c;
+  }
+  if (!(n.norm() > 1e-12 * diag)) return true;  // collinear
+  n.normalize();
+  for (const Vec3& p : v)
+    if (std::fabs(n.dot(p - o)) > 1e-12 * diag) return false;
+  return true;
+}
+
+// Welds, makes the winding consistent and outward, then drops degenerate faces. With
+// require_closed, an open surface, or one that encloses no volume, is an error (it cannot bound a
+// solid).
+TriangleMesh prepare(const TriangleMesh& in, MeshReport& rep, bool require_closed) {
+  Surface s = surface(in, rep);
+  TriangleMesh& m = s.m;
+  auto drop_slivers = [&] {
+    std::vector<Tri> kept;
+    for (size_t f = 0; f < m.triangles.size(); ++f)
+      if (!s.sliver[f]) kept.push_back(m.triangles[f]);
+    m.triangles = std::move(kept);
+  };
   if (!rep.closed) {
     if (require_closed)
-      throw InputError("mesh is open: " + plural(boundary, "edge") +
+      throw InputError("mesh is open: " + plural(s.boundary, "edge") +
                        " belong to a single face (a hole), so it does not enclose a volume; use "
                        "`mode: shell` to weigh it as a thin surface, or `mode: hull` for its convex hull");
+    drop_slivers();
     return m;
   }
+  double diag = 0;
+  const Vec3 ref = bbox_centre(m.vertices, &diag);
 
   std::vector<int> comp;
-  const int ncomp = components(m, undirected, &comp);
+  const int ncomp = components(m, s.undirected, &comp);
 
   // Inconsistent winding on a closed manifold surface: flip faces to agree with a neighbour,
   // breadth first from the lowest-numbered face of each part, which keeps its winding.
-  if (unbalanced) {
-    if (nonmanifold)
-      throw InputError("mesh has " + plural(unbalanced, "edge") + " whose faces disagree on winding and " +
-                       plural(nonmanifold, "edge") +
+  if (s.unbalanced) {
+    if (rep.nonmanifold_edges)
+      throw InputError("mesh has " + plural(s.unbalanced, "edge") + " whose faces disagree on winding and " +
+                       plural(rep.nonmanifold_edges, "edge") +
                        " shared by more than two faces; cannot repair it, "
                        "use `mode: hull` or fix the file");
     std::vector<int> flip(m.triangles.size(), -1);
@@ -244,9 +350,9 @@ TriangleMesh prepare(const TriangleMesh& in, MeshReport& rep, bool require_close
         for (int k = 0; k < 3; ++k) {
           int a = m.triangles[f][k], b = m.triangles[f][(k + 1) % 3];
           if (flip[f]) std::swap(a, b);  // the edge as f will be traversed after its own flip
-          for (int g : undirected[edge_key(std::min(a, b), std::max(a, b))]) {
+          for (int g : s.undirected[edge_key(std::min(a, b), std::max(a, b))]) {
             if (g == f) continue;
-            // g traverses (a, b) too when a follows... find g's direction on this edge.
+            // g must traverse the edge as (b, a); if it traverses (a, b) it needs a flip.
             const Tri& t = m.triangles[g];
             bool same = false;
             for (int j = 0; j < 3; ++j)
@@ -264,10 +370,7 @@ TriangleMesh prepare(const TriangleMesh& in, MeshReport& rep, bool require_close
       }
     }
     for (size_t f = 0; f < m.triangles.size(); ++f)
-      if (flip[f]) {
-        std::swap(m.triangles[f][1], m.triangles[f][2]);
-        ++rep.reoriented_faces;
-      }
+      if (flip[f]) std::swap(m.triangles[f][1], m.triangles[f][2]);
     // Keep the majority winding of each part (the BFS kept the seed's).
     std::vector<long> flipped(ncomp, 0), total(ncomp, 0);
     for (size_t f = 0; f < m.triangles.size(); ++f) {
@@ -283,45 +386,107 @@ TriangleMesh prepare(const TriangleMesh& in, MeshReport& rep, bool require_close
                            " whose winding disagreed with their neighbours");
   }
 
-  // Inside-out parts: a part with negative volume is flipped, unless it sits inside a larger
-  // positive part (then it is a cavity, which is legitimate).
-  std::vector<std::vector<int>> faces_of(ncomp);
-  for (size_t f = 0; f < m.triangles.size(); ++f) faces_of[comp[f]].push_back((int)f);
-  std::vector<double> vol(ncomp);
+  // Parts: volume (slivers add nothing), bounding box, and up to 9 probe points on the surface
+  // (centroids of faces spread over the part) for the point-in-solid test.
+  std::vector<std::vector<int>> faces_of(ncomp), solid_faces(ncomp);
+  for (size_t f = 0; f < m.triangles.size(); ++f) {
+    faces_of[comp[f]].push_back((int)f);
+    if (!s.sliver[f]) solid_faces[comp[f]].push_back((int)f);
+  }
+  std::vector<double> vol(ncomp, 0.0);
   std::vector<Vec3> lo(ncomp, Vec3::Constant(INFINITY)), hi(ncomp, Vec3::Constant(-INFINITY));
+  std::vector<std::vector<Vec3>> probes(ncomp);
   for (int c = 0; c < ncomp; ++c) {
-    vol[c] = solid_integrals(m, ref, &faces_of[c]).vol;
+    vol[c] = solid_integrals(m, ref, &solid_faces[c]).vol;
     for (int f : faces_of[c])
       for (int v : m.triangles[f]) {
         lo[c] = lo[c].cwiseMin(m.vertices[v]);
         hi[c] = hi[c].cwiseMax(m.vertices[v]);
       }
+    const size_t n = solid_faces[c].size(), step = std::max<size_t>(1, n / 9);
+    for (size_t i = 0; i < n && probes[c].size() < 9; i += step) {
+      const Tri& t = m.triangles[solid_faces[c][i]];
+      probes[c].push_back((m.vertices[t[0]] + m.vertices[t[1]] + m.vertices[t[2]]) / 3.0);
+    }
   }
-  int inverted_parts = 0;
+  // Which larger, outward part (if any) holds each part: every probe has winding number 1 about
+  // it (0 outside; about 1/2 on its surface, where parts touch, which decides nothing). Some
+  // probes in and some out: the two surfaces cross. Only parts whose box holds this part's box
+  // are tested.
+  std::vector<int> holder(ncomp, -1), crossed(ncomp, -1);
+  if (ncomp > 1)
+    for (int c = 0; c < ncomp; ++c)
+      for (int o = 0; o < ncomp && holder[c] < 0; ++o) {
+        if (o == c || !(vol[o] > std::fabs(vol[c])) || !(lo[o].array() <= lo[c].array()).all() ||
+            !(hi[o].array() >= hi[c].array()).all())
+          continue;
+        int in = 0, out = 0;
+        for (const Vec3& p : probes[c]) {
+          const double w = winding_number(m, solid_faces[o], p);
+          in += w > 0.75;
+          out += w < 0.25;
+        }
+        if (in && !out) holder[c] = o;
+        if (in && out && crossed[c] < 0) crossed[c] = o;
+      }
+  // Inside-out parts: a part with negative volume is flipped, unless it lies inside a larger
+  // outward part (then it is a cavity, which is legitimate). Both are named.
+  std::vector<std::string> flipped_parts, cavities, overlaps, crossings;
   for (int c = 0; c < ncomp; ++c) {
-    if (vol[c] >= 0) continue;
-    bool cavity = false;
-    for (int o = 0; o < ncomp; ++o)
-      if (o != c && vol[o] > -vol[c] && (lo[o].array() <= lo[c].array()).all() &&
-          (hi[o].array() >= hi[c].array()).all())
-        cavity = true;
-    if (cavity) continue;
+    const std::string name = part_name(c, faces_of[c], s.orig);
+    if (holder[c] < 0 && crossed[c] >= 0)
+      crossings.push_back(name + " and " + part_name(crossed[c], faces_of[crossed[c]], s.orig));
+    if (vol[c] >= 0) {
+      if (holder[c] >= 0)
+        overlaps.push_back(name + " inside " + part_name(holder[c], faces_of[holder[c]], s.orig));
+      continue;
+    }
+    if (holder[c] >= 0) {
+      cavities.push_back(name + " in " + part_name(holder[c], faces_of[holder[c]], s.orig));
+      continue;
+    }
     for (int f : faces_of[c]) std::swap(m.triangles[f][1], m.triangles[f][2]);
-    ++inverted_parts;
+    flipped_parts.push_back(name);
   }
-  if (inverted_parts) {
+  if (!crossings.empty())
+    rep.warnings.push_back(plural((long)crossings.size(), "part") +
+                           " cut into a larger part (their surfaces cross), so the material they share is "
+                           "counted twice: " +
+                           name_list(crossings));
+  if (!flipped_parts.empty()) {
     rep.inverted = true;
-    rep.warnings.push_back(
-        ncomp == 1 ? std::string("surface was inside-out (negative volume): flipped every face")
-                   : "flipped " + plural(inverted_parts, "inside-out part") + " of " + std::to_string(ncomp));
+    rep.warnings.push_back(ncomp == 1
+                               ? std::string("surface was inside-out (negative volume): flipped every face")
+                               : "flipped " + plural((long)flipped_parts.size(), "inside-out part") +
+                                     " (negative volume, inside no other part): " + name_list(flipped_parts));
   }
+  if (!cavities.empty())
+    rep.warnings.push_back(
+        "took " + plural((long)cavities.size(), "inward-wound part") +
+        " as a cavity (hollow) because it lies inside a larger part: " + name_list(cavities));
+  if (!overlaps.empty())
+    rep.warnings.push_back(
+        plural((long)overlaps.size(), "outward part") +
+        " lie inside another part, so their material is counted twice: " + name_list(overlaps));
   if (ncomp > 1)
     rep.warnings.push_back("mesh has " + std::to_string(ncomp) +
                            " separate closed parts; weighed as one body");
 
+  drop_slivers();
   const double v = solid_integrals(m, ref).vol;
-  if (!(std::fabs(v) > 1e-12 * diag * diag * diag))
-    throw InputError("mesh is flat (it encloses no volume); use `mode: shell` to weigh it as a thin surface");
+  if (!(std::fabs(v) > 1e-12 * diag * diag * diag)) {
+    if (coplanar(m.vertices, diag))
+      throw InputError(
+          "mesh is flat (all its vertices lie in one plane), so it encloses no volume; use `mode: shell` "
+          "to weigh it as a thin surface");
+    throw InputError(
+        "mesh encloses no volume: its faces cancel out, as when a surface is given with both sides"
+        " (each face twice, once per winding)" +
+        (rep.nonmanifold_edges
+             ? "; " + plural(rep.nonmanifold_edges, "edge") + " shared by more than two faces"
+             : std::string()) +
+        "; use `mode: shell` to weigh it as a thin surface");
+  }
   return m;
 }
 
@@ -356,13 +521,17 @@ MeshReport analyze_mesh(const TriangleMesh& mesh, const MeshMassOptions& opt) {
     case MassMode::shell: {
       if (!(opt.thickness > 0) || !std::isfinite(opt.thickness))
         throw InputError("thickness must be a positive number");
-      const TriangleMesh m = prepare(mesh, rep, false);
+      // A shell needs only a surface: no closedness, winding or volume checks.
+      const Surface sf = surface(mesh, rep);
+      const TriangleMesh& m = sf.m;
       double diag;
       const Vec3 ref = bbox_centre(m.vertices, &diag);
       double area = 0;
       Vec3 first = Vec3::Zero();
       Mat3 second = Mat3::Zero();
-      for (const Tri& t : m.triangles) {
+      for (size_t f = 0; f < m.triangles.size(); ++f) {
+        if (sf.sliver[f]) continue;
+        const Tri& t = m.triangles[f];
         const Vec3 a = m.vertices[t[0]] - ref, b = m.vertices[t[1]] - ref, c = m.vertices[t[2]] - ref;
         const double A = 0.5 * (b - a).cross(c - a).norm();
         const Vec3 s = a + b + c;

@@ -33,16 +33,19 @@ const char* to_string(MassMode m);
 std::optional<MassMode> mass_mode_from_name(std::string_view name);  ///< solid, shell, hull
 
 struct MeshReport {
-  MassProperties props;                ///< at the requested density; com and inertia in mesh axes
-  double volume = 0.0;                 ///< m^3 of the solid (of the hull in hull mode; 0 for a shell)
-  double area = 0.0;                   ///< m^2 of the surface used
-  bool closed = false;                 ///< every directed edge has its reverse (after welding)
-  bool consistently_oriented = false;  ///< no directed edge is used twice (as loaded)
-  int welded_vertices = 0;             ///< duplicate positions merged (STL stores one set per face)
-  int degenerate_faces = 0;            ///< zero-area faces skipped
-  int reoriented_faces = 0;            ///< faces flipped to agree with their neighbours
-  bool inverted = false;               ///< the whole surface was inside-out and was flipped
-  std::vector<std::string> warnings;   ///< one sentence per defect and what was done about it
+  MassProperties props;  ///< at the requested density; com and inertia in mesh axes
+  double volume = 0.0;   ///< m^3 of the solid (of the hull in hull mode; 0 for a shell)
+  double area = 0.0;     ///< m^2 of the surface used
+  bool closed = false;   ///< every edge has an even number of faces (after welding)
+  /// Every edge's faces agree on the winding (as loaded): an edge is walked as often in one
+  /// direction as in the other, give or take one (a boundary edge has one face and always agrees).
+  bool consistently_oriented = false;
+  int welded_vertices = 0;    ///< duplicate positions merged (STL stores one set per face)
+  int degenerate_faces = 0;   ///< zero-area faces skipped in the integrals (not in the closedness check)
+  int nonmanifold_edges = 0;  ///< edges shared by more than two faces
+  int reoriented_faces = 0;   ///< faces flipped to agree with their neighbours
+  bool inverted = false;      ///< the whole surface was inside-out and was flipped
+  std::vector<std::string> warnings;  ///< one sentence per defect and what was done about it
 };
 
 struct MeshMassOptions {
@@ -54,6 +57,10 @@ struct MeshMassOptions {
 // Throws InputError for meshes that cannot be a solid of the requested mode (no faces,
 // non-finite coordinates, bad indices, open or flat surface for `solid`, ...).
 MeshReport analyze_mesh(const TriangleMesh& mesh, const MeshMassOptions& opt);
+
+// Solid mode checks the surface as given (zero-area slivers that close a T-junction count), flips
+// inside-out parts unless they lie inside a larger part (a cavity, by a winding-number
+// point-in-solid test) and names both in the warnings. Shell mode needs only a surface.
 
 // The mesh after welding, dropping degenerate faces and fixing orientation: what analyze_mesh
 // integrated over in solid mode (useful to render exactly what was weighed).

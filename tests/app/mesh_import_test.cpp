@@ -248,30 +248,84 @@ TEST(MeshImport, GltfThroughAssimpAppliesNodeTransformsAndBaseColour) {
   EXPECT_NEAR((*im.color)[2], 0.6f, 1e-6);
 }
 
-TEST(MeshImport, NonConvexPolygonGoesToAssimpWithANote) {
-  // An L-shaped prism whose two caps are single non-convex hexagons: a fan would be wrong
-  // for drawing, so the file is read by assimp (ear clipping); the coordinates are integers, exact.
-  const double L[6][2] = {{0, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 3}, {0, 3}};
+// Issue 14, defect 3: an L-shaped prism whose caps are single non-convex 7-gons, each with a
+// corner in line with its neighbours, and decimal coordinates. Read by simreel's own reader (ear
+// clipping in the polygon's plane, double precision): exact, no zero-area triangles, no welding.
+TEST(MeshImport, NonConvexPolygonsAreEarClippedInDoublePrecision) {
+  const char* L[7][2] = {{"0", "0"},     {"0.1", "0"},   {"0.2", "0"}, {"0.2", "0.1"},
+                         {"0.1", "0.1"}, {"0.1", "0.3"}, {"0", "0.3"}};
   std::string obj;
-  for (int z = 0; z < 2; ++z)
-    for (const auto& p : L)
-      obj +=
-          "v " + std::to_string((int)p[0]) + " " + std::to_string((int)p[1]) + " " + std::to_string(z) + "\n";
-  obj += "f 6 5 4 3 2 1\nf 7 8 9 10 11 12\n";
-  for (int i = 0; i < 6; ++i) {
-    const int a = i + 1, b = (i + 1) % 6 + 1;
-    obj += "f " + std::to_string(a) + " " + std::to_string(b) + " " + std::to_string(b + 6) + " " +
-           std::to_string(a + 6) + "\n";
+  for (const char* z : {"0", "0.3"})
+    for (const auto& p : L) obj += std::string("v ") + p[0] + " " + p[1] + " " + z + "\n";
+  obj += "f 7 6 5 4 3 2 1\nf 8 9 10 11 12 13 14\n";
+  for (int i = 0; i < 7; ++i) {
+    const int a = i + 1, b = (i + 1) % 7 + 1;
+    obj += "f " + std::to_string(a) + " " + std::to_string(b) + " " + std::to_string(b + 7) + " " +
+           std::to_string(a + 7) + "\n";
   }
   const ImportedMesh im = import_mesh(write("l.obj", obj));
-  EXPECT_EQ(im.reader, "assimp");
-  ASSERT_EQ(im.notes.size(), 1u);
-  EXPECT_NE(im.notes[0].find("non-convex"), std::string::npos);
+  EXPECT_EQ(im.reader, "obj");
+  EXPECT_TRUE(im.notes.empty());
+  EXPECT_EQ(im.mesh.triangles.size(), 2u * 5 + 7 * 2);
   MeshMassOptions opt;
   opt.density = 1;
   const MeshReport r = analyze_mesh(im.mesh, opt);
   EXPECT_TRUE(r.closed);
-  EXPECT_NEAR(r.props.mass, 4.0, 1e-12);  // area 2 + 2 times height 1
+  EXPECT_TRUE(r.consistently_oriented);
+  EXPECT_EQ(r.welded_vertices, 0);
+  EXPECT_EQ(r.degenerate_faces, 0);
+  EXPECT_TRUE(r.warnings.empty());
+  EXPECT_NEAR(r.props.mass, 0.012, 1e-13 * 0.012);  // area 0.02 + 0.02 times height 0.3
+  EXPECT_LT((r.props.com - Vec3(0.075, 0.125, 0.15)).norm(), 1e-15);
+}
+
+// Defect 4: a binary PLY with a Blender-style header line (no "comment") and a tetrahedron as
+// triangle strips: -1 restarts a strip, windings alternate, a repeated-corner join is left out.
+TEST(MeshImport, PlyTriangleStripsAndExporterHeaderLines) {
+  std::string b =
+      "ply\nformat binary_little_endian 1.0\nCreated by Blender3D 247 - www.blender.org, source file: \n"
+      "element vertex 4\nproperty double x\nproperty double y\nproperty double z\n"
+      "element tristrips 1\nproperty list int int vertex_indices\nend_header\n";
+  auto put = [&](const void* p, int n) {
+    std::string s(static_cast<const char*>(p), n);
+    if (std::endian::native != std::endian::little) std::reverse(s.begin(), s.end());
+    b += s;
+  };
+  const double v[4][3] = {{0, 0, 0}, {0, 0.1, 0}, {0.1, 0, 0}, {0, 0, 0.1}};
+  for (const auto& p : v)
+    for (double x : p) put(&x, 8);
+  const int32_t strip[] = {0, 1, 2, 3, -1, 2, 3, 0, 1, -1, 0, 0, 1};
+  const int32_t n = sizeof strip / sizeof strip[0];
+  put(&n, 4);
+  for (int32_t i : strip) put(&i, 4);
+  const ImportedMesh im = import_mesh(write("strips.ply", b));
+  EXPECT_EQ(im.reader, "ply-binary");
+  ASSERT_EQ(im.notes.size(), 1u);
+  EXPECT_EQ(im.notes[0],
+            "read 4 triangles from triangle strips (left out 1 with a repeated corner, which only "
+            "join strips)");
+  MeshMassOptions opt;
+  opt.density = 1;
+  const MeshReport r = analyze_mesh(im.mesh, opt);
+  EXPECT_TRUE(r.closed);
+  EXPECT_TRUE(r.consistently_oriented);
+  EXPECT_FALSE(r.inverted);
+  EXPECT_TRUE(r.warnings.empty());
+  EXPECT_NEAR(r.volume, 0.001 / 6, 1e-13 * 0.001);
+}
+
+// Defect 4: OFF faces (and vertices) that run over several lines, colours after them.
+TEST(MeshImport, OffRecordsSplitAcrossLines) {
+  std::string off = "OFF\n8 6 0\n";
+  for (int i = 0; i < 8; ++i) {
+    const std::string c = corner_text(i);
+    const size_t sp = c.rfind(' ');
+    off += c.substr(0, sp) + "\n " + c.substr(sp + 1) + " 0.5 0.5 0.5 1\n";  // z on its own line
+  }
+  for (const auto& q : kQuads)
+    off += "4 " + std::to_string(q[0]) + " " + std::to_string(q[1]) + "\n  " + std::to_string(q[2]) + "\n" +
+           std::to_string(q[3]) + " 255 0 0\n";
+  expect_decimal_box(import_mesh(write("split.off", off)), "off");
 }
 
 std::string error_of(const std::string& name, const std::string& text) {
