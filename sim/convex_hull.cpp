@@ -163,14 +163,11 @@ uint64_t key(int a, int b) {
   return (uint64_t)(uint32_t)a << 32 | (uint32_t)b;
 }
 
-}  // namespace
-
-ConvexPolyhedron convex_polyhedron(const std::vector<Vec3>& pts) {
-  std::vector<RawFace> faces = qhull_faces(pts);
-
-  // A corner shared by only two faces lies on their common edge: not an extreme point (qhull keeps
-  // such points when a merge leaves them there). Drop it from both loops.
-  std::vector<int> degree(pts.size(), 0);
+// A corner shared by only two faces lies on their common edge: not an extreme point (qhull can
+// keep such a point when a merge leaves it there). Drops it from both loops; a vertex no face
+// uses any more simply disappears.
+void drop_edge_points(std::vector<RawFace>& faces, size_t npts) {
+  std::vector<int> degree(npts, 0);
   for (const RawFace& f : faces)
     for (int v : f.loop) ++degree[v];
   for (RawFace& f : faces) {
@@ -181,9 +178,147 @@ ConvexPolyhedron convex_polyhedron(const std::vector<Vec3>& pts) {
       if (degree[v] >= 3) kept.push_back(v);
     if (kept.size() >= 3) f.loop = std::move(kept);
   }
+}
+
+// qhull's faces, merged only where roundoff could not tell them apart: exact to rounding.
+std::vector<RawFace> hull_faces(const std::vector<Vec3>& pts) {
+  std::vector<RawFace> faces = qhull_faces(pts);
+  drop_edge_points(faces, pts.size());
+  return faces;
+}
+
+// Merges neighbouring faces that are coplanar to within what polyhedron_problem() calls coplanar
+// (normals closer than 1 - 1e-12 in cosine, about 1.4e-6 rad), which qhull leaves apart when they
+// are not coplanar to roundoff (a nearly flat part's rim, a CAD cap written with noisy decimals).
+// A merge is made only if the merged face stays planar: every vertex within kPlanar of the size
+// from the merged plane (the outermost vertex on it); pairs are tried most coplanar first, so the
+// result is deterministic. The merged face's corners that end up on only two faces are dropped by
+// drop_edge_points(): they were extreme points by less than kPlanar, so the polyhedron may lie
+// inside the exact hull by that much (contacts only; mass uses the unmerged hull_faces()).
+std::vector<RawFace> merge_coplanar(std::vector<RawFace> faces, const std::vector<Vec3>& pts, double size) {
+  constexpr double kCos = 1 - 2e-12, kPlanar = 1e-11;
+  const int nf = (int)faces.size();
+  std::unordered_map<uint64_t, int> face_of;  // directed edge -> face
+  for (int f = 0; f < nf; ++f)
+    for (size_t k = 0; k < faces[f].loop.size(); ++k)
+      face_of[key(faces[f].loop[k], faces[f].loop[(k + 1) % faces[f].loop.size()])] = f;
+  struct Pair {
+    double cos;
+    int f, g;
+  };
+  std::vector<Pair> pairs;
+  for (int f = 0; f < nf; ++f)
+    for (size_t k = 0; k < faces[f].loop.size(); ++k) {
+      const auto it = face_of.find(key(faces[f].loop[(k + 1) % faces[f].loop.size()], faces[f].loop[k]));
+      if (it == face_of.end() || it->second <= f) continue;
+      const double c = faces[f].normal.dot(faces[it->second].normal);
+      if (c > kCos) pairs.push_back({c, f, it->second});
+    }
+  if (pairs.empty()) return faces;
+  std::sort(pairs.begin(), pairs.end(), [](const Pair& a, const Pair& b) {
+    return a.cos != b.cos ? a.cos > b.cos : (a.f != b.f ? a.f < b.f : a.g < b.g);
+  });
+  // Groups: union-find with each root's area-weighted normal and vertex list.
+  std::vector<int> root(nf);
+  std::iota(root.begin(), root.end(), 0);
+  std::vector<Vec3> area(nf);
+  std::vector<std::vector<int>> verts(nf);
+  for (int f = 0; f < nf; ++f) {
+    area[f] = Vec3::Zero();
+    const Vec3& o = pts[faces[f].loop[0]];
+    for (size_t k = 1; k + 1 < faces[f].loop.size(); ++k)
+      area[f] += 0.5 * (pts[faces[f].loop[k]] - o).cross(pts[faces[f].loop[k + 1]] - o);
+    verts[f] = faces[f].loop;
+  }
+  auto find = [&](int x) {
+    while (root[x] != x) x = root[x] = root[root[x]];
+    return x;
+  };
+  const double tol = kPlanar * size;
+  for (const Pair& pr : pairs) {
+    const int a = find(pr.f), b = find(pr.g);
+    if (a == b) continue;
+    const Vec3 n = (area[a] + area[b]).normalized();
+    double hi = -INFINITY, lo = INFINITY;
+    for (const auto* vs : {&verts[a], &verts[b]})
+      for (int v : *vs) hi = std::max(hi, n.dot(pts[v])), lo = std::min(lo, n.dot(pts[v]));
+    if (hi - lo > tol) continue;
+    root[b] = a;
+    area[a] += area[b];
+    verts[a].insert(verts[a].end(), verts[b].begin(), verts[b].end());
+    verts[b].clear();
+  }
+  // Each group's boundary: its faces' directed edges whose reverse lies in another group, chained.
+  std::vector<RawFace> out;
+  std::vector<std::vector<std::pair<int, int>>> boundary(nf);
+  for (int f = 0; f < nf; ++f) {
+    const auto& L = faces[f].loop;
+    for (size_t k = 0; k < L.size(); ++k) {
+      const int a = L[k], b = L[(k + 1) % L.size()];
+      if (find(face_of.at(key(b, a))) != find(f)) boundary[find(f)].emplace_back(a, b);
+    }
+  }
+  for (int r = 0; r < nf; ++r) {
+    if (find(r) != r) continue;
+    RawFace m;
+    m.normal = area[r].normalized();
+    if (boundary[r].size() == faces[r].loop.size() && verts[r].size() == faces[r].loop.size()) {
+      out.push_back(faces[r]);  // not merged
+      continue;
+    }
+    std::unordered_map<int, int> succ;
+    for (auto [a, b] : boundary[r])
+      if (!succ.emplace(a, b).second)
+        throw InputError("convex hull: merged coplanar faces do not form a disc");
+    int v = boundary[r][0].first;
+    do {
+      m.loop.push_back(v);
+      v = succ.at(v);
+    } while (v != boundary[r][0].first && m.loop.size() <= boundary[r].size());
+    if (m.loop.size() != boundary[r].size())
+      throw InputError("convex hull: merged coplanar faces do not form a disc");
+    m.offset = -INFINITY;
+    for (int u : m.loop) m.offset = std::max(m.offset, m.normal.dot(pts[u]));
+    out.push_back(std::move(m));
+  }
+  drop_edge_points(out, pts.size());
+  return out;
+}
+
+// Volume centroid from the faces fanned into tetrahedra about a point near the hull (keeps
+// precision far from the origin).
+Vec3 volume_centroid(const std::vector<RawFace>& faces, const std::vector<Vec3>& pts) {
+  Vec3 lo = pts[faces[0].loop[0]], hi = lo;
+  for (const RawFace& f : faces)
+    for (int v : f.loop) lo = lo.cwiseMin(pts[v]), hi = hi.cwiseMax(pts[v]);
+  const Vec3 ref = 0.5 * (lo + hi);
+  double vol6 = 0;
+  Vec3 first24 = Vec3::Zero();
+  for (const RawFace& f : faces) {
+    const Vec3 a = pts[f.loop[0]] - ref;
+    for (size_t k = 1; k + 1 < f.loop.size(); ++k) {
+      const Vec3 b = pts[f.loop[k]] - ref, c = pts[f.loop[k + 1]] - ref;
+      const double d = a.dot(b.cross(c));
+      vol6 += d;
+      first24 += d * (a + b + c);
+    }
+  }
+  if (!(vol6 > 0)) throw InputError("convex hull: the points span no volume");
+  return ref + first24 / (4 * vol6);
+}
+
+}  // namespace
+
+ConvexPolyhedron convex_polyhedron(const std::vector<Vec3>& pts) {
+  const std::vector<RawFace> exact = hull_faces(pts);
+  ConvexPolyhedron p;
+  p.centroid = volume_centroid(exact, pts);
+  double size = 0;
+  for (const RawFace& f : exact)
+    for (int v : f.loop) size = std::max(size, (pts[v] - p.centroid).norm());
+  const std::vector<RawFace> faces = merge_coplanar(exact, pts, size);
 
   // Vertices: the input points the faces use, in input order.
-  ConvexPolyhedron p;
   std::vector<int> index(pts.size(), -1);
   for (const RawFace& f : faces)
     for (int v : f.loop) index[v] = 0;
@@ -232,40 +367,37 @@ ConvexPolyhedron convex_polyhedron(const std::vector<Vec3>& pts) {
   }
   if (next_pair != (int)corners) throw InputError("convex hull: qhull returned a surface that is not closed");
 
-  // Volume centroid from the faces fanned into tetrahedra about a point near the hull (keeps
-  // precision far from the origin).
-  Vec3 lo = p.vertices[0], hi = p.vertices[0];
-  for (const Vec3& v : p.vertices) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
-  const Vec3 ref = 0.5 * (lo + hi);
-  double vol6 = 0;
-  Vec3 first24 = Vec3::Zero();
-  for (const RawFace& f : faces) {
-    const Vec3 a = pts[f.loop[0]] - ref;
-    for (size_t k = 1; k + 1 < f.loop.size(); ++k) {
-      const Vec3 b = pts[f.loop[k]] - ref, c = pts[f.loop[k + 1]] - ref;
-      const double d = a.dot(b.cross(c));
-      vol6 += d;
-      first24 += d * (a + b + c);
-    }
-  }
-  if (!(vol6 > 0)) throw InputError("convex hull: the points span no volume");
-  p.centroid = ref + first24 / (4 * vol6);
   p.inner_radius = INFINITY;
   for (const ConvexPolyhedron::Face& f : p.faces)
     p.inner_radius = std::min(p.inner_radius, f.offset - f.normal.dot(p.centroid));
+  // Never hand out a polyhedron that breaks its conventions. Only a nearly flat set gets here
+  // (neighbouring faces closer than 1.4e-6 rad that are not planar to 1e-11 of the size together).
+  // Offsets are absolute, so far from the origin planarity holds only to |position| * ulp: the
+  // tolerance grows with distance/size (a collider's shape frame is centred, where it is 1e-9).
+  double far = 0;
+  for (const Vec3& v : p.vertices) far = std::max(far, v.norm());
+  if (const std::string bad = polyhedron_problem(p, 1e-9 * std::max(1.0, far / size)); !bad.empty())
+    throw InputError("convex hull: the points are too nearly flat for a valid collision polyhedron (" + bad +
+                     ")");
   return p;
 }
 
 TriangleMesh convex_hull(const std::vector<Vec3>& pts) {
-  const ConvexPolyhedron p = convex_polyhedron(pts);
+  // The unmerged faces: every extreme point qhull found stays a vertex, so the mass properties
+  // are those of the exact hull to rounding.
+  const std::vector<RawFace> faces = hull_faces(pts);
   TriangleMesh out;
-  out.vertices = p.vertices;
-  out.triangles.reserve(p.edges.size() - 2 * p.faces.size());
-  for (const ConvexPolyhedron::Face& f : p.faces) {
-    const int e0 = f.edge, a = p.edges[e0].origin;
-    for (int e = p.edges[e0].next; p.edges[e].next != e0; e = p.edges[e].next)
-      out.triangles.push_back({a, p.edges[e].origin, p.edges[p.edges[e].next].origin});
-  }
+  std::vector<int> index(pts.size(), -1);
+  for (const RawFace& f : faces)
+    for (int v : f.loop) index[v] = 0;
+  for (size_t i = 0; i < pts.size(); ++i)
+    if (index[i] == 0) {
+      index[i] = (int)out.vertices.size();
+      out.vertices.push_back(pts[i]);
+    }
+  for (const RawFace& f : faces)
+    for (size_t k = 1; k + 1 < f.loop.size(); ++k)
+      out.triangles.push_back({index[f.loop[0]], index[f.loop[k]], index[f.loop[k + 1]]});
   return out;
 }
 
