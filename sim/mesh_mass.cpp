@@ -547,9 +547,9 @@ MeshReport analyze_mesh(const TriangleMesh& mesh, const MeshMassOptions& opt) {
     case MassMode::hull: {
       validate(mesh);
       TriangleMesh welded = weld(mesh, &rep.welded_vertices);
-      const TriangleMesh h = convex_hull(welded.vertices);
-      MeshReport hull_rep;
-      const TriangleMesh m = prepare(h, hull_rep, true);
+      // Closed and outward by construction: not through prepare(), whose sliver rule would drop a
+      // thin hull triangle and then call the hull open.
+      const TriangleMesh m = convex_hull(welded.vertices);
       // Report the input's own topology; the hull is closed by construction.
       MeshReport topo;
       try {

@@ -8,12 +8,6 @@
 
 namespace simreel {
 
-ConvexPolyhedron convex_polyhedron(const std::vector<Vec3>& v) {
-  Vec3 h = Vec3::Zero();
-  for (const Vec3& p : v) h = h.cwiseMax(p.cwiseAbs());
-  return make_box_polyhedron(h);
-}
-
 int collide(const CollideShape& a, const Pose& xa, const CollideShape& b, const Pose& xb, double spec,
             PairCache&, Manifold& out) {
   out.count = 0;
