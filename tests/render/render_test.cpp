@@ -31,10 +31,21 @@ Px at(const uint8_t* img, int x, int y) {
   return {p[0], p[1], p[2]};
 }
 
-BodyDef colored(BodyDef b, std::array<float, 3> c, Vec3 pos) {
-  b.color = c;
+// A body and the colour its colliders are drawn in (appearance is not part of sim/'s BodyDef).
+struct Painted {
+  BodyDef body;
+  std::array<float, 3> color{0.8f, 0.8f, 0.8f};
+};
+
+Painted colored(BodyDef b, std::array<float, 3> c, Vec3 pos) {
   b.p_WB = pos;
-  return b;
+  return {b, c};
+}
+
+std::vector<Painted> grey(const std::vector<BodyDef>& bodies) {
+  std::vector<Painted> out;
+  for (const BodyDef& b : bodies) out.push_back({b});
+  return out;
 }
 
 struct Fixture {
@@ -45,11 +56,20 @@ struct Fixture {
   std::vector<uint8_t> frame;
   Fixture(std::vector<BodyDef> bodies, CameraView c, bool ground, bool shadows = true,
           void (*tweak)(RenderSettings&) = nullptr)
+      : Fixture(grey(bodies), c, ground, shadows, tweak) {}
+  Fixture(std::vector<Painted> painted, CameraView c, bool ground, bool shadows = true,
+          void (*tweak)(RenderSettings&) = nullptr)
       : cam(c) {
     WorldConfig wc;
     wc.gravity = Vec3::Zero();
+    std::vector<BodyDef> bodies;
+    SceneStyles styles;
+    for (const Painted& p : painted) {
+      bodies.push_back(p.body);
+      styles.emplace_back(p.body.colliders.size(), ColliderStyle{p.color});
+    }
     world = std::make_unique<World>(wc, bodies);
-    meshes = std::make_unique<SceneMeshes>(*world);
+    meshes = std::make_unique<SceneMeshes>(*world, styles);
     RenderSettings rs;
     rs.width = W;
     rs.height = H;
@@ -161,11 +181,10 @@ TEST(Render, InsideOutMeshLooksLikeTheCorrectOne) {
     BodyDef b;
     b.name = "cube";
     b.colliders = {c};
-    b.color = {0.2f, 0.5f, 0.9f};
     b.q_WB = Quat(Eigen::AngleAxisd(0.6, Vec3(1, 2, 0).normalized()));
     CameraView cam;
     cam.eye = Vec3(5, -6, 4);
-    Fixture f({b}, cam, /*ground=*/true);
+    Fixture f({Painted{b, {0.2f, 0.5f, 0.9f}}}, cam, /*ground=*/true);
     f.render();
     return f.frame;
   };
