@@ -258,9 +258,10 @@ struct Loader {
 
   Collider collider(const YAML::Node& n, const Ctx& c, const std::string& body, BodyType type,
                     ColliderLook& look) {
-    check_keys(n, c,
-               {"shape", "size", "radius", "height", "radii", "file", "scale", "mode", "thickness", "density",
-                "mass", "position", "orientation", "friction", "restitution", "collide", "group", "mask"});
+    check_keys(
+        n, c,
+        {"shape", "size", "radius", "height", "radii", "file", "scale", "mode", "thickness", "density",
+         "mass", "position", "orientation", "friction", "restitution", "collide", "group", "mask", "color"});
     Collider col;
     const char* kShapes = "box, sphere, cylinder, capsule, mesh, plane or ellipsoid";
     if (!n["shape"]) c.fail(n, std::string("missing key 'shape' (") + kShapes + ")");
@@ -292,6 +293,7 @@ struct Loader {
         c.child("restitution").fail(n["restitution"], "must lie in [0, 1], got " + show(n["restitution"]));
     }
     if (n["collide"]) col.collide = boolean(n["collide"], c.child("collide"));
+    if (n["color"]) look.color = color(n["color"], c.child("color"));
     if (n["group"]) col.group = bits(n["group"], c.child("group"));
     if (n["mask"]) col.mask = bits(n["mask"], c.child("mask"));
     if (col.shape == ShapeKind::plane) {
@@ -380,7 +382,7 @@ struct Loader {
         }
         // The collider shares the imported mesh (aliasing constructor: one allocation, one owner).
         col.mesh = std::shared_ptr<const TriangleMesh>(meshes[mkey], &meshes[mkey]->mesh);
-        look.color = meshes[mkey]->color;
+        if (!n["color"]) look.color = meshes[mkey]->color;
         for (const std::string& w : rep.warnings)
           scene.notes.push_back(c.file() + ": body '" + body + "', " + c.key() + " (" + file + "): " + w);
         // Mass properties at density 1, then scaled: by the density, or to the requested mass.
@@ -449,7 +451,8 @@ struct Loader {
     for (size_t k = 0; k < cols.size(); ++k) {
       ColliderLook cl;
       Collider col = collider(cols[k], c.child("colliders").index(k), b.name, b.type, cl);
-      if (n["color"]) cl.color.reset();  // the scene's colour wins over the file's material
+      // The scene's body colour wins over the file's material; the collider's own colour over both.
+      if (n["color"] && !cols[k]["color"]) cl.color.reset();
       look.colliders.push_back(cl);
       b.add_collider(std::move(col));
     }

@@ -55,8 +55,9 @@ using Rgb = std::array<float, 3>;  ///< linear RGB in [0, 1]
 
 // Appearance, which sim/ knows nothing of: drawing only.
 struct ColliderLook {
-  std::optional<Rgb> color;  ///< the mesh file's material; none for primitives or when the body has a colour
-  double plane_size = 10;    ///< m, side of the square drawn for a plane collider
+  /// The collider's `color`, else its mesh file's material unless the body has a `color`.
+  std::optional<Rgb> color;
+  double plane_size = 10;  ///< m, side of the square drawn for a plane collider
 };
 struct BodyLook {
   Rgb color{0.8f, 0.8f, 0.8f};          ///< the body's `color`

@@ -154,7 +154,18 @@ TEST(Scene, MaterialColourFromTheFileUnlessTheBodySetsOne) {
   EXPECT_FALSE(s.looks[0].colliders[1].color.has_value());  // a primitive has no file material
   EXPECT_FALSE(s.looks[1].colliders[0].color.has_value());  // the scene's body colour wins
   EXPECT_FLOAT_EQ(s.looks[1].collider_color(0)[2], 1.0f);
-  EXPECT_FLOAT_EQ(s.looks[0].collider_color(1)[0], 0.8f);                // the default body colour
+  EXPECT_FLOAT_EQ(s.looks[0].collider_color(1)[0], 0.8f);  // the default body colour
+  // A collider's own colour wins over both.
+  const Scene o = load_scene(write_scene(
+      "tet2.yaml",
+      "bodies:\n  - color: [0, 0, 1]\n    colliders: [ { shape: mesh, file: tet.obj, color: [0, 1, 0] },"
+      " { shape: sphere, radius: 1, color: [1, 1, 0] }, { shape: sphere, radius: 1 } ]\n"));
+  EXPECT_EQ(o.looks[0].collider_color(0), (Rgb{0, 1, 0}));
+  EXPECT_EQ(o.looks[0].collider_color(1), (Rgb{1, 1, 0}));
+  EXPECT_EQ(o.looks[0].collider_color(2), (Rgb{0, 0, 1}));
+  EXPECT_NE(error_of("bodies:\n  - colliders: [ { shape: sphere, radius: 1, color: [2, 0, 0] } ]\n")
+                .find("bodies[0].colliders[0].color[0]: colour components must lie in [0, 1]"),
+            std::string::npos);
   EXPECT_NEAR(s.bodies[0].colliders[0].props_C.mass, 1000.0 / 6, 1e-9);  // V = 1/6 at 1000 kg/m^3
 }
 
