@@ -43,6 +43,20 @@ options:
 )";
 
 std::atomic<int> g_signal{0};
+
+#ifdef SIMREEL_HAVE_RENDER
+// The scene's appearance as the renderer takes it: a colour per collider (its file's material,
+// else the body's), whether it is drawn, and the drawn size of planes.
+SceneStyles styles_of(const Scene& scene) {
+  SceneStyles out(scene.looks.size());
+  for (size_t i = 0; i < scene.looks.size(); ++i) {
+    const BodyLook& L = scene.looks[i];
+    for (size_t k = 0; k < L.colliders.size(); ++k)
+      out[i].push_back({L.collider_color(k), L.drawn, L.colliders[k].plane_size});
+  }
+  return out;
+}
+#endif
 extern "C" void on_signal(int sig) {
   g_signal = sig;
 }
@@ -102,7 +116,7 @@ int cmd_render(const std::vector<std::string>& args) {
 
   const int threads = a.has("--threads") ? a.whole("--threads", 1, 256) : 1;
   World world(world_config(scene, threads), scene.bodies);
-  const SceneMeshes meshes(world);
+  const SceneMeshes meshes(world, styles_of(scene));
   RenderSettings rs;
   if (a.has("--gl")) {
     const auto b = gl_backend_from_name(a.options.at("--gl"));

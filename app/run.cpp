@@ -45,6 +45,8 @@ WorldConfig world_config(const Scene& s, int threads) {
   c.gravity = s.gravity;
   c.integrator = s.integrator;
   c.threads = threads;
+  c.contacts = s.contacts;
+  c.ignore_pairs = s.ignore_pairs;
   return c;
 }
 

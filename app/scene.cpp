@@ -104,6 +104,40 @@ double positive(const YAML::Node& n, const Ctx& c) {
   return v;
 }
 
+double non_negative(const YAML::Node& n, const Ctx& c) {
+  const double v = number(n, c);
+  if (!(v >= 0)) c.fail(n, "must not be negative, got " + show(n));
+  return v;
+}
+
+// A 32-bit collision bit set: a whole number 0 .. 4294967295 (0x hex works too), or a list of bit
+// numbers 0 .. 31 ([0, 3] is 9).
+uint32_t bits(const YAML::Node& n, const Ctx& c) {
+  if (n.IsSequence()) {
+    uint32_t v = 0;
+    for (size_t i = 0; i < n.size(); ++i) {
+      const double b = number(n[i], c.index(i));
+      if (b != std::floor(b) || b < 0 || b > 31)
+        c.index(i).fail(n[i], "expected a bit number from 0 to 31, got " + show(n[i]));
+      v |= 1u << (int)b;
+    }
+    return v;
+  }
+  if (!n.IsScalar())
+    c.fail(n, "expected a whole number from 0 to 4294967295 or a list of bit numbers, got " + show(n));
+  const double v = number(n, c);
+  if (v != std::floor(v) || v < 0 || v > 4294967295.0)
+    c.fail(n, "expected a whole number from 0 to 4294967295 or a list of bit numbers, got " + show(n));
+  return (uint32_t)v;
+}
+
+// Where a node sits, for notes (which are warnings, not errors): "FILE:LINE: KEY".
+std::string where(const YAML::Node& n, const Ctx& c) {
+  std::string s = c.file();
+  if (n.IsDefined() && n.Mark().line >= 0) s += ":" + std::to_string(n.Mark().line + 1);
+  return s + ": " + c.key();
+}
+
 bool boolean(const YAML::Node& n, const Ctx& c) {
   if (n.IsScalar()) {
     const std::string& s = n.Scalar();
@@ -187,6 +221,21 @@ Integrator integrator(const YAML::Node& n, const Ctx& c) {
   return *i;
 }
 
+// A static body made of planes alone has no mass; World, which predates planes, checks that every
+// body's mass is positive. A static body's mass is never used (its inverse mass is zero), so such
+// a body gets a nominal 1 kg with unit inertia on its first plane. (Drop this once World accepts
+// massless static bodies.)
+void give_static_mass(BodyDef& b) {
+  if (b.type != BodyType::static_body) return;
+  for (const Collider& c : b.colliders)
+    if (c.shape != ShapeKind::plane) return;
+  std::vector<Collider> cols = std::move(b.colliders);
+  b.colliders.clear();
+  cols[0].props_C.mass = 1;
+  cols[0].props_C.inertia = Mat3::Identity();
+  for (Collider& c : cols) b.add_collider(std::move(c));
+}
+
 struct Loader {
   Scene& scene;
   fs::path dir;
@@ -207,17 +256,22 @@ struct Loader {
     c.fail(n, msg + ")");
   }
 
-  Collider collider(const YAML::Node& n, const Ctx& c, const std::string& body) {
-    check_keys(n, c,
-               {"shape", "size", "radius", "height", "file", "scale", "mode", "thickness", "density", "mass",
-                "position", "orientation"});
+  Collider collider(const YAML::Node& n, const Ctx& c, const std::string& body, BodyType type,
+                    ColliderLook& look) {
+    check_keys(
+        n, c,
+        {"shape", "size", "radius", "height", "radii", "file", "scale", "mode", "thickness", "density",
+         "mass", "position", "orientation", "friction", "restitution", "collide", "group", "mask", "color"});
     Collider col;
-    if (!n["shape"]) c.fail(n, "missing key 'shape' (box, sphere, cylinder, capsule or mesh)");
+    const char* kShapes = "box, sphere, cylinder, capsule, mesh, plane or ellipsoid";
+    if (!n["shape"]) c.fail(n, std::string("missing key 'shape' (") + kShapes + ")");
     const std::string shape = text(n["shape"], c.child("shape"));
-    const std::vector<std::string> shapes = {"box", "sphere", "cylinder", "capsule", "mesh"};
+    // In ShapeKind's order.
+    const std::vector<std::string> shapes = {"box",  "sphere", "cylinder", "capsule",
+                                             "mesh", "plane",  "ellipsoid"};
     const auto it = std::find(shapes.begin(), shapes.end(), shape);
     if (it == shapes.end()) {
-      std::string msg = "unknown shape '" + shape + "' (box, sphere, cylinder, capsule or mesh)";
+      std::string msg = "unknown shape '" + shape + "' (" + kShapes + ")";
       if (auto s = nearest(shape, shapes)) msg += "; did you mean '" + *s + "'?";
       c.child("shape").fail(n["shape"], msg);
     }
@@ -232,31 +286,63 @@ struct Loader {
     };
     if (n["position"]) col.p_BC = vec<3>(n["position"], c.child("position"));
     if (n["orientation"]) col.q_BC = unit_quaternion(n["orientation"], c.child("orientation"));
+    if (n["friction"]) col.friction = non_negative(n["friction"], c.child("friction"));
+    if (n["restitution"]) {
+      col.restitution = number(n["restitution"], c.child("restitution"));
+      if (!(col.restitution >= 0 && col.restitution <= 1))
+        c.child("restitution").fail(n["restitution"], "must lie in [0, 1], got " + show(n["restitution"]));
+    }
+    if (n["collide"]) col.collide = boolean(n["collide"], c.child("collide"));
+    if (n["color"]) look.color = color(n["color"], c.child("color"));
+    if (n["group"]) col.group = bits(n["group"], c.child("group"));
+    if (n["mask"]) col.mask = bits(n["mask"], c.child("mask"));
+    if (col.shape == ShapeKind::plane) {
+      if (type != BodyType::static_body)
+        c.child("shape").fail(n["shape"],
+                              std::string("a plane may only be a collider of a static body (body '") + body +
+                                  "' is " + to_string(type) + "; give it 'type: static')");
+      forbid({"radius", "height", "radii", "file", "scale", "mode", "thickness"});
+      for (const char* k : {"density", "mass"})
+        if (n[k]) c.child(k).fail(n[k], "a plane has no mass (it belongs to a static body)");
+      if (n["size"]) look.plane_size = positive(n["size"], c.child("size"));
+      col.props_C.mass = 0;  // infinite and massless: only its static body holds it
+      col.props_C.inertia = Mat3::Zero();
+      col.label = "plane";
+      return col;
+    }
     if (n["density"] && n["mass"])
       c.child("mass").fail(n["mass"], "give either 'density' or 'mass', not both");
     const double density = n["density"] ? positive(n["density"], c.child("density")) : 1000.0;
     switch (col.shape) {
       case ShapeKind::box:
-        forbid({"radius", "height", "file", "scale", "mode", "thickness"});
+        forbid({"radius", "height", "radii", "file", "scale", "mode", "thickness"});
         col.size = vec<3>(need("size"), c.child("size"));
         for (int i = 0; i < 3; ++i)
           if (!(col.size[i] > 0)) c.child("size").index(i).fail(n["size"][i], "must be positive");
         break;
       case ShapeKind::sphere:
-        forbid({"size", "height", "file", "scale", "mode", "thickness"});
+        forbid({"size", "height", "radii", "file", "scale", "mode", "thickness"});
         col.radius = positive(need("radius"), c.child("radius"));
         break;
       case ShapeKind::cylinder:
       case ShapeKind::capsule:
-        forbid({"size", "file", "scale", "mode", "thickness"});
+        forbid({"size", "radii", "file", "scale", "mode", "thickness"});
         col.radius = positive(need("radius"), c.child("radius"));
         col.height = positive(need("height"), c.child("height"));
         if (col.shape == ShapeKind::capsule && col.height < 2 * col.radius)
           c.child("height").fail(n["height"],
                                  "a capsule's height (tip to tip) must be at least twice its radius");
         break;
+      case ShapeKind::ellipsoid:
+        forbid({"size", "radius", "height", "file", "scale", "mode", "thickness"});
+        col.radii = vec<3>(need("radii"), c.child("radii"));
+        for (int i = 0; i < 3; ++i)
+          if (!(col.radii[i] > 0)) c.child("radii").index(i).fail(n["radii"][i], "must be positive");
+        break;
+      case ShapeKind::plane:  // returned above
+        break;
       case ShapeKind::mesh: {
-        forbid({"size", "radius", "height"});
+        forbid({"size", "radius", "height", "radii"});
         const std::string file = resolve(need("file"), c.child("file"));
         Vec3 scale = Vec3::Ones();
         if (n["scale"]) {
@@ -296,7 +382,7 @@ struct Loader {
         }
         // The collider shares the imported mesh (aliasing constructor: one allocation, one owner).
         col.mesh = std::shared_ptr<const TriangleMesh>(meshes[mkey], &meshes[mkey]->mesh);
-        col.color = meshes[mkey]->color;
+        if (!n["color"]) look.color = meshes[mkey]->color;
         for (const std::string& w : rep.warnings)
           scene.notes.push_back(c.file() + ": body '" + body + "', " + c.key() + " (" + file + "): " + w);
         // Mass properties at density 1, then scaled: by the density, or to the requested mass.
@@ -315,28 +401,62 @@ struct Loader {
     return col;
   }
 
-  BodyDef body(const YAML::Node& n, const Ctx& c, size_t i) {
+  BodyDef body(const YAML::Node& n, const Ctx& c, size_t i, BodyLook& look) {
     check_keys(n, c,
-               {"name", "position", "orientation", "linear_velocity", "angular_velocity", "static", "color",
-                "integrator", "colliders"});
+               {"name", "position", "orientation", "linear_velocity", "angular_velocity", "type", "static",
+                "color", "integrator", "colliders"});
     BodyDef b;
     b.name = n["name"] ? text(n["name"], c.child("name")) : "body" + std::to_string(i);
     if (n["position"]) b.p_WB = vec<3>(n["position"], c.child("position"));
     if (n["orientation"]) b.q_WB = unit_quaternion(n["orientation"], c.child("orientation"));
     if (n["linear_velocity"]) b.v_W = vec<3>(n["linear_velocity"], c.child("linear_velocity"));
     if (n["angular_velocity"]) b.w_W = vec<3>(n["angular_velocity"], c.child("angular_velocity"));
-    if (n["static"] && boolean(n["static"], c.child("static"))) b.type = BodyType::static_body;
-    if (n["color"]) b.color = color(n["color"], c.child("color"));
+    if (n["type"]) {
+      const Ctx tc = c.child("type");
+      const std::string t = text(n["type"], tc);
+      const std::vector<std::string> types = {"dynamic", "static", "kinematic"};
+      if (t == "dynamic") {
+        b.type = BodyType::dynamic;
+      } else if (t == "static") {
+        b.type = BodyType::static_body;
+      } else if (t == "kinematic") {
+        b.type = BodyType::kinematic;
+      } else {
+        std::string msg = "unknown body type '" + t + "' (dynamic, static or kinematic)";
+        if (auto sug = nearest(t, types)) msg += "; did you mean '" + *sug + "'?";
+        tc.fail(n["type"], msg);
+      }
+    }
+    if (n["static"]) {  // the older shorthand: must agree with `type` when both are given
+      const bool st = boolean(n["static"], c.child("static"));
+      if (n["type"] && st != (b.type == BodyType::static_body))
+        c.child("static").fail(n["static"], std::string("static: ") + (st ? "true" : "false") +
+                                                " contradicts type: " + to_string(b.type));
+      if (st) b.type = BodyType::static_body;
+    }
+    if (b.type == BodyType::static_body) {  // a static body never moves, whatever is set
+      for (const char* k : {"linear_velocity", "angular_velocity"})
+        if (n[k] && (k[0] == 'l' ? b.v_W : b.w_W).squaredNorm() > 0)
+          scene.notes.push_back(where(n[k], c.child(k)) + ": body '" + b.name +
+                                "' is static: its velocity is ignored (a static body never moves)");
+      b.v_W.setZero();
+      b.w_W.setZero();
+    }
+    if (n["color"]) look.color = color(n["color"], c.child("color"));
     if (n["integrator"]) b.integrator = integrator(n["integrator"], c.child("integrator"));
     const YAML::Node cols = n["colliders"];
     if (!cols) c.fail(n, "body '" + b.name + "' needs 'colliders' (a list of shapes)");
     if (!cols.IsSequence() || cols.size() == 0)
       c.child("colliders").fail(cols, "expected a non-empty list of colliders, got " + show(cols));
     for (size_t k = 0; k < cols.size(); ++k) {
-      Collider col = collider(cols[k], c.child("colliders").index(k), b.name);
-      if (n["color"]) col.color.reset();  // the scene's colour wins over the file's material
+      ColliderLook cl;
+      Collider col = collider(cols[k], c.child("colliders").index(k), b.name, b.type, cl);
+      // The scene's body colour wins over the file's material; the collider's own colour over both.
+      if (n["color"] && !cols[k]["color"]) cl.color.reset();
+      look.colliders.push_back(cl);
       b.add_collider(std::move(col));
     }
+    give_static_mass(b);
     return b;
   }
 };
@@ -361,12 +481,32 @@ Scene load_scene(const std::string& path) {
   }
   const Ctx top(path, "");
   if (!root.IsMap())
-    top.fail(root, "a scene is a mapping with keys simulation, video, camera, render, bodies");
-  check_keys(root, top, {"simulation", "video", "camera", "render", "bodies"});
+    top.fail(root, "a scene is a mapping with keys simulation, video, camera, render, ground, bodies");
+  check_keys(root, top, {"simulation", "video", "camera", "render", "ground", "bodies"});
 
   if (const YAML::Node sim = root["simulation"]) {
     const Ctx c = top.child("simulation");
-    check_keys(sim, c, {"duration", "timestep", "integrator", "gravity"});
+    check_keys(sim, c, {"duration", "timestep", "integrator", "gravity", "contacts", "ignore_pairs"});
+    if (const YAML::Node k = sim["contacts"]) {
+      const Ctx kc = c.child("contacts");
+      check_keys(k, kc,
+                 {"substeps", "iterations", "contact_hertz", "damping_ratio", "max_push_out",
+                  "restitution_threshold", "speculative_distance", "linear_slop", "rolling_resistance"});
+      ContactSettings& cs = s.contacts;
+      if (k["substeps"]) cs.substeps = whole(k["substeps"], kc.child("substeps"), 1, 1000);
+      if (k["iterations"]) cs.iterations = whole(k["iterations"], kc.child("iterations"), 1, 1000);
+      if (k["contact_hertz"]) cs.contact_hertz = positive(k["contact_hertz"], kc.child("contact_hertz"));
+      if (k["damping_ratio"]) cs.damping_ratio = non_negative(k["damping_ratio"], kc.child("damping_ratio"));
+      if (k["max_push_out"]) cs.max_push_out = non_negative(k["max_push_out"], kc.child("max_push_out"));
+      if (k["restitution_threshold"])
+        cs.restitution_threshold =
+            non_negative(k["restitution_threshold"], kc.child("restitution_threshold"));
+      if (k["speculative_distance"])
+        cs.speculative_distance = non_negative(k["speculative_distance"], kc.child("speculative_distance"));
+      if (k["linear_slop"]) cs.linear_slop = non_negative(k["linear_slop"], kc.child("linear_slop"));
+      if (k["rolling_resistance"])
+        cs.rolling_resistance = non_negative(k["rolling_resistance"], kc.child("rolling_resistance"));
+    }
     if (sim["duration"]) s.duration = positive(sim["duration"], c.child("duration"));
     if (sim["timestep"]) s.timestep = positive(sim["timestep"], c.child("timestep"));
     if (sim["gravity"]) s.gravity = vec<3>(sim["gravity"], c.child("gravity"));
@@ -410,6 +550,10 @@ Scene load_scene(const std::string& path) {
     if (r["background"]) s.render.background = color(r["background"], c.child("background"));
     if (const YAML::Node g = r["ground"]) {
       const Ctx gc = c.child("ground");
+      if (root["ground"])
+        gc.fail(g,
+                "the top-level 'ground' already draws the ground (and collides): give one of them, "
+                "'ground' for a floor things land on, 'render.ground' for a drawing only");
       if (g.IsScalar()) {
         s.render.ground = boolean(g, gc);
       } else {
@@ -419,6 +563,32 @@ Scene load_scene(const std::string& path) {
         if (g["size"]) s.render.ground_size = positive(g["size"], gc.child("size"));
         if (g["tile"]) s.render.ground_tile = positive(g["tile"], gc.child("tile"));
       }
+    }
+  }
+  if (const YAML::Node g = root["ground"]) {
+    const Ctx gc = top.child("ground");
+    bool on = true;
+    GroundSpec gs;
+    if (g.IsScalar()) {
+      on = boolean(g, gc);
+    } else {
+      check_keys(g, gc, {"height", "friction", "restitution", "size", "tile"});
+      if (g["height"]) gs.height = number(g["height"], gc.child("height"));
+      if (g["friction"]) gs.friction = non_negative(g["friction"], gc.child("friction"));
+      if (g["restitution"]) {
+        gs.restitution = number(g["restitution"], gc.child("restitution"));
+        if (!(gs.restitution >= 0 && gs.restitution <= 1))
+          gc.child("restitution").fail(g["restitution"], "must lie in [0, 1], got " + show(g["restitution"]));
+      }
+      if (g["size"]) gs.size = positive(g["size"], gc.child("size"));
+      if (g["tile"]) gs.tile = positive(g["tile"], gc.child("tile"));
+    }
+    if (on) {
+      s.ground = gs;
+      s.render.ground = true;
+      s.render.ground_height = gs.height;
+      s.render.ground_size = gs.size;
+      s.render.ground_tile = gs.tile;
     }
   }
   const YAML::Node bodies = root["bodies"];
@@ -432,9 +602,66 @@ Scene load_scene(const std::string& path) {
   std::set<std::string> names;
   for (size_t i = 0; i < bodies.size(); ++i) {
     const Ctx c = top.child("bodies").index(i);
-    s.bodies.push_back(L.body(bodies[i], c, i));
+    s.looks.emplace_back();
+    s.bodies.push_back(L.body(bodies[i], c, i, s.looks.back()));
     if (!names.insert(s.bodies.back().name).second)
       c.child("name").fail(bodies[i]["name"], "another body is already named '" + s.bodies.back().name + "'");
+  }
+  if (s.ground) {  // the ground body comes last: the scene's own bodies keep their indices
+    if (names.count("ground")) {
+      for (size_t i = 0; i < bodies.size(); ++i)
+        if (s.bodies[i].name == "ground")
+          top.child("bodies").index(i).child("name").fail(
+              bodies[i]["name"],
+              "the top-level 'ground' makes a static body named 'ground': rename this one");
+    }
+    names.insert("ground");
+    BodyDef g;
+    g.name = "ground";
+    g.type = BodyType::static_body;
+    Collider plane;
+    plane.shape = ShapeKind::plane;
+    plane.p_BC = Vec3(0, 0, s.ground->height);
+    plane.friction = s.ground->friction;
+    plane.restitution = s.ground->restitution;
+    plane.props_C.mass = 0;
+    plane.props_C.inertia = Mat3::Zero();
+    plane.label = "plane (ground)";
+    g.add_collider(std::move(plane));
+    give_static_mass(g);
+    s.bodies.push_back(std::move(g));
+    BodyLook look;
+    look.drawn = false;  // the renderer's checkered ground draws it
+    look.colliders.resize(1);
+    s.looks.push_back(look);
+  }
+  if (root["simulation"] && root["simulation"]["ignore_pairs"]) {
+    const YAML::Node ip = root["simulation"]["ignore_pairs"];
+    const Ctx c = top.child("simulation").child("ignore_pairs");
+    if (!ip.IsSequence())
+      c.fail(ip, "expected a list of body name pairs like [[a, b], [c, d]], got " + show(ip));
+    std::vector<std::string> all;
+    for (const BodyDef& b : s.bodies) all.push_back(b.name);
+    for (size_t k = 0; k < ip.size(); ++k) {
+      const Ctx pc = c.index(k);
+      const YAML::Node p = ip[k];
+      if (!p.IsSequence() || p.size() != 2)
+        pc.fail(p, "expected a pair of body names [a, b], got " +
+                       (p.IsSequence() ? "a list of " + std::to_string(p.size()) : show(p)));
+      int idx[2];
+      for (int j = 0; j < 2; ++j) {
+        const std::string name = text(p[j], pc.index(j));
+        const auto f = std::find(all.begin(), all.end(), name);
+        if (f == all.end()) {
+          std::string msg = "no body is named '" + name + "'";
+          if (auto sug = nearest(name, all)) msg += "; did you mean '" + *sug + "'?";
+          pc.index(j).fail(p[j], msg);
+        }
+        idx[j] = (int)(f - all.begin());
+      }
+      if (idx[0] == idx[1]) pc.fail(p, "names the same body twice (a body never collides with itself)");
+      s.ignore_pairs.emplace_back(std::min(idx[0], idx[1]), std::max(idx[0], idx[1]));
+    }
   }
   if (!s.camera.follow.empty() && !names.count(s.camera.follow))
     top.child("camera").child("follow").fail(root["camera"]["follow"],

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "sim/body.hpp"
+#include "sim/contact_settings.hpp"
 #include "sim/integrators.hpp"
 
 namespace simreel {
@@ -40,6 +41,34 @@ struct RenderSpec {
   double ground_tile = 1;                                ///< m, checker tile
 };
 
+// The top-level `ground`: a static body named "ground" with one plane collider (origin (0, 0, height),
+// normal +z) and the checkered ground drawn under the scene (render.ground draws without colliding).
+struct GroundSpec {
+  double height = 0;       ///< m, z of the plane
+  double friction = 0.6;   ///< Coulomb coefficient
+  double restitution = 0;  ///< in [0, 1]
+  double size = 20;        ///< m, side of the drawn square (the plane itself is infinite)
+  double tile = 1;         ///< m, checker tile
+};
+
+using Rgb = std::array<float, 3>;  ///< linear RGB in [0, 1]
+
+// Appearance, which sim/ knows nothing of: drawing only.
+struct ColliderLook {
+  /// The collider's `color`, else its mesh file's material unless the body has a `color`.
+  std::optional<Rgb> color;
+  double plane_size = 10;  ///< m, side of the square drawn for a plane collider
+};
+struct BodyLook {
+  Rgb color{0.8f, 0.8f, 0.8f};          ///< the body's `color`
+  std::vector<ColliderLook> colliders;  ///< parallel to the body's colliders
+  bool drawn = true;                    ///< false for the ground body: the renderer's ground draws it
+  // What a collider is drawn in: its file's material, else the body colour.
+  Rgb collider_color(size_t k) const {
+    return k < colliders.size() && colliders[k].color ? *colliders[k].color : color;
+  }
+};
+
 struct Scene {
   std::string path;             ///< as given
   std::string name;             ///< file stem: default output out/<name>.mp4
@@ -51,7 +80,11 @@ struct Scene {
   CameraSpec camera;
   RenderSpec render;
   std::vector<BodyDef> bodies;
-  std::vector<std::string> notes;  ///< what was done with mesh defects, with file and collider
+  std::vector<BodyLook> looks;       ///< parallel to bodies
+  std::optional<GroundSpec> ground;  ///< the top-level `ground` (its body is the last of `bodies`)
+  ContactSettings contacts;          ///< simulation.contacts
+  std::vector<std::pair<int, int>> ignore_pairs;  ///< simulation.ignore_pairs, as body indices
+  std::vector<std::string> notes;  ///< what was done with mesh defects and ignored keys, with file and body
 };
 
 // Throws InputError "FILE:LINE:COL: KEY: what is wrong" for anything a user could get wrong.

@@ -27,26 +27,32 @@ constexpr int W = 1280, H = 720, kFps = 30;
 
 // 100 boxes of assorted sizes in a 10 x 10 grid, 1.5 m apart, 1 m over the ground, spinning
 // with random angular velocities (no gravity, so the view stays full for the whole clip).
-std::vector<BodyDef> hundred_boxes() {
-  SplitMix64 rng(2026);
+struct Boxes {
   std::vector<BodyDef> bodies;
+  SceneStyles styles;  ///< a colour per box
+};
+Boxes hundred_boxes() {
+  SplitMix64 rng(2026);
+  Boxes out;
   for (int i = 0; i < 100; ++i) {
     const Vec3 size(0.3 + 0.5 * rng.uniform(), 0.3 + 0.5 * rng.uniform(), 0.3 + 0.5 * rng.uniform());
     BodyDef b = box_body(("box" + std::to_string(i)).c_str(), size, 1.0);
     b.p_WB = Vec3(1.5 * (i % 10) - 6.75, 1.5 * (i / 10) - 6.75, 1.0);
     b.w_W = Vec3(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5) * 4.0;
-    b.color = {0.25f + 0.7f * (float)rng.uniform(), 0.25f + 0.7f * (float)rng.uniform(),
-               0.25f + 0.7f * (float)rng.uniform()};
-    bodies.push_back(b);
+    ColliderStyle st;
+    st.color = {0.25f + 0.7f * (float)rng.uniform(), 0.25f + 0.7f * (float)rng.uniform(),
+                0.25f + 0.7f * (float)rng.uniform()};
+    out.styles.push_back({st});
+    out.bodies.push_back(b);
   }
-  return bodies;
+  return out;
 }
 
 struct Setup {
   World world;
   SceneMeshes meshes;
   CameraView cam;
-  explicit Setup(const std::vector<BodyDef>& b) : world(config(), b), meshes(world) {
+  explicit Setup(const Boxes& b) : world(config(), b.bodies), meshes(world, b.styles) {
     cam.eye = Vec3(0, -16, 9);
     cam.target = Vec3(0, 0, 0.5);
   }

@@ -4,10 +4,21 @@
 
 namespace simreel {
 
-SceneMeshes::SceneMeshes(const World& w) {
+SceneMeshes::SceneMeshes(const World& w, const SceneStyles& styles) {
+  mesh_of.resize(w.body_count());
   for (int i = 0; i < w.body_count(); ++i) {
-    first_mesh.push_back((int)meshes.size());
-    for (const Collider& c : w.def(i).colliders) meshes.push_back(tessellate_collider(c));
+    const std::vector<Collider>& cols = w.def(i).colliders;
+    for (size_t k = 0; k < cols.size(); ++k) {
+      const ColliderStyle st =
+          (size_t)i < styles.size() && k < styles[i].size() ? styles[i][k] : ColliderStyle{};
+      if (!st.drawn) {
+        mesh_of[i].push_back(-1);
+        continue;
+      }
+      mesh_of[i].push_back((int)meshes.size());
+      meshes.push_back(tessellate_collider(cols[k], st.plane_size));
+      colors.push_back(st.color);
+    }
   }
 }
 
@@ -21,21 +32,24 @@ void build_draw_list(const World& w, const SceneMeshes& sm, const CameraView& ca
     T_WB.translation() = w.origin_position(i);
     const BodyDef& d = w.def(i);
     for (size_t k = 0; k < d.colliders.size(); ++k) {
+      const int mesh = sm.mesh_of[i][k];
+      if (mesh < 0) continue;
       const Collider& c = d.colliders[k];
       Eigen::Isometry3d T_BC = Eigen::Isometry3d::Identity();
       T_BC.linear() = c.q_BC.toRotationMatrix();
       T_BC.translation() = c.p_BC;
       const Eigen::Isometry3d T = T_WB * T_BC;
       DrawItem it;
-      it.mesh = sm.first_mesh[i] + (int)k;
+      it.mesh = mesh;
       it.model = T.matrix().cast<float>();
-      it.color = c.color ? *c.color : d.color;
+      it.color = sm.colors[mesh];
       out.items.push_back(it);
       const double r = sm.meshes[it.mesh].radius;
       lo = lo.cwiseMin(T.translation() - Vec3::Constant(r));
       hi = hi.cwiseMax(T.translation() + Vec3::Constant(r));
     }
   }
+  if (out.items.empty()) lo = hi = Vec3::Zero();  // nothing drawn (a ground alone)
   out.bounds_center = 0.5 * (lo + hi);
   out.bounds_radius = std::max(0.5 * (hi - lo).norm(), 1e-3);
   out.camera = cam;

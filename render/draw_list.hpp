@@ -29,11 +29,21 @@ struct DrawList {
   double bounds_radius = 1;           ///< m
 };
 
-// The static side: one render mesh per collider, in body order, made once.
+// How one collider is drawn. Appearance is not part of sim/: app/ makes these from the scene.
+struct ColliderStyle {
+  std::array<float, 3> color{0.8f, 0.8f, 0.8f};  ///< linear RGB
+  bool drawn = true;       ///< false: left out (the scene's ground plane, which the renderer's ground draws)
+  double plane_size = 10;  ///< m, side of the square drawn for a plane collider
+};
+using SceneStyles = std::vector<std::vector<ColliderStyle>>;  ///< per body, per collider
+
+// The static side: one render mesh per drawn collider, in body order, made once.
 struct SceneMeshes {
   std::vector<RenderMesh> meshes;
-  std::vector<int> first_mesh;  ///< per body: index of its first collider's mesh
-  explicit SceneMeshes(const World& w);
+  std::vector<std::array<float, 3>> colors;  ///< per mesh, linear RGB
+  std::vector<std::vector<int>> mesh_of;     ///< per body, per collider: its mesh, -1 if not drawn
+  // Bodies or colliders that `styles` does not reach get ColliderStyle{} (drawn, light grey).
+  explicit SceneMeshes(const World& w, const SceneStyles& styles = {});
 };
 
 // Fills `out` (reusing its storage) from the world's current state. With follow >= 0 the camera

@@ -505,10 +505,10 @@ const uint8_t* Renderer::render(const DrawList& dl, uint8_t* out) {
   const M4 vp = flip_y *
                 perspective((float)(cam.fov_deg * M_PI / 180.0), (float)s.width / s.height, near, far) *
                 look_at(eye, cam.target.cast<float>(), cam.up.cast<float>());
-  M4 ground = M4::Identity();  // snapped to whole checker periods near the bodies
+  // Fixed in the world, centred on the origin: it must not move under the bodies between frames
+  // (it used to re-centre on them in whole checker periods, a visible jump of two tiles).
+  M4 ground = M4::Identity();
   ground(2, 3) = (float)s.ground_height;
-  ground(0, 3) = (float)std::round(dl.bounds_center.x() / s.ground_tile / 2) * 2 * (float)s.ground_tile;
-  ground(1, 3) = (float)std::round(dl.bounds_center.y() / s.ground_tile / 2) * 2 * (float)s.ground_tile;
 
   glFrontFace(GL_CW);
   for (const LitProgram* lp : {&P.body_prog, &P.ground_prog}) {

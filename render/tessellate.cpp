@@ -123,6 +123,24 @@ RenderMesh tessellate_plane(double size) {
   return m;
 }
 
+RenderMesh tessellate_ellipsoid(const Vec3& r, int rings) {
+  RenderMesh unit = tessellate_sphere(1.0, rings);
+  RenderMesh m;
+  m.indices = std::move(unit.indices);
+  for (size_t v = 0; v + 5 < unit.vertices.size(); v += 6) {
+    const Vec3 p(unit.vertices[v], unit.vertices[v + 1], unit.vertices[v + 2]);
+    const Vec3 n(unit.vertices[v + 3], unit.vertices[v + 4], unit.vertices[v + 5]);
+    push(m, p.cwiseProduct(r), n.cwiseQuotient(r).normalized());
+  }
+  return m;
+}
+
+RenderMesh tessellate_plane_collider(double size) {
+  RenderMesh m = tessellate_plane(size);
+  m.two_sided = true;  // a slope is seen from below as often as from above
+  return m;
+}
+
 RenderMesh tessellate_mesh(const TriangleMesh& tm, double crease_deg) {
   // Each corner gets the area-weighted average of the normals of the faces around its vertex that
   // lie within crease_deg of its own face normal: smooth curved surfaces, sharp edges kept.
@@ -161,7 +179,7 @@ RenderMesh tessellate_mesh(const TriangleMesh& tm, double crease_deg) {
   return m;
 }
 
-RenderMesh tessellate_collider(const Collider& c) {
+RenderMesh tessellate_collider(const Collider& c, double plane_size) {
   switch (c.shape) {
     case ShapeKind::box:
       return tessellate_box(c.size);
@@ -173,6 +191,10 @@ RenderMesh tessellate_collider(const Collider& c) {
       return tessellate_capsule(c.radius, c.height);
     case ShapeKind::mesh:
       return tessellate_mesh(*c.mesh);
+    case ShapeKind::ellipsoid:
+      return tessellate_ellipsoid(c.radii);
+    case ShapeKind::plane:
+      return tessellate_plane_collider(plane_size);
   }
   return {};
 }

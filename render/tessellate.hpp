@@ -21,10 +21,16 @@ RenderMesh tessellate_sphere(double r, int rings = 24);
 RenderMesh tessellate_cylinder(double r, double h, int segments = 48);
 RenderMesh tessellate_capsule(double r, double h, int segments = 48);
 RenderMesh tessellate_plane(double size);  ///< square in z = 0, normal +z, centred on the origin
+// The unit sphere's mesh scaled by the semi-axes r: positions diag(r) p, normals diag(1/r) n
+// normalised (the inverse transpose of the scaling).
+RenderMesh tessellate_ellipsoid(const Vec3& r, int rings = 24);
+// A plane collider drawn as a finite square of side `size`, seen from both sides.
+RenderMesh tessellate_plane_collider(double size);
 // Triangle mesh with normals split at edges sharper than crease_deg (smooth elsewhere), two-sided.
 // Every normal points to the side the triangle's winding calls front (a file normal that points
 // the other way is turned round), so the renderer's "flip for back faces" lights the seen side.
 RenderMesh tessellate_mesh(const TriangleMesh& m, double crease_deg = 35.0);
-RenderMesh tessellate_collider(const Collider& c);
+// plane_size: m, the side of the square drawn for a plane collider (planes are infinite).
+RenderMesh tessellate_collider(const Collider& c, double plane_size = 10);
 
 }  // namespace simreel

@@ -48,9 +48,6 @@ struct Collider {
   /// Collision hulls of a mesh collider (one, or one per object with MeshCollision::parts), in the
   /// collider frame; empty for primitives (built by the World when absent).
   std::vector<std::shared_ptr<const ConvexPolyhedron>> hulls;
-  /// Linear RGB from the mesh file's material, drawn instead of the body colour when the scene
-  /// gives the body none (drawing only).
-  std::optional<std::array<float, 3>> color;
 };
 
 // Collider mass properties for a primitive shape from its size and density (kg/m^3).
@@ -63,8 +60,7 @@ struct BodyDef {
   Vec3 v_W = Vec3::Zero();       ///< m/s, centre-of-mass velocity, world frame
   Vec3 w_W = Vec3::Zero();       ///< rad/s, angular velocity, world frame
   BodyType type = BodyType::dynamic;
-  std::optional<Integrator> integrator;          ///< overrides the world's for this body (side-by-side demos)
-  std::array<float, 3> color{0.8f, 0.8f, 0.8f};  ///< linear RGB in [0, 1]
+  std::optional<Integrator> integrator;  ///< overrides the world's for this body (side-by-side demos)
   std::vector<Collider> colliders;
 
   // The article's AddCollider: appends and returns the updated composite mass properties.

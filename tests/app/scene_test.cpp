@@ -4,8 +4,10 @@
 #include <filesystem>
 #include <fstream>
 
+#include "app/run.hpp"
 #include "app/scene.hpp"
 #include "sim/error.hpp"
+#include "sim/world.hpp"
 #include "tests/scratch.hpp"
 
 namespace simreel {
@@ -146,10 +148,24 @@ TEST(Scene, MaterialColourFromTheFileUnlessTheBodySetsOne) {
   const std::string col = "    colliders: [ { shape: mesh, file: tet.obj }, { shape: sphere, radius: 1 } ]\n";
   const Scene s = load_scene(
       write_scene("tet.yaml", "bodies:\n  - name: a\n" + col + "  - name: b\n    color: [0, 0, 1]\n" + col));
-  ASSERT_TRUE(s.bodies[0].colliders[0].color.has_value());
-  EXPECT_FLOAT_EQ((*s.bodies[0].colliders[0].color)[0], 0.9f);
-  EXPECT_FALSE(s.bodies[0].colliders[1].color.has_value());              // a primitive has no file material
-  EXPECT_FALSE(s.bodies[1].colliders[0].color.has_value());              // the scene's body colour wins
+  ASSERT_EQ(s.looks.size(), 2u);
+  ASSERT_TRUE(s.looks[0].colliders[0].color.has_value());
+  EXPECT_FLOAT_EQ((*s.looks[0].colliders[0].color)[0], 0.9f);
+  EXPECT_FALSE(s.looks[0].colliders[1].color.has_value());  // a primitive has no file material
+  EXPECT_FALSE(s.looks[1].colliders[0].color.has_value());  // the scene's body colour wins
+  EXPECT_FLOAT_EQ(s.looks[1].collider_color(0)[2], 1.0f);
+  EXPECT_FLOAT_EQ(s.looks[0].collider_color(1)[0], 0.8f);  // the default body colour
+  // A collider's own colour wins over both.
+  const Scene o = load_scene(write_scene(
+      "tet2.yaml",
+      "bodies:\n  - color: [0, 0, 1]\n    colliders: [ { shape: mesh, file: tet.obj, color: [0, 1, 0] },"
+      " { shape: sphere, radius: 1, color: [1, 1, 0] }, { shape: sphere, radius: 1 } ]\n"));
+  EXPECT_EQ(o.looks[0].collider_color(0), (Rgb{0, 1, 0}));
+  EXPECT_EQ(o.looks[0].collider_color(1), (Rgb{1, 1, 0}));
+  EXPECT_EQ(o.looks[0].collider_color(2), (Rgb{0, 0, 1}));
+  EXPECT_NE(error_of("bodies:\n  - colliders: [ { shape: sphere, radius: 1, color: [2, 0, 0] } ]\n")
+                .find("bodies[0].colliders[0].color[0]: colour components must lie in [0, 1]"),
+            std::string::npos);
   EXPECT_NEAR(s.bodies[0].colliders[0].props_C.mass, 1000.0 / 6, 1e-9);  // V = 1/6 at 1000 kg/m^3
 }
 
@@ -163,6 +179,281 @@ TEST(Scene, DuplicateNamesAndBadFollowAreErrors) {
 TEST(Scene, QuaternionMustBeUnit) {
   const std::string m = error_of("bodies:\n  - orientation: [1, 1, 0, 0]\n" + std::string(kBox));
   EXPECT_NE(m.find("bodies[0].orientation: must be a unit quaternion"), std::string::npos) << m;
+}
+
+// `msg` holds `part` (the message is printed on failure).
+#define EXPECT_HAS(msg, part) EXPECT_NE((msg).find(part), std::string::npos) << (msg)
+
+// ---- Contacts (issue 10): ground, body types, contact keys on colliders, planes, ellipsoids.
+
+TEST(Scene, GroundIsAStaticPlaneBodyAndTheDrawnGround) {
+  const Scene s =
+      load_scene(write_scene("ground.yaml",
+                             "ground: { height: 0.5, friction: 0.3, restitution: 0.2, size: 30, tile: 2 }\n"
+                             "bodies:\n  - name: a\n" +
+                                 std::string(kBox)));
+  ASSERT_EQ(s.bodies.size(), 2u);  // the ground comes after the scene's bodies
+  ASSERT_EQ(s.looks.size(), 2u);
+  const BodyDef& g = s.bodies[1];
+  EXPECT_EQ(g.name, "ground");
+  EXPECT_EQ(g.type, BodyType::static_body);
+  ASSERT_EQ(g.colliders.size(), 1u);
+  const Collider& p = g.colliders[0];
+  EXPECT_EQ(p.shape, ShapeKind::plane);
+  EXPECT_EQ(p.p_BC, Vec3(0, 0, 0.5));
+  EXPECT_TRUE(p.q_BC.isApprox(Quat::Identity()));  // normal +z
+  EXPECT_EQ(p.friction, 0.3);
+  EXPECT_EQ(p.restitution, 0.2);
+  ASSERT_TRUE(s.ground.has_value());
+  EXPECT_TRUE(s.render.ground);  // drawn by the renderer's checkered ground ...
+  EXPECT_EQ(s.render.ground_height, 0.5);
+  EXPECT_EQ(s.render.ground_size, 30);
+  EXPECT_EQ(s.render.ground_tile, 2);
+  EXPECT_FALSE(s.looks[1].drawn);  // ... not again as a collider
+  EXPECT_TRUE(s.looks[0].drawn);
+  World w(world_config(s, 1), s.bodies);  // runs today
+  EXPECT_EQ(w.dynamic_count(), 1);
+  w.step();
+
+  const Scene d =
+      load_scene(write_scene("ground2.yaml", "ground: true\nbodies:\n  - name: a\n" + std::string(kBox)));
+  ASSERT_EQ(d.bodies.size(), 2u);
+  EXPECT_EQ(d.bodies[1].colliders[0].friction, 0.6);
+  EXPECT_EQ(d.bodies[1].colliders[0].p_BC, Vec3::Zero());
+  EXPECT_EQ(d.render.ground_size, 20);
+  const Scene off =
+      load_scene(write_scene("ground3.yaml", "ground: false\nbodies:\n  - name: a\n" + std::string(kBox)));
+  EXPECT_EQ(off.bodies.size(), 1u);
+  EXPECT_FALSE(off.render.ground);
+  // render.ground alone draws and does not collide.
+  const Scene r = load_scene(
+      write_scene("ground4.yaml", "render: { ground: true }\nbodies:\n  - name: a\n" + std::string(kBox)));
+  EXPECT_EQ(r.bodies.size(), 1u);
+  EXPECT_TRUE(r.render.ground);
+}
+
+TEST(Scene, GroundErrors) {
+  const std::string both = error_of(
+      "ground: { height: 0 }\nrender:\n  ground: { size: 5 }\nbodies:\n  - name: a\n" + std::string(kBox));
+  EXPECT_HAS(both, "bad.yaml:3:11: render.ground: the top-level 'ground' already draws the ground");
+  const std::string clash = error_of("ground: {}\nbodies:\n  - name: ground\n" + std::string(kBox));
+  EXPECT_HAS(clash,
+             "bad.yaml:3:11: bodies[0].name: the top-level 'ground' makes a static body named 'ground'");
+  EXPECT_HAS(error_of("ground: { friction: -1 }\nbodies:\n  - name: a\n" + std::string(kBox)),
+             "bad.yaml:1:21: ground.friction: must not be negative");
+  EXPECT_HAS(error_of("ground: { restitution: 2 }\nbodies:\n  - name: a\n" + std::string(kBox)),
+             "ground.restitution: must lie in [0, 1]");
+  EXPECT_HAS(error_of("ground: { size: 0 }\nbodies:\n  - name: a\n" + std::string(kBox)),
+             "ground.size: must be positive");
+  EXPECT_HAS(error_of("ground: { frction: 1 }\nbodies:\n  - name: a\n" + std::string(kBox)),
+             "ground.frction: unknown key 'frction'; did you mean 'friction'?");
+}
+
+TEST(Scene, BodyTypes) {
+  const Scene s = load_scene(write_scene(
+      "types.yaml",
+      "bodies:\n"
+      "  - { name: d, colliders: [ { shape: sphere, radius: 1 } ] }\n"
+      "  - { name: k, type: kinematic, linear_velocity: [1, 0, 0], angular_velocity: [0, 0, 2],\n"
+      "      colliders: [ { shape: box, size: [1, 1, 1] } ] }\n"
+      "  - { name: s, type: static, colliders: [ { shape: box, size: [1, 1, 1] } ] }\n"
+      "  - { name: t, static: true, colliders: [ { shape: box, size: [1, 1, 1] } ] }\n"
+      "  - { name: u, static: true, type: static, colliders: [ { shape: box, size: [1, 1, 1] } ] }\n"
+      "  - { name: v, static: false, type: kinematic, colliders: [ { shape: box, size: [1, 1, 1] } ] }\n"));
+  EXPECT_EQ(s.bodies[0].type, BodyType::dynamic);
+  EXPECT_EQ(s.bodies[1].type, BodyType::kinematic);
+  EXPECT_EQ(s.bodies[1].v_W, Vec3(1, 0, 0));  // a kinematic body keeps its velocity
+  EXPECT_EQ(s.bodies[1].w_W, Vec3(0, 0, 2));
+  EXPECT_EQ(s.bodies[2].type, BodyType::static_body);
+  EXPECT_EQ(s.bodies[3].type, BodyType::static_body);
+  EXPECT_EQ(s.bodies[4].type, BodyType::static_body);
+  EXPECT_EQ(s.bodies[5].type, BodyType::kinematic);
+  EXPECT_TRUE(s.notes.empty());
+
+  const std::string c = error_of("bodies:\n  - type: dynamic\n    static: true\n" + std::string(kBox));
+  EXPECT_HAS(c, "bad.yaml:3:13: bodies[0].static: static: true contradicts type: dynamic");
+  const std::string f = error_of("bodies:\n  - type: static\n    static: false\n" + std::string(kBox));
+  EXPECT_HAS(f, "bodies[0].static: static: false contradicts type: static");
+  const std::string u = error_of("bodies:\n  - type: kinematik\n" + std::string(kBox));
+  EXPECT_HAS(u,
+             "bad.yaml:2:11: bodies[0].type: unknown body type 'kinematik' (dynamic, static or kinematic); "
+             "did you mean 'kinematic'?");
+}
+
+TEST(Scene, StaticBodyVelocityIsIgnoredWithANote) {
+  const Scene s = load_scene(write_scene("sv.yaml",
+                                         "bodies:\n  - name: wall\n    type: static\n"
+                                         "    linear_velocity: [1, 0, 0]\n"
+                                         "    angular_velocity: [0, 0, 0]\n" +
+                                             std::string(kBox)));
+  EXPECT_EQ(s.bodies[0].v_W, Vec3::Zero());
+  ASSERT_EQ(s.notes.size(), 1u);  // a zero velocity is no news
+  EXPECT_HAS(s.notes[0],
+             "sv.yaml:4: bodies[0].linear_velocity: body 'wall' is static: its velocity is ignored");
+}
+
+TEST(Scene, ColliderContactKeys) {
+  const Scene s = load_scene(write_scene(
+      "contact.yaml",
+      "bodies:\n  - colliders:\n"
+      "      - { shape: box, size: [1, 1, 1], friction: 0.2, restitution: 0.9, group: [0, 3], mask: 0xF0 }\n"
+      "      - { shape: sphere, radius: 0.1, position: [0, 0, 1], collide: false, group: 4294967295, mask: "
+      "[] }\n"
+      "      - { shape: sphere, radius: 0.1, position: [0, 0, -1] }\n"));
+  const auto& c = s.bodies[0].colliders;
+  EXPECT_EQ(c[0].friction, 0.2);
+  EXPECT_EQ(c[0].restitution, 0.9);
+  EXPECT_TRUE(c[0].collide);
+  EXPECT_EQ(c[0].group, 9u);  // bits 0 and 3
+  EXPECT_EQ(c[0].mask, 0xF0u);
+  EXPECT_FALSE(c[1].collide);
+  EXPECT_EQ(c[1].group, 0xFFFFFFFFu);
+  EXPECT_EQ(c[1].mask, 0u);
+  EXPECT_EQ(c[2].friction, 0.6);  // defaults
+  EXPECT_EQ(c[2].restitution, 0.0);
+  EXPECT_EQ(c[2].group, 1u);
+  EXPECT_EQ(c[2].mask, 0xFFFFFFFFu);
+
+  const std::string col = "bodies:\n  - colliders:\n      - { shape: sphere, radius: 1, ";
+  EXPECT_HAS(error_of(col + "friction: -0.1 }\n"),
+             "bad.yaml:3:47: bodies[0].colliders[0].friction: must not be negative");
+  EXPECT_HAS(error_of(col + "restitution: 1.5 }\n"),
+             "bad.yaml:3:50: bodies[0].colliders[0].restitution: must lie in [0, 1], got '1.5'");
+  EXPECT_HAS(error_of(col + "restitution: -0.5 }\n"),
+             "bodies[0].colliders[0].restitution: must lie in [0, 1]");
+  EXPECT_HAS(error_of(col + "collide: maybe }\n"), "bodies[0].colliders[0].collide: expected true or false");
+  EXPECT_HAS(error_of(col + "group: 4294967296 }\n"),
+             "bad.yaml:3:44: bodies[0].colliders[0].group: expected a whole number from 0 to 4294967295");
+  EXPECT_HAS(error_of(col + "mask: -1 }\n"), "bodies[0].colliders[0].mask: expected a whole number");
+  EXPECT_HAS(error_of(col + "mask: 1.5 }\n"), "bodies[0].colliders[0].mask: expected a whole number");
+  EXPECT_HAS(error_of(col + "mask: [1, 32] }\n"),
+             "bodies[0].colliders[0].mask[1]: expected a bit number from 0 to 31, got '32'");
+  EXPECT_HAS(error_of(col + "frictoin: 1 }\n"), "unknown key 'frictoin'; did you mean 'friction'?");
+}
+
+TEST(Scene, PlanesOnStaticBodiesOnly) {
+  const Scene s = load_scene(write_scene(
+      "plane.yaml",
+      "bodies:\n  - name: slope\n    type: static\n"
+      "    colliders:\n      - { shape: plane, size: 6, friction: 0.4, orientation: [0.9659258262890683, "
+      "0.25881904510252074, 0, 0] }\n"
+      "  - name: ball\n    colliders: [ { shape: sphere, radius: 1 } ]\n"));
+  const Collider& p = s.bodies[0].colliders[0];
+  EXPECT_EQ(p.shape, ShapeKind::plane);
+  EXPECT_EQ(p.friction, 0.4);
+  EXPECT_EQ(s.looks[0].colliders[0].plane_size, 6);
+  EXPECT_TRUE(s.looks[0].drawn);          // a plane of the scene's own is drawn (a finite square)
+  World w(world_config(s, 1), s.bodies);  // a plane-only static body runs today
+  EXPECT_EQ(w.dynamic_count(), 1);
+
+  const std::string d = error_of("bodies:\n  - name: b\n    colliders:\n      - { shape: plane }\n");
+  EXPECT_HAS(d,
+             "bad.yaml:4:18: bodies[0].colliders[0].shape: a plane may only be a collider of a static body "
+             "(body 'b' is dynamic; give it 'type: static')");
+  EXPECT_HAS(error_of("bodies:\n  - type: kinematic\n    colliders:\n      - { shape: plane }\n"),
+             "body 'body0' is kinematic");
+  EXPECT_HAS(error_of("bodies:\n  - static: true\n    colliders:\n      - { shape: plane, mass: 3 }\n"),
+             "bad.yaml:4:31: bodies[0].colliders[0].mass: a plane has no mass");
+  EXPECT_HAS(error_of("bodies:\n  - static: true\n    colliders:\n      - { shape: plane, size: -1 }\n"),
+             "bodies[0].colliders[0].size: must be positive");
+  EXPECT_HAS(error_of("bodies:\n  - static: true\n    colliders:\n      - { shape: plane, radius: 1 }\n"),
+             "bodies[0].colliders[0].radius: does not apply to a plane");
+}
+
+TEST(Scene, EllipsoidExactMassAndPositiveRadii) {
+  const Scene s = load_scene(write_scene(
+      "ell.yaml",
+      "bodies:\n  - colliders: [ { shape: ellipsoid, radii: [0.3, 0.2, 0.1], density: 500 } ]\n"));
+  const Collider& e = s.bodies[0].colliders[0];
+  EXPECT_EQ(e.shape, ShapeKind::ellipsoid);
+  EXPECT_EQ(e.radii, Vec3(0.3, 0.2, 0.1));
+  const double m = 500 * 4.0 / 3.0 * M_PI * 0.3 * 0.2 * 0.1;
+  EXPECT_NEAR(e.props_C.mass, m, 1e-12);
+  EXPECT_NEAR(e.props_C.inertia(0, 0), m / 5 * (0.04 + 0.01), 1e-15);
+  EXPECT_NEAR(e.props_C.inertia(2, 2), m / 5 * (0.09 + 0.04), 1e-15);
+  const Scene k = load_scene(write_scene(
+      "ell2.yaml", "bodies:\n  - colliders: [ { shape: ellipsoid, radii: [1, 2, 3], mass: 7 } ]\n"));
+  EXPECT_NEAR(k.bodies[0].mass_B().mass, 7, 1e-12);
+
+  EXPECT_HAS(error_of("bodies:\n  - colliders:\n      - { shape: ellipsoid, radii: [1, 0, 1] }\n"),
+             "bad.yaml:3:40: bodies[0].colliders[0].radii[1]: must be positive");
+  EXPECT_HAS(error_of("bodies:\n  - colliders:\n      - { shape: ellipsoid, radii: [1, 1] }\n"),
+             "bodies[0].colliders[0].radii: expected a list of 3 numbers, got a list of 2");
+  EXPECT_HAS(error_of("bodies:\n  - colliders:\n      - { shape: ellipsoid }\n"),
+             "a ellipsoid needs 'radii'");
+  EXPECT_HAS(error_of("bodies:\n  - colliders:\n      - { shape: ellipsoid, radii: [1, 1, 1], radius: 1 }\n"),
+             "bodies[0].colliders[0].radius: does not apply to a ellipsoid");
+  EXPECT_HAS(error_of("bodies:\n  - colliders:\n      - { shape: elipsoid, radii: [1, 1, 1] }\n"),
+             "did you mean 'ellipsoid'?");
+}
+
+TEST(Scene, NonPositiveSizesOfEveryShapeNameTheKey) {
+  const std::string pre = "bodies:\n  - colliders:\n      - { shape: ";
+  EXPECT_HAS(error_of(pre + "box, size: [1, -1, 1] }\n"),
+             "bad.yaml:3:33: bodies[0].colliders[0].size[1]: must be positive");
+  EXPECT_HAS(error_of(pre + "box, size: [0, 1, 1] }\n"), "bodies[0].colliders[0].size[0]: must be positive");
+  EXPECT_HAS(error_of(pre + "sphere, radius: -2 }\n"), "bodies[0].colliders[0].radius: must be positive");
+  EXPECT_HAS(error_of(pre + "cylinder, radius: 1, height: 0 }\n"),
+             "bad.yaml:3:47: bodies[0].colliders[0].height: must be positive");
+  EXPECT_HAS(error_of(pre + "capsule, radius: 0, height: 1 }\n"),
+             "bodies[0].colliders[0].radius: must be positive");
+}
+
+TEST(Scene, ContactSettings) {
+  const Scene s = load_scene(write_scene(
+      "cs.yaml",
+      "simulation:\n  contacts: { substeps: 8, iterations: 2, contact_hertz: 60, damping_ratio: 5,\n"
+      "    max_push_out: 1, restitution_threshold: 0.5, speculative_distance: 0.01, linear_slop: 0.001,\n"
+      "    rolling_resistance: 0.02 }\nbodies:\n  - name: a\n" +
+          std::string(kBox)));
+  EXPECT_EQ(s.contacts.substeps, 8);
+  EXPECT_EQ(s.contacts.iterations, 2);
+  EXPECT_EQ(s.contacts.contact_hertz, 60);
+  EXPECT_EQ(s.contacts.damping_ratio, 5);
+  EXPECT_EQ(s.contacts.max_push_out, 1);
+  EXPECT_EQ(s.contacts.restitution_threshold, 0.5);
+  EXPECT_EQ(s.contacts.speculative_distance, 0.01);
+  EXPECT_EQ(s.contacts.linear_slop, 0.001);
+  EXPECT_EQ(s.contacts.rolling_resistance, 0.02);
+  const WorldConfig wc = world_config(s, 1);
+  EXPECT_EQ(wc.contacts.substeps, 8);
+  EXPECT_EQ(wc.contacts.rolling_resistance, 0.02);
+  const Scene d = load_scene(write_scene("cs2.yaml", "bodies:\n  - name: a\n" + std::string(kBox)));
+  EXPECT_EQ(d.contacts.substeps, ContactSettings{}.substeps);  // defaults untouched
+
+  const std::string b = "bodies:\n  - name: a\n" + std::string(kBox);
+  EXPECT_HAS(error_of("simulation:\n  contacts: { substeps: 0 }\n" + b),
+             "bad.yaml:2:25: simulation.contacts.substeps: expected a whole number from 1 to 1000, got '0'");
+  EXPECT_HAS(error_of("simulation:\n  contacts: { iterations: 1.5 }\n" + b),
+             "simulation.contacts.iterations: expected a whole number");
+  EXPECT_HAS(error_of("simulation:\n  contacts: { contact_hertz: 0 }\n" + b),
+             "simulation.contacts.contact_hertz: must be positive");
+  EXPECT_HAS(error_of("simulation:\n  contacts: { damping_ratio: -1 }\n" + b),
+             "simulation.contacts.damping_ratio: must not be negative");
+  EXPECT_HAS(error_of("simulation:\n  contacts: { speculative_distance: -0.1 }\n" + b),
+             "simulation.contacts.speculative_distance: must not be negative");
+  EXPECT_HAS(error_of("simulation:\n  contacts: { substep: 4 }\n" + b),
+             "simulation.contacts.substep: unknown key 'substep'; did you mean 'substeps'?");
+}
+
+TEST(Scene, IgnorePairsByName) {
+  const std::string bodies =
+      "ground: {}\nbodies:\n  - name: left\n" + std::string(kBox) + "  - name: right\n" + kBox;
+  const Scene s = load_scene(
+      write_scene("ip.yaml", "simulation:\n  ignore_pairs: [[right, left], [ground, right]]\n" + bodies));
+  ASSERT_EQ(s.ignore_pairs.size(), 2u);
+  EXPECT_EQ(s.ignore_pairs[0], std::make_pair(0, 1));  // body indices, smaller first
+  EXPECT_EQ(s.ignore_pairs[1], std::make_pair(1, 2));  // the ground is the last body
+  EXPECT_EQ(world_config(s, 1).ignore_pairs, s.ignore_pairs);
+
+  EXPECT_HAS(error_of("simulation:\n  ignore_pairs: [[left, rihgt]]\n" + bodies),
+             "bad.yaml:2:25: simulation.ignore_pairs[0][1]: no body is named 'rihgt'; did you mean 'right'?");
+  EXPECT_HAS(error_of("simulation:\n  ignore_pairs: [[left, left]]\n" + bodies),
+             "simulation.ignore_pairs[0]: names the same body twice");
+  EXPECT_HAS(error_of("simulation:\n  ignore_pairs: [[left, right, ground]]\n" + bodies),
+             "simulation.ignore_pairs[0]: expected a pair of body names [a, b], got a list of 3");
+  EXPECT_HAS(error_of("simulation:\n  ignore_pairs: left\n" + bodies),
+             "simulation.ignore_pairs: expected a list of body name pairs");
 }
 
 }  // namespace

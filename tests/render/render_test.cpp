@@ -31,10 +31,21 @@ Px at(const uint8_t* img, int x, int y) {
   return {p[0], p[1], p[2]};
 }
 
-BodyDef colored(BodyDef b, std::array<float, 3> c, Vec3 pos) {
-  b.color = c;
+// A body and the colour its colliders are drawn in (appearance is not part of sim/'s BodyDef).
+struct Painted {
+  BodyDef body;
+  std::array<float, 3> color{0.8f, 0.8f, 0.8f};
+};
+
+Painted colored(BodyDef b, std::array<float, 3> c, Vec3 pos) {
   b.p_WB = pos;
-  return b;
+  return {b, c};
+}
+
+std::vector<Painted> grey(const std::vector<BodyDef>& bodies) {
+  std::vector<Painted> out;
+  for (const BodyDef& b : bodies) out.push_back({b});
+  return out;
 }
 
 struct Fixture {
@@ -45,11 +56,20 @@ struct Fixture {
   std::vector<uint8_t> frame;
   Fixture(std::vector<BodyDef> bodies, CameraView c, bool ground, bool shadows = true,
           void (*tweak)(RenderSettings&) = nullptr)
+      : Fixture(grey(bodies), c, ground, shadows, tweak) {}
+  Fixture(std::vector<Painted> painted, CameraView c, bool ground, bool shadows = true,
+          void (*tweak)(RenderSettings&) = nullptr)
       : cam(c) {
     WorldConfig wc;
     wc.gravity = Vec3::Zero();
+    std::vector<BodyDef> bodies;
+    SceneStyles styles;
+    for (const Painted& p : painted) {
+      bodies.push_back(p.body);
+      styles.emplace_back(p.body.colliders.size(), ColliderStyle{p.color});
+    }
     world = std::make_unique<World>(wc, bodies);
-    meshes = std::make_unique<SceneMeshes>(*world);
+    meshes = std::make_unique<SceneMeshes>(*world, styles);
     RenderSettings rs;
     rs.width = W;
     rs.height = H;
@@ -161,11 +181,10 @@ TEST(Render, InsideOutMeshLooksLikeTheCorrectOne) {
     BodyDef b;
     b.name = "cube";
     b.colliders = {c};
-    b.color = {0.2f, 0.5f, 0.9f};
     b.q_WB = Quat(Eigen::AngleAxisd(0.6, Vec3(1, 2, 0).normalized()));
     CameraView cam;
     cam.eye = Vec3(5, -6, 4);
-    Fixture f({b}, cam, /*ground=*/true);
+    Fixture f({Painted{b, {0.2f, 0.5f, 0.9f}}}, cam, /*ground=*/true);
     f.render();
     return f.frame;
   };
@@ -233,6 +252,87 @@ TEST(Render, CachedGroundLooksLikeTheFullGround) {
 // Bodies are drawn in one batched call when the draw list has one item per mesh; a list that
 // draws a mesh twice (an overlay might) takes the one-draw-per-item path. Both copies must show,
 // and the batched frame must equal the per-item frame of the same single item.
+// The drawn ground is fixed in the world: a body moving 3 m aside changes nothing of the ground
+// away from it (it used to re-centre on the bodies in two-tile jumps, moving its edges).
+TEST(Render, GroundStaysPutWhenTheBodiesMove) {
+  auto small = [](RenderSettings& rs) {
+    rs.ground_size = 4;  // edges in view
+    rs.ground_tile = 0.5;
+  };
+  std::vector<uint8_t> frames[2];
+  for (int k = 0; k < 2; ++k) {
+    Fixture s({colored(box_body("b", Vec3(0.3, 0.3, 0.3), 1), {0.9f, 0.1f, 0.1f}, Vec3(3.0 * k, 0, 1))},
+              top_down(), true, false, small);
+    frames[k] = std::vector<uint8_t>(s.render(), s.render() + (size_t)W * H * 4);
+  }
+  // The box is at the centre in frame 0, ~55 px right of it in frame 1: compare the left 70 columns,
+  // which hold the ground's left half and its edge (the ground is ~66 px wide, centred).
+  int differ = 0, ground = 0;
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < 70; ++x) {
+      const Px a = at(frames[0].data(), x, y), b = at(frames[1].data(), x, y);
+      differ += a.r != b.r || a.g != b.g || a.b != b.b;
+      ground += std::abs(a.r - 202) + std::abs(a.g - 217) + std::abs(a.b - 234) > 15;  // not sky
+    }
+  EXPECT_EQ(differ, 0);
+  EXPECT_GT(ground, 1000) << "no ground in view";
+}
+
+// The scene's ground body is drawn by the renderer's ground, not as a collider; a plane of the
+// scene's own is a finite square of the style's size; an ellipsoid is a scaled sphere.
+TEST(Render, PlaneAndEllipsoidColliders) {
+  BodyDef floor;
+  floor.name = "ground";
+  floor.type = BodyType::static_body;
+  Collider plane;
+  plane.shape = ShapeKind::plane;
+  plane.props_C.mass = 1;  // World still wants a positive mass
+  plane.props_C.inertia = Mat3::Identity();
+  floor.add_collider(plane);
+  BodyDef slab = floor;
+  slab.name = "slab";
+  BodyDef egg;
+  egg.name = "egg";
+  Collider e;
+  e.shape = ShapeKind::ellipsoid;
+  e.radii = Vec3(1.5, 0.5, 0.5);
+  e.props_C = ellipsoid_mass(e.radii, 1);
+  egg.add_collider(e);
+  egg.p_WB = Vec3(0, 0, 1);
+  WorldConfig wc;
+  wc.gravity = Vec3::Zero();
+  World w(wc, {floor, slab, egg});
+  SceneStyles styles(3, std::vector<ColliderStyle>(1));
+  styles[0][0].drawn = false;
+  styles[1][0].plane_size = 3;
+  styles[2][0].color = {0.9f, 0.1f, 0.1f};
+  const SceneMeshes sm(w, styles);
+  ASSERT_EQ(sm.meshes.size(), 2u);
+  EXPECT_EQ(sm.mesh_of[0][0], -1);
+  EXPECT_EQ(sm.mesh_of[1][0], 0);
+  EXPECT_EQ(sm.mesh_of[2][0], 1);
+  EXPECT_NEAR(sm.meshes[0].radius, 1.5 * std::sqrt(2.0), 1e-6);  // a 3 m square
+  EXPECT_TRUE(sm.meshes[0].two_sided);
+  EXPECT_NEAR(sm.meshes[1].radius, 1.5, 1e-6);
+  DrawList dl;
+  build_draw_list(w, sm, top_down(), -1, dl);
+  ASSERT_EQ(dl.items.size(), 2u);
+  EXPECT_EQ(dl.items[1].color, styles[2][0].color);
+
+  // Ellipsoid normals: the gradient of x^2/a^2 + y^2/b^2 + z^2/c^2, i.e. along diag(1/r^2) p.
+  const RenderMesh m = tessellate_ellipsoid(Vec3(1.5, 0.5, 0.25));
+  double worst = 0;
+  for (size_t v = 0; v < m.vertices.size(); v += 6) {
+    const Vec3 p(m.vertices[v], m.vertices[v + 1], m.vertices[v + 2]);
+    const Vec3 n(m.vertices[v + 3], m.vertices[v + 4], m.vertices[v + 5]);
+    const Vec3 q = p.cwiseQuotient(Vec3(1.5, 0.5, 0.25));
+    EXPECT_NEAR(q.norm(), 1.0, 1e-5);  // on the surface
+    const Vec3 g = p.cwiseQuotient(Vec3(2.25, 0.25, 0.0625));
+    if (g.norm() > 1e-9) worst = std::max(worst, (g.normalized() - n).norm());
+  }
+  EXPECT_LT(worst, 1e-5);
+}
+
 TEST(Render, MeshDrawnTwiceUsesThePerItemPathAndShowsBoth) {
   Fixture s({colored(box_body("b", Vec3(1, 1, 1), 1), {0.9f, 0.1f, 0.1f}, Vec3::Zero())}, top_down(), false);
   DrawList dl;
