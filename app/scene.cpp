@@ -221,21 +221,6 @@ Integrator integrator(const YAML::Node& n, const Ctx& c) {
   return *i;
 }
 
-// A static body made of planes alone has no mass; World, which predates planes, checks that every
-// body's mass is positive. A static body's mass is never used (its inverse mass is zero), so such
-// a body gets a nominal 1 kg with unit inertia on its first plane. (Drop this once World accepts
-// massless static bodies.)
-void give_static_mass(BodyDef& b) {
-  if (b.type != BodyType::static_body) return;
-  for (const Collider& c : b.colliders)
-    if (c.shape != ShapeKind::plane) return;
-  std::vector<Collider> cols = std::move(b.colliders);
-  b.colliders.clear();
-  cols[0].props_C.mass = 1;
-  cols[0].props_C.inertia = Mat3::Identity();
-  for (Collider& c : cols) b.add_collider(std::move(c));
-}
-
 struct Loader {
   Scene& scene;
   fs::path dir;
@@ -456,7 +441,6 @@ struct Loader {
       look.colliders.push_back(cl);
       b.add_collider(std::move(col));
     }
-    give_static_mass(b);
     return b;
   }
 };
@@ -628,7 +612,6 @@ Scene load_scene(const std::string& path) {
     plane.props_C.inertia = Mat3::Zero();
     plane.label = "plane (ground)";
     g.add_collider(std::move(plane));
-    give_static_mass(g);
     s.bodies.push_back(std::move(g));
     BodyLook look;
     look.drawn = false;  // the renderer's checkered ground draws it

@@ -30,6 +30,11 @@ void MassAccumulator::add(const MassProperties& mp) {
 MassProperties MassAccumulator::result() const {
   MassProperties out;
   out.mass = m_;
+  if (m_ == 0) {  // massless (a static body of planes only): no centre to speak of, the origin
+    out.com = Vec3::Zero();
+    out.inertia = Mat3::Zero();
+    return out;
+  }
   const Vec3 c = mc_ / m_;  // centre relative to ref_
   out.com = ref_ + c;
   // Shift from ref_ to the centre: I_com = I_ref - m (|c|^2 1 - c c^T).
