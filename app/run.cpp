@@ -23,12 +23,16 @@ FramePlan plan_frames(double duration, double dt, double fps) {
 Drift::Drift(const World& w)
     : E0_(w.kinetic_energy() + w.potential_energy()), L0_(w.total_angular_momentum()) {
   scale_ = std::max(std::fabs(E0_), w.kinetic_energy());
+  prev_E_ = E0_;
 }
 
 void Drift::sample(const World& w) {
   const double ke = w.kinetic_energy();
   scale_ = std::max(scale_, ke);
-  max_dE_ = std::max(max_dE_, std::fabs(ke + w.potential_energy() - E0_));
+  const double E = ke + w.potential_energy();
+  max_dE_ = std::max(max_dE_, std::fabs(E - E0_));
+  max_rise_ = std::max(max_rise_, E - prev_E_);
+  prev_E_ = E;
   max_dL_ = std::max(max_dL_, (w.total_angular_momentum() - L0_).norm());
 }
 
@@ -64,6 +68,10 @@ RunSummary make_summary(const Scene& scene, const World& world, const Drift& dri
   s.step_seconds = step_seconds;
   s.energy_rel_drift = drift.energy_rel();
   s.momentum_rel_drift = drift.momentum_rel();
+  s.contacts = world.has_contacts();
+  s.contacts_max = world.contact_stats().contacts_max;
+  s.max_penetration = world.contact_stats().max_penetration;
+  s.energy_gained = drift.energy_gained();
   s.warnings = world.warnings();
   s.warnings.insert(s.warnings.end(), scene.notes.begin(), scene.notes.end());
   return s;
@@ -81,6 +89,9 @@ std::string summary_text(const RunSummary& s) {
       << s.renderer << ")\n";
   o << "  energy drift: " << s.energy_rel_drift
     << " (relative), angular momentum drift: " << s.momentum_rel_drift << "\n";
+  if (s.contacts)
+    o << "  contacts: at most " << s.contacts_max << " points in a step, deepest overlap "
+      << s.max_penetration << " m, largest energy rise between frames " << s.energy_gained << " J\n";
   if (s.profile) {
     o << "  profile (stage: seconds, steps run, steps skipped):\n";
     for (int i = 0; i < (int)Stage::count; ++i)
@@ -88,7 +99,11 @@ std::string summary_text(const RunSummary& s) {
         << ", " << s.profile->skipped[i] << "\n";
     o << "  bodies: " << s.profile->gyroscopic_bodies << " with gyroscopic dynamics, "
       << s.profile->isotropic_bodies << " isotropic (no gyroscopic work), " << s.profile->static_bodies
-      << " static (never integrated)\n";
+      << " static (never integrated), " << s.profile->kinematic_bodies << " kinematic\n";
+    if (s.profile->shapes > 0)
+      o << "  contacts: " << s.profile->shapes << " shapes; summed over steps: " << s.profile->pairs
+        << " candidate pairs, " << s.profile->contact_points << " contact points, "
+        << s.profile->solver_bodies << " bodies through the solver\n";
   }
   for (const std::string& w : s.warnings) o << "  warning: " << w << "\n";
   if (!s.output.empty()) o << "  wrote " << s.output << "\n";
@@ -103,7 +118,9 @@ std::string summary_json(const RunSummary& s) {
     << ", \"dynamic_bodies\": " << s.dynamic_bodies << ", \"frames\": " << s.frames
     << ", \"step_seconds\": " << json_number(s.step_seconds)
     << ", \"energy_rel_drift\": " << json_number(s.energy_rel_drift)
-    << ", \"momentum_rel_drift\": " << json_number(s.momentum_rel_drift);
+    << ", \"momentum_rel_drift\": " << json_number(s.momentum_rel_drift)
+    << ", \"contacts_max\": " << s.contacts_max << ", \"max_penetration\": " << json_number(s.max_penetration)
+    << ", \"energy_gained\": " << json_number(s.energy_gained);
   if (s.render_seconds >= 0)
     o << ", \"render_seconds\": " << json_number(s.render_seconds)
       << ", \"encode_seconds\": " << json_number(s.encode_seconds)
@@ -116,7 +133,11 @@ std::string summary_json(const RunSummary& s) {
         << ", \"skipped\": " << s.profile->skipped[i] << "}";
     o << ", \"bodies\": {\"gyroscopic\": " << s.profile->gyroscopic_bodies
       << ", \"isotropic_no_gyroscopic_work\": " << s.profile->isotropic_bodies
-      << ", \"static_never_integrated\": " << s.profile->static_bodies << "}}";
+      << ", \"static_never_integrated\": " << s.profile->static_bodies
+      << ", \"kinematic\": " << s.profile->kinematic_bodies
+      << "}, \"contacts\": {\"shapes\": " << s.profile->shapes << ", \"pairs\": " << s.profile->pairs
+      << ", \"contact_points\": " << s.profile->contact_points
+      << ", \"solver_bodies\": " << s.profile->solver_bodies << "}}";
   }
   if (!s.output.empty()) o << ", \"output\": " << json_string(s.output);
   o << ", \"warnings\": " << json_strings(s.warnings) << "}";

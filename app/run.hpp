@@ -24,9 +24,12 @@ class Drift {
   void sample(const World& w);
   double energy_rel() const;
   double momentum_rel() const;
+  // J, the largest rise of total mechanical energy between two samples; rises within rounding
+  // (1e-9 of the energy scale) count as none, so a scene that only loses energy reports 0.
+  double energy_gained() const { return max_rise_ > 1e-9 * scale_ ? max_rise_ : 0.0; }
 
  private:
-  double E0_, scale_, max_dE_ = 0, max_dL_ = 0;
+  double E0_, scale_, max_dE_ = 0, max_dL_ = 0, prev_E_ = 0, max_rise_ = 0;
   Vec3 L0_;
 };
 
@@ -41,6 +44,10 @@ struct RunSummary {
   int bodies = 0, dynamic_bodies = 0, frames = 0;
   double step_seconds = 0;  ///< wall time inside World::step only
   double energy_rel_drift = 0, momentum_rel_drift = 0;
+  bool contacts = false;       ///< the scene has colliding shapes
+  int contacts_max = 0;        ///< most contact points in a step
+  double max_penetration = 0;  ///< m, over the run
+  double energy_gained = 0;    ///< J, largest rise between two frames
   std::vector<std::string> warnings;
   const Profile* profile = nullptr;                 ///< set with --profile
   double render_seconds = -1, encode_seconds = -1;  ///< render command only

@@ -21,6 +21,7 @@
 // Thread count never changes results: free-flight bodies are split into fixed contiguous chunks
 // and each body is advanced independently; the contact stages run in one fixed order.
 #pragma once
+#include <iosfwd>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -155,6 +156,12 @@ class World {
   // Bodies whose spin |w| dt exceeds `max_angle` rad per step; each named once in warnings().
   void check_spin(double max_angle = 0.5);
   const std::vector<std::string>& warnings() const { return warnings_; }
+
+  // ---- Save and restore (sim/snapshot.hpp): the whole state between two steps. restore_state
+  // throws InputError for a file from another scene or version, or a damaged one.
+  void save_state(std::ostream& os) const;
+  void restore_state(std::istream& is);
+  uint64_t fingerprint() const;  ///< of the model: what a saved state must match
 
   // ---- Contacts.
   const ShapeTable& shapes() const { return *shapes_; }

@@ -1,0 +1,23 @@
+// Saving and restoring the whole world state, so that a resumed run equals a straight one bit for
+// bit (Box2D's "snapshot equals real"). The file is binary, versioned and written field by field
+// (never raw struct bytes): every number little-endian, doubles as their IEEE-754 bits.
+//
+// Layout (version 1):
+//   magic "SIMREEL-STATE\n", u32 version, u64 model fingerprint (body count, names and types,
+//   shape count and kinds, dt: a state only restores into the world it came from),
+//   i64 steps,
+//   per body: q_WP (w x y z), x_W, v_W, w_P (13 doubles), wrench f_W, tau_W (6 doubles);
+//   contact stats: i32 contacts_max, f64 max_penetration;
+//   u32 contact count, per contact: i32 shape_a, shape_b, body_a, body_b, normal (3 f64), i32 count,
+//   per point: u32 id, p_W (3), separation, normal_impulse, tangent_impulse_W (3),
+//   max_normal_impulse; the narrow-phase cache: u8 type, i32 a, b, axis (3 f64); friction,
+//   restitution.
+#pragma once
+#include <cstdint>
+#include <iosfwd>
+
+namespace simreel {
+
+constexpr uint32_t kStateVersion = 1;
+
+}  // namespace simreel
