@@ -130,10 +130,70 @@ TEST(Cli, ProfileShowsStagesAndWhatWasSkipped) {
                         "\"integrate\": {\"seconds\": ", "\"runs\": 100, \"skipped\": 0}",
                         "\"clear\": {\"seconds\": 0, \"runs\": 0, \"skipped\": 100}",
                         "\"bodies\": {\"gyroscopic\": 1, \"isotropic_no_gyroscopic_work\": 1, "
-                        "\"static_never_integrated\": 1}"})
+                        "\"static_never_integrated\": 1, \"kinematic\": 0}",
+                        // The floor is far below: the broad phase runs, the solver never does.
+                        "\"solve\": {\"seconds\": 0, \"runs\": 0, \"skipped\": 100}",
+                        "\"update_broad_phase\": {\"seconds\": "})
     EXPECT_NE(r.out.find(k), std::string::npos) << k << " in " << r.out;
+  // Nothing that can collide (kGood's two bodies alone never meet... but they could: mask them
+  // off): every contact stage is skipped and costs nothing.
+  std::string masked = kGood;
+  for (size_t p = 0; (p = masked.find("} ]", p)) != std::string::npos; p += 12)
+    masked.replace(p, 3, ", mask: 0 } ]");
+  const Result m = run("simulate " + write("masked.yaml", masked) + " --profile --json");
+  ASSERT_EQ(m.code, 0) << m.out;
+  for (const char* k : {"\"update_broad_phase\": {\"seconds\": 0, \"runs\": 0, \"skipped\": 100}",
+                        "\"collide\": {\"seconds\": 0, \"runs\": 0, \"skipped\": 100}",
+                        "\"prepare_contacts\": {\"seconds\": 0, \"runs\": 0, \"skipped\": 100}"})
+    EXPECT_NE(m.out.find(k), std::string::npos) << k << " in " << m.out;
   const Result text = run("simulate " + write("profile.yaml", scene) + " --profile");
   EXPECT_NE(text.out.find("1 static (never integrated)"), std::string::npos) << text.out;
+}
+
+// Balls and a box bouncing and rolling on the ground: contacts, restitution and warm starting.
+const char* kContactScene =
+    "simulation: { duration: 2.0 }\n"
+    "video: { width: 64, height: 48, fps: 30 }\n"
+    "ground: { friction: 0.5, restitution: 0.6 }\n"
+    "bodies:\n"
+    "  - name: a\n    position: [0, 0, 1]\n    linear_velocity: [1, 0, 0]\n"
+    "    colliders: [ { shape: sphere, radius: 0.2, restitution: 0.7 } ]\n"
+    "  - name: b\n    position: [0.1, 0, 2]\n    angular_velocity: [1, 2, 3]\n"
+    "    colliders: [ { shape: box, size: [0.4, 0.3, 0.2] } ]\n"
+    "  - name: c\n    position: [0.05, 0.02, 3]\n"
+    "    colliders: [ { shape: sphere, radius: 0.15 } ]\n";
+
+std::string slurp(const fs::path& p);
+
+TEST(Cli, ResumeEqualsStraightRun) {
+  const std::string sc = write("contact.yaml", kContactScene);
+  ASSERT_EQ(run("simulate " + sc + " --quiet --csv " + tmp("full.csv").string()).code, 0);
+  // Saved at 0.7 s, in the middle of the bounces (warm-start impulses and caches in the file).
+  ASSERT_EQ(run("simulate " + sc + " --quiet --duration 0.7 --save-state " + tmp("s.bin").string()).code, 0);
+  const Result r = run("simulate " + sc + " --quiet --resume " + tmp("s.bin").string() + " --csv " +
+                       tmp("part.csv").string());
+  ASSERT_EQ(r.code, 0) << r.out;
+  const std::string full = slurp(tmp("full.csv")), part = slurp(tmp("part.csv"));
+  // The resumed CSV starts at 0.7 s (its header, then the row at t = 0.7) and every row after it is
+  // byte-identical to the straight run's tail.
+  const size_t at = part.find('\n') + 1;
+  ASSERT_EQ(part.compare(at, 6, "0.6999"), 0) << part.substr(0, 200);  // 168 steps of 1/240 s
+  const std::string tail = part.substr(at);
+  ASSERT_GE(full.size(), tail.size());
+  EXPECT_EQ(full.substr(full.size() - tail.size()), tail);
+  // A state from another scene, or not a state at all, is refused with exit code 2.
+  const Result other = run("simulate " + write("g.yaml", kGood) + " --resume " + tmp("s.bin").string());
+  EXPECT_EQ(other.code, 2);
+  EXPECT_NE(other.out.find("another scene"), std::string::npos) << other.out;
+  EXPECT_EQ(run("simulate " + sc + " --resume " + sc).code, 2);
+}
+
+TEST(Cli, JsonReportsContacts) {
+  const Result r = run("simulate " + write("contact.yaml", kContactScene) + " --json");
+  ASSERT_EQ(r.code, 0) << r.out;
+  for (const char* k : {"\"contacts_max\": ", "\"max_penetration\": ", "\"energy_gained\": 0,"})
+    EXPECT_NE(r.out.find(k), std::string::npos) << k << " in " << r.out;
+  EXPECT_EQ(r.out.find("\"contacts_max\": 0,"), std::string::npos) << r.out;
 }
 
 TEST(Cli, SameSceneGivesByteIdenticalTrajectories) {
