@@ -5,12 +5,14 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <iomanip>
 #include <map>
 #include <memory>
 #include <set>
 #include <sstream>
 
 #include "app/mesh_import.hpp"
+#include "sim/convex_hull.hpp"
 #include "sim/error.hpp"
 #include "sim/primitives.hpp"
 
@@ -221,6 +223,54 @@ Integrator integrator(const YAML::Node& n, const Ctx& c) {
   return *i;
 }
 
+// Collision hulls of a mesh collider: the convex hull of all its vertices, or with `parts` one hull
+// per connected part (triangles sharing a vertex position), in file order of each part's first
+// triangle. Throws InputError when a part spans no volume.
+std::vector<std::shared_ptr<const ConvexPolyhedron>> collision_hulls(const TriangleMesh& mesh, bool parts) {
+  std::vector<std::shared_ptr<const ConvexPolyhedron>> out;
+  if (!parts) {
+    out.push_back(std::make_shared<const ConvexPolyhedron>(convex_polyhedron(mesh.vertices)));
+    return out;
+  }
+  const TriangleMesh m = repaired_mesh(mesh);  // welded: shared positions are shared indices
+  std::vector<int> root(m.vertices.size());
+  for (size_t i = 0; i < root.size(); ++i) root[i] = (int)i;
+  auto find = [&](int x) {
+    while (root[x] != x) x = root[x] = root[root[x]];
+    return x;
+  };
+  for (const auto& t : m.triangles)
+    for (int k = 1; k < 3; ++k) {
+      const int a = find(t[0]), b = find(t[k]);
+      if (a != b) root[std::max(a, b)] = std::min(a, b);
+    }
+  std::vector<int> part_of(m.vertices.size(), -1);
+  std::vector<std::vector<Vec3>> points;
+  for (const auto& t : m.triangles) {
+    const int r = find(t[0]);
+    if (part_of[r] < 0) {
+      part_of[r] = (int)points.size();
+      points.emplace_back();
+    }
+  }
+  std::vector<char> used(m.vertices.size(), 0);
+  for (const auto& t : m.triangles)
+    for (int v : t)
+      if (!used[v]) {
+        used[v] = 1;
+        points[part_of[find(v)]].push_back(m.vertices[v]);
+      }
+  for (size_t p = 0; p < points.size(); ++p) {
+    try {
+      out.push_back(std::make_shared<const ConvexPolyhedron>(convex_polyhedron(points[p])));
+    } catch (const InputError& e) {
+      throw InputError("part " + std::to_string(p + 1) + " of " + std::to_string(points.size()) + ": " +
+                       e.what());
+    }
+  }
+  return out;
+}
+
 struct Loader {
   Scene& scene;
   fs::path dir;
@@ -338,15 +388,18 @@ struct Loader {
         }
         MeshMassOptions opt;
         opt.density = 1.0;
+        bool parts = false;  // collide as one convex hull per connected part, weigh as the solid
         if (n["mode"]) {
           const std::string m = text(n["mode"], c.child("mode"));
-          const auto mode = mass_mode_from_name(m);
+          const auto mode = m == "parts" ? std::optional<MassMode>(MassMode::solid) : mass_mode_from_name(m);
           if (!mode) {
-            std::string msg = "unknown mode '" + m + "' (solid, shell or hull)";
-            if (auto sug = nearest(m, {"solid", "shell", "hull"})) msg += "; did you mean '" + *sug + "'?";
+            std::string msg = "unknown mode '" + m + "' (solid, shell, hull or parts)";
+            if (auto sug = nearest(m, {"solid", "shell", "hull", "parts"}))
+              msg += "; did you mean '" + *sug + "'?";
             c.child("mode").fail(n["mode"], msg);
           }
           opt.mode = *mode;
+          parts = m == "parts";
         }
         if (n["thickness"]) {
           if (opt.mode != MassMode::shell)
@@ -376,6 +429,26 @@ struct Loader {
         col.props_C.mass *= rho;
         col.props_C.inertia *= rho;
         col.label = file;
+        if (col.collide) {
+          try {
+            col.hulls = collision_hulls(*col.mesh, parts);
+          } catch (const InputError& e) {
+            c.child("file").fail(n["file"], std::string("cannot build its collision hull: ") + e.what());
+          }
+          // A mesh collides as its convex hull: say so when that is visibly more than the mesh.
+          if (!parts && opt.mode != MassMode::shell && rep.volume > 0) {
+            const double hv = polyhedron_volume(*col.hulls[0]);
+            if (hv > rep.volume * (1 + 1e-3)) {
+              std::ostringstream os;
+              os << c.file() << ": body '" << body << "', " << c.key() << " (" << file
+                 << "): the mesh is not convex; it collides as its convex hull, " << std::setprecision(3)
+                 << 100 * (hv / rep.volume - 1)
+                 << "% larger in volume (its mass properties are the mesh's; `mode: parts` collides as one "
+                    "hull per connected part)";
+              scene.notes.push_back(os.str());
+            }
+          }
+        }
         return col;
       }
     }

@@ -15,6 +15,19 @@ int ConvexPolyhedron::support(const Vec3& d) const {
   return best;
 }
 
+double polyhedron_volume(const ConvexPolyhedron& p) {
+  double v6 = 0;
+  for (const ConvexPolyhedron::Face& f : p.faces) {
+    const Vec3 a = p.vertices[p.edges[f.edge].origin] - p.centroid;
+    for (int e = p.edges[f.edge].next; p.edges[e].next != f.edge; e = p.edges[e].next) {
+      const Vec3 b = p.vertices[p.edges[e].origin] - p.centroid;
+      const Vec3 c = p.vertices[p.edges[p.edges[e].next].origin] - p.centroid;
+      v6 += a.dot(b.cross(c));
+    }
+  }
+  return v6 / 6.0;
+}
+
 ConvexPolyhedron make_box_polyhedron(const Vec3& h) {
   ConvexPolyhedron p;
   // Vertex i has coordinate signs from its bits: x from bit 0, y from bit 1, z from bit 2.

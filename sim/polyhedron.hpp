@@ -40,6 +40,9 @@ struct ConvexPolyhedron {
   int support(const Vec3& d) const;
 };
 
+// m^3, the enclosed volume (faces fanned from their first vertex, tetrahedra from the centroid).
+double polyhedron_volume(const ConvexPolyhedron& p);
+
 // A box with half extents h (> 0), centred on the origin: 8 vertices, 6 faces, 12 edges.
 ConvexPolyhedron make_box_polyhedron(const Vec3& h);
 

@@ -7,6 +7,7 @@
 #include "app/run.hpp"
 #include "app/scene.hpp"
 #include "sim/error.hpp"
+#include "sim/polyhedron.hpp"
 #include "sim/world.hpp"
 #include "tests/scratch.hpp"
 
@@ -454,6 +455,57 @@ TEST(Scene, IgnorePairsByName) {
              "simulation.ignore_pairs[0]: expected a pair of body names [a, b], got a list of 3");
   EXPECT_HAS(error_of("simulation:\n  ignore_pairs: left\n" + bodies),
              "simulation.ignore_pairs: expected a list of body name pairs");
+}
+
+// Two unit cubes 3 m apart in one OBJ file (two connected parts), written next to the scene.
+void write_two_cubes(const std::string& name) {
+  std::ofstream f(test::scratch(name));
+  for (int part = 0; part < 2; ++part) {
+    const double x0 = 3.0 * part;
+    for (int i = 0; i < 8; ++i)
+      f << "v " << x0 + (i & 1) << " " << ((i >> 1) & 1) << " " << ((i >> 2) & 1) << "\n";
+  }
+  // Faces of cube 0 (vertices 1..8), counter-clockwise from outside; cube 1 is offset by 8.
+  const int faces[6][4] = {{1, 3, 4, 2}, {5, 6, 8, 7}, {1, 2, 6, 5},
+                           {3, 7, 8, 4}, {1, 5, 7, 3}, {2, 4, 8, 6}};
+  for (int part = 0; part < 2; ++part)
+    for (const auto& q : faces)
+      f << "f " << q[0] + 8 * part << " " << q[1] + 8 * part << " " << q[2] + 8 * part << " "
+        << q[3] + 8 * part << "\n";
+}
+
+// A mesh collider collides as its convex hull; `mode: parts` as one hull per connected part. Mass
+// properties stay the exact mesh's either way.
+TEST(Scene, MeshCollisionHullsAndParts) {
+  write_two_cubes("two_cubes.obj");
+  const Scene whole = load_scene(write_scene(
+      "hull.yaml", "bodies:\n  - colliders:\n      - { shape: mesh, file: two_cubes.obj, density: 1 }\n"));
+  const Collider& c = whole.bodies[0].colliders[0];
+  ASSERT_EQ(c.hulls.size(), 1u);
+  EXPECT_EQ(c.hulls[0]->faces.size(), 6u);  // one box 4 x 1 x 1 around both cubes
+  EXPECT_NEAR(polyhedron_volume(*c.hulls[0]), 4.0, 1e-12);
+  EXPECT_NEAR(c.props_C.mass, 2.0, 1e-12);  // the two cubes, not the hull
+  bool noted = false;
+  for (const std::string& n : whole.notes) noted = noted || n.find("not convex") != std::string::npos;
+  EXPECT_TRUE(noted) << "no note that the mesh collides as a larger hull";
+
+  const Scene parts = load_scene(write_scene(
+      "parts.yaml", "bodies:\n  - colliders:\n      - { shape: mesh, file: two_cubes.obj, mode: parts }\n"));
+  const Collider& p = parts.bodies[0].colliders[0];
+  ASSERT_EQ(p.hulls.size(), 2u);
+  for (const auto& h : p.hulls) {
+    EXPECT_EQ(polyhedron_problem(*h), "");
+    EXPECT_NEAR(polyhedron_volume(*h), 1.0, 1e-12);
+  }
+  EXPECT_NEAR(p.hulls[1]->centroid.x(), 3.5, 1e-12);
+  for (const std::string& n : parts.notes) EXPECT_EQ(n.find("not convex"), std::string::npos) << n;
+  // A convex mesh gets no note; `collide: false` builds no hull.
+  const Scene off = load_scene(write_scene(
+      "off.yaml", "bodies:\n  - colliders:\n      - { shape: mesh, file: two_cubes.obj, collide: false }\n"));
+  EXPECT_TRUE(off.bodies[0].colliders[0].hulls.empty());
+  EXPECT_NE(error_of("bodies:\n  - colliders:\n      - { shape: mesh, file: two_cubes.obj, mode: part }\n")
+                .find("did you mean 'parts'"),
+            std::string::npos);
 }
 
 }  // namespace
