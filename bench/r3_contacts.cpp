@@ -9,10 +9,14 @@
 //         run's), and Bullet's phases from the timed run.
 //
 // Every metric is computed here from poses and velocities, the same way for both engines:
-//   seconds          wall time of the stepping calls only (each step timed, sampling excluded)
+//   seconds          wall time of the stepping calls only (each step timed, sampling excluded),
+//                    the least of N runs (--repeats, default 3) made in turn with the other rows'
+//                    (seconds_each_run lists them); the metrics are the first run's (every run of
+//                    an engine is the same computation: simreel's hash is checked in each)
 //   max_speed        largest centre-of-mass speed at 10 s, m/s; moving = cubes faster than 1 cm/s
 //   pen_engine       the engine's own deepest contact over the run (simreel: contact_stats(),
-//                    Bullet: deepest manifold point, read after every step), m
+//                    Bullet: deepest manifold point, read after every step), m; final_pen_engine:
+//                    the same at the last step (the anchors' "penetration" figure)
 //   pen_ground_geom  -(lowest cube vertex z) over the run, every step (ground plane z = 0), m
 //   pen_cube_geom    deepest cube-cube overlap (minimum over the 15 separating axes of two boxes,
 //                    which is their penetration depth) every 0.1 s and at the end, m
@@ -20,9 +24,11 @@
 //   top_drift/sink   tower: top cube's horizontal distance from its start and its initial minus
 //                    final centre height at 10 s, m
 //   notes            simreel: FNV-1a hash of every body's x_W, q_WP, v_W, w_P bytes at the end.
+#include <algorithm>
 #include <cinttypes>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <functional>
 #include <memory>
@@ -107,7 +113,8 @@ struct Result {
   long steps = 0;
   double max_speed = 0;
   int moving = 0;
-  double pen_engine = 0, pen_ground = 0, pen_cube = 0, final_pen_ground = 0;
+  double pen_engine = 0, final_pen_engine = 0, pen_ground = 0, pen_cube = 0, final_pen_ground = 0;
+  std::vector<double> all_seconds;  // every timed run, in order
   double top_drift = NAN, top_sink = NAN;
   int nan = 0;
   std::string notes;
@@ -139,10 +146,16 @@ struct Tracker {
 };
 
 void print_row(const char* engine, const Scene& s, const char* setting, const Result& r) {
-  std::printf("%s,%s,%s,%d,%ld,%.4f,%.1f,%.4e,%d,%.4e,%.4e,%.4e,%.4e,%.4e,%.4e,%d,%s\n", engine, s.name,
-              setting, s.cubes(), r.steps, r.seconds, r.steps / r.seconds, r.max_speed, r.moving,
-              r.pen_engine, r.pen_ground, r.pen_cube, r.final_pen_ground, r.top_drift, r.top_sink, r.nan,
-              r.notes.c_str());
+  std::string runs;
+  for (double t : r.all_seconds) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%s%.3f", runs.empty() ? "" : " ", t);
+    runs += b;
+  }
+  std::printf("%s,%s,%s,%d,%ld,%.4f,%.1f,%s,%.4e,%d,%.4e,%.4e,%.4e,%.4e,%.4e,%.4e,%.4e,%d,%s\n", engine,
+              s.name, setting, s.cubes(), r.steps, r.seconds, r.steps / r.seconds, runs.c_str(), r.max_speed,
+              r.moving, r.pen_engine, r.final_pen_engine, r.pen_ground, r.pen_cube, r.final_pen_ground,
+              r.top_drift, r.top_sink, r.nan, r.notes.c_str());
   std::fflush(stdout);
 }
 
@@ -172,7 +185,7 @@ void simreel_cubes(const World& w, int n, std::vector<Cube>& out) {
 }
 
 // Returns the final state hash; with `profile`, the run is profiled and not tracked.
-uint64_t simreel_run(const Scene& s, bool profile, Result* r, Profile* prof) {
+uint64_t simreel_run(const Scene& s, bool profile, Result* r, Profile* prof, double* wall = nullptr) {
   WorldConfig c;
   c.dt = kR3Dt;
   c.threads = 1;
@@ -192,6 +205,7 @@ uint64_t simreel_run(const Scene& s, bool profile, Result* r, Profile* prof) {
   }
   if (profile) {
     *prof = w.profile();
+    *wall = sec;
     return state_hash(w);
   }
   simreel_cubes(w, s.cubes(), cubes);
@@ -199,6 +213,9 @@ uint64_t simreel_run(const Scene& s, bool profile, Result* r, Profile* prof) {
   r->seconds = sec;
   r->steps = w.steps();
   r->pen_engine = w.contact_stats().max_penetration;
+  for (const Contact& c : w.contacts())
+    for (int j = 0; j < c.count; ++j)
+      r->final_pen_engine = std::max(r->final_pen_engine, -c.points[j].separation);
   const uint64_t h = state_hash(w);
   char buf[160];
   std::snprintf(buf, sizeof buf, "state hash %016" PRIx64 "; contacts_max %d", h,
@@ -207,20 +224,21 @@ uint64_t simreel_run(const Scene& s, bool profile, Result* r, Profile* prof) {
   return h;
 }
 
-void simreel_scene(const Scene& s) {
-  Result r;
-  const uint64_t h = simreel_run(s, false, &r, nullptr);
+// The profiled re-run: per-stage seconds on stderr; its hash must equal the timed runs'.
+void simreel_profile(const Scene& s, Result& r, uint64_t hash) {
   Result unused;
   Profile p;
-  const uint64_t h2 = simreel_run(s, true, &unused, &p);
-  r.notes += h2 == h ? "; profiled re-run: same hash" : "; profiled re-run: DIFFERENT HASH";
-  print_row("simreel", s, "sleeping_off_1thread", r);
+  double wall = 0;
+  const uint64_t h2 = simreel_run(s, true, &unused, &p, &wall);
+  r.notes += h2 == hash ? "; profiled re-run: same hash" : "; profiled re-run: DIFFERENT HASH";
   double total = 0;
   for (int i = 0; i < (int)Stage::count; ++i) total += p.seconds[i];
   for (int i = 0; i < (int)Stage::count; ++i)
     std::fprintf(stderr, "simreel,%s,%s,%.4f,%.3f,%ld,%ld\n", s.name, to_string((Stage)i), p.seconds[i],
-                 total > 0 ? p.seconds[i] / total : 0.0, p.runs[i], p.skipped[i]);
-  std::fprintf(stderr, "simreel,%s,total_of_stages,%.4f,1,%ld,0\n", s.name, total, p.steps);
+                 wall > 0 ? p.seconds[i] / wall : 0.0, p.runs[i], p.skipped[i]);
+  std::fprintf(stderr, "simreel,%s,outside_stages,%.4f,%.3f,%ld,0\n", s.name, wall - total,
+               wall > 0 ? (wall - total) / wall : 0.0, p.steps);
+  std::fprintf(stderr, "simreel,%s,step_wall_total,%.4f,1,%ld,0\n", s.name, wall, p.steps);
   std::fprintf(stderr, "# simreel %s: %ld pairs, %ld contact points, %ld solver bodies over %ld steps\n",
                s.name, p.pairs, p.contact_points, p.solver_bodies, p.steps);
   std::fflush(stderr);
@@ -259,7 +277,7 @@ struct PhasedWorld : btDiscreteDynamicsWorld {
   }
 };
 
-void bullet_scene(const Scene& s, bool sleeping) {
+void bullet_run(const Scene& s, bool sleeping, Result& r, double phases[PhasedWorld::n]) {
   btDefaultCollisionConfiguration cfg;
   btCollisionDispatcher disp(&cfg);
   btDbvtBroadphase bp;
@@ -285,7 +303,7 @@ void bullet_scene(const Scene& s, bool sleeping) {
   add(&plane, 0.0, 0.0, Vec3::Zero());
   for (int i = 0; i < s.cubes(); ++i) add(&cube, 1.0, 1.0 / 6.0, s.defs[i].p_WB);
 
-  Result r;
+  r = Result{};
   Tracker tr{s, r};
   std::vector<Cube> cubes(s.cubes());
   auto read = [&] {
@@ -312,6 +330,13 @@ void bullet_scene(const Scene& s, bool sleeping) {
       points += pm->getNumContacts();
     }
     points_max = std::max(points_max, points);
+    if (k == kSteps) {
+      for (int m = 0; m < disp.getNumManifolds(); ++m) {
+        const btPersistentManifold* pm = disp.getManifoldByIndexInternal(m);
+        for (int j = 0; j < pm->getNumContacts(); ++j)
+          r.final_pen_engine = std::max(r.final_pen_engine, -(double)pm->getContactPoint(j).getDistance());
+      }
+    }
     read();
     tr.sample(k, cubes);
   }
@@ -324,43 +349,94 @@ void bullet_scene(const Scene& s, bool sleeping) {
       buf, sizeof buf, "SI %d iterations; split impulse %d; asleep at end %d; contact points max %d",
       world.getSolverInfo().m_numIterations, world.getSolverInfo().m_splitImpulse, asleep, points_max);
   r.notes = buf;
-  const char* setting = sleeping ? "sleeping_on" : "sleeping_off";
-  print_row("bullet_f64", s, setting, r);
+  for (int i = 0; i < PhasedWorld::n; ++i) phases[i] = world.t[i];
+  for (auto& b : bodies) world.removeRigidBody(b.get());
+}
+
+void print_bullet_phases(const Scene& s, const char* setting, const double* t) {
   static const char* const phase[] = {"predict_motion",    "collision_detection",  "islands",
                                       "solve_constraints", "integrate_transforms", "activation"};
   double total = 0;
-  for (double t : world.t) total += t;
+  for (int i = 0; i < PhasedWorld::n; ++i) total += t[i];
   for (int i = 0; i < PhasedWorld::n; ++i)
-    std::fprintf(stderr, "bullet_f64_%s,%s,%s,%.4f,%.3f,%ld,0\n", setting, s.name, phase[i], world.t[i],
-                 total > 0 ? world.t[i] / total : 0.0, kSteps);
+    std::fprintf(stderr, "bullet_f64_%s,%s,%s,%.4f,%.3f,%ld,0\n", setting, s.name, phase[i], t[i],
+                 total > 0 ? t[i] / total : 0.0, kSteps);
   std::fflush(stderr);
-  for (auto& b : bodies) world.removeRigidBody(b.get());
 }
 #endif
 
+// Keeps the first run's metrics and the least time over the runs.
+void merge(Result& best, const Result& r, int rep) {
+  if (rep == 0) {
+    best = r;
+    best.all_seconds = {r.seconds};
+    return;
+  }
+  best.all_seconds.push_back(r.seconds);
+  best.seconds = std::min(best.seconds, r.seconds);
+}
+
+// Runs interleave (simreel, Bullet sleeping off, Bullet sleeping on) `repeats` times, so that the
+// machine's load drifts over all engines alike; each row reports the least stepping time.
+void run_scene(const Scene& s, int repeats) {
+  Result sim;
+  uint64_t hash = 0;
+  bool same = true;
+#ifdef SIMREEL_BENCH_BULLET
+  Result bul[2];
+  double phases[2][PhasedWorld::n] = {};
+#endif
+  for (int rep = 0; rep < repeats; ++rep) {
+    Result r;
+    const uint64_t h = simreel_run(s, false, &r, nullptr);
+    if (rep == 0) hash = h;
+    same = same && h == hash;
+    merge(sim, r, rep);
+#ifdef SIMREEL_BENCH_BULLET
+    for (int sl = 0; sl < 2; ++sl) {
+      Result b;
+      double t[PhasedWorld::n];
+      bullet_run(s, sl == 1, b, t);
+      merge(bul[sl], b, rep);
+      if (rep == 0) std::copy(t, t + PhasedWorld::n, phases[sl]);
+    }
+#endif
+  }
+  if (repeats > 1) sim.notes += same ? "; same hash in every run" : "; HASH DIFFERS BETWEEN RUNS";
+  simreel_profile(s, sim, hash);
+  print_row("simreel", s, "sleeping_off_1thread", sim);
+#ifdef SIMREEL_BENCH_BULLET
+  print_row("bullet_f64", s, "sleeping_off", bul[0]);
+  print_row("bullet_f64", s, "sleeping_on", bul[1]);
+  print_bullet_phases(s, "sleeping_off", phases[0]);
+  print_bullet_phases(s, "sleeping_on", phases[1]);
+#endif
+}
+
 }  // namespace
 
-// usage: bench_r3_contacts [scene...]   scenes: drop100 tower20 pile1000 (default: all three)
+// usage: bench_r3_contacts [--repeats N] [scene...]
+//   scenes: drop100 tower20 pile1000 (default: all three); N timed runs of each engine (default 3)
 int main(int argc, char** argv) {
   std::vector<Scene> scenes;
+  int repeats = 3;
+  std::vector<std::string> names;
+  for (int i = 1; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--repeats") && i + 1 < argc)
+      repeats = std::max(1, std::atoi(argv[++i]));
+    else
+      names.push_back(argv[i]);
+  }
   auto want = [&](const char* n) {
-    if (argc < 2) return true;
-    for (int i = 1; i < argc; ++i)
-      if (!std::strcmp(argv[i], n)) return true;
-    return false;
+    return names.empty() || std::find(names.begin(), names.end(), n) != names.end();
   };
   if (want("drop100")) scenes.push_back({"drop100", r3_cube_grid_drop(), false});
   if (want("tower20")) scenes.push_back({"tower20", r3_tower(20), true});
   if (want("pile1000")) scenes.push_back({"pile1000", r3_pile(), false});
   std::printf(
-      "engine,scene,setting,cubes,steps,seconds,steps_per_s,max_speed_m_s,moving_gt_1cm_s,max_pen_engine_m,"
-      "max_pen_ground_geom_m,max_pen_cube_geom_m,final_pen_ground_geom_m,top_drift_m,top_sink_m,nan,notes\n");
+      "engine,scene,setting,cubes,steps,seconds,steps_per_s,seconds_each_run,max_speed_m_s,moving_gt_1cm_s,"
+      "max_pen_engine_m,final_pen_engine_m,max_pen_ground_geom_m,max_pen_cube_geom_m,final_pen_ground_geom_m,"
+      "top_drift_m,top_sink_m,nan,notes\n");
   std::fprintf(stderr, "engine,scene,stage,seconds,fraction,runs,skipped\n");
-  for (const Scene& s : scenes) {
-    simreel_scene(s);
-#ifdef SIMREEL_BENCH_BULLET
-    bullet_scene(s, false);
-    bullet_scene(s, true);
-#endif
-  }
+  for (const Scene& s : scenes) run_scene(s, repeats);
 }
