@@ -60,4 +60,66 @@ std::vector<BodyDef> r2_free_boxes(int n, uint64_t seed) {
   return v;
 }
 
+BodyDef r3_cube(const std::string& name, const Vec3& p_W) {
+  BodyDef b;
+  b.name = name;
+  Collider c;
+  c.shape = ShapeKind::box;
+  c.size = Vec3::Ones();
+  c.props_C = box_mass(c.size, 1.0);  // density 1 kg/m^3: mass 1
+  c.friction = kR3Friction;
+  c.restitution = 0.0;
+  c.label = "box";
+  b.add_collider(c);
+  b.p_WB = p_W;
+  return b;
+}
+
+BodyDef r3_ground(double height, double friction) {
+  BodyDef g;
+  g.name = "ground";
+  g.type = BodyType::static_body;
+  Collider plane;
+  plane.shape = ShapeKind::plane;
+  plane.p_BC = Vec3(0, 0, height);
+  plane.friction = friction;
+  plane.restitution = 0.0;
+  plane.props_C.mass = 0;
+  plane.props_C.inertia = Mat3::Zero();
+  plane.label = "plane (ground)";
+  g.add_collider(std::move(plane));
+  return g;
+}
+
+std::vector<BodyDef> r3_pile() {
+  std::vector<BodyDef> v;
+  v.reserve(1001);
+  for (int k = 0; k < 10; ++k)
+    for (int j = 0; j < 10; ++j)
+      for (int i = 0; i < 10; ++i)
+        v.push_back(r3_cube("cube" + std::to_string(v.size()),
+                            Vec3((i - 4.5) * 1.1, (j - 4.5) * 1.1, 1.0 + k * 1.1)));
+  v.push_back(r3_ground());
+  return v;
+}
+
+std::vector<BodyDef> r3_tower(int n) {
+  std::vector<BodyDef> v;
+  v.reserve(n + 1);
+  for (int k = 0; k < n; ++k) v.push_back(r3_cube("cube" + std::to_string(k), Vec3(0, 0, 0.5 + k)));
+  v.push_back(r3_ground());
+  return v;
+}
+
+std::vector<BodyDef> r3_cube_grid_drop(int nx, int ny, double spacing, double height) {
+  std::vector<BodyDef> v;
+  v.reserve(nx * ny + 1);
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i)
+      v.push_back(r3_cube("cube" + std::to_string(v.size()),
+                          Vec3((i - 0.5 * (nx - 1)) * spacing, (j - 0.5 * (ny - 1)) * spacing, height)));
+  v.push_back(r3_ground());
+  return v;
+}
+
 }  // namespace simreel

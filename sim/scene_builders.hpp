@@ -5,8 +5,16 @@
 //   R2 free boxes: N boxes, sides uniform in 0.2..1 m, density 1000, random orientation, |w| up
 //              to 10 rad/s, g = -9.81 z, on a 3 m grid; the same splitmix64 sequence as the
 //              anchors, so the bodies are identical to the ones Bullet and MuJoCo stepped.
+//   R3 pile:   1000 unit cubes (mass 1, friction 0.5, restitution 0) in a 10 x 10 x 10 grid with
+//              0.1 m gaps, centred on the z axis ((i - 4.5) 1.1 m in x and y), lowest centres at
+//              z = 1, over the static plane z = 0 (friction 0.5); dt 1/240, 10 s. Same layout and
+//              body order as ../shared/anchors/src/common.hpp (x fastest, then y, then z).
+//   R3 tower:  n unit cubes stacked touching, centres at (0, 0, 0.5 + k), same cubes and ground.
+// The R3 builders list the cubes first (in the anchors' order) and the ground last, as the scene
+// loader appends its top-level ground: cube k is body k.
 #pragma once
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "sim/body.hpp"
@@ -27,5 +35,18 @@ BodyDef box_body(const char* name, const Vec3& size, double mass);
 BodyDef r1_tumble_body();  ///< identity orientation, w_W = (0.01, 5, 0.01) rad/s
 constexpr double kR1Duration = 20.0;
 std::vector<BodyDef> r2_free_boxes(int n, uint64_t seed = 12345);
+
+constexpr double kR3Dt = 1.0 / 240.0;  ///< s
+constexpr double kR3Duration = 10.0;   ///< s
+constexpr double kR3Friction = 0.5;
+/// Unit cube, mass 1 (I = 1/6 kg m^2), friction 0.5, restitution 0, centre at p_W.
+BodyDef r3_cube(const std::string& name, const Vec3& p_W);
+/// Static body named "ground" with one plane collider through z = height (massless, friction 0.5).
+BodyDef r3_ground(double height = 0.0, double friction = kR3Friction);
+std::vector<BodyDef> r3_pile();             ///< 1000 cubes, then the ground
+std::vector<BodyDef> r3_tower(int n = 20);  ///< n cubes bottom to top, then the ground
+/// Sanity scene for box-plane contact only: nx x ny cubes `spacing` m apart (centre to centre,
+/// grid centred on the z axis) with centres at z = height, then the ground.
+std::vector<BodyDef> r3_cube_grid_drop(int nx = 10, int ny = 10, double spacing = 1.5, double height = 1.0);
 
 }  // namespace simreel
