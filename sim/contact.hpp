@@ -9,12 +9,11 @@
 namespace simreel {
 
 struct ContactPoint {
-  uint32_t id = 0;                        ///< feature pair (sim/collide/manifold.hpp)
-  Vec3 p_W = Vec3::Zero();                ///< m, world, when collided
-  double separation = 0;                  ///< m, negative = overlap, when collided
-  double normal_impulse = 0;              ///< N s, accumulated over the last step (>= 0)
-  Vec3 tangent_impulse_W = Vec3::Zero();  ///< N s, friction impulse over the last step, world
-  double max_normal_impulse = 0;          ///< N s, largest normal impulse in a substep (restitution)
+  uint32_t id = 0;                ///< feature pair (sim/collide/manifold.hpp)
+  Vec3 p_W = Vec3::Zero();        ///< m, world, when collided
+  double separation = 0;          ///< m, negative = overlap, when collided
+  double normal_impulse = 0;      ///< N s, accumulated over the last step (>= 0)
+  double max_normal_impulse = 0;  ///< N s, largest normal impulse in a substep (restitution)
 };
 
 struct Contact {
@@ -23,9 +22,12 @@ struct Contact {
   Vec3 normal_W = Vec3::UnitZ();  ///< from A to B
   int count = 0;                  ///< points in use (0: boxes overlap, shapes do not touch)
   ContactPoint points[4];
-  PairCache cache;         ///< narrow-phase cache (separating axis)
-  double friction = 0;     ///< mixed: sqrt(f_a f_b)
-  double restitution = 0;  ///< mixed: max(e_a, e_b)
+  PairCache cache;                         ///< narrow-phase cache (separating axis)
+  Vec3 friction_impulse_W = Vec3::Zero();  ///< N s, at the manifold's centre, world (warm start)
+  double twist_impulse = 0;                ///< N m s, about the normal
+  Vec3 rolling_impulse = Vec3::Zero();     ///< N m s
+  double friction = 0;                     ///< mixed: sqrt(f_a f_b)
+  double restitution = 0;                  ///< mixed: max(e_a, e_b)
   uint64_t key() const { return ((uint64_t)(uint32_t)shape_a << 32) | (uint32_t)shape_b; }
 };
 

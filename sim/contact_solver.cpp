@@ -28,23 +28,30 @@ Vec3 perpendicular(const Vec3& n) {
   return n.cross(e).normalized();
 }
 
-// Inverse effective mass of an impulse along d at anchors rA, rB:
-//   1/m_A + 1/m_B + (rA x d) . I_A^-1 (rA x d) + (rB x d) . I_B^-1 (rB x d).
-inline double inverse_effective_mass(const SolverBody& A, const SolverBody& B, const Vec3& rA, const Vec3& rB,
-                                     const Vec3& d) {
-  const Vec3 ra = rA.cross(d), rb = rB.cross(d);
-  return A.inv_mass + B.inv_mass + ra.dot(A.inv_I * ra) + rb.dot(B.inv_I * rb);
+inline Vec3 relative_velocity(const SolverBody& A, const SolverBody& B, const Vec3& rA, const Vec3& rB) {
+  return B.v + B.w.cross(rB) - A.v - A.w.cross(rA);
 }
 
-inline void apply(SolverBody& A, SolverBody& B, const Vec3& rA, const Vec3& rB, const Vec3& P) {
+// Normal velocity of a point: n.(vB - vA) + wB.(rB x n) - wA.(rA x n).
+inline double normal_velocity(const SolverBody& A, const SolverBody& B, const Vec3& n,
+                              const ConstraintPoint& p) {
+  return n.dot(B.v - A.v) + B.w.dot(p.rnB) - A.w.dot(p.rnA);
+}
+
+// A normal impulse lambda n at the point. The static body (zero mass and inertia) receives zeros.
+inline void apply_normal(SolverBody& A, SolverBody& B, const Vec3& n, const ConstraintPoint& p,
+                         double lambda) {
+  A.v -= (A.inv_mass * lambda) * n;
+  A.w -= lambda * p.IrnA;
+  B.v += (B.inv_mass * lambda) * n;
+  B.w += lambda * p.IrnB;
+}
+
+inline void apply_at(SolverBody& A, SolverBody& B, const Vec3& rA, const Vec3& rB, const Vec3& P) {
   A.v -= A.inv_mass * P;
   A.w -= A.inv_I * rA.cross(P);
   B.v += B.inv_mass * P;
   B.w += B.inv_I * rB.cross(P);
-}
-
-inline Vec3 relative_velocity(const SolverBody& A, const SolverBody& B, const Vec3& rA, const Vec3& rB) {
-  return B.v + B.w.cross(rB) - A.v - A.w.cross(rA);
 }
 
 }  // namespace
@@ -81,7 +88,7 @@ void ContactSolver::prepare(const SolverInput& in, const std::vector<int>& bodie
     }
   }
   const ContactSettings& cs = in.settings;
-  const double h = in.dt / cs.substeps;
+  const double h = in.dt / in.substeps;
   // Stiffer than the substep can resolve is pointless and rings: at most a quarter of its rate.
   const double hertz = std::min(cs.contact_hertz, 0.25 / h);
   soft_ = make_softness(hertz, cs.damping_ratio, h);
@@ -107,29 +114,56 @@ void ContactSolver::prepare(const SolverInput& in, const std::vector<int>& bodie
     const SolverBody& B = sb_[k.b];
     k.soft = (A.inv_mass == 0 || B.inv_mass == 0) ? static_soft_ : soft_;
     const Vec3 xA = in.state[c.body_a].x_W, xB = in.state[c.body_b].x_W;
-    double lever = 0;
+    const double roundA = rounding_radius((*in.shapes)[c.shape_a].geom);
+    const double roundB = rounding_radius((*in.shapes)[c.shape_b].geom);
+    Vec3 centre = Vec3::Zero();
+    for (int j = 0; j < c.count; ++j) centre += c.points[j].p_W;
+    centre /= c.count;
     for (int j = 0; j < c.count; ++j) {
       const ContactPoint& cp = c.points[j];
       ConstraintPoint& p = k.p[j];
       p.rA = cp.p_W - xA;
       p.rB = cp.p_W - xB;
-      p.adjusted_separation = cp.separation - k.n.dot(p.rB - p.rA);
-      const double kn = inverse_effective_mass(A, B, p.rA, p.rB, k.n);
+      p.rnA = p.rA.cross(k.n);
+      p.rnB = p.rB.cross(k.n);
+      p.IrnA = A.inv_I * p.rnA;
+      p.IrnB = B.inv_I * p.rnB;
+      const double kn = A.inv_mass + B.inv_mass + p.rnA.dot(p.IrnA) + p.rnB.dot(p.IrnB);
       p.normal_mass = kn > 0 ? 1.0 / kn : 0.0;
-      for (int t = 0; t < 2; ++t) {
-        const double kt = inverse_effective_mass(A, B, p.rA, p.rB, k.t[t]);
-        p.tangent_mass[t] = kt > 0 ? 1.0 / kt : 0.0;
-        p.tangent_impulse[t] = k.t[t].dot(cp.tangent_impulse_W);
-      }
+      p.cA = p.rA - roundA * k.n;
+      p.cB = p.rB + roundB * k.n;
+      p.adjusted_separation = cp.separation - k.n.dot(p.cB - p.cA);
       p.normal_impulse = cp.normal_impulse;
       p.max_normal_impulse = 0;
-      p.relative_velocity = k.n.dot(relative_velocity(A, B, p.rA, p.rB));
-      lever = std::max(lever, std::max(p.rA.norm() * (A.inv_mass > 0), p.rB.norm() * (B.inv_mass > 0)));
+      p.vn_prev = normal_velocity(A, B, k.n, p);
+      p.impact_velocity = 0;
+      p.lever = (cp.p_W - centre).norm();
+      p.bounced = false;
     }
+    // Friction at the centre: K_jk = (1/mA + 1/mB) d_jk + (fA x t_j).IA(fA x t_k) + (fB x t_j).IB(fB x t_k).
+    k.fA = centre - xA;
+    k.fB = centre - xB;
+    Eigen::Matrix2d K;
+    for (int j = 0; j < 2; ++j)
+      for (int l = 0; l < 2; ++l) {
+        const Vec3 aj = k.fA.cross(k.t[j]), al = k.fA.cross(k.t[l]);
+        const Vec3 bj = k.fB.cross(k.t[j]), bl = k.fB.cross(k.t[l]);
+        K(j, l) = (j == l ? A.inv_mass + B.inv_mass : 0.0) + aj.dot(A.inv_I * al) + bj.dot(B.inv_I * bl);
+      }
+    const double det = K.determinant();
+    k.tangent_mass = det > 0 ? Eigen::Matrix2d(K.inverse()) : Eigen::Matrix2d::Zero();
+    // Warm start: last step's friction impulse re-expressed in this step's tangent basis.
+    k.tangent_impulse[0] = k.t[0].dot(c.friction_impulse_W);
+    k.tangent_impulse[1] = k.t[1].dot(c.friction_impulse_W);
+    const double kt = k.n.dot((A.inv_I + B.inv_I) * k.n);
+    k.twist_mass = kt > 0 ? 1.0 / kt : 0.0;
+    k.twist_impulse = c.twist_impulse;
     if (k.rolling > 0) {
       const Mat3 Kr = A.inv_I + B.inv_I;
       k.rolling_mass = std::fabs(Kr.determinant()) > 0 ? Mat3(Kr.inverse()) : Mat3::Zero();
-      k.rolling_impulse_limit = lever;
+      // Lever of the rolling resistance: the rounding radius of the rolling shape.
+      k.rolling_lever = std::max(roundA, roundB);
+      k.rolling_impulse = c.rolling_impulse;
     }
     cons_.push_back(k);
   }
@@ -157,87 +191,124 @@ void ContactSolver::warm_start() {
   for (ContactConstraint& k : cons_) {
     SolverBody& A = sb_[k.a];
     SolverBody& B = sb_[k.b];
-    for (int j = 0; j < k.count; ++j) {
-      const ConstraintPoint& p = k.p[j];
-      const Vec3 P = p.normal_impulse * k.n + p.tangent_impulse[0] * k.t[0] + p.tangent_impulse[1] * k.t[1];
-      apply(A, B, p.rA, p.rB, P);
-    }
-    if (k.rolling > 0) {
-      A.w -= A.inv_I * k.rolling_impulse;
-      B.w += B.inv_I * k.rolling_impulse;
-    }
-    sb_[0] = SolverBody{};  // the static body never moves, whatever was applied to it
+    for (int j = 0; j < k.count; ++j) apply_normal(A, B, k.n, k.p[j], k.p[j].normal_impulse);
+    apply_at(A, B, k.fA, k.fB, k.tangent_impulse[0] * k.t[0] + k.tangent_impulse[1] * k.t[1]);
+    const Vec3 twist = k.twist_impulse * k.n + k.rolling_impulse;
+    A.w -= A.inv_I * twist;
+    B.w += B.inv_I * twist;
   }
 }
 
-void ContactSolver::solve(double h, bool use_bias) {
+void ContactSolver::solve(double h, bool use_bias, bool first_iteration) {
   const double inv_h = 1.0 / h;
   const double max_push = in_.settings.max_push_out;
   const double slop = in_.settings.linear_slop;
+  const double apart = 1e-3 * slop + 1e-12;
   for (ContactConstraint& k : cons_) {
     SolverBody& A = sb_[k.a];
     SolverBody& B = sb_[k.b];
     const Vec3 dp = B.dp - A.dp;
-    double total_normal = 0;
-    // Non-penetration.
-    for (int j = 0; j < k.count; ++j) {
-      ConstraintPoint& p = k.p[j];
-      // Separation now: the anchors moved with their bodies since the manifold was computed.
-      const Vec3 d = dp + (B.dq * p.rB - A.dq * p.rA);
-      const double s = k.n.dot(d) + p.adjusted_separation;
-      double bias = 0, mass_scale = 1, impulse_scale = 0;
-      if (s > 0) {
-        bias = s * inv_h;  // speculative: allow closing the gap within this substep, no more
-      } else if (use_bias) {
-        bias = std::max(k.soft.bias_rate * std::min(0.0, s + slop), -max_push);
-        mass_scale = k.soft.mass_scale;
-        impulse_scale = k.soft.impulse_scale;
+    const Mat3 RA = A.dq.toRotationMatrix(), RB = B.dq.toRotationMatrix();
+    const bool track_impact = use_bias && first_iteration && k.restitution > 0;
+    double total_normal = 0, twist_limit = 0;
+    // Non-penetration. One pass is Gauss-Seidel over the manifold's points; where one point's
+    // impulse disturbs another (a box landing on a face: each corner's push turns the box) the
+    // pass is repeated, alternating direction, up to kPasses times, until no impulse changes by
+    // more than 1e-6 of the largest (resting contacts, warm-started, stop after a pass or two). An
+    // unconverged landing leaves the box tilted, and the tilt grows bounce after bounce.
+    if (track_impact) {
+      // The normal velocity each point will hit with if it touches in this substep, taken before
+      // any of the manifold's impulses act: from the gap s and the substep's start velocity and
+      // approach acceleration, by energy, v_i^2 = v_0^2 + 2 |a| s. Restitution reverses it, so
+      // the bounce leaves with the energy of the true impact whatever the moment of touching.
+      for (int j = 0; j < k.count; ++j) {
+        ConstraintPoint& p = k.p[j];
+        const double s = k.n.dot(dp + RB * p.cB - RA * p.cA) + p.adjusted_separation;
+        const double vn = normal_velocity(A, B, k.n, p);
+        if (s > 0) {
+          const double accel = std::min(0.0, vn - p.vn_prev) * inv_h;
+          p.impact_velocity = -std::sqrt(p.vn_prev * p.vn_prev - 2.0 * accel * s);
+        } else {
+          p.impact_velocity = vn;
+        }
       }
-      const double vn = k.n.dot(relative_velocity(A, B, p.rA, p.rB));
-      // The fastest approach seen before an impulse acts is the impact speed that restitution
-      // reverses: it includes the gravity gained within the step before touching, which exactly
-      // offsets (to first order in h) the travel lost by stopping at the surface mid-substep.
-      if (use_bias) p.relative_velocity = std::min(p.relative_velocity, vn);
-      double lambda = -p.normal_mass * mass_scale * (vn + bias) - impulse_scale * p.normal_impulse;
-      const double total = std::max(p.normal_impulse + lambda, 0.0);
-      lambda = total - p.normal_impulse;
-      p.normal_impulse = total;
-      p.max_normal_impulse = std::max(p.max_normal_impulse, lambda);
-      total_normal += total;
-      apply(A, B, p.rA, p.rB, lambda * k.n);
     }
-    // Friction: both tangent directions, the accumulated impulse clamped to the disk of radius
-    // mu lambda_n (an isotropic Coulomb cone, per point).
-    for (int j = 0; j < k.count; ++j) {
-      ConstraintPoint& p = k.p[j];
-      const Vec3 vr = relative_velocity(A, B, p.rA, p.rB);
-      double t0 = p.tangent_impulse[0] - p.tangent_mass[0] * k.t[0].dot(vr);
-      double t1 = p.tangent_impulse[1] - p.tangent_mass[1] * k.t[1].dot(vr);
-      const double limit = k.friction * p.normal_impulse;
-      const double mag2 = t0 * t0 + t1 * t1;
-      if (mag2 > limit * limit) {
-        const double s = limit / std::sqrt(mag2);
-        t0 *= s;
-        t1 *= s;
+    constexpr int kPasses = 32;
+    for (int pass = 0; pass < kPasses; ++pass) {
+      double total_normal_pass = 0, twist_pass = 0, change = 0, scale = 1e-300;
+      for (int jj = 0; jj < k.count; ++jj) {
+        // Symmetric Gauss-Seidel: odd passes run backwards, so no corner is always served first.
+        const int j = (pass & 1) ? k.count - 1 - jj : jj;
+        ConstraintPoint& p = k.p[j];
+        // Separation now: each surface's centre of curvature moved with its body since the
+        // manifold was computed.
+        const double s = k.n.dot(dp + RB * p.cB - RA * p.cA) + p.adjusted_separation;
+        double bias = 0, mass_scale = 1, impulse_scale = 0;
+        if (s > 0) {
+          bias = s * inv_h;  // speculative: allow closing the gap within this substep, no more
+        } else if (use_bias) {
+          bias = std::max(k.soft.bias_rate * std::min(0.0, s + slop), -max_push);
+          mass_scale = k.soft.mass_scale;
+          impulse_scale = k.soft.impulse_scale;
+        }
+        const double vn = normal_velocity(A, B, k.n, p);
+        double lambda = -p.normal_mass * mass_scale * (vn + bias) - impulse_scale * p.normal_impulse;
+        double total = std::max(p.normal_impulse + lambda, 0.0);
+        // Relax on a point still apart after this substep's move: the next substep's solve limits
+        // its approach from its own gap; pushing here would slow a falling body before it touches
+        // (and lose the energy restitution should return). Relax may only release such a point.
+        // ("Apart" means by more than a thousandth of the slop: a face landing flat has corners
+        // at +-1e-12 m by rounding, and releasing some of them but not others would tip it.)
+        if (!use_bias && s > apart) total = std::min(total, p.normal_impulse);
+        lambda = total - p.normal_impulse;
+        p.normal_impulse = total;
+        p.max_normal_impulse = std::max(p.max_normal_impulse, total);
+        total_normal_pass += total;
+        twist_pass += p.lever * total;
+        change = std::max(change, std::fabs(lambda));
+        scale = std::max(scale, total);
+        apply_normal(A, B, k.n, p, lambda);
       }
-      const Vec3 P = (t0 - p.tangent_impulse[0]) * k.t[0] + (t1 - p.tangent_impulse[1]) * k.t[1];
-      p.tangent_impulse[0] = t0;
-      p.tangent_impulse[1] = t1;
-      apply(A, B, p.rA, p.rB, P);
+      total_normal = total_normal_pass;
+      twist_limit = twist_pass;
+      if (k.count == 1 || change <= 1e-6 * scale) break;
+    }
+    const double limit = k.friction * total_normal;
+    // Friction at the centre, the accumulated 2D impulse clamped to the disk of radius mu N.
+    {
+      const Vec3 vr = relative_velocity(A, B, k.fA, k.fB);
+      const Eigen::Vector2d vt(k.t[0].dot(vr), k.t[1].dot(vr));
+      const Eigen::Vector2d old(k.tangent_impulse[0], k.tangent_impulse[1]);
+      Eigen::Vector2d total = old - k.tangent_mass * vt;
+      const double mag2 = total.squaredNorm();
+      if (mag2 > limit * limit) total *= limit / std::sqrt(mag2);
+      const Eigen::Vector2d d = total - old;
+      k.tangent_impulse[0] = total.x();
+      k.tangent_impulse[1] = total.y();
+      apply_at(A, B, k.fA, k.fB, d.x() * k.t[0] + d.y() * k.t[1]);
+    }
+    // Twist friction about the normal, limited by the pressure's moment arm over the patch.
+    if (k.count > 1) {
+      const double tl = k.friction * twist_limit;
+      const double old = k.twist_impulse;
+      const double total = std::clamp(old - k.twist_mass * k.n.dot(B.w - A.w), -tl, tl);
+      k.twist_impulse = total;
+      const Vec3 d = (total - old) * k.n;
+      A.w -= A.inv_I * d;
+      B.w += B.inv_I * d;
     }
     // Rolling resistance: a torque impulse against relative spin, at most rolling * lever * N.
     if (k.rolling > 0) {
       const Vec3 dw = B.w - A.w;
       Vec3 total = k.rolling_impulse - k.rolling_mass * dw;
-      const double limit = k.rolling * k.rolling_impulse_limit * total_normal;
+      const double rl = k.rolling * k.rolling_lever * total_normal;
       const double n2 = total.squaredNorm();
-      if (n2 > limit * limit) total *= limit / std::sqrt(n2);
+      if (n2 > rl * rl) total *= rl / std::sqrt(n2);
       const Vec3 d = total - k.rolling_impulse;
       k.rolling_impulse = total;
       A.w -= A.inv_I * d;
       B.w += B.inv_I * d;
     }
-    sb_[0] = SolverBody{};
   }
 }
 
@@ -253,25 +324,59 @@ void ContactSolver::integrate_positions(double h) {
 // Restitution at the end of the substep in which the impact happens (Box3D applies it once after
 // all substeps; then a body that hit early in the step rests on the surface for the remaining
 // substeps and every bounce loses up to a step's travel: 0.5% of the height per bounce at 240 Hz,
-// measured). The point's normal velocity becomes -e times its impact speed; its accumulated
-// impulse is then cleared so that later substeps treat the separating point as a fresh contact
-// instead of pulling the bounce back through the accumulated-impulse clamp.
+// measured). Each bouncing point's normal velocity becomes -e times its impact velocity, solved
+// for all of a manifold's bouncing points together (Gauss-Seidel to convergence: a box landing
+// flat gets four equal impulses and no spin). The points' accumulated impulses are then cleared so
+// that later substeps treat the separating points as fresh contacts instead of pulling the bounce
+// back through the accumulated-impulse clamp.
 void ContactSolver::restitution(double threshold) {
+  const double slop = in_.settings.linear_slop + 1e-9;
   for (ContactConstraint& k : cons_) {
     if (k.restitution == 0) continue;
     SolverBody& A = sb_[k.a];
     SolverBody& B = sb_[k.b];
-    for (int j = 0; j < k.count; ++j) {
-      ConstraintPoint& p = k.p[j];
-      if (p.bounced || p.relative_velocity > -threshold || p.normal_impulse == 0) continue;
-      const double vn = k.n.dot(relative_velocity(A, B, p.rA, p.rB));
-      const double lambda = std::max(-p.normal_mass * (vn + k.restitution * p.relative_velocity), 0.0);
-      apply(A, B, p.rA, p.rB, lambda * k.n);
-      p.max_normal_impulse = std::max(p.max_normal_impulse, p.normal_impulse + lambda);
-      p.normal_impulse = 0;
-      p.bounced = true;
+    double acc[4] = {0, 0, 0, 0};
+    bool bounce[4] = {false, false, false, false};
+    bool any = false;
+    const Vec3 dp = B.dp - A.dp;
+    const Mat3 RA = A.dq.toRotationMatrix(), RB = B.dq.toRotationMatrix();
+    // A manifold bounces when it pushed this substep; each of its points that touches now (gap
+    // closed) bounces with it, pushed or not: a flat face landing is stopped by any three of its
+    // four corners, but all four leave the floor together.
+    bool pushed = false;
+    for (int j = 0; j < k.count; ++j) pushed = pushed || (k.p[j].normal_impulse > 0 && !k.p[j].bounced);
+    for (int j = 0; j < k.count && pushed; ++j) {
+      const ConstraintPoint& p = k.p[j];
+      const double s = k.n.dot(dp + RB * p.cB - RA * p.cA) + p.adjusted_separation;
+      bounce[j] = !p.bounced && p.impact_velocity < -threshold && s <= slop;
+      any = any || bounce[j];
     }
-    sb_[0] = SolverBody{};
+    if (any) {
+      constexpr int kMaxIterations = 32;
+      for (int it = 0; it < kMaxIterations; ++it) {
+        double change = 0, scale = 0;
+        for (int j = 0; j < k.count; ++j) {
+          if (!bounce[j]) continue;
+          const ConstraintPoint& p = k.p[j];
+          const double vn = normal_velocity(A, B, k.n, p);
+          const double total =
+              std::max(acc[j] - p.normal_mass * (vn + k.restitution * p.impact_velocity), 0.0);
+          apply_normal(A, B, k.n, p, total - acc[j]);
+          change = std::max(change, std::fabs(total - acc[j]));
+          scale = std::max(scale, total);
+          acc[j] = total;
+        }
+        if (change <= 1e-12 * scale) break;
+      }
+      for (int j = 0; j < k.count; ++j) {
+        if (!bounce[j]) continue;
+        ConstraintPoint& p = k.p[j];
+        p.max_normal_impulse = std::max(p.max_normal_impulse, p.normal_impulse + acc[j]);
+        p.normal_impulse = 0;
+        p.bounced = true;
+      }
+    }
+    for (int j = 0; j < k.count; ++j) k.p[j].vn_prev = normal_velocity(A, B, k.n, k.p[j]);
   }
 }
 
@@ -279,18 +384,27 @@ void ContactSolver::store_impulses(std::vector<Contact>& contacts) const {
   for (const ContactConstraint& k : cons_) {
     Contact& c = contacts[k.contact];
     for (int j = 0; j < k.count; ++j) {
-      const ConstraintPoint& p = k.p[j];
-      c.points[j].normal_impulse = p.normal_impulse;
-      c.points[j].tangent_impulse_W = p.tangent_impulse[0] * k.t[0] + p.tangent_impulse[1] * k.t[1];
-      c.points[j].max_normal_impulse = p.max_normal_impulse;
+      c.points[j].normal_impulse = k.p[j].normal_impulse;
+      c.points[j].max_normal_impulse = k.p[j].max_normal_impulse;
     }
+    c.friction_impulse_W = k.tangent_impulse[0] * k.t[0] + k.tangent_impulse[1] * k.t[1];
+    c.twist_impulse = k.twist_impulse;
+    c.rolling_impulse = k.rolling_impulse;
   }
 }
 
-void ContactSolver::finish(const BodyModel* model, MotionState* state) const {
+void ContactSolver::finish(const BodyModel* model, MotionState* state,
+                           std::vector<char>& touched_none) const {
+  for (int k = 1; k < (int)sb_.size(); ++k) touched_none[k] = 1;
+  touched_none[0] = 0;
+  for (const ContactConstraint& k : cons_) {
+    bool touched = false;
+    for (int j = 0; j < k.count; ++j) touched = touched || k.p[j].max_normal_impulse > 0;
+    if (touched) touched_none[k.a] = touched_none[k.b] = 0;
+  }
   for (int k = 1; k < (int)sb_.size(); ++k) {
     const int i = bodies_[k - 1];
-    if (model[i].inv_mass == 0) continue;
+    if (model[i].inv_mass == 0 || touched_none[k]) continue;
     const SolverBody& b = sb_[k];
     MotionState& s = state[i];
     s.x_W += b.dp;

@@ -6,7 +6,7 @@
 //   per substep h = dt / substeps:
 //     integrate velocities  v += h (g + f/m); w += h I_W^-1 tau, then the implicit gyroscopic
 //                           term (one Newton step of I (w' - w) + h w' x I w' = 0, Catto 2015);
-//     warm start            apply last step's accumulated impulses;
+//     warm start            apply the accumulated impulses (an impulse per substep);
 //     solve                 normal (soft, with bias) then friction, Gauss-Seidel in a fixed order;
 //     integrate positions   dp += h v; dq <- exp(h w / 2) dq (exact rotation for constant w);
 //     relax                 solve again without bias, so push-out does not become velocity;
@@ -15,11 +15,15 @@
 // The soft constraint (a stiff damped spring solved implicitly, Catto GDC 2011 "Soft
 // constraints"): with w = 2 pi f, a1 = 2 zeta + h w, a2 = h w a1, a3 = 1 / (1 + a2):
 //   bias = (w / a1) s (capped at max_push_out), impulse = -m_eff (a2 a3) (vn + bias) - a3 lambda.
+// Friction acts once per manifold at the centre of its points (Box3D): a 2D tangent impulse
+// clamped to the disk of radius mu sum(lambda_n), and a twist impulse about the normal clamped to
+// mu sum(lever_i lambda_n,i): the Coulomb limit of the pressure over the contact patch.
 #pragma once
 #include <vector>
 
 #include "sim/contact.hpp"
 #include "sim/contact_settings.hpp"
+#include "sim/shapes.hpp"
 #include "sim/state.hpp"
 
 namespace simreel {
@@ -41,13 +45,21 @@ struct Softness {
 Softness make_softness(double hertz, double damping_ratio, double h);
 
 struct ConstraintPoint {
-  Vec3 rA = Vec3::Zero(), rB = Vec3::Zero();               ///< m, anchors from each centre of mass, world
-  double adjusted_separation = 0;                          ///< m, separation - n.(rB - rA)
-  double normal_mass = 0, tangent_mass[2] = {0, 0};        ///< kg, effective masses
-  double normal_impulse = 0, tangent_impulse[2] = {0, 0};  ///< N s, accumulated this step
-  double max_normal_impulse = 0;                           ///< N s
-  double relative_velocity = 0;  ///< m/s, fastest normal approach seen this step (restitution)
-  bool bounced = false;          ///< restitution applied this step
+  Vec3 rA = Vec3::Zero(), rB = Vec3::Zero();      ///< m, anchors from each centre of mass, world
+  Vec3 rnA = Vec3::Zero(), rnB = Vec3::Zero();    ///< m, rA x n and rB x n
+  Vec3 IrnA = Vec3::Zero(), IrnB = Vec3::Zero();  ///< 1/(kg m), I_A^-1 (rA x n), I_B^-1 (rB x n)
+  // Pivots for the separation within the step: each surface's centre of curvature (the contact
+  // point moved into the body by the shape's rounding radius). A rolling sphere's contact point
+  // is not a material point; its centre is, and the gap follows the centre exactly.
+  Vec3 cA = Vec3::Zero(), cB = Vec3::Zero();  ///< m, from each centre of mass
+  double adjusted_separation = 0;             ///< m, separation - n.(cB - cA)
+  double normal_mass = 0;                     ///< kg
+  double normal_impulse = 0;                  ///< N s, accumulated (per substep)
+  double max_normal_impulse = 0;              ///< N s
+  double impact_velocity = 0;                 ///< m/s, predicted normal velocity at impact (restitution)
+  double vn_prev = 0;                         ///< m/s, normal velocity at the substep's start
+  double lever = 0;                           ///< m, distance from the friction centre (twist limit)
+  bool bounced = false;                       ///< restitution applied this step
 };
 
 struct ContactConstraint {
@@ -55,9 +67,14 @@ struct ContactConstraint {
   int contact = -1;  ///< index into the contact list
   Vec3 n = Vec3::UnitZ(), t[2] = {Vec3::UnitX(), Vec3::UnitY()};
   double friction = 0, restitution = 0, rolling = 0;
-  double rolling_impulse_limit = 0;  ///< m, lever: rolling torque impulse <= rolling * this * sum lambda_n
-  Vec3 rolling_impulse = Vec3::Zero();
-  Mat3 rolling_mass = Mat3::Zero();
+  // Friction at the manifold's centre.
+  Vec3 fA = Vec3::Zero(), fB = Vec3::Zero();               ///< m, centre from each centre of mass
+  Eigen::Matrix2d tangent_mass = Eigen::Matrix2d::Zero();  ///< kg, inverse of the 2x2 tangent K
+  double tangent_impulse[2] = {0, 0};                      ///< N s
+  double twist_mass = 0, twist_impulse = 0;                ///< kg m^2, N m s
+  double rolling_lever = 0;                                ///< m
+  Vec3 rolling_impulse = Vec3::Zero();                     ///< N m s
+  Mat3 rolling_mass = Mat3::Zero();                        ///< kg m^2
   int count = 0;
   Softness soft;
   ConstraintPoint p[4];
@@ -68,8 +85,10 @@ struct SolverInput {
   const BodyModel* model = nullptr;
   const MotionState* state = nullptr;
   const Wrench* wrench = nullptr;  ///< may be null
+  const ShapeTable* shapes = nullptr;
   Vec3 gravity = Vec3::Zero();
   double dt = 0;
+  int substeps = 1;
   ContactSettings settings;
 };
 
@@ -81,13 +100,14 @@ class ContactSolver {
                std::vector<int>& solver_index);
   void integrate_velocities(double h);
   void warm_start();
-  void solve(double h, bool use_bias);
+  void solve(double h, bool use_bias, bool first_iteration);
   void integrate_positions(double h);
   void restitution(double threshold);  ///< call after each substep's relax
   void store_impulses(std::vector<Contact>& contacts) const;
-  // Writes the solved motion of the dynamic bodies back to the state (kinematic bodies are
-  // advanced by their own exact rule in World).
-  void finish(const BodyModel* model, MotionState* state) const;
+  // Writes the solved motion of the dynamic bodies that received an impulse back to the state and
+  // clears their flag in `touched_none`; the others (set to 1) touched nothing after all this
+  // step and are left for the free-flight integrators. Kinematic bodies are advanced by World.
+  void finish(const BodyModel* model, MotionState* state, std::vector<char>& touched_none) const;
 
   const std::vector<int>& bodies() const { return bodies_; }
   const std::vector<ContactConstraint>& constraints() const { return cons_; }
@@ -95,7 +115,7 @@ class ContactSolver {
  private:
   SolverInput in_;
   std::vector<int> bodies_;      ///< body index of solver body k + 1
-  std::vector<SolverBody> sb_;   ///< [0] is the static body
+  std::vector<SolverBody> sb_;   ///< [0] is the static body: never written (zero mass and inertia)
   std::vector<Mat3> I_W_;        ///< world inertia of each solver body (gyroscopic term)
   std::vector<char> gyro_;       ///< needs the gyroscopic term
   std::vector<Vec3> accel_;      ///< m/s^2, g + f/m

@@ -114,6 +114,19 @@ ShapeTable::ShapeTable(const std::vector<BodyDef>& defs, const std::vector<BodyM
   }
 }
 
+double rounding_radius(const CollideShape& g) {
+  switch (g.kind) {
+    case CollideKind::sphere:
+    case CollideKind::capsule:
+    case CollideKind::cylinder:
+      return g.radius;
+    case CollideKind::ellipsoid:
+      return g.radii.minCoeff();
+    default:
+      return 0;
+  }
+}
+
 Aabb ShapeTable::bounds(const CollideShape& g, const Pose& x) {
   Vec3 e = Vec3::Zero();  // half extents about x.p
   Vec3 c = x.p;

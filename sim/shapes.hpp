@@ -63,6 +63,11 @@ class ShapeTable {
   std::vector<std::shared_ptr<const ConvexPolyhedron>> owned_;  ///< box and mesh hulls
 };
 
+// m, the radius of curvature the shape's surface has wherever it touches (sphere, capsule and
+// cylinder: the radius; ellipsoid: its smallest semi-axis, a lower bound; flat-faced shapes 0).
+// The contact solver follows a rolling surface's gap through its centre of curvature.
+double rounding_radius(const CollideShape& g);
+
 // Whether two shapes may touch by their filters: (a.group & b.mask) && (b.group & a.mask).
 inline bool filters_allow(const ShapeRecord& a, const ShapeRecord& b) {
   return (a.group & b.mask) != 0 && (b.group & a.mask) != 0;

@@ -148,9 +148,11 @@ void World::save_state(std::ostream& os) const {
       o.vec(p.p_W);
       o.f64(p.separation);
       o.f64(p.normal_impulse);
-      o.vec(p.tangent_impulse_W);
       o.f64(p.max_normal_impulse);
     }
+    o.vec(c.friction_impulse_W);
+    o.f64(c.twist_impulse);
+    o.vec(c.rolling_impulse);
     o.u8(c.cache.type);
     o.i32(c.cache.a);
     o.i32(c.cache.b);
@@ -217,9 +219,11 @@ void World::restore_state(std::istream& is) {
       p.p_W = in.vec();
       p.separation = in.f64();
       p.normal_impulse = in.f64();
-      p.tangent_impulse_W = in.vec();
       p.max_normal_impulse = in.f64();
     }
+    c.friction_impulse_W = in.vec();
+    c.twist_impulse = in.f64();
+    c.rolling_impulse = in.vec();
     c.cache.type = in.u8();
     c.cache.a = in.i32();
     c.cache.b = in.i32();

@@ -168,6 +168,7 @@ class World {
   const std::vector<Contact>& contacts() const { return contacts_; }  ///< by (shape a, shape b)
   const ContactStats& contact_stats() const { return contact_stats_; }
   bool has_contacts() const { return collide_enabled_; }  ///< false: contact stages always skipped
+  int substeps() const { return substeps_; }              ///< contact solver substeps per step (resolved)
 
   void set_profiling(bool on) { profiling_ = on; }
   const Profile& profile() const { return profile_; }
@@ -228,6 +229,8 @@ class World {
   std::vector<char> in_contact_;        ///< per body, this step
   std::vector<int> contact_bodies_;     ///< dynamic and kinematic bodies in contact, ascending
   std::vector<int> solver_index_;       ///< per body, this step (0: not in the solver)
+  std::vector<char> touched_none_;      ///< per solver body: received no impulse this step
+  int substeps_ = 1;                    ///< contact solver substeps per step
   std::vector<std::vector<int>> free_;  ///< per group: its bodies not in contact this step
   std::vector<int> kinematic_;
   ContactSolver solver_;

@@ -146,7 +146,12 @@ void World::stage_collide() {
     c.body_b = B.body;
     c.friction = std::sqrt(A.friction * B.friction);
     c.restitution = std::max(A.restitution, B.restitution);
-    if (prev) c.cache = prev->cache;
+    if (prev) {
+      c.cache = prev->cache;
+      c.friction_impulse_W = prev->friction_impulse_W;
+      c.twist_impulse = prev->twist_impulse;
+      c.rolling_impulse = prev->rolling_impulse;
+    }
     // How far the two can close this step, bounded: relative speed of their farthest points.
     const double reach_a = (A.p_PC.norm() + A.geom.bounding_radius) * sa.w_P.norm();
     const double reach_b = (B.p_PC.norm() + B.geom.bounding_radius) * sb.w_P.norm();
@@ -165,7 +170,6 @@ void World::stage_collide() {
         for (int k = 0; k < prev->count; ++k)
           if (prev->points[k].id == p.id) {
             p.normal_impulse = prev->points[k].normal_impulse;
-            p.tangent_impulse_W = prev->points[k].tangent_impulse_W;
             break;
           }
       }
@@ -184,13 +188,6 @@ void World::stage_collide() {
   contact_bodies_.clear();
   for (int i = 0; i < (int)in_contact_.size(); ++i)
     if (in_contact_[i]) contact_bodies_.push_back(i);
-  if (!contact_bodies_.empty()) {
-    for (size_t g = 0; g < groups_.size(); ++g) {
-      free_[g].clear();
-      for (int i : groups_[g].bodies)
-        if (!in_contact_[i]) free_[g].push_back(i);
-    }
-  }
 }
 
 // The soft step over the bodies in contact (sim/contact_solver.hpp), then their new state.
@@ -198,7 +195,7 @@ bool World::stage_solve_contacts() {
   double* sec = profile_.seconds;
   long* runs = profile_.runs;
   const ContactSettings& cs = cfg_.contacts;
-  const double h = cfg_.dt / cs.substeps;
+  const double h = cfg_.dt / substeps_;
   {
     StageTimer t(profiling_, &sec[(int)Stage::prepare_contacts]);
     SolverInput in;
@@ -207,11 +204,13 @@ bool World::stage_solve_contacts() {
     in.wrench = wrench_dirty_ ? wrench_.data() : nullptr;
     in.gravity = cfg_.gravity;
     in.dt = cfg_.dt;
+    in.substeps = substeps_;
+    in.shapes = shapes_.get();
     in.settings = cs;
     solver_.prepare(in, contact_bodies_, contacts_, solver_index_);
   }
   runs[(int)Stage::prepare_contacts]++;
-  for (int sub = 0; sub < cs.substeps; ++sub) {
+  for (int sub = 0; sub < substeps_; ++sub) {
     {
       StageTimer t(profiling_, &sec[(int)Stage::integrate_velocities]);
       solver_.integrate_velocities(h);
@@ -222,7 +221,7 @@ bool World::stage_solve_contacts() {
     }
     {
       StageTimer t(profiling_, &sec[(int)Stage::solve]);
-      for (int it = 0; it < cs.iterations; ++it) solver_.solve(h, true);
+      for (int it = 0; it < cs.iterations; ++it) solver_.solve(h, true, it == 0);
     }
     {
       StageTimer t(profiling_, &sec[(int)Stage::integrate_positions]);
@@ -230,7 +229,7 @@ bool World::stage_solve_contacts() {
     }
     {
       StageTimer t(profiling_, &sec[(int)Stage::relax]);
-      for (int it = 0; it < cs.iterations; ++it) solver_.solve(h, false);
+      for (int it = 0; it < cs.iterations; ++it) solver_.solve(h, false, false);
     }
     {
       StageTimer t(profiling_, &sec[(int)Stage::restitution]);
@@ -245,17 +244,32 @@ bool World::stage_solve_contacts() {
   {
     StageTimer t(profiling_, &sec[(int)Stage::store_impulses]);
     solver_.store_impulses(contacts_);
-    solver_.finish(model_.data(), state_.data());
+    touched_none_.resize(contact_bodies_.size() + 1);
+    solver_.finish(model_.data(), state_.data(), touched_none_);
+    // Bodies that received no impulse after all (they only came within the speculative distance)
+    // go back to the free-flight integrators, which are exact for them.
     double sum = 0;
-    for (int i : contact_bodies_) {
+    int solved = 0;
+    for (size_t k = 0; k < contact_bodies_.size(); ++k) {
+      const int i = contact_bodies_[k];
+      solver_index_[i] = 0;
+      if (touched_none_[k + 1]) {
+        in_contact_[i] = 0;
+        continue;
+      }
+      ++solved;
       const MotionState& s = state_[i];
       sum += s.q_WP.w() + s.x_W.x() + s.x_W.y() + s.x_W.z() + s.v_W.x() + s.w_P.x();
-      solver_index_[i] = 0;
     }
     finite = std::isfinite(sum);
+    for (size_t g = 0; g < groups_.size(); ++g) {
+      free_[g].clear();
+      for (int i : groups_[g].bodies)
+        if (!in_contact_[i]) free_[g].push_back(i);
+    }
+    profile_.solver_bodies += solved;
   }
   runs[(int)Stage::store_impulses]++;
-  profile_.solver_bodies += (long)contact_bodies_.size();
   return finite;
 }
 
