@@ -550,7 +550,7 @@ Scene load_scene(const std::string& path) {
                  {"substeps", "iterations", "contact_hertz", "damping_ratio", "max_push_out",
                   "restitution_threshold", "speculative_distance", "linear_slop", "rolling_resistance"});
       ContactSettings& cs = s.contacts;
-      if (k["substeps"]) cs.substeps = whole(k["substeps"], kc.child("substeps"), 1, 1000);
+      if (k["substeps"]) cs.substeps = whole(k["substeps"], kc.child("substeps"), 0, 1000);  // 0: automatic
       if (k["iterations"]) cs.iterations = whole(k["iterations"], kc.child("iterations"), 1, 1000);
       if (k["contact_hertz"]) cs.contact_hertz = positive(k["contact_hertz"], kc.child("contact_hertz"));
       if (k["damping_ratio"]) cs.damping_ratio = non_negative(k["damping_ratio"], kc.child("damping_ratio"));

@@ -230,7 +230,8 @@ class World {
   std::vector<int> contact_bodies_;     ///< dynamic and kinematic bodies in contact, ascending
   std::vector<int> solver_index_;       ///< per body, this step (0: not in the solver)
   std::vector<char> touched_none_;      ///< per solver body: received no impulse this step
-  int substeps_ = 1;                    ///< contact solver substeps per step
+  int substeps_ = 1;                    ///< contact solver substeps this step
+  int base_substeps_ = 1;               ///< the least (settings, or 1/240 s substeps)
   std::vector<std::vector<int>> free_;  ///< per group: its bodies not in contact this step
   std::vector<int> kinematic_;
   ContactSolver solver_;

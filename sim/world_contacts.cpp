@@ -29,8 +29,11 @@ struct StageTimer {
 void World::init_contacts() {
   const int n = (int)defs_.size();
   const ContactSettings& cs = cfg_.contacts;
-  if (cs.substeps < 1 || cs.iterations < 1)
-    throw InputError("contacts: substeps and iterations must be at least 1");
+  if (cs.substeps < 0 || cs.iterations < 1)
+    throw InputError("contacts: substeps must be at least 1 (or 0: automatic) and iterations at least 1");
+  // Automatic: substeps of at most 1/240 s (Box2D's default substep rate: 60 Hz x 4).
+  base_substeps_ = cs.substeps > 0 ? cs.substeps : std::max(1, (int)std::ceil(cfg_.dt * 240.0 - 1e-9));
+  substeps_ = base_substeps_;
   if (!(cs.contact_hertz >= 0) || !(cs.damping_ratio >= 0) || !(cs.max_push_out >= 0) ||
       !(cs.restitution_threshold >= 0) || !(cs.speculative_distance >= 0) || !(cs.linear_slop >= 0) ||
       !(cs.rolling_resistance >= 0))
@@ -195,6 +198,18 @@ bool World::stage_solve_contacts() {
   double* sec = profile_.seconds;
   long* runs = profile_.runs;
   const ContactSettings& cs = cfg_.contacts;
+  // Automatic substeps: at least base_substeps_ (substeps of <= 1/240 s), more while a body in
+  // contact turns fast, so that none turns more than kContactMaxSubstepAngle per substep (the
+  // solver's rotation and lever arms are first order in that angle: a top spinning at 54 rad/s
+  // precessed 3.4% slow with one 1/240 s substep, 0.35% with four, measured). A function of the
+  // state only, so runs stay deterministic and a resumed run takes the same substeps.
+  substeps_ = base_substeps_;
+  if (cfg_.contacts.substeps == 0) {
+    double w_max = 0;
+    for (int i : contact_bodies_) w_max = std::max(w_max, state_[i].w_P.norm());
+    const double need = std::ceil(w_max * cfg_.dt / kContactMaxSubstepAngle - 1e-9);
+    substeps_ = std::max(substeps_, (int)std::min(need, (double)kContactMaxSubsteps));
+  }
   const double h = cfg_.dt / substeps_;
   {
     StageTimer t(profiling_, &sec[(int)Stage::prepare_contacts]);

@@ -27,8 +27,9 @@ const char* name(Motion m) {
 
 // A box w x w x h (h along the slope's normal) set at rest on a static plane tilted by theta about
 // x, both colliders with friction mu. After 3 s: slid if its downhill bottom edge (the edge it
-// would tip about, which stays put while it tips) moved > 5 mm, else tipped if its axis left the
-// normal by > 2 deg (the soft contact's settling tilts it by ~0.06 deg), else at rest. The centre
+// would tip about, which stays put while it tips) moved > 5 mm, tipped if its axis left the
+// normal by > 2 deg (the soft contact's settling tilts it by ~0.06 deg), whichever comes first;
+// else at rest. The centre
 // alone cannot tell: a box starting to tip moves its centre by h/2 per radian.
 Motion on_slope(double theta, double mu, double w, double h) {
   const Quat q(Eigen::AngleAxisd(theta, Vec3::UnitX()));
@@ -36,10 +37,13 @@ Motion on_slope(double theta, double mu, double w, double h) {
   World world(WorldConfig{}, {ground(mu, 0, q), box(Vec3(w, w, h), q * Vec3(0, 0, h / 2), mu, 0, 1000, q)});
   const Vec3 edge(0, -w / 2, -h / 2);  // body frame: the middle of the downhill bottom edge
   const Vec3 e0 = world.local_to_world(1, edge);
-  for (int k = 0; k < 720; ++k) world.step();
-  const double tilt = std::acos(std::clamp((world.rotation(1) * Vec3::UnitZ()).dot(n), -1.0, 1.0));
-  if ((world.local_to_world(1, edge) - e0).norm() > 5e-3) return Motion::slide;
-  if (tilt > deg(2)) return Motion::tip;
+  // Whichever happens first: once tipped over, a box may well skid on its side.
+  for (int k = 0; k < 720; ++k) {
+    world.step();
+    const double tilt = std::acos(std::clamp((world.rotation(1) * Vec3::UnitZ()).dot(n), -1.0, 1.0));
+    if ((world.local_to_world(1, edge) - e0).norm() > 5e-3) return Motion::slide;
+    if (tilt > deg(2)) return Motion::tip;
+  }
   return Motion::rest;
 }
 
