@@ -423,8 +423,8 @@ TEST(Scene, ContactSettings) {
   EXPECT_EQ(d.contacts.substeps, ContactSettings{}.substeps);  // defaults untouched
 
   const std::string b = "bodies:\n  - name: a\n" + std::string(kBox);
-  EXPECT_HAS(error_of("simulation:\n  contacts: { substeps: 0 }\n" + b),
-             "bad.yaml:2:25: simulation.contacts.substeps: expected a whole number from 1 to 1000, got '0'");
+  EXPECT_HAS(error_of("simulation:\n  contacts: { substeps: -1 }\n" + b),
+             "bad.yaml:2:25: simulation.contacts.substeps: expected a whole number from 0 to 1000, got '-1'");
   EXPECT_HAS(error_of("simulation:\n  contacts: { iterations: 1.5 }\n" + b),
              "simulation.contacts.iterations: expected a whole number");
   EXPECT_HAS(error_of("simulation:\n  contacts: { contact_hertz: 0 }\n" + b),
