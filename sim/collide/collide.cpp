@@ -175,7 +175,7 @@ struct Table {
     set(C::sphere, C::hull, sphere_hull);
     set(C::capsule, C::box, capsule_hull);
     set(C::capsule, C::hull, capsule_hull);
-    set(C::box, C::box, hull_hull);
+    set(C::box, C::box, box_box);
     set(C::box, C::hull, hull_hull);
     set(C::hull, C::hull, hull_hull);
   }

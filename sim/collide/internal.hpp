@@ -105,6 +105,8 @@ int sphere_hull(const CollideShape&, const Pose&, const CollideShape&, const Pos
                 Manifold&);
 int capsule_hull(const CollideShape&, const Pose&, const CollideShape&, const Pose&, double, PairCache&,
                  Manifold&);
+int box_box(const CollideShape&, const Pose&, const CollideShape&, const Pose&, double, PairCache&,
+            Manifold&);
 int hull_hull(const CollideShape&, const Pose&, const CollideShape&, const Pose&, double, PairCache&,
               Manifold&);
 int convex_generic(const CollideShape&, const Pose&, const CollideShape&, const Pose&, double, PairCache&,

@@ -315,6 +315,238 @@ int hull_hull(const CollideShape& a, const Pose& xa, const CollideShape& b, cons
   return out.count;
 }
 
+// ---------------------------------------------------------------- box against box
+// The same SAT in closed form (the 15 axes of Gottschalk, Lin and Manocha's OBB test: 3 + 3 face
+// normals, 9 edge-direction cross products), then the same face clipping as hull_hull on the
+// boxes' polyhedra (make_box_polyhedron numbering: face 2i is -axis i, 2i+1 is +axis i). Cache:
+// face indices as hull_hull; edges as kCacheBoxEdges with a = A's axis, b = B's axis.
+
+namespace {
+constexpr uint8_t kCacheBoxEdges = 4;
+
+// Separation of B from A's face f (A's frame; C = B's axes in A, t = B's centre in A).
+inline double box_face_sep(int f, const Vec3& ha, const Vec3& hb, const Mat3& absC, const Vec3& t) {
+  const int i = f >> 1;
+  const double sgn = (f & 1) ? 1.0 : -1.0;
+  return sgn * t[i] - ha[i] - absC.row(i).dot(hb);
+}
+// The edge axis e_i x C_j (A's frame) in closed form (C orthonormal: the classic OBB terms):
+// numerator |t.L| - rA - rB of its separation, |L|^2, and t.L (for the orientation).
+struct BoxEdgeTerms {
+  double num, len2, tl;
+};
+inline BoxEdgeTerms box_edge_terms(int i, int j, const Vec3& ha, const Vec3& hb, const Mat3& C,
+                                   const Mat3& absC, const Vec3& t) {
+  const int i1 = i == 2 ? 0 : i + 1, i2 = i == 0 ? 2 : i - 1;
+  const int j1 = j == 2 ? 0 : j + 1, j2 = j == 0 ? 2 : j - 1;
+  const double tl = t[i2] * C(i1, j) - t[i1] * C(i2, j);
+  const double rA = ha[i1] * absC(i2, j) + ha[i2] * absC(i1, j);
+  const double rB = hb[j1] * absC(i, j2) + hb[j2] * absC(i, j1);
+  const double len2 = C(i1, j) * C(i1, j) + C(i2, j) * C(i2, j);
+  return {std::fabs(tl) - rA - rB, len2, tl};
+}
+// Separation along e_i x C_j oriented from A to B (unit axis in *axis); -inf when parallel.
+inline double box_edge_sep(int i, int j, const Vec3& ha, const Vec3& hb, const Mat3& C, const Mat3& absC,
+                           const Vec3& t, Vec3* axis) {
+  const BoxEdgeTerms e = box_edge_terms(i, j, ha, hb, C, absC, t);
+  if (e.len2 < kParallelEdgeTol * kParallelEdgeTol) return -INFINITY;
+  const double len = std::sqrt(e.len2);
+  if (axis) {
+    const Vec3 L = Vec3::Unit(i).cross(C.col(j));
+    *axis = (e.tl >= 0 ? 1.0 : -1.0) * L / len;
+  }
+  return e.num / len;
+}
+
+struct BoxClipVertex {
+  Vec3 x;
+  uint32_t id, out_tag;
+};
+
+// Face contact of two boxes in the reference box R's frame: reference face on axis i with sign
+// sr (normal sr e_i), incident box I with half extents hi, axes C (columns, R's frame) and centre
+// t. The incident face is I's face most anti-parallel to the normal; its rectangle is clipped
+// against the reference face's four side planes x_u = +-hr_u. Ids: incident vertex (box
+// numbering), incident edge (kTagEdge | from << 3 | to), side plane (kTagPlane | 2u + (side > 0)).
+int box_face_contact(const Vec3& hr, int i, double sr, const Vec3& hi, const Mat3& C, const Vec3& t,
+                     const Pose& xr, double spec, Candidate* cand) {
+  int j = 0;
+  for (int k = 1; k < 3; ++k)
+    if (std::fabs(C(i, k)) > std::fabs(C(i, j))) j = k;
+  const double sj = sr * C(i, j) > 0 ? -1.0 : 1.0;  // the incident face's outward normal opposes sr e_i
+  const int k1 = (j + 1) % 3, k2 = (j + 2) % 3;
+  const Vec3 c = t + (sj * hi[j]) * C.col(j);
+  const Vec3 a1 = hi[k1] * C.col(k1), a2 = hi[k2] * C.col(k2);
+  const double s1[4] = {1, -1, -1, 1}, s2[4] = {1, 1, -1, -1};
+  BoxClipVertex buf[2][16];
+  uint32_t vid[4];
+  for (int q = 0; q < 4; ++q) {
+    vid[q] = (sj > 0 ? 1u << j : 0u) | (s1[q] > 0 ? 1u << k1 : 0u) | (s2[q] > 0 ? 1u << k2 : 0u);
+    buf[0][q].x = c + s1[q] * a1 + s2[q] * a2;
+    buf[0][q].id = vid[q];
+  }
+  for (int q = 0; q < 4; ++q) buf[0][q].out_tag = kTagEdge | (vid[q] << 3) | vid[(q + 1) & 3];
+  int n = 4, cur = 0;
+  const int u1 = (i + 1) % 3, u2 = (i + 2) % 3;
+  const int axes[4] = {u1, u1, u2, u2};
+  const double sides[4] = {1, -1, 1, -1};
+  for (int p = 0; p < 4 && n > 0; ++p) {
+    const int u = axes[p];
+    const double sd = sides[p], off = hr[u];
+    const uint32_t tag = kTagPlane | (uint32_t)(2 * u + (sd > 0));
+    const BoxClipVertex* in = buf[cur];
+    BoxClipVertex* o = buf[cur ^ 1];
+    int m = 0;
+    for (int q = 0; q < n; ++q) {
+      const BoxClipVertex& A = in[q];
+      const BoxClipVertex& B = in[q + 1 == n ? 0 : q + 1];
+      const double da = sd * A.x[u] - off, db = sd * B.x[u] - off;
+      if (da <= 0) o[m++] = A;
+      if ((da <= 0) != (db <= 0)) {
+        BoxClipVertex& X = o[m++];
+        X.x = A.x + (da / (da - db)) * (B.x - A.x);
+        X.id = (A.out_tag & 0xFFFF) | (tag << 16);
+        X.out_tag = da <= 0 ? tag : A.out_tag;
+      }
+    }
+    n = m;
+    cur ^= 1;
+  }
+  int nc = 0;
+  for (int q = 0; q < n; ++q) {
+    const Vec3& x = buf[cur][q].x;
+    const double s = sr * x[i] - hr[i];
+    if (s > spec) continue;
+    Vec3 mid = x;
+    mid[i] -= 0.5 * s * sr;
+    cand[nc++] = {xr.apply(mid), s, buf[cur][q].id};
+  }
+  return nc;
+}
+}  // namespace
+
+int box_box(const CollideShape& a, const Pose& xa, const CollideShape& b, const Pose& xb, double spec,
+            PairCache& cache, Manifold& out) {
+  const Vec3 &ha = a.half_extents, &hb = b.half_extents;
+  const Mat3 C = xa.R.transpose() * xb.R;
+  const Vec3 t = xa.R.transpose() * (xb.p - xa.p);
+  const Mat3 absC = C.cwiseAbs();
+  const Mat3 absCt = absC.transpose();
+  const Vec3 tb = C.transpose() * t;  // A's centre is at -tb in B's frame
+  const double tol = 1e-3 * (ha.minCoeff() + hb.minCoeff());
+  // 1. The cached axis first.
+  if (cache.type == kCacheFaceA && cache.a >= 0 && cache.a < 6) {
+    if (box_face_sep(cache.a, ha, hb, absC, t) > spec)
+      return out.normal_W = xa.R * a.hull->faces[cache.a].normal, 0;
+  } else if (cache.type == kCacheFaceB && cache.b >= 0 && cache.b < 6) {
+    if (box_face_sep(cache.b, hb, ha, absCt, -tb) > spec)
+      return out.normal_W = -(xb.R * b.hull->faces[cache.b].normal), 0;
+  } else if (cache.type == kCacheBoxEdges && cache.a >= 0 && cache.a < 3 && cache.b >= 0 && cache.b < 3) {
+    Vec3 axis;
+    if (box_edge_sep(cache.a, cache.b, ha, hb, C, absC, t, &axis) > spec)
+      return out.normal_W = xa.R * axis, 0;
+  }
+  // 2. Faces of A and B (the cached face wins ties within tol), then the nine edge axes.
+  auto faces = [&](const Vec3& h1, const Vec3& h2, const Mat3& ac, const Vec3& tt, int prefer) {
+    FaceQuery q;
+    double best = -INFINITY;
+    if (prefer >= 0 && prefer < 6)
+      q.face = prefer, q.sep = box_face_sep(prefer, h1, h2, ac, tt), best = q.sep + tol;
+    for (int i = 0; i < 3; ++i) {
+      const int f = tt[i] >= 0 ? 2 * i + 1 : 2 * i;
+      if (f == prefer) continue;
+      const double sep = box_face_sep(f, h1, h2, ac, tt);
+      if (sep > best) best = sep, q.face = f, q.sep = sep;
+    }
+    return q;
+  };
+  const FaceQuery fa = faces(ha, hb, absC, t, cache.type == kCacheFaceA ? cache.a : -1);
+  if (fa.sep > spec) {
+    cache = {kCacheFaceA, fa.face, -1, Vec3::Zero()};
+    return out.normal_W = xa.R * a.hull->faces[fa.face].normal, 0;
+  }
+  const FaceQuery fb = faces(hb, ha, absCt, -tb, cache.type == kCacheFaceB ? cache.b : -1);
+  if (fb.sep > spec) {
+    cache = {kCacheFaceB, -1, fb.face, Vec3::Zero()};
+    return out.normal_W = -(xb.R * b.hull->faces[fb.face].normal), 0;
+  }
+  // Edge axes: only those that could matter (separating beyond spec, or deep enough to win the
+  // axis choice below) are normalised; the others are rejected without a square root.
+  const double face_best = std::max(fa.sep, fb.sep);
+  const double thr = std::min(spec, kRelEdgeTol * face_best + tol);
+  int ei = -1, ej = -1;
+  double esep = -INFINITY;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      const BoxEdgeTerms e = box_edge_terms(i, j, ha, hb, C, absC, t);
+      if (e.len2 < kParallelEdgeTol * kParallelEdgeTol) continue;
+      // sep = num / sqrt(len2) > thr, decided on squares.
+      const bool pass = thr >= 0 ? (e.num > 0 && e.num * e.num > thr * thr * e.len2)
+                                 : (e.num >= 0 || e.num * e.num < thr * thr * e.len2);
+      if (!pass) continue;
+      const double sep = e.num / std::sqrt(e.len2);
+      if (sep > esep) esep = sep, ei = i, ej = j;
+    }
+  Vec3 eaxis = Vec3::Zero();
+  if (ei >= 0) box_edge_sep(ei, ej, ha, hb, C, absC, t, &eaxis);
+  if (esep > spec) {
+    cache = {kCacheBoxEdges, ei, ej, Vec3::Zero()};
+    return out.normal_W = xa.R * eaxis, 0;
+  }
+  // 3. Axis choice, as hull_hull.
+  if (ei >= 0 && esep > kRelEdgeTol * face_best + tol) {
+    cache = {kCacheBoxEdges, ei, ej, Vec3::Zero()};
+    out.normal_W = xa.R * eaxis;
+    // The supporting edges: A's along axis ei on the side of the normal, B's along ej opposite.
+    Vec3 pa = Vec3::Zero(), qa;
+    uint32_t bitsA = 0;
+    for (int k = 0; k < 3; ++k)
+      if (k != ei) {
+        const bool pos = eaxis[k] >= 0;
+        pa[k] = pos ? ha[k] : -ha[k];
+        bitsA |= pos ? (1u << k) : 0u;
+      }
+    qa = pa;
+    pa[ei] = -ha[ei], qa[ei] = ha[ei];
+    const Vec3 nb = C.transpose() * eaxis;
+    Vec3 pb = Vec3::Zero(), qb;
+    uint32_t bitsB = 0;
+    for (int k = 0; k < 3; ++k)
+      if (k != ej) {
+        const bool pos = nb[k] < 0;
+        pb[k] = pos ? hb[k] : -hb[k];
+        bitsB |= pos ? (1u << k) : 0u;
+      }
+    qb = pb;
+    pb[ej] = -hb[ej], qb[ej] = hb[ej];
+    pb = C * pb + t, qb = C * qb + t;
+    double s, u;
+    Vec3 c1, c2;
+    closest_segments(pa, qa, pb, qb, s, u, c1, c2);
+    const double sep = eaxis.dot(c2 - c1);
+    if (sep <= spec) {
+      const uint32_t fA = kTagEdge | ((uint32_t)ei << 3) | bitsA, fB = kTagEdge | ((uint32_t)ej << 3) | bitsB;
+      out.points[0] = {xa.apply(0.5 * (c1 + c2)), sep, fA | (fB << 16)};
+      out.count = 1;
+    }
+    return out.count;
+  }
+  Candidate cand[16];
+  int nc;
+  if (!(fb.sep > kRelFaceTol * fa.sep + tol)) {
+    cache = {kCacheFaceA, fa.face, -1, Vec3::Zero()};
+    out.normal_W = xa.R * a.hull->faces[fa.face].normal;
+    nc = box_face_contact(ha, fa.face >> 1, (fa.face & 1) ? 1.0 : -1.0, hb, C, t, xa, spec, cand);
+  } else {
+    cache = {kCacheFaceB, -1, fb.face, Vec3::Zero()};
+    out.normal_W = -(xb.R * b.hull->faces[fb.face].normal);
+    nc = box_face_contact(hb, fb.face >> 1, (fb.face & 1) ? 1.0 : -1.0, ha, Mat3(C.transpose()), -tb, xb,
+                          spec, cand);
+  }
+  reduce_to_manifold(cand, nc, out.normal_W, out);
+  return out.count;
+}
+
 // ---------------------------------------------------------------- capsule against box or hull
 
 namespace {
