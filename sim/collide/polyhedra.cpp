@@ -41,51 +41,8 @@ double face_separation(const ConvexPolyhedron& P, int f, const ConvexPolyhedron&
   return n.dot(T.p) - P.faces[f].offset + nQ.dot(v);
 }
 
-struct FaceQuery {
-  int face = -1;
-  double sep = -INFINITY;
-};
-// The face of P that separates Q most; `prefer` (or -1) wins ties within `tol`.
-FaceQuery query_faces(const ConvexPolyhedron& P, const ConvexPolyhedron& Q, const Rel& T, int prefer,
-                      double tol, double spec) {
-  FaceQuery q;
-  if (prefer >= 0 && prefer < (int)P.faces.size()) {
-    q.face = prefer;
-    q.sep = face_separation(P, prefer, Q, T);
-    if (q.sep > spec) return q;
-  }
-  const double bonus = q.face >= 0 ? tol : 0;
-  double best = q.sep + bonus;
-  for (int f = 0; f < (int)P.faces.size(); ++f) {
-    if (f == prefer) continue;
-    const double s = face_separation(P, f, Q, T);
-    if (s > best) {
-      best = s, q.face = f, q.sep = s;
-      if (s > spec) return q;
-    }
-  }
-  return q;
-}
-
-bool is_minkowski_face(const Vec3& a, const Vec3& b, const Vec3& bxa, const Vec3& c, const Vec3& d,
-                       const Vec3& dxc) {
-  const double cba = c.dot(bxa), dba = d.dot(bxa), adc = a.dot(dxc), bdc = b.dot(dxc);
-  return cba * dba < 0 && adc * bdc < 0 && cba * bdc > 0;
-}
-
-// Separation along E1 x E2 oriented away from P's centroid c1, or -inf when parallel.
-double edge_projection(const Vec3& p1, const Vec3& e1, const Vec3& p2, const Vec3& e2, const Vec3& c1,
-                       Vec3* axis) {
-  const Vec3 x = e1.cross(e2);
-  const double L = x.norm();
-  if (L < kParallelEdgeTol * std::sqrt(e1.squaredNorm() * e2.squaredNorm())) return -INFINITY;
-  Vec3 n = x / L;
-  if (n.dot(p1 - c1) < 0) n = -n;
-  if (axis) *axis = n;
-  return n.dot(p2 - p1);
-}
-
-// Q's vertices and face normals in P's frame, transformed once (or on the fly when too many).
+// Q's vertices, face normals and edges in P's frame, transformed once per call (or on the fly
+// when Q has more than kMaxLocal of them).
 struct QInP {
   const ConvexPolyhedron* Q;
   const Rel* T;
@@ -101,7 +58,54 @@ struct QInP {
   }
   Vec3 vert(int i) const { return cached_v ? v[i] : Vec3(T->R * Q->vertices[i] + T->p); }
   Vec3 normal(int f) const { return cached_n ? n[f] : Vec3(T->R * Q->faces[f].normal); }
+  // min over Q's vertices of n . x (n in P's frame).
+  double min_along(const Vec3& dir) const {
+    if (!cached_v) {
+      const Vec3 dQ = T->R.transpose() * dir;
+      return dir.dot(T->p) + dQ.dot(Q->vertices[Q->support(-dQ)]);
+    }
+    double m = INFINITY;
+    for (int i = 0; i < (int)Q->vertices.size(); ++i) m = std::min(m, dir.dot(v[i]));
+    return m;
+  }
 };
+
+struct FaceQuery {
+  int face = -1;
+  double sep = -INFINITY;
+};
+// The face of P that separates Q most; `prefer` (or -1) wins ties within `tol`.
+FaceQuery query_faces(const ConvexPolyhedron& P, const QInP& Q, int prefer, double tol, double spec) {
+  FaceQuery q;
+  if (prefer >= 0 && prefer < (int)P.faces.size()) {
+    q.face = prefer;
+    q.sep = Q.min_along(P.faces[prefer].normal) - P.faces[prefer].offset;
+    if (q.sep > spec) return q;
+  }
+  const double bonus = q.face >= 0 ? tol : 0;
+  double best = q.sep + bonus;
+  for (int f = 0; f < (int)P.faces.size(); ++f) {
+    if (f == prefer) continue;
+    const double s = Q.min_along(P.faces[f].normal) - P.faces[f].offset;
+    if (s > best) {
+      best = s, q.face = f, q.sep = s;
+      if (s > spec) return q;
+    }
+  }
+  return q;
+}
+
+// Separation along E1 x E2 oriented away from P's centroid c1, or -inf when parallel.
+double edge_projection(const Vec3& p1, const Vec3& e1, const Vec3& p2, const Vec3& e2, const Vec3& c1,
+                       Vec3* axis) {
+  const Vec3 x = e1.cross(e2);
+  const double L = x.norm();
+  if (L < kParallelEdgeTol * std::sqrt(e1.squaredNorm() * e2.squaredNorm())) return -INFINITY;
+  Vec3 n = x / L;
+  if (n.dot(p1 - c1) < 0) n = -n;
+  if (axis) *axis = n;
+  return n.dot(p2 - p1);
+}
 
 struct EdgeQuery {
   int ea = -1, eb = -1;  // edge indices (half-edges 2k)
@@ -109,7 +113,10 @@ struct EdgeQuery {
   Vec3 axis = Vec3::Zero();
 };
 
-EdgeQuery query_edges(const ConvexPolyhedron& P, const QInP& Q, double spec) {
+// Edge pairs whose Gauss-map arcs cross (Gregorius's Minkowski-face test). Only axes whose
+// separation exceeds `thr` are normalised (the test is decided on squares first): the others can
+// neither separate nor win the axis choice.
+EdgeQuery query_edges(const ConvexPolyhedron& P, const QInP& Q, double thr) {
   EdgeQuery q;
   const int EP = P.edge_count(), EQ = Q.Q->edge_count();
   for (int i = 0; i < EP; ++i) {
@@ -117,21 +124,29 @@ EdgeQuery query_edges(const ConvexPolyhedron& P, const QInP& Q, double spec) {
     const auto& t1 = P.edges[2 * i + 1];
     const Vec3& p1 = P.vertices[h1.origin];
     const Vec3 e1 = P.vertices[t1.origin] - p1;
+    const double e1sq = e1.squaredNorm();
     const Vec3& u1 = P.faces[h1.face].normal;
     const Vec3& v1 = P.faces[t1.face].normal;
     for (int j = 0; j < EQ; ++j) {
       const auto& h2 = Q.Q->edges[2 * j];
       const auto& t2 = Q.Q->edges[2 * j + 1];
-      const Vec3 u2 = Q.normal(h2.face), v2 = Q.normal(t2.face);
       const Vec3 p2 = Q.vert(h2.origin);
       const Vec3 e2 = Q.vert(t2.origin) - p2;
-      if (!is_minkowski_face(u1, v1, -e1, -u2, -v2, -e2)) continue;
+      // Arcs (u1, v1) and (-u2, -v2) cross: with B x A = -e1 and D x C = -e2.
+      const Vec3 u2 = Q.normal(h2.face), v2 = Q.normal(t2.face);
+      const double cba = u2.dot(e1), dba = v2.dot(e1), adc = -u1.dot(e2), bdc = -v1.dot(e2);
+      if (!(cba * dba < 0 && adc * bdc < 0 && cba * bdc > 0)) continue;
+      const Vec3 x = e1.cross(e2);
+      const double L2 = x.squaredNorm();
+      if (L2 < kParallelEdgeTol * kParallelEdgeTol * e1sq * e2.squaredNorm()) continue;
+      double num = x.dot(p2 - p1);
+      if (x.dot(p1 - P.centroid) < 0) num = -num;
+      const bool pass =
+          thr >= 0 ? (num > 0 && num * num > thr * thr * L2) : (num >= 0 || num * num < thr * thr * L2);
+      if (!pass) continue;
       Vec3 axis;
       const double s = edge_projection(p1, e1, p2, e2, P.centroid, &axis);
-      if (s > q.sep) {
-        q.sep = s, q.ea = i, q.eb = j, q.axis = axis;
-        if (s > spec) return q;
-      }
+      if (s > q.sep) q.sep = s, q.ea = i, q.eb = j, q.axis = axis;
     }
   }
   return q;
@@ -260,27 +275,27 @@ int hull_hull(const CollideShape& a, const Pose& xa, const CollideShape& b, cons
     }
   }
   // 2. Full SAT, the cached face preferred within the tolerance.
-  const FaceQuery fa = query_faces(A, B, TBA, cache.type == kCacheFaceA ? cache.a : -1, tol, spec);
+  const QInP BinA(B, TBA), AinB(A, TAB);
+  const FaceQuery fa = query_faces(A, BinA, cache.type == kCacheFaceA ? cache.a : -1, tol, spec);
   if (fa.sep > spec) {
     cache = {kCacheFaceA, fa.face, -1, Vec3::Zero()};
     out.normal_W = xa.R * A.faces[fa.face].normal;
     return 0;
   }
-  const FaceQuery fb = query_faces(B, A, TAB, cache.type == kCacheFaceB ? cache.b : -1, tol, spec);
+  const FaceQuery fb = query_faces(B, AinB, cache.type == kCacheFaceB ? cache.b : -1, tol, spec);
   if (fb.sep > spec) {
     cache = {kCacheFaceB, -1, fb.face, Vec3::Zero()};
     out.normal_W = -(xb.R * B.faces[fb.face].normal);
     return 0;
   }
-  const QInP BinA(B, TBA);
-  const EdgeQuery eq = query_edges(A, BinA, spec);
+  const double face_best = std::max(fa.sep, fb.sep);
+  const EdgeQuery eq = query_edges(A, BinA, std::min(spec, kRelEdgeTol * face_best + tol));
   if (eq.sep > spec) {
     cache = {kCacheEdges, eq.ea, eq.eb, Vec3::Zero()};
     out.normal_W = xa.R * eq.axis;
     return 0;
   }
   // 3. Choose the axis: A's face, unless B's face or the edge pair is clearly better.
-  const double face_best = std::max(fa.sep, fb.sep);
   const bool edge = eq.ea >= 0 && eq.sep > kRelEdgeTol * face_best + tol;
   if (edge) {
     cache = {kCacheEdges, eq.ea, eq.eb, Vec3::Zero()};
@@ -356,6 +371,11 @@ inline double box_edge_sep(int i, int j, const Vec3& ha, const Vec3& hb, const M
     *axis = (e.tl >= 0 ? 1.0 : -1.0) * L / len;
   }
   return e.num / len;
+}
+
+// World normal of box face f (make_box_polyhedron numbering: 2i is -axis i, 2i+1 is +axis i).
+inline Vec3 box_face_normal_W(const Pose& x, int f) {
+  return (f & 1) ? Vec3(x.R.col(f >> 1)) : Vec3(-x.R.col(f >> 1));
 }
 
 struct BoxClipVertex {
@@ -437,10 +457,10 @@ int box_box(const CollideShape& a, const Pose& xa, const CollideShape& b, const 
   // 1. The cached axis first.
   if (cache.type == kCacheFaceA && cache.a >= 0 && cache.a < 6) {
     if (box_face_sep(cache.a, ha, hb, absC, t) > spec)
-      return out.normal_W = xa.R * a.hull->faces[cache.a].normal, 0;
+      return out.normal_W = box_face_normal_W(xa, cache.a), 0;
   } else if (cache.type == kCacheFaceB && cache.b >= 0 && cache.b < 6) {
     if (box_face_sep(cache.b, hb, ha, absCt, -tb) > spec)
-      return out.normal_W = -(xb.R * b.hull->faces[cache.b].normal), 0;
+      return out.normal_W = -(box_face_normal_W(xb, cache.b)), 0;
   } else if (cache.type == kCacheBoxEdges && cache.a >= 0 && cache.a < 3 && cache.b >= 0 && cache.b < 3) {
     Vec3 axis;
     if (box_edge_sep(cache.a, cache.b, ha, hb, C, absC, t, &axis) > spec)
@@ -463,12 +483,12 @@ int box_box(const CollideShape& a, const Pose& xa, const CollideShape& b, const 
   const FaceQuery fa = faces(ha, hb, absC, t, cache.type == kCacheFaceA ? cache.a : -1);
   if (fa.sep > spec) {
     cache = {kCacheFaceA, fa.face, -1, Vec3::Zero()};
-    return out.normal_W = xa.R * a.hull->faces[fa.face].normal, 0;
+    return out.normal_W = box_face_normal_W(xa, fa.face), 0;
   }
   const FaceQuery fb = faces(hb, ha, absCt, -tb, cache.type == kCacheFaceB ? cache.b : -1);
   if (fb.sep > spec) {
     cache = {kCacheFaceB, -1, fb.face, Vec3::Zero()};
-    return out.normal_W = -(xb.R * b.hull->faces[fb.face].normal), 0;
+    return out.normal_W = -(box_face_normal_W(xb, fb.face)), 0;
   }
   // Edge axes: only those that could matter (separating beyond spec, or deep enough to win the
   // axis choice below) are normalised; the others are rejected without a square root.
@@ -535,11 +555,11 @@ int box_box(const CollideShape& a, const Pose& xa, const CollideShape& b, const 
   int nc;
   if (!(fb.sep > kRelFaceTol * fa.sep + tol)) {
     cache = {kCacheFaceA, fa.face, -1, Vec3::Zero()};
-    out.normal_W = xa.R * a.hull->faces[fa.face].normal;
+    out.normal_W = box_face_normal_W(xa, fa.face);
     nc = box_face_contact(ha, fa.face >> 1, (fa.face & 1) ? 1.0 : -1.0, hb, C, t, xa, spec, cand);
   } else {
     cache = {kCacheFaceB, -1, fb.face, Vec3::Zero()};
-    out.normal_W = -(xb.R * b.hull->faces[fb.face].normal);
+    out.normal_W = -(box_face_normal_W(xb, fb.face));
     nc = box_face_contact(hb, fb.face >> 1, (fb.face & 1) ? 1.0 : -1.0, ha, Mat3(C.transpose()), -tb, xb,
                           spec, cand);
   }

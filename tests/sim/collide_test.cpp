@@ -87,6 +87,22 @@ ConvexPolyhedron tetrahedron(double s) {
   return make_polyhedron(v, {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}});
 }
 
+// A right prism over a regular n-gon of circumradius r, height 2 hz (faces with n vertices).
+ConvexPolyhedron prism(int n, double r, double hz) {
+  std::vector<Vec3> v;
+  for (int k = 0; k < n; ++k)
+    v.push_back(Vec3(r * std::cos(2 * kPi * k / n), r * std::sin(2 * kPi * k / n), -hz));
+  for (int k = 0; k < n; ++k)
+    v.push_back(Vec3(r * std::cos(2 * kPi * k / n), r * std::sin(2 * kPi * k / n), hz));
+  std::vector<std::vector<int>> loops;
+  std::vector<int> bottom, top;
+  for (int k = 0; k < n; ++k) bottom.push_back(n - 1 - k), top.push_back(n + k);
+  loops.push_back(bottom);
+  loops.push_back(top);
+  for (int k = 0; k < n; ++k) loops.push_back({k, (k + 1) % n, n + (k + 1) % n, n + k});
+  return make_polyhedron(v, loops);
+}
+
 CollideShape plane() {
   CollideShape s;
   s.kind = CollideKind::plane;
@@ -754,6 +770,31 @@ TEST(Collide, EveryPairIsFiniteAndBoundedEvenWhenDeepOrConcentric) {
       EXPECT_LE(m.points[i].separation, 0.05);
     }
   }
+}
+
+TEST(Collide, TestPolyhedraAreValid) {
+  EXPECT_EQ(polyhedron_problem(octahedron(1.0)), "");
+  EXPECT_EQ(polyhedron_problem(tetrahedron(1.0)), "");
+  EXPECT_EQ(polyhedron_problem(prism(100, 1.0, 0.2)), "");
+}
+
+TEST(Collide, FacesWithMoreThan64VerticesAreDecimated) {
+  // A 100-gon prism standing on a box (its bottom face is the incident face: clipped as a
+  // 50-vertex sub-polygon) and a box standing on the prism (reference face with 100 side
+  // planes): 4 points at the right depth, inside the 100-gon's circumcircle.
+  const CollideShape pr = hull(prism(100, 0.5, 0.2)), b = box(Vec3(1, 1, 0.5));
+  Manifold m = run(b, pose(Vec3::Zero()), pr, pose(Vec3(0, 0, 0.699)));
+  ASSERT_EQ(m.count, 4);
+  for (int i = 0; i < 4; ++i) {
+    EXPECT_NEAR(m.points[i].separation, -0.001, kExact);
+    EXPECT_LE(std::hypot(m.points[i].p_W.x(), m.points[i].p_W.y()), 0.5 + kExact);
+    EXPECT_GT(std::hypot(m.points[i].p_W.x(), m.points[i].p_W.y()), 0.45);
+  }
+  const CollideShape small = box(Vec3(0.2, 0.2, 0.2));
+  m = run(pr, pose(Vec3::Zero()), small, pose(Vec3(0.1, 0, 0.399)));
+  expect_points(
+      m, {Vec3(-0.1, -0.2, 0.1995), Vec3(-0.1, 0.2, 0.1995), Vec3(0.3, -0.2, 0.1995), Vec3(0.3, 0.2, 0.1995)},
+      -0.001, kExact);
 }
 
 }  // namespace
