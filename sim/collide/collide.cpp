@@ -29,34 +29,57 @@
 //                                   touches the hull. When the normal is a hull face's (within
 //                                   ~2.6 degrees) and the segment lies along it, the segment is
 //                                   clipped against the face's side planes (2 points, as Box3D).
-//   box-box, box-hull, hull-hull    SAT over both bodies' face normals and the edge pairs whose
+//   box-box                         SAT in closed form over the 15 axes (3 + 3 face normals, 9
+//                                   edge-direction cross products; Gottschalk, Lin, Manocha,
+//                                   "OBBTree", SIGGRAPH 1996), edge axes rejected on squares before
+//                                   any square root; face contact by clipping the incident face's
+//                                   rectangle against the reference face's 4 side planes in the
+//                                   reference box's frame; up to 4 points. Same axis hysteresis,
+//                                   cache and ids scheme as below (cache type 4: box edge axes).
+//   box-hull, hull-hull             SAT over both bodies' face normals and the edge pairs whose
 //                                   Gauss-map arcs intersect (D. Gregorius, "The Separating Axis
 //                                   Test between Convex Polyhedra", GDC 2013), the last axis kept
-//                                   in PairCache and tested first (early out when separated by
-//                                   more than the speculative distance). Axis choice with
-//                                   hysteresis: B's face wins over A's only when deeper by
-//                                   kRelFaceTol * sA + kAbsTol, an edge pair only when deeper than
-//                                   kRelEdgeTol * max(face) + kAbsTol. Face contact: reference
+//                                   in PairCache (type 1 face of A, 2 face of B, 3 edge pair) and
+//                                   tested first (early out when separated by more than the
+//                                   speculative distance); the cached face also wins ties within
+//                                   kAbsTol. Axis choice with hysteresis: B's face wins over A's
+//                                   only when its separation exceeds kRelFaceTol (0.98) * sA +
+//                                   kAbsTol, an edge pair only when it exceeds kRelEdgeTol (0.9) *
+//                                   max(face) + kAbsTol, kAbsTol = 1e-3 * (sum of the two inner
+//                                   radii) - so a reported depth may exceed the minimum one by
+//                                   those margins, never fall short of it. Face contact: reference
 //                                   face, incident face = the other body's most anti-parallel
-//                                   face, Sutherland-Hodgman clipping against the reference
-//                                   face's side planes, points kept below the reference plane +
-//                                   speculative, reduced to 4. Edge contact: 1 point, the closest
-//                                   points of the two edges.
+//                                   face, Sutherland-Hodgman clipping (CACM 17(1), 1974) against
+//                                   the reference face's side planes, points kept below the
+//                                   reference plane + speculative, reduced to 4. Edge contact: 1
+//                                   point, the closest points of the two edges.
 //   everything else                 GJK (Gilbert-Johnson-Keerthi, with Ericson's closest-point-on-
 //   (cylinder, ellipsoid pairs)     simplex sub-algorithm) on the cores with the sphere/capsule
 //                                   radius as a margin; when the cores overlap, EPA (van den
 //                                   Bergen 2001) from GJK's final simplex. 1 point.
 //
-// FEATURE IDS: plane pairs use the vertex or point index; polyhedron face contacts use
-// (feature of the segment, feature of the clip plane) with 14-bit indices tagged by kind (vertex,
-// incident half-edge, reference side plane) so they persist while the same features touch.
+// REDUCTION (more than 4 candidates): the deepest point, then the point furthest from it in the
+// contact plane, then the two points making the largest signed areas on either side of that
+// diagonal (the quadrilateral of largest area containing the deepest point); ties to the lowest
+// index, so the choice is deterministic.
+//
+// FEATURE IDS: plane pairs use the vertex or point index (plane-cylinder: 0 the lower disk's
+// deepest rim point, 1 the upper disk's, 2-4 the lower disk's points at +90, -90, 180 degrees from
+// it); polyhedron face contacts use (feature of the incident polygon edge, feature of the clip
+// plane) with 14-bit indices tagged by kind (incident vertex, incident half-edge 0x4000,
+// reference side plane 0x8000), so they persist while the same features touch; an unclipped
+// incident vertex is its vertex index. Ids are unique within a manifold. Hulls may have at most
+// 16383 half-edges for the ids to stay unique.
+//
+// SHAPES: a box needs `hull` (its make_box_polyhedron) for box-hull and capsule-box; box-box,
+// box-plane and sphere-box read only half_extents. Plane-plane gives no contact.
 //
 // TOLERANCES: GJK stops when |v|^2 - v.w <= 1e-12 |v|^2 (relative gap), when a support point
 // repeats, or after 64 iterations; |v| <= 1e-10 * (size of the pair) counts as touching. EPA stops
 // when the support along the closest face's normal gains <= 1e-9 * size, after 64 iterations, or
 // when its 64 vertices / 128 faces are used up (the best face so far is returned). Incident faces
 // with more than kMaxFaceVerts = 64 vertices are clipped as a 64-vertex sub-polygon (every k-th
-// vertex); hulls with more than 256 vertices or edges transform them on the fly (slower, same
+// vertex); hulls with more than 256 vertices or faces transform them on the fly (slower, same
 // result).
 #include "sim/collide/internal.hpp"
 
