@@ -4,8 +4,9 @@
 //   box_box_resting     a cube resting on a cube, fresh cache every call (full SAT + clip)
 //   box_box_cached      the same with the pair's cache kept between calls (as the world does)
 //   box_box_separated   cubes 5 cm apart beyond a 1 cm margin, cache kept (early out)
-//   sphere_sphere, sphere_box, capsule_box, hull_hull (octahedron-free: two 20-vertex boxes
-//   treated as hulls), cylinder_box (GJK/EPA)
+//   box_box_separated_nocache  the same without the cache (full SAT to find the separating axis)
+//   sphere_sphere, sphere_box, capsule_box_lying (2 points), hull_hull (two unit cubes given as
+//   hulls: the general polyhedron path), cylinder_box (GJK, then EPA when overlapping)
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -30,7 +31,7 @@ Mat3 small_rotation(std::mt19937_64& g, double eps) {
 }
 
 void run_case(const char* name, const CollideShape& a, const CollideShape& b, const Vec3& offset, double spec,
-              bool keep_cache, double rot_eps = 0.01) {
+              bool keep_cache, double rot_eps = 0.01, const Mat3& Rb0 = Mat3::Identity()) {
   // COLLIDE_BENCH_ONLY=name runs one case (for profiling).
   const char* only = std::getenv("COLLIDE_BENCH_ONLY");
   if (only && std::strcmp(only, name) != 0) return;
@@ -40,7 +41,7 @@ void run_case(const char* name, const CollideShape& a, const CollideShape& b, co
   for (Pair& p : pairs) {
     p.xa.R = small_rotation(g, rot_eps);
     p.xa.p = Vec3(U(g), U(g), U(g));
-    p.xb.R = small_rotation(g, rot_eps);
+    p.xb.R = small_rotation(g, rot_eps) * Rb0;
     p.xb.p = offset + Vec3(U(g), U(g), U(g));
   }
   long points = 0, calls = 0;
@@ -84,16 +85,16 @@ int main() {
   cyl.bounding_radius = 0.5;
   const double spec = 0.01;
   std::printf("case,ns_per_call,points_per_call\n");
-  Eigen::AngleAxisd lie(M_PI / 2, Vec3::UnitY());
+  const Mat3 lie = Eigen::AngleAxisd(M_PI / 2, Vec3::UnitY()).toRotationMatrix();  // capsule axis along x
   run_case("box_plane", plane, cube, Vec3(0, 0, 0.499), spec, true);
   run_case("box_box_resting", cube, cube, Vec3(0.05, 0.02, 0.999), spec, false);
   run_case("box_box_cached", cube, cube, Vec3(0.05, 0.02, 0.999), spec, true);
   run_case("box_box_separated", cube, cube, Vec3(0.05, 0.02, 1.05), spec, true);
+  run_case("box_box_separated_nocache", cube, cube, Vec3(0.05, 0.02, 1.05), spec, false);
   run_case("sphere_sphere", sph, sph, Vec3(0.3, 0.2, 0.9), spec, true);
   run_case("sphere_box", sph, cube, Vec3(0.3, 0.2, 0.99), spec, true);
-  run_case("capsule_box", cap, cube, Vec3(0.1, 0.0, 0.699), spec, true, 0.01);
+  run_case("capsule_box_lying", cube, cap, Vec3(0.1, 0.0, 0.699), spec, true, 0.01, lie);
   run_case("hull_hull", hull_cube, hull_cube, Vec3(0.05, 0.02, 0.999), spec, true);
   run_case("cylinder_box", cube, cyl, Vec3(0.1, 0.0, 0.899), spec, true);
-  (void)lie;
   return 0;
 }

@@ -439,7 +439,7 @@ int box_face_contact(const Vec3& hr, int i, double sr, const Vec3& hi, const Mat
     if (s > spec) continue;
     Vec3 mid = x;
     mid[i] -= 0.5 * s * sr;
-    cand[nc++] = {xr.apply(mid), s, buf[cur][q].id};
+    cand[nc++] = {Vec3(xr.R.lazyProduct(mid) + xr.p), s, buf[cur][q].id};
   }
   return nc;
 }
@@ -448,11 +448,12 @@ int box_face_contact(const Vec3& hr, int i, double sr, const Vec3& hi, const Mat
 int box_box(const CollideShape& a, const Pose& xa, const CollideShape& b, const Pose& xb, double spec,
             PairCache& cache, Manifold& out) {
   const Vec3 &ha = a.half_extents, &hb = b.half_extents;
-  const Mat3 C = xa.R.transpose() * xb.R;
-  const Vec3 t = xa.R.transpose() * (xb.p - xa.p);
+  // (lazyProduct: Eigen's 3x3 products otherwise go through an out-of-line kernel at -O2.)
+  const Mat3 C = xa.R.transpose().lazyProduct(xb.R);
+  const Vec3 t = xa.R.transpose().lazyProduct(Vec3(xb.p - xa.p));
   const Mat3 absC = C.cwiseAbs();
   const Mat3 absCt = absC.transpose();
-  const Vec3 tb = C.transpose() * t;  // A's centre is at -tb in B's frame
+  const Vec3 tb = C.transpose().lazyProduct(t);  // A's centre is at -tb in B's frame
   const double tol = 1e-3 * (ha.minCoeff() + hb.minCoeff());
   // 1. The cached axis first.
   if (cache.type == kCacheFaceA && cache.a >= 0 && cache.a < 6) {
