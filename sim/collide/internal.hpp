@@ -57,6 +57,11 @@ inline Vec3 any_perpendicular(const Vec3& u) {
   return u.cross(t).normalized();
 }
 
+// The rim points of a cylinder against a plane of unit normal n (pointing from the plane to the
+// cylinder), in the world: 0 the lower disk's deepest point (exact), 1 the upper disk's, 2-4 the
+// lower disk's points at +90, -90 and 180 degrees from the deepest one.
+void cylinder_rim_points(const CollideShape& cyl, const Pose& xc, const Vec3& n, Vec3 q[5]);
+
 // ---------------------------------------------------------------- support mapping (GJK/EPA)
 // A shape as GJK sees it: a core (sphere: its centre; capsule: its segment; the others: the
 // whole solid) plus a margin (the sphere or capsule radius).
@@ -109,6 +114,8 @@ int box_box(const CollideShape&, const Pose&, const CollideShape&, const Pose&, 
             Manifold&);
 int hull_hull(const CollideShape&, const Pose&, const CollideShape&, const Pose&, double, PairCache&,
               Manifold&);
+int cylinder_hull(const CollideShape&, const Pose&, const CollideShape&, const Pose&, double, PairCache&,
+                  Manifold&);
 int convex_generic(const CollideShape&, const Pose&, const CollideShape&, const Pose&, double, PairCache&,
                    Manifold&);
 

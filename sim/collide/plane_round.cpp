@@ -42,29 +42,34 @@ int plane_capsule(const CollideShape&, const Pose& xa, const CollideShape& b, co
   return out.count;
 }
 
-int plane_cylinder(const CollideShape&, const Pose& xa, const CollideShape& b, const Pose& xb, double spec,
-                   PairCache&, Manifold& out) {
-  const WorldPlane pl = plane_of(xa);
-  out.normal_W = pl.n;
+void cylinder_rim_points(const CollideShape& cyl, const Pose& xc, const Vec3& n, Vec3 q[5]) {
   // In the cylinder frame: the plane's normal m; the deepest rim point of a disk is at -r u/|u|,
   // u = m's component in the disk plane. Nearly standing (|u| tiny): the rim direction -x_C.
-  const Vec3 m = xb.R.transpose() * pl.n;
+  const Vec3 m = xc.R.transpose() * n;
   Vec3 u(m.x(), m.y(), 0);
   const double un = u.norm();
   u = un > 1e-12 ? Vec3(u / un) : Vec3(Vec3::UnitX());
   const Vec3 v = Vec3::UnitZ().cross(u);  // u, v, z right-handed in the disk plane
-  const double h = b.half_length, r = b.radius;
+  const double h = cyl.half_length, r = cyl.radius;
   // The lower disk is the one on the -m side: z = -h sign(m_z) (m_z = 0: both tie, take -h).
   const double zl = m.z() >= 0 ? -h : h;
-  Candidate c[5];
-  int n = 0;
   const Vec3 local[5] = {Vec3(-r * u.x(), -r * u.y(), zl), Vec3(-r * u.x(), -r * u.y(), -zl),
                          Vec3(-r * v.x(), -r * v.y(), zl), Vec3(r * v.x(), r * v.y(), zl),
                          Vec3(r * u.x(), r * u.y(), zl)};
+  for (int i = 0; i < 5; ++i) q[i] = xc.apply(local[i]);
+}
+
+int plane_cylinder(const CollideShape&, const Pose& xa, const CollideShape& b, const Pose& xb, double spec,
+                   PairCache&, Manifold& out) {
+  const WorldPlane pl = plane_of(xa);
+  out.normal_W = pl.n;
+  Vec3 q[5];
+  cylinder_rim_points(b, xb, pl.n, q);
+  Candidate c[5];
+  int n = 0;
   for (int i = 0; i < 5; ++i) {
-    const Vec3 q = xb.apply(local[i]);
-    const double s = pl.n.dot(q) - pl.d;
-    if (s <= spec) c[n++] = {Vec3(q - 0.5 * s * pl.n), s, (uint32_t)i};
+    const double s = pl.n.dot(q[i]) - pl.d;
+    if (s <= spec) c[n++] = {Vec3(q[i] - 0.5 * s * pl.n), s, (uint32_t)i};
   }
   reduce_to_manifold(c, n, pl.n, out);
   return out.count;

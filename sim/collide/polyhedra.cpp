@@ -706,3 +706,48 @@ int capsule_hull(const CollideShape& a, const Pose& xa, const CollideShape& b, c
 }
 
 }  // namespace simreel::collide_detail
+
+namespace simreel::collide_detail {
+
+int cylinder_hull(const CollideShape& a, const Pose& xa, const CollideShape& b, const Pose& xb, double spec,
+                  PairCache& cache, Manifold& out) {
+  if (convex_generic(a, xa, b, xb, spec, cache, out) == 0) return 0;
+  // The hull face whose outward normal opposes the normal (A -> B) within ~2.6 degrees.
+  const ConvexPolyhedron& H = *b.hull;
+  const Vec3 n_B = xb.R.transpose() * out.normal_W;
+  int f = 0;
+  double dmin = INFINITY;
+  for (int k = 0; k < (int)H.faces.size(); ++k) {
+    const double d = H.faces[k].normal.dot(n_B);
+    if (d < dmin) dmin = d, f = k;
+  }
+  if (dmin > -0.999) return out.count;
+  const auto& F = H.faces[f];
+  const Vec3 m = xb.R * F.normal;  // towards the cylinder
+  const double d = m.dot(xb.p) + F.offset;
+  Vec3 q[5];
+  cylinder_rim_points(a, xa, m, q);
+  Candidate c[5];
+  int nc = 0;
+  const double eps = 1e-12 * (a.bounding_radius + b.bounding_radius);
+  for (int i = 0; i < 5; ++i) {
+    const double s = m.dot(q[i]) - d;
+    if (s > spec) continue;
+    // Inside the face's prism (its side planes, hull frame)?
+    const Vec3 x = xb.apply_inverse(q[i]);
+    bool inside = true;
+    int e = F.edge;
+    do {
+      const Vec3& P = H.vertices[H.edges[e].origin];
+      const Vec3& Q = H.vertices[H.edges[H.edges[e].next].origin];
+      if ((Q - P).cross(F.normal).dot(x - P) > eps) inside = false;
+      e = H.edges[e].next;
+    } while (inside && e != F.edge);
+    if (inside) c[nc++] = {Vec3(q[i] - 0.5 * s * m), s, (uint32_t)i | ((uint32_t)f << 16)};
+  }
+  if (nc == 0) return out.count;  // the rim is off the face: keep GJK/EPA's point
+  reduce_to_manifold(c, nc, Vec3(-m), out);
+  return out.count;
+}
+
+}  // namespace simreel::collide_detail

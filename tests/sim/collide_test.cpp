@@ -556,10 +556,10 @@ TEST(Collide, GjkPairsMatchClosedForms) {
       EXPECT_NEAR(m.points[0].separation, gap, 1e-7) << k;
       EXPECT_NEAR(m.normal_W[k], 1.0, 1e-6);
     }
-  // Cylinder lying on its side on a box: the line of contact, separation exact.
+  // Cylinder lying on its side on a box (box first: the swapped order): both ends of the line.
   m = run(b, pose(Vec3::Zero()), cy, pose(Vec3(0, 0, 0.5 + 0.3 - 0.01), rot(kPi / 2, Vec3::UnitX())), 0.0);
-  ASSERT_EQ(m.count, 1);
-  EXPECT_NEAR(m.points[0].separation, -0.01, 1e-7);
+  expect_points(m, {Vec3(0, -0.5, 0.495), Vec3(0, 0.5, 0.495)}, -0.01, 1e-9);
+  EXPECT_LT((m.normal_W - Vec3::UnitZ()).norm(), 1e-9);
 }
 
 // Random rotation from a seeded generator.
@@ -795,6 +795,30 @@ TEST(Collide, FacesWithMoreThan64VerticesAreDecimated) {
   expect_points(
       m, {Vec3(-0.1, -0.2, 0.1995), Vec3(-0.1, 0.2, 0.1995), Vec3(0.3, -0.2, 0.1995), Vec3(0.3, 0.2, 0.1995)},
       -0.001, kExact);
+}
+
+TEST(Collide, CylinderOnBoxStandsLiesAndRolls) {
+  const CollideShape cy = cylinder(0.3, 0.4), b = box(Vec3(1, 1, 0.5));
+  const Pose xb = pose(Vec3::Zero());
+  // Standing on its end, 1 mm deep: 4 rim points.
+  Manifold m = run(cy, pose(Vec3(0.1, 0.2, 0.899)), b, xb, 0.0);
+  ASSERT_EQ(m.count, 4);
+  EXPECT_LT((m.normal_W + Vec3::UnitZ()).norm(), 1e-9);
+  for (int i = 0; i < 4; ++i) {
+    EXPECT_NEAR(m.points[i].separation, -0.001, 1e-9);
+    EXPECT_NEAR((m.points[i].p_W - Vec3(0.1, 0.2, 0.4995)).norm(), 0.3, 1e-9);
+  }
+  // Lying on its side: the two ends of the line of contact.
+  m = run(cy, pose(Vec3(0, 0, 0.799), rot(kPi / 2, Vec3::UnitX())), b, xb, 0.0);
+  expect_points(m, {Vec3(0, -0.4, 0.4995), Vec3(0, 0.4, 0.4995)}, -0.001, 1e-9);
+  // Tilted on its rim: the exact rim point (as on a plane).
+  const double th = 0.4, r = 0.3, hl = 0.4;
+  const Vec3 c(0.2, 0.1, 0.5 + hl * std::cos(th) + r * std::sin(th) - 0.003);
+  m = run(cy, pose(c, rot(th, Vec3::UnitX())), b, xb, 0.0);
+  ASSERT_EQ(m.count, 1);
+  const Vec3 x = c + Vec3(0, hl * std::sin(th) - r * std::cos(th), -hl * std::cos(th) - r * std::sin(th));
+  EXPECT_NEAR(m.points[0].separation, -0.003, 1e-9);
+  EXPECT_LT((m.points[0].p_W - (x + Vec3(0, 0, 0.0015))).norm(), 1e-9);
 }
 
 }  // namespace
