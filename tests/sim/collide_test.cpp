@@ -4,13 +4,34 @@
 // good to ~1e-6 relative at worst (1e-9 typical); EPA stops when the support gains <= 1e-9 * size.
 #include <gtest/gtest.h>
 
+#include <atomic>
+#include <cstdlib>
 #include <cstring>
 #include <deque>
 #include <map>
+#include <new>
 #include <random>
 
 #include "sim/collide/internal.hpp"
 #include "sim/collide/manifold.hpp"
+
+// Counts heap allocations in this test binary (to check that collide() never allocates). GCC
+// flags free() on memory from operator new even when operator new is this malloc wrapper.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
+static std::atomic<long> g_allocations{0};
+void* operator new(std::size_t n) {
+  ++g_allocations;
+  if (void* p = std::malloc(n ? n : 1)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept {
+  std::free(p);
+}
+void operator delete(void* p, std::size_t) noexcept {
+  std::free(p);
+}
+#pragma GCC diagnostic pop
 
 namespace simreel {
 namespace {
@@ -819,6 +840,29 @@ TEST(Collide, CylinderOnBoxStandsLiesAndRolls) {
   const Vec3 x = c + Vec3(0, hl * std::sin(th) - r * std::cos(th), -hl * std::cos(th) - r * std::sin(th));
   EXPECT_NEAR(m.points[0].separation, -0.003, 1e-9);
   EXPECT_LT((m.points[0].p_W - (x + Vec3(0, 0, 0.0015))).norm(), 1e-9);
+}
+
+TEST(Collide, NeverAllocates) {
+  const CollideShape shapes[] = {plane(),
+                                 sphere(0.3),
+                                 capsule(0.2, 0.4),
+                                 cylinder(0.3, 0.4),
+                                 ellipsoid(Vec3(0.2, 0.3, 0.5)),
+                                 box(Vec3(0.3, 0.4, 0.5)),
+                                 hull(octahedron(0.6))};
+  std::mt19937_64 g(11);
+  std::uniform_real_distribution<double> U(-0.4, 0.4);
+  std::vector<Pose> poses;
+  for (int i = 0; i < 200; ++i) poses.push_back(pose(Vec3(U(g), U(g), 0.5 + U(g)), random_rotation(g)));
+  const long before = g_allocations.load();
+  int total = 0;
+  for (int i = 0; i < 200; ++i) {
+    PairCache cache;
+    Manifold m;
+    total += collide(shapes[i % 7], pose(Vec3::Zero()), shapes[(i / 7) % 7], poses[i], 0.05, cache, m);
+  }
+  EXPECT_EQ(g_allocations.load(), before);
+  EXPECT_GT(total, 0);
 }
 
 }  // namespace
