@@ -226,20 +226,21 @@ Simplex run_gjk(const Support& A, const Support& B, bool& overlap, double& dist)
     for (int i = 0; i < s.n; ++i)
       if ((s.v[i].w - w.w).squaredNorm() <= 1e-28 * size * size) repeat = true;
     if (repeat) break;
-    Simplex prev = s;
+    const Simplex prev = s;
     s.v[s.n++] = w;
     if (solve(s)) {
       overlap = true;
       break;
     }
     const Vec3 nv = s.closest();
-    if (nv.squaredNorm() >= vv) {  // no progress (rounding): keep the previous simplex
+    if (nv.squaredNorm() >= vv) {  // no progress (rounding, or a degenerate simplex): keep the previous one
       s = prev;
       break;
     }
     v = nv;
   }
-  dist = overlap ? 0.0 : v.norm();
+  // The distance and (in the callers) the normal come from the final simplex's witnesses.
+  dist = overlap ? 0.0 : s.closest().norm();
   return s;
 }
 
@@ -382,8 +383,9 @@ CoreDistance gjk_distance(const Support& A, const Support& B, bool& overlap) {
   const Simplex s = run_gjk(A, B, overlap, dist);
   CoreDistance r;
   s.witnesses(r.pA, r.pB);
-  r.separation = dist;
-  if (!overlap && dist > 0) r.normal = (r.pB - r.pA) / dist;
+  (void)dist;
+  r.separation = overlap ? 0.0 : (r.pB - r.pA).norm();
+  if (r.separation > 0) r.normal = (r.pB - r.pA) / r.separation;
   return r;
 }
 
@@ -394,8 +396,8 @@ CoreDistance core_distance(const Support& A, const Support& B) {
   CoreDistance r;
   if (!overlap) {
     s.witnesses(r.pA, r.pB);
-    r.separation = dist;
-    r.normal = (r.pB - r.pA) / dist;
+    r.separation = (r.pB - r.pA).norm();
+    r.normal = r.separation > 0 ? Vec3((r.pB - r.pA) / r.separation) : Vec3(Vec3::UnitZ());
     return r;
   }
   if (run_epa(A, B, s, r)) return r;
