@@ -415,6 +415,10 @@ int box_face_contact(const Vec3& hr, int i, double sr, const Vec3& hi, const Mat
     const double sd = sides[p], off = hr[u];
     const uint32_t tag = kTagPlane | (uint32_t)(2 * u + (sd > 0));
     const BoxClipVertex* in = buf[cur];
+    // Nothing outside this side plane (the usual case for most of the four): no copy.
+    bool any_out = false;
+    for (int q = 0; q < n; ++q) any_out |= sd * in[q].x[u] > off;
+    if (!any_out) continue;
     BoxClipVertex* o = buf[cur ^ 1];
     int m = 0;
     for (int q = 0; q < n; ++q) {
