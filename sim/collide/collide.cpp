@@ -53,11 +53,13 @@
 //                                   the reference face's side planes, points kept below the
 //                                   reference plane + speculative, reduced to 4. Edge contact: 1
 //                                   point, the closest points of the two edges.
-//   cylinder-box, cylinder-hull     GJK/EPA (below) for the normal; when it is a hull face's
-//                                   normal (within ~2.6 degrees) the cylinder's rim points against
-//                                   that face's plane, as plane-cylinder, those inside the face
-//                                   (so a cylinder stands on 4 points, lies on 2, rolls on its
-//                                   exact rim point); otherwise GJK/EPA's single point.
+//   cylinder-box, cylinder-hull,    GJK/EPA (below) for the normal; when it is a hull face's
+//   ellipsoid-box, ellipsoid-hull   normal (within ~2.6 degrees), the exact points against that
+//                                   face's plane, as for a plane, those inside the face: the
+//                                   cylinder's rim points (stands on 4 points, lies on 2, rolls on
+//                                   its exact rim point), the ellipsoid's exact support point (no
+//                                   EPA facets while it rolls on a face); otherwise GJK/EPA's
+//                                   single point.
 //   everything else                 GJK (Gilbert-Johnson-Keerthi, with Ericson's closest-point-on-
 //   (cylinder, ellipsoid pairs)     simplex sub-algorithm) on the cores with the sphere/capsule
 //                                   radius as a margin; when the cores overlap, EPA (van den
@@ -203,8 +205,10 @@ struct Table {
     set(C::sphere, C::hull, sphere_hull);
     set(C::capsule, C::box, capsule_hull);
     set(C::capsule, C::hull, capsule_hull);
-    set(C::cylinder, C::box, cylinder_hull);
-    set(C::cylinder, C::hull, cylinder_hull);
+    set(C::cylinder, C::box, curved_hull);
+    set(C::cylinder, C::hull, curved_hull);
+    set(C::ellipsoid, C::box, curved_hull);
+    set(C::ellipsoid, C::hull, curved_hull);
     set(C::box, C::box, box_box);
     set(C::box, C::hull, hull_hull);
     set(C::hull, C::hull, hull_hull);

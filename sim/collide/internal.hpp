@@ -114,8 +114,8 @@ int box_box(const CollideShape&, const Pose&, const CollideShape&, const Pose&, 
             Manifold&);
 int hull_hull(const CollideShape&, const Pose&, const CollideShape&, const Pose&, double, PairCache&,
               Manifold&);
-int cylinder_hull(const CollideShape&, const Pose&, const CollideShape&, const Pose&, double, PairCache&,
-                  Manifold&);
+int curved_hull(const CollideShape&, const Pose&, const CollideShape&, const Pose&, double, PairCache&,
+                Manifold&);
 int convex_generic(const CollideShape&, const Pose&, const CollideShape&, const Pose&, double, PairCache&,
                    Manifold&);
 

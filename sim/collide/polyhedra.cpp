@@ -713,8 +713,9 @@ int capsule_hull(const CollideShape& a, const Pose& xa, const CollideShape& b, c
 
 namespace simreel::collide_detail {
 
-int cylinder_hull(const CollideShape& a, const Pose& xa, const CollideShape& b, const Pose& xb, double spec,
-                  PairCache& cache, Manifold& out) {
+// Cylinder or ellipsoid (A) against a box or hull (B).
+int curved_hull(const CollideShape& a, const Pose& xa, const CollideShape& b, const Pose& xb, double spec,
+                PairCache& cache, Manifold& out) {
   if (convex_generic(a, xa, b, xb, spec, cache, out) == 0) return 0;
   // The hull face whose outward normal opposes the normal (A -> B) within ~2.6 degrees.
   const ConvexPolyhedron& H = *b.hull;
@@ -729,12 +730,22 @@ int cylinder_hull(const CollideShape& a, const Pose& xa, const CollideShape& b, 
   const auto& F = H.faces[f];
   const Vec3 m = xb.R * F.normal;  // towards the cylinder
   const double d = m.dot(xb.p) + F.offset;
+  // Cylinder: its rim points against the face's plane; ellipsoid: its exact support point along
+  // -m, p_C = -diag(r^2) m_C / |diag(r) m_C| (as plane_ellipsoid).
   Vec3 q[5];
-  cylinder_rim_points(a, xa, m, q);
+  int nq = 5;
+  if (a.kind == CollideKind::cylinder) {
+    cylinder_rim_points(a, xa, m, q);
+  } else {
+    const Vec3 mc = xa.R.transpose() * m;
+    const Vec3 rm = a.radii.cwiseProduct(mc);
+    q[0] = xa.apply(-a.radii.cwiseProduct(rm) / rm.norm());
+    nq = 1;
+  }
   Candidate c[5];
   int nc = 0;
   const double eps = 1e-12 * (a.bounding_radius + b.bounding_radius);
-  for (int i = 0; i < 5; ++i) {
+  for (int i = 0; i < nq; ++i) {
     const double s = m.dot(q[i]) - d;
     if (s > spec) continue;
     // Inside the face's prism (its side planes, hull frame)?
@@ -749,7 +760,7 @@ int cylinder_hull(const CollideShape& a, const Pose& xa, const CollideShape& b, 
     } while (inside && e != F.edge);
     if (inside) c[nc++] = {Vec3(q[i] - 0.5 * s * m), s, (uint32_t)i | ((uint32_t)f << 16)};
   }
-  if (nc == 0) return out.count;  // the rim is off the face: keep GJK/EPA's point
+  if (nc == 0) return out.count;  // off the face: keep GJK/EPA's point
   reduce_to_manifold(c, nc, Vec3(-m), out);
   return out.count;
 }

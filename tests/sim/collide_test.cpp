@@ -842,6 +842,21 @@ TEST(Collide, CylinderOnBoxStandsLiesAndRolls) {
   EXPECT_LT((m.points[0].p_W - (x + Vec3(0, 0, 0.0015))).norm(), 1e-9);
 }
 
+TEST(Collide, EllipsoidOnBoxFaceIsExact) {
+  // Rotated ellipsoid sunk 2 mm into a box's top face: the exact support point and depth (as on
+  // a plane), not EPA's polytope approximation of the curved surface.
+  const Vec3 r(0.3, 0.5, 0.8);
+  const Mat3 Re = rot(0.7, Vec3(1, -1, 2));
+  const Vec3 n = Vec3::UnitZ();
+  const double h = r.cwiseProduct(Re.transpose() * n).norm();
+  const Vec3 c(0.1, -0.2, 0.5 + h - 0.002);
+  const Manifold m = run(box(Vec3(1, 1, 0.5)), pose(Vec3::Zero()), ellipsoid(r), pose(c, Re), 0.0);
+  ASSERT_EQ(m.count, 1);
+  EXPECT_NEAR(m.points[0].separation, -0.002, kExact);
+  const Vec3 p = c - Re * r.cwiseProduct(r).cwiseProduct(Re.transpose() * n) / h;  // deepest point
+  EXPECT_LT((m.points[0].p_W - (p + Vec3(0, 0, 0.001))).norm(), kExact);
+}
+
 TEST(Collide, NeverAllocates) {
   const CollideShape shapes[] = {plane(),
                                  sphere(0.3),
