@@ -229,13 +229,19 @@ int face_contact(const ConvexPolyhedron& R, int f, const ConvexPolyhedron& I, co
     e = R.edges[e].next;
   } while (e != F.edge && np > 0);
   int nc = 0;
-  const Vec3 n_W = xr.R * n;
   for (int i = 0; i < np && nc < kMaxClip; ++i) {
     const double s = n.dot(buf[cur][i].x) - F.offset;
     if (s > spec) continue;
     cand[nc++] = {xr.apply(buf[cur][i].x - 0.5 * s * n), s, buf[cur][i].id};
   }
-  (void)n_W;
+  if (nc == 0 && np == 0) {
+    // Clipped away (the incident face lies off the reference face's prism: a deep or grazing
+    // overlap): the incident body's deepest vertex, so an overlap never goes unreported.
+    const int v = I.support(-nI);
+    const Vec3 x = T.R * I.vertices[v] + T.p;
+    const double s = n.dot(x) - F.offset;
+    if (s <= spec) cand[nc++] = {xr.apply(x - 0.5 * s * n), s, (uint32_t)v};
+  }
   return nc;
 }
 
@@ -445,6 +451,22 @@ int box_face_contact(const Vec3& hr, int i, double sr, const Vec3& hi, const Mat
     mid[i] -= 0.5 * s * sr;
     cand[nc++] = {Vec3(xr.R.lazyProduct(mid) + xr.p), s, buf[cur][q].id};
   }
+  if (nc == 0 && n == 0) {
+    // Clipped away (deep or grazing overlap): the incident box's deepest vertex.
+    Vec3 x = t;
+    uint32_t v = 0;
+    for (int k = 0; k < 3; ++k) {
+      const bool pos = sr * C(i, k) < 0;  // lowest along sr e_i
+      x += (pos ? hi[k] : -hi[k]) * C.col(k);
+      v |= pos ? (1u << k) : 0u;
+    }
+    const double s = sr * x[i] - hr[i];
+    if (s <= spec) {
+      Vec3 mid = x;
+      mid[i] -= 0.5 * s * sr;
+      cand[nc++] = {Vec3(xr.R.lazyProduct(mid) + xr.p), s, v};
+    }
+  }
   return nc;
 }
 }  // namespace
@@ -620,6 +642,13 @@ int capsule_face_points(const ConvexPolyhedron& H, int f, const Vec3& p0, const 
 }
 }  // namespace
 
+// Least separation in a manifold (+inf when empty).
+static double min_separation(const Manifold& m) {
+  double s = INFINITY;
+  for (int i = 0; i < m.count; ++i) s = std::min(s, m.points[i].separation);
+  return s;
+}
+
 int capsule_hull(const CollideShape& a, const Pose& xa, const CollideShape& b, const Pose& xb, double spec,
                  PairCache&, Manifold& out) {
   const ConvexPolyhedron& H = *b.hull;
@@ -657,7 +686,12 @@ int capsule_hull(const CollideShape& a, const Pose& xa, const CollideShape& b, c
       const double d = H.faces[k].normal.dot(n_B);
       if (d < dmin) dmin = d, f = k;
     }
-    if (dmin < -0.999 && capsule_face_points(H, f, p0, p1, r, xb, spec, out) > 0) return out.count;
+    // The clipped segment must keep the depth GJK found (its deepest end may have been clipped
+    // away when the closest point is at the face's border): otherwise GJK's single point.
+    const double tol = 1e-7 * size;
+    if (dmin < -0.999 && capsule_face_points(H, f, p0, p1, r, xb, spec, out) > 0 &&
+        min_separation(out) <= s + tol)
+      return out.count;
     out.count = 0;
     out.normal_W = g.normal;
     push_point(out, g.pA + r * g.normal, g.normal, s, 2);
@@ -690,16 +724,21 @@ int capsule_hull(const CollideShape& a, const Pose& xa, const CollideShape& b, c
     double s, t;
     Vec3 c1, c2;
     closest_segments(p0, p1, P, Q, s, t, c1, c2);
-    // Axis from the hull out to the capsule; A -> B is its negation.
-    const double sep = eaxis.dot(c1 - c2) - r;
+    // Axis from the hull out to the capsule; A -> B is its negation. The separation is the
+    // axis's (the segment may pass inside the box, where the closest points of the two lines
+    // say nothing about depth); the point is on the hull's edge, moved half way.
+    const double sep = esep - r;
     out.normal_W = -(xb.R * eaxis);
     if (sep > spec) return 0;
-    out.points[0] = {xb.apply(c1 - (r + 0.5 * sep) * eaxis), sep, 3 | ((kTagEdge | (uint32_t)ebest) << 16)};
+    out.points[0] = {xb.apply(c2 + 0.5 * sep * eaxis), sep, 3 | ((kTagEdge | (uint32_t)ebest) << 16)};
     out.count = 1;
     return 1;
   }
-  if (capsule_face_points(H, fbest, p0, p1, r, xb, spec, out) > 0) return out.count;
-  // Clipped away (the segment is off the face's prism): the deepest end on that face's plane.
+  if (capsule_face_points(H, fbest, p0, p1, r, xb, spec, out) > 0 &&
+      min_separation(out) <= fsep - r + 1e-7 * size)
+    return out.count;
+  // Clipped away, or the deepest end clipped off (the segment leaves the face's prism): the
+  // deepest end against that face's plane, at the SAT depth.
   out.count = 0;
   const Vec3& n = H.faces[fbest].normal;
   const Vec3 x = n.dot(p0) <= n.dot(p1) ? p0 : p1;
@@ -761,6 +800,11 @@ int curved_hull(const CollideShape& a, const Pose& xa, const CollideShape& b, co
     if (inside) c[nc++] = {Vec3(q[i] - 0.5 * s * m), s, (uint32_t)i | ((uint32_t)f << 16)};
   }
   if (nc == 0) return out.count;  // off the face: keep GJK/EPA's point
+  // The face points must keep GJK/EPA's depth (the deepest point may lie off the face, when the
+  // shape overhangs its border or sinks deep): otherwise keep GJK/EPA's single point.
+  double cmin = INFINITY;
+  for (int i = 0; i < nc; ++i) cmin = std::min(cmin, c[i].s);
+  if (cmin > out.points[0].separation + 1e-7 * (a.bounding_radius + b.bounding_radius)) return out.count;
   reduce_to_manifold(c, nc, Vec3(-m), out);
   return out.count;
 }
