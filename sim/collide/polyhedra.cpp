@@ -188,14 +188,20 @@ int face_contact(const ConvexPolyhedron& R, int f, const ConvexPolyhedron& I, co
                  double spec, Candidate* cand) {
   const auto& F = R.faces[f];
   const Vec3& n = F.normal;
-  // Incident face: the most anti-parallel.
+  // Incident face: the most anti-parallel of the faces around I's deepest vertex along -n (the
+  // most anti-parallel face overall need not touch: on a finely faceted hull it may be a
+  // neighbour tilted away from the touching vertex).
   const Vec3 nI = T.R.transpose() * n;
-  int inc = 0;
+  const int vdeep = I.support(-nI);
+  int inc = -1;
   double dmin = INFINITY;
-  for (int g = 0; g < (int)I.faces.size(); ++g) {
+  for (int e = 0; e < (int)I.edges.size(); ++e) {
+    if (I.edges[e].origin != vdeep) continue;
+    const int g = I.edges[e].face;
     const double d = I.faces[g].normal.dot(nI);
-    if (d < dmin) dmin = d, inc = g;
+    if (d < dmin || (d == dmin && g < inc)) dmin = d, inc = g;
   }
+  if (inc < 0) inc = I.edges[0].face;
   // Its polygon in R's frame (at most kMaxFaceVerts: every k-th vertex beyond that).
   int nloop = 0;
   {

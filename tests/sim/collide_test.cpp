@@ -14,6 +14,7 @@
 
 #include "sim/collide/internal.hpp"
 #include "sim/collide/manifold.hpp"
+#include "sim/convex_hull.hpp"
 
 // Counts heap allocations in this test binary (to check that collide() never allocates). GCC
 // flags free() on memory from operator new even when operator new is this malloc wrapper.
@@ -868,6 +869,78 @@ TEST(Collide, EllipsoidOnBoxFaceIsExact) {
   EXPECT_NEAR(m.points[0].separation, -0.002, kExact);
   const Vec3 p = c - Re * r.cwiseProduct(r).cwiseProduct(Re.transpose() * n) / h;  // deepest point
   EXPECT_LT((m.points[0].p_W - (p + Vec3(0, 0, 0.001))).norm(), kExact);
+}
+
+// A hull of n random points on an ellipsoid (triangular faces, none coplanar), centred.
+ConvexPolyhedron random_hull(int n, const Vec3& radii, uint64_t seed) {
+  std::mt19937_64 g(seed);
+  std::normal_distribution<double> N;
+  std::vector<Vec3> pts;
+  for (int i = 0; i < n; ++i) pts.push_back(Vec3(N(g), N(g), N(g)).normalized().cwiseProduct(radii));
+  const TriangleMesh m = convex_hull(pts);
+  // Keep only the vertices the triangles use.
+  std::vector<int> remap(m.vertices.size(), -1);
+  std::vector<Vec3> v;
+  std::vector<std::vector<int>> loops;
+  for (const auto& t : m.triangles) {
+    std::vector<int> L;
+    for (int k : t) {
+      if (remap[k] < 0) remap[k] = (int)v.size(), v.push_back(m.vertices[k]);
+      L.push_back(remap[k]);
+    }
+    loops.push_back(L);
+  }
+  ConvexPolyhedron p = make_polyhedron(v, loops);
+  // The vertex mean is not the volume centroid here, but any interior point serves SAT.
+  return p;
+}
+
+TEST(Collide, RandomMeshHullsAgreeWithGjkEpa) {
+  // Hulls of 40 random points (about 76 triangular faces) against each other and against boxes,
+  // touching within +-5 mm: as RandomHullPairsAgreeWithGjkEpa.
+  const ConvexPolyhedron h1 = random_hull(40, Vec3(0.5, 0.4, 0.3), 1),
+                         h2 = random_hull(40, Vec3(0.3, 0.6, 0.4), 2);
+  ASSERT_EQ(polyhedron_problem(h1, 1e-9), "");
+  ASSERT_EQ(polyhedron_problem(h2, 1e-9), "");
+  const CollideShape shapes[3] = {hull(h1), hull(h2), box(Vec3(0.3, 0.2, 0.4))};
+  std::mt19937_64 g(77);
+  std::uniform_real_distribution<double> D(-0.005, 0.005);
+  std::normal_distribution<double> N;
+  int checked = 0, exact = 0;
+  for (int it = 0; it < 300; ++it) {
+    const CollideShape& a = shapes[it % 3];
+    const CollideShape& b = shapes[(it / 3) % 2];
+    const Pose xa = pose(Vec3::Zero(), random_rotation(g));
+    Pose xb = pose(Vec3::Zero(), random_rotation(g));
+    const Vec3 dir = Vec3(N(g), N(g), N(g)).normalized();
+    double lo = 0, hi = 5;
+    for (int k = 0; k < 60; ++k) {
+      const double mid = 0.5 * (lo + hi);
+      xb.p = mid * dir;
+      bool ov;
+      collide_detail::gjk_distance(collide_detail::Support(a, xa), collide_detail::Support(b, xb), ov);
+      (ov ? lo : hi) = mid;
+    }
+    xb.p = (hi + D(g)) * dir;
+    const auto ref =
+        collide_detail::core_distance(collide_detail::Support(a, xa), collide_detail::Support(b, xb));
+    const Manifold m = run(a, xa, b, xb, 0.01);
+    ASSERT_GT(m.count, 0) << it << " kinds " << (int)a.kind << " " << (int)b.kind << " ref " << ref.separation
+                          << " n " << m.normal_W.transpose() << " refn " << ref.normal.transpose();
+    double smin = INFINITY;
+    for (int i = 0; i < m.count; ++i) smin = std::min(smin, m.points[i].separation);
+    if (ref.separation < 0) {
+      const double tol = 1e-3 * (a.hull->inner_radius + b.hull->inner_radius);
+      EXPECT_LE(smin, ref.separation + 1e-6) << it;
+      EXPECT_GE(smin, (ref.separation - 2 * tol) / (0.9 * 0.98) - 1e-6) << it;
+      exact += std::fabs(smin - ref.separation) < 1e-6;
+      ++checked;
+    } else {
+      EXPECT_GE(smin, ref.separation - 1e-9) << it;
+    }
+  }
+  EXPECT_GT(checked, 80);
+  EXPECT_GT(exact, checked * 8 / 10);
 }
 
 TEST(Collide, NeverAllocates) {
