@@ -48,11 +48,15 @@
 //                                   max(face) + kAbsTol, kAbsTol = 1e-3 * (sum of the two inner
 //                                   radii) - so a reported depth may exceed the minimum one by
 //                                   those margins, never fall short of it. Face contact: reference
-//                                   face, incident face = the other body's most anti-parallel
-//                                   face, Sutherland-Hodgman clipping (CACM 17(1), 1974) against
-//                                   the reference face's side planes, points kept below the
-//                                   reference plane + speculative, reduced to 4. Edge contact: 1
-//                                   point, the closest points of the two edges.
+//                                   face; incident face = the most anti-parallel of the faces
+//                                   around the other body's deepest vertex; Sutherland-Hodgman
+//                                   clipping (CACM 17(1), 1974) against the reference face's side
+//                                   planes, points kept below the reference plane + speculative,
+//                                   reduced to 4 (clipped away entirely: the deepest vertex).
+//                                   Edge contact: 1 point, the closest points of the two edges.
+//                                   Cost: the edge loop is O(edges A x edges B): ~1 us for two
+//                                   8-vertex hulls, ~4.5 us box against a 40-vertex hull, ~45 us
+//                                   for two 40-vertex hulls (keep collision hulls small).
 //   cylinder-box, cylinder-hull,    GJK/EPA (below) for the normal; when it is a hull face's
 //   ellipsoid-box, ellipsoid-hull   normal (within ~2.6 degrees), the exact points against that
 //                                   face's plane, as for a plane, those inside the face: the

@@ -107,6 +107,39 @@ double edge_projection(const Vec3& p1, const Vec3& e1, const Vec3& p2, const Vec
   return n.dot(p2 - p1);
 }
 
+// Q's edges in P's frame (origin, direction, the normals of the faces on either side), built once
+// per call when Q has at most kMaxLocal edges, else on the fly.
+struct QEdge {
+  Vec3 p, e, u, v;
+};
+struct QEdges {
+  const QInP* Q;
+  QEdge d[kMaxLocal];
+  bool cached;
+  explicit QEdges(const QInP& q) : Q(&q) {
+    cached = q.Q->edge_count() <= kMaxLocal;
+    if (cached)
+      for (int j = 0; j < q.Q->edge_count(); ++j) d[j] = make(j);
+  }
+  QEdge make(int j) const {
+    const auto& h = Q->Q->edges[2 * j];
+    const auto& t = Q->Q->edges[2 * j + 1];
+    QEdge r;
+    r.p = Q->vert(h.origin);
+    r.e = Q->vert(t.origin) - r.p;
+    r.u = Q->normal(h.face);
+    r.v = Q->normal(t.face);
+    return r;
+  }
+  // By value when not cached (a temporary); the reference stays valid for the loop body.
+  const QEdge& get(int j) const {
+    if (cached) return d[j];
+    scratch = make(j);
+    return scratch;
+  }
+  mutable QEdge scratch;
+};
+
 struct EdgeQuery {
   int ea = -1, eb = -1;  // edge indices (half-edges 2k)
   double sep = -INFINITY;
@@ -119,6 +152,7 @@ struct EdgeQuery {
 EdgeQuery query_edges(const ConvexPolyhedron& P, const QInP& Q, double thr) {
   EdgeQuery q;
   const int EP = P.edge_count(), EQ = Q.Q->edge_count();
+  const QEdges QE(Q);
   for (int i = 0; i < EP; ++i) {
     const auto& h1 = P.edges[2 * i];
     const auto& t1 = P.edges[2 * i + 1];
@@ -128,14 +162,15 @@ EdgeQuery query_edges(const ConvexPolyhedron& P, const QInP& Q, double thr) {
     const Vec3& u1 = P.faces[h1.face].normal;
     const Vec3& v1 = P.faces[t1.face].normal;
     for (int j = 0; j < EQ; ++j) {
-      const auto& h2 = Q.Q->edges[2 * j];
-      const auto& t2 = Q.Q->edges[2 * j + 1];
-      const Vec3 p2 = Q.vert(h2.origin);
-      const Vec3 e2 = Q.vert(t2.origin) - p2;
-      // Arcs (u1, v1) and (-u2, -v2) cross: with B x A = -e1 and D x C = -e2.
-      const Vec3 u2 = Q.normal(h2.face), v2 = Q.normal(t2.face);
-      const double cba = u2.dot(e1), dba = v2.dot(e1), adc = -u1.dot(e2), bdc = -v1.dot(e2);
-      if (!(cba * dba < 0 && adc * bdc < 0 && cba * bdc > 0)) continue;
+      // Arcs (u1, v1) and (-u2, -v2) cross (with B x A = -e1 and D x C = -e2); the first
+      // condition alone rejects most pairs, so it is tested before the rest is loaded.
+      const QEdge& q2 = QE.get(j);
+      const double cba = q2.u.dot(e1), dba = q2.v.dot(e1);
+      if (!(cba * dba < 0)) continue;
+      const Vec3& p2 = q2.p;
+      const Vec3& e2 = q2.e;
+      const double adc = -u1.dot(e2), bdc = -v1.dot(e2);
+      if (!(adc * bdc < 0 && cba * bdc > 0)) continue;
       const Vec3 x = e1.cross(e2);
       const double L2 = x.squaredNorm();
       if (L2 < kParallelEdgeTol * kParallelEdgeTol * e1sq * e2.squaredNorm()) continue;
