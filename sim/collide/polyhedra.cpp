@@ -13,7 +13,7 @@ namespace {
 
 constexpr int kMaxFaceVerts = 64;                         // incident face vertices clipped (decimated beyond)
 constexpr int kMaxClip = 2 * kMaxFaceVerts + 16;          // polygon buffer while clipping
-constexpr int kMaxLocal = 256;                            // hull vertices/faces transformed once per call
+constexpr int kMaxLocal = 128;                            // hull vertices/faces transformed once per call
 constexpr double kRelFaceTol = 0.98, kRelEdgeTol = 0.90;  // Gregorius's hysteresis factors
 constexpr double kParallelEdgeTol = 0.005;                // |E1 x E2| < this |E1||E2|: parallel, skipped
 
