@@ -4,20 +4,23 @@
 
 namespace simreel {
 
-// Automatic substeps (substeps: 0) keep every body in contact under this rotation per substep.
+// Automatic substeps (substeps: 0): at least kContactSubstepRate substeps per second, and more
+// while a body in contact turns faster than kContactMaxSubstepAngle per substep, up to
+// kContactMaxSubsteps a step.
+constexpr double kContactSubstepRate = 960;       ///< 1/s: 4 substeps of the default 1/240 s step
 constexpr double kContactMaxSubstepAngle = 0.05;  ///< rad
 constexpr int kContactMaxSubsteps = 16;
 
 struct ContactSettings {
-  int substeps = 0;           ///< solver substeps per step; 0: automatic (<= 1/240 s, more for fast spin)
-  int iterations = 1;         ///< solve iterations per substep (and relax iterations)
-  double contact_hertz = 30;  ///< Hz, stiffness of the soft contact constraint
-  double damping_ratio = 10;  ///< dimensionless, of the soft contact constraint
-  double max_push_out = 3;    ///< m/s, fastest speed at which overlap is removed
-  double restitution_threshold = 1;    ///< m/s, approach speeds below this do not bounce
+  int substeps = 0;                  ///< solver substeps per step; 0: automatic (see above)
+  int iterations = 1;                ///< solve and relax iterations per substep
+  double contact_hertz = 120;        ///< Hz, stiffness of the soft contact (at most 1/4 of the substep rate)
+  double damping_ratio = 10;         ///< dimensionless, of the soft contact
+  double max_push_out = 3;           ///< m/s, fastest speed at which overlap is removed
+  double restitution_threshold = 1;  ///< m/s, approach speeds below this do not bounce
   double speculative_distance = 0.02;  ///< m, contacts are created this far before touching
-  double linear_slop = 0.0005;         ///< m, overlap left uncorrected (keeps resting contacts quiet)
-  double rolling_resistance = 0;       ///< dimensionless (m of lever per m of radius), 0 = off
+  double linear_slop = 0.0001;         ///< m, overlap left uncorrected (keeps resting contacts quiet)
+  double rolling_resistance = 0;       ///< dimensionless (lever per unit radius), 0 = off
 };
 
 }  // namespace simreel

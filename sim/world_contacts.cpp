@@ -31,8 +31,9 @@ void World::init_contacts() {
   const ContactSettings& cs = cfg_.contacts;
   if (cs.substeps < 0 || cs.iterations < 1)
     throw InputError("contacts: substeps must be at least 1 (or 0: automatic) and iterations at least 1");
-  // Automatic: substeps of at most 1/240 s (Box2D's default substep rate: 60 Hz x 4).
-  base_substeps_ = cs.substeps > 0 ? cs.substeps : std::max(1, (int)std::ceil(cfg_.dt * 240.0 - 1e-9));
+  // Automatic: substeps of at most 1/960 s.
+  base_substeps_ =
+      cs.substeps > 0 ? cs.substeps : std::max(1, (int)std::ceil(cfg_.dt * kContactSubstepRate - 1e-9));
   substeps_ = base_substeps_;
   if (!(cs.contact_hertz >= 0) || !(cs.damping_ratio >= 0) || !(cs.max_push_out >= 0) ||
       !(cs.restitution_threshold >= 0) || !(cs.speculative_distance >= 0) || !(cs.linear_slop >= 0) ||
