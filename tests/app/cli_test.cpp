@@ -122,7 +122,7 @@ TEST(Cli, SimulateWritesTheCsvAtEveryFrameAndAJsonSummary) {
 // integrated; no force field or wrench, so forces and clear are skipped in every step.
 TEST(Cli, ProfileShowsStagesAndWhatWasSkipped) {
   const std::string scene = std::string(kGood) +
-                            "  - name: floor\n    static: true\n"
+                            "  - name: floor\n    static: true\n    position: [0, 0, -50]\n"
                             "    colliders: [ { shape: box, size: [10, 10, 1] } ]\n";
   const Result r = run("simulate " + write("profile.yaml", scene) + " --profile --json");
   ASSERT_EQ(r.code, 0) << r.out;

@@ -98,7 +98,8 @@ TEST(ContactSlope, QuasiStaticTiltTipsWhenTanExceedsWidthOverHeight) {
 // The same with a continuously tilting board: a kinematic box (3 x 3 x 0.2 m) turning at
 // 0.25 deg/s about the x axis through the middle of its top face (its centre's velocity is set
 // each step to w x (x_c - pivot): a kinematic body moves at its given velocity). The onset is the
-// board angle at which the box has moved 2 mm or turned 2 deg relative to the board. Tolerance
+// board angle at which the box's downhill bottom edge has moved 2 mm (slide) or the box turned
+// 2 deg (tip) relative to the board. Tolerance
 // 0.5 deg. Reason: the detection lags the true onset by the time the motion takes to reach the
 // thresholds from zero: sliding s = g r t^3 / 6 reaches 2 mm after ~0.6 s (0.15 deg), tipping
 // grows like sinh(t sqrt(m g L / I_edge)) and reaches 2 deg after ~1.1 s (0.3 deg); the tilt
@@ -110,12 +111,15 @@ double board_onset(double mu, double w, double h, Motion* mode) {
   board.v_W = Vec3(rate, 0, 0).cross(Vec3(0, 0, -0.1));
   WorldConfig cfg;
   World world(cfg, {board, box(Vec3(w, w, h), Vec3(0, 0, h / 2), mu, 0)});
-  const Vec3 rel0 = world.centroid(1);
-  while (world.time() < 60) {
+  // The middle of the box's downhill bottom edge (the board turns +y up): it stays put while the
+  // box tips about it and moves when the box slides (the centre moves in both).
+  const Vec3 edge(0, -w / 2, -h / 2);
+  const Vec3 rel0 = world.local_to_world(1, edge);
+  while (world.time() < 120) {  // 30 deg at 0.25 deg/s
     world.step();
     world.set_linear_velocity(0, Vec3(rate, 0, 0).cross(world.centroid(0)));
     const Mat3 RbT = world.rotation(0).transpose();
-    const Vec3 rel = RbT * world.centroid(1);  // the box centre in board axes about the pivot
+    const Vec3 rel = RbT * world.local_to_world(1, edge);  // the edge in board axes about the pivot
     const double tilt = std::acos(std::clamp((RbT * world.rotation(1) * Vec3::UnitZ()).z(), -1.0, 1.0));
     if (tilt > deg(2)) {
       *mode = Motion::tip;
