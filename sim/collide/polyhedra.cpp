@@ -710,6 +710,23 @@ int capsule_hull(const CollideShape& a, const Pose& xa, const CollideShape& b, c
     return 0;
   }
   const double size = std::max(a.bounding_radius + b.bounding_radius, 1e-300);
+  // Shortcut (exact, no GJK): the segment is above the best face's plane and its lower end
+  // projects inside that face. Every point of the hull is below the plane, so the distance is
+  // that end's height; the usual case of a capsule resting on a face.
+  if (fsep > 1e-9 * size) {
+    const auto& F = H.faces[fbest];
+    const Vec3& x = F.normal.dot(p0) <= F.normal.dot(p1) ? p0 : p1;
+    bool inside = true;
+    int e = F.edge;
+    do {
+      const Vec3& P = H.vertices[H.edges[e].origin];
+      const Vec3& Q = H.vertices[H.edges[H.edges[e].next].origin];
+      if ((Q - P).cross(F.normal).dot(x - P) > 0) inside = false;
+      e = H.edges[e].next;
+    } while (inside && e != F.edge);
+    if (inside && capsule_face_points(H, fbest, p0, p1, r, xb, spec, out) > 0) return out.count;
+    out.count = 0;
+  }
   const Support SA(a, xa), SB(b, xb);
   bool overlap;
   const CoreDistance g = gjk_distance(SA, SB, overlap);
