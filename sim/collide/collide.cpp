@@ -24,11 +24,14 @@
 //                                   nearest face.
 //   sphere-hull                     closest point on the faces (exact, no iteration); centre
 //                                   inside: the face of least depth.
-//   capsule-box, capsule-hull       GJK between the segment and the hull when they are apart;
-//                                   SAT (hull faces, segment x hull edges) when the segment
-//                                   touches the hull. When the normal is a hull face's (within
-//                                   ~2.6 degrees) and the segment lies along it, the segment is
-//                                   clipped against the face's side planes (2 points, as Box3D).
+//   capsule-box, capsule-hull       Segment above the best face's plane with its lower end over
+//                                   that face: exact from the face alone (the resting case, no
+//                                   GJK). Otherwise GJK between the segment and the hull when they
+//                                   are apart; SAT (hull faces, segment x hull edges) when the
+//                                   segment touches the hull. When the normal is a hull face's
+//                                   (within ~2.6 degrees) the segment is clipped against the
+//                                   face's side planes (up to 2 points, as Box3D), kept only if
+//                                   the clip keeps the deepest depth (else 1 exact point).
 //   box-box                         SAT in closed form over the 15 axes (3 + 3 face normals, 9
 //                                   edge-direction cross products; Gottschalk, Lin, Manocha,
 //                                   "OBBTree", SIGGRAPH 1996), edge axes rejected on squares before
