@@ -4,7 +4,8 @@
 //              in 20 s (the Dzhanibekov effect). Same scene as ../shared/anchors R1.
 //   R2 free boxes: N boxes, sides uniform in 0.2..1 m, density 1000, random orientation, |w| up
 //              to 10 rad/s, g = -9.81 z, on a 3 m grid; the same splitmix64 sequence as the
-//              anchors, so the bodies are identical to the ones Bullet and MuJoCo stepped.
+//              anchors, so the bodies are identical to the ones Bullet and MuJoCo stepped;
+//              collision masked off, as there (they never meet: integration alone is measured).
 //   R3 pile:   1000 unit cubes (mass 1, friction 0.5, restitution 0) in a 10 x 10 x 10 grid with
 //              0.1 m gaps, centred on the z axis ((i - 4.5) 1.1 m in x and y), lowest centres at
 //              z = 1, over the static plane z = 0 (friction 0.5); dt 1/240, 10 s. Same layout and
