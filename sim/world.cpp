@@ -217,11 +217,15 @@ void World::step() {
       stage_broad_phase();
     }
     runs[(int)Stage::update_broad_phase]++;
-    {
-      Timer t(profiling_, &sec[(int)Stage::collide]);
-      stage_collide();
+    if (pairs_.empty() && contacts_.empty()) {
+      skipped[(int)Stage::collide]++;  // nothing close, nothing was: no contact bodies either
+    } else {
+      {
+        Timer t(profiling_, &sec[(int)Stage::collide]);
+        stage_collide();
+      }
+      runs[(int)Stage::collide]++;
     }
-    runs[(int)Stage::collide]++;
     solved = !contact_bodies_.empty();
     if (solved) finite = stage_solve_contacts();
   } else {
