@@ -138,7 +138,7 @@ ImportedMesh import_mesh(const std::string& path, const Vec3& scale) {
             r.normals[per_corner ? r.triangle_normals[f][k] : r.triangles[f][k]].cwiseProduct(inv);
         c[k] = n.norm() > 0 && n.allFinite() ? Eigen::Vector3f(n.normalized()) : Eigen::Vector3f::Zero();
       }
-      m.corner_normals.push_back(c);
+      out.corner_normals.push_back(c);
     }
   }
   // The colour of the material most faces use, if the file gives it one.

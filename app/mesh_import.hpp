@@ -21,7 +21,10 @@ struct ImportedMesh {
   /// False when the coordinates passed through assimp's float32.
   bool double_precision() const { return reader != "assimp"; }
   std::optional<std::array<float, 3>> color;  ///< diffuse colour of the material most faces use
-  std::vector<std::string> notes;             ///< what the reader did that the user should know
+  /// Shading normals per triangle corner of `mesh` (unit, mesh axes) when the file gives them;
+  /// empty otherwise. Drawing only (appearance stays out of sim/).
+  std::vector<std::array<Eigen::Vector3f, 3>> corner_normals;
+  std::vector<std::string> notes;  ///< what the reader did that the user should know
 };
 
 // Polygons triangulated, points and lines dropped (counted in a note), each vertex scaled by

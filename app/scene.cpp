@@ -421,6 +421,9 @@ struct Loader {
         // The collider shares the imported mesh (aliasing constructor: one allocation, one owner).
         col.mesh = std::shared_ptr<const TriangleMesh>(meshes[mkey], &meshes[mkey]->mesh);
         if (!n["color"]) look.color = meshes[mkey]->color;
+        if (!meshes[mkey]->corner_normals.empty())
+          look.normals = std::shared_ptr<const std::vector<std::array<Eigen::Vector3f, 3>>>(
+              meshes[mkey], &meshes[mkey]->corner_normals);
         for (const std::string& w : rep.warnings)
           scene.notes.push_back(c.file() + ": body '" + body + "', " + c.key() + " (" + file + "): " + w);
         // Mass properties at density 1, then scaled: by the density, or to the requested mass.

@@ -58,6 +58,8 @@ struct ColliderLook {
   /// The collider's `color`, else its mesh file's material unless the body has a `color`.
   std::optional<Rgb> color;
   double plane_size = 10;  ///< m, side of the square drawn for a plane collider
+  /// A mesh collider's shading normals from its file (per triangle corner), if it gives them.
+  std::shared_ptr<const std::vector<std::array<Eigen::Vector3f, 3>>> normals;
 };
 struct BodyLook {
   Rgb color{0.8f, 0.8f, 0.8f};          ///< the body's `color`

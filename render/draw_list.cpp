@@ -16,7 +16,7 @@ SceneMeshes::SceneMeshes(const World& w, const SceneStyles& styles) {
         continue;
       }
       mesh_of[i].push_back((int)meshes.size());
-      meshes.push_back(tessellate_collider(cols[k], st.plane_size));
+      meshes.push_back(tessellate_collider(cols[k], st.plane_size, st.normals));
       colors.push_back(st.color);
     }
   }

@@ -34,6 +34,8 @@ struct ColliderStyle {
   std::array<float, 3> color{0.8f, 0.8f, 0.8f};  ///< linear RGB
   bool drawn = true;       ///< false: left out (the scene's ground plane, which the renderer's ground draws)
   double plane_size = 10;  ///< m, side of the square drawn for a plane collider
+  /// A mesh collider's shading normals per triangle corner (app's, from the file), or none.
+  const std::vector<std::array<Eigen::Vector3f, 3>>* normals = nullptr;
 };
 using SceneStyles = std::vector<std::vector<ColliderStyle>>;  ///< per body, per collider
 

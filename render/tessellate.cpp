@@ -141,13 +141,13 @@ RenderMesh tessellate_plane_collider(double size) {
   return m;
 }
 
-RenderMesh tessellate_mesh(const TriangleMesh& tm, double crease_deg) {
+RenderMesh tessellate_mesh(const TriangleMesh& tm, const CornerNormals* normals, double crease_deg) {
   // Each corner gets the area-weighted average of the normals of the faces around its vertex that
   // lie within crease_deg of its own face normal: smooth curved surfaces, sharp edges kept.
   RenderMesh m;
   m.two_sided = true;
   const size_t nf = tm.triangles.size();
-  const bool from_file = tm.corner_normals.size() == nf;
+  const bool from_file = normals && normals->size() == nf;
   std::vector<Vec3> fn(nf);
   std::vector<std::vector<int>> around(from_file ? 0 : tm.vertices.size());  // only for crease normals
   for (size_t f = 0; f < nf; ++f) {
@@ -161,7 +161,7 @@ RenderMesh tessellate_mesh(const TriangleMesh& tm, double crease_deg) {
     const Vec3 own = fn[f].normalized();
     if (from_file) {  // the file's own shading normals, where it gives a usable one
       for (int k = 0; k < 3; ++k) {
-        const Vec3 n = tm.corner_normals[f][k].cast<double>();
+        const Vec3 n = (*normals)[f][k].cast<double>();
         push(m, tm.vertices[tm.triangles[f][k]], n.squaredNorm() > 0.5 ? (n.dot(own) < 0 ? -n : n) : own);
         m.indices.push_back(count(m) - 1);
       }
@@ -179,7 +179,7 @@ RenderMesh tessellate_mesh(const TriangleMesh& tm, double crease_deg) {
   return m;
 }
 
-RenderMesh tessellate_collider(const Collider& c, double plane_size) {
+RenderMesh tessellate_collider(const Collider& c, double plane_size, const CornerNormals* normals) {
   switch (c.shape) {
     case ShapeKind::box:
       return tessellate_box(c.size);
@@ -190,7 +190,7 @@ RenderMesh tessellate_collider(const Collider& c, double plane_size) {
     case ShapeKind::capsule:
       return tessellate_capsule(c.radius, c.height);
     case ShapeKind::mesh:
-      return tessellate_mesh(*c.mesh);
+      return tessellate_mesh(*c.mesh, normals);
     case ShapeKind::ellipsoid:
       return tessellate_ellipsoid(c.radii);
     case ShapeKind::plane:

@@ -29,8 +29,12 @@ RenderMesh tessellate_plane_collider(double size);
 // Triangle mesh with normals split at edges sharper than crease_deg (smooth elsewhere), two-sided.
 // Every normal points to the side the triangle's winding calls front (a file normal that points
 // the other way is turned round), so the renderer's "flip for back faces" lights the seen side.
-RenderMesh tessellate_mesh(const TriangleMesh& m, double crease_deg = 35.0);
+// `normals`: the file's shading normals per triangle corner (used where given), else crease normals.
+using CornerNormals = std::vector<std::array<Eigen::Vector3f, 3>>;
+RenderMesh tessellate_mesh(const TriangleMesh& m, const CornerNormals* normals = nullptr,
+                           double crease_deg = 35.0);
 // plane_size: m, the side of the square drawn for a plane collider (planes are infinite).
-RenderMesh tessellate_collider(const Collider& c, double plane_size = 10);
+RenderMesh tessellate_collider(const Collider& c, double plane_size = 10,
+                               const CornerNormals* normals = nullptr);
 
 }  // namespace simreel

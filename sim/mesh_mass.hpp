@@ -23,9 +23,6 @@ namespace simreel {
 struct TriangleMesh {
   std::vector<Vec3> vertices;                 ///< m (after any scale)
   std::vector<std::array<int, 3>> triangles;  ///< counter-clockwise seen from outside
-  /// Shading normals per triangle corner (unit, mesh axes) when the file gives them; empty
-  /// otherwise. Drawing only: mass properties never read them.
-  std::vector<std::array<Eigen::Vector3f, 3>> corner_normals;
 };
 
 enum class MassMode { solid, shell, hull };

@@ -80,8 +80,8 @@ TEST(MeshImport, ObjQuadsNegativeIndicesNormalsAndMaterial) {
   EXPECT_EQ(im.mesh.triangles.size(), 12u);
   ASSERT_TRUE(im.color.has_value());
   EXPECT_FLOAT_EQ((*im.color)[1], 0.5f);
-  ASSERT_EQ(im.mesh.corner_normals.size(), 12u);
-  EXPECT_EQ(im.mesh.corner_normals[0][0], Eigen::Vector3f(0, 0, 1));
+  ASSERT_EQ(im.corner_normals.size(), 12u);
+  EXPECT_EQ(im.corner_normals[0][0], Eigen::Vector3f(0, 0, 1));
 }
 
 TEST(MeshImport, ObjMissingMaterialLibraryIsANoteNotAnError) {

@@ -593,5 +593,21 @@ TEST(Video, OddSizeIsRejected) {
   EXPECT_THROW(VideoWriter{vs}, std::runtime_error);
 }
 
+// A mesh file's own shading normals (carried by the app, not by sim/) are the ones drawn; without
+// them each corner gets the crease-averaged face normal.
+TEST(Render, MeshShadingNormalsFromTheFileAreUsed) {
+  TriangleMesh tm;
+  tm.vertices = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)};
+  tm.triangles = {{0, 1, 2}};
+  const RenderMesh plain = tessellate_mesh(tm);
+  ASSERT_EQ(plain.vertices.size(), 18u);
+  EXPECT_FLOAT_EQ(plain.vertices[5], 1.0f);  // the face normal +z
+  const Eigen::Vector3f tilted = Eigen::Vector3f(0.6f, 0, 0.8f);
+  const CornerNormals normals = {{tilted, tilted, tilted}};
+  const RenderMesh from_file = tessellate_mesh(tm, &normals);
+  EXPECT_FLOAT_EQ(from_file.vertices[3], 0.6f);
+  EXPECT_FLOAT_EQ(from_file.vertices[5], 0.8f);
+}
+
 }  // namespace
 }  // namespace simreel
