@@ -499,5 +499,18 @@ TEST(ContactFreeFlight, BodyTouchingNothingKeepsTheExactFreeFlight) {
   EXPECT_LT((a.x_W - expect).norm(), 1e-10);
 }
 
+// Bodies that overlap at the start are named in a warning with the depth (not silently pushed
+// apart); touching within the slop is not an overlap.
+TEST(ContactWarnings, StartingOverlapIsNamedWithItsDepth) {
+  BodyDef a = sphere(0.5, Vec3(0, 0, 3)), b = sphere(0.5, Vec3(0.9, 0, 3));
+  a.name = "left";
+  b.name = "right";
+  const World w(WorldConfig{}, {ground(), a, b});
+  ASSERT_EQ(w.warnings().size(), 1u);
+  const std::string& msg = w.warnings()[0];
+  EXPECT_NE(msg.find("'left' and 'right' overlap by 0.1 m"), std::string::npos) << msg;
+  const World ok(WorldConfig{}, {ground(), sphere(0.5, Vec3(0, 0, 0.5))});  // resting exactly
+  EXPECT_TRUE(ok.warnings().empty()) << ok.warnings()[0];
+}
 }  // namespace
 }  // namespace simreel
