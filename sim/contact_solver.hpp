@@ -33,6 +33,7 @@ struct SolverBody {
   Vec3 w = Vec3::Zero();       ///< rad/s, world
   Vec3 dp = Vec3::Zero();      ///< m, centre-of-mass displacement so far this step
   Quat dq = Quat::Identity();  ///< rotation so far this step (world)
+  Mat3 dR = Mat3::Identity();  ///< dq as a matrix (set with dq; read by every constraint's gaps)
   double inv_mass = 0;         ///< 1/kg (0: static or kinematic)
   Mat3 inv_I = Mat3::Zero();   ///< 1/(kg m^2), world, R I^-1 R^T at the step's start
 };
@@ -122,6 +123,9 @@ class ContactSolver {
   std::vector<Vec3> ang_accel_;  ///< rad/s^2, I^-1 tau
   std::vector<ContactConstraint> cons_;
   Softness soft_, static_soft_;
+
+  template <int kStatic>
+  void solve_constraint(ContactConstraint& k, double h, bool use_bias, bool first_iteration);
 };
 
 }  // namespace simreel
