@@ -71,8 +71,10 @@ inline void apply_at(SolverBody& A, SolverBody& B, const Vec3& rA, const Vec3& r
 
 }  // namespace
 
-void ContactSolver::prepare(const SolverInput& in, const std::vector<int>& bodies,
-                            const std::vector<Contact>& contacts, std::vector<int>& solver_index) {
+// Flattened for the same reason as solve_constraint (Eigen's 3x3 products called, not inlined).
+__attribute__((flatten)) void ContactSolver::prepare(const SolverInput& in, const std::vector<int>& bodies,
+                                                     const std::vector<Contact>& contacts,
+                                                     std::vector<int>& solver_index) {
   in_ = in;
   bodies_ = bodies;
   const int nb = (int)bodies.size() + 1;
@@ -113,10 +115,11 @@ void ContactSolver::prepare(const SolverInput& in, const std::vector<int>& bodie
   for (int ci = 0; ci < (int)contacts.size(); ++ci) {
     const Contact& c = contacts[ci];
     if (c.count == 0) continue;
-    ContactConstraint k;
+    // nothing in this pair moves under impulses
+    if (solver_index[c.body_a] == 0 && solver_index[c.body_b] == 0) continue;
+    ContactConstraint& k = cons_.emplace_back();  // in place: the record is large
     k.a = solver_index[c.body_a];
     k.b = solver_index[c.body_b];
-    if (k.a == 0 && k.b == 0) continue;  // nothing in this pair moves under impulses
     k.contact = ci;
     k.n = c.normal_W;
     k.t[0] = perpendicular(k.n);
@@ -169,15 +172,25 @@ void ContactSolver::prepare(const SolverInput& in, const std::vector<int>& bodie
     // Friction at the centre: K_jk = (1/mA + 1/mB) d_jk + (fA x t_j).IA(fA x t_k) + (fB x t_j).IB(fB x t_k).
     k.fA = centreA - xA;
     k.fB = centreB - xB;
+    const Vec3 at[2] = {k.fA.cross(k.t[0]), k.fA.cross(k.t[1])};
+    const Vec3 bt[2] = {k.fB.cross(k.t[0]), k.fB.cross(k.t[1])};
+    const Vec3 Iat[2] = {A.inv_I * at[0], A.inv_I * at[1]};
+    const Vec3 Ibt[2] = {B.inv_I * bt[0], B.inv_I * bt[1]};
     Eigen::Matrix2d K;
     for (int j = 0; j < 2; ++j)
-      for (int l = 0; l < 2; ++l) {
-        const Vec3 aj = k.fA.cross(k.t[j]), al = k.fA.cross(k.t[l]);
-        const Vec3 bj = k.fB.cross(k.t[j]), bl = k.fB.cross(k.t[l]);
-        K(j, l) = (j == l ? A.inv_mass + B.inv_mass : 0.0) + aj.dot(A.inv_I * al) + bj.dot(B.inv_I * bl);
-      }
-    const double det = K.determinant();
-    k.tangent_mass = det > 0 ? Eigen::Matrix2d(K.inverse()) : Eigen::Matrix2d::Zero();
+      for (int l = 0; l < 2; ++l)
+        K(j, l) = (j == l ? A.inv_mass + B.inv_mass : 0.0) + at[j].dot(Iat[l]) + bt[j].dot(Ibt[l]);
+    // The inverse written out (Eigen's 2x2 formula: the same operations, without the call).
+    const double det = K(0, 0) * K(1, 1) - K(1, 0) * K(0, 1);
+    if (det > 0) {
+      const double inv_det = 1.0 / det;
+      k.tangent_mass(0, 0) = K(1, 1) * inv_det;
+      k.tangent_mass(1, 0) = -K(1, 0) * inv_det;
+      k.tangent_mass(0, 1) = -K(0, 1) * inv_det;
+      k.tangent_mass(1, 1) = K(0, 0) * inv_det;
+    } else {
+      k.tangent_mass.setZero();
+    }
     // Warm start: last step's friction impulse re-expressed in this step's tangent basis.
     k.tangent_impulse[0] = k.t[0].dot(c.friction_impulse_W);
     k.tangent_impulse[1] = k.t[1].dot(c.friction_impulse_W);
@@ -191,7 +204,6 @@ void ContactSolver::prepare(const SolverInput& in, const std::vector<int>& bodie
       k.rolling_lever = std::max(roundA, roundB);
       k.rolling_impulse = c.rolling_impulse;
     }
-    cons_.push_back(k);
   }
 }
 
