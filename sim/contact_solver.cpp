@@ -205,6 +205,7 @@ __attribute__((flatten)) void ContactSolver::prepare(const SolverInput& in, cons
       k.rolling_impulse = c.rolling_impulse;
     }
   }
+  schedule();
 }
 
 void ContactSolver::integrate_velocities(double h) {
@@ -260,43 +261,46 @@ void ContactSolver::warm_start() {
   }
 }
 
-void ContactSolver::solve(double h, bool use_bias, bool first_iteration) {
-  for (ContactConstraint& k : cons_) {
-    if (k.a == 0)
-      solve_constraint<kStaticA>(k, h, use_bias, first_iteration);
-    else if (k.b == 0)
-      solve_constraint<kStaticB>(k, h, use_bias, first_iteration);
-    else
-      solve_constraint<kNoneStatic>(k, h, use_bias, first_iteration);
-  }
+namespace {
+
+struct SolveParams {
+  double inv_h, max_push, slop, apart;
+  bool use_bias, first_iteration;
+};
+
+// Which side of a constraint is the static body (see apply_normal).
+inline int static_side(const ContactConstraint& k) {
+  return k.a == 0 ? kStaticA : (k.b == 0 ? kStaticB : kNoneStatic);
 }
 
-// One manifold: normal passes, then friction, twist and rolling. kStatic names the side that is the
-// static body (solver body 0), which is read (zero velocity, no displacement) but never written.
-// The two bodies are worked on in local copies (registers, not a store and reload per impulse on
-// Gauss-Seidel's serial chain) and written back at the end.
-// Flattened: GCC at -O2 inlines neither Eigen's 3x3 products nor the helpers above here, and the
-// calls cost more than the arithmetic (the order of operations is the same either way).
+// One manifold's solve: normal passes, then friction, twist and rolling. kStatic names the side
+// that is the static body (solver body 0), which is read (zero velocity, no displacement) but
+// never written. The two bodies are worked on in local copies (registers, not a store and reload
+// per impulse on Gauss-Seidel's serial chain) and written back at the end. Split into steps so
+// that two manifolds with no body in common can be solved interleaved (see ContactSolver::solve).
 template <int kStatic>
-__attribute__((flatten)) void ContactSolver::solve_constraint(ContactConstraint& k, double h, bool use_bias,
-                                                              bool first_iteration) {
-  const double inv_h = 1.0 / h;
-  const double max_push = in_.settings.max_push_out;
-  const double slop = in_.settings.linear_slop;
-  const double apart = 1e-3 * slop + 1e-12;
-  {
-    SolverBody A = sb_[k.a];
-    SolverBody B = sb_[k.b];
+struct ManifoldSolve {
+  ContactConstraint& k;
+  const SolveParams& q;
+  SolverBody A, B;
+  double sep[4];
+  double total_normal = 0, twist_limit = 0;
+  double total_normal_pass = 0, twist_pass = 0, change = 0, scale = 1e-300;
+  int pass = 0;
+  bool impact = false, done = false;
+
+  static constexpr int kPasses = 32, kRestingPasses = 8;
+
+  ManifoldSolve(ContactConstraint& kk, const SolveParams& qq, const std::vector<SolverBody>& sb)
+      : k(kk), q(qq), A(sb[kk.a]), B(sb[kk.b]) {
     const Vec3 dp = B.dp - A.dp;
     const Mat3& RA = A.dR;
     const Mat3& RB = B.dR;
     // Separation now of each point: each surface's centre of curvature moved with its body since
     // the manifold was computed. Positions do not change within a solve, so once per call.
-    double sep[4];
     for (int j = 0; j < k.count; ++j)
       sep[j] = k.n.dot(dp + RB * k.p[j].cB - RA * k.p[j].cA) + k.p[j].adjusted_separation;
-    const bool track_impact = use_bias && first_iteration && k.restitution > 0;
-    double total_normal = 0, twist_limit = 0;
+    const bool track_impact = q.use_bias && q.first_iteration && k.restitution > 0;
     // Non-penetration. One pass is Gauss-Seidel over the manifold's points; where one point's
     // impulse disturbs another (a box landing on a face: each corner's push turns the box) the
     // pass is repeated, alternating direction, up to kPasses times, until no impulse changes by
@@ -312,56 +316,67 @@ __attribute__((flatten)) void ContactSolver::solve_constraint(ContactConstraint&
         const double s = sep[j];
         const double vn = normal_velocity(A, B, k.n, p);
         if (s > 0) {
-          const double accel = std::min(0.0, vn - p.vn_prev) * inv_h;
+          const double accel = std::min(0.0, vn - p.vn_prev) * q.inv_h;
           p.impact_velocity = -std::sqrt(p.vn_prev * p.vn_prev - 2.0 * accel * s);
         } else {
           p.impact_velocity = vn;
         }
       }
     }
-    constexpr int kPasses = 32, kRestingPasses = 8;
-    for (int pass = 0; pass < kPasses; ++pass) {
-      double total_normal_pass = 0, twist_pass = 0, change = 0, scale = 1e-300;
-      bool impact = false;
-      for (int jj = 0; jj < k.count; ++jj) {
-        // Symmetric Gauss-Seidel: odd passes run backwards, so no corner is always served first.
-        const int j = (pass & 1) ? k.count - 1 - jj : jj;
-        ConstraintPoint& p = k.p[j];
-        const double s = sep[j];
-        double bias = 0, mass_scale = 1, impulse_scale = 0;
-        if (s > 0) {
-          bias = s * inv_h;  // speculative: allow closing the gap within this substep, no more
-        } else if (use_bias) {
-          bias = std::max(k.soft.bias_rate * std::min(0.0, s + slop), -max_push);
-          mass_scale = k.soft.mass_scale;
-          impulse_scale = k.soft.impulse_scale;
-        }
-        const double vn = normal_velocity(A, B, k.n, p);
-        double lambda = -p.normal_mass * mass_scale * (vn + bias) - impulse_scale * p.normal_impulse;
-        double total = std::max(p.normal_impulse + lambda, 0.0);
-        // Relax on a point still apart after this substep's move: the next substep's solve limits
-        // its approach from its own gap; pushing here would slow a falling body before it touches
-        // (and lose the energy restitution should return). Relax may only release such a point.
-        // ("Apart" means by more than a thousandth of the slop: a face landing flat has corners
-        // at +-1e-12 m by rounding, and releasing some of them but not others would tip it.)
-        if (!use_bias && s > apart) total = std::min(total, p.normal_impulse);
-        lambda = total - p.normal_impulse;
-        p.normal_impulse = total;
-        p.max_normal_impulse = std::max(p.max_normal_impulse, total);
-        total_normal_pass += total;
-        twist_pass += p.lever * total;
-        impact = impact || (s > 0 && total > 0);
-        change = std::max(change, std::fabs(lambda));
-        scale = std::max(scale, total);
-        apply_normal<kStatic>(A, B, k.n, p, lambda);
-      }
-      total_normal = total_normal_pass;
-      twist_limit = twist_pass;
-      // An impact (a point apart at the substep's start that pushes now) may take all kPasses;
-      // resting contacts at most kRestingPasses: with one pass a tower of twenty cubes drifted
-      // 0.8 mm at the top in 10 s, with eight 0.01 mm; with 32 it cost three times as much.
-      if (k.count == 1 || (!impact && pass + 1 >= kRestingPasses) || change <= 1e-6 * scale) break;
+  }
+
+  void start_pass() {
+    total_normal_pass = 0;
+    twist_pass = 0;
+    change = 0;
+    scale = 1e-300;
+    impact = false;
+  }
+
+  void point(int jj) {
+    // Symmetric Gauss-Seidel: odd passes run backwards, so no corner is always served first.
+    const int j = (pass & 1) ? k.count - 1 - jj : jj;
+    ConstraintPoint& p = k.p[j];
+    const double s = sep[j];
+    double bias = 0, mass_scale = 1, impulse_scale = 0;
+    if (s > 0) {
+      bias = s * q.inv_h;  // speculative: allow closing the gap within this substep, no more
+    } else if (q.use_bias) {
+      bias = std::max(k.soft.bias_rate * std::min(0.0, s + q.slop), -q.max_push);
+      mass_scale = k.soft.mass_scale;
+      impulse_scale = k.soft.impulse_scale;
     }
+    const double vn = normal_velocity(A, B, k.n, p);
+    double lambda = -p.normal_mass * mass_scale * (vn + bias) - impulse_scale * p.normal_impulse;
+    double total = std::max(p.normal_impulse + lambda, 0.0);
+    // Relax on a point still apart after this substep's move: the next substep's solve limits
+    // its approach from its own gap; pushing here would slow a falling body before it touches
+    // (and lose the energy restitution should return). Relax may only release such a point.
+    // ("Apart" means by more than a thousandth of the slop: a face landing flat has corners
+    // at +-1e-12 m by rounding, and releasing some of them but not others would tip it.)
+    if (!q.use_bias && s > q.apart) total = std::min(total, p.normal_impulse);
+    lambda = total - p.normal_impulse;
+    p.normal_impulse = total;
+    p.max_normal_impulse = std::max(p.max_normal_impulse, total);
+    total_normal_pass += total;
+    twist_pass += p.lever * total;
+    impact = impact || (s > 0 && total > 0);
+    change = std::max(change, std::fabs(lambda));
+    scale = std::max(scale, total);
+    apply_normal<kStatic>(A, B, k.n, p, lambda);
+  }
+
+  void end_pass() {
+    total_normal = total_normal_pass;
+    twist_limit = twist_pass;
+    // An impact (a point apart at the substep's start that pushes now) may take all kPasses;
+    // resting contacts at most kRestingPasses: with one pass a tower of twenty cubes drifted
+    // 0.8 mm at the top in 10 s, with eight 0.01 mm; with 32 it cost three times as much.
+    if (k.count == 1 || (!impact && pass + 1 >= kRestingPasses) || change <= 1e-6 * scale) done = true;
+    if (++pass >= kPasses) done = true;
+  }
+
+  void finish(std::vector<SolverBody>& sb) {
     const double limit = k.friction * total_normal;
     // Friction at the centre, the accumulated 2D impulse clamped to the disk of radius mu N.
     {
@@ -399,12 +414,149 @@ __attribute__((flatten)) void ContactSolver::solve_constraint(ContactConstraint&
       if constexpr (kStatic != kStaticB) B.w += B.inv_I * d;
     }
     if constexpr (kStatic != kStaticA) {
-      sb_[k.a].v = A.v;
-      sb_[k.a].w = A.w;
+      sb[k.a].v = A.v;
+      sb[k.a].w = A.w;
     }
     if constexpr (kStatic != kStaticB) {
-      sb_[k.b].v = B.v;
-      sb_[k.b].w = B.w;
+      sb[k.b].v = B.v;
+      sb[k.b].w = B.w;
+    }
+  }
+};
+
+// Flattened: GCC at -O2 inlines neither Eigen's 3x3 products nor the helpers above here, and the
+// calls cost more than the arithmetic (the order of operations is the same either way).
+template <int kStatic>
+__attribute__((flatten)) void solve_one(ContactConstraint& k, const SolveParams& q,
+                                        std::vector<SolverBody>& sb) {
+  ManifoldSolve<kStatic> m(k, q, sb);
+  while (!m.done) {
+    m.start_pass();
+    for (int jj = 0; jj < k.count; ++jj) m.point(jj);
+    m.end_pass();
+  }
+  m.finish(sb);
+}
+
+// Two manifolds with no body in common (bar the static one, which is never written), each in
+// exactly the operations and order of solve_one, their passes interleaved: Gauss-Seidel within a
+// manifold is one long chain of dependent operations, and the processor runs two such chains
+// side by side.
+template <int kStatic0, int kStatic1>
+__attribute__((flatten)) void solve_two(ContactConstraint& k0, ContactConstraint& k1, const SolveParams& q,
+                                        std::vector<SolverBody>& sb) {
+  ManifoldSolve<kStatic0> m0(k0, q, sb);
+  ManifoldSolve<kStatic1> m1(k1, q, sb);
+  while (!m0.done && !m1.done) {
+    m0.start_pass();
+    m1.start_pass();
+    const int n = std::max(k0.count, k1.count);
+    for (int jj = 0; jj < n; ++jj) {
+      if (jj < k0.count) m0.point(jj);
+      if (jj < k1.count) m1.point(jj);
+    }
+    m0.end_pass();
+    m1.end_pass();
+  }
+  while (!m0.done) {
+    m0.start_pass();
+    for (int jj = 0; jj < k0.count; ++jj) m0.point(jj);
+    m0.end_pass();
+  }
+  while (!m1.done) {
+    m1.start_pass();
+    for (int jj = 0; jj < k1.count; ++jj) m1.point(jj);
+    m1.end_pass();
+  }
+  m0.finish(sb);
+  m1.finish(sb);
+}
+
+template <int kStatic0>
+void solve_two_dispatch(ContactConstraint& k0, ContactConstraint& k1, const SolveParams& q,
+                        std::vector<SolverBody>& sb) {
+  switch (static_side(k1)) {
+    case kStaticA:
+      return solve_two<kStatic0, kStaticA>(k0, k1, q, sb);
+    case kStaticB:
+      return solve_two<kStatic0, kStaticB>(k0, k1, q, sb);
+    default:
+      return solve_two<kStatic0, kNoneStatic>(k0, k1, q, sb);
+  }
+}
+
+}  // namespace
+
+// The schedule of solve: the constraints in their order, except that a later constraint j is
+// paired with the first unscheduled one i (and solved interleaved with it) when j shares no
+// non-static body with i or with any still unscheduled constraint between them. Each body then
+// sees the same impulses in the same order as in the plain sequence, so the results are
+// identical; only independent work runs side by side. A short look-ahead window keeps it linear.
+void ContactSolver::schedule() {
+  const int n = (int)cons_.size();
+  slots_.clear();
+  scheduled_.assign(n, 0);
+  mark_.assign(sb_.size(), -1);
+  constexpr int kWindow = 8;
+  for (int i = 0; i < n; ++i) {
+    if (scheduled_[i]) continue;
+    scheduled_[i] = 1;
+    // Bodies of i and of the unscheduled constraints passed over, marked with i.
+    auto mark = [&](const ContactConstraint& k) {
+      if (k.a != 0) mark_[k.a] = i;
+      if (k.b != 0) mark_[k.b] = i;
+    };
+    auto marked = [&](const ContactConstraint& k) {
+      return (k.a != 0 && mark_[k.a] == i) || (k.b != 0 && mark_[k.b] == i);
+    };
+    mark(cons_[i]);
+    int partner = -1;
+    for (int j = i + 1, seen = 0; j < n && seen < kWindow; ++j) {
+      if (scheduled_[j]) continue;
+      ++seen;
+      if (!marked(cons_[j])) {
+        partner = j;
+        break;
+      }
+      mark(cons_[j]);
+    }
+    if (partner >= 0) scheduled_[partner] = 1;
+    slots_.push_back({i, partner});
+  }
+}
+
+void ContactSolver::solve(double h, bool use_bias, bool first_iteration) {
+  const SolveParams q{1.0 / h,
+                      in_.settings.max_push_out,
+                      in_.settings.linear_slop,
+                      1e-3 * in_.settings.linear_slop + 1e-12,
+                      use_bias,
+                      first_iteration};
+  for (const auto& [i, j] : slots_) {
+    ContactConstraint& k0 = cons_[i];
+    if (j < 0) {
+      switch (static_side(k0)) {
+        case kStaticA:
+          solve_one<kStaticA>(k0, q, sb_);
+          break;
+        case kStaticB:
+          solve_one<kStaticB>(k0, q, sb_);
+          break;
+        default:
+          solve_one<kNoneStatic>(k0, q, sb_);
+      }
+      continue;
+    }
+    ContactConstraint& k1 = cons_[j];
+    switch (static_side(k0)) {
+      case kStaticA:
+        solve_two_dispatch<kStaticA>(k0, k1, q, sb_);
+        break;
+      case kStaticB:
+        solve_two_dispatch<kStaticB>(k0, k1, q, sb_);
+        break;
+      default:
+        solve_two_dispatch<kNoneStatic>(k0, k1, q, sb_);
     }
   }
 }

@@ -19,6 +19,7 @@
 // clamped to the disk of radius mu sum(lambda_n), and a twist impulse about the normal clamped to
 // mu sum(lever_i lambda_n,i): the Coulomb limit of the pressure over the contact patch.
 #pragma once
+#include <array>
 #include <vector>
 
 #include "sim/contact.hpp"
@@ -124,8 +125,10 @@ class ContactSolver {
   std::vector<ContactConstraint> cons_;
   Softness soft_, static_soft_;
 
-  template <int kStatic>
-  void solve_constraint(ContactConstraint& k, double h, bool use_bias, bool first_iteration);
+  void schedule();                         ///< slots_ from cons_ (see solve)
+  std::vector<std::array<int, 2>> slots_;  ///< constraints solved together (second -1: alone)
+  std::vector<char> scheduled_;
+  std::vector<int> mark_;
 };
 
 }  // namespace simreel
