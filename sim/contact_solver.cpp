@@ -95,8 +95,8 @@ __attribute__((flatten)) void ContactSolver::prepare(const SolverInput& in, cons
     b.inv_mass = m.inv_mass;
     b.inv_I = R * m.inv_I_P.asDiagonal() * R.transpose();
     if (m.inv_mass > 0) {
-      I_W_[k] = R * m.I_P.asDiagonal() * R.transpose();
       gyro_[k] = !m.isotropic;
+      if (gyro_[k]) I_W_[k] = R * m.I_P.asDiagonal() * R.transpose();  // read for the gyroscopic term only
       accel_[k] = in.gravity;
       if (in.wrench) {
         accel_[k] += m.inv_mass * in.wrench[i].f_W;
@@ -111,13 +111,20 @@ __attribute__((flatten)) void ContactSolver::prepare(const SolverInput& in, cons
   soft_ = make_softness(hertz, cs.damping_ratio, h);
   static_soft_ = make_softness(2.0 * hertz, cs.damping_ratio, h);
 
-  cons_.clear();
+  // One constraint per touching manifold whose pair moves under impulses. The records (large)
+  // are reused from the last step: every field read later is written below.
+  auto wanted = [&](const Contact& c) {
+    return c.count > 0 && (solver_index[c.body_a] != 0 || solver_index[c.body_b] != 0);
+  };
+  size_t ncons = 0;
+  for (const Contact& c : contacts) ncons += wanted(c);
+  if (cons_.size() > ncons) cons_.erase(cons_.begin() + ncons, cons_.end());
+  cons_.resize(ncons);
+  size_t next = 0;
   for (int ci = 0; ci < (int)contacts.size(); ++ci) {
     const Contact& c = contacts[ci];
-    if (c.count == 0) continue;
-    // nothing in this pair moves under impulses
-    if (solver_index[c.body_a] == 0 && solver_index[c.body_b] == 0) continue;
-    ContactConstraint& k = cons_.emplace_back();  // in place: the record is large
+    if (!wanted(c)) continue;
+    ContactConstraint& k = cons_[next++];
     k.a = solver_index[c.body_a];
     k.b = solver_index[c.body_b];
     k.contact = ci;
@@ -203,6 +210,10 @@ __attribute__((flatten)) void ContactSolver::prepare(const SolverInput& in, cons
       // Lever of the rolling resistance: the rounding radius of the rolling shape.
       k.rolling_lever = std::max(roundA, roundB);
       k.rolling_impulse = c.rolling_impulse;
+    } else {
+      k.rolling_mass.setZero();
+      k.rolling_lever = 0;
+      k.rolling_impulse.setZero();
     }
   }
   schedule();
