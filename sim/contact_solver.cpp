@@ -69,9 +69,24 @@ inline void apply_at(SolverBody& A, SolverBody& B, const Vec3& rA, const Vec3& r
   }
 }
 
+// A tangent impulse P = d0 t0 + d1 t1 at the friction centre: the angular part from the responses
+// made in prepare, I^-1 (f x P) = d0 I^-1 (f x t0) + d1 I^-1 (f x t1).
+template <int kStatic = kNoneStatic, class Body>
+inline void apply_tangent(Body& A, Body& B, const ContactConstraint& k, double d0, double d1) {
+  const Vec3 P = d0 * k.t[0] + d1 * k.t[1];
+  if constexpr (kStatic != kStaticA) {
+    A.v -= A.inv_mass * P;
+    A.w -= d0 * k.IfAt[0] + d1 * k.IfAt[1];
+  }
+  if constexpr (kStatic != kStaticB) {
+    B.v += B.inv_mass * P;
+    B.w += d0 * k.IfBt[0] + d1 * k.IfBt[1];
+  }
+}
+
 }  // namespace
 
-// Flattened for the same reason as solve_constraint (Eigen's 3x3 products called, not inlined).
+// Flattened for the same reason as solve_one (Eigen's 3x3 products called, not inlined).
 __attribute__((flatten)) void ContactSolver::prepare(const SolverInput& in, const std::vector<int>& bodies,
                                                      const std::vector<Contact>& contacts,
                                                      std::vector<int>& solver_index) {
@@ -179,10 +194,16 @@ __attribute__((flatten)) void ContactSolver::prepare(const SolverInput& in, cons
     // Friction at the centre: K_jk = (1/mA + 1/mB) d_jk + (fA x t_j).IA(fA x t_k) + (fB x t_j).IB(fB x t_k).
     k.fA = centreA - xA;
     k.fB = centreB - xB;
-    const Vec3 at[2] = {k.fA.cross(k.t[0]), k.fA.cross(k.t[1])};
-    const Vec3 bt[2] = {k.fB.cross(k.t[0]), k.fB.cross(k.t[1])};
-    const Vec3 Iat[2] = {A.inv_I * at[0], A.inv_I * at[1]};
-    const Vec3 Ibt[2] = {B.inv_I * bt[0], B.inv_I * bt[1]};
+    for (int j = 0; j < 2; ++j) {
+      k.fAt[j] = k.fA.cross(k.t[j]);
+      k.fBt[j] = k.fB.cross(k.t[j]);
+      k.IfAt[j] = A.inv_I * k.fAt[j];
+      k.IfBt[j] = B.inv_I * k.fBt[j];
+    }
+    const Vec3* at = k.fAt;
+    const Vec3* bt = k.fBt;
+    const Vec3* Iat = k.IfAt;
+    const Vec3* Ibt = k.IfBt;
     Eigen::Matrix2d K;
     for (int j = 0; j < 2; ++j)
       for (int l = 0; l < 2; ++l)
@@ -201,6 +222,8 @@ __attribute__((flatten)) void ContactSolver::prepare(const SolverInput& in, cons
     // Warm start: last step's friction impulse re-expressed in this step's tangent basis.
     k.tangent_impulse[0] = k.t[0].dot(c.friction_impulse_W);
     k.tangent_impulse[1] = k.t[1].dot(c.friction_impulse_W);
+    k.InA = A.inv_I * k.n;
+    k.InB = B.inv_I * k.n;
     const double kt = k.n.dot((A.inv_I + B.inv_I) * k.n);
     k.twist_mass = kt > 0 ? 1.0 / kt : 0.0;
     k.twist_impulse = c.twist_impulse;
@@ -253,10 +276,15 @@ template <int kStatic>
 __attribute__((flatten)) inline void warm_start_constraint(const ContactConstraint& k, SolverBody& A,
                                                            SolverBody& B) {
   for (int j = 0; j < k.count; ++j) apply_normal<kStatic>(A, B, k.n, k.p[j], k.p[j].normal_impulse);
-  apply_at<kStatic>(A, B, k.fA, k.fB, k.tangent_impulse[0] * k.t[0] + k.tangent_impulse[1] * k.t[1]);
-  const Vec3 twist = k.twist_impulse * k.n + k.rolling_impulse;
-  if constexpr (kStatic != kStaticA) A.w -= A.inv_I * twist;
-  if constexpr (kStatic != kStaticB) B.w += B.inv_I * twist;
+  apply_tangent<kStatic>(A, B, k, k.tangent_impulse[0], k.tangent_impulse[1]);
+  if (k.rolling > 0) {
+    const Vec3 twist = k.twist_impulse * k.n + k.rolling_impulse;
+    if constexpr (kStatic != kStaticA) A.w -= A.inv_I * twist;
+    if constexpr (kStatic != kStaticB) B.w += B.inv_I * twist;
+  } else {
+    if constexpr (kStatic != kStaticA) A.w -= k.twist_impulse * k.InA;
+    if constexpr (kStatic != kStaticB) B.w += k.twist_impulse * k.InB;
+  }
 }
 
 }  // namespace
@@ -391,8 +419,11 @@ struct ManifoldSolve {
     const double limit = k.friction * total_normal;
     // Friction at the centre, the accumulated 2D impulse clamped to the disk of radius mu N.
     {
-      const Vec3 vr = relative_velocity(A, B, k.fA, k.fB);
-      const Eigen::Vector2d vt(k.t[0].dot(vr), k.t[1].dot(vr));
+      // Tangent velocity at the centre: t_j.(vB + wB x fB - vA - wA x fA), the angular terms as
+      // wB.(fB x t_j) - wA.(fA x t_j).
+      const Vec3 dv = B.v - A.v;
+      const Eigen::Vector2d vt(k.t[0].dot(dv) + B.w.dot(k.fBt[0]) - A.w.dot(k.fAt[0]),
+                               k.t[1].dot(dv) + B.w.dot(k.fBt[1]) - A.w.dot(k.fAt[1]));
       const Eigen::Vector2d old(k.tangent_impulse[0], k.tangent_impulse[1]);
       Eigen::Vector2d total = old - k.tangent_mass * vt;
       const double mag2 = total.squaredNorm();
@@ -400,7 +431,7 @@ struct ManifoldSolve {
       const Eigen::Vector2d d = total - old;
       k.tangent_impulse[0] = total.x();
       k.tangent_impulse[1] = total.y();
-      apply_at<kStatic>(A, B, k.fA, k.fB, d.x() * k.t[0] + d.y() * k.t[1]);
+      apply_tangent<kStatic>(A, B, k, d.x(), d.y());
     }
     // Twist friction about the normal, limited by the pressure's moment arm over the patch.
     if (k.count > 1) {
@@ -408,9 +439,9 @@ struct ManifoldSolve {
       const double old = k.twist_impulse;
       const double total = std::clamp(old - k.twist_mass * k.n.dot(B.w - A.w), -tl, tl);
       k.twist_impulse = total;
-      const Vec3 d = (total - old) * k.n;
-      if constexpr (kStatic != kStaticA) A.w -= A.inv_I * d;
-      if constexpr (kStatic != kStaticB) B.w += B.inv_I * d;
+      const double d = total - old;
+      if constexpr (kStatic != kStaticA) A.w -= d * k.InA;
+      if constexpr (kStatic != kStaticB) B.w += d * k.InB;
     }
     // Rolling resistance: a torque impulse against relative spin, at most rolling * lever * N.
     if (k.rolling > 0) {

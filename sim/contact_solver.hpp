@@ -72,11 +72,15 @@ struct ContactConstraint {
   // Friction at the manifold's centre.
   Vec3 fA = Vec3::Zero(), fB = Vec3::Zero();               ///< m, centre from each centre of mass
   Eigen::Matrix2d tangent_mass = Eigen::Matrix2d::Zero();  ///< kg, inverse of the 2x2 tangent K
-  double tangent_impulse[2] = {0, 0};                      ///< N s
-  double twist_mass = 0, twist_impulse = 0;                ///< kg m^2, N m s
-  double rolling_lever = 0;                                ///< m
-  Vec3 rolling_impulse = Vec3::Zero();                     ///< N m s
-  Mat3 rolling_mass = Mat3::Zero();                        ///< kg m^2
+  // Made once in prepare (an impulse's angular effect is linear in it): fA x t_j and fB x t_j
+  // (the tangent velocity's angular terms), I_A^-1 (fA x t_j), I_B^-1 (fB x t_j), I_A^-1 n, I_B^-1 n.
+  Vec3 fAt[2], fBt[2], IfAt[2], IfBt[2];
+  Vec3 InA = Vec3::Zero(), InB = Vec3::Zero();
+  double tangent_impulse[2] = {0, 0};        ///< N s
+  double twist_mass = 0, twist_impulse = 0;  ///< kg m^2, N m s
+  double rolling_lever = 0;                  ///< m
+  Vec3 rolling_impulse = Vec3::Zero();       ///< N m s
+  Mat3 rolling_mass = Mat3::Zero();          ///< kg m^2
   int count = 0;
   Softness soft;
   ConstraintPoint p[4];
