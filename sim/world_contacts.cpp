@@ -108,8 +108,9 @@ bool World::shapes_may_touch(int a, int b) const {
 
 // World boxes of the moving shapes, grown by the speculative distance and by the farthest any
 // point of the shape can travel this step (|v| + |w| r) dt, so a pair that can touch within the
-// step is found before it does.
-void World::stage_broad_phase() {
+// step is found before it does. (Flattened: GCC at -O2 calls Eigen's small products and the pose
+// and bounds helpers here instead of inlining them.)
+__attribute__((flatten)) void World::stage_broad_phase() {
   const ShapeTable& st = *shapes_;
   const double spec = cfg_.contacts.speculative_distance, dt = cfg_.dt;
   for (int i : sweep_shapes_) {
