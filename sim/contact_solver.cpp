@@ -45,14 +45,15 @@ enum Static { kNoneStatic = 0, kStaticA = 1, kStaticB = 2 };
 
 // A normal impulse lambda n at the point. The static body (zero mass and inertia) receives zeros.
 template <int kStatic = kNoneStatic>
-inline void apply_normal(SolverBody& A, SolverBody& B, const Vec3& n, const ConstraintPoint& p,
+// (n / m made in prepare: one product fewer on Gauss-Seidel's chain.)
+inline void apply_normal(SolverBody& A, SolverBody& B, const ContactConstraint& k, const ConstraintPoint& p,
                          double lambda) {
   if constexpr (kStatic != kStaticA) {
-    A.v -= (A.inv_mass * lambda) * n;
+    A.v -= lambda * k.nA;
     A.w -= lambda * p.IrnA;
   }
   if constexpr (kStatic != kStaticB) {
-    B.v += (B.inv_mass * lambda) * n;
+    B.v += lambda * k.nB;
     B.w += lambda * p.IrnB;
   }
 }
@@ -153,6 +154,8 @@ __attribute__((flatten)) void ContactSolver::prepare(const SolverInput& in, cons
     const SolverBody& A = sb_[k.a];
     const SolverBody& B = sb_[k.b];
     k.soft = (A.inv_mass == 0 || B.inv_mass == 0) ? static_soft_ : soft_;
+    k.nA = A.inv_mass * k.n;
+    k.nB = B.inv_mass * k.n;
     const Vec3 xA = in.state[c.body_a].x_W, xB = in.state[c.body_b].x_W;
     const double roundA = rounding_radius((*in.shapes)[c.shape_a].geom);
     const double roundB = rounding_radius((*in.shapes)[c.shape_b].geom);
@@ -275,7 +278,7 @@ namespace {
 template <int kStatic>
 __attribute__((flatten)) inline void warm_start_constraint(const ContactConstraint& k, SolverBody& A,
                                                            SolverBody& B) {
-  for (int j = 0; j < k.count; ++j) apply_normal<kStatic>(A, B, k.n, k.p[j], k.p[j].normal_impulse);
+  for (int j = 0; j < k.count; ++j) apply_normal<kStatic>(A, B, k, k.p[j], k.p[j].normal_impulse);
   apply_tangent<kStatic>(A, B, k, k.tangent_impulse[0], k.tangent_impulse[1]);
   if (k.rolling > 0) {
     const Vec3 twist = k.twist_impulse * k.n + k.rolling_impulse;
@@ -385,9 +388,15 @@ struct ManifoldSolve {
       mass_scale = k.soft.mass_scale;
       impulse_scale = k.soft.impulse_scale;
     }
-    const double vn = normal_velocity(A, B, k.n, p);
-    double lambda = -p.normal_mass * mass_scale * (vn + bias) - impulse_scale * p.normal_impulse;
-    double total = std::max(p.normal_impulse + lambda, 0.0);
+    // The new accumulated impulse, lambda_acc + lambda with lambda = c (vn + bias) - impulse_scale
+    // lambda_acc, c = -m_eff mass_scale, is (lambda_acc - impulse_scale lambda_acc + c bias) + c vn:
+    // all but c vn is made off Gauss-Seidel's chain (vn -> impulse -> velocities -> next vn).
+    const double c = -p.normal_mass * mass_scale;
+    const double base = (p.normal_impulse - impulse_scale * p.normal_impulse) + c * bias;
+    // vn = n.(vB - vA) + wB.(rB x n) - wA.(rA x n), each body's part summed on its own.
+    const double vn = (k.n.dot(B.v) + B.w.dot(p.rnB)) - (k.n.dot(A.v) + A.w.dot(p.rnA));
+    double total = std::max(base + c * vn, 0.0);
+    double lambda;
     // Relax on a point still apart after this substep's move: the next substep's solve limits
     // its approach from its own gap; pushing here would slow a falling body before it touches
     // (and lose the energy restitution should return). Relax may only release such a point.
@@ -402,7 +411,7 @@ struct ManifoldSolve {
     impact = impact || (s > 0 && total > 0);
     change = std::max(change, std::fabs(lambda));
     scale = std::max(scale, total);
-    apply_normal<kStatic>(A, B, k.n, p, lambda);
+    apply_normal<kStatic>(A, B, k, p, lambda);
   }
 
   void end_pass() {
@@ -654,7 +663,7 @@ void ContactSolver::restitution(double threshold) {
           const double vn = normal_velocity(A, B, k.n, p);
           const double total =
               std::max(acc[j] - p.normal_mass * (vn + k.restitution * p.impact_velocity), 0.0);
-          apply_normal(A, B, k.n, p, total - acc[j]);
+          apply_normal(A, B, k, p, total - acc[j]);
           change = std::max(change, std::fabs(total - acc[j]));
           scale = std::max(scale, total);
           acc[j] = total;

@@ -68,6 +68,7 @@ struct ContactConstraint {
   int a = 0, b = 0;  ///< solver body indices (0 is the shared static body)
   int contact = -1;  ///< index into the contact list
   Vec3 n = Vec3::UnitZ(), t[2] = {Vec3::UnitX(), Vec3::UnitY()};
+  Vec3 nA = Vec3::Zero(), nB = Vec3::Zero();  ///< 1/kg, n / m_A and n / m_B
   double friction = 0, restitution = 0, rolling = 0;
   // Friction at the manifold's centre.
   Vec3 fA = Vec3::Zero(), fB = Vec3::Zero();               ///< m, centre from each centre of mass
