@@ -19,6 +19,7 @@
 // clamped to the disk of radius mu sum(lambda_n), and a twist impulse about the normal clamped to
 // mu sum(lever_i lambda_n,i): the Coulomb limit of the pressure over the contact patch.
 #pragma once
+#include <array>
 #include <vector>
 
 #include "sim/contact.hpp"
@@ -33,6 +34,7 @@ struct SolverBody {
   Vec3 w = Vec3::Zero();       ///< rad/s, world
   Vec3 dp = Vec3::Zero();      ///< m, centre-of-mass displacement so far this step
   Quat dq = Quat::Identity();  ///< rotation so far this step (world)
+  Mat3 dR = Mat3::Identity();  ///< dq as a matrix (set with dq; read by every constraint's gaps)
   double inv_mass = 0;         ///< 1/kg (0: static or kinematic)
   Mat3 inv_I = Mat3::Zero();   ///< 1/(kg m^2), world, R I^-1 R^T at the step's start
 };
@@ -66,15 +68,20 @@ struct ContactConstraint {
   int a = 0, b = 0;  ///< solver body indices (0 is the shared static body)
   int contact = -1;  ///< index into the contact list
   Vec3 n = Vec3::UnitZ(), t[2] = {Vec3::UnitX(), Vec3::UnitY()};
+  Vec3 nA = Vec3::Zero(), nB = Vec3::Zero();  ///< 1/kg, n / m_A and n / m_B
   double friction = 0, restitution = 0, rolling = 0;
   // Friction at the manifold's centre.
   Vec3 fA = Vec3::Zero(), fB = Vec3::Zero();               ///< m, centre from each centre of mass
   Eigen::Matrix2d tangent_mass = Eigen::Matrix2d::Zero();  ///< kg, inverse of the 2x2 tangent K
-  double tangent_impulse[2] = {0, 0};                      ///< N s
-  double twist_mass = 0, twist_impulse = 0;                ///< kg m^2, N m s
-  double rolling_lever = 0;                                ///< m
-  Vec3 rolling_impulse = Vec3::Zero();                     ///< N m s
-  Mat3 rolling_mass = Mat3::Zero();                        ///< kg m^2
+  // Made once in prepare (an impulse's angular effect is linear in it): fA x t_j and fB x t_j
+  // (the tangent velocity's angular terms), I_A^-1 (fA x t_j), I_B^-1 (fB x t_j), I_A^-1 n, I_B^-1 n.
+  Vec3 fAt[2], fBt[2], IfAt[2], IfBt[2];
+  Vec3 InA = Vec3::Zero(), InB = Vec3::Zero();
+  double tangent_impulse[2] = {0, 0};        ///< N s
+  double twist_mass = 0, twist_impulse = 0;  ///< kg m^2, N m s
+  double rolling_lever = 0;                  ///< m
+  Vec3 rolling_impulse = Vec3::Zero();       ///< N m s
+  Mat3 rolling_mass = Mat3::Zero();          ///< kg m^2
   int count = 0;
   Softness soft;
   ConstraintPoint p[4];
@@ -122,6 +129,11 @@ class ContactSolver {
   std::vector<Vec3> ang_accel_;  ///< rad/s^2, I^-1 tau
   std::vector<ContactConstraint> cons_;
   Softness soft_, static_soft_;
+
+  void schedule();                         ///< slots_ from cons_ (see solve)
+  std::vector<std::array<int, 2>> slots_;  ///< constraints solved together (second -1: alone)
+  std::vector<char> scheduled_;
+  std::vector<int> mark_;
 };
 
 }  // namespace simreel

@@ -222,6 +222,7 @@ class World {
   std::vector<Pose> plane_poses_;
   std::vector<char> shape_moving_;           ///< per shape: its body is not static
   std::vector<Aabb> boxes_;                  ///< per shape, this step
+  std::vector<Pose> poses_;                  ///< per moving shape, world pose this step (broad phase)
   std::vector<std::pair<int, int>> ignore_;  ///< body pairs, (lo, hi), sorted
   BroadPhase broad_;
   std::vector<uint64_t> pairs_;

@@ -51,6 +51,7 @@ void World::init_contacts() {
   profile_.shapes = st.size();
   shape_moving_.assign(st.size(), 0);
   boxes_.assign(st.size(), Aabb{});
+  poses_.assign(st.size(), Pose{});
   bool any_moving = false;
   for (int i = 0; i < st.size(); ++i) {
     const ShapeRecord& r = st[i];
@@ -107,15 +108,17 @@ bool World::shapes_may_touch(int a, int b) const {
 
 // World boxes of the moving shapes, grown by the speculative distance and by the farthest any
 // point of the shape can travel this step (|v| + |w| r) dt, so a pair that can touch within the
-// step is found before it does.
-void World::stage_broad_phase() {
+// step is found before it does. (Flattened: GCC at -O2 calls Eigen's small products and the pose
+// and bounds helpers here instead of inlining them.)
+__attribute__((flatten)) void World::stage_broad_phase() {
   const ShapeTable& st = *shapes_;
   const double spec = cfg_.contacts.speculative_distance, dt = cfg_.dt;
   for (int i : sweep_shapes_) {
     if (!shape_moving_[i]) continue;
     const ShapeRecord& r = st[i];
     const MotionState& s = state_[r.body];
-    const Aabb b = ShapeTable::bounds(r.geom, ShapeTable::world_pose(r, s));
+    poses_[i] = ShapeTable::world_pose(r, s);  // kept for collide: the state does not change between
+    const Aabb b = ShapeTable::bounds(r.geom, poses_[i]);
     const double reach = (r.p_PC.norm() + r.geom.bounding_radius) * s.w_P.norm();
     const Vec3 m = Vec3::Constant(spec + (s.v_W.norm() + reach) * dt);
     boxes_[i] = Aabb{b.lo - m, b.hi + m};
@@ -143,7 +146,7 @@ void World::stage_collide() {
     const ShapeRecord& B = st[b];
     const MotionState& sa = state_[A.body];
     const MotionState& sb = state_[B.body];
-    Contact c;
+    Contact& c = contacts_next_.emplace_back();  // in place: the record is large
     c.shape_a = a;
     c.shape_b = b;
     c.body_a = A.body;
@@ -161,8 +164,10 @@ void World::stage_collide() {
     const double reach_b = (B.p_PC.norm() + B.geom.bounding_radius) * sb.w_P.norm();
     const double closing = ((sa.v_W - sb.v_W).norm() + reach_a + reach_b) * dt;
     Manifold m;
-    const int n = collide(A.geom, ShapeTable::world_pose(A, sa), B.geom, ShapeTable::world_pose(B, sb),
-                          spec + closing, c.cache, m);
+    // World poses: the broad phase's for moving shapes (made from this same state).
+    const Pose xa = shape_moving_[a] ? poses_[a] : ShapeTable::world_pose(A, sa);
+    const Pose xb = shape_moving_[b] ? poses_[b] : ShapeTable::world_pose(B, sb);
+    const int n = collide(A.geom, xa, B.geom, xb, spec + closing, c.cache, m);
     c.normal_W = m.normal_W;
     c.count = n;
     for (int j = 0; j < n; ++j) {
@@ -184,7 +189,6 @@ void World::stage_collide() {
       in_contact_[A.body] = in_contact_[A.body] || !model_[A.body].is_static;
       in_contact_[B.body] = in_contact_[B.body] || !model_[B.body].is_static;
     }
-    contacts_next_.push_back(c);
   }
   contacts_.swap(contacts_next_);
   contact_stats_.contacts_max = std::max(contact_stats_.contacts_max, points);
