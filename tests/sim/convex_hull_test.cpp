@@ -286,7 +286,9 @@ TEST(ConvexHull, NearlyFlatButValidSetsGiveAValidHullOrAnInputError) {
       const ConvexPolyhedron p = convex_polyhedron(pts);
       // All rules but "no coplanar neighbours", which a thin rim can break (see convex_polyhedron()).
       const std::string bad = polyhedron_problem(p);
-      if (bad.find("joins two coplanar faces") == std::string::npos) EXPECT_EQ(bad, "") << "thickness " << th;
+      if (bad.find("joins two coplanar faces") == std::string::npos) {
+        EXPECT_EQ(bad, "") << "thickness " << th;
+      }
     } catch (const InputError& e) {
       EXPECT_NE(std::string(e.what()).find("flat"), std::string::npos) << e.what();
     }
