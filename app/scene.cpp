@@ -112,6 +112,12 @@ double non_negative(const YAML::Node& n, const Ctx& c) {
   return v;
 }
 
+double unit_interval(const YAML::Node& n, const Ctx& c) {
+  const double v = number(n, c);
+  if (!(v >= 0 && v <= 1)) c.fail(n, "must lie in [0, 1], got " + show(n));
+  return v;
+}
+
 // A 32-bit collision bit set: a whole number 0 .. 4294967295 (0x hex works too), or a list of bit
 // numbers 0 .. 31 ([0, 3] is 9).
 uint32_t bits(const YAML::Node& n, const Ctx& c) {
@@ -322,11 +328,7 @@ struct Loader {
     if (n["position"]) col.p_BC = vec<3>(n["position"], c.child("position"));
     if (n["orientation"]) col.q_BC = unit_quaternion(n["orientation"], c.child("orientation"));
     if (n["friction"]) col.friction = non_negative(n["friction"], c.child("friction"));
-    if (n["restitution"]) {
-      col.restitution = number(n["restitution"], c.child("restitution"));
-      if (!(col.restitution >= 0 && col.restitution <= 1))
-        c.child("restitution").fail(n["restitution"], "must lie in [0, 1], got " + show(n["restitution"]));
-    }
+    if (n["restitution"]) col.restitution = unit_interval(n["restitution"], c.child("restitution"));
     if (n["collide"]) col.collide = boolean(n["collide"], c.child("collide"));
     if (n["color"]) look.color = color(n["color"], c.child("color"));
     if (n["group"]) col.group = bits(n["group"], c.child("group"));
@@ -635,11 +637,7 @@ Scene load_scene(const std::string& path) {
       check_keys(g, gc, {"height", "friction", "restitution", "size", "tile"});
       if (g["height"]) gs.height = number(g["height"], gc.child("height"));
       if (g["friction"]) gs.friction = non_negative(g["friction"], gc.child("friction"));
-      if (g["restitution"]) {
-        gs.restitution = number(g["restitution"], gc.child("restitution"));
-        if (!(gs.restitution >= 0 && gs.restitution <= 1))
-          gc.child("restitution").fail(g["restitution"], "must lie in [0, 1], got " + show(g["restitution"]));
-      }
+      if (g["restitution"]) gs.restitution = unit_interval(g["restitution"], gc.child("restitution"));
       if (g["size"]) gs.size = positive(g["size"], gc.child("size"));
       if (g["tile"]) gs.tile = positive(g["tile"], gc.child("tile"));
     }

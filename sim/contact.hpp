@@ -9,11 +9,10 @@
 namespace simreel {
 
 struct ContactPoint {
-  uint32_t id = 0;                ///< feature pair (sim/collide/manifold.hpp)
-  Vec3 p_W = Vec3::Zero();        ///< m, world, when collided
-  double separation = 0;          ///< m, negative = overlap, when collided
-  double normal_impulse = 0;      ///< N s, accumulated over the last step (>= 0)
-  double max_normal_impulse = 0;  ///< N s, largest normal impulse in a substep (restitution)
+  uint32_t id = 0;            ///< feature pair (sim/collide/manifold.hpp)
+  Vec3 p_W = Vec3::Zero();    ///< m, world, when collided
+  double separation = 0;      ///< m, negative = overlap, when collided
+  double normal_impulse = 0;  ///< N s, accumulated over the last step (>= 0)
 };
 
 struct Contact {

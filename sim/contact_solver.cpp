@@ -687,7 +687,6 @@ void ContactSolver::store_impulses(std::vector<Contact>& contacts) const {
     Contact& c = contacts[k.contact];
     for (int j = 0; j < k.count; ++j) {
       c.points[j].normal_impulse = k.p[j].normal_impulse;
-      c.points[j].max_normal_impulse = k.p[j].max_normal_impulse;
     }
     c.friction_impulse_W = k.tangent_impulse[0] * k.t[0] + k.tangent_impulse[1] * k.t[1];
     c.twist_impulse = k.twist_impulse;

@@ -116,9 +116,6 @@ class ContactSolver {
   // step and are left for the free-flight integrators. Kinematic bodies are advanced by World.
   void finish(const BodyModel* model, MotionState* state, std::vector<char>& touched_none) const;
 
-  const std::vector<int>& bodies() const { return bodies_; }
-  const std::vector<ContactConstraint>& constraints() const { return cons_; }
-
  private:
   SolverInput in_;
   std::vector<int> bodies_;      ///< body index of solver body k + 1

@@ -148,7 +148,6 @@ void World::save_state(std::ostream& os) const {
       o.vec(p.p_W);
       o.f64(p.separation);
       o.f64(p.normal_impulse);
-      o.f64(p.max_normal_impulse);
     }
     o.vec(c.friction_impulse_W);
     o.f64(c.twist_impulse);
@@ -156,7 +155,6 @@ void World::save_state(std::ostream& os) const {
     o.u8(c.cache.type);
     o.i32(c.cache.a);
     o.i32(c.cache.b);
-    o.vec(c.cache.axis);
     o.f64(c.friction);
     o.f64(c.restitution);
   }
@@ -219,7 +217,6 @@ void World::restore_state(std::istream& is) {
       p.p_W = in.vec();
       p.separation = in.f64();
       p.normal_impulse = in.f64();
-      p.max_normal_impulse = in.f64();
     }
     c.friction_impulse_W = in.vec();
     c.twist_impulse = in.f64();
@@ -227,7 +224,6 @@ void World::restore_state(std::istream& is) {
     c.cache.type = in.u8();
     c.cache.a = in.i32();
     c.cache.b = in.i32();
-    c.cache.axis = in.vec();
     c.friction = in.f64();
     c.restitution = in.f64();
   }

@@ -9,9 +9,8 @@
 //   per body: q_WP (w x y z), x_W, v_W, w_P (13 doubles), wrench f_W, tau_W (6 doubles);
 //   contact stats: i32 contacts_max, f64 max_penetration;
 //   u32 contact count, per contact: i32 shape_a, shape_b, body_a, body_b, normal (3 f64), i32 count,
-//   per point: u32 id, p_W (3), separation, normal_impulse, max_normal_impulse; friction impulse
-//   (3), twist impulse, rolling impulse (3); the narrow-phase cache: u8 type, i32 a, b, axis (3 f64);
-//   friction, restitution.
+//   per point: u32 id, p_W (3), separation, normal_impulse; friction impulse (3), twist impulse,
+//   rolling impulse (3); the narrow-phase cache: u8 type, i32 a, b; friction, restitution.
 #pragma once
 #include <cstdint>
 #include <iosfwd>

@@ -33,9 +33,8 @@ struct Manifold {
 // "no cache". It is part of the saved world state (sim/snapshot), so a resumed run equals a
 // straight one even where the cache decides between near-equal axes.
 struct PairCache {
-  uint8_t type = 0;  ///< 0 none; the rest is the pair function's own
-  int32_t a = -1, b = -1;
-  Vec3 axis = Vec3::Zero();
+  uint8_t type = 0;        ///< 0 none; the rest is the pair function's own
+  int32_t a = -1, b = -1;  ///< the cached feature indices (faces, edges or box axes)
 };
 
 // Collides A (at pose xa) with B (at pose xb). Fills `out` with the points whose separation is at

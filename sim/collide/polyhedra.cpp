@@ -325,27 +325,27 @@ int hull_hull(const CollideShape& a, const Pose& xa, const CollideShape& b, cons
   const QInP BinA(B, TBA), AinB(A, TAB);
   const FaceQuery fa = query_faces(A, BinA, cache.type == kCacheFaceA ? cache.a : -1, tol, spec);
   if (fa.sep > spec) {
-    cache = {kCacheFaceA, fa.face, -1, Vec3::Zero()};
+    cache = {kCacheFaceA, fa.face, -1};
     out.normal_W = xa.R * A.faces[fa.face].normal;
     return 0;
   }
   const FaceQuery fb = query_faces(B, AinB, cache.type == kCacheFaceB ? cache.b : -1, tol, spec);
   if (fb.sep > spec) {
-    cache = {kCacheFaceB, -1, fb.face, Vec3::Zero()};
+    cache = {kCacheFaceB, -1, fb.face};
     out.normal_W = -(xb.R * B.faces[fb.face].normal);
     return 0;
   }
   const double face_best = std::max(fa.sep, fb.sep);
   const EdgeQuery eq = query_edges(A, BinA, std::min(spec, kRelEdgeTol * face_best + tol));
   if (eq.sep > spec) {
-    cache = {kCacheEdges, eq.ea, eq.eb, Vec3::Zero()};
+    cache = {kCacheEdges, eq.ea, eq.eb};
     out.normal_W = xa.R * eq.axis;
     return 0;
   }
   // 3. Choose the axis: A's face, unless B's face or the edge pair is clearly better.
   const bool edge = eq.ea >= 0 && eq.sep > kRelEdgeTol * face_best + tol;
   if (edge) {
-    cache = {kCacheEdges, eq.ea, eq.eb, Vec3::Zero()};
+    cache = {kCacheEdges, eq.ea, eq.eb};
     const Vec3& p1 = A.vertices[A.edges[2 * eq.ea].origin];
     const Vec3& q1 = A.vertices[A.edges[2 * eq.ea + 1].origin];
     const Vec3 p2 = BinA.vert(B.edges[2 * eq.eb].origin), q2 = BinA.vert(B.edges[2 * eq.eb + 1].origin);
@@ -365,11 +365,11 @@ int hull_hull(const CollideShape& a, const Pose& xa, const CollideShape& b, cons
   int nc;
   const bool refA = !(fb.sep > kRelFaceTol * fa.sep + tol);
   if (refA) {
-    cache = {kCacheFaceA, fa.face, -1, Vec3::Zero()};
+    cache = {kCacheFaceA, fa.face, -1};
     out.normal_W = xa.R * A.faces[fa.face].normal;
     nc = face_contact(A, fa.face, B, TBA, xa, spec, cand);
   } else {
-    cache = {kCacheFaceB, -1, fb.face, Vec3::Zero()};
+    cache = {kCacheFaceB, -1, fb.face};
     out.normal_W = -(xb.R * B.faces[fb.face].normal);
     nc = face_contact(B, fb.face, A, TAB, xb, spec, cand);
   }
@@ -561,12 +561,12 @@ int box_box(const CollideShape& a, const Pose& xa, const CollideShape& b, const 
   };
   const FaceQuery fa = faces(ha, hb, absC, t, cache.type == kCacheFaceA ? cache.a : -1);
   if (fa.sep > spec) {
-    cache = {kCacheFaceA, fa.face, -1, Vec3::Zero()};
+    cache = {kCacheFaceA, fa.face, -1};
     return out.normal_W = box_face_normal_W(xa, fa.face), 0;
   }
   const FaceQuery fb = faces(hb, ha, absCt, -tb, cache.type == kCacheFaceB ? cache.b : -1);
   if (fb.sep > spec) {
-    cache = {kCacheFaceB, -1, fb.face, Vec3::Zero()};
+    cache = {kCacheFaceB, -1, fb.face};
     return out.normal_W = -(box_face_normal_W(xb, fb.face)), 0;
   }
   // Edge axes: only those that could matter (separating beyond spec, or deep enough to win the
@@ -589,12 +589,12 @@ int box_box(const CollideShape& a, const Pose& xa, const CollideShape& b, const 
   Vec3 eaxis = Vec3::Zero();
   if (ei >= 0) box_edge_sep(ei, ej, ha, hb, C, absC, t, &eaxis);
   if (esep > spec) {
-    cache = {kCacheBoxEdges, ei, ej, Vec3::Zero()};
+    cache = {kCacheBoxEdges, ei, ej};
     return out.normal_W = xa.R * eaxis, 0;
   }
   // 3. Axis choice, as hull_hull.
   if (ei >= 0 && esep > kRelEdgeTol * face_best + tol) {
-    cache = {kCacheBoxEdges, ei, ej, Vec3::Zero()};
+    cache = {kCacheBoxEdges, ei, ej};
     out.normal_W = xa.R * eaxis;
     // The supporting edges: A's along axis ei on the side of the normal, B's along ej opposite.
     Vec3 pa = Vec3::Zero(), qa;
@@ -633,11 +633,11 @@ int box_box(const CollideShape& a, const Pose& xa, const CollideShape& b, const 
   Candidate cand[16];
   int nc;
   if (!(fb.sep > kRelFaceTol * fa.sep + tol)) {
-    cache = {kCacheFaceA, fa.face, -1, Vec3::Zero()};
+    cache = {kCacheFaceA, fa.face, -1};
     out.normal_W = box_face_normal_W(xa, fa.face);
     nc = box_face_contact(ha, fa.face >> 1, (fa.face & 1) ? 1.0 : -1.0, hb, C, t, xa, spec, cand);
   } else {
-    cache = {kCacheFaceB, -1, fb.face, Vec3::Zero()};
+    cache = {kCacheFaceB, -1, fb.face};
     out.normal_W = -(box_face_normal_W(xb, fb.face));
     nc = box_face_contact(hb, fb.face >> 1, (fb.face & 1) ? 1.0 : -1.0, ha, Mat3(C.transpose()), -tb, xb,
                           spec, cand);
