@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "app/commands.hpp"
+#include "app/frame_loop.hpp"
 #include "app/mesh_import.hpp"
 #include "app/run.hpp"
 #include "app/text.hpp"
@@ -163,7 +164,8 @@ int cmd_simulate(const std::vector<std::string>& args) {
   Scene scene = load_scene(a.positional[0]);
   apply_overrides(a, scene);
   const int threads = a.has("--threads") ? a.whole("--threads", 1, 256) : 1;
-  World world(world_config(scene, threads), scene.bodies);
+  FrameLoop loop(scene, threads);
+  World& world = loop.world();
   world.set_profiling(a.has("--profile"));
   for (const std::string& n : scene.notes) std::fprintf(stderr, "note: %s\n", n.c_str());
   if (a.has("--resume")) {
@@ -175,6 +177,7 @@ int cmd_simulate(const std::vector<std::string>& args) {
     } catch (const InputError& e) {
       throw InputError(path + ": " + e.what());
     }
+    loop.state_restored();
     if (world.time() > scene.duration + 0.5 * scene.timestep)
       throw UsageError("--duration is the absolute end time and must not be before the saved time (" +
                        std::to_string(world.time()) + " s)");
@@ -193,43 +196,31 @@ int cmd_simulate(const std::vector<std::string>& args) {
     csv = std::make_unique<AtomicFile>(a.options.at("--csv"));
     std::fputs("t,body,px,py,pz,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz\n", csv->get());
   }
-  auto write_rows = [&] {
-    if (!csv) return;
-    for (int i = 0; i < world.body_count(); ++i) {
-      const Vec3 p = world.origin_position(i), v = world.linear_velocity(i), w = world.angular_velocity(i);
-      const Quat q = world.orientation(i);
-      std::fprintf(csv->get(),
-                   "%.17g,%s,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n",
-                   world.time(), world.def(i).name.c_str(), p.x(), p.y(), p.z(), q.w(), q.x(), q.y(), q.z(),
-                   v.x(), v.y(), v.z(), w.x(), w.y(), w.z());
-    }
-  };
 
-  const FramePlan plan = plan_frames(scene.duration, scene.timestep, scene.video.fps);
-  Drift drift(world);
-  Progress progress("frames", (long)plan.frame_step.size(), a.has("--quiet") || a.has("--json"));
-  double step_seconds = 0;
-  // A resumed run starts with the saved time's row, then the frames after it.
-  size_t first = 0;
-  while (first < plan.frame_step.size() && plan.frame_step[first] < world.steps()) ++first;
-  if (first > 0 && (first == plan.frame_step.size() || plan.frame_step[first] != world.steps())) write_rows();
-  for (size_t k = first; k < plan.frame_step.size(); ++k) {
-    const auto t0 = std::chrono::steady_clock::now();
-    while (world.steps() < plan.frame_step[k]) world.step();
-    step_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    world.check_spin();
-    drift.sample(world);
-    write_rows();
-    progress.update((long)k + 1);
-  }
-  // The CSV ends at t = duration even when the duration is not a whole number of frames.
-  if (world.steps() < plan.total_steps) {
-    const auto t0 = std::chrono::steady_clock::now();
-    while (world.steps() < plan.total_steps) world.step();
-    step_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    drift.sample(world);
-    write_rows();
-  }
+  // Rows at every frame of the plan; a resumed run starts with the saved time's row, and the CSV
+  // ends at t = duration even when the duration is not a whole number of frames.
+  const FramePlan& plan = loop.plan();
+  std::vector<FrameTarget> targets = loop.all_frames();
+  if (targets.empty() || targets.front().step != world.steps())
+    targets.insert(targets.begin(), FrameTarget{-1, world.time(), world.steps()});
+  if (targets.back().step < plan.total_steps)
+    targets.push_back(FrameTarget{-1, scene.duration, plan.total_steps});
+  Progress progress("frames", (long)targets.size(), a.has("--quiet") || a.has("--json"));
+  FrameLoop::Hooks hooks;
+  if (csv)
+    hooks.frame = [&](const FrameTarget&, const World& w) {
+      for (int i = 0; i < w.body_count(); ++i) {
+        const Vec3 p = w.origin_position(i), v = w.linear_velocity(i), om = w.angular_velocity(i);
+        const Quat q = w.orientation(i);
+        std::fprintf(
+            csv->get(),
+            "%.17g,%s,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n",
+            w.time(), w.def(i).name.c_str(), p.x(), p.y(), p.z(), q.w(), q.x(), q.y(), q.z(), v.x(), v.y(),
+            v.z(), om.x(), om.y(), om.z());
+      }
+    };
+  hooks.progress = [&](long done) { progress.update(done); };
+  loop.run(targets, hooks, true);
   progress.finish();
   if (csv) csv->commit();
   if (saved) {
@@ -241,7 +232,7 @@ int cmd_simulate(const std::vector<std::string>& args) {
     saved->commit();
   }
 
-  RunSummary s = make_summary(scene, world, drift, (int)plan.frame_step.size(), step_seconds);
+  RunSummary s = make_summary(scene, world, loop.drift(), (int)plan.frame_step.size(), loop.step_seconds());
   if (a.has("--profile")) s.profile = &world.profile();
   if (csv) s.output = a.options.at("--csv");
   std::fputs(a.has("--json") ? (summary_json(s) + "\n").c_str() : summary_text(s).c_str(), stdout);

@@ -5,12 +5,18 @@
 #include <cstdio>
 #include <filesystem>
 
+#include <unistd.h>
+
+#include <algorithm>
+
 #include "app/commands.hpp"
+#include "app/frame_loop.hpp"
 #include "app/run.hpp"
 #include "app/text.hpp"
 
 #ifdef SIMREEL_HAVE_RENDER
-#include "render/draw_list.hpp"
+#include "app/scene_view.hpp"
+#include "render/png_writer.hpp"
 #include "render/renderer.hpp"
 #include "render/video_writer.hpp"
 #endif
@@ -21,13 +27,23 @@ namespace {
 
 const char* kRenderHelp = R"(usage: simreel render SCENE [options]
 
-Simulates SCENE and writes a video: a frame each time simulation time crosses the next 1/fps.
-The video appears at its path only when complete; Ctrl-C (SIGINT) or SIGTERM finishes a playable
-video of the frames done so far.
+Simulates SCENE and writes a video: frame k shows simulated time k / fps (taken at the first
+physics step that reaches it). The video appears at its path only when complete; Ctrl-C (SIGINT)
+or SIGTERM finishes a playable video of the frames done so far.
 
 options:
-  -o OUT              output video, .mp4 (H.264), .webm (VP9) or .gif; default out/<scene>.mp4
-  --frames-dir DIR    also write every frame as DIR/frame_00000.png ...
+  -o OUT              output video, .mp4/.mov/.mkv (H.264), .webm (VP9) or .gif; default
+                      out/<scene>.mp4. With --at: a .png
+  --frames SPEC       render only these frames (the physics runs through the others): comma-
+                      separated frame numbers N, ranges A:B (both included; A:, :B), times Ts
+                      (the frame at or after T seconds) and shares P% of the duration. Frame k of
+                      a partial render is byte for byte frame k of the full render, with the same
+                      PNG name and timestamp
+  --at T              one frame at simulated time T (seconds, need not fall on a frame) as a PNG
+                      (-o, default out/<scene>_<T>s.png): a preview
+  --frames-dir DIR    also write every frame as DIR/frame_00000.png ... (numbered by frame k);
+                      refused if DIR already holds frames, unless --overwrite
+  --overwrite         with --frames-dir: delete the frame_*.png files already there first
   --no-video          with --frames-dir: PNG frames only
   --width W, --height H, --fps F, --duration S    override the scene (odd sizes round up to even)
   --integrator NAME, --timestep DT                 override the scene's physics
@@ -44,60 +60,171 @@ options:
 
 std::atomic<int> g_signal{0};
 
-#ifdef SIMREEL_HAVE_RENDER
-// The scene's appearance as the renderer takes it: a colour per collider (its file's material,
-// else the body's), whether it is drawn, and the drawn size of planes.
-SceneStyles styles_of(const Scene& scene) {
-  SceneStyles out(scene.looks.size());
-  for (size_t i = 0; i < scene.looks.size(); ++i) {
-    const BodyLook& L = scene.looks[i];
-    for (size_t k = 0; k < L.colliders.size(); ++k)
-      out[i].push_back(
-          {L.collider_color(k), L.drawn, L.colliders[k].plane_size, L.colliders[k].normals.get()});
-  }
-  return out;
-}
-#endif
 extern "C" void on_signal(int sig) {
   g_signal = sig;
 }
+
+#ifdef SIMREEL_HAVE_RENDER
+std::string lower_ext(const std::string& path) {
+  std::string e = std::filesystem::path(path).extension().string();
+  for (char& c : e) c = (char)std::tolower((unsigned char)c);
+  return e;
+}
+
+// The output must be a file simreel can write, in a folder that exists or can be made: checked
+// before anything runs, so a wrong name fails at once and leaves nothing behind.
+void check_output(const std::string& path, const std::vector<std::string>& exts, const char* what) {
+  const std::string e = lower_ext(path);
+  if (std::find(exts.begin(), exts.end(), e) == exts.end()) {
+    std::string list;
+    for (const std::string& x : exts) list += (list.empty() ? "" : ", ") + x;
+    throw UsageError("-o '" + path + "': " + what + " must end in " + list);
+  }
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw UsageError("-o '" + path + "' is a folder, not a file");
+  std::string err;
+  if (!ensure_parent_dir(path, &err)) throw std::runtime_error(err);
+}
+
+bool is_frame_png(const std::filesystem::path& p) {
+  const std::string n = p.filename().string();
+  return n.rfind("frame_", 0) == 0 && lower_ext(n) == ".png";
+}
+
+// --frames-dir: a folder of this run's frames only. Stale frames of an earlier, longer run must
+// never mix with new ones: refuse a folder that holds frames unless --overwrite, which deletes
+// them (and nothing else) first.
+void prepare_frames_dir(const std::string& dir, bool overwrite) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
+    throw UsageError("--frames-dir '" + dir + "' exists and is not a folder");
+  if (fs::is_directory(dir, ec)) {
+    std::vector<fs::path> old;
+    for (const auto& e : fs::directory_iterator(dir, ec))
+      if (is_frame_png(e.path())) old.push_back(e.path());
+    if (!old.empty() && !overwrite)
+      throw UsageError("--frames-dir '" + dir + "' already holds " + std::to_string(old.size()) +
+                       " frames (frame_*.png); add --overwrite to replace them, or choose another folder");
+    for (const fs::path& p : old)
+      if (!fs::remove(p, ec) || ec)
+        throw std::runtime_error("cannot delete the old frame '" + p.string() + "'");
+  }
+  fs::create_directories(dir, ec);
+  if (ec) throw std::runtime_error("cannot create '" + dir + "': " + ec.message());
+}
+
+ViewOptions view_options(const ParsedArgs& a) {
+  ViewOptions o;
+  if (a.has("--aa")) {
+    o.aa = a.options.at("--aa");
+    if (!antialiasing_from_name(o.aa))
+      throw UsageError("unknown --aa '" + o.aa + "' (fxaa, msaa2, msaa4, none)");
+  }
+  if (a.has("--gl")) {
+    o.gl = a.options.at("--gl");
+    const auto b = gl_backend_from_name(o.gl);
+    if (!b) throw UsageError("unknown --gl '" + o.gl + "' (osmesa, egl)");
+    if (!gl_backend_built(*b)) throw UsageError("this simreel was built without the " + o.gl + " backend");
+  }
+  o.no_shadows = a.has("--no-shadows");
+  return o;
+}
+
+// render --at T: the one frame at simulated time T, as a PNG.
+int render_at(const ParsedArgs& a, const Scene& scene, FrameLoop& loop, int w, int h) {
+  const double t = a.number("--at", false);
+  if (t < 0 || t > scene.duration)
+    throw UsageError("--at " + a.options.at("--at") + " is outside the run (0 to " +
+                     std::to_string(scene.duration) + " s; --duration sets the end)");
+  char name[64];
+  std::snprintf(name, sizeof name, "_%gs.png", t);
+  const std::string path = a.has("-o") ? a.options.at("-o") : "out/" + scene.name + name;
+  check_output(path, {".png"}, "--at's output");
+  ViewOptions o = view_options(a);
+  o.width = w, o.height = h;
+  SceneView view(scene, loop.world(), o);
+  Renderer renderer(view.settings, view.meshes);
+  const FrameTarget target{-1, t, step_at(t, scene.timestep, loop.plan().total_steps)};
+  double render_s = 0;
+  FrameLoop::Hooks hooks;
+  hooks.stop = &g_signal;
+  hooks.frame = [&](const FrameTarget&, const World& world) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const uint8_t* rgba = view.draw(renderer, world);
+    const std::string tmp = path + ".partial-" + std::to_string(getpid()) + ".png";
+    try {
+      write_png(tmp, rgba, w, h);
+      std::filesystem::rename(tmp, path);
+    } catch (...) {
+      std::remove(tmp.c_str());
+      throw;
+    }
+    render_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  };
+  const long done = loop.run({target}, hooks, false);
+  RunSummary s = make_summary(scene, loop.world(), loop.drift(), (int)done, loop.step_seconds());
+  s.render_seconds = render_s;
+  s.encode_seconds = 0;
+  s.renderer = renderer.description();
+  if (done) s.output = path;
+  if (g_signal)
+    s.warnings.push_back("interrupted by signal " + std::to_string(g_signal.load()) + " before the frame");
+  std::fputs(a.has("--json") ? (summary_json(s) + "\n").c_str() : summary_text(s).c_str(), stdout);
+  return g_signal ? 128 + g_signal.load() : kExitOk;
+}
+#endif
 
 }  // namespace
 
 #ifdef SIMREEL_HAVE_RENDER
 int cmd_render(const std::vector<std::string>& args) {
-  const ParsedArgs a = parse_args(args, {{"-o", true},
-                                         {"--frames-dir", true},
-                                         {"--no-video", false},
-                                         {"--width", true},
-                                         {"--height", true},
-                                         {"--fps", true},
-                                         {"--duration", true},
-                                         {"--integrator", true},
-                                         {"--timestep", true},
-                                         {"--aa", true},
-                                         {"--gl", true},
-                                         {"--threads", true},
-                                         {"--no-shadows", false},
-                                         {"--crf", true},
-                                         {"--json", false},
-                                         {"--quiet", false},
-                                         {"--help", false},
-                                         {"-h", false}});
+  const ParsedArgs a = parse_args(
+      args, {{"-o", true},           {"--frames", true},    {"--at", true},         {"--frames-dir", true},
+             {"--overwrite", false}, {"--no-video", false}, {"--width", true},      {"--height", true},
+             {"--fps", true},        {"--duration", true},  {"--integrator", true}, {"--timestep", true},
+             {"--aa", true},         {"--gl", true},        {"--threads", true},    {"--no-shadows", false},
+             {"--crf", true},        {"--json", false},     {"--quiet", false},     {"--help", false},
+             {"-h", false}});
   if (a.has("--help") || a.has("-h")) {
     std::fputs(kRenderHelp, stdout);
     return kExitOk;
   }
   if (a.positional.size() != 1) throw UsageError("render takes one scene file");
   if (a.has("--no-video") && !a.has("--frames-dir")) throw UsageError("--no-video needs --frames-dir");
+  if (a.has("--overwrite") && !a.has("--frames-dir")) throw UsageError("--overwrite needs --frames-dir");
+  if (a.has("--at") && (a.has("--frames") || a.has("--frames-dir") || a.has("--no-video")))
+    throw UsageError("--at writes one PNG: it does not go with --frames, --frames-dir or --no-video");
   Scene scene = load_scene(a.positional[0]);
   apply_overrides(a, scene);
   for (const std::string& n : scene.notes) std::fprintf(stderr, "note: %s\n", n.c_str());
   int w = scene.video.width, h = scene.video.height;
-  if (w % 2 || h % 2) {
+  if (!a.has("--at") && (w % 2 || h % 2)) {
     std::fprintf(stderr, "note: %dx%d rounded up to %dx%d (yuv420p video needs even sizes)\n", w, h,
                  w + w % 2, h + h % 2);
     w += w % 2, h += h % 2;
+  }
+  const int threads = a.has("--threads") ? a.whole("--threads", 1, 256) : 1;
+  FrameLoop loop(scene, threads);
+  g_signal = 0;
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
+  struct Restore {
+    ~Restore() {
+      std::signal(SIGINT, SIG_DFL);
+      std::signal(SIGTERM, SIG_DFL);
+    }
+  } restore;
+  if (a.has("--at")) return render_at(a, scene, loop, w, h);
+
+  std::vector<FrameTarget> targets = loop.all_frames();
+  if (a.has("--frames")) {
+    try {
+      targets = parse_frame_spec(a.options.at("--frames"), loop.plan(), scene.video.fps, scene.timestep,
+                                 scene.duration, true);
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(std::string("--frames: ") + e.what());
+    }
   }
 
   VideoSettings vs;
@@ -105,92 +232,48 @@ int cmd_render(const std::vector<std::string>& args) {
   vs.height = h;
   vs.fps = scene.video.fps;
   if (a.has("--crf")) vs.crf = a.whole("--crf", 0, 51);
-  if (!a.has("--no-video")) vs.path = a.has("-o") ? a.options.at("-o") : "out/" + scene.name + ".mp4";
-  std::string err;
-  if (!vs.path.empty() && !ensure_parent_dir(vs.path, &err)) throw std::runtime_error(err);
+  if (!a.has("--no-video")) {
+    vs.path = a.has("-o") ? a.options.at("-o") : "out/" + scene.name + ".mp4";
+    check_output(vs.path, {".mp4", ".mov", ".mkv", ".webm", ".gif"}, "a video");
+  }
   if (a.has("--frames-dir")) {
     vs.frames_dir = a.options.at("--frames-dir");
-    std::error_code ec;
-    std::filesystem::create_directories(vs.frames_dir, ec);
-    if (ec) throw std::runtime_error("cannot create '" + vs.frames_dir + "': " + ec.message());
+    prepare_frames_dir(vs.frames_dir, a.has("--overwrite"));
   }
 
-  const int threads = a.has("--threads") ? a.whole("--threads", 1, 256) : 1;
-  World world(world_config(scene, threads), scene.bodies);
-  const SceneMeshes meshes(world, styles_of(scene));
-  RenderSettings rs;
-  if (a.has("--gl")) {
-    const auto b = gl_backend_from_name(a.options.at("--gl"));
-    if (!b) throw UsageError("unknown --gl '" + a.options.at("--gl") + "' (osmesa, egl)");
-    if (!gl_backend_built(*b))
-      throw UsageError("this simreel was built without the " + a.options.at("--gl") + " backend");
-    rs.gl = *b;
-  }
-  rs.width = w;
-  rs.height = h;
-  AntiAliasing aa = scene.render.antialiasing;
-  if (a.has("--aa")) {
-    const auto m = antialiasing_from_name(a.options.at("--aa"));
-    if (!m) throw UsageError("unknown --aa '" + a.options.at("--aa") + "' (fxaa, msaa2, msaa4, none)");
-    aa = *m;
-  }
-  rs.msaa = aa == AntiAliasing::msaa4 ? 4 : aa == AntiAliasing::msaa2 ? 2 : 1;
-  rs.fxaa = false;  // FXAA runs on the writer's thread, overlapping the next frame's rendering
-  vs.fxaa = aa == AntiAliasing::fxaa;
-  rs.shadows = scene.render.shadows && !a.has("--no-shadows");
-  rs.background = scene.render.background;
-  rs.ground = scene.render.ground;
-  rs.ground_height = scene.render.ground_height;
-  rs.ground_size = scene.render.ground_size;
-  rs.ground_tile = scene.render.ground_tile;
-  Renderer renderer(rs, meshes);
+  ViewOptions o = view_options(a);
+  o.width = w, o.height = h;
+  SceneView view(scene, loop.world(), o);
+  view.settings.fxaa = false;  // FXAA runs on the writer's thread, overlapping the next frame's rendering
+  vs.fxaa = view.aa == AntiAliasing::fxaa;
+  Renderer renderer(view.settings, view.meshes);
   VideoWriter writer(vs);
 
-  CameraView cam;
-  cam.eye = scene.camera.position;
-  cam.target = scene.camera.look_at;
-  cam.up = scene.camera.up;
-  cam.fov_deg = scene.camera.fov;
-  int follow = -1;
-  for (int i = 0; i < world.body_count(); ++i)
-    if (world.def(i).name == scene.camera.follow) follow = i;
-
-  g_signal = 0;
-  std::signal(SIGINT, on_signal);
-  std::signal(SIGTERM, on_signal);
-  const FramePlan plan = plan_frames(scene.duration, scene.timestep, scene.video.fps);
-  Drift drift(world);
-  Progress progress("frames", (long)plan.frame_step.size(), a.has("--quiet") || a.has("--json"));
-  DrawList dl;
-  double step_s = 0, render_s = 0;
-  size_t done = 0;
-  for (; done < plan.frame_step.size() && !g_signal; ++done) {
+  Progress progress("frames", (long)targets.size(), a.has("--quiet") || a.has("--json"));
+  double render_s = 0;
+  FrameLoop::Hooks hooks;
+  hooks.stop = &g_signal;
+  hooks.frame = [&](const FrameTarget& t, const World& world) {
     const auto t0 = std::chrono::steady_clock::now();
-    while (world.steps() < plan.frame_step[done]) world.step();
-    const auto t1 = std::chrono::steady_clock::now();
-    world.check_spin();
-    drift.sample(world);
-    build_draw_list(world, meshes, cam, follow, dl);
-    renderer.render(dl, writer.acquire());  // read back straight into the writer's queue
-    writer.commit();
-    const auto t2 = std::chrono::steady_clock::now();
-    step_s += std::chrono::duration<double>(t1 - t0).count();
-    render_s += std::chrono::duration<double>(t2 - t1).count();
-    progress.update((long)done + 1);
-  }
+    view.draw(renderer, world, writer.acquire());  // read back straight into the writer's queue
+    writer.commit(t.index);
+    render_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  };
+  hooks.progress = [&](long done) { progress.update(done); };
+  // A full render goes on to the end of the duration, as simulate does, so both report the same
+  // run; a partial one stops at its last frame.
+  const long done = loop.run(targets, hooks, !a.has("--frames"));
   progress.finish();
-  std::signal(SIGINT, SIG_DFL);
-  std::signal(SIGTERM, SIG_DFL);
   if (done > 0) writer.finish();  // with no frame at all, the destructor removes the partial file
 
-  RunSummary s = make_summary(scene, world, drift, (int)done, step_s);
+  RunSummary s = make_summary(scene, loop.world(), loop.drift(), (int)done, loop.step_seconds());
   s.render_seconds = render_s;
   s.renderer = renderer.description();
   s.encode_seconds = writer.encode_seconds();
   if (done > 0) s.output = vs.path.empty() ? vs.frames_dir : vs.path;
   if (g_signal) {
     s.warnings.push_back("interrupted by signal " + std::to_string(g_signal.load()) + " after " +
-                         std::to_string(done) + " of " + std::to_string(plan.frame_step.size()) + " frames");
+                         std::to_string(done) + " of " + std::to_string(targets.size()) + " frames");
   }
   std::fputs(a.has("--json") ? (summary_json(s) + "\n").c_str() : summary_text(s).c_str(), stdout);
   return g_signal ? 128 + g_signal.load() : kExitOk;

@@ -9,9 +9,11 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
+#include "app/frame_loop.hpp"
 #include "bench/bench_util.hpp"
 #include "render/draw_list.hpp"
 #include "render/renderer.hpp"
@@ -48,11 +50,14 @@ Boxes hundred_boxes() {
   return out;
 }
 
+// The scene through the app's one frame loop (app/frame_loop.hpp), as `simreel render` runs it:
+// `frames` frames at kFps, physics at 240 Hz.
 struct Setup {
-  World world;
+  FrameLoop loop;
   SceneMeshes meshes;
   CameraView cam;
-  explicit Setup(const Boxes& b) : world(config(), b.bodies), meshes(world, b.styles) {
+  Setup(const Boxes& b, int frames)
+      : loop(config(), b.bodies, (frames - 1) / (double)kFps, kFps), meshes(loop.world(), b.styles) {
     cam.eye = Vec3(0, -16, 9);
     cam.target = Vec3(0, 0, 0.5);
   }
@@ -62,8 +67,11 @@ struct Setup {
     c.gravity = Vec3::Zero();
     return c;
   }
-  void advance() {
-    for (int k = 0; k < 240 / kFps; ++k) world.step();
+  // Runs the clip, calling draw(world) at each frame.
+  void run(const std::function<void(const World&)>& draw) {
+    FrameLoop::Hooks h;
+    h.frame = [&](const FrameTarget&, const World& w) { draw(w); };
+    loop.run(loop.all_frames(), h, true);
   }
 };
 
@@ -120,23 +128,22 @@ int main(int argc, char** argv) {
   for (int round = 0; round < 3; ++round)
     for (size_t i = 0; i < modes.size(); ++i) {
       const Mode& m = modes[i];
-      Setup s(bodies);
+      Setup s(bodies, frames);
       RenderSettings rs = settings(m.aa, m.shadows, m.shadow_size);
       rs.gl = m.gl;
       Renderer r(rs, s.meshes);
       DrawList dl;
-      build_draw_list(s.world, s.meshes, s.cam, -1, dl);
+      build_draw_list(s.loop.world(), s.meshes, s.cam, -1, dl);
       r.render(dl);  // first frame compiles shaders: not timed
       FILE* out = round == 0 && i == 0 ? std::fopen(raw.c_str(), "wb") : nullptr;  // the defaults
       double t = 0;
-      for (int f = 0; f < frames; ++f) {
-        s.advance();
+      s.run([&](const World& w) {
         const double t0 = bench::now_s();
-        build_draw_list(s.world, s.meshes, s.cam, -1, dl);
+        build_draw_list(w, s.meshes, s.cam, -1, dl);
         const uint8_t* img = r.render(dl);
         t += bench::now_s() - t0;
         if (out) std::fwrite(img, 1, (size_t)W * H * 4, out);
-      }
+      });
       if (out) std::fclose(out);
       seconds[i].push_back(t);
       described[i] = r.description();
@@ -154,7 +161,7 @@ int main(int argc, char** argv) {
   // End to end, in process: what `simreel render` does (FXAA on the writer's thread).
   auto end_to_end = [&](const char* aa, std::string& note) {
     const double t0 = bench::now_s();
-    Setup s(bodies);
+    Setup s(bodies, frames);
     RenderSettings rs = settings(aa);
     rs.fxaa = false;
     Renderer r(rs, s.meshes);
@@ -166,12 +173,11 @@ int main(int argc, char** argv) {
     vs.fps = kFps;
     VideoWriter v(vs);
     DrawList dl;
-    for (int f = 0; f < frames; ++f) {
-      if (f) s.advance();
-      build_draw_list(s.world, s.meshes, s.cam, -1, dl);
+    s.run([&](const World& w) {
+      build_draw_list(w, s.meshes, s.cam, -1, dl);
       r.render(dl, v.acquire());
       v.commit();
-    }
+    });
     v.finish();
     const double t = bench::now_s() - t0;
     note = "simulate + render + libx264 veryfast crf20 on its thread; encoder busy " +

@@ -141,8 +141,6 @@ struct Renderer::Impl {
   // each frame (see render()).
   GLuint cache_fbo = 0, cache_color = 0, cache_depth = 0;
   bool cache_valid = false;
-  float near = 0, far = 0;  // m, the camera's depth range
-  M4 last_vp = M4::Zero(), last_ground = M4::Zero();
   M4 cache_vp = M4::Zero(), cache_ground = M4::Zero();
   // Per-frame ground quads under each body's shadow: one dynamic buffer, reused.
   GLuint foot_vao = 0, foot_vbo = 0;
@@ -489,16 +487,15 @@ const uint8_t* Renderer::render(const DrawList& dl, uint8_t* out) {
   const V3f eye = cam.eye.cast<float>();
   const float dist = (cam.eye - dl.bounds_center).norm();
   const float reach = dist + (float)dl.bounds_radius + (s.ground ? (float)s.ground_size : 0.0f);
-  // Depth range: kept while the scene stays inside it (with room to spare), so the projection,
-  // and with it the cached ground, changes only when the bodies move far.
+  // Depth range: a function of this frame alone (a frame must not depend on the frames drawn
+  // before it), rounded to powers of two so the projection, and with it the cached ground,
+  // changes only when the bodies' distance changes by a factor of two. Near: half the distance
+  // to the bodies' bounding sphere (at most a tenth of the camera's distance), rounded down; far:
+  // 1.5x the farthest reach, rounded up. 24-bit depth keeps ~1e-4 relative resolution over that.
   const float need_near = std::max(0.01f, std::min(0.1f * dist, dist - (float)dl.bounds_radius) * 0.5f);
   const float need_far = reach * 1.5f;
-  if (P.near == 0 || need_near < P.near || need_near > 4 * P.near || need_far > P.far ||
-      need_far < 0.25f * P.far) {
-    P.near = std::max(0.01f, 0.5f * need_near);
-    P.far = 2.0f * need_far;
-  }
-  const float near = P.near, far = P.far;
+  const float near = std::max(0.01f, std::exp2(std::floor(std::log2(need_near))));
+  const float far = std::exp2(std::ceil(std::log2(std::max(need_far, 2 * near))));
   // Drawn upside down (y negated in clip space, so the winding that faces the camera turns
   // clockwise): glReadPixels returns the bottom row first, which is then the top of the image.
   const M4 flip_y = Eigen::Vector4f(1, -1, 1, 1).asDiagonal();
@@ -532,12 +529,11 @@ const uint8_t* Renderer::render(const DrawList& dl, uint8_t* out) {
   // depends only on the camera and its placement: draw it once into a cache, copy the cache into
   // each frame (a copy-speed blit, ~1 ms with depth), and shade with shadows only the ground
   // under each body's shadow footprint.
-  // While the camera moves (following a body) the cache would be redrawn every frame for nothing:
-  // draw the ground directly then.
-  const bool camera_moved = vp != P.last_vp || ground != P.last_ground;
-  P.last_vp = vp;
-  P.last_ground = ground;
-  const bool cached = s.ground && s.cache_ground && !camera_moved;
+  // A camera that follows a body would redraw the cache every frame for nothing: the caller says
+  // so up front (RenderSettings::cache_ground false), and the ground is drawn directly then. The
+  // choice is a setting, never a guess from earlier frames, so every frame is drawn the same way
+  // whichever frames came before it; the cache's content depends only on the projection.
+  const bool cached = s.ground && s.cache_ground;
   if (cached) {
     if (!P.cache_valid || vp != P.cache_vp || ground != P.cache_ground) {
       glBindFramebuffer(GL_FRAMEBUFFER, P.cache_fbo);

@@ -25,7 +25,9 @@ struct RenderSettings {
   bool ground = false;
   double ground_height = 0, ground_size = 20, ground_tile = 1;  ///< m
   std::array<float, 3> ground_color{0.62f, 0.62f, 0.58f};
-  bool cache_ground = true;  ///< draw the unshadowed ground once per camera; see Renderer::render
+  /// Draw the unshadowed ground once per projection and copy it into each frame (see
+  /// Renderer::render); false for a camera that moves every frame (one that follows a body).
+  bool cache_ground = true;
 };
 
 struct RenderStats {

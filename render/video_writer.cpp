@@ -51,6 +51,8 @@ struct VideoWriter::Impl {
 
   // Bounded queue: slots cycle free -> filled (by push) -> free (by the encoder thread).
   std::vector<std::vector<uint8_t>> slots;
+  std::vector<long> slot_index;           // the frame number each slot carries: its PNG name and timestamp
+  bool palette_fitted = false;            // GIF only
   size_t head = 0, tail = 0, filled = 0;  // ring indices, guarded by mu
   bool closing = false;
   std::string error;  // first error on the encoder thread
@@ -58,6 +60,7 @@ struct VideoWriter::Impl {
   std::condition_variable cv_push, cv_pop;
   std::thread worker;
   long nframes = 0;
+  long next_index = 0;  // the smallest frame number the next commit may carry
   double busy = 0;
 
   void open_video() {
@@ -152,7 +155,8 @@ struct VideoWriter::Impl {
     if (av_frame_make_writable(frame) < 0) throw std::runtime_error("video frame not writable");
     if (enc->pix_fmt == AV_PIX_FMT_PAL8) {
       // GIF: one palette for the clip, fitted to its first frame (render/palette.hpp).
-      if (index == 0) palette = fit_palette(rgba, s.width, s.height);
+      if (!palette_fitted) palette = fit_palette(rgba, s.width, s.height);
+      palette_fitted = true;
       map_to_palette(palette, rgba, s.width, s.height, frame->data[0], frame->linesize[0], dither_rows);
       std::memcpy(frame->data[1], palette.argb.data(), sizeof palette.argb);
     } else {
@@ -166,12 +170,12 @@ struct VideoWriter::Impl {
   }
 
   void run() {
-    long index = 0;
     for (;;) {
       std::unique_lock<std::mutex> lk(mu);
       cv_pop.wait(lk, [&] { return filled > 0 || closing; });
       if (filled == 0 && closing) return;
       std::vector<uint8_t>& slot = slots[tail];
+      const long index = slot_index[tail];
       lk.unlock();
       const auto t0 = std::chrono::steady_clock::now();
       try {
@@ -181,7 +185,6 @@ struct VideoWriter::Impl {
         error = ex.what();
       }
       busy += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      ++index;
       lk.lock();
       tail = (tail + 1) % slots.size();
       --filled;
@@ -227,6 +230,7 @@ VideoWriter::VideoWriter(const VideoSettings& s) : p_(std::make_unique<Impl>()) 
     }
   }
   P.slots.assign(std::max(1, s.queue), std::vector<uint8_t>((size_t)s.width * s.height * 4));
+  P.slot_index.assign(P.slots.size(), 0);
   P.worker = std::thread([this] { p_->run(); });
 }
 
@@ -245,18 +249,24 @@ uint8_t* VideoWriter::acquire() {
   return P.slots[P.head].data();  // the caller is the only writer of this slot until commit()
 }
 
-void VideoWriter::commit() {
+void VideoWriter::commit(long index) {
   Impl& P = *p_;
   std::lock_guard<std::mutex> lk(P.mu);
+  if (index < 0) index = P.next_index;
+  if (index < P.next_index)
+    throw std::logic_error("video frames must come in increasing order (frame " + std::to_string(index) +
+                           " after " + std::to_string(P.next_index - 1) + ")");
+  P.next_index = index + 1;
+  P.slot_index[P.head] = index;
   P.head = (P.head + 1) % P.slots.size();
   ++P.filled;
   ++P.nframes;
   P.cv_pop.notify_one();
 }
 
-void VideoWriter::push(const uint8_t* rgba) {
+void VideoWriter::push(const uint8_t* rgba, long index) {
   std::memcpy(acquire(), rgba, p_->slots[0].size());
-  commit();
+  commit(index);
 }
 
 void VideoWriter::finish() {

@@ -2,7 +2,7 @@
 // rendering and encoding overlap and memory stays flat however long the clip.
 //   .mp4 .mov .mkv  H.264 (libx264, yuv420p, CRF, +faststart), BT.709 tagged
 //   .webm           VP9 (libvpx-vp9, realtime, CRF)
-//   .gif            GIF (256-colour palette fitted to the first frame, Floyd-Steinberg dithered)
+//   .gif            GIF (256-colour palette fitted to the first frame written, Floyd-Steinberg dithered)
 // The file is written beside the target as "<name>.partial-<pid>.<ext>" and renamed into place by
 // finish(); destroying the writer without finish() removes it. The target never holds a partial file.
 #pragma once
@@ -30,11 +30,14 @@ class VideoWriter {
   explicit VideoWriter(const VideoSettings& s);  ///< throws std::runtime_error
   ~VideoWriter();
   // Copies one RGBA frame (top row first) into the queue; blocks while the queue is full.
-  void push(const uint8_t* rgba);
+  // `index` is the frame's number in the whole clip: its PNG is frame_<index>.png and its
+  // timestamp index / fps, whichever frames came before (a partial render names and times its
+  // frames as the full render does). Increasing; -1 takes the number after the previous frame's.
+  void push(const uint8_t* rgba, long index = -1);
   // The same without the copy: acquire() returns the next free frame buffer (width*height*4
   // bytes; blocks while the queue is full), the caller fills it, commit() queues it.
   uint8_t* acquire();
-  void commit();
+  void commit(long index = -1);
   // Drains the queue, flushes the encoder, writes the trailer and renames into place.
   void finish();
   long frames() const;

@@ -1,0 +1,89 @@
+// The one frame loop. Every command that runs a scene (simulate, render, check, diff's renders)
+// and the benchmarks drive the world through it: it owns the world, the frame plan and the drift
+// figures, steps the physics through every step in order, and calls a hook at each frame that is
+// wanted. Frames that are not wanted cost nothing but their steps: the physics runs through them.
+#pragma once
+#include <atomic>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "app/run.hpp"
+#include "app/scene.hpp"
+#include "sim/world.hpp"
+
+namespace simreel {
+
+// One moment at which a frame is taken.
+struct FrameTarget {
+  long index = -1;  ///< frame k of the plan (t = k / fps), or -1 for a time between plan frames
+  double time = 0;  ///< s, the nominal time asked for
+  long step = 0;    ///< the world's step count when it is taken: the first step whose time reaches `time`
+};
+
+// The step at which time t is shown: the first step whose time reaches t (the 1e-9 slack keeps
+// exact multiples from gaining a step to rounding), at most the last step.
+long step_at(double t, double dt, long total_steps);
+
+// Frame k of the plan as a target.
+FrameTarget plan_target(const FramePlan& plan, long k, double fps);
+
+// A frame spec: comma-separated items, each
+//   N        frame N of the plan (t = N / fps)
+//   A:B      frames A to B, both included; A defaults to 0, B to the last frame
+//   Ts       the moment t = T seconds ("2.5s"), whether or not a frame of the plan falls there
+//   P%       the moment P percent of the duration ("50%")
+// Targets come back sorted by step, duplicates removed. With `plan_only` (a video or a numbered
+// PNG sequence, whose frames fall at k / fps) a time takes the first frame of the plan at or
+// after it. Throws std::invalid_argument with a message naming the item for anything else, or
+// for a frame or time outside the run.
+std::vector<FrameTarget> parse_frame_spec(const std::string& spec, const FramePlan& plan, double fps,
+                                          double dt, double duration, bool plan_only = false);
+
+class FrameLoop {
+ public:
+  // The world as the scene describes it, `threads` integration threads.
+  FrameLoop(const Scene& scene, int threads);
+  // For programs without a scene file (the benchmarks): the same loop over bodies built in code.
+  FrameLoop(const WorldConfig& config, const std::vector<BodyDef>& bodies, double duration, double fps);
+
+  World& world() { return world_; }
+  const World& world() const { return world_; }
+  const FramePlan& plan() const { return plan_; }
+  const Drift& drift() const { return drift_; }
+  double fps() const { return fps_; }
+  double step_seconds() const { return step_seconds_; }  ///< s of wall time inside World::step
+  bool interrupted() const { return interrupted_; }
+
+  // After the world's state was replaced (a resumed run): drift is measured from here.
+  void state_restored() { drift_ = Drift(world_); }
+
+  // Every frame of the plan from the world's current step on (a resumed world starts late).
+  std::vector<FrameTarget> all_frames() const;
+
+  struct Hooks {
+    std::function<void(const FrameTarget&, const World&)> frame;  ///< at each target, in order
+    std::function<void(long done)> progress;                      ///< after each target
+    const std::atomic<int>* stop = nullptr;  ///< checked between steps: non-zero ends the run early
+  };
+  // Steps from the world's current step through `targets` (sorted by step, from parse_frame_spec or
+  // all_frames), calling the hooks at each. At every frame of the plan passed on the way the drift
+  // is sampled and the spin checked, whichever targets are drawn, so the figures of a run do not
+  // depend on which frames a command wants. With `to_end` the physics goes on to the duration's
+  // last step after the last target (and samples there). Returns the targets delivered: fewer
+  // than asked only if stopped.
+  long run(const std::vector<FrameTarget>& targets, const Hooks& hooks, bool to_end);
+
+ private:
+  void advance_to(long step, const std::atomic<int>* stop);
+
+  World world_;
+  double fps_;
+  FramePlan plan_;
+  Drift drift_;
+  size_t next_sample_ = 0;  ///< the next frame of the plan at which drift is sampled
+  double step_seconds_ = 0;
+  bool interrupted_ = false;
+};
+
+}  // namespace simreel
