@@ -11,6 +11,7 @@
 namespace simreel {
 
 constexpr int kExitOk = 0, kExitFailure = 1, kExitBadInput = 2;
+constexpr const char* kVersion = "0.1.0";
 
 class UsageError : public std::runtime_error {
  public:
@@ -34,5 +35,7 @@ void apply_overrides(const ParsedArgs& a, Scene& s);
 int cmd_simulate(const std::vector<std::string>& args);
 int cmd_inspect(const std::vector<std::string>& args);
 int cmd_render(const std::vector<std::string>& args);
+int cmd_check(const std::vector<std::string>& args);
+int cmd_diff(const std::vector<std::string>& args);
 
 }  // namespace simreel

@@ -25,6 +25,9 @@ usage:
   simreel render   SCENE [-o OUT.mp4] [--frames-dir DIR] [--width W] [--height H] [--fps F] [--duration S] [--quiet]
   simreel simulate SCENE [--csv OUT.csv] [--json] [--integrator NAME] [--timestep DT] [--duration S] [--quiet]
   simreel inspect  MESH  [--json] [--density RHO]
+  simreel check    SCENE... --goldens DIR [--update missing|changed|all|none] [--frames SPEC]
+                   [--report DIR] [--junit FILE] [--tolerance auto|exact|portable]
+  simreel diff     A B [--out DIR]     (PNGs, folders of PNGs or videos)
 
 'simreel COMMAND --help' describes each command. Exit codes: 0 done, 2 bad input, 1 other failure.
 Scene format: scenes/README.md.
@@ -320,7 +323,7 @@ int main(int argc, char** argv) {
     return args.empty() ? kExitBadInput : kExitOk;
   }
   if (args[0] == "--version") {
-    std::puts("simreel 0.1.0");
+    std::printf("simreel %s\n", kVersion);
     return kExitOk;
   }
   const std::string cmd = args[0];
@@ -329,8 +332,10 @@ int main(int argc, char** argv) {
     if (cmd == "simulate") return cmd_simulate(args);
     if (cmd == "inspect") return cmd_inspect(args);
     if (cmd == "render") return cmd_render(args);
+    if (cmd == "check") return cmd_check(args);
+    if (cmd == "diff") return cmd_diff(args);
     std::string msg = "unknown command '" + cmd + "'";
-    if (auto s = nearest(cmd, {"render", "simulate", "inspect"})) msg += "; did you mean '" + *s + "'?";
+    if (auto s = nearest(cmd, {"render", "simulate", "inspect", "check", "diff"})) msg += "; did you mean '" + *s + "'?";
     throw UsageError(msg);
   } catch (const UsageError& e) {
     std::fprintf(stderr, "simreel %s: %s (see simreel %s --help)\n", cmd.c_str(), e.what(), cmd.c_str());

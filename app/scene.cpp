@@ -1,5 +1,7 @@
 #include "app/scene.hpp"
 
+#include "app/frame_loop.hpp"
+
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
@@ -544,7 +546,7 @@ Scene load_scene(const std::string& path) {
   const Ctx top(path, "");
   if (!root.IsMap())
     top.fail(root, "a scene is a mapping with keys simulation, video, camera, render, ground, bodies");
-  check_keys(root, top, {"simulation", "video", "camera", "render", "ground", "bodies"});
+  check_keys(root, top, {"simulation", "video", "camera", "render", "ground", "bodies", "test"});
 
   if (const YAML::Node sim = root["simulation"]) {
     const Ctx c = top.child("simulation");
@@ -723,6 +725,21 @@ Scene load_scene(const std::string& path) {
   if (!s.camera.follow.empty() && !names.count(s.camera.follow))
     top.child("camera").child("follow").fail(root["camera"]["follow"],
                                              "no body is named '" + s.camera.follow + "'");
+  if (const YAML::Node t = root["test"]) {
+    const Ctx c = top.child("test");
+    check_keys(t, c, {"frames", "width", "height"});
+    if (t["width"]) s.test.width = whole(t["width"], c.child("width"), 16, 16384);
+    if (t["height"]) s.test.height = whole(t["height"], c.child("height"), 16, 16384);
+    if (t["frames"]) {
+      s.test.frames = text(t["frames"], c.child("frames"));
+      try {
+        parse_frame_spec(s.test.frames, plan_frames(s.duration, s.timestep, s.video.fps), s.video.fps, s.timestep,
+                         s.duration);
+      } catch (const std::invalid_argument& e) {
+        c.child("frames").fail(t["frames"], e.what());
+      }
+    }
+  }
   return s;
 }
 

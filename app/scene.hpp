@@ -71,6 +71,12 @@ struct BodyLook {
   }
 };
 
+// The scene-level `test:` block: what `simreel check` compares (its options override it).
+struct TestSpec {
+  std::string frames = "0%, 25%, 50%, 75%, 100%";  ///< frame spec (app/frame_loop.hpp): by time, so fps may change
+  int width = 480, height = 270;                    ///< px: goldens small enough for git
+};
+
 struct Scene {
   std::string path;             ///< as given
   std::string name;             ///< file stem: default output out/<name>.mp4
@@ -85,6 +91,7 @@ struct Scene {
   std::vector<BodyLook> looks;       ///< parallel to bodies
   std::optional<GroundSpec> ground;  ///< the top-level `ground` (its body is the last of `bodies`)
   ContactSettings contacts;          ///< simulation.contacts
+  TestSpec test;                     ///< test: what `simreel check` compares
   std::vector<std::pair<int, int>> ignore_pairs;  ///< simulation.ignore_pairs, as body indices
   std::vector<std::string> notes;  ///< what was done with mesh defects and ignored keys, with file and body
 };

@@ -1,0 +1,393 @@
+// simreel check: scenes against committed goldens, physics first, then pixels.
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "app/check/fingerprint.hpp"
+#include "app/check/goldens.hpp"
+#include "app/check/junit.hpp"
+#include "app/commands.hpp"
+#include "app/frame_loop.hpp"
+#include "app/regress/image.hpp"
+#include "app/regress/metrics.hpp"
+#include "app/regress/report.hpp"
+#include "app/scene_view.hpp"
+#include "app/text.hpp"
+#include "sim/error.hpp"
+
+namespace simreel {
+
+namespace {
+
+const char* kCheckHelp = R"(usage: simreel check SCENE... --goldens DIR [options]
+
+Runs each scene and compares chosen frames with goldens in DIR/<scene>/ (PNGs and manifest.json):
+first the physics (every body's pose and velocity, relative tolerance 1e-9: "physics changed"),
+then the pixels ("rendering changed"). Only the checked frames are drawn; the physics runs
+through the rest.
+
+options:
+  --goldens DIR       the golden folder (required)
+  --update MODE       missing: write goldens that do not exist yet (the default on a terminal);
+                      changed: rewrite those that fail; all: rewrite every checked frame;
+                      none: write nothing (the default when CI is set or output is not a terminal)
+  --frames SPEC       the moments to check, overriding the scene's test.frames (default
+                      "0%, 25%, 50%, 75%, 100%": by time, so a new fps keeps the goldens valid):
+                      frame numbers N, ranges A:B, times Ts, shares P%
+  --tolerance MODE    auto (default): exact pixels when the renderer fingerprint matches the
+                      golden's, else portable; exact: the decoded pixels must be identical;
+                      portable: a perceptual comparison that ignores anti-aliasing and noise but
+                      fails on many differing pixels or one cluster of them
+  --report DIR        write DIR/index.html: one self-contained page to review the differences
+  --junit FILE        write JUnit XML (one test case per scene and frame) for CI systems
+  --gl BACKEND        osmesa or egl
+  --quiet             print only failures and the summary
+
+Frame size: the scene's test.width x test.height (default 480x270, small goldens).
+Exit codes: 0 all pass (or accepted by --update), 1 a difference, 2 bad input or a golden missing
+without --update.
+)";
+
+enum class Update { missing, changed, all, none };
+enum class Tolerance { automatic, exact, portable };
+
+struct Checked {
+  FrameTarget target;
+  Image image;
+  std::vector<BodyState> bodies;
+};
+
+std::vector<uint8_t> slurp(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::vector<uint8_t>((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+// The command line that reproduces this run with another --update (for the report).
+std::string command_line(const std::vector<std::string>& args, const std::string& update) {
+  std::string out = "simreel check";
+  bool skip = false;
+  for (const std::string& a : args) {
+    if (skip) {
+      skip = false;
+      continue;
+    }
+    if (a == "--update") {
+      skip = true;
+      continue;
+    }
+    if (a.rfind("--update=", 0) == 0) continue;
+    const bool plain = a.find_first_of(" \t\"'$\\*?;&|<>()") == std::string::npos && !a.empty();
+    out += " " + (plain ? a : "'" + a + "'");
+  }
+  if (!update.empty()) out += " --update " + update;
+  return out;
+}
+
+// Writes bytes through a temp file beside the target, so a golden is whole or absent.
+void write_atomic(const std::string& path, const std::vector<uint8_t>& bytes) {
+  AtomicFile f(path);
+  if (std::fwrite(bytes.data(), 1, bytes.size(), f.get()) != bytes.size())
+    throw std::runtime_error(path + ": could not write");
+  f.commit();
+}
+
+struct SceneOutcome {
+  int passed = 0, failed = 0, missing = 0, written = 0;
+};
+
+}  // namespace
+
+int cmd_check(const std::vector<std::string>& args) {
+  const ParsedArgs a = parse_args(args, {{"--goldens", true},
+                                         {"--update", true},
+                                         {"--frames", true},
+                                         {"--tolerance", true},
+                                         {"--report", true},
+                                         {"--junit", true},
+                                         {"--gl", true},
+                                         {"--quiet", false},
+                                         {"--help", false},
+                                         {"-h", false}});
+  if (a.has("--help") || a.has("-h")) {
+    std::fputs(kCheckHelp, stdout);
+    return kExitOk;
+  }
+  if (a.positional.empty()) throw UsageError("check takes one or more scene files");
+  if (!a.has("--goldens")) throw UsageError("check needs --goldens DIR");
+  const std::string goldens = a.options.at("--goldens");
+  Update update = std::getenv("CI") || !isatty(1) ? Update::none : Update::missing;
+  if (a.has("--update")) {
+    const std::string& u = a.options.at("--update");
+    if (u == "missing") update = Update::missing;
+    else if (u == "changed") update = Update::changed;
+    else if (u == "all") update = Update::all;
+    else if (u == "none") update = Update::none;
+    else throw UsageError("unknown --update '" + u + "' (missing, changed, all, none)");
+  }
+  Tolerance tolerance = Tolerance::automatic;
+  if (a.has("--tolerance")) {
+    const std::string& t = a.options.at("--tolerance");
+    if (t == "auto") tolerance = Tolerance::automatic;
+    else if (t == "exact") tolerance = Tolerance::exact;
+    else if (t == "portable") tolerance = Tolerance::portable;
+    else throw UsageError("unknown --tolerance '" + t + "' (auto, exact, portable)");
+  }
+  ViewOptions vo;
+  if (a.has("--gl")) {
+    vo.gl = a.options.at("--gl");
+    const auto b = gl_backend_from_name(vo.gl);
+    if (!b) throw UsageError("unknown --gl '" + vo.gl + "' (osmesa, egl)");
+    if (!gl_backend_built(*b)) throw UsageError("this simreel was built without the " + vo.gl + " backend");
+  }
+  const bool quiet = a.has("--quiet");
+  // Outputs are checked before anything runs.
+  std::string err;
+  if (a.has("--junit") && !ensure_parent_dir(a.options.at("--junit"), &err)) throw std::runtime_error(err);
+
+  ReportInput report;
+  report.title = "simreel check";
+  report.command = command_line(args, "");
+  report.accept_command = command_line(args, "changed");
+  std::vector<JunitCase> junit;
+  int bad_input = 0, differ = 0, missing = 0, frames_total = 0, passed_total = 0, written_total = 0;
+  std::set<std::string> names;
+
+  for (const std::string& path : a.positional) {
+    Scene scene;
+    try {
+      scene = load_scene(path);
+    } catch (const InputError& e) {
+      std::fprintf(stderr, "error: %s\n", e.what());
+      junit.push_back({path, "load", 0, "error", e.what()});
+      ++bad_input;
+      continue;
+    }
+    if (!names.insert(scene.name).second) {
+      std::fprintf(stderr, "error: %s: another scene named '%s' uses the same golden folder %s/%s\n", path.c_str(),
+                   scene.name.c_str(), goldens.c_str(), scene.name.c_str());
+      ++bad_input;
+      continue;
+    }
+    const std::string spec = a.has("--frames") ? a.options.at("--frames") : scene.test.frames;
+    FrameLoop loop(scene, 1);
+    std::vector<FrameTarget> targets;
+    try {
+      targets = parse_frame_spec(spec, loop.plan(), scene.video.fps, scene.timestep, scene.duration);
+    } catch (const std::invalid_argument& e) {
+      std::fprintf(stderr, "error: %s: --frames / test.frames: %s\n", path.c_str(), e.what());
+      ++bad_input;
+      continue;
+    }
+    const std::string dir = (std::filesystem::path(goldens) / scene.name).string();
+    const std::string manifest_path = (std::filesystem::path(dir) / "manifest.json").string();
+    Manifest manifest;
+    bool have_manifest = std::filesystem::exists(manifest_path);
+    if (have_manifest) {
+      try {
+        manifest = read_manifest(manifest_path);
+      } catch (const InputError& e) {
+        std::fprintf(stderr, "error: %s\n", e.what());
+        ++bad_input;
+        continue;
+      }
+    }
+    manifest.scene = scene.name;
+
+    // Run: the physics through every step, a frame drawn only at the checked moments.
+    vo.width = scene.test.width;
+    vo.height = scene.test.height;
+    SceneView view(scene, loop.world(), vo);
+    Renderer renderer(view.settings, view.meshes);  // FXAA in the renderer: the frame `render` writes
+    const Fingerprint fp = fingerprint(renderer.description());
+    std::vector<Checked> got;
+    double render_s = 0;
+    FrameLoop::Hooks hooks;
+    hooks.frame = [&](const FrameTarget& t, const World& w) {
+      const auto t0 = std::chrono::steady_clock::now();
+      Checked c{t, Image{}, body_states(w)};
+      c.image.width = view.settings.width;
+      c.image.height = view.settings.height;
+      const uint8_t* px = view.draw(renderer, w);
+      c.image.rgba.assign(px, px + (size_t)c.image.width * c.image.height * 4);
+      got.push_back(std::move(c));
+      render_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    };
+    loop.run(targets, hooks, false);
+
+    const std::string scene_hash = file_hash(path);
+    if (have_manifest && !manifest.scene_hash.empty() && manifest.scene_hash != scene_hash && !quiet)
+      std::fprintf(stderr, "note: %s changed since its goldens were written\n", path.c_str());
+    bool manifest_dirty = false;
+    SceneOutcome so;
+    for (Checked& c : got) {
+      ReportFrame rf;
+      rf.scene = scene.name;
+      rf.frame = (int)c.target.index;
+      rf.time = c.target.time;
+      rf.width = c.image.width;
+      rf.height = c.image.height;
+      const std::string file = golden_file_name(c.target.time);
+      const std::string png_path = (std::filesystem::path(dir) / file).string();
+      const GoldenFrame* g = manifest.find(c.target.time);
+      Image golden;
+      bool golden_ok = g != nullptr;
+      if (g) {
+        try {
+          golden = read_png((std::filesystem::path(dir) / g->file).string());
+        } catch (const InputError& e) {
+          rf.messages.push_back(std::string("the golden image cannot be read: ") + e.what());
+          golden_ok = false;
+        }
+      }
+      bool pass = false;
+      if (golden_ok) {
+        // Physics first: a changed trajectory explains any changed picture.
+        const std::vector<std::string> physics = compare_states(g->bodies, c.bodies);
+        for (const std::string& m : physics) rf.messages.push_back("physics changed: " + m);
+        if (g->step != c.target.step)
+          rf.messages.push_back("physics changed: the frame is taken at step " + std::to_string(c.target.step) +
+                                " (golden: step " + std::to_string(g->step) + "; a new timestep?)");
+        // Then pixels: exact when the same renderer drew both, else perceptual.
+        const bool same_renderer = same_pixels_expected(g->fingerprint, fp);
+        const bool exact = tolerance == Tolerance::exact || (tolerance == Tolerance::automatic && same_renderer);
+        Image diff;
+        const CompareResult r = compare_images(golden, c.image, CompareOptions{}, &diff);
+        bool pixels_ok;
+        if (!r.same_size) {
+          pixels_ok = false;
+          rf.kind = "size";
+          rf.messages.push_back("size changed: " + r.reason);
+        } else if (exact) {
+          pixels_ok = pixel_hash(c.image) == g->pixel_hash && pixel_hash(golden) == g->pixel_hash;
+          if (!pixels_ok)
+            rf.messages.push_back("rendering changed (exact): " + std::to_string(r.differing + r.antialiased) +
+                                  " pixels differ beyond the colour threshold, largest channel change " +
+                                  std::to_string((int)r.max_channel_delta) + " levels");
+        } else {
+          pixels_ok = r.pass;
+          if (!pixels_ok) rf.messages.push_back("rendering changed (portable): " + r.reason);
+        }
+        if (!physics.empty() || g->step != c.target.step) rf.kind = "physics";
+        else if (!pixels_ok && rf.kind.empty()) rf.kind = "rendering";
+        pass = physics.empty() && g->step == c.target.step && pixels_ok;
+        rf.differing = r.differing;
+        rf.antialiased = r.antialiased;
+        rf.diff_ratio = r.diff_ratio;
+        rf.largest_cluster = r.largest_cluster;
+        rf.psnr = r.psnr;
+        rf.ssim = r.ssim;
+        for (const Cluster& k : r.clusters) rf.clusters.push_back({k.x0, k.y0, k.x1, k.y1, k.pixels});
+        if (report.golden_fingerprint.empty() || !pass) report.golden_fingerprint = g->fingerprint;
+        if (a.has("--report")) {
+          rf.expected_png = slurp((std::filesystem::path(dir) / g->file).string());
+          if (!pass && r.same_size) rf.diff_png = encode_png(diff);
+        }
+        rf.status = pass ? "pass" : "fail";
+      } else {
+        rf.status = "missing";
+        rf.messages.push_back("no golden for t = " + std::to_string(c.target.time) + " s in " + dir);
+      }
+      // Write goldens as --update says.
+      const bool write = (!golden_ok && (update == Update::missing || update == Update::changed ||
+                                         update == Update::all)) ||
+                         (golden_ok && !pass && (update == Update::changed || update == Update::all)) ||
+                         (golden_ok && pass && update == Update::all);
+      if (write) {
+        std::error_code ec;
+        std::filesystem::create_directories(dir, ec);
+        if (ec) throw std::runtime_error("cannot create the golden folder '" + dir + "': " + ec.message());
+        write_atomic(png_path, encode_png(c.image));
+        GoldenFrame nf{c.target.time, c.target.step, file, pixel_hash(c.image), c.image.width, c.image.height, fp,
+                       c.bodies};
+        bool replaced = false;
+        for (GoldenFrame& old : manifest.frames)
+          if (std::fabs(old.time - nf.time) <= 1e-9) old = nf, replaced = true;
+        if (!replaced) manifest.frames.push_back(nf);
+        manifest_dirty = true;
+        rf.status = golden_ok ? "updated" : "new";
+        ++so.written;
+      }
+      if (rf.status == "pass" || rf.status == "new" || rf.status == "updated") ++so.passed;
+      else if (rf.status == "fail") ++so.failed;
+      else ++so.missing;
+      if (a.has("--report")) rf.actual_png = encode_png(c.image);
+      report.actual_fingerprint = fp;
+
+      char t[32];
+      std::snprintf(t, sizeof t, "t=%gs", c.target.time);
+      const std::string what = rf.status == "pass"      ? "PASS"
+                               : rf.status == "new"     ? "NEW "
+                               : rf.status == "updated" ? "UPD "
+                               : rf.status == "fail"    ? "FAIL"
+                                                        : "MISS";
+      if (!quiet || rf.status == "fail" || rf.status == "missing") {
+        std::printf("%s %s %s%s\n", what.c_str(), scene.name.c_str(), t,
+                    rf.status == "fail" ? (" (" + rf.kind + " changed)").c_str() : "");
+        for (const std::string& m : rf.messages) std::printf("     %s\n", m.c_str());
+      }
+      junit.push_back({scene.name, t, render_s / std::max<size_t>(1, got.size()),
+                       rf.status == "fail" ? "failure" : rf.status == "missing" ? "error" : "",
+                       [&] {
+                         std::string m;
+                         for (const std::string& s : rf.messages) m += s + "\n";
+                         return m;
+                       }()});
+      report.frames.push_back(std::move(rf));
+    }
+    if (manifest_dirty) {
+      if (update == Update::all) {  // exactly the frames checked now: drop those no longer asked for
+        std::vector<GoldenFrame> keep;
+        for (const GoldenFrame& f : manifest.frames) {
+          bool asked = false;
+          for (const Checked& c : got) asked |= std::fabs(c.target.time - f.time) <= 1e-9;
+          if (asked) keep.push_back(f);
+          else std::filesystem::remove(std::filesystem::path(dir) / f.file);
+        }
+        manifest.frames = keep;
+      }
+      std::sort(manifest.frames.begin(), manifest.frames.end(),
+                [](const GoldenFrame& x, const GoldenFrame& y) { return x.time < y.time; });
+      manifest.simreel_version = kVersion;
+      manifest.scene_hash = scene_hash;
+      write_manifest(manifest_path, manifest);
+    }
+    if (!quiet)
+      std::printf("%s: %zu frames checked, %d written; physics %.3f s, drawing %.3f s\n", scene.name.c_str(),
+                  got.size(), so.written, loop.step_seconds(), render_s);
+    frames_total += (int)got.size();
+    passed_total += so.passed;
+    written_total += so.written;
+    differ += so.failed;
+    missing += so.missing;
+  }
+
+  std::ostringstream summary;
+  int physics = 0, rendering = 0;
+  for (const ReportFrame& f : report.frames)
+    if (f.status == "fail") (f.kind == "physics" ? physics : rendering)++;
+  summary << differ << " of " << frames_total << " frames differ (" << physics << " physics, " << rendering
+          << " rendering)";
+  if (missing) summary << ", " << missing << " without a golden (--update missing writes them)";
+  if (written_total) summary << ", " << written_total << " goldens written";
+  if (bad_input) summary << ", " << bad_input << " scenes could not be checked";
+  report.summary = summary.str();
+  std::printf("%s\n", report.summary.c_str());
+  if (differ) std::printf("to accept the changes: %s\n", report.accept_command.c_str());
+  if (a.has("--report")) {
+    const std::string page = write_report(a.options.at("--report"), report);
+    std::printf("report: %s\n", page.c_str());
+  }
+  if (a.has("--junit")) write_junit(a.options.at("--junit"), "simreel check", junit);
+  if (bad_input || missing) return kExitBadInput;
+  return differ ? kExitFailure : kExitOk;
+}
+
+}  // namespace simreel
