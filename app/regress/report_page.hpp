@@ -99,6 +99,7 @@ h2 { font-size: 15px; margin: 26px 0 10px; }
 h2 .n, summary .n { color: var(--muted); font-weight: 400; }
 details.group > summary { cursor: pointer; font-size: 15px; font-weight: 700; margin: 26px 0 10px; }
 .panel, .card { background: var(--panel); border: 1px solid var(--line); border-radius: 8px; }
+h2, .card { scroll-margin-top: 56px; }  /* anchors land below the sticky toolbar */
 .card { border-left: 4px solid var(--line); padding: 12px 16px 14px; margin: 0 0 14px; }
 .card.st-fail { border-left-color: var(--fail); }
 .card.st-pass { border-left-color: var(--pass); }
