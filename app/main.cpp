@@ -335,7 +335,8 @@ int main(int argc, char** argv) {
     if (cmd == "check") return cmd_check(args);
     if (cmd == "diff") return cmd_diff(args);
     std::string msg = "unknown command '" + cmd + "'";
-    if (auto s = nearest(cmd, {"render", "simulate", "inspect", "check", "diff"})) msg += "; did you mean '" + *s + "'?";
+    if (auto s = nearest(cmd, {"render", "simulate", "inspect", "check", "diff"}))
+      msg += "; did you mean '" + *s + "'?";
     throw UsageError(msg);
   } catch (const UsageError& e) {
     std::fprintf(stderr, "simreel %s: %s (see simreel %s --help)\n", cmd.c_str(), e.what(), cmd.c_str());

@@ -733,8 +733,8 @@ Scene load_scene(const std::string& path) {
     if (t["frames"]) {
       s.test.frames = text(t["frames"], c.child("frames"));
       try {
-        parse_frame_spec(s.test.frames, plan_frames(s.duration, s.timestep, s.video.fps), s.video.fps, s.timestep,
-                         s.duration);
+        parse_frame_spec(s.test.frames, plan_frames(s.duration, s.timestep, s.video.fps), s.video.fps,
+                         s.timestep, s.duration);
       } catch (const std::invalid_argument& e) {
         c.child("frames").fail(t["frames"], e.what());
       }

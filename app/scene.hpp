@@ -73,8 +73,9 @@ struct BodyLook {
 
 // The scene-level `test:` block: what `simreel check` compares (its options override it).
 struct TestSpec {
-  std::string frames = "0%, 25%, 50%, 75%, 100%";  ///< frame spec (app/frame_loop.hpp): by time, so fps may change
-  int width = 480, height = 270;                    ///< px: goldens small enough for git
+  std::string frames =
+      "0%, 25%, 50%, 75%, 100%";  ///< frame spec (app/frame_loop.hpp): by time, so fps may change
+  int width = 480, height = 270;  ///< px: goldens small enough for git
 };
 
 struct Scene {

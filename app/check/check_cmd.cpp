@@ -126,19 +126,28 @@ int cmd_check(const std::vector<std::string>& args) {
   Update update = std::getenv("CI") || !isatty(1) ? Update::none : Update::missing;
   if (a.has("--update")) {
     const std::string& u = a.options.at("--update");
-    if (u == "missing") update = Update::missing;
-    else if (u == "changed") update = Update::changed;
-    else if (u == "all") update = Update::all;
-    else if (u == "none") update = Update::none;
-    else throw UsageError("unknown --update '" + u + "' (missing, changed, all, none)");
+    if (u == "missing")
+      update = Update::missing;
+    else if (u == "changed")
+      update = Update::changed;
+    else if (u == "all")
+      update = Update::all;
+    else if (u == "none")
+      update = Update::none;
+    else
+      throw UsageError("unknown --update '" + u + "' (missing, changed, all, none)");
   }
   Tolerance tolerance = Tolerance::automatic;
   if (a.has("--tolerance")) {
     const std::string& t = a.options.at("--tolerance");
-    if (t == "auto") tolerance = Tolerance::automatic;
-    else if (t == "exact") tolerance = Tolerance::exact;
-    else if (t == "portable") tolerance = Tolerance::portable;
-    else throw UsageError("unknown --tolerance '" + t + "' (auto, exact, portable)");
+    if (t == "auto")
+      tolerance = Tolerance::automatic;
+    else if (t == "exact")
+      tolerance = Tolerance::exact;
+    else if (t == "portable")
+      tolerance = Tolerance::portable;
+    else
+      throw UsageError("unknown --tolerance '" + t + "' (auto, exact, portable)");
   }
   ViewOptions vo;
   if (a.has("--gl")) {
@@ -171,8 +180,8 @@ int cmd_check(const std::vector<std::string>& args) {
       continue;
     }
     if (!names.insert(scene.name).second) {
-      std::fprintf(stderr, "error: %s: another scene named '%s' uses the same golden folder %s/%s\n", path.c_str(),
-                   scene.name.c_str(), goldens.c_str(), scene.name.c_str());
+      std::fprintf(stderr, "error: %s: another scene named '%s' uses the same golden folder %s/%s\n",
+                   path.c_str(), scene.name.c_str(), goldens.c_str(), scene.name.c_str());
       ++bad_input;
       continue;
     }
@@ -253,11 +262,13 @@ int cmd_check(const std::vector<std::string>& args) {
         const std::vector<std::string> physics = compare_states(g->bodies, c.bodies);
         for (const std::string& m : physics) rf.messages.push_back("physics changed: " + m);
         if (g->step != c.target.step)
-          rf.messages.push_back("physics changed: the frame is taken at step " + std::to_string(c.target.step) +
-                                " (golden: step " + std::to_string(g->step) + "; a new timestep?)");
+          rf.messages.push_back("physics changed: the frame is taken at step " +
+                                std::to_string(c.target.step) + " (golden: step " + std::to_string(g->step) +
+                                "; a new timestep?)");
         // Then pixels: exact when the same renderer drew both, else perceptual.
         const bool same_renderer = same_pixels_expected(g->fingerprint, fp);
-        const bool exact = tolerance == Tolerance::exact || (tolerance == Tolerance::automatic && same_renderer);
+        const bool exact =
+            tolerance == Tolerance::exact || (tolerance == Tolerance::automatic && same_renderer);
         Image diff;
         const CompareResult r = compare_images(golden, c.image, CompareOptions{}, &diff);
         bool pixels_ok;
@@ -268,15 +279,18 @@ int cmd_check(const std::vector<std::string>& args) {
         } else if (exact) {
           pixels_ok = pixel_hash(c.image) == g->pixel_hash && pixel_hash(golden) == g->pixel_hash;
           if (!pixels_ok)
-            rf.messages.push_back("rendering changed (exact): " + std::to_string(r.differing + r.antialiased) +
-                                  " pixels differ beyond the colour threshold, largest channel change " +
-                                  std::to_string((int)r.max_channel_delta) + " levels");
+            rf.messages.push_back(
+                "rendering changed (exact): " + std::to_string(r.differing + r.antialiased) +
+                " pixels differ beyond the colour threshold, largest channel change " +
+                std::to_string((int)r.max_channel_delta) + " levels");
         } else {
           pixels_ok = r.pass;
           if (!pixels_ok) rf.messages.push_back("rendering changed (portable): " + r.reason);
         }
-        if (!physics.empty() || g->step != c.target.step) rf.kind = "physics";
-        else if (!pixels_ok && rf.kind.empty()) rf.kind = "rendering";
+        if (!physics.empty() || g->step != c.target.step)
+          rf.kind = "physics";
+        else if (!pixels_ok && rf.kind.empty())
+          rf.kind = "rendering";
         pass = physics.empty() && g->step == c.target.step && pixels_ok;
         rf.differing = r.differing;
         rf.antialiased = r.antialiased;
@@ -296,28 +310,35 @@ int cmd_check(const std::vector<std::string>& args) {
         rf.messages.push_back("no golden for t = " + std::to_string(c.target.time) + " s in " + dir);
       }
       // Write goldens as --update says.
-      const bool write = (!golden_ok && (update == Update::missing || update == Update::changed ||
-                                         update == Update::all)) ||
-                         (golden_ok && !pass && (update == Update::changed || update == Update::all)) ||
-                         (golden_ok && pass && update == Update::all);
+      const bool write =
+          (!golden_ok && (update == Update::missing || update == Update::changed || update == Update::all)) ||
+          (golden_ok && !pass && (update == Update::changed || update == Update::all)) ||
+          (golden_ok && pass && update == Update::all);
       if (write) {
         std::error_code ec;
         std::filesystem::create_directories(dir, ec);
         if (ec) throw std::runtime_error("cannot create the golden folder '" + dir + "': " + ec.message());
         write_atomic(png_path, encode_png(c.image));
-        GoldenFrame nf{c.target.time, c.target.step, file, pixel_hash(c.image), c.image.width, c.image.height, fp,
-                       c.bodies};
+        GoldenFrame nf{c.target.time, c.target.step,  file, pixel_hash(c.image),
+                       c.image.width, c.image.height, fp,   c.bodies};
         bool replaced = false;
         for (GoldenFrame& old : manifest.frames)
           if (std::fabs(old.time - nf.time) <= 1e-9) old = nf, replaced = true;
         if (!replaced) manifest.frames.push_back(nf);
         manifest_dirty = true;
         rf.status = golden_ok ? "updated" : "new";
+        if (!golden_ok)
+          rf.messages = {"golden written: " + png_path};
+        else
+          rf.messages.push_back("golden rewritten (--update): " + png_path);
         ++so.written;
       }
-      if (rf.status == "pass" || rf.status == "new" || rf.status == "updated") ++so.passed;
-      else if (rf.status == "fail") ++so.failed;
-      else ++so.missing;
+      if (rf.status == "pass" || rf.status == "new" || rf.status == "updated")
+        ++so.passed;
+      else if (rf.status == "fail")
+        ++so.failed;
+      else
+        ++so.missing;
       if (a.has("--report")) rf.actual_png = encode_png(c.image);
       report.actual_fingerprint = fp;
 
@@ -334,7 +355,9 @@ int cmd_check(const std::vector<std::string>& args) {
         for (const std::string& m : rf.messages) std::printf("     %s\n", m.c_str());
       }
       junit.push_back({scene.name, t, render_s / std::max<size_t>(1, got.size()),
-                       rf.status == "fail" ? "failure" : rf.status == "missing" ? "error" : "",
+                       rf.status == "fail"      ? "failure"
+                       : rf.status == "missing" ? "error"
+                                                : "",
                        [&] {
                          std::string m;
                          for (const std::string& s : rf.messages) m += s + "\n";
@@ -348,8 +371,10 @@ int cmd_check(const std::vector<std::string>& args) {
         for (const GoldenFrame& f : manifest.frames) {
           bool asked = false;
           for (const Checked& c : got) asked |= std::fabs(c.target.time - f.time) <= 1e-9;
-          if (asked) keep.push_back(f);
-          else std::filesystem::remove(std::filesystem::path(dir) / f.file);
+          if (asked)
+            keep.push_back(f);
+          else
+            std::filesystem::remove(std::filesystem::path(dir) / f.file);
         }
         manifest.frames = keep;
       }

@@ -126,8 +126,8 @@ std::string fmt(const char* f, double v) {
 }  // namespace
 
 int cmd_diff(const std::vector<std::string>& args) {
-  const ParsedArgs a =
-      parse_args(args, {{"--out", true}, {"--tolerance", true}, {"--quiet", false}, {"--help", false}, {"-h", false}});
+  const ParsedArgs a = parse_args(
+      args, {{"--out", true}, {"--tolerance", true}, {"--quiet", false}, {"--help", false}, {"-h", false}});
   if (a.has("--help") || a.has("-h")) {
     std::fputs(kDiffHelp, stdout);
     return kExitOk;
@@ -136,13 +136,16 @@ int cmd_diff(const std::vector<std::string>& args) {
   CompareOptions opt;
   if (a.has("--tolerance")) {
     const std::string& t = a.options.at("--tolerance");
-    if (t == "exact") opt = CompareOptions::exact();
-    else if (t != "portable") throw UsageError("unknown --tolerance '" + t + "' (portable, exact)");
+    if (t == "exact")
+      opt = CompareOptions::exact();
+    else if (t != "portable")
+      throw UsageError("unknown --tolerance '" + t + "' (portable, exact)");
   }
   const bool quiet = a.has("--quiet");
   std::unique_ptr<Source> A = open_source(a.positional[0]), B = open_source(a.positional[1]);
   std::vector<std::string> mismatches;
-  if (A->timed() && B->timed() && A->fps() > 0 && B->fps() > 0 && std::fabs(A->fps() - B->fps()) > 1e-6 * A->fps())
+  if (A->timed() && B->timed() && A->fps() > 0 && B->fps() > 0 &&
+      std::fabs(A->fps() - B->fps()) > 1e-6 * A->fps())
     mismatches.push_back("frame rate: A " + fmt("%g", A->fps()) + " fps, B " + fmt("%g", B->fps()) + " fps");
 
   // Pairing: videos by timestamp (within half a frame), folders by file name, otherwise in order.
@@ -170,10 +173,14 @@ int cmd_diff(const std::vector<std::string>& args) {
   while (ha || hb) {
     // Which frames pair up now.
     int take = 3;  // 1: A alone, 2: B alone, 3: both
-    if (!hb) take = 1;
-    else if (!ha) take = 2;
-    else if (by_time && std::fabs(ta - tb) > half) take = ta < tb ? 1 : 2;
-    else if (by_name && na != nb) take = na < nb ? 1 : 2;
+    if (!hb)
+      take = 1;
+    else if (!ha)
+      take = 2;
+    else if (by_time && std::fabs(ta - tb) > half)
+      take = ta < tb ? 1 : 2;
+    else if (by_name && na != nb)
+      take = na < nb ? 1 : 2;
     ReportFrame rf;
     rf.scene = take == 2 ? nb : na;
     rf.frame = (int)index++;
@@ -186,10 +193,12 @@ int cmd_diff(const std::vector<std::string>& args) {
       const Image& im = take == 1 ? ia : ib;
       rf.width = im.width;
       rf.height = im.height;
-      if (!quiet) std::printf("%-24s only in %s\n", rf.scene.c_str(), take == 1 ? "A" : "B");
+      std::printf("%-24s only in %s\n", rf.scene.c_str(), take == 1 ? "A" : "B");
       frames.push_back(std::move(rf));
-      if (take == 1) ha = A->next(ia, na, ta);
-      else hb = B->next(ib, nb, tb);
+      if (take == 1)
+        ha = A->next(ia, na, ta);
+      else
+        hb = B->next(ib, nb, tb);
       continue;
     }
     ++compared;
@@ -222,8 +231,8 @@ int cmd_diff(const std::vector<std::string>& args) {
     }
     if (!quiet || !r.pass)
       std::printf("%-24s %s  differing %ld (%.4f%%), largest cluster %d, PSNR %s dB, SSIM %.6f%s\n",
-                  rf.scene.c_str(), r.pass ? "same" : "DIFF", r.differing, 100 * r.diff_ratio, r.largest_cluster,
-                  std::isinf(r.psnr) ? "inf" : fmt("%.2f", r.psnr).c_str(), r.ssim,
+                  rf.scene.c_str(), r.pass ? "same" : "DIFF", r.differing, 100 * r.diff_ratio,
+                  r.largest_cluster, std::isinf(r.psnr) ? "inf" : fmt("%.2f", r.psnr).c_str(), r.ssim,
                   r.same_size ? "" : ("  (" + r.reason + ")").c_str());
     // Keep the images of the worst frames only: a long video never sits in memory.
     const double badness = r.same_size ? (r.pass ? 0.0 : 1.0) + r.diff_ratio + (1 - r.ssim) : 2.0;
@@ -269,7 +278,8 @@ int cmd_diff(const std::vector<std::string>& args) {
         std::string safe = rf.scene;
         for (char& c : safe)
           if (!std::isalnum((unsigned char)c) && c != '.' && c != '_' && c != '-' && c != '=') c = '_';
-        write_png_file((fs::path(out) / ("diff_" + std::to_string(rf.frame) + "_" + safe + ".png")).string(), d);
+        write_png_file((fs::path(out) / ("diff_" + std::to_string(rf.frame) + "_" + safe + ".png")).string(),
+                       d);
       }
     }
     // The page lists the differing frames first and shows the images of the worst.

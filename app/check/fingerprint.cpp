@@ -39,7 +39,8 @@ Fingerprint fingerprint(const std::string& description) {
   // GL_VERSION starts with a digit ("4.5 (Core Profile) Mesa 22.3.6"); GL_RENDERER may hold
   // commas ("llvmpipe (LLVM 15.0.6, 256 bits)"): split at the last ", " before a digit.
   std::string renderer = rest, version;
-  for (size_t p = rest.rfind(", "); p != std::string::npos; p = p ? rest.rfind(", ", p - 1) : std::string::npos) {
+  for (size_t p = rest.rfind(", "); p != std::string::npos;
+       p = p ? rest.rfind(", ", p - 1) : std::string::npos) {
     if (p + 2 < rest.size() && std::isdigit((unsigned char)rest[p + 2])) {
       renderer = rest.substr(0, p);
       version = rest.substr(p + 2);

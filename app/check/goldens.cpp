@@ -25,7 +25,8 @@ std::vector<BodyState> body_states(const World& w) {
   std::vector<BodyState> out;
   out.reserve((size_t)w.body_count());
   for (int i = 0; i < w.body_count(); ++i)
-    out.push_back({w.def(i).name, w.origin_position(i), w.orientation(i), w.linear_velocity(i), w.angular_velocity(i)});
+    out.push_back(
+        {w.def(i).name, w.origin_position(i), w.orientation(i), w.linear_velocity(i), w.angular_velocity(i)});
   return out;
 }
 
@@ -91,8 +92,10 @@ Manifest read_manifest(const std::string& path) {
         s.name = b.at("name").get<std::string>();
         s.position = vec3(b.at("position"));
         const json& q = b.at("orientation");
-        if (!q.is_array() || q.size() != 4) throw std::invalid_argument("orientation: expected 4 numbers [w, x, y, z]");
-        s.orientation = Quat(q.at(0).get<double>(), q.at(1).get<double>(), q.at(2).get<double>(), q.at(3).get<double>());
+        if (!q.is_array() || q.size() != 4)
+          throw std::invalid_argument("orientation: expected 4 numbers [w, x, y, z]");
+        s.orientation =
+            Quat(q.at(0).get<double>(), q.at(1).get<double>(), q.at(2).get<double>(), q.at(3).get<double>());
         s.linear_velocity = vec3(b.at("linear_velocity"));
         s.angular_velocity = vec3(b.at("angular_velocity"));
         g.bodies.push_back(s);
@@ -139,8 +142,8 @@ void write_manifest(const std::string& path, const Manifest& m) {
   out.commit();
 }
 
-std::vector<std::string> compare_states(const std::vector<BodyState>& golden, const std::vector<BodyState>& now,
-                                        double rtol) {
+std::vector<std::string> compare_states(const std::vector<BodyState>& golden,
+                                        const std::vector<BodyState>& now, double rtol) {
   std::vector<std::string> out;
   auto fmt = [](double v) {
     char b[40];
@@ -176,7 +179,8 @@ std::vector<std::string> compare_states(const std::vector<BodyState>& golden, co
                           sg * n->orientation.z()};
     check(g.name, "orientation", gq, nq, 4, "", "wxyz");
     check(g.name, "linear_velocity", g.linear_velocity.data(), n->linear_velocity.data(), 3, "m/s", "xyz");
-    check(g.name, "angular_velocity", g.angular_velocity.data(), n->angular_velocity.data(), 3, "rad/s", "xyz");
+    check(g.name, "angular_velocity", g.angular_velocity.data(), n->angular_velocity.data(), 3, "rad/s",
+          "xyz");
   }
   for (const BodyState& c : now) {
     bool known = false;

@@ -58,8 +58,8 @@ std::string golden_file_name(double time);
 // near zero are not held to nothing; quaternions compared up to sign). One message per body and
 // quantity that moved: "body 'ball' position.z: 1.25 (golden 1.2, by 0.05 m)"; bodies added or
 // gone are named too. Empty when the physics is the same.
-std::vector<std::string> compare_states(const std::vector<BodyState>& golden, const std::vector<BodyState>& now,
-                                        double rtol = 1e-9);
+std::vector<std::string> compare_states(const std::vector<BodyState>& golden,
+                                        const std::vector<BodyState>& now, double rtol = 1e-9);
 
 // 64-bit FNV-1a of a file's bytes, hex; "" if it cannot be read.
 std::string file_hash(const std::string& path);

@@ -16,14 +16,29 @@ std::string xml(const std::string& s) {
   std::string o;
   for (unsigned char c : s) {
     switch (c) {
-      case '&': o += "&amp;"; break;
-      case '<': o += "&lt;"; break;
-      case '>': o += "&gt;"; break;
-      case '"': o += "&quot;"; break;
-      case '\'': o += "&apos;"; break;
-      case '\n': o += "&#10;"; break;
-      case '\t': o += "&#9;"; break;
-      default: o += c < 0x20 ? '?' : (char)c;
+      case '&':
+        o += "&amp;";
+        break;
+      case '<':
+        o += "&lt;";
+        break;
+      case '>':
+        o += "&gt;";
+        break;
+      case '"':
+        o += "&quot;";
+        break;
+      case '\'':
+        o += "&apos;";
+        break;
+      case '\n':
+        o += "&#10;";
+        break;
+      case '\t':
+        o += "&#9;";
+        break;
+      default:
+        o += c < 0x20 ? '?' : (char)c;
     }
   }
   return o;
@@ -46,8 +61,8 @@ std::string junit_xml(const std::string& suite, const std::vector<JunitCase>& ca
   o << "  <testsuite name=\"" << xml(suite) << "\" tests=\"" << cases.size() << "\" failures=\"" << failures
     << "\" errors=\"" << errors << "\" skipped=\"0\" time=\"" << total << "\">\n";
   for (const JunitCase& c : cases) {
-    o << "    <testcase classname=\"" << xml(c.classname) << "\" name=\"" << xml(c.name) << "\" time=\"" << c.seconds
-      << "\"";
+    o << "    <testcase classname=\"" << xml(c.classname) << "\" name=\"" << xml(c.name) << "\" time=\""
+      << c.seconds << "\"";
     if (c.outcome.empty()) {
       o << "/>\n";
       continue;

@@ -55,14 +55,16 @@ VideoFrames::VideoFrames(const std::string& path) : p_(std::make_unique<Impl>())
   av_log_set_level(AV_LOG_ERROR);
   if (avformat_open_input(&P.fmt, path.c_str(), nullptr, nullptr) < 0)
     throw InputError(path + ": not a video simreel can read");
-  if (avformat_find_stream_info(P.fmt, nullptr) < 0) throw InputError(path + ": cannot read the video's streams");
+  if (avformat_find_stream_info(P.fmt, nullptr) < 0)
+    throw InputError(path + ": cannot read the video's streams");
   P.stream = av_find_best_stream(P.fmt, AVMEDIA_TYPE_VIDEO, -1, -1, nullptr, 0);
   if (P.stream < 0) throw InputError(path + ": holds no video stream");
   AVStream* st = P.fmt->streams[P.stream];
   const AVCodec* codec = avcodec_find_decoder(st->codecpar->codec_id);
   if (!codec) throw InputError(path + ": no decoder for its video codec");
   P.dec = avcodec_alloc_context3(codec);
-  if (!P.dec || avcodec_parameters_to_context(P.dec, st->codecpar) < 0 || avcodec_open2(P.dec, codec, nullptr) < 0)
+  if (!P.dec || avcodec_parameters_to_context(P.dec, st->codecpar) < 0 ||
+      avcodec_open2(P.dec, codec, nullptr) < 0)
     throw InputError(path + ": cannot open its video decoder");
   P.pkt = av_packet_alloc();
   P.frame = av_frame_alloc();

@@ -305,8 +305,9 @@ std::string card(const ReportFrame& f, size_t index) {
   const std::string cls = known_status(f.status) ? f.status : "fail";
   std::string s = "<article class=\"card st-" + cls + "\" id=\"" + id + "\"><div class=\"card-head\">";
   s += "<h3>" + html_escape(f.scene) + "</h3>";
-  s +=
-      "<span class=\"meta\">frame " + std::to_string(f.frame) + " &middot; t = " + fmt("%.3f", f.time) + " s";
+  s += "<span class=\"meta\">" +
+       (f.frame >= 0 ? "frame " + std::to_string(f.frame) + " &middot; " : std::string()) +
+       "t = " + fmt("%.3f", f.time) + " s";
   if (f.width > 0 && f.height > 0) s += fmt(" &middot; %d&times;%d", f.width, f.height);
   s += "</span>" + badge(f.status) + "</div>";
 
@@ -409,8 +410,8 @@ std::string report_html(const ReportInput& in) {
     for (size_t i : order) {
       const ReportFrame& f = in.frames[i];
       if (rank(f.status) > 1) break;
-      s += "<a href=\"#f" + std::to_string(i) + "\">" + html_escape(f.scene) + " #" +
-           std::to_string(f.frame) + "</a>";
+      s += "<a href=\"#f" + std::to_string(i) + "\">" + html_escape(f.scene) +
+           (f.frame >= 0 ? " #" + std::to_string(f.frame) : " t=" + fmt("%g", f.time) + "s") + "</a>";
     }
     s += "</div>";
   }

@@ -16,7 +16,7 @@ namespace simreel {
 
 struct ReportFrame {
   std::string scene;  // scene name
-  int frame = 0;      // frame index
+  int frame = 0;      // frame index; -1 for a moment between frames of the plan (shown by time only)
   double time = 0;    // s
   // "pass", "fail", "new" (golden written), "missing" (no golden, not written), "updated"
   std::string status;
