@@ -350,8 +350,15 @@ int cmd_check(const std::vector<std::string>& args) {
                                : rf.status == "fail"    ? "FAIL"
                                                         : "MISS";
       if (!quiet || rf.status == "fail" || rf.status == "missing") {
-        std::printf("%s %s %s%s\n", what.c_str(), scene.name.c_str(), t,
-                    rf.status == "fail" ? (" (" + rf.kind + " changed)").c_str() : "");
+        std::string metrics;
+        if (!std::isnan(rf.diff_ratio)) {
+          char m[160];
+          std::snprintf(m, sizeof m, "  [%ld px differ, largest cluster %d, PSNR %s dB, SSIM %.6f]", rf.differing,
+                        rf.largest_cluster, std::isinf(rf.psnr) ? "inf" : std::to_string(rf.psnr).c_str(), rf.ssim);
+          metrics = m;
+        }
+        std::printf("%s %s %s%s%s\n", what.c_str(), scene.name.c_str(), t,
+                    rf.status == "fail" ? (" (" + rf.kind + " changed)").c_str() : "", metrics.c_str());
         for (const std::string& m : rf.messages) std::printf("     %s\n", m.c_str());
       }
       junit.push_back({scene.name, t, render_s / std::max<size_t>(1, got.size()),
