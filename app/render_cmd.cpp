@@ -287,6 +287,15 @@ int cmd_render(const std::vector<std::string>& args) {
   std::fprintf(stderr, "simreel render: this build has no renderer (configured with -DSIMREEL_RENDER=OFF)\n");
   return kExitFailure;
 }
+// check and diff draw and decode frames: without render/ they only say so.
+int cmd_check(const std::vector<std::string>&) {
+  std::fprintf(stderr, "simreel check: this build has no renderer (configured with -DSIMREEL_RENDER=OFF)\n");
+  return kExitFailure;
+}
+int cmd_diff(const std::vector<std::string>&) {
+  std::fprintf(stderr, "simreel diff: this build has no renderer (configured with -DSIMREEL_RENDER=OFF)\n");
+  return kExitFailure;
+}
 #endif
 
 }  // namespace simreel
