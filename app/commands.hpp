@@ -29,8 +29,13 @@ struct ParsedArgs {
 };
 ParsedArgs parse_args(const std::vector<std::string>& args, const std::map<std::string, bool>& spec);
 
-// Scene overrides shared by simulate and render.
+// Scene overrides shared by simulate and render, then prepare_run (app/run.hpp): limits and
+// frames exactly at k / fps. Throws UsageError / InputError naming the key.
 void apply_overrides(const ParsedArgs& a, Scene& s);
+
+// The run's summary on stdout: JSON with --json (even with --quiet), else text unless --quiet.
+struct RunSummary;
+void print_summary(const ParsedArgs& a, const RunSummary& s);
 
 int cmd_simulate(const std::vector<std::string>& args);
 int cmd_inspect(const std::vector<std::string>& args);

@@ -54,7 +54,10 @@ options:
   --resume FILE       start from a state saved from the same scene and continue to --duration
                       (absolute time); the CSV starts at the saved time. Bit-identical to a
                       straight run
-  --quiet             no progress bar
+  --quiet             print nothing but errors (no progress, no summary; --json still prints)
+
+Ctrl-C (SIGINT), SIGTERM, SIGHUP or SIGQUIT stops the run between steps: the CSV keeps the rows
+done and --save-state the state reached; exit 128 + the signal (130, 143, 129, 131).
 )";
 
 const char* kInspectHelp = R"(usage: simreel inspect MESH [options]
@@ -114,6 +117,9 @@ ParsedArgs parse_args(const std::vector<std::string>& args, const std::map<std::
         if (!inline_value) {
           if (i + 1 >= args.size()) throw UsageError(k + " needs a value");
           v = args[++i];
+          // "--csv --quiet" must not write a file called --quiet: an option is never a value.
+          if (v.size() > 1 && v[0] == '-' && spec.count(v.substr(0, v.find('='))))
+            throw UsageError(k + " needs a value, got the option " + v);
         }
       } else if (inline_value) {
         throw UsageError(k + " takes no value");
@@ -144,6 +150,18 @@ void apply_overrides(const ParsedArgs& a, Scene& s) {
   if (a.has("--width")) s.video.width = a.whole("--width", 16, 16384);
   if (a.has("--height")) s.video.height = a.whole("--height", 16, 16384);
   if (s.timestep > s.duration) throw UsageError("the timestep is longer than the duration");
+  try {
+    prepare_run(s);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(s.path + ": " + e.what());
+  }
+}
+
+void print_summary(const ParsedArgs& a, const RunSummary& s) {
+  if (a.has("--json"))
+    std::fputs((summary_json(s) + "\n").c_str(), stdout);
+  else if (!a.has("--quiet"))
+    std::fputs(summary_text(s).c_str(), stdout);
 }
 
 int cmd_simulate(const std::vector<std::string>& args) {
@@ -208,8 +226,10 @@ int cmd_simulate(const std::vector<std::string>& args) {
     targets.insert(targets.begin(), FrameTarget{-1, world.time(), world.steps()});
   if (targets.back().step < plan.total_steps)
     targets.push_back(FrameTarget{-1, scene.duration, plan.total_steps});
-  Progress progress("frames", (long)targets.size(), a.has("--quiet") || a.has("--json"));
+  Progress progress("frames", (long)targets.size(), a.has("--quiet"));
+  const StopSignals stop;  // a signal ends the run between steps; the CSV keeps the rows done
   FrameLoop::Hooks hooks;
+  hooks.stop = &stop.flag();
   if (csv)
     hooks.frame = [&](const FrameTarget&, const World& w) {
       for (int i = 0; i < w.body_count(); ++i) {
@@ -238,8 +258,12 @@ int cmd_simulate(const std::vector<std::string>& args) {
   RunSummary s = make_summary(scene, world, loop.drift(), (int)plan.frame_step.size(), loop.step_seconds());
   if (a.has("--profile")) s.profile = &world.profile();
   if (csv) s.output = a.options.at("--csv");
-  std::fputs(a.has("--json") ? (summary_json(s) + "\n").c_str() : summary_text(s).c_str(), stdout);
-  return kExitOk;
+  if (stop.signal())
+    s.warnings.push_back("interrupted by signal " + std::to_string(stop.signal()) +
+                         " at t = " + std::to_string(world.time()) + " s" +
+                         (csv ? ": the CSV holds the rows up to then" : ""));
+  print_summary(a, s);
+  return stop.signal() ? 128 + stop.signal() : kExitOk;
 }
 
 int cmd_inspect(const std::vector<std::string>& args) {
@@ -339,7 +363,10 @@ int main(int argc, char** argv) {
       msg += "; did you mean '" + *s + "'?";
     throw UsageError(msg);
   } catch (const UsageError& e) {
-    std::fprintf(stderr, "simreel %s: %s (see simreel %s --help)\n", cmd.c_str(), e.what(), cmd.c_str());
+    const bool known =
+        cmd == "render" || cmd == "simulate" || cmd == "inspect" || cmd == "check" || cmd == "diff";
+    std::fprintf(stderr, "simreel %s: %s (see simreel %s--help)\n", cmd.c_str(), e.what(),
+                 known ? (cmd + " ").c_str() : "");
     return kExitBadInput;
   } catch (const InputError& e) {
     std::fprintf(stderr, "error: %s\n", e.what());

@@ -27,9 +27,10 @@ namespace {
 
 const char* kRenderHelp = R"(usage: simreel render SCENE [options]
 
-Simulates SCENE and writes a video: frame k shows simulated time k / fps (taken at the first
-physics step that reaches it). The video appears at its path only when complete; Ctrl-C (SIGINT)
-or SIGTERM finishes a playable video of the frames done so far.
+Simulates SCENE and writes a video: frame k shows simulated time k / fps exactly (the timestep is
+shortened, with a note, when it does not divide 1/fps). The video appears at its path only when
+complete; Ctrl-C (SIGINT), SIGTERM, SIGHUP or SIGQUIT stops the run between steps and finishes a
+playable video of the frames done so far (exit 130, 143, 129 or 131), however many signals follow.
 
 options:
   -o OUT              output video, .mp4/.mov/.mkv (H.264), .webm (VP9) or .gif; default
@@ -54,15 +55,9 @@ options:
   --gl BACKEND        OpenGL context: osmesa (the default where built) or egl (Mesa's surfaceless
                       platform or the first EGL device); the same frames on llvmpipe
   --crf N             H.264 quality, 0-51 (default 20; lower is better and larger)
-  --json              print the summary as one JSON object
-  --quiet             no progress bar
+  --json              print the summary as one JSON object (also with --quiet)
+  --quiet             print nothing but errors (no progress, no summary)
 )";
-
-std::atomic<int> g_signal{0};
-
-extern "C" void on_signal(int sig) {
-  g_signal = sig;
-}
 
 #ifdef SIMREEL_HAVE_RENDER
 std::string lower_ext(const std::string& path) {
@@ -132,7 +127,8 @@ ViewOptions view_options(const ParsedArgs& a) {
 }
 
 // render --at T: the one frame at simulated time T, as a PNG.
-int render_at(const ParsedArgs& a, const Scene& scene, FrameLoop& loop, int w, int h) {
+int render_at(const ParsedArgs& a, const Scene& scene, FrameLoop& loop, int w, int h,
+              const StopSignals& stop) {
   const double t = a.number("--at", false);
   if (t < 0 || t > scene.duration)
     throw UsageError("--at " + a.options.at("--at") + " is outside the run (0 to " +
@@ -148,7 +144,7 @@ int render_at(const ParsedArgs& a, const Scene& scene, FrameLoop& loop, int w, i
   const FrameTarget target{-1, t, step_at(t, scene.timestep, loop.plan().total_steps)};
   double render_s = 0;
   FrameLoop::Hooks hooks;
-  hooks.stop = &g_signal;
+  hooks.stop = &stop.flag();
   hooks.frame = [&](const FrameTarget&, const World& world) {
     const auto t0 = std::chrono::steady_clock::now();
     const uint8_t* rgba = view.draw(renderer, world);
@@ -168,10 +164,10 @@ int render_at(const ParsedArgs& a, const Scene& scene, FrameLoop& loop, int w, i
   s.encode_seconds = 0;
   s.renderer = renderer.description();
   if (done) s.output = path;
-  if (g_signal)
-    s.warnings.push_back("interrupted by signal " + std::to_string(g_signal.load()) + " before the frame");
-  std::fputs(a.has("--json") ? (summary_json(s) + "\n").c_str() : summary_text(s).c_str(), stdout);
-  return g_signal ? 128 + g_signal.load() : kExitOk;
+  if (stop.signal())
+    s.warnings.push_back("interrupted by signal " + std::to_string(stop.signal()) + " before the frame");
+  print_summary(a, s);
+  return stop.signal() ? 128 + stop.signal() : kExitOk;
 }
 #endif
 
@@ -206,16 +202,10 @@ int cmd_render(const std::vector<std::string>& args) {
   }
   const int threads = a.has("--threads") ? a.whole("--threads", 1, 256) : 1;
   FrameLoop loop(scene, threads);
-  g_signal = 0;
-  std::signal(SIGINT, on_signal);
-  std::signal(SIGTERM, on_signal);
-  struct Restore {
-    ~Restore() {
-      std::signal(SIGINT, SIG_DFL);
-      std::signal(SIGTERM, SIG_DFL);
-    }
-  } restore;
-  if (a.has("--at")) return render_at(a, scene, loop, w, h);
+  // Signals stop the run between steps and the outputs are finished (a playable video of the
+  // frames done), however many signals follow, until this function returns.
+  const StopSignals stop;
+  if (a.has("--at")) return render_at(a, scene, loop, w, h, stop);
 
   std::vector<FrameTarget> targets = loop.all_frames();
   if (a.has("--frames")) {
@@ -235,6 +225,7 @@ int cmd_render(const std::vector<std::string>& args) {
   if (!a.has("--no-video")) {
     vs.path = a.has("-o") ? a.options.at("-o") : "out/" + scene.name + ".mp4";
     check_output(vs.path, {".mp4", ".mov", ".mkv", ".webm", ".gif"}, "a video");
+    remove_stale_partials(vs.path);  // left by a render that was killed (SIGKILL cannot be caught)
   }
   if (a.has("--frames-dir")) {
     vs.frames_dir = a.options.at("--frames-dir");
@@ -249,10 +240,10 @@ int cmd_render(const std::vector<std::string>& args) {
   Renderer renderer(view.settings, view.meshes);
   VideoWriter writer(vs);
 
-  Progress progress("frames", (long)targets.size(), a.has("--quiet") || a.has("--json"));
+  Progress progress("frames", (long)targets.size(), a.has("--quiet"));
   double render_s = 0;
   FrameLoop::Hooks hooks;
-  hooks.stop = &g_signal;
+  hooks.stop = &stop.flag();
   hooks.frame = [&](const FrameTarget& t, const World& world) {
     const auto t0 = std::chrono::steady_clock::now();
     view.draw(renderer, world, writer.acquire());  // read back straight into the writer's queue
@@ -271,12 +262,12 @@ int cmd_render(const std::vector<std::string>& args) {
   s.renderer = renderer.description();
   s.encode_seconds = writer.encode_seconds();
   if (done > 0) s.output = vs.path.empty() ? vs.frames_dir : vs.path;
-  if (g_signal) {
-    s.warnings.push_back("interrupted by signal " + std::to_string(g_signal.load()) + " after " +
+  if (stop.signal()) {
+    s.warnings.push_back("interrupted by signal " + std::to_string(stop.signal()) + " after " +
                          std::to_string(done) + " of " + std::to_string(targets.size()) + " frames");
   }
-  std::fputs(a.has("--json") ? (summary_json(s) + "\n").c_str() : summary_text(s).c_str(), stdout);
-  return g_signal ? 128 + g_signal.load() : kExitOk;
+  print_summary(a, s);
+  return stop.signal() ? 128 + stop.signal() : kExitOk;
 }
 #else
 int cmd_render(const std::vector<std::string>& args) {

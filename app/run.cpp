@@ -1,7 +1,9 @@
 #include "app/run.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <sstream>
+#include <stdexcept>
 
 #include "app/text.hpp"
 
@@ -18,6 +20,36 @@ FramePlan plan_frames(double duration, double dt, double fps) {
     p.frame_step[k] = std::min(s, p.total_steps);
   }
   return p;
+}
+
+void prepare_run(Scene& s) {
+  const double steps = s.duration / s.timestep, frames = s.duration * s.video.fps;
+  auto count = [](double v) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%.3g", v);
+    return std::string(b);
+  };
+  if (!(steps <= kMaxSteps))
+    throw std::invalid_argument("simulation.duration / simulation.timestep asks for " + count(steps) +
+                                " steps, over the limit of " + count(kMaxSteps));
+  if (!(frames <= kMaxFrames))
+    throw std::invalid_argument("simulation.duration x video.fps asks for " + count(frames) +
+                                " frames, over the limit of " + count(kMaxFrames));
+  // Steps per frame interval: when 1/fps is a whole number of steps (to 1e-9), frames already
+  // fall on the grid; otherwise shorten the step to the next whole number of steps per frame.
+  const double interval = 1.0 / s.video.fps, per = interval / s.timestep;
+  const double whole = std::round(per);
+  if (whole >= 1 && std::fabs(per - whole) <= 1e-9 * per) return;
+  const double n = std::ceil(per);
+  const double dt = interval / n;
+  char note[256];
+  std::snprintf(
+      note, sizeof note,
+      "timestep %.6g s does not divide the frame interval 1/%g s%s: using %.6g s (%g steps a frame) so "
+      "frame k falls exactly at t = k / fps",
+      s.timestep, s.video.fps, per < 1 ? " (it is longer than the interval)" : "", dt, n);
+  s.notes.push_back(note);
+  s.timestep = dt;
 }
 
 Drift::Drift(const World& w)

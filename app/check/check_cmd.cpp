@@ -173,6 +173,12 @@ int cmd_check(const std::vector<std::string>& args) {
     Scene scene;
     try {
       scene = load_scene(path);
+      prepare_run(scene);
+    } catch (const std::invalid_argument& e) {
+      std::fprintf(stderr, "error: %s: %s\n", path.c_str(), e.what());
+      junit.push_back({path, "load", 0, "error", e.what()});
+      ++bad_input;
+      continue;
     } catch (const InputError& e) {
       std::fprintf(stderr, "error: %s\n", e.what());
       junit.push_back({path, "load", 0, "error", e.what()});
@@ -353,8 +359,9 @@ int cmd_check(const std::vector<std::string>& args) {
         std::string metrics;
         if (!std::isnan(rf.diff_ratio)) {
           char m[160];
-          std::snprintf(m, sizeof m, "  [%ld px differ, largest cluster %d, PSNR %s dB, SSIM %.6f]", rf.differing,
-                        rf.largest_cluster, std::isinf(rf.psnr) ? "inf" : std::to_string(rf.psnr).c_str(), rf.ssim);
+          std::snprintf(m, sizeof m, "  [%ld px differ, largest cluster %d, PSNR %s dB, SSIM %.6f]",
+                        rf.differing, rf.largest_cluster,
+                        std::isinf(rf.psnr) ? "inf" : std::to_string(rf.psnr).c_str(), rf.ssim);
           metrics = m;
         }
         std::printf("%s %s %s%s%s\n", what.c_str(), scene.name.c_str(), t,

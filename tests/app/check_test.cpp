@@ -38,7 +38,7 @@ std::string slurp(const fs::path& p) {
 
 // A ball dropped on the ground beside a spinning box: contacts, shadows, motion.
 std::string scene_text(const std::string& ball_x = "0.5", const std::string& box_color = "[0.8, 0.3, 0.2]",
-                       const std::string& fps = "30") {
+                       const std::string& fps = "25") {
   return "simulation: { duration: 2, timestep: 0.005 }\n"
          "video: { width: 320, height: 180, fps: " +
          fps +
@@ -94,8 +94,9 @@ TEST(Check, GoldensWrittenThenCheckedCleanThenChangesCaught) {
   EXPECT_NE(xml.find("failures=\"0\""), std::string::npos) << xml;
   EXPECT_TRUE(fs::exists(fs::path(report) / "index.html"));
 
-  // A new frame rate keeps the goldens valid: the moments are chosen by time.
-  const std::string fps = write_scene(base / "fps", scene_text("0.5", "[0.8, 0.3, 0.2]", "24"));
+  // A new frame rate keeps the goldens valid: the moments are chosen by time (50 fps instead of 25: the 5 ms
+  // step divides the frame interval, so the physics is the same).
+  const std::string fps = write_scene(base / "fps", scene_text("0.5", "[0.8, 0.3, 0.2]", "50"));
   r = run("check " + fps + " --goldens " + goldens + " --update none");
   EXPECT_EQ(r.code, 0) << r.out;
 
@@ -150,7 +151,7 @@ TEST(Diff, PngsFoldersAndVideos) {
   // Identical folders and files: exit 0, infinite PSNR.
   Result r = run("diff " + fa.string() + " " + fc.string() + " --quiet");
   EXPECT_EQ(r.code, 0) << r.out;
-  EXPECT_NE(r.out.find("0 of 61 frames differ"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("0 of 51 frames differ"), std::string::npos) << r.out;
   r = run("diff " + (fa / "frame_00030.png").string() + " " + (fc / "frame_00030.png").string());
   EXPECT_EQ(r.code, 0) << r.out;
   EXPECT_NE(r.out.find("PSNR inf"), std::string::npos) << r.out;
@@ -164,7 +165,7 @@ TEST(Diff, PngsFoldersAndVideos) {
     diffs += e.path().filename().string().rfind("diff_", 0) == 0;
   EXPECT_GE(diffs, 1);
   // A missing frame is reported, not crashed on.
-  fs::remove(fc / "frame_00060.png");
+  fs::remove(fc / "frame_00050.png");
   r = run("diff " + fa.string() + " " + fc.string() + " --quiet");
   EXPECT_EQ(r.code, 1) << r.out;
   EXPECT_NE(r.out.find("only in A"), std::string::npos) << r.out;
@@ -178,10 +179,10 @@ TEST(Diff, PngsFoldersAndVideos) {
   ASSERT_EQ(run("render " + a + " --quiet --duration 1 -o " + vs).code, 0);
   r = run("diff " + va + " " + vb + " --quiet");
   EXPECT_EQ(r.code, 0) << r.out;
-  EXPECT_NE(r.out.find("0 of 61 frames differ"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("0 of 51 frames differ"), std::string::npos) << r.out;
   r = run("diff " + va + " " + vs + " --quiet");
   EXPECT_EQ(r.code, 1) << r.out;
-  EXPECT_NE(r.out.find("frame count: 61 in A, 31 in B"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("frame count: 51 in A, 26 in B"), std::string::npos) << r.out;
   // A video against its own PNG frames: lossy H.264 against the exact frames, within the portable tolerance?
   // Not asserted: H.264 at CRF 20 is not noise-free. Bad input is exit 2.
   EXPECT_EQ(run("diff " + va + " " + (base / "nothing.mp4").string()).code, 2);

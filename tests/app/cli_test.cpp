@@ -413,4 +413,160 @@ TEST(Cli, SimulateAndRenderReportTheSameRun) {
   EXPECT_EQ(field(s.out, "steps"), "\"steps\": 103");
 }
 
+// Options that need a value never take the next option as it (simulate --csv --quiet wrote a file
+// called --quiet); an unknown command points at the top-level help and the nearest command.
+TEST(Cli, OptionsAreNeverValuesAndTyposGetTheNearestCommand) {
+  const std::string scene = write("g.yaml", kGood);
+  const Result r = run("simulate " + scene + " --csv --quiet");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("--csv needs a value, got the option --quiet"), std::string::npos) << r.out;
+  EXPECT_FALSE(fs::exists("--quiet"));
+  const Result t = run("rendr " + scene);
+  EXPECT_EQ(t.code, 2);
+  EXPECT_NE(t.out.find("did you mean 'render'"), std::string::npos) << t.out;
+  EXPECT_NE(t.out.find("see simreel --help"), std::string::npos) << t.out;
+}
+
+// --quiet prints nothing but errors; without it a run that is not on a terminal logs plain
+// progress lines (every 10%) on stderr and the summary on stdout.
+TEST(Cli, QuietIsQuietAndLogsGetPlainProgress) {
+  const std::string scene = write("g.yaml", kGood);
+  EXPECT_EQ(run("simulate " + scene + " --quiet").out, "");
+  const std::string err = tmp("err.txt");
+  const Result r = run("simulate " + scene + " 2>" + err + " >/dev/null; cat " + err);
+  EXPECT_NE(r.out.find("11/11 frames (100%)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("6/11 frames (55%)"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find('\r'), std::string::npos) << "no terminal redraws in a log";
+}
+
+// Frames fall exactly at k / fps: a timestep that does not divide the frame interval is shortened
+// (with a note), never longer than asked; a step longer than the interval no longer repeats frames.
+TEST(Cli, FramesFallExactlyAtMultiplesOfTheFrameInterval) {
+  for (const char* sim :
+       {"{ duration: 1.0, timestep: 0.0041666666666666667 }", "{ duration: 1.0, timestep: 0.5 }"}) {
+    const std::string scene = write("fps.yaml", std::string("simulation: ") + sim +
+                                                    "\nvideo: { width: 64, height: 48, fps: 25 }\n"
+                                                    "bodies:\n  - { angular_velocity: [0.1, 3, 0.1], "
+                                                    "colliders: [ { shape: box, size: [3, 2, 1] } ] }\n");
+    const std::string csv = tmp("fps.csv");
+    const Result r = run("simulate " + scene + " --csv " + csv);
+    ASSERT_EQ(r.code, 0) << r.out;
+    EXPECT_NE(r.out.find("does not divide the frame interval"), std::string::npos) << r.out;
+    std::ifstream in(csv);
+    std::string line;
+    std::getline(in, line);
+    int k = 0;
+    std::vector<std::string> states;
+    while (std::getline(in, line)) {
+      EXPECT_NEAR(std::stod(line), k / 25.0, 1e-12) << line;
+      states.push_back(line.substr(line.find(',')));
+      ++k;
+    }
+    EXPECT_EQ(k, 26);
+    for (size_t i = 1; i < states.size(); ++i)
+      EXPECT_NE(states[i], states[i - 1]) << "frame " << i << " repeats";
+  }
+}
+
+// Run lengths over the documented limits, and a denormal timestep, are refused up front naming the keys.
+TEST(Cli, RunLimitsAreCheckedUpFront) {
+  for (const char* sim : {"{ duration: 1e9 }", "{ duration: 1, timestep: 4.9e-324 }"}) {
+    const std::string scene =
+        write("limits.yaml", std::string("simulation: ") + sim +
+                                 "\nbodies:\n  - { colliders: [ { shape: sphere, radius: 1 } ] }\n");
+    const Result r = run("simulate " + scene);
+    EXPECT_EQ(r.code, 2) << sim << ": " << r.out;
+    EXPECT_NE(r.out.find("simulation.duration"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("over the limit"), std::string::npos) << r.out;
+  }
+  const std::string scene = write("frames.yaml",
+                                  "simulation: { duration: 100 }\nvideo: { fps: 1e6 }\n"
+                                  "bodies:\n  - { colliders: [ { shape: sphere, radius: 1 } ] }\n");
+  const Result r = run("render " + scene + " -o " + tmp("f.mp4").string());
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("video.fps"), std::string::npos) << r.out;
+}
+
+// A CSV goes through symlinks (the link stays a link) and devices (/dev/null stays a device), and
+// temp files of killed runs beside the target are cleaned up.
+TEST(Cli, CsvTargetsSymlinksDevicesAndStaleTempFiles) {
+  const std::string scene = write("g.yaml", kGood);
+  const fs::path real = tmp("real.csv"), link = tmp("link.csv");
+  fs::create_symlink(real, link);
+  const fs::path stale = tmp("link.csv.partial-999999999");
+  std::ofstream(stale) << "left by a killed run";
+  ASSERT_EQ(run("simulate " + scene + " --quiet --csv " + link.string()).code, 0);
+  EXPECT_TRUE(fs::is_symlink(link));
+  EXPECT_GT(fs::file_size(real), 100u);
+  ASSERT_EQ(run("simulate " + scene + " --quiet --csv /dev/null").code, 0);
+  EXPECT_TRUE(fs::is_character_file("/dev/null")) << "/dev/null was replaced";
+  const fs::path stale2 = tmp("x.csv.partial-999999999");
+  std::ofstream(stale2) << "left by a killed run";
+  ASSERT_EQ(run("simulate " + scene + " --quiet --csv " + tmp("x.csv").string()).code, 0);
+  EXPECT_FALSE(fs::exists(stale2)) << "a dead process's temp file stays";
+}
+
+// Interrupts: the run stops between steps and finishes its outputs, whatever signals follow.
+TEST(Cli, SignalsStopBetweenStepsAndFinishTheOutputs) {
+  const std::string scene = write("long.yaml",
+                                  "simulation: { duration: 600, timestep: 0.0001, gravity: [0, 0, 0] }\n"
+                                  "video: { width: 160, height: 120, fps: 10 }\n"
+                                  "bodies:\n  - angular_velocity: [0.1, 3, 0.1]\n"
+                                  "    colliders: [ { shape: box, size: [3, 2, 1] } ]\n");
+  auto start = [&](std::vector<std::string> argv) {
+    const pid_t pid = fork();
+    if (pid == 0) {
+      const int devnull = open("/dev/null", O_WRONLY);
+      dup2(devnull, 1);
+      dup2(devnull, 2);
+      std::vector<char*> c;
+      c.push_back((char*)SIMREEL_BIN);
+      for (std::string& s : argv) c.push_back(s.data());
+      c.push_back(nullptr);
+      execv(SIMREEL_BIN, c.data());
+      _exit(99);
+    }
+    return pid;
+  };
+  auto wait_code = [](pid_t pid) {
+    int st = 0;
+    waitpid(pid, &st, 0);
+    return WIFEXITED(st) ? WEXITSTATUS(st) : -WTERMSIG(st);
+  };
+  // simulate with a CSV: 130, the rows done kept, no temp file.
+  const fs::path csv = tmp("int.csv");
+  pid_t pid = start({"simulate", scene, "--csv", csv.string(), "--quiet"});
+  std::this_thread::sleep_for(std::chrono::milliseconds(700));
+  kill(pid, SIGINT);
+  kill(pid, SIGINT);
+  EXPECT_EQ(wait_code(pid), 130);
+  ASSERT_TRUE(fs::exists(csv));
+  EXPECT_GT(fs::file_size(csv), 50u);
+  // render, SIGINT then SIGTERM a few ms later while the video is being finished, then SIGHUP:
+  // the first signal's code, a playable video, nothing temporary.
+  for (int second_ms : {0, 5, 30}) {
+    const fs::path out = tmp("int" + std::to_string(second_ms) + ".mp4");
+    pid = start({"render", scene, "-o", out.string(), "--quiet"});
+    std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+    kill(pid, SIGINT);
+    std::this_thread::sleep_for(std::chrono::milliseconds(second_ms));
+    kill(pid, SIGTERM);
+    kill(pid, SIGHUP);
+    const int code = wait_code(pid);
+    if (second_ms == 0)  // sent together, either may be handled first: but one of them, not a kill
+      EXPECT_TRUE(code == 130 || code == 143 || code == 129) << code;
+    else
+      EXPECT_EQ(code, 130) << second_ms;
+    ASSERT_TRUE(fs::exists(out)) << second_ms;
+    EXPECT_GT(simreel::test::decode(out.string()).frames, 0);
+  }
+  pid = start({"render", scene, "-o", tmp("hup.mp4").string(), "--quiet"});
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  kill(pid, SIGHUP);
+  EXPECT_EQ(wait_code(pid), 129);
+  EXPECT_TRUE(fs::exists(tmp("hup.mp4")));
+  for (const auto& e : fs::directory_iterator(simreel::test::scratch_dir()))
+    EXPECT_EQ(e.path().filename().string().find(".partial"), std::string::npos) << e.path();
+}
+
 }  // namespace
