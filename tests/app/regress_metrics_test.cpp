@@ -220,6 +220,30 @@ TEST(RegressMetrics, SolidEdgeMovedIsNotAntiAliasing) {
   EXPECT_FALSE(r.pass);
 }
 
+TEST(RegressMetrics, ChangeOverAnEdgeIsNotAntiAliasing) {
+  // In the expected image column 20 is a grey anti-aliasing column between black and white. The
+  // actual image paints a textured patch over it: each grey pixel still lies between a darker and
+  // a brighter flat neighbour in the expected image, but those neighbours are not flat in the
+  // actual one, so the change is counted (pixelmatch asks for flatness in both images).
+  Image a = filled(40, 40, 230, 230, 230);
+  for (int y = 0; y < 40; ++y) {
+    for (int x = 0; x < 20; ++x) set(a, x, y, 20, 20, 20);
+    set(a, 20, y, 125, 125, 125);
+  }
+  Image b = a;
+  for (int y = 14; y < 26; ++y)
+    for (int x = 14; x < 26; ++x)
+      set(b, x, y, (uint8_t)((x * 37 + y * 91) % 256), (uint8_t)((x * 53 + y * 17 + 100) % 256),
+          (uint8_t)((x * 11 + y * 71 + 50) % 256));
+  Image diff;
+  const CompareResult r = compare_images(a, b, CompareOptions{}, &diff);
+  EXPECT_FALSE(r.pass);
+  for (int y = 17; y < 24; ++y) {  // (the texture at (20, 16) is near the grey: under the threshold)
+    EXPECT_EQ(px(diff, 20, y)[0], 255) << "y " << y;
+    EXPECT_EQ(px(diff, 20, y)[1], 0) << "y " << y;  // red, not yellow
+  }
+}
+
 TEST(RegressMetrics, ThresholdFollowsYiqDistance) {
   // A grey step of d levels has squared YIQ distance 0.5053 d^2; threshold t lets through
   // d <= t sqrt(35215 / 0.5053) = 264 t: at 0.1, 26 passes and 27 does not.
@@ -386,9 +410,34 @@ TEST(RegressPng, OtherFormatsAreConvertedToRgba8) {
   EXPECT_EQ(rgba_at(p, 1, 0), (V{10, 20, 30, 99}));
 
   const std::string deep = test::scratch("rgb16.png");
-  write_raw_png(deep, 1, 1, PNG_COLOR_TYPE_RGB, 16, {{0xff, 0xff, 0x80, 0x00, 0x00, 0x7f}});
-  // 65535 -> 255, 32768 -> 128 (32768 x 255 / 65535 = 127.5, rounded up), 127 -> 0.
-  EXPECT_EQ(rgba_at(read_png(deep), 0, 0), (V{255, 128, 0, 255}));
+  write_raw_png(deep, 1, 1, PNG_COLOR_TYPE_RGB, 16, {{0xff, 0xff, 0x7f, 0xff, 0x00, 0xff}});
+  // Scaled with rounding, not cut to the high byte: 65535 -> 255, 32767 -> 127 (127.498),
+  // 255 -> 1 (0.99; the high byte would give 0).
+  EXPECT_EQ(rgba_at(read_png(deep), 0, 0), (V{255, 127, 1, 255}));
+
+  // RGB with a tRNS colour key: pixels of that colour become transparent.
+  const std::string keyed = test::scratch("rgb_trns.png");
+  {
+    FILE* f = std::fopen(keyed.c_str(), "wb");
+    ASSERT_TRUE(f);
+    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+    png_infop info = png_create_info_struct(png);
+    png_init_io(png, f);
+    png_set_IHDR(png, info, 2, 1, 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
+                 PNG_FILTER_TYPE_DEFAULT);
+    png_color_16 key{};
+    key.red = 7, key.green = 8, key.blue = 9;
+    png_set_tRNS(png, info, nullptr, 0, &key);
+    png_write_info(png, info);
+    const uint8_t row[6] = {7, 8, 9, 7, 8, 10};
+    png_write_row(png, row);
+    png_write_end(png, nullptr);
+    png_destroy_write_struct(&png, &info);
+    std::fclose(f);
+  }
+  Image k = read_png(keyed);
+  EXPECT_EQ(rgba_at(k, 0, 0), (V{7, 8, 9, 0}));
+  EXPECT_EQ(rgba_at(k, 1, 0), (V{7, 8, 10, 255}));
 
   // The same pixels written at two compression levels (and RGB vs RGBA): one pixel hash.
   const std::string rgb = test::scratch("rgb.png"), rgba = test::scratch("rgba.png");
