@@ -15,16 +15,19 @@
 #                 bits, osmesa): a body moved 3 mm or 1 cm, a colour changed by 0.02 or 0.05, a
 #                 small object removed. f0_* is the first frame (the edit before any dynamics).
 # kind = subpixel: the camera moved 1 or 3 mm (the whole picture shifts by a fraction of a pixel).
+# kind = jitter:  each scene's frames against copies with every R, G, B byte moved by a random
+#                 -K..K (K = 2, 3): the drift the threshold tolerates.
 # Rows ending in @720p repeat a few cases at 1280 x 720.
-# Each case is measured at the thresholds 0.05, 0.1, 0.15 and 0.2 with the default max_diff_ratio
-# and max_cluster (frames_failing counts frames failing under those).
+# Each case is measured at the thresholds 0.01, 0.02, 0.03, 0.05 and 0.1 with the default
+# max_diff_ratio and max_cluster (frames_failing counts frames failing under those).
 set -euo pipefail
 B=${1:-build}
 SIM=$B/simreel
 CMP=$B/bench/bench_regress_noise
-TS=${SIMREEL_REGRESS_THRESHOLDS:-0.05,0.1,0.15,0.2}
+TS=${SIMREEL_REGRESS_THRESHOLDS:-0.01,0.02,0.03,0.05,0.1}
 W=$(mktemp -d "${TMPDIR:-/tmp}/simreel-regress-noise.XXXXXX")
-trap 'rm -rf "$W"' EXIT
+# SIMREEL_REGRESS_KEEP=1 keeps the frames (in $W, named on stderr) for a closer look.
+if [[ -n ${SIMREEL_REGRESS_KEEP:-} ]]; then echo "frames in $W" >&2; else trap 'rm -rf "$W"' EXIT; fi
 
 # render OUT SCENE SIZE [ENV=VALUE...] [-- simreel options...]
 render() {
@@ -41,7 +44,7 @@ render() {
     shift
   done
   env "${envs[@]}" "$SIM" render "$scene" --frames-dir "$out" --no-video --duration 2 --width "${size%x*}" \
-    --height "${size#*x}" --quiet "${opts[@]}" >/dev/null
+    --height "${size#*x}" --quiet "${opts[@]}" >/dev/null 2>"$W/render.log" || { cat "$W/render.log" >&2; exit 1; }
 }
 
 # variant NEW SRC OLD NEW_TEXT: a copy of SRC with the text OLD (exactly once) replaced
@@ -74,6 +77,7 @@ for scene in scenes/*.yaml; do
   "$CMP" pairs "$name" noise "$TS" "${dirs[@]}" "$W/$name/sim2"
   render "$W/$name/softpipe" "$scene" 480x270 GALLIUM_DRIVER=softpipe
   "$CMP" pairs "$name/softpipe" driver "$TS" "$W/$name/t1_v256_osmesa" "$W/$name/softpipe"
+  for k in 2 3; do "$CMP" jitter "$name/jitter $k" "$TS" $k "$W/$name/t1_v256_osmesa"; done
 done
 
 # change LABEL KIND SIZE SCENE OLD NEW: the edited copy against the reference render
@@ -104,7 +108,11 @@ cases() {
   change "dominoes/domino2 green+0.05" change "$s" scenes/dominoes.yaml "position: [0.60, 0, 0.25]
     color: [0.85, 0.2, 0.15]" "position: [0.60, 0, 0.25]
     color: [0.85, 0.25, 0.15]"
-  change "pile/sphere1 blue-0.02" change "$s" scenes/pile.yaml "color: [0.2, 0.45, 0.8]" "color: [0.2, 0.45, 0.78]"
+  change "pile/sphere1 blue-0.02" change "$s" scenes/pile.yaml "position: [-0.791, -0.009, 0.600]
+    orientation: [0.870359537, -0.402228054, 0.151857844, 0.240054294]
+    color: [0.2, 0.45, 0.8]" "position: [-0.791, -0.009, 0.600]
+    orientation: [0.870359537, -0.402228054, 0.151857844, 0.240054294]
+    color: [0.2, 0.45, 0.78]"
   change "pile/tetra5 removed" change "$s" scenes/pile.yaml "  - name: tetra5
     position: [0.009, 0.791, 0.600]
     orientation: [0.048066437, -0.429676754, 0.100849833, -0.896045097]
