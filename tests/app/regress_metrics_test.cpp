@@ -298,6 +298,8 @@ TEST(RegressMetrics, SsimMatchesAPlainComputation) {
   Image local = a, everywhere = a, edge = a;
   for (int y = 10; y < 14; ++y)
     for (int x = 33; x < 39; ++x) set(local, x, y, 0, 0, 0);  // one spot: most windows unchanged
+  set(local, 55, 30, 250, 250, 250);  // single pixels in the last column and the last row of a block
+  set(local, 20, 35, 250, 250, 250);
   for (size_t i = 0; i < everywhere.rgba.size(); i += 4) everywhere.rgba[i + 1] /= 2;
   set(edge, 69, 44, 255, 255, 255);  // outside every window: SSIM stays 1
   for (const Image* b : {&local, &everywhere}) {
