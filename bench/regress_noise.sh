@@ -3,7 +3,9 @@
 # same, and how far apart it finds frames with a small real change. Run from the repository root
 # after building simreel and bench_regress_noise:
 #
-#   bash bench/regress_noise.sh [BUILD_DIR] > bench/results/regress_noise.csv     # ~5 min, 2 cores
+#   bash bench/regress_noise.sh [BUILD_DIR] > bench/results/regress_noise.csv
+#
+# (~5 min of CPU; 17 min wall on the shared 2-core VM under load.)
 #
 # kind = noise:   every shipped scene (2 s at 480 x 270) under the 8 llvmpipe settings
 #                 LP_NUM_THREADS 1/2 x LP_NATIVE_VECTOR_WIDTH 128/256 x --gl osmesa/egl, plus

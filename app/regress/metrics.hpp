@@ -26,14 +26,15 @@ namespace simreel {
 //    does not (7.8% of the pixels).
 //  - small real changes at 0.01 (largest cluster at 480 x 270 / 1280 x 720, over 2 s of frames):
 //    a domino 5 m away moved 1 cm 20 / 83 px, 3 mm 12 / 50; a box moved 1 cm toward the camera
-//    10 / 12; a domino's green +0.02 716 / 5317 (at 0.02 it is 2 px: missed); a small mesh body
-//    removed 1359 / 7917 and a 5 cm dot removed 91 / 595; the camera moved 1 mm 16 / 43. Missed:
-//    the box moved 3 mm toward the camera (4 / 8 px) and a sphere's blue -0.02 (1 px; YIQ weighs
-//    blue least).
+//    10 / 12 (only 1 and 4 of 61 frames fail); a domino's green +0.02 716 / 5317 (at 0.02 it is 2 px:
+//    missed); a small mesh body removed 1359 / 7917 and a 5 cm dot removed 91 / 595; the camera moved 1 mm 16
+//    / 43. Missed: the box moved 3 mm toward the camera (4 / 8 px) and a sphere's blue -0.02 (1 px; YIQ
+//    weighs blue least).
 //  - another rasterizer (GALLIUM_DRIVER=softpipe against llvmpipe) is not noise these defaults
 //    pass: at 0.01 its largest clusters are 55 px (480 x 270) and 141 (1280 x 720). Threshold 0.1,
-//    max_diff_ratio 0.001 and max_cluster 24 pass every softpipe frame measured (largest cluster
-//    19, 0.022%) but miss every move and colour change above; only the removals still fail.
+//    max_diff_ratio 0.001 and max_cluster 24 (cross_renderer()) pass every softpipe frame measured
+//    (largest cluster 19, 0.022%) but miss every body move and colour change above; the removals
+//    and the camera moves (3 mm; 1 mm only at 1280 x 720) still fail.
 struct CompareOptions {
   // YIQ colour distance threshold, 0..1, pixelmatch's meaning: a pixel differs when its squared
   // YIQ distance exceeds threshold^2 x 35215, the largest possible (black against white). A grey
