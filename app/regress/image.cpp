@@ -2,6 +2,7 @@
 
 #include <png.h>
 
+#include <bit>
 #include <cerrno>
 #include <csetjmp>
 #include <cstdio>
@@ -79,7 +80,8 @@ std::string decode_into(const uint8_t* data, size_t size, Image& out, PngErr& er
   if (!(type & PNG_COLOR_MASK_ALPHA)) png_set_add_alpha(png, 0xff, PNG_FILLER_AFTER);
   const int passes = png_set_interlace_handling(png);
   png_read_update_info(png, info);
-  if (png_get_rowbytes(png, info) != (png_size_t)w * 4) png_error(png, "unexpected row size after conversion");
+  if (png_get_rowbytes(png, info) != (png_size_t)w * 4)
+    png_error(png, "unexpected row size after conversion");
   out.width = (int)w;
   out.height = (int)h;
   out.rgba.assign((size_t)w * h * 4, 0);
@@ -168,23 +170,76 @@ void write_png_file(const std::string& path, const Image& img) {
   }
 }
 
-std::string pixel_hash(const Image& img) {
-  // FNV-1a, 64 bits: offset basis 14695981039346656037, prime 1099511628211 (Fowler, Noll, Vo).
-  uint64_t h = 14695981039346656037ull;
-  constexpr uint64_t kPrime = 1099511628211ull;
-  auto feed = [&](const uint8_t* p, size_t n) {
-    for (size_t i = 0; i < n; ++i) h = (h ^ p[i]) * kPrime;
-  };
-  const char tag[] = "simreel-rgba8";
-  feed(reinterpret_cast<const uint8_t*>(tag), sizeof tag - 1);
-  const uint32_t dims[2] = {(uint32_t)img.width, (uint32_t)img.height};
-  for (uint32_t d : dims) {
-    const uint8_t le[4] = {uint8_t(d), uint8_t(d >> 8), uint8_t(d >> 16), uint8_t(d >> 24)};
-    feed(le, 4);
+namespace {
+
+// XXH64 (Yann Collet's xxHash, 64-bit variant), written from its published specification
+// (xxhash.com, "xxHash fast digest algorithm", XXH64): 32-byte stripes in four lanes, then the
+// 8-, 4- and 1-byte tail and the final avalanche. Agrees with libxxhash's XXH64().
+constexpr uint64_t kP1 = 0x9E3779B185EBCA87ull, kP2 = 0xC2B2AE3D27D4EB4Full, kP3 = 0x165667B19E3779F9ull,
+                   kP4 = 0x85EBCA77C2B2AE63ull, kP5 = 0x27D4EB2F165667C5ull;
+
+inline uint64_t rotl(uint64_t x, int r) {
+  return (x << r) | (x >> (64 - r));
+}
+inline uint64_t read64(const uint8_t* p) {  // little-endian, whatever the host
+  if constexpr (std::endian::native == std::endian::little) {
+    uint64_t v;
+    std::memcpy(&v, p, 8);
+    return v;
+  } else {
+    uint64_t v = 0;
+    for (int i = 7; i >= 0; --i) v = (v << 8) | p[i];
+    return v;
   }
-  feed(img.rgba.data(), img.rgba.size());
+}
+inline uint64_t read32(const uint8_t* p) {
+  return (uint64_t)p[0] | (uint64_t)p[1] << 8 | (uint64_t)p[2] << 16 | (uint64_t)p[3] << 24;
+}
+inline uint64_t xxh_round(uint64_t acc, uint64_t input) {
+  return rotl(acc + input * kP2, 31) * kP1;
+}
+inline uint64_t xxh_merge(uint64_t acc, uint64_t v) {
+  return (acc ^ xxh_round(0, v)) * kP1 + kP4;
+}
+
+uint64_t xxh64(const uint8_t* p, size_t len, uint64_t seed) {
+  const uint8_t* const end = p + len;
+  uint64_t h;
+  if (len >= 32) {
+    uint64_t v1 = seed + kP1 + kP2, v2 = seed + kP2, v3 = seed, v4 = seed - kP1;
+    for (; end - p >= 32; p += 32) {
+      v1 = xxh_round(v1, read64(p));
+      v2 = xxh_round(v2, read64(p + 8));
+      v3 = xxh_round(v3, read64(p + 16));
+      v4 = xxh_round(v4, read64(p + 24));
+    }
+    h = rotl(v1, 1) + rotl(v2, 7) + rotl(v3, 12) + rotl(v4, 18);
+    h = xxh_merge(xxh_merge(xxh_merge(xxh_merge(h, v1), v2), v3), v4);
+  } else {
+    h = seed + kP5;
+  }
+  h += (uint64_t)len;
+  for (; end - p >= 8; p += 8) h = rotl(h ^ xxh_round(0, read64(p)), 27) * kP1 + kP4;
+  if (end - p >= 4) {
+    h = rotl(h ^ (read32(p) * kP1), 23) * kP2 + kP3;
+    p += 4;
+  }
+  for (; p < end; ++p) h = rotl(h ^ (*p * kP5), 11) * kP1;
+  h ^= h >> 33;
+  h *= kP2;
+  h ^= h >> 29;
+  h *= kP3;
+  h ^= h >> 32;
+  return h;
+}
+
+}  // namespace
+
+std::string pixel_hash(const Image& img) {
+  const uint64_t seed = (uint64_t)(uint32_t)img.width << 32 | (uint32_t)img.height;
   char hex[17];
-  std::snprintf(hex, sizeof hex, "%016llx", (unsigned long long)h);
+  std::snprintf(hex, sizeof hex, "%016llx",
+                (unsigned long long)xxh64(img.rgba.data(), img.rgba.size(), seed));
   return hex;
 }
 

@@ -33,13 +33,13 @@ std::vector<uint8_t> encode_png(const Image& img);
 // encode_png's bytes written to `path`; throws std::runtime_error if the file cannot be written.
 void write_png_file(const std::string& path, const Image& img);
 
-// 64-bit FNV-1a over a fixed header ("simreel-rgba8", width and height as 32-bit little-endian)
-// and then the RGBA bytes, as 16 lowercase hex digits. Two images with the same size and bytes
-// always hash alike, whatever PNG file they came from; a size change alone (16 x 4 vs 4 x 16 with
-// the same bytes) changes the hash. Collision odds: FNV-1a is not cryptographic, but for images
-// that are not built to collide the chance that a changed image keeps its golden's hash is about
-// 2^-64 (5e-20) per comparison, and the chance that any two of N goldens share a hash is about
-// N^2 / 2^65 (3e-8 for a million goldens). Not for untrusted inputs chosen by an adversary.
+// XXH64 (xxHash's 64-bit hash, the same value libxxhash's XXH64() gives) of the RGBA bytes, with
+// the seed width x 2^32 + height, as 16 lowercase hex digits; about 0.3 ms for 1280 x 720. Two
+// images with the same size and bytes always hash alike, whatever PNG file they came from; the
+// size alone (16 x 4 vs 4 x 16 with the same bytes) changes the hash. Collision odds: XXH64 is not
+// cryptographic, but for images not built to collide the chance that a changed image keeps its
+// golden's hash is about 2^-64 (5e-20) per comparison, and the chance that any two of N goldens
+// share a hash about N^2 / 2^65 (3e-8 for a million goldens). Not for inputs chosen by an adversary.
 std::string pixel_hash(const Image& img);
 
 // Same size and the same RGBA bytes (exact mode).

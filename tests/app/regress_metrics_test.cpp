@@ -25,7 +25,9 @@ Image filled(int w, int h, uint8_t r, uint8_t g, uint8_t b, uint8_t a = 255) {
   return img;
 }
 
-uint8_t* px(Image& img, int x, int y) { return &img.rgba[((size_t)y * img.width + x) * 4]; }
+uint8_t* px(Image& img, int x, int y) {
+  return &img.rgba[((size_t)y * img.width + x) * 4];
+}
 void set(Image& img, int x, int y, uint8_t r, uint8_t g, uint8_t b) {
   uint8_t* p = px(img, x, y);
   p[0] = r, p[1] = g, p[2] = b, p[3] = 255;
@@ -107,6 +109,7 @@ TEST(RegressMetrics, OneLevelShiftPassesButNotExact) {
   EXPECT_NEAR(r.psnr, 10 * std::log10(255.0 * 255.0), 1e-9);  // MSE exactly 1: 48.13 dB
   EXPECT_LT(r.ssim, 1.0);
   EXPECT_GT(r.ssim, 0.999);
+  EXPECT_TRUE(compare_images(a, b, CompareOptions::cross_renderer()).pass);
   const CompareResult e = compare_images(a, b, CompareOptions::exact());
   EXPECT_FALSE(e.pass);
   EXPECT_EQ(e.differing, 96 * 64);
@@ -220,6 +223,30 @@ TEST(RegressMetrics, SolidEdgeMovedIsNotAntiAliasing) {
   EXPECT_FALSE(r.pass);
 }
 
+TEST(RegressMetrics, ChangeOverAnEdgeIsNotAntiAliasing) {
+  // In the expected image column 20 is a grey anti-aliasing column between black and white. The
+  // actual image paints a textured patch over it: each grey pixel still lies between a darker and
+  // a brighter flat neighbour in the expected image, but those neighbours are not flat in the
+  // actual one, so the change is counted (pixelmatch asks for flatness in both images).
+  Image a = filled(40, 40, 230, 230, 230);
+  for (int y = 0; y < 40; ++y) {
+    for (int x = 0; x < 20; ++x) set(a, x, y, 20, 20, 20);
+    set(a, 20, y, 125, 125, 125);
+  }
+  Image b = a;
+  for (int y = 14; y < 26; ++y)
+    for (int x = 14; x < 26; ++x)
+      set(b, x, y, (uint8_t)((x * 37 + y * 91) % 256), (uint8_t)((x * 53 + y * 17 + 100) % 256),
+          (uint8_t)((x * 11 + y * 71 + 50) % 256));
+  Image diff;
+  const CompareResult r = compare_images(a, b, CompareOptions{}, &diff);
+  EXPECT_FALSE(r.pass);
+  for (int y = 17; y < 24; ++y) {  // (the texture at (20, 16) is near the grey: under the threshold)
+    EXPECT_EQ(px(diff, 20, y)[0], 255) << "y " << y;
+    EXPECT_EQ(px(diff, 20, y)[1], 0) << "y " << y;  // red, not yellow
+  }
+}
+
 TEST(RegressMetrics, ThresholdFollowsYiqDistance) {
   // A grey step of d levels has squared YIQ distance 0.5053 d^2; threshold t lets through
   // d <= t sqrt(35215 / 0.5053) = 264 t: at 0.1, 26 passes and 27 does not.
@@ -233,6 +260,54 @@ TEST(RegressMetrics, ThresholdFollowsYiqDistance) {
   EXPECT_EQ(compare_images(a, b, o).differing, 0);
   EXPECT_EQ(compare_images(a, c, o).differing, 1);
   EXPECT_FALSE(compare_images(a, c, o).pass);
+}
+
+// Mean SSIM written out plainly (Wang et al. 2004, eq. 13): every 8 x 8 window at a multiple of 4,
+// on 8-bit luma round(0.29889531 R + 0.58662247 G + 0.11448223 B) in 16-bit fixed point, sample
+// (co)variances over n - 1, C1 = (0.01 x 255)^2, C2 = (0.03 x 255)^2.
+double reference_ssim(const Image& a, const Image& b) {
+  auto luma = [](const Image& img, int x, int y) {
+    const uint8_t* p = &img.rgba[((size_t)y * img.width + x) * 4];
+    return (double)((p[0] * 19588 + p[1] * 38445 + p[2] * 7503 + 32768) >> 16);
+  };
+  const double c1 = 2.55 * 2.55, c2 = 7.65 * 7.65;
+  double total = 0;
+  int windows = 0;
+  for (int y0 = 0; y0 + 8 <= a.height; y0 += 4)
+    for (int x0 = 0; x0 + 8 <= a.width; x0 += 4) {
+      double mx = 0, my = 0;
+      for (int y = y0; y < y0 + 8; ++y)
+        for (int x = x0; x < x0 + 8; ++x) mx += luma(a, x, y), my += luma(b, x, y);
+      mx /= 64, my /= 64;
+      double vx = 0, vy = 0, cov = 0;
+      for (int y = y0; y < y0 + 8; ++y)
+        for (int x = x0; x < x0 + 8; ++x) {
+          const double dx = luma(a, x, y) - mx, dy = luma(b, x, y) - my;
+          vx += dx * dx, vy += dy * dy, cov += dx * dy;
+        }
+      vx /= 63, vy /= 63, cov /= 63;
+      total += (2 * mx * my + c1) * (2 * cov + c2) / ((mx * mx + my * my + c1) * (vx + vy + c2));
+      ++windows;
+    }
+  return total / windows;
+}
+
+TEST(RegressMetrics, SsimMatchesAPlainComputation) {
+  // 70 x 45: sizes that are not multiples of 4 (the last 2 columns and 1 row are in no window).
+  const Image a = textured(70, 45);
+  Image local = a, everywhere = a, edge = a;
+  for (int y = 10; y < 14; ++y)
+    for (int x = 33; x < 39; ++x) set(local, x, y, 0, 0, 0);  // one spot: most windows unchanged
+  set(local, 55, 30, 250, 250, 250);  // single pixels in the last column and the last row of a block
+  set(local, 20, 35, 250, 250, 250);
+  for (size_t i = 0; i < everywhere.rgba.size(); i += 4) everywhere.rgba[i + 1] /= 2;
+  set(edge, 69, 44, 255, 255, 255);  // outside every window: SSIM stays 1
+  for (const Image* b : {&local, &everywhere}) {
+    const CompareResult r = compare_images(a, *b, CompareOptions{});
+    EXPECT_NEAR(r.ssim, reference_ssim(a, *b), 1e-12);
+    EXPECT_LT(r.ssim, 0.99);
+  }
+  EXPECT_EQ(compare_images(a, edge, CompareOptions{}).ssim, 1.0);
 }
 
 TEST(RegressMetrics, SizeMismatchIsReported) {
@@ -386,9 +461,34 @@ TEST(RegressPng, OtherFormatsAreConvertedToRgba8) {
   EXPECT_EQ(rgba_at(p, 1, 0), (V{10, 20, 30, 99}));
 
   const std::string deep = test::scratch("rgb16.png");
-  write_raw_png(deep, 1, 1, PNG_COLOR_TYPE_RGB, 16, {{0xff, 0xff, 0x80, 0x00, 0x00, 0x7f}});
-  // 65535 -> 255, 32768 -> 128 (32768 x 255 / 65535 = 127.5, rounded up), 127 -> 0.
-  EXPECT_EQ(rgba_at(read_png(deep), 0, 0), (V{255, 128, 0, 255}));
+  write_raw_png(deep, 1, 1, PNG_COLOR_TYPE_RGB, 16, {{0xff, 0xff, 0x7f, 0xff, 0x00, 0xff}});
+  // Scaled with rounding, not cut to the high byte: 65535 -> 255, 32767 -> 127 (127.498),
+  // 255 -> 1 (0.99; the high byte would give 0).
+  EXPECT_EQ(rgba_at(read_png(deep), 0, 0), (V{255, 127, 1, 255}));
+
+  // RGB with a tRNS colour key: pixels of that colour become transparent.
+  const std::string keyed = test::scratch("rgb_trns.png");
+  {
+    FILE* f = std::fopen(keyed.c_str(), "wb");
+    ASSERT_TRUE(f);
+    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+    png_infop info = png_create_info_struct(png);
+    png_init_io(png, f);
+    png_set_IHDR(png, info, 2, 1, 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
+                 PNG_FILTER_TYPE_DEFAULT);
+    png_color_16 key{};
+    key.red = 7, key.green = 8, key.blue = 9;
+    png_set_tRNS(png, info, nullptr, 0, &key);
+    png_write_info(png, info);
+    const uint8_t row[6] = {7, 8, 9, 7, 8, 10};
+    png_write_row(png, row);
+    png_write_end(png, nullptr);
+    png_destroy_write_struct(&png, &info);
+    std::fclose(f);
+  }
+  Image k = read_png(keyed);
+  EXPECT_EQ(rgba_at(k, 0, 0), (V{7, 8, 9, 0}));
+  EXPECT_EQ(rgba_at(k, 1, 0), (V{7, 8, 10, 255}));
 
   // The same pixels written at two compression levels (and RGB vs RGBA): one pixel hash.
   const std::string rgb = test::scratch("rgb.png"), rgba = test::scratch("rgba.png");
@@ -398,6 +498,13 @@ TEST(RegressPng, OtherFormatsAreConvertedToRgba8) {
 }
 
 TEST(RegressPng, PixelHashSeesOnePixelAndTheSize) {
+  // XXH64 with seed width x 2^32 + height; values from libxxhash's XXH64().
+  EXPECT_EQ(pixel_hash(Image{}), "ef46db3751d8e999");  // XXH64 of nothing, seed 0
+  EXPECT_EQ(pixel_hash(Image{1, 1, {1, 2, 3, 4}}), "40e0bbfb0fd96f7d");
+  Image v{16, 4, std::vector<uint8_t>(16 * 4 * 4)};
+  for (size_t i = 0; i < v.rgba.size(); ++i) v.rgba[i] = (uint8_t)(i * 13 + 5);
+  EXPECT_EQ(pixel_hash(v), "8b82351110066dee");  // 256 bytes: the 32-byte stripes
+
   const Image a = textured(16, 4);
   const std::string h = pixel_hash(a);
   EXPECT_EQ(h.size(), 16u);
