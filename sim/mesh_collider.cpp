@@ -56,7 +56,8 @@ std::vector<std::shared_ptr<const ConvexPolyhedron>> collision_hulls(const Trian
   return out;
 }
 
-Collider mesh_collider(std::shared_ptr<const TriangleMesh> mesh, double density, bool parts, MeshReport* report) {
+Collider mesh_collider(std::shared_ptr<const TriangleMesh> mesh, double density, bool parts,
+                       MeshReport* report) {
   MeshMassOptions opt;
   opt.density = density;
   const MeshReport rep = analyze_mesh(*mesh, opt);
