@@ -7,6 +7,8 @@
 #include <iostream>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
 #include "app/commands.hpp"
 #include "app/frame_loop.hpp"
 #include "app/mesh_import.hpp"
@@ -300,20 +302,32 @@ int cmd_inspect(const std::vector<std::string>& args) {
   r.warnings.insert(r.warnings.begin(), im.notes.begin(), im.notes.end());
   const PrincipalAxes pa = principal_axes(r.props.inertia);
   if (a.has("--json")) {
-    std::printf(
-        "{\"file\": %s, \"reader\": %s, \"precision\": %s, \"mode\": %s, \"density\": %s, \"vertices\": %zu, "
-        "\"faces\": %zu, \"volume\": %s, "
-        "\"area\": %s, \"mass\": %s, \"centroid\": %s, \"inertia\": %s, \"principal_moments\": %s, "
-        "\"principal_axes\": %s, \"closed\": %s, \"consistently_oriented\": %s, \"welded_vertices\": %d, "
-        "\"degenerate_faces\": %d, \"reoriented_faces\": %d, \"inverted\": %s, \"warnings\": %s}\n",
-        json_string(path).c_str(), json_string(im.reader).c_str(),
-        json_string(im.double_precision() ? "double" : "float32").c_str(),
-        json_string(to_string(opt.mode)).c_str(), json_number(opt.density).c_str(), mesh.vertices.size(),
-        mesh.triangles.size(), json_number(r.volume).c_str(), json_number(r.area).c_str(),
-        json_number(r.props.mass).c_str(), json_vec(r.props.com).c_str(), json_mat(r.props.inertia).c_str(),
-        json_vec(pa.moments).c_str(), json_mat(pa.R.transpose()).c_str(), r.closed ? "true" : "false",
-        r.consistently_oriented ? "true" : "false", r.welded_vertices, r.degenerate_faces, r.reoriented_faces,
-        r.inverted ? "true" : "false", json_strings(r.warnings).c_str());
+    using J = nlohmann::ordered_json;
+    auto vec = [](const Vec3& v) { return J::array({v.x(), v.y(), v.z()}); };
+    auto mat = [&](const Mat3& m) { return J::array({vec(m.row(0)), vec(m.row(1)), vec(m.row(2))}); };
+    J o;
+    o["file"] = path;
+    o["reader"] = im.reader;
+    o["precision"] = im.double_precision() ? "double" : "float32";
+    o["mode"] = to_string(opt.mode);
+    o["density"] = opt.density;
+    o["vertices"] = mesh.vertices.size();
+    o["faces"] = mesh.triangles.size();
+    o["volume"] = r.volume;
+    o["area"] = r.area;
+    o["mass"] = r.props.mass;
+    o["centroid"] = vec(r.props.com);
+    o["inertia"] = mat(r.props.inertia);
+    o["principal_moments"] = vec(pa.moments);
+    o["principal_axes"] = mat(pa.R.transpose());
+    o["closed"] = r.closed;
+    o["consistently_oriented"] = r.consistently_oriented;
+    o["welded_vertices"] = r.welded_vertices;
+    o["degenerate_faces"] = r.degenerate_faces;
+    o["reoriented_faces"] = r.reoriented_faces;
+    o["inverted"] = r.inverted;
+    o["warnings"] = r.warnings;
+    std::printf("%s\n", o.dump(-1, ' ', false, J::error_handler_t::replace).c_str());
     return kExitOk;
   }
   auto row = [](const Vec3& v) {

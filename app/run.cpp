@@ -7,6 +7,8 @@
 
 #include "app/text.hpp"
 
+#include <nlohmann/json.hpp>
+
 namespace simreel {
 
 FramePlan plan_frames(double duration, double dt, double fps) {
@@ -143,37 +145,47 @@ std::string summary_text(const RunSummary& s) {
 }
 
 std::string summary_json(const RunSummary& s) {
-  std::ostringstream o;
-  o << "{\"scene\": " << json_string(s.scene) << ", \"integrator\": " << json_string(to_string(s.integrator))
-    << ", \"timestep\": " << json_number(s.timestep) << ", \"duration\": " << json_number(s.duration)
-    << ", \"steps\": " << s.steps << ", \"bodies\": " << s.bodies
-    << ", \"dynamic_bodies\": " << s.dynamic_bodies << ", \"frames\": " << s.frames
-    << ", \"step_seconds\": " << json_number(s.step_seconds)
-    << ", \"energy_rel_drift\": " << json_number(s.energy_rel_drift)
-    << ", \"momentum_rel_drift\": " << json_number(s.momentum_rel_drift)
-    << ", \"contacts_max\": " << s.contacts_max << ", \"max_penetration\": " << json_number(s.max_penetration)
-    << ", \"energy_gained\": " << json_number(s.energy_gained);
-  if (s.render_seconds >= 0)
-    o << ", \"render_seconds\": " << json_number(s.render_seconds)
-      << ", \"encode_seconds\": " << json_number(s.encode_seconds)
-      << ", \"renderer\": " << json_string(s.renderer);
-  if (s.profile) {
-    o << ", \"profile\": {";
-    for (int i = 0; i < (int)Stage::count; ++i)
-      o << (i ? ", " : "") << json_string(to_string((Stage)i))
-        << ": {\"seconds\": " << json_number(s.profile->seconds[i]) << ", \"runs\": " << s.profile->runs[i]
-        << ", \"skipped\": " << s.profile->skipped[i] << "}";
-    o << ", \"bodies\": {\"gyroscopic\": " << s.profile->gyroscopic_bodies
-      << ", \"isotropic_no_gyroscopic_work\": " << s.profile->isotropic_bodies
-      << ", \"static_never_integrated\": " << s.profile->static_bodies
-      << ", \"kinematic\": " << s.profile->kinematic_bodies
-      << "}, \"contacts\": {\"shapes\": " << s.profile->shapes << ", \"pairs\": " << s.profile->pairs
-      << ", \"contact_points\": " << s.profile->contact_points
-      << ", \"solver_bodies\": " << s.profile->solver_bodies << "}}";
+  using J = nlohmann::ordered_json;  // keys in the order written; non-finite numbers become null
+  J o;
+  o["scene"] = s.scene;
+  o["integrator"] = to_string(s.integrator);
+  o["timestep"] = s.timestep;
+  o["duration"] = s.duration;
+  o["steps"] = s.steps;
+  o["bodies"] = s.bodies;
+  o["dynamic_bodies"] = s.dynamic_bodies;
+  o["frames"] = s.frames;
+  o["step_seconds"] = s.step_seconds;
+  o["energy_rel_drift"] = s.energy_rel_drift;
+  o["momentum_rel_drift"] = s.momentum_rel_drift;
+  o["contacts_max"] = s.contacts_max;
+  o["max_penetration"] = s.max_penetration;
+  o["energy_gained"] = s.energy_gained;
+  if (s.render_seconds >= 0) {
+    o["render_seconds"] = s.render_seconds;
+    o["encode_seconds"] = s.encode_seconds;
+    o["renderer"] = s.renderer;
   }
-  if (!s.output.empty()) o << ", \"output\": " << json_string(s.output);
-  o << ", \"warnings\": " << json_strings(s.warnings) << "}";
-  return o.str();
+  if (s.profile) {
+    J p;
+    for (int i = 0; i < (int)Stage::count; ++i)
+      p[to_string((Stage)i)] = {{"seconds", s.profile->seconds[i]},
+                                {"runs", s.profile->runs[i]},
+                                {"skipped", s.profile->skipped[i]}};
+    p["bodies"] = {{"gyroscopic", s.profile->gyroscopic_bodies},
+                   {"isotropic_no_gyroscopic_work", s.profile->isotropic_bodies},
+                   {"static_never_integrated", s.profile->static_bodies},
+                   {"kinematic", s.profile->kinematic_bodies}};
+    p["contacts"] = {{"shapes", s.profile->shapes},
+                     {"pairs", s.profile->pairs},
+                     {"contact_points", s.profile->contact_points},
+                     {"solver_bodies", s.profile->solver_bodies}};
+    o["profile"] = std::move(p);
+  }
+  if (!s.output.empty()) o["output"] = s.output;
+  o["warnings"] = s.warnings;
+  // Invalid UTF-8 in a name or path is replaced, not thrown on.
+  return o.dump(-1, ' ', false, J::error_handler_t::replace);
 }
 
 }  // namespace simreel

@@ -15,8 +15,8 @@
 
 #include "app/mesh_import.hpp"
 #include "sim/convex_hull.hpp"
-#include "sim/mesh_collider.hpp"
 #include "sim/error.hpp"
+#include "sim/mesh_collider.hpp"
 #include "sim/primitives.hpp"
 
 namespace simreel {
@@ -231,7 +231,6 @@ Integrator integrator(const YAML::Node& n, const Ctx& c) {
   }
   return *i;
 }
-
 
 struct Loader {
   Scene& scene;

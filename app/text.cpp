@@ -16,59 +16,6 @@
 
 namespace simreel {
 
-std::string json_string(const std::string& s) {
-  std::string o = "\"";
-  for (unsigned char ch : s) {
-    switch (ch) {
-      case '"':
-        o += "\\\"";
-        break;
-      case '\\':
-        o += "\\\\";
-        break;
-      case '\n':
-        o += "\\n";
-        break;
-      case '\t':
-        o += "\\t";
-        break;
-      case '\r':
-        o += "\\r";
-        break;
-      default:
-        if (ch < 0x20) {
-          char b[8];
-          std::snprintf(b, sizeof b, "\\u%04x", ch);
-          o += b;
-        } else {
-          o += (char)ch;
-        }
-    }
-  }
-  return o + "\"";
-}
-
-std::string json_number(double v) {
-  if (!std::isfinite(v)) return "null";
-  char b[32];
-  std::snprintf(b, sizeof b, "%.17g", v);
-  return b;
-}
-
-std::string json_vec(const Vec3& v) {
-  return "[" + json_number(v.x()) + ", " + json_number(v.y()) + ", " + json_number(v.z()) + "]";
-}
-
-std::string json_mat(const Mat3& m) {
-  return "[" + json_vec(m.row(0)) + ", " + json_vec(m.row(1)) + ", " + json_vec(m.row(2)) + "]";
-}
-
-std::string json_strings(const std::vector<std::string>& v) {
-  std::string o = "[";
-  for (size_t i = 0; i < v.size(); ++i) o += (i ? ", " : "") + json_string(v[i]);
-  return o + "]";
-}
-
 Progress::Progress(const char* what, long total, bool quiet)
     : what_(what), total_(total), on_(!quiet), tty_(isatty(STDERR_FILENO)) {
   t0_ = last_ = std::chrono::steady_clock::now();

@@ -10,13 +10,6 @@
 
 namespace simreel {
 
-// Minimal JSON building: numbers with 17 significant digits (round-trip exact), escaped strings.
-std::string json_string(const std::string& s);
-std::string json_number(double v);  ///< non-finite values become null
-std::string json_vec(const Vec3& v);
-std::string json_mat(const Mat3& m);
-std::string json_strings(const std::vector<std::string>& v);
-
 // Progress on stderr: on a terminal, frames done, frames/s and time left on one line redrawn in
 // place; otherwise (a log, CI) a plain line every 10% or every 10 s. Nothing with `quiet`.
 class Progress {
