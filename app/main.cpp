@@ -228,7 +228,7 @@ int cmd_simulate(const std::vector<std::string>& args) {
     targets.insert(targets.begin(), FrameTarget{-1, world.time(), world.steps()});
   if (targets.back().step < plan.total_steps)
     targets.push_back(FrameTarget{-1, scene.duration, plan.total_steps});
-  Progress progress("frames", (long)targets.size(), a.has("--quiet"));
+  Progress progress("frames", (long)targets.size(), a.has("--quiet") || a.has("--json"));
   const StopSignals stop;  // a signal ends the run between steps; the CSV keeps the rows done
   FrameLoop::Hooks hooks;
   hooks.stop = &stop.flag();

@@ -240,7 +240,7 @@ int cmd_render(const std::vector<std::string>& args) {
   Renderer renderer(view.settings, view.meshes);
   VideoWriter writer(vs);
 
-  Progress progress("frames", (long)targets.size(), a.has("--quiet"));
+  Progress progress("frames", (long)targets.size(), a.has("--quiet") || a.has("--json"));
   double render_s = 0;
   FrameLoop::Hooks hooks;
   hooks.stop = &stop.flag();
