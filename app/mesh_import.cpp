@@ -5,6 +5,7 @@
 #include <poll.h>
 #include <signal.h>
 #include <sys/resource.h>
+#include <sys/syscall.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -292,8 +293,16 @@ RawMesh contained_read(const std::string& path, const char* who, const std::func
   }
   close(fds[0]);
   if (!why.empty()) kill(pid, SIGKILL);
-  // The pipe is closed: the child is exiting. Wait (bounded), then kill if it lingers.
+  // The pipe is closed: the child is exiting. Wait for it (2 s at most, on a pidfd where the kernel
+  // has them), then kill it if it lingers.
   int status = 0;
+  const int pidfd = (int)syscall(SYS_pidfd_open, pid, 0);
+  if (pidfd >= 0) {
+    pollfd p{pidfd, POLLIN, 0};
+    while (poll(&p, 1, 2000) < 0 && errno == EINTR) {
+    }
+    close(pidfd);
+  }
   for (int tries = 0;; ++tries) {
     const pid_t w = waitpid(pid, &status, tries < 2000 ? WNOHANG : 0);
     if (w == pid) break;

@@ -2,20 +2,12 @@
 //
 // The scene "lives" in a scratch folder holding copies of assets/ (the working directory is moved
 // there once), so `file: tetra.off` loads a real mesh and nothing else on the machine is named by
-// a relative path. A scene that loads must give every body a finite, positive mass and a finite
-// inertia: the world would refuse it otherwise, without naming file and line.
+// a relative path.
 #include <unistd.h>
 
-#include <cstddef>
-#include <cstdint>
-#include <cstdlib>
 #include <filesystem>
-#include <string>
 
-#include "app/scene.hpp"
-#include "sim/error.hpp"
-#include "sim/mass_properties.hpp"
-#include "tests/fuzz/fuzz_common.hpp"
+#include "tests/fuzz/targets.hpp"
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
   namespace fs = std::filesystem;
@@ -30,21 +22,6 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
 }
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-  using namespace simreel;
-  const std::string yaml(reinterpret_cast<const char*>(data), size);
-  try {
-    const Scene s = load_scene_text(yaml, "scene.yaml");
-    for (const BodyDef& b : s.bodies) {
-      bool massive = false;
-      for (const Collider& c : b.colliders) massive = massive || c.shape != ShapeKind::plane;
-      if (!massive) continue;
-      const MassProperties& mp = b.mass_B();
-      if (!std::isfinite(mp.mass) || !(mp.mass > 0) || !all_finite(mp.com) || !mp.inertia.allFinite())
-        fuzz::finding("a body with a non-finite or non-positive mass or inertia was loaded");
-      if (!inertia_problem(mp.inertia, 1e-7).empty())
-        fuzz::finding("a body with an unphysical inertia was loaded");
-    }
-  } catch (const InputError&) {
-  }
+  simreel::fuzz::scene(data, size);
   return 0;
 }
