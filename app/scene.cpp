@@ -820,6 +820,11 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
     if (sim["gravity"]) s.gravity = vec<3>(sim["gravity"], c.child("gravity"));
     if (sim["integrator"]) s.integrator = integrator(sim["integrator"], c.child("integrator"));
     if (s.timestep > s.duration) c.child("timestep").fail(sim["timestep"], "is longer than the duration");
+    // The step count must be a number a run can count to (4.9e-324 made it infinite: zero steps).
+    if (!(s.duration / s.timestep < 9007199254740992.0))
+      c.child("timestep").fail(sim["timestep"] ? sim["timestep"] : sim,
+                               "makes duration / timestep = " + std::to_string(s.duration / s.timestep) +
+                                   " steps, more than any run can count (2^53)");
   }
   if (const YAML::Node v = root["video"]) {
     const Ctx c = top.child("video");

@@ -597,6 +597,13 @@ TEST(Scene, MassesThatMakeNoBodyNameFileLineAndKey) {
                      "      - { shape: sphere, radius: 1, position: [-1e160, 0, 0] }\n")
                 .find("bad.yaml:4:7: bodies[0].colliders: body 'far': the body's mass"),
             std::string::npos);
+  // A timestep that makes the step count uncountable (4.9e-324 ran zero steps).
+  const std::string sphere = "bodies:\n  - colliders: [{ shape: sphere, radius: 1 }]\n";
+  EXPECT_NE(error_of("simulation: { timestep: 4.9e-324 }\n" + sphere).find("simulation.timestep: "),
+            std::string::npos);
+  EXPECT_NE(error_of("simulation: { duration: 1e300, timestep: 1e-10 }\n" + sphere)
+                .find("simulation.timestep: makes duration / timestep = inf steps"),
+            std::string::npos);
   // A number beyond double precision is out of range, not "not a number".
   EXPECT_NE(
       error_of("simulation: { duration: 1e999 }\nbodies:\n  - colliders: [{ shape: sphere, radius: 1 }]\n")
