@@ -539,7 +539,7 @@ struct PlyElement {
 class PlyReader {
  public:
   PlyReader(std::string_view text, size_t start, long first_line, int format, const std::string& path)
-      : text_(text), pos_(start), format_(format), path_(path), line_(first_line) {}
+      : text_(text), pos_(std::min(start, text.size())), format_(format), path_(path), line_(first_line) {}
 
   double read(PlyType t) {
     if (format_ == 0) return ascii();
@@ -635,6 +635,8 @@ RawMesh parse_ply(std::string_view text, const std::string& path, std::string* k
     const auto t = tokens(line, 0);
     if (t.empty() || t[0] == "comment" || t[0] == "obj_info") continue;
     if (t[0] == "end_header") {
+      // Alone on its line: the body starts after its newline (a file without one has no body).
+      if (t.size() != 1) fail(path, ln, "end_header must be alone on its line");
       ended = true;
       break;
     }
