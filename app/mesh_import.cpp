@@ -353,10 +353,10 @@ ImportedMesh import_mesh(const std::string& path, const Vec3& scale) {
     std::ifstream f(path, std::ios::binary);
     char head[512];
     f.read(head, sizeof head);
-    const std::string f_ =
+    const std::string sniffed =
         detail::native_format(std::string_view(head, (size_t)f.gcount()), fs::file_size(path, ec));
-    if (!f_.empty()) {
-      ext = "." + f_;
+    if (!sniffed.empty()) {
+      ext = "." + sniffed;
       text = detail::read_file(path);
     }
   }

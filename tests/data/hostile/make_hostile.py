@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Writes the hostile inputs of issue 16 into this folder (run it here; the files are committed).
 
-Each file is small and reproduces one finding; tests/app/hostile_test.cpp replays every file in this
+Each file is small and reproduces one finding; tests/fuzz/replay_test.cpp replays every file in this
 folder through the normal reader API (an InputError or a mesh, never a crash), and
 tests/app/mesh_import_test.cpp checks the message of each."""
 import struct
@@ -42,9 +42,10 @@ write("stl_wrong_count.stl", stl)
 write("ply_junk_element_huge.ply",
       "ply\nformat ascii 1.0\nelement junk 9223372036854775807\nend_header\n")
 write("ply_junk_element_then_mesh.ply",
-      "ply\nformat binary_little_endian 1.0\nelement junk 9223372036854775807\nelement vertex 3\n"
-      "property float x\nproperty float y\nproperty float z\nelement face 1\n"
-      "property list uchar int vertex_indices\nend_header\n" + "\0" * 36 + "\x03" + "\0" * 12)
+      b"ply\nformat binary_little_endian 1.0\nelement junk 9223372036854775807\nelement vertex 3\n"
+      b"property float x\nproperty float y\nproperty float z\nelement face 1\n"
+      b"property list uchar int vertex_indices\nend_header\n" + struct.pack("<9f", 0, 0, 0, 1, 0, 0, 0, 1, 0)
+      + b"\x03" + struct.pack("<3i", 0, 1, 2))
 # 4. non-finite or out-of-range values converted to integers
 v3 = struct.pack("<9f", 0, 0, 0, 1, 0, 0, 0, 1, 0)
 hdr = ("ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
