@@ -804,6 +804,7 @@ std::string native_format(std::string_view head, uint64_t size) {
   head = head.substr(0, 512);
   if (head.starts_with("ply\n") || head.starts_with("ply\r\n")) return "ply";
   const auto t = tokens(head, 0);
+  if (!t.empty() && t[0] == "ply") return "ply";  // after blank lines: refused by the PLY reader
   if (!t.empty() && is_off_keyword(t[0])) return "off";
   if (!t.empty() && t[0] == "solid" && head.find("facet") != std::string_view::npos) return "stl";
   if (head.size() >= 84 && size >= 84) {

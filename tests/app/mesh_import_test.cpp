@@ -426,6 +426,7 @@ TEST(MeshImport, MalformedPlyHeadersNeverReachAssimp) {
 TEST(MeshImport, NativeFormatsAreSniffedFromTheirBytes) {
   EXPECT_EQ(detail::native_format("ply\nformat ascii 1.0\n", 20), "ply");
   EXPECT_EQ(detail::native_format("OFF\n4 4 0\n", 10), "off");
+  EXPECT_EQ(detail::native_format("\n  ply\r\nformat ascii 1.0\n", 25), "ply");
   EXPECT_EQ(detail::native_format("off 4 4 0\n", 10), "off");
   EXPECT_EQ(detail::native_format("solid x\n facet normal 0 0 1\n", 28), "stl");
   std::string stl(84, ' ');

@@ -27,4 +27,5 @@ for h in "${harnesses[@]}"; do
   rc=$?
   n=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$')
   echo "$h: exit $rc, ${n:-?} executions in $secs s ($log)"
+  [ $rc -eq 0 ] || exit $rc
 done
