@@ -9,7 +9,9 @@
 #include <algorithm>
 #include <bit>
 #include <charconv>
+#include <climits>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -27,11 +29,19 @@ std::string slurp(const std::string& path) {
   if (!f) throw InputError("cannot open mesh '" + path + "'");
   std::ostringstream ss;
   ss << f.rdbuf();
+  if (f.bad()) throw InputError("cannot read mesh '" + path + "'");
   return ss.str();
 }
 
 [[noreturn]] void fail(const std::string& path, long line, const std::string& what) {
   throw InputError(path + (line > 0 ? ":" + std::to_string(line) : std::string()) + ": " + what);
+}
+
+// A double for a message, whatever it holds (never cast to an integer: NaN or 1e300 would be UB).
+std::string show(double x) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.17g", x);
+  return b;
 }
 
 // Whitespace-separated tokens of one line, comments (from `comment` on) removed.
@@ -50,6 +60,18 @@ std::vector<std::string_view> tokens(std::string_view line, char comment = '#') 
     i = j;
   }
   return out;
+}
+
+// OFF's first keyword: [ST][C][N][4][n]OFF (letters in any case).
+bool is_off_keyword(std::string_view h) {
+  if (h.size() < 3 || h.size() > 9) return false;
+  for (size_t i = 0; i < h.size(); ++i) {
+    const char c = (char)std::toupper((unsigned char)h[i]);
+    if (i + 3 >= h.size() ? c != "OFF"[i + 3 - h.size()]
+                          : std::string_view("STCN4").find(c) == std::string_view::npos)
+      return false;
+  }
+  return true;
 }
 
 // Lines with their 1-based numbers; handles \n and \r\n.
@@ -100,6 +122,8 @@ long integer(std::string_view t, const std::string& path, long line) {
 double orient2(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
   return (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
 }
+
+}  // namespace
 
 // Appends a polygon as triangles, in double precision. A convex polygon is fanned from its first
 // corner; any other is ear-clipped in its plane (the coordinate along which Newell's normal is
@@ -180,8 +204,6 @@ void add_polygon(RawMesh& m, const std::vector<int>& v, const std::vector<int>& 
   emit(idx[0], idx[1], idx[2]);
 }
 
-}  // namespace
-
 // ---- OBJ ------------------------------------------------------------------------------------
 
 namespace {
@@ -205,8 +227,7 @@ void read_mtl(const std::string& path, std::map<std::string, std::array<float, 3
 
 }  // namespace
 
-std::optional<RawMesh> read_obj(const std::string& path) {
-  const std::string text = slurp(path);
+RawMesh parse_obj(std::string_view text, const std::string& path) {
   RawMesh m;
   std::vector<std::string> libraries;
   std::vector<std::string> material_names;
@@ -226,6 +247,7 @@ std::optional<RawMesh> read_obj(const std::string& path) {
         const double w = number(t[4], path, ln);
         if (w == 0) fail(path, ln, "vertex has w = 0 (a point at infinity)");
         p /= w;
+        if (!all_finite(p)) fail(path, ln, "vertex x/w, y/w, z/w overflows (w = " + std::string(t[4]) + ")");
       }
       m.vertices.push_back(p);
     } else if (t[0] == "vn") {
@@ -281,11 +303,27 @@ std::optional<RawMesh> read_obj(const std::string& path) {
   std::map<std::string, std::array<float, 3>> kd;
   const std::filesystem::path dir = std::filesystem::path(path).parent_path();
   for (const std::string& lib : libraries) {
-    const std::filesystem::path p = dir / lib;
-    if (std::filesystem::is_regular_file(p))
-      read_mtl(p.string(), kd);
-    else
-      m.notes.push_back("material library '" + lib + "' not found; colours from the scene");
+    // Any name a file gives: too long, a symlink loop, a folder, a FIFO. None of that stops the
+    // mesh from loading; the note says why the colours are not the file's.
+    std::string why;
+    try {
+      const std::filesystem::path p = dir / lib;
+      std::error_code ec;
+      const auto st = std::filesystem::status(p, ec);
+      if (ec || !std::filesystem::exists(st))
+        why = ec && ec != std::errc::no_such_file_or_directory ? ec.message() : "not found";
+      else if (!std::filesystem::is_regular_file(st))
+        why = "not a regular file";
+      else
+        read_mtl(p.string(), kd);
+    } catch (const InputError& e) {
+      why = e.what();
+    } catch (const std::exception& e) {  // filesystem_error, bad_alloc on a path: a note, not a failure
+      why = e.what();
+    }
+    if (!why.empty())
+      m.notes.push_back("material library '" + lib + "' could not be opened (" + why +
+                        "); colours from the scene");
   }
   m.materials.assign(material_names.size(), {-1.f, -1.f, -1.f});  // -1: no Kd known
   for (size_t i = 0; i < material_names.size(); ++i)
@@ -295,8 +333,7 @@ std::optional<RawMesh> read_obj(const std::string& path) {
 
 // ---- OFF ------------------------------------------------------------------------------------
 
-std::optional<RawMesh> read_off(const std::string& path) {
-  const std::string text = slurp(path);
+RawMesh parse_off(std::string_view text, const std::string& path) {
   Lines lines(text);
   std::string_view line;
   RawMesh m;
@@ -311,8 +348,7 @@ std::optional<RawMesh> read_off(const std::string& path) {
   if (!next_tokens(&t)) fail(path, 0, "empty file");
   // Header: [ST][C][N][4][n]OFF, possibly followed by the counts on the same line.
   const std::string_view head = t[0];
-  if (head.size() < 3 || head.substr(head.size() - 3) != "OFF")
-    fail(path, lines.number(), "not an OFF file (no OFF header)");
+  if (!is_off_keyword(head)) fail(path, lines.number(), "not an OFF file (no OFF header)");
   if (head.find('4') != std::string_view::npos || head.find('n') != std::string_view::npos)
     fail(path, lines.number(), "only 3-dimensional OFF files are supported");
   t.erase(t.begin());
@@ -320,6 +356,7 @@ std::optional<RawMesh> read_off(const std::string& path) {
   if (t.size() < 2) fail(path, lines.number(), "expected 'vertices faces edges' counts");
   const long nv = integer(t[0], path, lines.number()), nf = integer(t[1], path, lines.number());
   if (nv < 0 || nf < 0) fail(path, lines.number(), "negative count");
+  if (nv > INT_MAX) fail(path, lines.number(), "more than 2147483647 vertices");
   // The body as a stream of tokens: a vertex or face may run over several lines (some writers
   // wrap long faces). What follows a record on its last line (colours, normals) is skipped.
   size_t ti = t.size();
@@ -333,7 +370,9 @@ std::optional<RawMesh> read_off(const std::string& path) {
     return true;
   };
   std::string_view tok;
-  m.vertices.reserve(nv);
+  // Never sized by the claim alone: a vertex takes at least 6 bytes ("0 0 0\n"). A claim the file
+  // cannot hold ends in "file ends after N of M".
+  m.vertices.reserve(std::min((size_t)nv, (text.size() - std::min(text.size(), lines.offset())) / 6 + 1));
   for (long i = 0; i < nv; ++i) {
     double c[3];
     for (int k = 0; k < 3; ++k) {
@@ -371,15 +410,16 @@ std::optional<RawMesh> read_off(const std::string& path) {
 
 // ---- STL ------------------------------------------------------------------------------------
 
-std::optional<RawMesh> read_stl(const std::string& path, std::string* kind) {
-  const std::string text = slurp(path);
+RawMesh parse_stl(std::string_view text, const std::string& path, std::string* kind) {
   RawMesh m;
   // Binary: 80-byte header, uint32 count, 50 bytes a triangle. Many binary files also begin with
   // "solid", so the size decides.
+  uint32_t n = 0;
   if (text.size() >= 84) {
-    uint32_t n;
     std::memcpy(&n, text.data() + 80, 4);
     if (84 + 50ull * n == text.size()) {
+      m.vertices.reserve(3ull * n);
+      m.triangles.reserve(n);
       *kind = "stl-binary";
       for (uint32_t f = 0; f < n; ++f) {
         const char* rec = text.data() + 84 + 50ull * f + 12;  // skip the facet normal
@@ -398,13 +438,27 @@ std::optional<RawMesh> read_stl(const std::string& path, std::string* kind) {
       return m;
     }
   }
+  // A binary STL whose count is wrong is not text: a NUL or control byte says so.
+  const std::string claim =
+      text.size() >= 84
+          ? "binary STL whose header claims " + std::to_string(n) + " triangles (84 + 50 x " +
+                std::to_string(n) + " = " + std::to_string(84 + 50ull * n) + " bytes) but the file has " +
+                std::to_string(text.size()) + " bytes: the triangle count is wrong or the file is cut short"
+          : std::string();
+  const bool binary_bytes = std::any_of(text.begin(), text.end(), [](char ch) {
+    const unsigned char u = (unsigned char)ch;
+    return u < 0x20 && u != '\t' && u != '\n' && u != '\r' && u != '\f' && u != '\v';
+  });
   {
-    const auto first = tokens(std::string_view(text).substr(0, 512), 0);
+    const auto first = tokens(text.substr(0, 512), 0);
     if (first.empty() || first[0] != "solid")
       fail(path, 0,
-           "neither ASCII STL (no 'solid') nor binary STL (size " + std::to_string(text.size()) +
-               " bytes does not match 84 + 50 x its triangle count)");
+           !claim.empty() && binary_bytes
+               ? "not ASCII STL (no 'solid'); read as a " + claim
+               : "neither ASCII STL (no 'solid') nor binary STL (size " + std::to_string(text.size()) +
+                     " bytes does not match 84 + 50 x its triangle count)");
   }
+
   *kind = "stl-ascii";
   Lines lines(text);
   std::string_view line;
@@ -426,6 +480,8 @@ std::optional<RawMesh> read_stl(const std::string& path, std::string* kind) {
       loop.clear();
     }
   }
+  if (m.triangles.empty() && binary_bytes && !claim.empty())
+    fail(path, 0, "begins with 'solid' but holds binary data and no facets; read as a " + claim);
   return m;
 }
 
@@ -482,13 +538,13 @@ struct PlyElement {
 // Values of the body, in ASCII or binary, as doubles (integers up to 2^32 are exact).
 class PlyReader {
  public:
-  PlyReader(const std::string& text, size_t start, long first_line, int format, const std::string& path)
-      : text_(text), pos_(start), format_(format), path_(path), line_(first_line) {}
+  PlyReader(std::string_view text, size_t start, long first_line, int format, const std::string& path)
+      : text_(text), pos_(std::min(start, text.size())), format_(format), path_(path), line_(first_line) {}
 
   double read(PlyType t) {
     if (format_ == 0) return ascii();
     const int n = ply_size(t);
-    if (pos_ + n > text_.size()) fail(path_, 0, "binary data ends early");
+    if (pos_ + n > text_.size()) fail(path_, 0, "binary data ends early" + where());
     unsigned char b[8];
     std::memcpy(b, text_.data() + pos_, n);
     pos_ += n;
@@ -534,6 +590,8 @@ class PlyReader {
   }
   long line() const { return line_; }
   size_t remaining() const { return text_.size() - pos_; }
+  void set_element(const PlyElement* e) { element_ = e; }
+  void set_record(long k) { record_ = k; }
 
  private:
   double ascii() {
@@ -543,22 +601,28 @@ class PlyReader {
     }
     size_t e = pos_;
     while (e < text_.size() && !std::isspace((unsigned char)text_[e])) ++e;
-    if (e == pos_) fail(path_, line_, "data ends early");
+    if (e == pos_) fail(path_, line_, "data ends early" + where());
     const std::string_view tok(text_.data() + pos_, e - pos_);
     pos_ = e;
     return number(tok, path_, line_);
   }
-  const std::string& text_;
+  std::string_view text_;
   size_t pos_;
   int format_;  // 0 ascii, 1 little endian, 2 big endian
+  std::string where() const {
+    if (!element_) return "";
+    return " (in " + element_->name + " " + std::to_string(record_ + 1) + " of the " +
+           std::to_string(element_->count) + " the header claims)";
+  }
   const std::string& path_;
   long line_;  // of the next token, ASCII only
+  const PlyElement* element_ = nullptr;
+  long record_ = 0;
 };
 
 }  // namespace
 
-std::optional<RawMesh> read_ply(const std::string& path, std::string* kind) {
-  const std::string text = slurp(path);
+RawMesh parse_ply(std::string_view text, const std::string& path, std::string* kind) {
   Lines lines(text);
   std::string_view line;
   if (!lines.next(&line) || tokens(line, 0) != std::vector<std::string_view>{"ply"})
@@ -571,6 +635,8 @@ std::optional<RawMesh> read_ply(const std::string& path, std::string* kind) {
     const auto t = tokens(line, 0);
     if (t.empty() || t[0] == "comment" || t[0] == "obj_info") continue;
     if (t[0] == "end_header") {
+      // Alone on its line: the body starts after its newline (a file without one has no body).
+      if (t.size() != 1) fail(path, ln, "end_header must be alone on its line");
       ended = true;
       break;
     }
@@ -582,24 +648,33 @@ std::optional<RawMesh> read_ply(const std::string& path, std::string* kind) {
                                                 : -2;
       if (format == -2) fail(path, ln, "unknown PLY format '" + std::string(t[1]) + "'");
     } else if (t[0] == "element") {
-      if (t.size() < 3) fail(path, ln, "element needs a name and a count");
+      if (t.size() != 3) fail(path, ln, "element needs a name and a count");
       const long n = integer(t[2], path, ln);
       if (n < 0) fail(path, ln, "negative element count");
+      for (const PlyElement& e : elements)
+        if (e.name == t[1]) fail(path, ln, "a second element named '" + e.name + "'");
       elements.push_back({std::string(t[1]), n, {}});
     } else if (t[0] == "property") {
       if (elements.empty()) fail(path, ln, "property before any element");
       PlyProperty p;
-      if (t.size() >= 5 && t[1] == "list") {
+      if (t.size() >= 2 && t[1] == "list") {
+        if (t.size() != 5) fail(path, ln, "a list property needs a count type, an item type and a name");
         const auto ct = ply_type(t[2]), it = ply_type(t[3]);
         if (!ct || !it) fail(path, ln, "unknown property type");
+        if (*ct == PlyType::f32 || *ct == PlyType::f64)
+          fail(path, ln, "a list's count type must be an integer type, not '" + std::string(t[2]) + "'");
         p = {std::string(t[4]), *it, true, *ct};
-      } else if (t.size() >= 3) {
+      } else if (t.size() == 3) {
         const auto ty = ply_type(t[1]);
         if (!ty) fail(path, ln, "unknown property type '" + std::string(t[1]) + "'");
         p = {std::string(t[2]), *ty};
       } else {
         fail(path, ln, "property needs a type and a name");
       }
+      for (const PlyProperty& q : elements.back().props)
+        if (q.name == p.name)
+          fail(path, ln,
+               "element '" + elements.back().name + "' has a second property named '" + p.name + "'");
       elements.back().props.push_back(p);
     }
     // Anything else is a line real exporters write without "comment" (Blender 2.4x: "Created by
@@ -618,20 +693,37 @@ std::optional<RawMesh> read_ply(const std::string& path, std::string* kind) {
     int ix = -1, iy = -1, iz = -1, inx = -1, iny = -1, inz = -1, iface = -1;
     for (int i = 0; i < (int)e.props.size(); ++i) {
       const std::string& n = e.props[i].name;
-      if (n == "x") ix = i;
-      if (n == "y") iy = i;
-      if (n == "z") iz = i;
-      if (n == "nx") inx = i;
-      if (n == "ny") iny = i;
-      if (n == "nz") inz = i;
+      const bool scalar = !e.props[i].is_list;
+      if (is_vertex && !scalar && (n == "x" || n == "y" || n == "z"))
+        fail(path, 0, "vertex property '" + n + "' is a list, not a number");
+      if (scalar && n == "x") ix = i;
+      if (scalar && n == "y") iy = i;
+      if (scalar && n == "z") iz = i;
+      if (scalar && n == "nx") inx = i;
+      if (scalar && n == "ny") iny = i;
+      if (scalar && n == "nz") inz = i;
       if ((n == "vertex_indices" || n == "vertex_index") && e.props[i].is_list) iface = i;
     }
     if (is_vertex && (ix < 0 || iy < 0 || iz < 0)) fail(path, 0, "vertex element has no x, y and z");
     if (is_face && iface < 0) fail(path, 0, "face element has no vertex_indices list");
     const bool normals = is_vertex && inx >= 0 && iny >= 0 && inz >= 0;
-    if (is_vertex) nv = e.count;
+    if (is_vertex) {
+      if (e.count > INT_MAX) fail(path, 0, "more than 2147483647 vertices");
+      nv = e.count;
+    }
+    // Elements with no properties take no bytes: skipped whatever their count (no loop over 2^63).
+    if (e.props.empty()) continue;
+    // A record takes at least its scalars' sizes and its lists' count sizes (binary), or two bytes
+    // a value (ASCII): memory is never sized beyond what the bytes left can hold. A claim the file
+    // cannot hold ends in "data ends early".
+    size_t least = 0;
+    for (const PlyProperty& p : e.props)
+      least += format == 0 ? 2 : ply_size(p.is_list ? p.count_type : p.type);
+    if (is_vertex) m.vertices.reserve(std::min((size_t)e.count, r.remaining() / least + 1));
+    r.set_element(&e);
     std::vector<double> vals(e.props.size());
     for (long k = 0; k < e.count; ++k) {
+      r.set_record(k);
       v.clear();
       for (int i = 0; i < (int)e.props.size(); ++i) {
         const PlyProperty& p = e.props[i];
@@ -640,8 +732,11 @@ std::optional<RawMesh> read_ply(const std::string& path, std::string* kind) {
           continue;
         }
         const double cnt = r.read(p.count_type);
-        if (cnt < 0 || cnt > 2147483647.0 || (format != 0 && cnt * ply_size(p.type) > (double)r.remaining()))
-          fail(path, format == 0 ? r.line() : 0, "list length " + std::to_string(cnt) + " is not sensible");
+        // Never convert before checking: NaN or 1e300 to an integer is undefined.
+        if (!(cnt >= 0 && cnt <= 2147483647.0) || cnt != std::floor(cnt) ||
+            cnt * (format == 0 ? 2 : ply_size(p.type)) > (double)r.remaining() + (format == 0 ? 1 : 0))
+          fail(path, format == 0 ? r.line() : 0,
+               "list length " + show(cnt) + " is not a whole number the rest of the file can hold");
         for (long j = 0; j < (long)cnt; ++j) {
           const double x = r.read(p.type);
           if (i == iface) {
@@ -650,10 +745,10 @@ std::optional<RawMesh> read_ply(const std::string& path, std::string* kind) {
               v.push_back(-1);
               continue;
             }
-            if (x < 0 || x >= nv || x != std::floor(x))
-              fail(path, format == 0 ? r.line() : 0,
-                   "face " + std::to_string(k) + " refers to vertex " + std::to_string((long)x) + " of " +
-                       std::to_string(nv));
+            if (!(x >= 0 && x < (double)nv) || x != std::floor(x))
+              fail(
+                  path, format == 0 ? r.line() : 0,
+                  "face " + std::to_string(k) + " refers to vertex " + show(x) + " of " + std::to_string(nv));
             v.push_back((int)x);
           }
         }
@@ -699,6 +794,25 @@ std::optional<RawMesh> read_ply(const std::string& path, std::string* kind) {
                                          " with a repeated corner, which only join strips)"
                                    : std::string()));
   return m;
+}
+
+std::string read_file(const std::string& path) {
+  return slurp(path);
+}
+
+std::string native_format(std::string_view head, uint64_t size) {
+  head = head.substr(0, 512);
+  if (head.starts_with("ply\n") || head.starts_with("ply\r\n")) return "ply";
+  const auto t = tokens(head, 0);
+  if (!t.empty() && t[0] == "ply") return "ply";  // after blank lines: refused by the PLY reader
+  if (!t.empty() && is_off_keyword(t[0])) return "off";
+  if (!t.empty() && t[0] == "solid" && head.find("facet") != std::string_view::npos) return "stl";
+  if (head.size() >= 84 && size >= 84) {
+    uint32_t n;
+    std::memcpy(&n, head.data() + 80, 4);
+    if (84 + 50ull * n == size) return "stl";
+  }
+  return "";
 }
 
 }  // namespace simreel::detail

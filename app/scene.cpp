@@ -2,11 +2,15 @@
 
 #include "app/frame_loop.hpp"
 
+#include <yaml-cpp/anchor.h>
+#include <yaml-cpp/eventhandler.h>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <iomanip>
 #include <map>
 #include <memory>
@@ -17,6 +21,7 @@
 #include "sim/convex_hull.hpp"
 #include "sim/error.hpp"
 #include "sim/mesh_collider.hpp"
+#include "sim/mass_properties.hpp"
 #include "sim/primitives.hpp"
 
 namespace simreel {
@@ -69,6 +74,125 @@ class Ctx {
   std::string file_, key_;
 };
 
+// What yaml-cpp's loader lets through silently, checked on the event stream before it builds the
+// tree: a second document, a duplicate key (the loader keeps the first), a key that is not a plain
+// name (a list or mapping as a key: "bad conversion" later), and aliases that expand to more nodes
+// than any scene needs (a few KB of nested aliases can stand for billions). Throws InputError
+// "FILE:LINE:COL: KEY: what".
+class StrictYaml : public YAML::EventHandler {
+ public:
+  static constexpr uint64_t kMaxNodes = 2000000;  ///< nodes after expanding aliases
+  explicit StrictYaml(const std::string& file) : file_(file) {}
+  void OnDocumentStart(const YAML::Mark& m) override {
+    if (++documents_ > 1)
+      fail(m, "", "a scene file holds one YAML document; a second one starts here (after '---' or '...')");
+  }
+  void OnDocumentEnd() override {}
+  void OnNull(const YAML::Mark& m, YAML::anchor_t a) override { item(m, nullptr, a, 1); }
+  void OnAlias(const YAML::Mark& m, YAML::anchor_t a) override {
+    if (!stack_.empty() && stack_.back().map && stack_.back().want_key)
+      fail(m, stack_.back().path, "a key must be a plain name, not an alias");
+    const auto it = sizes_.find(a);
+    item(m, nullptr, 0, it == sizes_.end() ? 1 : it->second, true);
+  }
+  void OnScalar(const YAML::Mark& m, const std::string&, YAML::anchor_t a, const std::string& v) override {
+    item(m, &v, a, 1);
+  }
+  void OnSequenceStart(const YAML::Mark& m, const std::string&, YAML::anchor_t a,
+                       YAML::EmitterStyle::value) override {
+    open(m, false, a);
+  }
+  void OnSequenceEnd() override { close(); }
+  void OnMapStart(const YAML::Mark& m, const std::string&, YAML::anchor_t a,
+                  YAML::EmitterStyle::value) override {
+    open(m, true, a);
+  }
+  void OnMapEnd() override { close(); }
+
+ private:
+  struct Frame {
+    bool map = false;
+    YAML::anchor_t anchor = 0;
+    std::string path;
+    bool want_key = true;              // map: the next node is a key
+    size_t index = 0;                  // sequence: of the next item
+    std::string key;                   // map: the key of the value now being read
+    uint64_t size = 1;                 // nodes so far, aliases expanded
+    std::map<std::string, int> lines;  // map: keys seen, with their lines
+  };
+  [[noreturn]] void fail(const YAML::Mark& m, const std::string& key, const std::string& what) const {
+    std::ostringstream os;
+    os << file_ << ":" << m.line + 1 << ":" << m.column + 1 << ": " << (key.empty() ? "scene" : key) << ": "
+       << what;
+    throw InputError(os.str());
+  }
+  std::string child_path() const {
+    if (stack_.empty()) return "";
+    const Frame& f = stack_.back();
+    if (!f.map) return f.path + "[" + std::to_string(f.index) + "]";
+    return f.path.empty() ? f.key : f.path + "." + f.key;
+  }
+  void count(const YAML::Mark& m, uint64_t n) {
+    total_ = std::min(total_ + n, kMaxNodes + 1);
+    if (total_ > kMaxNodes)
+      fail(m, child_path(),
+           "the scene expands to more than " + std::to_string(kMaxNodes) +
+               " YAML nodes (through aliases); that is no scene simreel can run");
+  }
+  // A finished node (scalar, null, alias, or a closed list or mapping) in the frame on top.
+  void item(const YAML::Mark& m, const std::string* scalar, YAML::anchor_t anchor, uint64_t size,
+            bool alias = false) {
+    if (anchor) sizes_[anchor] = size;
+    if (stack_.empty()) return;
+    Frame& f = stack_.back();
+    if (f.map && f.want_key) {
+      if (!scalar) fail(m, f.path, alias ? "a key must be a plain name, not an alias" : "a key is empty");
+      const auto it = f.lines.find(*scalar);
+      f.key = *scalar;
+      if (it != f.lines.end())
+        fail(m, child_path(),
+             "duplicate key '" + *scalar + "' (first on line " + std::to_string(it->second) +
+                 "); YAML would keep only one of them");
+      f.lines[*scalar] = m.line + 1;
+      f.want_key = false;
+    } else if (f.map) {
+      f.want_key = true;
+    } else {
+      ++f.index;
+    }
+    f.size = std::min(f.size + size, kMaxNodes + 1);
+    count(m, size);
+  }
+  void open(const YAML::Mark& m, bool map, YAML::anchor_t anchor) {
+    if (!stack_.empty() && stack_.back().map && stack_.back().want_key)
+      fail(m, stack_.back().path,
+           std::string("a key must be a plain name, not a ") + (map ? "mapping" : "list"));
+    Frame f;
+    f.map = map;
+    f.anchor = anchor;
+    f.path = child_path();
+    stack_.push_back(std::move(f));
+  }
+  void close() {
+    const Frame f = std::move(stack_.back());
+    stack_.pop_back();
+    if (f.anchor) sizes_[f.anchor] = f.size;
+    if (stack_.empty()) return;
+    Frame& p = stack_.back();
+    if (p.map)
+      p.want_key = true;
+    else
+      ++p.index;
+    p.size = std::min(p.size + f.size, kMaxNodes + 1);
+  }
+
+  std::string file_;
+  int documents_ = 0;
+  std::vector<Frame> stack_;
+  std::map<YAML::anchor_t, uint64_t> sizes_;
+  uint64_t total_ = 0;
+};
+
 std::string show(const YAML::Node& n) {
   if (n.IsScalar()) return "'" + n.Scalar() + "'";
   if (n.IsSequence()) return "a list";
@@ -80,7 +204,8 @@ std::string show(const YAML::Node& n) {
 void check_keys(const YAML::Node& map, const Ctx& c, const std::vector<std::string>& known) {
   if (!map.IsMap()) c.fail(map, "expected a mapping of keys, got " + show(map));
   for (const auto& kv : map) {
-    const std::string k = kv.first.as<std::string>();
+    if (!kv.first.IsScalar()) c.fail(kv.first, "a key must be a plain name, got " + show(kv.first));
+    const std::string k = kv.first.Scalar();
     if (std::find(known.begin(), known.end(), k) != known.end()) continue;
     std::string msg = "unknown key '" + k + "'";
     if (auto s = nearest(k, known)) msg += "; did you mean '" + *s + "'?";
@@ -88,17 +213,41 @@ void check_keys(const YAML::Node& map, const Ctx& c, const std::vector<std::stri
   }
 }
 
+// A plain scalar, or one tagged with one of `tags` (!!float, !!int, ...): a quoted "5" or a
+// `!!str 5` is text, and text is not read as a number or a yes/no.
+void untagged(const YAML::Node& n, const Ctx& c, const char* expected,
+              std::initializer_list<const char*> tags) {
+  const std::string& t = n.Tag();
+  if (t == "?") return;
+  for (const char* ok : tags)
+    if (t == std::string("tag:yaml.org,2002:") + ok) return;
+  std::string what = t == "!" ? "text (it is quoted)" : "a value tagged " + t;
+  const std::string core = "tag:yaml.org,2002:";
+  if (t.rfind(core, 0) == 0) what = "a value tagged !!" + t.substr(core.size());
+  c.fail(n, "expected " + std::string(expected) + ", got " + show(n) + ", " + what);
+}
+
 double number(const YAML::Node& n, const Ctx& c) {
   if (!n.IsScalar()) c.fail(n, "expected a number, got " + show(n));
+  untagged(n, c, "a number", {"float", "int"});
   const std::string& s = n.Scalar();
   // YAML 1.2 spells the non-finite floats .inf, -.inf, .nan (any case).
   std::string low = s;
   for (char& ch : low) ch = (char)std::tolower((unsigned char)ch);
   if (low == ".inf" || low == "+.inf" || low == "-.inf" || low == ".nan")
     c.fail(n, "must be a finite number, got " + show(n));
-  char* end = nullptr;
-  const double v = std::strtod(s.c_str(), &end);
-  if (s.empty() || end != s.c_str() + s.size()) c.fail(n, "expected a number, got " + show(n));
+  // Decimal only (from_chars: no hex, no locale, no leading space); a leading '+' is allowed.
+  double v = 0;
+  const char* b = s.data() + (!s.empty() && s[0] == '+');
+  const auto r = std::from_chars(b, s.data() + s.size(), v);
+  if (r.ec == std::errc::result_out_of_range)
+    c.fail(n, "is out of the range of double precision (about 1e-308 .. 1e308), got " + show(n));
+  if (s.empty() || r.ec != std::errc() || r.ptr != s.data() + s.size()) {
+    if (s.size() > 2 && s[0] == '0' && (s[1] == 'x' || s[1] == 'X' || s[1] == 'o'))
+      c.fail(n, "expected a decimal number, got " + show(n) +
+                    " (hexadecimal and octal are for collision bits only)");
+    c.fail(n, "expected a number, got " + show(n));
+  }
   if (!std::isfinite(v)) c.fail(n, "must be a finite number, got " + show(n));
   return v;
 }
@@ -136,6 +285,15 @@ uint32_t bits(const YAML::Node& n, const Ctx& c) {
   }
   if (!n.IsScalar())
     c.fail(n, "expected a whole number from 0 to 4294967295 or a list of bit numbers, got " + show(n));
+  const std::string& s = n.Scalar();
+  if (s.size() > 2 && s[0] == '0' && (s[1] == 'x' || s[1] == 'X')) {  // hexadecimal: 0xF0
+    untagged(n, c, "a whole number", {"int"});
+    uint32_t h = 0;
+    const auto r = std::from_chars(s.data() + 2, s.data() + s.size(), h, 16);
+    if (r.ec != std::errc() || r.ptr != s.data() + s.size())
+      c.fail(n, "expected a whole number from 0 to 0xFFFFFFFF, got " + show(n));
+    return h;
+  }
   const double v = number(n, c);
   if (v != std::floor(v) || v < 0 || v > 4294967295.0)
     c.fail(n, "expected a whole number from 0 to 4294967295 or a list of bit numbers, got " + show(n));
@@ -151,6 +309,7 @@ std::string where(const YAML::Node& n, const Ctx& c) {
 
 bool boolean(const YAML::Node& n, const Ctx& c) {
   if (n.IsScalar()) {
+    untagged(n, c, "true or false", {"bool"});
     const std::string& s = n.Scalar();
     if (s == "true" || s == "yes" || s == "on") return true;
     if (s == "false" || s == "no" || s == "off") return false;
@@ -244,12 +403,56 @@ struct Loader {
     for (const fs::path& base : {dir, assets, fs::path(".")}) {
       const fs::path p = fs::path(f).is_absolute() ? fs::path(f) : base / f;
       std::error_code ec;
-      if (fs::is_regular_file(p, ec)) return p.lexically_normal().string();
+      const fs::file_status st = fs::status(p, ec);
+      if (fs::is_regular_file(st)) return p.lexically_normal().string();
+      if (fs::exists(st))
+        c.fail(n,
+               "mesh file '" + p.lexically_normal().string() + "' is " +
+                   (fs::is_directory(st) ? "a directory" : "not a regular file (a FIFO, socket or device)"));
       tried.push_back(p.lexically_normal());
     }
     std::string msg = "mesh file '" + f + "' not found (looked in";
     for (size_t i = 0; i < tried.size(); ++i) msg += (i ? ", " : " ") + tried[i].string();
     c.fail(n, msg + ")");
+  }
+
+  // A collider's mass properties, checked here so that the error names file, line and key (the
+  // world would only say "body 0: mass must be positive"): `unit` at density 1 (its volume), `mp`
+  // at density `rho`. A mass the shape turns into an infinite or vanishing density, or sizes whose
+  // volume or inertia leave double precision, are errors at the key that caused them.
+  void check_mass(const MassProperties& unit, const MassProperties& mp, double rho, const YAML::Node& n,
+                  const Ctx& c) {
+    std::string size_key = "size";
+    for (const char* k : {"file", "size", "radius", "radii", "height", "scale"})
+      if (n[k]) {
+        size_key = k;
+        break;
+      }
+    const char* value_key = n["mass"] ? "mass" : n["density"] ? "density" : nullptr;
+    auto blame = [&](const std::string& k) { return n[k] ? c.child(k) : c; };
+    auto node = [&](const std::string& k) { return n[k] ? n[k] : n; };
+    char b[300];
+    if (!std::isfinite(unit.mass) || !(unit.mass > 0)) {
+      std::snprintf(b, sizeof b, "gives a volume of %g m^3, out of the range of double precision", unit.mass);
+      blame(size_key).fail(node(size_key), b);
+    }
+    if (!std::isfinite(rho) || !(rho > 0)) {
+      std::snprintf(b, sizeof b,
+                    "over a volume of %g m^3 is a density of %g kg/m^3: out of the range of double precision",
+                    unit.mass, rho);
+      blame("mass").fail(node("mass"), b);
+    }
+    const std::string k = value_key ? value_key : size_key;
+    if (!std::isfinite(mp.mass) || !(mp.mass > 0) || !all_finite(mp.com) || !mp.inertia.allFinite()) {
+      std::snprintf(
+          b, sizeof b,
+          "gives a mass of %g kg and an inertia of up to %g kg m^2 (density %g kg/m^3, volume %g m^3): "
+          "out of the range of double precision",
+          mp.mass, mp.inertia.cwiseAbs().maxCoeff(), rho, unit.mass);
+      blame(k).fail(node(k), b);
+    }
+    const std::string bad = inertia_problem(mp.inertia, 1e-7);
+    if (!bad.empty()) blame(k).fail(node(k), bad);
   }
 
   Collider collider(const YAML::Node& n, const Ctx& c, const std::string& body, BodyType type,
@@ -388,6 +591,7 @@ struct Loader {
         col.props_C = rep.props;
         col.props_C.mass *= rho;
         col.props_C.inertia *= rho;
+        check_mass(rep.props, col.props_C, rho, n, c);
         col.label = file;
         if (col.collide) {
           try {
@@ -415,6 +619,7 @@ struct Loader {
     const MassProperties unit = primitive_mass(col, 1.0);
     const double rho = n["mass"] ? positive(n["mass"], c.child("mass")) / unit.mass : density;
     col.props_C = primitive_mass(col, rho);
+    check_mass(unit, col.props_C, rho, n, c);
     col.label = shape;
     return col;
   }
@@ -474,6 +679,25 @@ struct Loader {
       look.colliders.push_back(cl);
       b.add_collider(std::move(col));
     }
+    // The body as a whole (colliders far apart: the parallel-axis terms can overflow).
+    bool massive = false;
+    for (const Collider& col : b.colliders) massive = massive || col.shape != ShapeKind::plane;
+    if (massive) {
+      const MassProperties& mp = b.mass_B();
+      std::string bad;
+      if (!std::isfinite(mp.mass) || !(mp.mass > 0) || !all_finite(mp.com) || !mp.inertia.allFinite()) {
+        char buf[200];
+        std::snprintf(
+            buf, sizeof buf,
+            "the body's mass (%g kg) or inertia about its centre of mass (up to %g kg m^2) is out of the "
+            "range of double precision",
+            mp.mass, mp.inertia.cwiseAbs().maxCoeff());
+        bad = buf;
+      } else {
+        bad = inertia_problem(mp.inertia, 1e-7);
+      }
+      if (!bad.empty()) c.child("colliders").fail(cols, "body '" + b.name + "': " + bad);
+    }
     return b;
   }
 };
@@ -481,20 +705,42 @@ struct Loader {
 }  // namespace
 
 Scene load_scene(const std::string& path) {
+  std::error_code ec;
+  const fs::file_status st = fs::status(path, ec);
+  if (ec && ec != std::errc::no_such_file_or_directory)
+    throw InputError(path + ": scene file: " + ec.message());
+  if (!fs::exists(st)) throw InputError(path + ": scene file does not exist");
+  if (fs::is_directory(st)) throw InputError(path + ": is a directory, not a scene file");
+  if (!fs::is_regular_file(st))
+    throw InputError(path + ": scene file is not a regular file (a FIFO, socket or device)");
+  std::ifstream f(path, std::ios::binary);
+  std::ostringstream text;
+  text << f.rdbuf();
+  if (!f || f.bad()) throw InputError(path + ": cannot read the scene file");
+  return load_scene_text(text.str(), path);
+}
+
+Scene load_scene_text(const std::string& yaml, const std::string& path) {
   Scene s;
   s.path = path;
   s.name = fs::path(path).stem().string();
   std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) throw InputError(path + ": scene file does not exist or is not a file");
   YAML::Node root;
   try {
-    root = YAML::LoadFile(path);
+    std::istringstream in(yaml);
+    YAML::Parser parser(in);
+    StrictYaml strict(path);
+    while (parser.HandleNextDocument(strict)) {
+    }
+    root = YAML::Load(yaml);
   } catch (const YAML::ParserException& e) {
     std::ostringstream os;
     os << path << ":" << e.mark.line + 1 << ":" << e.mark.column + 1 << ": YAML syntax error: " << e.msg;
     throw InputError(os.str());
-  } catch (const YAML::BadFile&) {
-    throw InputError(path + ": cannot read the scene file");
+  } catch (const YAML::Exception& e) {
+    std::ostringstream os;
+    os << path << ":" << e.mark.line + 1 << ":" << e.mark.column + 1 << ": YAML: " << e.msg;
+    throw InputError(os.str());
   }
   const Ctx top(path, "");
   if (!root.IsMap())
@@ -529,6 +775,11 @@ Scene load_scene(const std::string& path) {
     if (sim["gravity"]) s.gravity = vec<3>(sim["gravity"], c.child("gravity"));
     if (sim["integrator"]) s.integrator = integrator(sim["integrator"], c.child("integrator"));
     if (s.timestep > s.duration) c.child("timestep").fail(sim["timestep"], "is longer than the duration");
+    // The step count must be a number a run can count to (4.9e-324 made it infinite: zero steps).
+    if (!(s.duration / s.timestep < 9007199254740992.0))
+      c.child("timestep").fail(sim["timestep"] ? sim["timestep"] : sim,
+                               "makes duration / timestep = " + std::to_string(s.duration / s.timestep) +
+                                   " steps, more than any run can count (2^53)");
   }
   if (const YAML::Node v = root["video"]) {
     const Ctx c = top.child("video");

@@ -97,8 +97,13 @@ struct Scene {
   std::vector<std::string> notes;  ///< what was done with mesh defects and ignored keys, with file and body
 };
 
-// Throws InputError "FILE:LINE:COL: KEY: what is wrong" for anything a user could get wrong.
+// Throws InputError "FILE:LINE:COL: KEY: what is wrong" for anything a user could get wrong:
+// YAML that yaml-cpp would read silently otherwise (a duplicate key, a second document, a quoted or
+// !!str number, hexadecimal outside collision bits, a list as a key) and values that make no body
+// (a mass that is a non-finite density, an inertia that overflows) included.
 Scene load_scene(const std::string& path);
+// The same from the file's text; `path` names it in messages and mesh files are looked up beside it.
+Scene load_scene_text(const std::string& yaml, const std::string& path);
 
 // Nearest candidate by edit distance, if close enough to be a likely typo.
 std::optional<std::string> nearest(const std::string& word, const std::vector<std::string>& candidates);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <numbers>
 #include <numeric>
@@ -97,6 +98,34 @@ Vec3 bbox_centre(const std::vector<Vec3>& v, double* diag) {
   }
   *diag = (hi - lo).norm();
   return 0.5 * (lo + hi);
+}
+
+// Mass properties take lengths to the 5th power (inertia ~ density L^5): sizes and coordinates out
+// of 1e-60 .. 1e60 m overflow or underflow double precision, which would otherwise be reported as a
+// flat, empty or single-point mesh. Says which, with the size.
+void check_scale(const std::vector<Vec3>& v) {
+  Vec3 lo = v[0], hi = v[0];
+  for (const Vec3& p : v) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  const double far = std::max(lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff());
+  const double size = (hi - lo).maxCoeff();  // inf when the span itself overflows
+  char b[200];
+  if (far > 1e60) {
+    std::snprintf(b, sizeof b,
+                  "mesh has coordinates up to %.3g m: its mass properties (lengths to the 5th power) would "
+                  "overflow double precision; scale it into 1e-60 .. 1e60 m",
+                  far);
+    throw InputError(b);
+  }
+  if (size > 0 && size < 1e-60) {
+    std::snprintf(b, sizeof b,
+                  "mesh spans only %.3g m: its mass properties (lengths to the 5th power) would underflow "
+                  "double precision; scale it into 1e-60 .. 1e60 m",
+                  size);
+    throw InputError(b);
+  }
 }
 
 uint64_t edge_key(int a, int b) {
@@ -219,6 +248,7 @@ Surface surface(const TriangleMesh& in, MeshReport& rep) {
   Surface s;
   TriangleMesh& m = s.m;
   m = weld(in, &rep.welded_vertices);
+  check_scale(m.vertices);
   bbox_centre(m.vertices, &s.diag);
   if (!(s.diag > 0)) throw InputError("mesh is a single point (all vertices coincide)");
 
@@ -547,6 +577,7 @@ MeshReport analyze_mesh(const TriangleMesh& mesh, const MeshMassOptions& opt) {
     case MassMode::hull: {
       validate(mesh);
       TriangleMesh welded = weld(mesh, &rep.welded_vertices);
+      check_scale(welded.vertices);
       // Closed and outward by construction: not through prepare(), whose sliver rule would drop a
       // thin hull triangle and then call the hull open.
       const TriangleMesh m = convex_hull(welded.vertices);
@@ -563,6 +594,18 @@ MeshReport analyze_mesh(const TriangleMesh& mesh, const MeshMassOptions& opt) {
                              ") of " + plural((long)welded.vertices.size(), "vertex"));
       break;
     }
+  }
+  // Never a non-finite (or vanished) result reported as a success: density and size together can
+  // still overflow (1e300 kg/m^3) or underflow.
+  const bool finite = std::isfinite(rep.volume) && std::isfinite(rep.area) && std::isfinite(rep.props.mass) &&
+                      all_finite(rep.props.com) && rep.props.inertia.allFinite();
+  if (!finite || !(rep.props.mass > 0)) {
+    char b[200];
+    std::snprintf(b, sizeof b,
+                  "mass properties %s double precision (mass %g kg, volume %g m^3, area %g m^2): the mesh's "
+                  "size and the density are out of range together",
+                  finite ? "underflow" : "overflow", rep.props.mass, rep.volume, rep.area);
+    throw InputError(b);
   }
   const std::string bad = inertia_problem(rep.props.inertia, 1e-7);
   if (!bad.empty()) rep.warnings.push_back("computed inertia is not physically valid: " + bad);

@@ -2,9 +2,16 @@
 // glTF goes through assimp with its node transforms and material; broken files name file and line.
 #include <gtest/gtest.h>
 
+#include <signal.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <bit>
+#include <chrono>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
+#include <functional>
 
 #include "app/mesh_import.hpp"
 #include "sim/error.hpp"
@@ -369,6 +376,263 @@ TEST(MeshImport, BrokenFilesNameFileAndLine) {
             std::string::npos);
   EXPECT_NE(error_of("empty.gltf", "{\"asset\": {\"version\": \"2.0\"}}").find("empty.gltf"),
             std::string::npos);
+}
+
+// ---- issue 16: hostile input ------------------------------------------------------------------
+
+std::string hostile(const std::string& name) {
+  return "tests/data/hostile/" + name;
+}
+
+std::string error_of_file(const std::string& path) {
+  try {
+    import_mesh(path);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << path << " was accepted";
+  return "";
+}
+
+// Item 1: 530-byte binary PLY headers with a duplicate or a nameless property. assimp 5.2 aborts on
+// them (Triangulate's assertion; SortByPType's stack write, SIGBUS). simreel's reader refuses them,
+// and a file whose bytes say PLY goes to simreel's reader whatever its name: assimp never sees it.
+TEST(MeshImport, MalformedPlyHeadersNeverReachAssimp) {
+  const std::pair<const char*, const char*> cases[] = {
+      {"ply_duplicate_property.ply", ":5: element 'vertex' has a second property named 'x'"},
+      {"ply_nameless_property.ply", ":7: property needs a type and a name"}};
+  for (const auto& [name, msg] : cases) {
+    SCOPED_TRACE(name);
+    EXPECT_NE(error_of_file(hostile(name)).find(msg), std::string::npos);
+    // The same bytes under a name only assimp reads.
+    const std::string dat = test::scratch(std::string(name) + ".glb");
+    std::filesystem::copy_file(hostile(name), dat);
+    EXPECT_NE(error_of_file(dat).find(msg), std::string::npos) << error_of_file(dat);
+  }
+  // A second element of the same name, and a list as a coordinate.
+  EXPECT_NE(
+      error_of("twice.ply",
+               "ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nelement vertex 0\nend_header\n")
+          .find("twice.ply:5: a second element named 'vertex'"),
+      std::string::npos);
+  EXPECT_NE(
+      error_of("listx.ply",
+               "ply\nformat ascii 1.0\nelement vertex 1\nproperty list uchar float x\nproperty float y\n"
+               "property float z\nend_header\n1 0 0 0\n")
+          .find("vertex property 'x' is a list"),
+      std::string::npos);
+}
+
+TEST(MeshImport, NativeFormatsAreSniffedFromTheirBytes) {
+  EXPECT_EQ(detail::native_format("ply\nformat ascii 1.0\n", 20), "ply");
+  EXPECT_EQ(detail::native_format("OFF\n4 4 0\n", 10), "off");
+  EXPECT_EQ(detail::native_format("\n  ply\r\nformat ascii 1.0\n", 25), "ply");
+  EXPECT_EQ(detail::native_format("off 4 4 0\n", 10), "off");
+  EXPECT_EQ(detail::native_format("solid x\n facet normal 0 0 1\n", 28), "stl");
+  std::string stl(84, ' ');
+  const uint32_t one = 1;
+  std::memcpy(&stl[80], &one, 4);
+  EXPECT_EQ(detail::native_format(stl, 134), "stl");
+  EXPECT_EQ(detail::native_format("{\"asset\": {}}", 13), "");
+  EXPECT_EQ(detail::native_format("glTF\x02\0\0\0", 8), "");
+  // An OFF file named .dae is read by simreel's reader (double precision), not by assimp.
+  const ImportedMesh im = import_mesh(write("tetra.dae",
+                                            "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n"
+                                            "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n"));
+  EXPECT_EQ(im.reader, "off");
+}
+
+// Item 1: assimp runs in a child process; whatever happens there becomes an InputError here.
+TEST(MeshImport, AssimpCrashesAndHangsAreContained) {
+  auto error = [](const std::function<detail::RawMesh()>& f, double seconds = 30) {
+    try {
+      detail::contained_read("x.glb", "assimp", f, seconds);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(error([]() -> detail::RawMesh {
+              raise(SIGBUS);
+              return {};
+            }),
+            "assimp could not read 'x.glb' (crashed: SIGBUS)");
+  EXPECT_EQ(error([]() -> detail::RawMesh { std::abort(); }),
+            "assimp could not read 'x.glb' (crashed: SIGABRT)");
+  EXPECT_EQ(error([]() -> detail::RawMesh { _exit(7); }),
+            "assimp could not read 'x.glb' (its reader process exited with status 7)");
+  EXPECT_EQ(error([]() -> detail::RawMesh { throw InputError("x.glb: no meshes"); }), "x.glb: no meshes");
+  EXPECT_EQ(error([]() -> detail::RawMesh { throw std::bad_alloc(); }),
+            "assimp could not read 'x.glb' (ran out of memory)");
+  const auto t0 = std::chrono::steady_clock::now();
+  EXPECT_EQ(error(
+                []() -> detail::RawMesh {
+                  for (;;) pause();
+                },
+                0.3),
+            "assimp could not read 'x.glb' (gave up after 0.3 s)");
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 5);
+  // A mesh comes back whole.
+  detail::RawMesh m;
+  m.vertices = {Vec3(0.1, 0.2, 0.3), Vec3(1, 0, 0), Vec3(0, 1, 0)};
+  m.normals = {Eigen::Vector3f(0, 0, 1), Eigen::Vector3f(0, 0, 1), Eigen::Vector3f(0, 0, 1)};
+  m.triangles = {{0, 1, 2}};
+  m.triangle_material = {0};
+  m.materials = {{0.5f, 0.25f, 1.f}};
+  m.points_and_lines = 3;
+  m.notes = {"a note", ""};
+  const detail::RawMesh r = detail::contained_read("x.glb", "assimp", [&] { return m; });
+  EXPECT_EQ(r.vertices, m.vertices);
+  EXPECT_EQ(r.normals, m.normals);
+  EXPECT_EQ(r.triangles, m.triangles);
+  EXPECT_EQ(r.triangle_material, m.triangle_material);
+  EXPECT_EQ(r.materials, m.materials);
+  EXPECT_EQ(r.points_and_lines, 3);
+  EXPECT_EQ(r.notes, m.notes);
+}
+
+// The reply of the child is never trusted: every cut of a valid reply, counts that claim more than
+// the bytes hold, and indices out of range are errors, not allocations or reads out of bounds.
+TEST(MeshImport, ContainedReplyIsCheckedNotTrusted) {
+  detail::RawMesh m;
+  m.vertices = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)};
+  m.triangles = {{0, 1, 2}};
+  const std::string good = detail::encode_mesh(m);
+  EXPECT_EQ(detail::decode_mesh(good, "x", "assimp").triangles.size(), 1u);
+  for (size_t n = 0; n < good.size(); ++n)
+    EXPECT_THROW(detail::decode_mesh(std::string_view(good).substr(0, n), "x", "assimp"), InputError) << n;
+  std::string huge = good;
+  const uint64_t claim = ~0ull / 2;
+  std::memcpy(&huge[4], &claim, 8);  // the vertex count
+  EXPECT_THROW(detail::decode_mesh(huge, "x", "assimp"), InputError);
+  detail::RawMesh bad = m;
+  bad.triangles = {{0, 1, 3}};
+  EXPECT_THROW(detail::decode_mesh(detail::encode_mesh(bad), "x", "assimp"), InputError);
+  EXPECT_THROW(detail::decode_mesh(good + "x", "x", "assimp"), InputError);
+}
+
+// Items 2 and 4: header claims are never trusted for memory, and counts never overflow.
+TEST(MeshImport, ClaimsTheFileCannotHoldAreErrorsNotAllocations) {
+  const std::pair<const char*, const char*> cases[] = {
+      {"off_claims_1.5e9_faces.off", ":7: file ends after 1 of 1500000000 faces"},
+      {"off_claims_1e9_vertices.off", "file ends after 5 of 1000000000 vertices"},
+      {"off_claims_9.2e18_vertices.off", ":2: more than 2147483647 vertices"},
+      {"off_face_count_long_max.off", "file ends after 1 of 9223372036854775807 faces"},
+      {"off_face_corner_count_long_max.off", "file ends after 0 of 1 faces"},
+      {"ply_claims_2e9_vertices.ply",
+       "binary data ends early (in vertex 3 of the 2000000000 the header claims)"},
+      {"ply_huge_list_count.ply",
+       "list length 4294967295 is not a whole number the rest of the file can hold"},
+      {"stl_wrong_count.stl",
+       "begins with 'solid' but holds binary data and no facets; read as a binary STL whose header claims "
+       "1000000000 triangles (84 + 50 x 1000000000 = 50000000084 bytes) but the file has 184 bytes: the "
+       "triangle count is wrong or the file is cut short"}};
+  for (const auto& [name, msg] : cases) {
+    SCOPED_TRACE(name);
+    const std::string e = error_of_file(hostile(name));
+    EXPECT_NE(e.find(msg), std::string::npos) << e;
+  }
+}
+
+// Item 3: an element with no properties takes no bytes, whatever its count: skipped at once.
+TEST(MeshImport, ZeroSizePlyElementsAreSkippedInConstantTime) {
+  const auto t0 = std::chrono::steady_clock::now();
+  EXPECT_NE(error_of_file(hostile("ply_junk_element_huge.ply")).find("has no triangles"), std::string::npos);
+  const std::string text = detail::read_file(hostile("ply_junk_element_then_mesh.ply"));
+  std::string kind;
+  const detail::RawMesh m = detail::parse_ply(text, "x.ply", &kind);
+  EXPECT_EQ(m.vertices.size(), 3u);
+  EXPECT_EQ(m.triangles.size(), 1u);
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 1.0);
+}
+
+// Item 4: NaN, infinite and out-of-range values are checked before any conversion to an integer.
+TEST(MeshImport, NonFiniteAndHugeCountsAndIndicesAreCheckedBeforeConversion) {
+  const std::pair<const char*, const char*> cases[] = {
+      {"ply_float_list_count.ply", ":8: a list's count type must be an integer type, not 'float'"},
+      {"ply_nan_index.ply", "face 0 refers to vertex nan of 3"},
+      {"ply_huge_index.ply", "face 0 refers to vertex 1.0000000000000001e+300 of 3"}};
+  for (const auto& [name, msg] : cases) {
+    SCOPED_TRACE(name);
+    const std::string e = error_of_file(hostile(name));
+    EXPECT_NE(e.find(msg), std::string::npos) << e;
+  }
+  EXPECT_NE(error_of("frac.ply",
+                     "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                     "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                     "end_header\n0 0 0\n1 0 0\n0 1 0\n2.5 0 1 2\n")
+                .find("list length 2.5 is not a whole number"),
+            std::string::npos);
+  EXPECT_NE(error_of("w.obj", "v 1 1 1 1e-320\n").find("w.obj:1: vertex x/w, y/w, z/w overflows"),
+            std::string::npos);
+}
+
+// Item 5: a material library that cannot be opened, for whatever reason, is a note.
+TEST(MeshImport, UnopenableMaterialLibrariesAreNotes) {
+  const ImportedMesh im = import_mesh(hostile("obj_long_mtllib.obj"));
+  EXPECT_EQ(im.mesh.triangles.size(), 4u);
+  ASSERT_EQ(im.notes.size(), 1u);
+  EXPECT_NE(im.notes[0].find("could not be opened (File name too long)"), std::string::npos) << im.notes[0];
+  const std::string tet = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+  std::filesystem::create_symlink("loop.mtl", test::scratch("loop.mtl"));
+  std::filesystem::create_directory(test::scratch("dir.mtl"));
+  const ImportedMesh loop = import_mesh(write("loop.obj", "mtllib loop.mtl dir.mtl\n" + tet));
+  ASSERT_EQ(loop.notes.size(), 2u);
+  EXPECT_NE(loop.notes[0].find("'loop.mtl' could not be opened (Too many levels of symbolic links)"),
+            std::string::npos)
+      << loop.notes[0];
+  EXPECT_NE(loop.notes[1].find("'dir.mtl' could not be opened (not a regular file)"), std::string::npos);
+}
+
+// Item 16: what is wrong, said in its own words.
+TEST(MeshImport, ExtremeScalesSayOverflowOrUnderflow) {
+  const std::pair<const char*, const char*> cases[] = {
+      {"tetra_1e120.off",
+       "mesh has coordinates up to 1e+120 m: its mass properties (lengths to the 5th power) "
+       "would overflow double precision"},
+      {"tetra_1e308.off", "mesh has coordinates up to 1e+308 m"},
+      {"tetra_1e80.off", "mesh has coordinates up to 1e+80 m"},
+      {"tetra_1e-200.off",
+       "mesh spans only 1e-200 m: its mass properties (lengths to the 5th power) would "
+       "underflow double precision"}};
+  for (const auto& [name, msg] : cases)
+    for (MassMode mode : {MassMode::solid, MassMode::shell, MassMode::hull}) {
+      SCOPED_TRACE(std::string(name) + " " + to_string(mode));
+      const ImportedMesh im = import_mesh(hostile(name));
+      MeshMassOptions opt;
+      opt.mode = mode;
+      try {
+        analyze_mesh(im.mesh, opt);
+        ADD_FAILURE() << "accepted";
+      } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find(msg), std::string::npos) << e.what();
+      }
+    }
+  // In range, but the density takes the mass out of it: never a non-finite success.
+  const ImportedMesh im = import_mesh("assets/tetra.off", Vec3::Constant(100));
+  MeshMassOptions opt;
+  opt.density = 1e308;
+  EXPECT_THROW(analyze_mesh(im.mesh, opt), InputError);
+  // A scale that overflows a coordinate says so.
+  const std::string e = [&] {
+    try {
+      import_mesh(hostile("tetra_1e80.off"), Vec3::Constant(1e300));
+    } catch (const InputError& x) {
+      return std::string(x.what());
+    }
+    return std::string();
+  }();
+  EXPECT_NE(e.find("overflows double precision when scaled by"), std::string::npos) << e;
+}
+
+TEST(MeshImport, DirectoriesAndFifosAreNotMissingFiles) {
+  const std::string dir = test::scratch("d.obj");
+  std::filesystem::create_directory(dir);
+  EXPECT_NE(error_of_file(dir).find("is a directory, not a file"), std::string::npos);
+  const std::string fifo = test::scratch("f.obj");
+  ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+  EXPECT_NE(error_of_file(fifo).find("is not a regular file"), std::string::npos);
+  EXPECT_NE(error_of_file(test::scratch("none.obj")).find("does not exist"), std::string::npos);
 }
 
 }  // namespace

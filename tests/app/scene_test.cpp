@@ -1,6 +1,7 @@
 // The scene parser: every mistake a user can make names the file, line, column and key.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 
@@ -506,6 +507,133 @@ TEST(Scene, MeshCollisionHullsAndParts) {
   EXPECT_NE(error_of("bodies:\n  - colliders:\n      - { shape: mesh, file: two_cubes.obj, mode: part }\n")
                 .find("did you mean 'parts'"),
             std::string::npos);
+}
+
+// ---- issue 16: YAML that yaml-cpp would read silently, and values that make no body -----------
+
+// The message from the file's name on (the scratch folder differs per run).
+std::string rel(const std::string& m) {
+  const size_t i = m.find("bad.yaml");
+  return i == std::string::npos ? m : m.substr(i);
+}
+
+// Item 13: each a clear error naming file, line and key.
+TEST(Scene, YamlItReadsSilentlyOtherwiseIsAnError) {
+  const std::string body = "bodies:\n  - name: a\n" + std::string(kBox);
+  // A duplicate key: the first one won silently.
+  EXPECT_EQ(rel(error_of("simulation: { duration: 1, duration: 2 }\n" + body)),
+            "bad.yaml:1:28: simulation.duration: duplicate key 'duration' (first on line 1); YAML would keep "
+            "only one of them");
+  // A second `bodies:`.
+  EXPECT_NE(error_of(body + "bodies:\n  - name: b\n" + kBox)
+                .find("bad.yaml:5:1: bodies: duplicate key 'bodies' (first on line 1)"),
+            std::string::npos);
+  // Several documents.
+  EXPECT_NE(error_of(body + "---\n" + body)
+                .find("bad.yaml:5:1: scene: a scene file holds one YAML document; a second one starts here"),
+            std::string::npos);
+  // `!!str 5` and a quoted number are text.
+  EXPECT_EQ(rel(error_of("simulation: { duration: !!str 5 }\n" + body)),
+            "bad.yaml:1:25: simulation.duration: expected a number, got '5', a value tagged !!str");
+  EXPECT_EQ(rel(error_of("simulation: { duration: \"5\" }\n" + body)),
+            "bad.yaml:1:25: simulation.duration: expected a number, got '5', text (it is quoted)");
+  EXPECT_EQ(rel(error_of("ground: !!str yes\n" + body)),
+            "bad.yaml:1:9: ground: expected true or false, got 'yes', a value tagged !!str");
+  // Hexadecimal outside collision bits (where it is documented).
+  EXPECT_EQ(rel(error_of("video: { fps: 0x10 }\n" + body)),
+            "bad.yaml:1:15: video.fps: expected a decimal number, got '0x10' (hexadecimal and octal are for "
+            "collision bits only)");
+  // A list as a key: was "bad conversion", exit 1.
+  EXPECT_EQ(rel(error_of("? [a, b]\n: 1\n" + body)),
+            "bad.yaml:1:3: scene: a key must be a plain name, not a list");
+  EXPECT_EQ(rel(error_of("simulation:\n  ? { a: 1 }\n  : 2\n" + body)),
+            "bad.yaml:2:5: simulation: a key must be a plain name, not a mapping");
+  // Explicit numeric tags and plain numbers still work; so does hex in collision bits.
+  const std::string ok = write_scene("ok.yaml",
+                                     "simulation: { duration: !!float 2, timestep: +0.01 }\n"
+                                     "bodies:\n  - colliders:\n"
+                                     "      - { shape: box, size: [1, 1, 1], mask: 0x0F }\n");
+  const Scene sc = load_scene(ok);
+  EXPECT_EQ(sc.duration, 2.0);
+  EXPECT_EQ(sc.bodies[0].colliders[0].mask, 0x0Fu);
+}
+
+// Aliases that expand past any scene (a few hundred bytes standing for billions of nodes).
+TEST(Scene, AliasBombsAreRefusedBeforeTheyExpand) {
+  std::string y = "a0: &a0 [1, 1, 1, 1, 1, 1, 1, 1, 1, 1]\n";
+  for (int i = 1; i < 10; ++i)
+    y += "a" + std::to_string(i) + ": &a" + std::to_string(i) + " [" + [&] {
+      std::string r;
+      for (int k = 0; k < 10; ++k) r += (k ? ", *a" : "*a") + std::to_string(i - 1);
+      return r;
+    }() + "]\n";
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::string m = error_of(y + "bodies: []\n");
+  EXPECT_NE(m.find("the scene expands to more than 2000000 YAML nodes (through aliases)"), std::string::npos)
+      << m;
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 2.0);
+}
+
+// Item 14: errors the world would raise without file, line or key are found here, with them.
+TEST(Scene, MassesThatMakeNoBodyNameFileLineAndKey) {
+  // mass: 1e308 on a tiny box: an infinite density, not "mass must be positive".
+  EXPECT_EQ(
+      rel(error_of("bodies:\n  - name: a\n    colliders:\n"
+                   "      - { shape: box, size: [1e-3, 1e-3, 1e-3], mass: 1e308 }\n")),
+      "bad.yaml:4:55: bodies[0].colliders[0].mass: over a volume of 1e-09 m^3 is a density of inf kg/m^3: "
+      "out of the range of double precision");
+  // A volume that overflows.
+  EXPECT_NE(
+      error_of("bodies:\n  - colliders:\n      - { shape: box, size: [1e200, 1e200, 1e200] }\n")
+          .find("bad.yaml:3:29: bodies[0].colliders[0].size: gives a volume of inf m^3, out of the range"),
+      std::string::npos);
+  // Density and size in range, inertia not.
+  EXPECT_NE(error_of("bodies:\n  - colliders:\n      - { shape: sphere, radius: 1e100, density: 1e100 }\n")
+                .find("bodies[0].colliders[0].density: gives a mass of"),
+            std::string::npos);
+  // Each collider fine, the body not: the parallel-axis terms overflow.
+  EXPECT_NE(error_of("bodies:\n  - name: far\n    colliders:\n"
+                     "      - { shape: sphere, radius: 1, position: [1e160, 0, 0] }\n"
+                     "      - { shape: sphere, radius: 1, position: [-1e160, 0, 0] }\n")
+                .find("bad.yaml:4:7: bodies[0].colliders: body 'far': the body's mass"),
+            std::string::npos);
+  // A timestep that makes the step count uncountable (4.9e-324 ran zero steps).
+  const std::string sphere = "bodies:\n  - colliders: [{ shape: sphere, radius: 1 }]\n";
+  EXPECT_NE(error_of("simulation: { timestep: 4.9e-324 }\n" + sphere).find("simulation.timestep: "),
+            std::string::npos);
+  EXPECT_NE(error_of("simulation: { duration: 1e300, timestep: 1e-10 }\n" + sphere)
+                .find("simulation.timestep: makes duration / timestep = inf steps"),
+            std::string::npos);
+  // A number beyond double precision is out of range, not "not a number".
+  EXPECT_NE(
+      error_of("simulation: { duration: 1e999 }\nbodies:\n  - colliders: [{ shape: sphere, radius: 1 }]\n")
+          .find("simulation.duration: is out of the range of double precision"),
+      std::string::npos);
+}
+
+// Item 16: a directory or FIFO is not a missing file.
+TEST(Scene, DirectoriesAndFifosAreNotMissingFiles) {
+  const std::string dir = test::scratch("d.yaml");
+  fs::create_directory(dir);
+  try {
+    load_scene(dir);
+    ADD_FAILURE();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("is a directory, not a scene file"), std::string::npos) << e.what();
+  }
+  fs::create_directory(test::scratch("m.obj"));
+  EXPECT_NE(error_of("bodies:\n  - colliders: [{ shape: mesh, file: " + test::scratch("m.obj") + " }]\n")
+                .find("m.obj' is a directory"),
+            std::string::npos);
+}
+
+// Item 1 through a scene: a malformed PLY file (which crashed assimp) is an error naming the key.
+TEST(Scene, MalformedPlyThroughASceneIsAnError) {
+  const std::string m =
+      error_of("bodies:\n  - colliders: [{ shape: mesh, file: " +
+               fs::absolute("tests/data/hostile/ply_duplicate_property.ply").string() + " }]\n");
+  EXPECT_NE(m.find("bodies[0].colliders[0].file: "), std::string::npos) << m;
+  EXPECT_NE(m.find("element 'vertex' has a second property named 'x'"), std::string::npos) << m;
 }
 
 }  // namespace

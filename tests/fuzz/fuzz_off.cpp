@@ -1,0 +1,8 @@
+// libFuzzer harness: simreel's own OFF reader (app/mesh_readers.cpp) on arbitrary bytes, and the
+// solid mass properties of what it reads (tests/fuzz/targets.hpp).
+#include "tests/fuzz/targets.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  simreel::fuzz::reader("off", data, size);
+  return 0;
+}
