@@ -26,7 +26,9 @@ void check_real(const std::string& file, double max_seconds) {
   // Every rule but "no coplanar neighbours" (1.4e-6 rad): real CAD hulls have neighbours closer
   // than that which are not planar to 1e-9 together (see convex_polyhedron()).
   const std::string bad = polyhedron_problem(p);
-  if (bad.find("joins two coplanar faces") == std::string::npos) EXPECT_EQ(bad, "");
+  if (bad.find("joins two coplanar faces") == std::string::npos) {
+    EXPECT_EQ(bad, "");
+  }
 
   MeshMassOptions o;
   o.mode = MassMode::hull;
