@@ -107,7 +107,7 @@ RunSummary make_summary(const Scene& scene, const World& world, const Drift& dri
   s.max_penetration = world.contact_stats().max_penetration;
   s.energy_gained = drift.energy_gained();
   s.warnings = world.warnings();
-  s.warnings.insert(s.warnings.end(), scene.notes.begin(), scene.notes.end());
+  s.notes = scene.notes;  // printed once, at the start; the JSON carries them for scripts
   return s;
 }
 
@@ -184,6 +184,7 @@ std::string summary_json(const RunSummary& s) {
   }
   if (!s.output.empty()) o["output"] = s.output;
   o["warnings"] = s.warnings;
+  o["notes"] = s.notes;
   // Invalid UTF-8 in a name or path is replaced, not thrown on.
   return o.dump(-1, ' ', false, J::error_handler_t::replace);
 }

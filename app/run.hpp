@@ -60,7 +60,8 @@ struct RunSummary {
   int contacts_max = 0;        ///< most contact points in a step
   double max_penetration = 0;  ///< m, over the run
   double energy_gained = 0;    ///< J, largest rise between two frames
-  std::vector<std::string> warnings;
+  std::vector<std::string> warnings;  ///< what went wrong or was odd in the run
+  std::vector<std::string> notes;     ///< the scene's notes (already printed on stderr before the run)
   const Profile* profile = nullptr;                 ///< set with --profile
   double render_seconds = -1, encode_seconds = -1;  ///< render command only
   std::string renderer;                             ///< render command only: GL backend, renderer, version

@@ -622,4 +622,21 @@ TEST(Cli, HostileMeshesExitWith2AndSayWhy) {
   EXPECT_NE(dd.out.find("is a directory"), std::string::npos) << dd.out;
 }
 
+
+// A mesh's note is printed once (it was printed as a note, then again as a warning in the
+// summary); the JSON summary carries it under "notes".
+TEST(Cli, MeshNotesArePrintedOnce) {
+  const Result r = run("simulate scenes/composite.yaml --duration 0.05");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const std::string note = "(assets/torus.obj): the mesh is not convex";
+  const size_t first = r.out.find(note);
+  ASSERT_NE(first, std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find(note, first + 1), std::string::npos) << "printed twice:\n" << r.out;
+  const Result j = run("simulate scenes/composite.yaml --duration 0.05 --json 2>/dev/null");
+  const nlohmann::json o = json_of(j.out);
+  ASSERT_TRUE(o.is_object()) << j.out;
+  EXPECT_EQ(o["notes"].size(), 2u) << j.out;
+  EXPECT_EQ(o["warnings"].size(), 0u) << j.out;
+}
+
 }  // namespace
