@@ -20,8 +20,8 @@
 #include "app/mesh_import.hpp"
 #include "sim/convex_hull.hpp"
 #include "sim/error.hpp"
-#include "sim/mesh_collider.hpp"
 #include "sim/mass_properties.hpp"
+#include "sim/mesh_collider.hpp"
 #include "sim/primitives.hpp"
 
 namespace simreel {
@@ -340,6 +340,42 @@ Quat unit_quaternion(const YAML::Node& n, const Ctx& c) {
   return Quat(q[0], q[1], q[2], q[3]).normalized();
 }
 
+// An orientation in any of three forms, exactly one of them present in the mapping `n`:
+//   orientation: [w, x, y, z]            a unit quaternion
+//   euler: [roll, pitch, yaw]            degrees, rotations about x, y and z applied intrinsically
+//                                        in the order z-y-x (aerospace): q = qz(yaw) qy(pitch) qx(roll)
+//   axis_angle: { axis: [x, y, z], angle: degrees }
+// Returns false (q untouched) when none is given.
+bool orientation(const YAML::Node& n, const Ctx& c, Quat& q) {
+  const char* keys[3] = {"orientation", "euler", "axis_angle"};
+  const char* given = nullptr;
+  for (const char* k : keys)
+    if (n[k]) {
+      if (given) c.child(k).fail(n[k], std::string("give one orientation: '") + given + "' is already given");
+      given = k;
+    }
+  if (!given) return false;
+  constexpr double kDeg = M_PI / 180;
+  if (given[0] == 'o') {
+    q = unit_quaternion(n["orientation"], c.child("orientation"));
+  } else if (given[0] == 'e') {
+    const Vec3 e = vec<3>(n["euler"], c.child("euler")) * kDeg;
+    q = (Eigen::AngleAxisd(e.z(), Vec3::UnitZ()) * Eigen::AngleAxisd(e.y(), Vec3::UnitY()) *
+         Eigen::AngleAxisd(e.x(), Vec3::UnitX()))
+            .normalized();
+  } else {
+    const YAML::Node a = n["axis_angle"];
+    const Ctx ac = c.child("axis_angle");
+    if (!a.IsMap()) ac.fail(a, "expected { axis: [x, y, z], angle: degrees }, got " + show(a));
+    check_keys(a, ac, {"axis", "angle"});
+    if (!a["axis"] || !a["angle"]) ac.fail(a, "needs both 'axis' and 'angle' (degrees)");
+    const Vec3 axis = vec<3>(a["axis"], ac.child("axis"));
+    if (!(axis.norm() > 0)) ac.child("axis").fail(a["axis"], "must not be zero");
+    q = Quat(Eigen::AngleAxisd(number(a["angle"], ac.child("angle")) * kDeg, axis.normalized()));
+  }
+  return true;
+}
+
 std::array<float, 3> color(const YAML::Node& n, const Ctx& c) {
   const Vec3 v = vec<3>(n, c);
   for (int i = 0; i < 3; ++i)
@@ -457,10 +493,10 @@ struct Loader {
 
   Collider collider(const YAML::Node& n, const Ctx& c, const std::string& body, BodyType type,
                     ColliderLook& look) {
-    check_keys(
-        n, c,
-        {"shape", "size", "radius", "height", "radii", "file", "scale", "mode", "thickness", "density",
-         "mass", "position", "orientation", "friction", "restitution", "collide", "group", "mask", "color"});
+    check_keys(n, c, {"shape",       "size",  "radius",     "height",   "radii",       "file",
+                      "scale",       "mode",  "thickness",  "density",  "mass",        "position",
+                      "orientation", "euler", "axis_angle", "friction", "restitution", "collide",
+                      "group",       "mask",  "color",      "up_axis"});
     Collider col;
     const char* kShapes = "box, sphere, cylinder, capsule, mesh, plane or ellipsoid";
     if (!n["shape"]) c.fail(n, std::string("missing key 'shape' (") + kShapes + ")");
@@ -484,7 +520,9 @@ struct Loader {
         if (n[k]) c.child(k).fail(n[k], std::string("does not apply to a ") + shape);
     };
     if (n["position"]) col.p_BC = vec<3>(n["position"], c.child("position"));
-    if (n["orientation"]) col.q_BC = unit_quaternion(n["orientation"], c.child("orientation"));
+    orientation(n, c, col.q_BC);
+    if (n["up_axis"] && col.shape != ShapeKind::mesh)
+      c.child("up_axis").fail(n["up_axis"], "applies to mesh colliders only");
     if (n["friction"]) col.friction = non_negative(n["friction"], c.child("friction"));
     if (n["restitution"]) col.restitution = unit_interval(n["restitution"], c.child("restitution"));
     if (n["collide"]) col.collide = boolean(n["collide"], c.child("collide"));
@@ -539,6 +577,25 @@ struct Loader {
       case ShapeKind::mesh: {
         forbid({"size", "radius", "height", "radii"});
         const std::string file = resolve(need("file"), c.child("file"));
+        // Meshes authored y-up (glTF by its specification, most DCC tools) stand up in simreel's
+        // z-up world when turned +90 degrees about x (mesh +y becomes +z), after the collider's
+        // own orientation.
+        std::string up = "z";
+        if (n["up_axis"]) {
+          up = text(n["up_axis"], c.child("up_axis"));
+          if (up != "y" && up != "z")
+            c.child("up_axis").fail(n["up_axis"], "expected y or z, got '" + up + "'");
+        }
+        if (up == "y") col.q_BC = col.q_BC * Quat(Eigen::AngleAxisd(M_PI / 2, Vec3::UnitX()));
+        {
+          std::string ext = std::filesystem::path(file).extension().string();
+          for (char& ch : ext) ch = (char)std::tolower((unsigned char)ch);
+          if ((ext == ".gltf" || ext == ".glb") && !n["up_axis"])
+            scene.notes.push_back(
+                where(n["file"], c.child("file")) + ": " + file +
+                " is glTF, which is y-up by its specification: add `up_axis: y` if it lies on "
+                "its side (simreel is z-up)");
+        }
         Vec3 scale = Vec3::Ones();
         if (n["scale"]) {
           scale = n["scale"].IsSequence() ? vec<3>(n["scale"], c.child("scale"))
@@ -625,15 +682,23 @@ struct Loader {
   }
 
   BodyDef body(const YAML::Node& n, const Ctx& c, size_t i, BodyLook& look) {
-    check_keys(n, c,
-               {"name", "position", "orientation", "linear_velocity", "angular_velocity", "type", "static",
-                "color", "integrator", "colliders"});
+    check_keys(
+        n, c,
+        {"name", "position", "orientation", "euler", "axis_angle", "linear_velocity", "angular_velocity",
+         "angular_velocity_body", "type", "static", "color", "integrator", "colliders"});
     BodyDef b;
     b.name = n["name"] ? text(n["name"], c.child("name")) : "body" + std::to_string(i);
     if (n["position"]) b.p_WB = vec<3>(n["position"], c.child("position"));
-    if (n["orientation"]) b.q_WB = unit_quaternion(n["orientation"], c.child("orientation"));
+    orientation(n, c, b.q_WB);
     if (n["linear_velocity"]) b.v_W = vec<3>(n["linear_velocity"], c.child("linear_velocity"));
+    if (n["angular_velocity"] && n["angular_velocity_body"])
+      c.child("angular_velocity_body")
+          .fail(n["angular_velocity_body"],
+                "give the angular velocity once: in the world or in the body frame");
     if (n["angular_velocity"]) b.w_W = vec<3>(n["angular_velocity"], c.child("angular_velocity"));
+    // In the body frame (a top spun about its own axis, whatever its tilt): w_W = R_WB w_B.
+    if (n["angular_velocity_body"])
+      b.w_W = b.q_WB * vec<3>(n["angular_velocity_body"], c.child("angular_velocity_body"));
     if (n["type"]) {
       const Ctx tc = c.child("type");
       const std::string t = text(n["type"], tc);
@@ -658,7 +723,7 @@ struct Loader {
       if (st) b.type = BodyType::static_body;
     }
     if (b.type == BodyType::static_body) {  // a static body never moves, whatever is set
-      for (const char* k : {"linear_velocity", "angular_velocity"})
+      for (const char* k : {"linear_velocity", "angular_velocity", "angular_velocity_body"})
         if (n[k] && (k[0] == 'l' ? b.v_W : b.w_W).squaredNorm() > 0)
           scene.notes.push_back(where(n[k], c.child(k)) + ": body '" + b.name +
                                 "' is static: its velocity is ignored (a static body never moves)");
@@ -777,9 +842,10 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
     if (s.timestep > s.duration) c.child("timestep").fail(sim["timestep"], "is longer than the duration");
     // The step count must be a number a run can count to (4.9e-324 made it infinite: zero steps).
     if (!(s.duration / s.timestep < 9007199254740992.0))
-      c.child("timestep").fail(sim["timestep"] ? sim["timestep"] : sim,
-                               "makes duration / timestep = " + std::to_string(s.duration / s.timestep) +
-                                   " steps, more than any run can count (2^53)");
+      c.child("timestep")
+          .fail(sim["timestep"] ? sim["timestep"] : sim,
+                "makes duration / timestep = " + std::to_string(s.duration / s.timestep) +
+                    " steps, more than any run can count (2^53)");
   }
   if (const YAML::Node v = root["video"]) {
     const Ctx c = top.child("video");

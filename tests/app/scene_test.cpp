@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -634,6 +635,73 @@ TEST(Scene, MalformedPlyThroughASceneIsAnError) {
                fs::absolute("tests/data/hostile/ply_duplicate_property.ply").string() + " }]\n");
   EXPECT_NE(m.find("bodies[0].colliders[0].file: "), std::string::npos) << m;
   EXPECT_NE(m.find("element 'vertex' has a second property named 'x'"), std::string::npos) << m;
+}
+
+}  // namespace
+}  // namespace simreel
+
+namespace simreel {
+namespace {
+
+Quat body_orientation(const std::string& keys) {
+  const Scene s = load_scene(write_scene("orient.yaml", "bodies:\n  - name: a\n    " + keys + "\n" + kBox));
+  return s.bodies[0].q_WB;
+}
+
+// Orientation as a quaternion, as Euler angles (degrees; intrinsic z-y-x, aerospace: q = qz(yaw)
+// qy(pitch) qx(roll)) or as an axis and an angle: the same rotation whichever form, to rounding.
+TEST(Scene, OrientationAsQuaternionEulerOrAxisAngle) {
+  const double h = std::sqrt(0.5);
+  const Quat yaw90 =
+      body_orientation("orientation: [" + std::to_string(h) + ", 0, 0, " + std::to_string(h) + "]");
+  EXPECT_LT(yaw90.angularDistance(body_orientation("euler: [0, 0, 90]")), 1e-6);
+  EXPECT_LT(yaw90.angularDistance(body_orientation("axis_angle: { axis: [0, 0, 2], angle: 90 }")), 1e-12);
+  // Order: roll first about the body's x, then yaw: body y -> world z, body x -> world y.
+  const Quat q = body_orientation("euler: [90, 0, 90]");
+  EXPECT_LT((q * Vec3::UnitY() - Vec3::UnitZ()).norm(), 1e-12);
+  EXPECT_LT((q * Vec3::UnitX() - Vec3::UnitY()).norm(), 1e-12);
+  // A positive rotation about y turns x toward -z (right-handed).
+  EXPECT_LT((body_orientation("euler: [0, 90, 0]") * Vec3::UnitX() - Vec3(0, 0, -1)).norm(), 1e-12);
+  EXPECT_NE(error_of("bodies:\n  - name: a\n    euler: [0, 0, 90]\n    orientation: [1, 0, 0, 0]\n" +
+                     std::string(kBox))
+                .find("give one orientation"),
+            std::string::npos);
+  EXPECT_NE(
+      error_of("bodies:\n  - name: a\n    axis_angle: { axis: [0, 0, 0], angle: 10 }\n" + std::string(kBox))
+          .find("axis_angle.axis: must not be zero"),
+      std::string::npos);
+  EXPECT_NE(error_of("bodies:\n  - name: a\n    axis_angle: { axis: [0, 0, 1] }\n" + std::string(kBox))
+                .find("needs both 'axis' and 'angle'"),
+            std::string::npos);
+}
+
+// The angular velocity may be given in the body frame: w_W = R_WB w_B.
+TEST(Scene, AngularVelocityInTheBodyFrame) {
+  const Scene s = load_scene(write_scene(
+      "wb.yaml", "bodies:\n  - name: top\n    euler: [90, 0, 0]\n    angular_velocity_body: [0, 2, 0]\n" +
+                     std::string(kBox)));
+  EXPECT_LT((s.bodies[0].w_W - Vec3(0, 0, 2)).norm(), 1e-12);
+  EXPECT_NE(
+      error_of(
+          "bodies:\n  - name: a\n    angular_velocity: [0, 0, 1]\n    angular_velocity_body: [0, 0, 1]\n" +
+          std::string(kBox))
+          .find("give the angular velocity once"),
+      std::string::npos);
+}
+
+// A y-up mesh stands up: up_axis: y turns mesh +y into the body's +z.
+TEST(Scene, UpAxisYTurnsAMeshUpright) {
+  const Scene s = load_scene(
+      write_scene("up.yaml", "bodies:\n  - name: m\n    colliders:\n      - { shape: mesh, file: " +
+                                 fs::absolute("assets/tetra.off").string() + ", up_axis: y }\n"));
+  EXPECT_LT((s.bodies[0].colliders[0].q_BC * Vec3::UnitY() - Vec3::UnitZ()).norm(), 1e-12);
+  EXPECT_NE(error_of("bodies:\n  - name: a\n    colliders:\n      - { shape: box, up_axis: y }\n")
+                .find("applies to mesh colliders only"),
+            std::string::npos);
+  EXPECT_NE(error_of("bodies:\n  - name: a\n    colliders:\n      - { shape: mesh, file: " +
+                     fs::absolute("assets/tetra.off").string() + ", up_axis: x }\n")
+                .find("expected y or z"),
+            std::string::npos);
 }
 
 }  // namespace
