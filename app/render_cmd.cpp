@@ -9,6 +9,7 @@
 
 #include <algorithm>
 
+#include "app/camera_fit.hpp"
 #include "app/commands.hpp"
 #include "app/frame_loop.hpp"
 #include "app/run.hpp"
@@ -201,6 +202,8 @@ int cmd_render(const std::vector<std::string>& args) {
     w += w % 2, h += h % 2;
   }
   const int threads = a.has("--threads") ? a.whole("--threads", 1, 256) : 1;
+  if (const std::string n = fit_camera(scene, threads); !n.empty() && !a.has("--quiet"))
+    std::fprintf(stderr, "note: %s\n", n.c_str());
   FrameLoop loop(scene, threads);
   // Signals stop the run between steps and the outputs are finished (a playable video of the
   // frames done), however many signals follow, until this function returns.
@@ -244,8 +247,17 @@ int cmd_render(const std::vector<std::string>& args) {
   double render_s = 0;
   FrameLoop::Hooks hooks;
   hooks.stop = &stop.flag();
+  // Frames that show no body at all: most of them empty means a camera or a scale gone wrong.
+  const std::vector<double> radii = body_radii(loop.world());
+  const double aspect = (double)w / h;
+  long empty = 0;
   hooks.frame = [&](const FrameTarget& t, const World& world) {
     const auto t0 = std::chrono::steady_clock::now();
+    // (A camera inside a body sees its inside faces culled: nothing.)
+    if (view.follow < 0 && (!any_body_in_view(world, radii, view.camera.eye, view.camera.target,
+                                              view.camera.up, view.camera.fov_deg, aspect) ||
+                            body_around(world, radii, view.camera.eye) >= 0))
+      ++empty;
     view.draw(renderer, world, writer.acquire());  // read back straight into the writer's queue
     writer.commit(t.index);
     render_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -262,6 +274,15 @@ int cmd_render(const std::vector<std::string>& args) {
   s.renderer = renderer.description();
   s.encode_seconds = writer.encode_seconds();
   if (done > 0) s.output = vs.path.empty() ? vs.frames_dir : vs.path;
+  if (done > 0 && empty * 2 > done) {
+    std::string msg =
+        std::to_string(empty) + " of " + std::to_string(done) +
+        " frames show no body: is the camera aimed at the scene (camera.look_at), or the scene in the "
+        "units you meant (metres)? camera: { auto: true } frames everything";
+    if (const int inside = body_around(loop.world(), radii, view.camera.eye); inside >= 0)
+      msg += "; the camera is inside body '" + loop.world().def(inside).name + "'";
+    s.warnings.push_back(msg);
+  }
   if (stop.signal()) {
     s.warnings.push_back("interrupted by signal " + std::to_string(stop.signal()) + " after " +
                          std::to_string(done) + " of " + std::to_string(targets.size()) + " frames");

@@ -856,7 +856,8 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
   }
   if (const YAML::Node cam = root["camera"]) {
     const Ctx c = top.child("camera");
-    check_keys(cam, c, {"position", "look_at", "up", "fov", "follow"});
+    check_keys(cam, c, {"position", "look_at", "up", "fov", "follow", "auto"});
+    if (cam["auto"]) s.camera.fit = boolean(cam["auto"], c.child("auto"));
     if (cam["position"]) s.camera.position = vec<3>(cam["position"], c.child("position"));
     if (cam["look_at"]) s.camera.look_at = vec<3>(cam["look_at"], c.child("look_at"));
     if (cam["up"]) s.camera.up = vec<3>(cam["up"], c.child("up"));

@@ -23,6 +23,9 @@ struct CameraSpec {
   Vec3 up = Vec3::UnitZ();
   double fov = 40;     ///< degrees, vertical
   std::string follow;  ///< body name: look_at tracks its centre of mass, position keeps its offset
+  /// `auto: true`: simulate first, then aim at the middle of everything that moves over the run
+  /// and back off (along position - look_at) until all of it is in view (app/camera_fit.hpp).
+  bool fit = false;
 };
 
 // fxaa: edge anti-aliasing on the CPU after readback (cheap); msaa2/msaa4: GL multisampling

@@ -11,6 +11,7 @@
 #include <set>
 #include <sstream>
 
+#include "app/camera_fit.hpp"
 #include "app/check/fingerprint.hpp"
 #include "app/check/goldens.hpp"
 #include "app/check/junit.hpp"
@@ -191,6 +192,7 @@ int cmd_check(const std::vector<std::string>& args) {
       ++bad_input;
       continue;
     }
+    fit_camera(scene, 1);  // camera: { auto: true }
     const std::string spec = a.has("--frames") ? a.options.at("--frames") : scene.test.frames;
     FrameLoop loop(scene, 1);
     std::vector<FrameTarget> targets;
@@ -279,8 +281,9 @@ int cmd_check(const std::vector<std::string>& args) {
         // count, vector width and the GL backend measured byte-identical); across renderer or
         // Mesa versions the looser cross-renderer tolerance (app/regress/metrics.hpp: softpipe
         // against llvmpipe moved clusters of up to 55 px at 480x270).
-        const bool same_gl = fingerprint_value(g->fingerprint, "gl_renderer") == fingerprint_value(fp, "gl_renderer") &&
-                             fingerprint_value(g->fingerprint, "gl_version") == fingerprint_value(fp, "gl_version");
+        const bool same_gl =
+            fingerprint_value(g->fingerprint, "gl_renderer") == fingerprint_value(fp, "gl_renderer") &&
+            fingerprint_value(g->fingerprint, "gl_version") == fingerprint_value(fp, "gl_version");
         const CompareOptions portable = same_gl ? CompareOptions{} : CompareOptions::cross_renderer();
         Image diff;
         const CompareResult r = compare_images(golden, c.image, portable, &diff);

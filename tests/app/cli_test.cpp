@@ -498,7 +498,8 @@ TEST(Cli, RunLimitsAreCheckedUpFront) {
     const Result r = run("simulate " + scene);
     EXPECT_EQ(r.code, 2) << sim << ": " << r.out;
     EXPECT_NE(r.out.find("simulation."), std::string::npos) << r.out;  // the key named
-    EXPECT_TRUE(r.out.find("over the limit") != std::string::npos || r.out.find("more than any run") != std::string::npos)
+    EXPECT_TRUE(r.out.find("over the limit") != std::string::npos ||
+                r.out.find("more than any run") != std::string::npos)
         << r.out;
   }
   const std::string scene = write("frames.yaml",
@@ -597,13 +598,14 @@ TEST(Cli, HostileMeshesExitWith2AndSayWhy) {
   const std::string dup = "tests/data/hostile/ply_duplicate_property.ply";
   const fs::path glb = tmp("dup.glb");
   fs::copy_file(dup, glb);
-  for (const std::string& f : {dup, glb.string(), std::string("tests/data/hostile/ply_nameless_property.ply")}) {
+  for (const std::string& f :
+       {dup, glb.string(), std::string("tests/data/hostile/ply_nameless_property.ply")}) {
     const Result r = run("inspect " + f);
     EXPECT_EQ(r.code, 2) << r.out;
     EXPECT_NE(r.out.find("error: " + f + ":"), std::string::npos) << r.out;
   }
-  const std::string scene = write("ply.yaml", "bodies:\n  - colliders: [{ shape: mesh, file: " +
-                                                  fs::absolute(dup).string() + " }]\n");
+  const std::string scene = write(
+      "ply.yaml", "bodies:\n  - colliders: [{ shape: mesh, file: " + fs::absolute(dup).string() + " }]\n");
   const Result s = run("simulate " + scene + " --quiet");
   EXPECT_EQ(s.code, 2) << s.out;
   EXPECT_NE(s.out.find("second property named 'x'"), std::string::npos) << s.out;
@@ -622,7 +624,6 @@ TEST(Cli, HostileMeshesExitWith2AndSayWhy) {
   EXPECT_NE(dd.out.find("is a directory"), std::string::npos) << dd.out;
 }
 
-
 // A mesh's note is printed once (it was printed as a note, then again as a warning in the
 // summary); the JSON summary carries it under "notes".
 TEST(Cli, MeshNotesArePrintedOnce) {
@@ -637,6 +638,37 @@ TEST(Cli, MeshNotesArePrintedOnce) {
   ASSERT_TRUE(o.is_object()) << j.out;
   EXPECT_EQ(o["notes"].size(), 2u) << j.out;
   EXPECT_EQ(o["warnings"].size(), 0u) << j.out;
+}
+
+// camera: { auto: true } frames bodies the default camera never sees; a render whose frames show
+// no body (a 100 m box, metres by mistake, with the camera inside it) says so.
+TEST(Cli, AutoCameraFramesTheSceneAndEmptyFramesAreWarned) {
+  const std::string far =
+      "simulation: { duration: 1, timestep: 0.01 }\nvideo: { width: 64, height: 48, fps: 10 }\n"
+      "bodies:\n  - { name: ball, position: [60, 40, 10], linear_velocity: [3, 0, 5],\n"
+      "      colliders: [ { shape: sphere, radius: 0.2 } ] }\n";
+  Result r = run("render " + write("far.yaml", far) + " -o " + tmp("far.mp4").string());
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("11 of 11 frames show no body"), std::string::npos) << r.out;
+  r = run("render " + write("auto.yaml", far + "camera: { auto: true }\n") + " -o " +
+          tmp("auto.mp4").string());
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("camera.auto: looking at"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("show no body"), std::string::npos) << r.out;
+  // The fitted frame shows the ball: many pixels differ from the empty sky of the first render.
+  ASSERT_EQ(run("render " + write("auto.yaml", far + "camera: { auto: true }\n") + " --at 0.5 -o " +
+                tmp("a.png").string())
+                .code,
+            0);
+  ASSERT_EQ(run("render " + write("far.yaml", far) + " --at 0.5 -o " + tmp("f.png").string()).code, 0);
+  EXPECT_NE(slurp(tmp("a.png")), slurp(tmp("f.png")));
+  r = run("render " +
+          write("big.yaml",
+                "simulation: { duration: 1, timestep: 0.01, gravity: [0, 0, 0] }\n"
+                "video: { width: 64, height: 48, fps: 10 }\n"
+                "bodies:\n  - { name: crate, colliders: [ { shape: box, size: [100, 100, 100] } ] }\n") +
+          " -o " + tmp("big.mp4").string());
+  EXPECT_NE(r.out.find("the camera is inside body 'crate'"), std::string::npos) << r.out;
 }
 
 }  // namespace
