@@ -197,6 +197,7 @@ World::World(const WorldConfig& config, std::vector<BodyDef> bodies)
   }
   if (cfg_.threads > 1) pool_ = std::make_unique<WorkerPool>(cfg_.threads);
   chunk_sum_.resize(cfg_.threads);
+  init_forces();  // before init_contacts: it takes bodies under forces out of groups_
   init_contacts();
   check_spin();
 }
@@ -208,7 +209,16 @@ void World::step() {
   double* sec = profile_.seconds;
   long* runs = profile_.runs;
   long* skipped = profile_.skipped;
-  skipped[(int)Stage::forces]++;  // no force fields yet: gravity is applied in integration
+  if (cfg_.forces.empty()) {
+    skipped[(int)Stage::forces]++;  // gravity is applied in integration: no pass for it
+  } else {
+    bool ran;
+    {
+      Timer t(profiling_, &sec[(int)Stage::forces]);
+      ran = stage_forces();
+    }
+    (ran ? runs : skipped)[(int)Stage::forces]++;
+  }
   bool finite = true;
   bool solved = false;
   if (collide_enabled_) {
@@ -293,6 +303,8 @@ bool World::stage_integrate_and_check() {
   const Wrench* wr = wrench_dirty_ ? wrench_.data() : nullptr;
   clock::time_point t0, t_mid;
   if (profiling_) t0 = clock::now();
+  // Bodies under forces first, on this thread alone (one coupled system: a spring joins two).
+  const bool forced_finite = forced_.empty() || integrate_forced();
   // Bodies the contact solver stepped this step are left out (free_ holds the rest).
   const bool some_in_contact = !contact_bodies_.empty();
   auto list = [&](size_t g) -> const std::vector<int>& {
@@ -324,7 +336,7 @@ bool World::stage_integrate_and_check() {
     profile_.seconds[(int)Stage::integrate] += std::chrono::duration<double>(t_mid - t0).count();
     profile_.seconds[(int)Stage::check] += std::chrono::duration<double>(t1 - t_mid).count();
   }
-  bool finite = true;
+  bool finite = forced_finite;
   for (const ChunkSum& s : chunk_sum_) finite = finite && std::isfinite(s.value);
   return finite;
 }
