@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdio>
 #include <numbers>
+#include <string>
 #include <vector>
 
 #include "sim/primitives.hpp"
@@ -22,9 +23,9 @@ using namespace simreel;
 
 namespace {
 
-BodyDef block(const Vec3& size, double mass, const Vec3& at) {
+BodyDef block(const Vec3& size, double mass, const Vec3& at, const std::string& name = "b") {
   BodyDef b;
-  b.name = "b";
+  b.name = name;  // (a literal here trips GCC 12's false -Wrestrict, PR 105329)
   Collider c;
   c.size = size;
   c.props_C = box_mass(size, mass / (size.x() * size.y() * size.z()));

@@ -485,6 +485,18 @@ double World::kinetic_energy() const {
 double World::potential_energy() const {
   double e = 0;
   for (int i : dynamic_) e -= model_[i].mass * cfg_.gravity.dot(state_[i].x_W);
+  // Springs acting now store k (L - L0)^2 / 2 (their dashpots and all other forces do work).
+  const double t = time();
+  for (int k : continuous_) {
+    const ForceDef& f = cfg_.forces[k];
+    if (f.kind != ForceKind::spring || !(f.from <= t && t < f.to)) continue;
+    const Vec3 a = f.at_centroid ? state_[f.body].x_W : body_point_W(state_[f.body], model_[f.body], f.at_B);
+    const Vec3 b = f.body_b < 0      ? f.anchor_W
+                   : f.at_b_centroid ? state_[f.body_b].x_W
+                                     : body_point_W(state_[f.body_b], model_[f.body_b], f.at_b_B);
+    const double s = (a - b).norm() - f.rest_length;
+    e += 0.5 * f.stiffness * s * s;
+  }
   return e;
 }
 

@@ -155,9 +155,10 @@ class World {
   void normalize_orientation(int i);  ///< UpdateOrientation: re-orthonormalise via the quaternion
 
   // ---- Whole-world quantities (dynamic bodies only).
-  double kinetic_energy() const;        ///< J
-  double potential_energy() const;      ///< J, uniform gravity, zero at the world origin
-  Vec3 total_momentum() const;          ///< kg m/s
+  double kinetic_energy() const;  ///< J
+  double potential_energy()
+      const;                    ///< J, uniform gravity (zero at the world origin) + springs' k (L - L0)^2 / 2
+  Vec3 total_momentum() const;  ///< kg m/s
   Vec3 total_angular_momentum() const;  ///< kg m^2/s about the system's centre of mass
   // Throws StateError naming the body and time if any state value is not finite.
   void check_state() const;
