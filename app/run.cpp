@@ -85,6 +85,7 @@ WorldConfig world_config(const Scene& s, int threads) {
   c.threads = threads;
   c.contacts = s.contacts;
   c.ignore_pairs = s.ignore_pairs;
+  c.forces = s.forces;
   return c;
 }
 
@@ -138,6 +139,9 @@ std::string summary_text(const RunSummary& s) {
       o << "  contacts: " << s.profile->shapes << " shapes; summed over steps: " << s.profile->pairs
         << " candidate pairs, " << s.profile->contact_points << " contact points, "
         << s.profile->solver_bodies << " bodies through the solver\n";
+    if (s.profile->forces > 0)
+      o << "  forces: " << s.profile->forces << " records (the drag is one per body), "
+        << s.profile->forced_bodies << " bodies stepped by RK4 with the forces evaluated at every stage\n";
   }
   for (const std::string& w : s.warnings) o << "  warning: " << w << "\n";
   if (!s.output.empty()) o << "  wrote " << s.output << "\n";
@@ -180,6 +184,7 @@ std::string summary_json(const RunSummary& s) {
                      {"pairs", s.profile->pairs},
                      {"contact_points", s.profile->contact_points},
                      {"solver_bodies", s.profile->solver_bodies}};
+    p["applied_forces"] = {{"records", s.profile->forces}, {"rk4_bodies", s.profile->forced_bodies}};
     o["profile"] = std::move(p);
   }
   if (!s.output.empty()) o["output"] = s.output;

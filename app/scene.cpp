@@ -18,6 +18,7 @@
 #include <sstream>
 
 #include "app/mesh_import.hpp"
+#include "app/scene_forces.hpp"
 #include "sim/convex_hull.hpp"
 #include "sim/error.hpp"
 #include "sim/mass_properties.hpp"
@@ -810,7 +811,7 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
   const Ctx top(path, "");
   if (!root.IsMap())
     top.fail(root, "a scene is a mapping with keys simulation, video, camera, render, ground, bodies");
-  check_keys(root, top, {"simulation", "video", "camera", "render", "ground", "bodies", "test"});
+  check_keys(root, top, {"simulation", "video", "camera", "render", "ground", "bodies", "test", "forces"});
 
   if (const YAML::Node sim = root["simulation"]) {
     const Ctx c = top.child("simulation");
@@ -993,6 +994,7 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
       s.ignore_pairs.emplace_back(std::min(idx[0], idx[1]), std::max(idx[0], idx[1]));
     }
   }
+  if (root["forces"]) s.forces = load_forces(root["forces"], path, s.bodies, s.duration, s.notes);
   if (!s.camera.follow.empty() && !names.count(s.camera.follow))
     top.child("camera").child("follow").fail(root["camera"]["follow"],
                                              "no body is named '" + s.camera.follow + "'");

@@ -7,6 +7,7 @@
 
 #include "sim/body.hpp"
 #include "sim/contact_settings.hpp"
+#include "sim/forces.hpp"
 #include "sim/integrators.hpp"
 
 namespace simreel {
@@ -97,6 +98,7 @@ struct Scene {
   ContactSettings contacts;          ///< simulation.contacts
   TestSpec test;                     ///< test: what `simreel check` compares
   std::vector<std::pair<int, int>> ignore_pairs;  ///< simulation.ignore_pairs, as body indices
+  std::vector<ForceDef> forces;    ///< the `forces:` list, by body index (app/scene_forces.cpp)
   std::vector<std::string> notes;  ///< what was done with mesh defects and ignored keys, with file and body
 };
 

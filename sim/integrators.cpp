@@ -317,6 +317,25 @@ inline void loop(Kernel k, const int* idx, int n, MotionState* st, const BodyMod
 
 }  // namespace
 
+void state_derivative(const double* y, const BodyModel& m, const Wrench& w, const Vec3& g, double* dy) {
+  for (int k = 0; k < 3; ++k) {
+    dy[k] = y[3 + k];
+    dy[3 + k] = g[k] + m.inv_mass * w.f_W[k];
+  }
+  if (m.isotropic)
+    rhs<false, false>(y + 6, m.I_P.data(), m.inv_I_P.data(), (const double*)nullptr, dy + 6);
+  else
+    rhs<true, false>(y + 6, m.I_P.data(), m.inv_I_P.data(), (const double*)nullptr, dy + 6);
+  // The torque into the principal frame by the stage's quaternion scaled to unit length, the
+  // rotation the forces were evaluated with (World's forced RK4): a body-frame torque comes back
+  // exactly (rotating by the raw stage quaternion, off the unit sphere by O(h^5), mixes its axes:
+  // a spin-up about a principal axis drifted off it by 6e-9 rad/s in 1 s, measured).
+  if (!w.tau_W.isZero(0.0)) {
+    const Vec3 tau_P = Quat(y[6], y[7], y[8], y[9]).normalized().conjugate() * w.tau_W;
+    for (int k = 0; k < 3; ++k) dy[10 + k] += m.inv_I_P[k] * tau_P[k];
+  }
+}
+
 void integrate(Integrator method, const int* idx, int n, MotionState* st, const BodyModel* mo,
                const Wrench* wr, const Vec3& g, double h) {
   switch (method) {

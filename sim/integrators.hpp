@@ -34,6 +34,12 @@ constexpr int kAutoMaxSubsteps = 4096;
 void integrate(Integrator method, const int* idx, int n, MotionState* state, const BodyModel* model,
                const Wrench* wrench, const Vec3& g, double h);
 
+// Time derivative of one body's full state y = (x_W, v_W, q_WP (w, x, y, z), w_P), 13 doubles,
+// under gravity g and the wrench w (dy: the same layout): x' = v, v' = g + f / m,
+// q' = q (x) (0, w_P) / 2, w_P' = I^-1 (R^T tau - w_P x I w_P) (no gyroscopic term for isotropic
+// bodies, where it vanishes). The forced RK4 of World evaluates it at every stage.
+void state_derivative(const double* y, const BodyModel& m, const Wrench& w, const Vec3& g, double* dy);
+
 // Orientation increment for a constant body angular velocity w over h: exp(h w / 2) as a unit
 // quaternion. Zero w gives the identity (the article's normalise-zero-vector NaN avoided).
 Quat rotation_increment(const Vec3& w, double h);

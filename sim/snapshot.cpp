@@ -114,6 +114,16 @@ uint64_t World::fingerprint() const {
   }
   const uint64_t dt = std::bit_cast<uint64_t>(cfg_.dt);
   fnv(h, &dt, sizeof dt);
+  // The force list's kinds and bodies (only when there is one: a scene without forces keeps the
+  // fingerprint it had before forces existed).
+  if (!cfg_.forces.empty()) {
+    const uint64_t nf = cfg_.forces.size();
+    fnv(h, &nf, sizeof nf);
+    for (const ForceDef& f : cfg_.forces) {
+      const int v[3] = {(int)f.kind, f.body, f.body_b};
+      fnv(h, v, sizeof v);
+    }
+  }
   return h;
 }
 
@@ -158,6 +168,8 @@ void World::save_state(std::ostream& os) const {
     o.f64(c.friction);
     o.f64(c.restitution);
   }
+  o.u32((uint32_t)fired_.size());
+  for (char f : fired_) o.u8((uint8_t)f);
   if (!os) throw std::runtime_error("could not write the saved state");
 }
 
@@ -168,7 +180,7 @@ void World::restore_state(std::istream& is) {
     throw InputError("not a simreel saved state");
   In in(is);
   const uint32_t version = in.u32();
-  if (version != kStateVersion)
+  if (version != kStateVersion && version != 1)
     throw InputError("saved state has version " + std::to_string(version) + "; this simreel reads version " +
                      std::to_string(kStateVersion));
   if (in.u64() != fingerprint())
@@ -227,6 +239,18 @@ void World::restore_state(std::istream& is) {
     c.friction = in.f64();
     c.restitution = in.f64();
   }
+  // Version 2: which impulses were applied. Version 1 had no forces (its fingerprint matched a
+  // world without any): none applied.
+  std::vector<char> fired(fired_.size(), 0);
+  if (version >= 2) {
+    if (in.u32() != fired.size()) throw InputError("saved state is damaged (force count)");
+    for (char& f : fired) {
+      const uint8_t b = in.u8();
+      if (b > 1) throw InputError("saved state is damaged (impulse flag)");
+      f = (char)b;
+    }
+  }
+  fired_ = std::move(fired);
   state_ = std::move(state);
   wrench_ = std::move(wrench);
   wrench_dirty_ = dirty;

@@ -2,7 +2,7 @@
 // bit (Box2D's "snapshot equals real"). The file is binary, versioned and written field by field
 // (never raw struct bytes): every number little-endian, doubles as their IEEE-754 bits.
 //
-// Layout (version 1):
+// Layout (version 2; version 1, without the last line, still reads):
 //   magic "SIMREEL-STATE\n", u32 version, u64 model fingerprint (body count, names and types,
 //   shape count and kinds, dt: a state only restores into the world it came from),
 //   i64 steps,
@@ -10,13 +10,15 @@
 //   contact stats: i32 contacts_max, f64 max_penetration;
 //   u32 contact count, per contact: i32 shape_a, shape_b, body_a, body_b, normal (3 f64), i32 count,
 //   per point: u32 id, p_W (3), separation, normal_impulse; friction impulse (3), twist impulse,
-//   rolling impulse (3); the narrow-phase cache: u8 type, i32 a, b; friction, restitution.
+//   rolling impulse (3); the narrow-phase cache: u8 type, i32 a, b; friction, restitution;
+//   u32 force count, per force: u8 1 if it is an impulse already applied, else 0.
+// The fingerprint also covers the force list (kinds and bodies) when there is one.
 #pragma once
 #include <cstdint>
 #include <iosfwd>
 
 namespace simreel {
 
-constexpr uint32_t kStateVersion = 1;
+constexpr uint32_t kStateVersion = 2;
 
 }  // namespace simreel

@@ -197,6 +197,7 @@ World::World(const WorldConfig& config, std::vector<BodyDef> bodies)
   }
   if (cfg_.threads > 1) pool_ = std::make_unique<WorkerPool>(cfg_.threads);
   chunk_sum_.resize(cfg_.threads);
+  init_forces();  // before init_contacts: it takes bodies under forces out of groups_
   init_contacts();
   check_spin();
 }
@@ -208,7 +209,16 @@ void World::step() {
   double* sec = profile_.seconds;
   long* runs = profile_.runs;
   long* skipped = profile_.skipped;
-  skipped[(int)Stage::forces]++;  // no force fields yet: gravity is applied in integration
+  if (cfg_.forces.empty()) {
+    skipped[(int)Stage::forces]++;  // gravity is applied in integration: no pass for it
+  } else {
+    bool ran;
+    {
+      Timer t(profiling_, &sec[(int)Stage::forces]);
+      ran = stage_forces();
+    }
+    (ran ? runs : skipped)[(int)Stage::forces]++;
+  }
   bool finite = true;
   bool solved = false;
   if (collide_enabled_) {
@@ -293,6 +303,8 @@ bool World::stage_integrate_and_check() {
   const Wrench* wr = wrench_dirty_ ? wrench_.data() : nullptr;
   clock::time_point t0, t_mid;
   if (profiling_) t0 = clock::now();
+  // Bodies under forces first, on this thread alone (one coupled system: a spring joins two).
+  const bool forced_finite = forced_.empty() || integrate_forced();
   // Bodies the contact solver stepped this step are left out (free_ holds the rest).
   const bool some_in_contact = !contact_bodies_.empty();
   auto list = [&](size_t g) -> const std::vector<int>& {
@@ -324,7 +336,7 @@ bool World::stage_integrate_and_check() {
     profile_.seconds[(int)Stage::integrate] += std::chrono::duration<double>(t_mid - t0).count();
     profile_.seconds[(int)Stage::check] += std::chrono::duration<double>(t1 - t_mid).count();
   }
-  bool finite = true;
+  bool finite = forced_finite;
   for (const ChunkSum& s : chunk_sum_) finite = finite && std::isfinite(s.value);
   return finite;
 }
@@ -473,6 +485,18 @@ double World::kinetic_energy() const {
 double World::potential_energy() const {
   double e = 0;
   for (int i : dynamic_) e -= model_[i].mass * cfg_.gravity.dot(state_[i].x_W);
+  // Springs acting now store k (L - L0)^2 / 2 (their dashpots and all other forces do work).
+  const double t = time();
+  for (int k : continuous_) {
+    const ForceDef& f = cfg_.forces[k];
+    if (f.kind != ForceKind::spring || !(f.from <= t && t < f.to)) continue;
+    const Vec3 a = f.at_centroid ? state_[f.body].x_W : body_point_W(state_[f.body], model_[f.body], f.at_B);
+    const Vec3 b = f.body_b < 0      ? f.anchor_W
+                   : f.at_b_centroid ? state_[f.body_b].x_W
+                                     : body_point_W(state_[f.body_b], model_[f.body_b], f.at_b_B);
+    const double s = (a - b).norm() - f.rest_length;
+    e += 0.5 * f.stiffness * s * s;
+  }
   return e;
 }
 

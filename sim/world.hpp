@@ -3,8 +3,9 @@
 // World::step() is the pipeline (Box2D v3's b2World_Step, Box3D's solver stages), each stage an
 // entry of `Stage`, timed into Profile when profiling is on and counted as skipped when it had
 // nothing to do:
-//   forces               user force fields into the accumulators (none yet: gravity is applied
-//                        inside integration, so it costs no pass)
+//   forces               the scene's forces (sim/forces.hpp) into the accumulators at the step's
+//                        start, through apply_force / apply_torque; impulses due applied once
+//                        (skipped when there are none; gravity is applied inside integration)
 //   update_broad_phase   world boxes of the colliding shapes, sort and sweep -> candidate pairs
 //   collide              narrow phase on each pair -> manifolds matched to last step's by feature
 //                        id (warm-start impulses carried over)
@@ -13,7 +14,9 @@
 //   per substep: integrate_velocities, warm_start, solve, integrate_positions, relax
 //   restitution, store_impulses, then the solved bodies' motion is written back
 //   integrate            the free-flight integrators over the dynamic bodies touching nothing this
-//                        step (static bodies are never visited), kinematic bodies at their velocity
+//                        step (static bodies are never visited), kinematic bodies at their velocity;
+//                        bodies under forces with `auto` or `rk4` by one RK4 over all of them that
+//                        evaluates the forces again at every stage (sim/README.md, "Forces")
 //   check                NaN/inf guard over the new state; stops the run naming the body and time
 //   clear                zero the force/torque accumulators (skipped unless something was applied)
 //   derived              world inverse inertia for consumers that need it every step
@@ -32,6 +35,7 @@
 #include "sim/contact.hpp"
 #include "sim/contact_settings.hpp"
 #include "sim/contact_solver.hpp"
+#include "sim/forces.hpp"
 #include "sim/integrators.hpp"
 #include "sim/shapes.hpp"
 #include "sim/state.hpp"
@@ -46,6 +50,8 @@ struct WorldConfig {
   ContactSettings contacts;
   /// Pairs of body indices that never collide with each other (scene: simulation.ignore_pairs).
   std::vector<std::pair<int, int>> ignore_pairs;
+  /// Applied forces (scene: forces), by body index; checked by validate_forces.
+  std::vector<ForceDef> forces;
 };
 
 // A non-finite value appeared in the state.
@@ -84,6 +90,8 @@ struct Profile {
   int isotropic_bodies = 0;   ///< dynamic under `auto` with isotropic inertia: no gyroscopic work
   int gyroscopic_bodies = 0;  ///< dynamic, full rotational dynamics
   int kinematic_bodies = 0;   ///< moved at their given velocity
+  int forced_bodies = 0;      ///< dynamic under auto/rk4 with forces: RK4 evaluating forces per stage
+  int forces = 0;             ///< entries of the force list
   int shapes = 0;             ///< colliding shapes (planes included)
   long pairs = 0;             ///< candidate pairs from the broad phase, summed over steps
   long contact_points = 0;    ///< manifold points, summed over steps
@@ -147,9 +155,10 @@ class World {
   void normalize_orientation(int i);  ///< UpdateOrientation: re-orthonormalise via the quaternion
 
   // ---- Whole-world quantities (dynamic bodies only).
-  double kinetic_energy() const;        ///< J
-  double potential_energy() const;      ///< J, uniform gravity, zero at the world origin
-  Vec3 total_momentum() const;          ///< kg m/s
+  double kinetic_energy() const;  ///< J
+  double potential_energy()
+      const;                    ///< J, uniform gravity (zero at the world origin) + springs' k (L - L0)^2 / 2
+  Vec3 total_momentum() const;  ///< kg m/s
   Vec3 total_angular_momentum() const;  ///< kg m^2/s about the system's centre of mass
   // Throws StateError naming the body and time if any state value is not finite.
   void check_state() const;
@@ -170,6 +179,10 @@ class World {
   bool has_contacts() const { return collide_enabled_; }  ///< false: contact stages always skipped
   int substeps() const { return substeps_; }              ///< contact solver substeps per step (resolved)
 
+  // ---- Applied forces (config().forces).
+  bool has_forces() const { return !cfg_.forces.empty(); }
+  bool impulse_applied(int k) const { return fired_[k] != 0; }  ///< force k (an impulse) was applied
+
   void set_profiling(bool on) { profiling_ = on; }
   const Profile& profile() const { return profile_; }
   // Ask for the world inverse inertia to be refreshed every step (stage 5).
@@ -178,6 +191,10 @@ class World {
 
  private:
   bool stage_integrate_and_check();  ///< false if a non-finite value appeared
+  void init_forces();
+  bool stage_forces();      ///< false: nothing to do this step
+  bool integrate_forced();  ///< false if a non-finite value appeared
+  void rk4_forced(double a, double b);
   void init_contacts();
   bool shapes_may_touch(int a, int b) const;
   void stage_broad_phase();
@@ -214,6 +231,22 @@ class World {
   long steps_ = 0;
   Profile profile_;
   std::unique_ptr<WorkerPool> pool_;
+
+  // ---- Applied forces (sim/forces.hpp, world_forces.cpp).
+  std::vector<int> continuous_;            ///< indices into cfg_.forces: everything but impulses
+  std::vector<int> impulses_;              ///< indices into cfg_.forces: impulses, in list order
+  std::vector<char> fired_;                ///< per force: an impulse already applied (saved state)
+  std::vector<int> forced_;                ///< dynamic auto/rk4 bodies under continuous forces, ascending
+  std::vector<int> forced_slot_;           ///< per body: its index in forced_, or -1
+  std::vector<char> forced_auto_;          ///< per forced_ entry: integrator auto (substeps)
+  std::vector<int> involved_;              ///< every body a continuous force reads, ascending
+  std::vector<int> forced_now_;            ///< forced_ bodies not in contact this step
+  std::vector<MotionState> eval_state_;    ///< per body: the state the forces are evaluated at
+  std::vector<Wrench> stage_wrench_;       ///< per body: forces at an RK4 stage
+  std::vector<Wrench> user_wrench_;        ///< per forced_ entry: apply_* calls from outside this step
+  std::vector<double> rate1_, rate2_;      ///< per body: force rates (force_rates)
+  std::vector<double> y0_, ys_, k_, acc_;  ///< RK4 buffers, 13 doubles per forced_ entry
+  std::vector<double> cuts_;               ///< window edges within this step
 
   // ---- Contact data (sim/shapes.hpp, broad_phase.hpp, contact.hpp, contact_solver.hpp).
   std::unique_ptr<ShapeTable> shapes_;
