@@ -184,6 +184,9 @@ int cmd_simulate(const std::vector<std::string>& args) {
     return kExitOk;
   }
   if (a.positional.size() != 1) throw UsageError("simulate takes one scene file");
+  // From here a signal ends the run between steps (before the first one if it comes while the
+  // scene loads); the CSV keeps the rows done.
+  const StopSignals stop;
   Scene scene = load_scene(a.positional[0]);
   apply_overrides(a, scene);
   const int threads = a.has("--threads") ? a.whole("--threads", 1, 256) : 1;
@@ -229,7 +232,6 @@ int cmd_simulate(const std::vector<std::string>& args) {
   if (targets.back().step < plan.total_steps)
     targets.push_back(FrameTarget{-1, scene.duration, plan.total_steps});
   Progress progress("frames", (long)targets.size(), a.has("--quiet") || a.has("--json"));
-  const StopSignals stop;  // a signal ends the run between steps; the CSV keeps the rows done
   FrameLoop::Hooks hooks;
   hooks.stop = &stop.flag();
   if (csv)

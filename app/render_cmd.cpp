@@ -192,6 +192,9 @@ int cmd_render(const std::vector<std::string>& args) {
   if (a.has("--overwrite") && !a.has("--frames-dir")) throw UsageError("--overwrite needs --frames-dir");
   if (a.has("--at") && (a.has("--frames") || a.has("--frames-dir") || a.has("--no-video")))
     throw UsageError("--at writes one PNG: it does not go with --frames, --frames-dir or --no-video");
+  // From here signals stop the run between steps and the outputs are finished (a playable video
+  // of the frames done), however many signals follow.
+  const StopSignals stop;
   Scene scene = load_scene(a.positional[0]);
   apply_overrides(a, scene);
   for (const std::string& n : scene.notes) std::fprintf(stderr, "note: %s\n", n.c_str());
@@ -205,9 +208,6 @@ int cmd_render(const std::vector<std::string>& args) {
   if (const std::string n = fit_camera(scene, threads); !n.empty() && !a.has("--quiet"))
     std::fprintf(stderr, "note: %s\n", n.c_str());
   FrameLoop loop(scene, threads);
-  // Signals stop the run between steps and the outputs are finished (a playable video of the
-  // frames done), however many signals follow, until this function returns.
-  const StopSignals stop;
   if (a.has("--at")) return render_at(a, scene, loop, w, h, stop);
 
   std::vector<FrameTarget> targets = loop.all_frames();

@@ -1,5 +1,7 @@
 #include "app/scene.hpp"
 
+#include "app/scene_yaml.hpp"
+
 #include "app/frame_loop.hpp"
 
 #include <yaml-cpp/anchor.h>
@@ -26,6 +28,8 @@
 #include "sim/primitives.hpp"
 
 namespace simreel {
+
+using namespace scene_yaml;
 
 namespace fs = std::filesystem;
 
@@ -54,26 +58,6 @@ std::optional<std::string> nearest(const std::string& w, const std::vector<std::
 }
 
 namespace {
-
-// Where a value sits: the file, its line and column, and the dotted key path to it.
-class Ctx {
- public:
-  Ctx(std::string file, std::string key) : file_(std::move(file)), key_(std::move(key)) {}
-  Ctx child(const std::string& k) const { return Ctx(file_, key_.empty() ? k : key_ + "." + k); }
-  Ctx index(size_t i) const { return Ctx(file_, key_ + "[" + std::to_string(i) + "]"); }
-  [[noreturn]] void fail(const YAML::Node& n, const std::string& what) const {
-    std::ostringstream os;
-    os << file_;
-    if (n.IsDefined() && n.Mark().line >= 0) os << ":" << n.Mark().line + 1 << ":" << n.Mark().column + 1;
-    os << ": " << (key_.empty() ? std::string("scene") : key_) << ": " << what;
-    throw InputError(os.str());
-  }
-  const std::string& key() const { return key_; }
-  const std::string& file() const { return file_; }
-
- private:
-  std::string file_, key_;
-};
 
 // What yaml-cpp's loader lets through silently, checked on the event stream before it builds the
 // tree: a second document, a duplicate key (the loader keeps the first), a key that is not a plain
@@ -193,145 +177,6 @@ class StrictYaml : public YAML::EventHandler {
   std::map<YAML::anchor_t, uint64_t> sizes_;
   uint64_t total_ = 0;
 };
-
-std::string show(const YAML::Node& n) {
-  if (n.IsScalar()) return "'" + n.Scalar() + "'";
-  if (n.IsSequence()) return "a list";
-  if (n.IsMap()) return "a mapping";
-  return "nothing";
-}
-
-// Every key of a mapping must be known; a typo gets the nearest known key suggested.
-void check_keys(const YAML::Node& map, const Ctx& c, const std::vector<std::string>& known) {
-  if (!map.IsMap()) c.fail(map, "expected a mapping of keys, got " + show(map));
-  for (const auto& kv : map) {
-    if (!kv.first.IsScalar()) c.fail(kv.first, "a key must be a plain name, got " + show(kv.first));
-    const std::string k = kv.first.Scalar();
-    if (std::find(known.begin(), known.end(), k) != known.end()) continue;
-    std::string msg = "unknown key '" + k + "'";
-    if (auto s = nearest(k, known)) msg += "; did you mean '" + *s + "'?";
-    c.child(k).fail(kv.first, msg);
-  }
-}
-
-// A plain scalar, or one tagged with one of `tags` (!!float, !!int, ...): a quoted "5" or a
-// `!!str 5` is text, and text is not read as a number or a yes/no.
-void untagged(const YAML::Node& n, const Ctx& c, const char* expected,
-              std::initializer_list<const char*> tags) {
-  const std::string& t = n.Tag();
-  if (t == "?") return;
-  for (const char* ok : tags)
-    if (t == std::string("tag:yaml.org,2002:") + ok) return;
-  std::string what = t == "!" ? "text (it is quoted)" : "a value tagged " + t;
-  const std::string core = "tag:yaml.org,2002:";
-  if (t.rfind(core, 0) == 0) what = "a value tagged !!" + t.substr(core.size());
-  c.fail(n, "expected " + std::string(expected) + ", got " + show(n) + ", " + what);
-}
-
-double number(const YAML::Node& n, const Ctx& c) {
-  if (!n.IsScalar()) c.fail(n, "expected a number, got " + show(n));
-  untagged(n, c, "a number", {"float", "int"});
-  const std::string& s = n.Scalar();
-  // YAML 1.2 spells the non-finite floats .inf, -.inf, .nan (any case).
-  std::string low = s;
-  for (char& ch : low) ch = (char)std::tolower((unsigned char)ch);
-  if (low == ".inf" || low == "+.inf" || low == "-.inf" || low == ".nan")
-    c.fail(n, "must be a finite number, got " + show(n));
-  // Decimal only (from_chars: no hex, no locale, no leading space); a leading '+' is allowed.
-  double v = 0;
-  const char* b = s.data() + (!s.empty() && s[0] == '+');
-  const auto r = std::from_chars(b, s.data() + s.size(), v);
-  if (r.ec == std::errc::result_out_of_range)
-    c.fail(n, "is out of the range of double precision (about 1e-308 .. 1e308), got " + show(n));
-  if (s.empty() || r.ec != std::errc() || r.ptr != s.data() + s.size()) {
-    if (s.size() > 2 && s[0] == '0' && (s[1] == 'x' || s[1] == 'X' || s[1] == 'o'))
-      c.fail(n, "expected a decimal number, got " + show(n) +
-                    " (hexadecimal and octal are for collision bits only)");
-    c.fail(n, "expected a number, got " + show(n));
-  }
-  if (!std::isfinite(v)) c.fail(n, "must be a finite number, got " + show(n));
-  return v;
-}
-
-double positive(const YAML::Node& n, const Ctx& c) {
-  const double v = number(n, c);
-  if (!(v > 0)) c.fail(n, "must be positive, got " + show(n));
-  return v;
-}
-
-double non_negative(const YAML::Node& n, const Ctx& c) {
-  const double v = number(n, c);
-  if (!(v >= 0)) c.fail(n, "must not be negative, got " + show(n));
-  return v;
-}
-
-double unit_interval(const YAML::Node& n, const Ctx& c) {
-  const double v = number(n, c);
-  if (!(v >= 0 && v <= 1)) c.fail(n, "must lie in [0, 1], got " + show(n));
-  return v;
-}
-
-// A 32-bit collision bit set: a whole number 0 .. 4294967295 (0x hex works too), or a list of bit
-// numbers 0 .. 31 ([0, 3] is 9).
-uint32_t bits(const YAML::Node& n, const Ctx& c) {
-  if (n.IsSequence()) {
-    uint32_t v = 0;
-    for (size_t i = 0; i < n.size(); ++i) {
-      const double b = number(n[i], c.index(i));
-      if (b != std::floor(b) || b < 0 || b > 31)
-        c.index(i).fail(n[i], "expected a bit number from 0 to 31, got " + show(n[i]));
-      v |= 1u << (int)b;
-    }
-    return v;
-  }
-  if (!n.IsScalar())
-    c.fail(n, "expected a whole number from 0 to 4294967295 or a list of bit numbers, got " + show(n));
-  const std::string& s = n.Scalar();
-  if (s.size() > 2 && s[0] == '0' && (s[1] == 'x' || s[1] == 'X')) {  // hexadecimal: 0xF0
-    untagged(n, c, "a whole number", {"int"});
-    uint32_t h = 0;
-    const auto r = std::from_chars(s.data() + 2, s.data() + s.size(), h, 16);
-    if (r.ec != std::errc() || r.ptr != s.data() + s.size())
-      c.fail(n, "expected a whole number from 0 to 0xFFFFFFFF, got " + show(n));
-    return h;
-  }
-  const double v = number(n, c);
-  if (v != std::floor(v) || v < 0 || v > 4294967295.0)
-    c.fail(n, "expected a whole number from 0 to 4294967295 or a list of bit numbers, got " + show(n));
-  return (uint32_t)v;
-}
-
-// Where a node sits, for notes (which are warnings, not errors): "FILE:LINE: KEY".
-std::string where(const YAML::Node& n, const Ctx& c) {
-  std::string s = c.file();
-  if (n.IsDefined() && n.Mark().line >= 0) s += ":" + std::to_string(n.Mark().line + 1);
-  return s + ": " + c.key();
-}
-
-bool boolean(const YAML::Node& n, const Ctx& c) {
-  if (n.IsScalar()) {
-    untagged(n, c, "true or false", {"bool"});
-    const std::string& s = n.Scalar();
-    if (s == "true" || s == "yes" || s == "on") return true;
-    if (s == "false" || s == "no" || s == "off") return false;
-  }
-  c.fail(n, "expected true or false, got " + show(n));
-}
-
-std::string text(const YAML::Node& n, const Ctx& c) {
-  if (!n.IsScalar() || n.Scalar().empty()) c.fail(n, "expected a text value, got " + show(n));
-  return n.Scalar();
-}
-
-template <int N>
-Eigen::Matrix<double, N, 1> vec(const YAML::Node& n, const Ctx& c) {
-  if (!n.IsSequence() || n.size() != N)
-    c.fail(n, "expected a list of " + std::to_string(N) + " numbers, got " +
-                  (n.IsSequence() ? "a list of " + std::to_string(n.size()) : show(n)));
-  Eigen::Matrix<double, N, 1> v;
-  for (int i = 0; i < N; ++i) v[i] = number(n[i], c.index(i));
-  return v;
-}
 
 Quat unit_quaternion(const YAML::Node& n, const Ctx& c) {
   const Eigen::Vector4d q = vec<4>(n, c);

@@ -3,6 +3,8 @@
 // two loaders.
 #include "app/scene_forces.hpp"
 
+#include "app/scene_yaml.hpp"
+
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
@@ -16,65 +18,16 @@ namespace simreel {
 
 namespace {
 
-class Ctx {
- public:
-  Ctx(std::string file, std::string key) : file_(std::move(file)), key_(std::move(key)) {}
-  Ctx child(const std::string& k) const { return Ctx(file_, key_ + "." + k); }
-  Ctx index(size_t i) const { return Ctx(file_, key_ + "[" + std::to_string(i) + "]"); }
-  [[noreturn]] void fail(const YAML::Node& n, const std::string& what) const {
-    std::ostringstream os;
-    os << file_;
-    if (n.IsDefined() && n.Mark().line >= 0) os << ":" << n.Mark().line + 1 << ":" << n.Mark().column + 1;
-    os << ": " << key_ << ": " << what;
-    throw InputError(os.str());
-  }
-  std::string where(const YAML::Node& n) const {
-    std::string s = file_;
-    if (n.IsDefined() && n.Mark().line >= 0) s += ":" + std::to_string(n.Mark().line + 1);
-    return s + ": " + key_;
-  }
-
- private:
-  std::string file_, key_;
-};
-
-std::string show(const YAML::Node& n) {
-  if (n.IsScalar()) return "'" + n.Scalar() + "'";
-  if (n.IsSequence()) return "a list";
-  if (n.IsMap()) return "a mapping";
-  return "nothing";
-}
-
-double number(const YAML::Node& n, const Ctx& c) {
-  if (!n.IsScalar()) c.fail(n, "expected a number, got " + show(n));
-  const std::string& s = n.Scalar();
-  char* end = nullptr;
-  const double v = std::strtod(s.c_str(), &end);
-  if (s.empty() || end != s.c_str() + s.size()) c.fail(n, "expected a number, got " + show(n));
-  if (!std::isfinite(v)) c.fail(n, "must be a finite number, got " + show(n));
-  return v;
-}
-
-double non_negative(const YAML::Node& n, const Ctx& c) {
-  const double v = number(n, c);
-  if (!(v >= 0)) c.fail(n, "must not be negative, got " + show(n));
-  return v;
-}
+// The readers every part of the scene format shares (app/scene_yaml.hpp).
+using namespace scene_yaml;
 
 Vec3 vec3(const YAML::Node& n, const Ctx& c) {
-  if (!n.IsSequence() || n.size() != 3)
-    c.fail(n, "expected a list of 3 numbers, got " +
-                  (n.IsSequence() ? "a list of " + std::to_string(n.size()) : show(n)));
-  return Vec3(number(n[0], c.index(0)), number(n[1], c.index(1)), number(n[2], c.index(2)));
+  return vec<3>(n, c);
 }
 
-std::string text(const YAML::Node& n, const Ctx& c) {
-  if (!n.IsScalar() || n.Scalar().empty()) c.fail(n, "expected a text value, got " + show(n));
-  return n.Scalar();
-}
-
-void check_keys(const YAML::Node& map, const Ctx& c, const std::vector<std::string>& known,
-                const std::string& type) {
+// check_keys for one force type: the message names the type and lists its keys.
+void check_keys_of(const YAML::Node& map, const Ctx& c, const std::vector<std::string>& known,
+                   const std::string& type) {
   for (const auto& kv : map) {
     const std::string k = kv.first.as<std::string>();
     if (std::find(known.begin(), known.end(), k) != known.end()) continue;
@@ -131,7 +84,7 @@ class Reader {
       if (auto s = nearest(type, names)) msg += "; did you mean '" + *s + "'?";
       c.child("type").fail(n["type"], msg);
     }
-    check_keys(n, c, kt->keys, type);
+    check_keys_of(n, c, kt->keys, type);
     ForceDef f;
     f.kind = kt->kind;
     const bool has_body = (bool)n["body"], has_bodies = (bool)n["bodies"];

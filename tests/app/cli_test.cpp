@@ -558,8 +558,21 @@ TEST(Cli, SignalsStopBetweenStepsAndFinishTheOutputs) {
   };
   // simulate with a CSV: 130, the rows done kept, no temp file.
   const fs::path csv = tmp("int.csv");
+  // Waits (up to 20 s: the machine may be loaded) until the run's temp file beside `target` exists,
+  // then a little more: the run is stepping.
+  auto wait_started = [](const fs::path& target, int then_ms) {
+    for (int i = 0; i < 400; ++i) {
+      for (const auto& e : fs::directory_iterator(target.parent_path()))
+        if (e.path().filename().string().rfind(target.stem().string() + ".", 0) == 0 &&
+            e.path().filename().string().find(".partial-") != std::string::npos) {
+          std::this_thread::sleep_for(std::chrono::milliseconds(then_ms));
+          return;
+        }
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+  };
   pid_t pid = start({"simulate", scene, "--csv", csv.string(), "--quiet"});
-  std::this_thread::sleep_for(std::chrono::milliseconds(700));
+  wait_started(csv, 300);
   kill(pid, SIGINT);
   kill(pid, SIGINT);
   EXPECT_EQ(wait_code(pid), 130);
@@ -570,7 +583,7 @@ TEST(Cli, SignalsStopBetweenStepsAndFinishTheOutputs) {
   for (int second_ms : {0, 5, 30}) {
     const fs::path out = tmp("int" + std::to_string(second_ms) + ".mp4");
     pid = start({"render", scene, "-o", out.string(), "--quiet"});
-    std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+    wait_started(out, 500);
     kill(pid, SIGINT);
     std::this_thread::sleep_for(std::chrono::milliseconds(second_ms));
     kill(pid, SIGTERM);
@@ -584,7 +597,7 @@ TEST(Cli, SignalsStopBetweenStepsAndFinishTheOutputs) {
     EXPECT_GT(simreel::test::decode(out.string()).frames, 0);
   }
   pid = start({"render", scene, "-o", tmp("hup.mp4").string(), "--quiet"});
-  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  wait_started(tmp("hup.mp4"), 500);
   kill(pid, SIGHUP);
   EXPECT_EQ(wait_code(pid), 129);
   EXPECT_TRUE(fs::exists(tmp("hup.mp4")));
