@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <sstream>
@@ -293,13 +294,26 @@ int cmd_inspect(const std::vector<std::string>& args) {
   }
   const double scale = a.has("--scale") ? a.number("--scale", true) : 1.0;
   const std::string path = a.positional[0];
+  {
+    std::string ext = std::filesystem::path(path).extension().string();
+    for (char& ch : ext) ch = (char)std::tolower((unsigned char)ch);
+    if (ext == ".yaml" || ext == ".yml")
+      throw UsageError("'" + path +
+                       "' is a scene file, not a mesh: inspect weighs one mesh (OBJ, OFF, STL, PLY, or "
+                       "any format assimp reads); simulate and render take scenes");
+  }
   const ImportedMesh im = import_mesh(path, Vec3::Constant(scale));
   const TriangleMesh& mesh = im.mesh;
   MeshReport r;
   try {
     r = analyze_mesh(mesh, opt);
   } catch (const InputError& e) {
-    throw InputError(path + ": " + e.what());
+    // The mesh library speaks scene keys (`mode: shell`); here the same choice is a flag.
+    std::string msg = e.what();
+    for (const char* m : {"shell", "hull", "solid"})
+      for (size_t p = 0; (p = msg.find(std::string("`mode: ") + m + "`", p)) != std::string::npos;)
+        msg.replace(p, 7 + std::strlen(m) + 1, std::string("`--mode ") + m + "`");
+    throw InputError(path + ": " + msg);
   }
   r.warnings.insert(r.warnings.begin(), im.notes.begin(), im.notes.end());
   const PrincipalAxes pa = principal_axes(r.props.inertia);

@@ -291,7 +291,10 @@ struct Loader {
         c.fail(n,
                "mesh file '" + p.lexically_normal().string() + "' is " +
                    (fs::is_directory(st) ? "a directory" : "not a regular file (a FIFO, socket or device)"));
-      tried.push_back(p.lexically_normal());
+      // Absolute, each once (the scene's folder, assets/ and the working folder may coincide).
+      const fs::path abs = fs::absolute(p, ec).lexically_normal();
+      if (std::find(tried.begin(), tried.end(), abs) == tried.end()) tried.push_back(abs);
+      if (fs::path(f).is_absolute()) break;
     }
     std::string msg = "mesh file '" + f + "' not found (looked in";
     for (size_t i = 0; i < tried.size(); ++i) msg += (i ? ", " : " ") + tried[i].string();

@@ -249,7 +249,11 @@ TEST(Cli, InspectReportsMassPropertiesAsJson) {
   EXPECT_EQ(j["warnings"], nlohmann::json::array());
   const Result open = run("inspect assets/open_box.obj");
   EXPECT_EQ(open.code, 2);
-  EXPECT_NE(open.out.find("mode: shell"), std::string::npos);
+  EXPECT_NE(open.out.find("`--mode shell`"), std::string::npos) << "inspect's hint names its flag\n"
+                                                                << open.out;
+  const Result scene = run("inspect scenes/projectile.yaml");
+  EXPECT_EQ(scene.code, 2);
+  EXPECT_NE(scene.out.find("is a scene file, not a mesh"), std::string::npos) << scene.out;
   const Result hull = run("inspect assets/open_box.obj --mode hull --json");
   EXPECT_EQ(hull.code, 0);
   EXPECT_EQ(json_of(hull.out)["closed"], false) << hull.out;
@@ -682,6 +686,24 @@ TEST(Cli, AutoCameraFramesTheSceneAndEmptyFramesAreWarned) {
                 "bodies:\n  - { name: crate, colliders: [ { shape: box, size: [100, 100, 100] } ] }\n") +
           " -o " + tmp("big.mp4").string());
   EXPECT_NE(r.out.find("the camera is inside body 'crate'"), std::string::npos) << r.out;
+}
+
+// A missing mesh lists the absolute paths tried, each once.
+TEST(Cli, MissingMeshListsAbsolutePathsOnce) {
+  const Result r =
+      run("simulate " +
+          write("miss.yaml", "bodies:\n  - colliders: [ { shape: mesh, file: missing_part.stl } ]\n"));
+  EXPECT_EQ(r.code, 2);
+  const size_t a = r.out.find("looked in "), b = r.out.find(')', a);
+  ASSERT_NE(a, std::string::npos) << r.out;
+  std::vector<std::string> paths;
+  std::stringstream list(r.out.substr(a + 10, b - a - 10));
+  for (std::string p; std::getline(list, p, ',');) paths.push_back(p.substr(p.find_first_not_of(' ')));
+  EXPECT_GE(paths.size(), 2u) << r.out;
+  for (size_t i = 0; i < paths.size(); ++i) {
+    EXPECT_TRUE(fs::path(paths[i]).is_absolute()) << paths[i];
+    for (size_t j = 0; j < i; ++j) EXPECT_NE(paths[i], paths[j]);
+  }
 }
 
 }  // namespace
