@@ -469,7 +469,7 @@ struct Loader {
   BodyDef body(const YAML::Node& n, const Ctx& c, size_t i, BodyLook& look) {
     check_keys(n, c,
                {"name", "position", "orientation", "linear_velocity", "angular_velocity", "type", "static",
-                "color", "integrator", "colliders"});
+                "color", "integrator", "colliders", "show"});
     BodyDef b;
     b.name = n["name"] ? text(n["name"], c.child("name")) : "body" + std::to_string(i);
     if (n["position"]) b.p_WB = vec<3>(n["position"], c.child("position"));
@@ -546,7 +546,7 @@ Scene load_scene(const std::string& path) {
   const Ctx top(path, "");
   if (!root.IsMap())
     top.fail(root, "a scene is a mapping with keys simulation, video, camera, render, ground, bodies");
-  check_keys(root, top, {"simulation", "video", "camera", "render", "ground", "bodies", "test"});
+  check_keys(root, top, {"simulation", "video", "camera", "render", "ground", "bodies", "test", "overlays"});
 
   if (const YAML::Node sim = root["simulation"]) {
     const Ctx c = top.child("simulation");
@@ -740,6 +740,7 @@ Scene load_scene(const std::string& path) {
       }
     }
   }
+  load_overlays(root, path, s);  // bodies' show: and overlays: (app/scene_overlays.cpp)
   return s;
 }
 

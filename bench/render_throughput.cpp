@@ -80,8 +80,10 @@ RenderSettings settings(const std::string& aa, bool shadows = true, int shadow_s
   RenderSettings rs;
   rs.width = W;
   rs.height = H;
-  rs.msaa = aa == "msaa4" ? 4 : aa == "msaa2" ? 2 : 1;
-  rs.fxaa = aa == "fxaa";
+  rs.antialiasing = aa == "msaa4"   ? AntiAliasing::msaa4
+                    : aa == "msaa2" ? AntiAliasing::msaa2
+                    : aa == "fxaa"  ? AntiAliasing::fxaa
+                                    : AntiAliasing::none;
   rs.shadow_size = shadow_size;
   rs.shadows = shadows;
   rs.ground = true;
@@ -163,10 +165,10 @@ int main(int argc, char** argv) {
     const double t0 = bench::now_s();
     Setup s(bodies, frames);
     RenderSettings rs = settings(aa);
-    rs.fxaa = false;
+    rs.post = PostStage::caller;  // FXAA on the writer's thread, as `simreel render` does
     Renderer r(rs, s.meshes);
     VideoSettings vs;
-    vs.fxaa = std::string(aa) == "fxaa";
+    vs.fxaa = rs.fxaa();
     vs.path = (dir / "e2e.mp4").string();
     vs.width = W;
     vs.height = H;
