@@ -106,7 +106,7 @@ SceneOverlays::SceneOverlays(const Scene& scene, const World& world, const std::
         t.body = (int)i;
         t.p_B = s.point_in_world ? world.world_to_local((int)i, s.point) : s.point;
         t.color = s.color ? with_alpha(*s.color, s.opacity) : okabe_ito(default_color(s.kind), (float)s.opacity);
-        t.width_px = s.width * height / 720.0;
+        t.width_px = std::max(1.5, s.width * height / 720.0);  // px, at least 1.5 on small frames
         // About 120 samples a second of simulated time, on whole steps.
         t.every = std::max(1L, std::lround(1.0 / (120.0 * dt_)));
         t.span = std::lround(s.length / dt_);
@@ -178,18 +178,21 @@ void SceneOverlays::build(const World& w, long frame, DrawList& dl) {
     const ShowItem& s = it.spec;
     const Rgba color = s.color ? with_alpha(*s.color, s.opacity) : okabe_ito(default_color(s.kind), (float)s.opacity);
     const float xray = (float)s.xray;
+    // Thin next to a small body seen from far away: at least 1.5 px (times `width`) thick.
+    const double px = pixel_size_at(dl.camera, height_, std::max((c - eye).norm(), 1e-3));
+    const double radius = std::max(it.radius, 0.75 * px * s.width);
     switch (s.kind) {
       case ShowKind::angular_velocity:
       case ShowKind::angular_momentum:
       case ShowKind::velocity:
-        dl.overlay.arrow(c, quantity(w, i, s.kind) * it.scale, it.radius, color, xray);
+        dl.overlay.arrow(c, quantity(w, i, s.kind) * it.scale, radius, color, xray);
         break;
       case ShowKind::axes: {
         const Mat3 R = w.state(i).q_WP.toRotationMatrix();
         // e1 e2 e3 red, green, blue: Okabe-Ito's vermillion, bluish green and blue.
         const int axis_color[3] = {6, 3, 5};
         for (int k = 0; k < 3; ++k)
-          dl.overlay.arrow(c, R.col(k) * it.scale, it.radius, okabe_ito(axis_color[k], (float)s.opacity), xray);
+          dl.overlay.arrow(c, R.col(k) * it.scale, radius, okabe_ito(axis_color[k], (float)s.opacity), xray);
         break;
       }
       case ShowKind::center_of_mass:

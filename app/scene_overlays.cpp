@@ -338,7 +338,7 @@ void load_overlays(const YAML::Node& root, const std::string& path, Scene& s) {
     YAML::Node lines = h;
     if (h.IsMap()) {
       check_keys(h, hw, {"lines", "corner"});
-      lines = h["lines"];
+      lines.reset(h["lines"]);  // rebinds (operator= would write into `h`)
       if (const YAML::Node c = h["corner"]) {
         o.hud_corner = text(c, hw.child("corner"));
         const std::vector<std::string> corners = {"top_left", "top_right", "bottom_left", "bottom_right"};
