@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "app/frame_loop.hpp"
+#include "app/overlays.hpp"
 #include "bench/bench_util.hpp"
 #include "render/draw_list.hpp"
 #include "render/renderer.hpp"
@@ -74,6 +75,32 @@ struct Setup {
     loop.run(loop.all_frames(), h, true);
   }
 };
+
+// The same clip as a scene with teaching overlays (issue 12): an angular velocity arrow on every
+// box, scaled by the pre-pass (which simulates the clip once more first), and a three-line HUD.
+Scene overlay_scene(const Boxes& b, int frames) {
+  Scene sc;
+  sc.name = "bench_overlays";
+  sc.timestep = Setup::config().dt;
+  sc.gravity = Setup::config().gravity;
+  sc.duration = (frames - 1) / (double)kFps;
+  sc.video.fps = kFps;
+  sc.bodies = b.bodies;
+  ShowItem omega;
+  omega.kind = ShowKind::angular_velocity;
+  sc.overlays.show.assign(b.bodies.size(), {omega});
+  auto line = [](std::vector<std::string> text, std::vector<HudField> fields) {
+    HudLine l;
+    l.text = std::move(text);
+    l.fields = std::move(fields);
+    return l;
+  };
+  sc.overlays.hud = {line({"t = ", " s"}, {{"t", -1, -1, false, "%.2f"}}),
+                     line({"E/E\u2080 \u2212 1 = ", ""}, {{"E_drift", -1, -1, false, "%+.1e"}}),
+                     line({"|\u03c9| of box0 = ", " rad/s"}, {{"omega", 0, -1, true, "%.3f"}})};
+  sc.overlays.title = "100 boxes";
+  return sc;
+}
 
 // aa: "fxaa" (the default), "msaa4", "msaa2" or "none".
 RenderSettings settings(const std::string& aa, bool shadows = true, int shadow_size = 1024) {
@@ -161,12 +188,18 @@ int main(int argc, char** argv) {
   }
 
   // End to end, in process: what `simreel render` does (FXAA on the writer's thread).
-  auto end_to_end = [&](const char* aa, std::string& note) {
+  auto end_to_end = [&](const char* aa, std::string& note, bool overlays = false) {
     const double t0 = bench::now_s();
     Setup s(bodies, frames);
     RenderSettings rs = settings(aa);
-    rs.post = PostStage::caller;  // FXAA on the writer's thread, as `simreel render` does
+    rs.post = PostStage::caller;  // FXAA and the screen layer on the writer's thread, as `simreel render` does
     Renderer r(rs, s.meshes);
+    std::unique_ptr<SceneOverlays> ov;
+    if (overlays) {  // the pre-pass, the fonts: inside the timed span, as in `simreel render`
+      std::vector<double> radius;
+      for (int i = 0; i < s.loop.world().body_count(); ++i) radius.push_back(s.meshes.meshes[i].radius);
+      ov = std::make_unique<SceneOverlays>(overlay_scene(bodies, frames), s.loop.world(), radius, W, H, 1);
+    }
     VideoSettings vs;
     vs.fxaa = rs.fxaa();
     vs.path = (dir / "e2e.mp4").string();
@@ -175,10 +208,12 @@ int main(int argc, char** argv) {
     vs.fps = kFps;
     VideoWriter v(vs);
     DrawList dl;
+    long k = 0;
     s.run([&](const World& w) {
       build_draw_list(w, s.meshes, s.cam, -1, dl);
+      if (ov) ov->build(w, k, dl);
       r.render(dl, v.acquire());
-      v.commit();
+      v.commit(k++, &dl.screen);
     });
     v.finish();
     const double t = bench::now_s() - t0;
@@ -202,11 +237,18 @@ int main(int argc, char** argv) {
   // The target compares end to end with the ceiling; this machine's speed drifts by up to 30%
   // over minutes, so they run in alternation, three pairs, and the ratio is the median of the
   // pairs' ratios.
-  std::vector<double> ratios;
+  // Each pair also runs the clip with overlays (an arrow per box and a HUD) right after the plain
+  // one: their ratio is the overlays' cost (target: at most 1.15).
+  std::vector<double> ratios, overlay_ratios;
   for (int pair = 1; pair <= 3; ++pair) {
     std::string note;
     const double e2e = end_to_end("fxaa", note);
     row("end_to_end_fxaa", e2e, note + "; pair " + std::to_string(pair));
+    const double e2e_ov = end_to_end("fxaa", note, true);
+    row("end_to_end_fxaa_overlays", e2e_ov,
+        "100 angular velocity arrows (auto-scaled: one more simulation first) and a title and 3-line HUD; " + note +
+            "; pair " + std::to_string(pair));
+    overlay_ratios.push_back(e2e_ov / e2e);
     const double c = ceiling();
     if (c < 0) {
       std::printf(
@@ -224,6 +266,13 @@ int main(int argc, char** argv) {
     for (double q : ratios) all += (all.empty() ? "" : " ") + std::to_string(q).substr(0, 4);
     std::printf("end_to_end_over_ceiling,%d,%d,%d,,,\"median %.2f of the pairs' ratios (%s); target 1.5\"\n",
                 frames, W, H, ratios[ratios.size() / 2], all.c_str());
+  }
+  if (!overlay_ratios.empty()) {
+    std::sort(overlay_ratios.begin(), overlay_ratios.end());
+    std::string all;
+    for (double q : overlay_ratios) all += (all.empty() ? "" : " ") + std::to_string(q).substr(0, 5);
+    std::printf("overlays_over_plain,%d,%d,%d,,,\"median %.3f of the pairs' ratios (%s); target 1.15\"\n", frames, W,
+                H, overlay_ratios[overlay_ratios.size() / 2], all.c_str());
   }
   {
     std::string note;
