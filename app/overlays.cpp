@@ -105,7 +105,8 @@ SceneOverlays::SceneOverlays(const Scene& scene, const World& world, const std::
         Trail t;
         t.body = (int)i;
         t.p_B = s.point_in_world ? world.world_to_local((int)i, s.point) : s.point;
-        t.color = s.color ? with_alpha(*s.color, s.opacity) : okabe_ito(default_color(s.kind), (float)s.opacity);
+        t.color =
+            s.color ? with_alpha(*s.color, s.opacity) : okabe_ito(default_color(s.kind), (float)s.opacity);
         t.width_px = std::max(1.5, s.width * height / 720.0);  // px, at least 1.5 on small frames
         // About 120 samples a second of simulated time, on whole steps.
         t.every = std::max(1L, std::lround(1.0 / (120.0 * dt_)));
@@ -127,7 +128,7 @@ SceneOverlays::SceneOverlays(const Scene& scene, const World& world, const std::
     const double R = it.body < (int)body_radius_.size() ? body_radius_[it.body] : 0.5;
     if (is_arrow(it.spec.kind)) {
       const double big = it.spec.scale ? 0 : largest(mags[it.body], it.spec.kind);
-      it.scale = it.spec.scale ? *it.spec.scale : big > 0 ? 1.5 * R / big : 0;
+      it.scale = it.spec.scale ? *it.spec.scale : big > 0 ? kArrowReach * R / big : 0;
       it.radius = 0.028 * R * it.spec.width;
     } else if (it.spec.kind == ShowKind::axes) {
       it.scale = it.spec.scale ? *it.spec.scale : 1.25 * R;
@@ -176,7 +177,8 @@ void SceneOverlays::build(const World& w, long frame, DrawList& dl) {
     const int i = it.body;
     const Vec3 c = w.centroid(i);
     const ShowItem& s = it.spec;
-    const Rgba color = s.color ? with_alpha(*s.color, s.opacity) : okabe_ito(default_color(s.kind), (float)s.opacity);
+    const Rgba color =
+        s.color ? with_alpha(*s.color, s.opacity) : okabe_ito(default_color(s.kind), (float)s.opacity);
     const float xray = (float)s.xray;
     // Thin next to a small body seen from far away: at least 1.5 px (times `width`) thick.
     const double px = pixel_size_at(dl.camera, height_, std::max((c - eye).norm(), 1e-3));
@@ -276,9 +278,12 @@ void format_hud_line(const HudLine& line, const World& w, long frame, double E0,
     if (f.body < 0) {
       double v = 0;
       const double E = w.kinetic_energy() + w.potential_energy();
-      if (f.name == "t") v = w.time();
-      else if (f.name == "E") v = E;
-      else if (f.name == "E_drift") v = E0 != 0 ? (E - E0) / std::fabs(E0) : E - E0;
+      if (f.name == "t")
+        v = w.time();
+      else if (f.name == "E")
+        v = E;
+      else if (f.name == "E_drift")
+        v = E0 != 0 ? (E - E0) / std::fabs(E0) : E - E0;
       else if (f.name == "L_drift") {
         const double n0 = L0.norm();
         v = n0 > 0 ? (w.total_angular_momentum() - L0).norm() / n0 : (w.total_angular_momentum() - L0).norm();
@@ -289,11 +294,16 @@ void format_hud_line(const HudLine& line, const World& w, long frame, double E0,
     }
     const int i = f.body;
     Vec3 v = Vec3::Zero();
-    if (f.name == "omega") v = w.angular_velocity(i);
-    else if (f.name == "omega_body") v = w.state(i).w_P;
-    else if (f.name == "L") v = w.angular_momentum(i);
-    else if (f.name == "v") v = w.linear_velocity(i);
-    else if (f.name == "position") v = w.centroid(i);
+    if (f.name == "omega")
+      v = w.angular_velocity(i);
+    else if (f.name == "omega_body")
+      v = w.state(i).w_P;
+    else if (f.name == "L")
+      v = w.angular_momentum(i);
+    else if (f.name == "v")
+      v = w.linear_velocity(i);
+    else if (f.name == "position")
+      v = w.centroid(i);
     if (f.norm || f.component >= 0) {
       std::snprintf(buf, sizeof buf, fmt, f.norm ? v.norm() : v[f.component]);
       out += buf;
@@ -329,7 +339,8 @@ void SceneOverlays::build_hud(const World& w, long frame, ScreenLayer& out) {
     widest = std::max(widest, f.width(lines_[k]));
   }
   const int pad = f.pixel_size() / 2, lh = f.line_height();
-  const int box_w = widest + 2 * pad, box_h = (int)hud_.size() * lh + 2 * pad - (lh - f.ascent() - f.descent());
+  const int box_w = widest + 2 * pad,
+            box_h = (int)hud_.size() * lh + 2 * pad - (lh - f.ascent() - f.descent());
   const bool right = hud_corner_.find("right") != std::string::npos;
   const bool bottom = hud_corner_.find("bottom") != std::string::npos;
   const int margin = pad;

@@ -3,7 +3,7 @@
 //
 // Arrows scale themselves: before the run a pre-pass simulates the scene through the app's frame
 // loop (the same physics, every step) and keeps each body's largest |omega|, |L| and |v|; that
-// magnitude is drawn 1.5x the body's radius, unless the item gives `scale:`.
+// magnitude is drawn kArrowReach times the body's radius, unless the item gives `scale:`.
 // Trails record a body point at a fixed cadence of physics steps through FrameLoop::Hooks::step,
 // into ring buffers sized up front: a frame's trail is a function of the steps before it, the
 // same in a partial render (--frames A:B, --at) as in the full one.
@@ -20,6 +20,8 @@
 #include "sim/world.hpp"
 
 namespace simreel {
+
+inline constexpr double kArrowReach = 2.0;  ///< an auto-scaled arrow's longest, in body radii
 
 // The largest magnitudes over a run, per body.
 struct Magnitudes {
@@ -57,7 +59,7 @@ class SceneOverlays {
   struct Item {
     int body;
     ShowItem spec;
-    double scale = 0;  // arrows: m per unit; axes: m; centre of mass: m radius
+    double scale = 0;   // arrows: m per unit; axes: m; centre of mass: m radius
     double radius = 0;  // m, arrow shaft
   };
   struct Trail {
@@ -65,8 +67,8 @@ class SceneOverlays {
     Vec3 p_B;  // m, the traced point in the body frame
     Rgba color;
     double width_px;
-    long every;   // steps between samples
-    long span;    // steps of history shown
+    long every;                // steps between samples
+    long span;                 // steps of history shown
     std::vector<Vec3> points;  // ring
     std::vector<long> steps;   // ring, the step of each point
     size_t head = 0, count = 0;
@@ -90,6 +92,7 @@ class SceneOverlays {
 };
 
 // A HUD line with its fields filled from the world; `out` keeps its storage.
-void format_hud_line(const HudLine& line, const World& w, long frame, double E0, const Vec3& L0, std::string& out);
+void format_hud_line(const HudLine& line, const World& w, long frame, double E0, const Vec3& L0,
+                     std::string& out);
 
 }  // namespace simreel

@@ -16,7 +16,7 @@ namespace simreel {
 struct VideoSpec {
   int width = kDefaultWidth;    ///< px
   int height = kDefaultHeight;  ///< px
-  double fps = 30;   ///< frames per second of simulated time
+  double fps = 30;              ///< frames per second of simulated time
 };
 
 struct CameraSpec {
@@ -36,9 +36,9 @@ using RenderSpec = RenderLook;
 // The top-level `ground`: a static body named "ground" with one plane collider (origin (0, 0, height),
 // normal +z) and the checkered ground drawn under the scene (render.ground draws without colliding).
 struct GroundSpec {
-  double height = 0;       ///< m, z of the plane
-  double friction = 0.6;   ///< Coulomb coefficient
-  double restitution = 0;  ///< in [0, 1]
+  double height = 0;                       ///< m, z of the plane
+  double friction = 0.6;                   ///< Coulomb coefficient
+  double restitution = 0;                  ///< in [0, 1]
   double size = RenderLook{}.ground_size;  ///< m, side of the drawn square (the plane is infinite)
   double tile = RenderLook{}.ground_tile;  ///< m, checker tile
 };

@@ -136,7 +136,8 @@ ShowItem show_item(const YAML::Node& n, const Where& w, double duration) {
   const auto it = std::find(names.begin(), names.end(), name);
   if (it == names.end()) {
     std::string msg = "unknown item '" + name + "'";
-    if (auto s = nearest(name, names)) msg += "; did you mean '" + *s + "'?";
+    if (auto s = nearest(name, names))
+      msg += "; did you mean '" + *s + "'?";
     else {
       msg += " (";
       for (size_t i = 0; i < names.size(); ++i) msg += (i ? ", " : "") + names[i];
@@ -167,11 +168,12 @@ ShowItem show_item(const YAML::Node& n, const Where& w, double duration) {
   if (const YAML::Node f = opts["frame"]) {
     const std::string fr = text(f, c.child("frame"));
     if (fr != "body" && fr != "world")
-      c.child("frame").fail(f, "expected body (point in the body's frame) or world (where it is at t = 0), got " +
-                                   show(f));
+      c.child("frame").fail(
+          f, "expected body (point in the body's frame) or world (where it is at t = 0), got " + show(f));
     item.point_in_world = fr == "world";
   }
-  if (opts["length"]) item.length = in_range(opts["length"], c.child("length"), 0, std::max(duration, 1e-9), true);
+  if (opts["length"])
+    item.length = in_range(opts["length"], c.child("length"), 0, std::max(duration, 1e-9), true);
   return item;
 }
 
@@ -248,9 +250,12 @@ HudLine hud_line(const YAML::Node& n, const Where& w, const Scene& s) {
     std::vector<std::string> all = scalars;
     all.insert(all.end(), vectors.begin(), vectors.end());
     std::string body;
-    if (parts.size() == 2) body = parts[0], f.name = parts[1];
-    else if (parts.size() == 1) f.name = parts[0];
-    else bad("'{" + field + "}' is not a quantity ([body.]name[.x|.y|.z])");
+    if (parts.size() == 2)
+      body = parts[0], f.name = parts[1];
+    else if (parts.size() == 1)
+      f.name = parts[0];
+    else
+      bad("'{" + field + "}' is not a quantity ([body.]name[.x|.y|.z])");
     const bool scalar = std::find(scalars.begin(), scalars.end(), f.name) != scalars.end();
     const bool vector = std::find(vectors.begin(), vectors.end(), f.name) != vectors.end();
     if (!scalar && !vector) {
@@ -324,7 +329,8 @@ void load_overlays(const YAML::Node& root, const std::string& path, Scene& s) {
       const YAML::Node sh = bodies[i]["show"];
       if (!sh) continue;
       const Where w = top.child("bodies").index(i).child("show");
-      if (!sh.IsSequence()) w.fail(sh, "expected a list of items (axes, angular_velocity, ...), got " + show(sh));
+      if (!sh.IsSequence())
+        w.fail(sh, "expected a list of items (axes, angular_velocity, ...), got " + show(sh));
       if (s.bodies[i].type != BodyType::dynamic)
         w.fail(sh, "body '" + s.bodies[i].name + "' does not move: show items are for moving bodies");
       for (size_t k = 0; k < sh.size(); ++k) o.show[i].push_back(show_item(sh[k], w.index(k), s.duration));
@@ -343,7 +349,8 @@ void load_overlays(const YAML::Node& root, const std::string& path, Scene& s) {
         o.hud_corner = text(c, hw.child("corner"));
         const std::vector<std::string> corners = {"top_left", "top_right", "bottom_left", "bottom_right"};
         if (std::find(corners.begin(), corners.end(), o.hud_corner) == corners.end())
-          hw.child("corner").fail(c, "expected top_left, top_right, bottom_left or bottom_right, got " + show(c));
+          hw.child("corner").fail(
+              c, "expected top_left, top_right, bottom_left or bottom_right, got " + show(c));
       }
       if (!lines) hw.fail(h, "missing key 'lines' (a list of text lines)");
     }

@@ -45,12 +45,12 @@ struct ShowItem {
   ShowKind kind = ShowKind::axes;
   std::optional<ShowRgb> color;  ///< default: the kind's Okabe-Ito colour (app/overlays.cpp)
   /// Arrows: m per unit of the quantity (m per rad/s, m per kg m^2/s, m per m/s); none: the run's
-  /// largest magnitude is drawn 1.5x the body's radius. Axes: m, the length of each axis.
+  /// largest magnitude is drawn 2x the body's radius. Axes: m, the length of each axis.
   std::optional<double> scale;
-  double width = 1;      ///< thickness factor (arrows, axes); trails: px
-  double opacity = 1;    ///< in [0, 1]; inertia shapes default to 0.35
-  double xray = 0;       ///< opacity of the parts hidden behind bodies (0: not drawn; `xray: true` is 0.35)
-  Vec3 point = Vec3::Zero();  ///< trail: m, the body point traced (in `frame` at t = 0)
+  double width = 1;    ///< thickness factor (arrows, axes); trails: px
+  double opacity = 1;  ///< in [0, 1]; inertia shapes default to 0.35
+  double xray = 0;     ///< opacity of the parts hidden behind bodies (0: not drawn; `xray: true` is 0.35)
+  Vec3 point = Vec3::Zero();    ///< trail: m, the body point traced (in `frame` at t = 0)
   bool point_in_world = false;  ///< trail `frame: world`: `point` is where the point is at t = 0
   double length = 3;            ///< trail: s of history shown
 };
@@ -58,11 +58,11 @@ struct ShowItem {
 // One field of a HUD line: {name}, {body.name}, {name.x}, {|name|}, each with an optional
 // Python-style spec after ':' ([+][width][.precision][f|e|g|d]).
 struct HudField {
-  std::string name;     ///< t, frame, E, E_drift, L_drift; omega, omega_body, L, v, position
-  int body = -1;        ///< per-body quantities: the body's index
-  int component = -1;   ///< 0 1 2 for .x .y .z; -1 the whole vector or a scalar
-  bool norm = false;    ///< |name|
-  std::string printf;   ///< the spec as a printf conversion, e.g. "%+.1e"
+  std::string name;    ///< t, frame, E, E_drift, L_drift; omega, omega_body, L, v, position
+  int body = -1;       ///< per-body quantities: the body's index
+  int component = -1;  ///< 0 1 2 for .x .y .z; -1 the whole vector or a scalar
+  bool norm = false;   ///< |name|
+  std::string printf;  ///< the spec as a printf conversion, e.g. "%+.1e"
 };
 struct HudLine {
   std::vector<std::string> text;  ///< literal text before each field, then the text after the last

@@ -11,7 +11,9 @@ namespace {
 // Two unit vectors completing d (unit) to a right-handed orthonormal basis, chosen the same way
 // every time for the same d.
 void basis(const Vec3& d, Vec3& e1, Vec3& e2) {
-  const Vec3 a = std::fabs(d.x()) < 0.6 ? Vec3::UnitX() : std::fabs(d.y()) < 0.6 ? Vec3::UnitY() : Vec3::UnitZ();
+  const Vec3 a = std::fabs(d.x()) < 0.6   ? Vec3::UnitX()
+                 : std::fabs(d.y()) < 0.6 ? Vec3::UnitY()
+                                          : Vec3::UnitZ();
   e1 = d.cross(a).normalized();
   e2 = d.cross(e1);
 }

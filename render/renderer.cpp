@@ -615,12 +615,14 @@ struct Renderer::Impl {
     float near = INFINITY;
     for (int k = 0; k < kOverlayShapes; ++k)
       for (const OverlayInstance& in : ov.instances[k]) {
-        const V3f c = (in.model * Eigen::Vector4f(0, 0, k == (int)OverlayShape::sphere ? 0.0f : 0.5f, 1)).head<3>();
+        const V3f c =
+            (in.model * Eigen::Vector4f(0, 0, k == (int)OverlayShape::sphere ? 0.0f : 0.5f, 1)).head<3>();
         const float r = in.model.col(0).head<3>().norm() + in.model.col(1).head<3>().norm() +
                         in.model.col(2).head<3>().norm();
         near = std::min(near, (c - eye).norm() - r);
       }
-    for (const OverlayVertex& v : ov.ribbons) near = std::min(near, (V3f(v.pos[0], v.pos[1], v.pos[2]) - eye).norm());
+    for (const OverlayVertex& v : ov.ribbons)
+      near = std::min(near, (V3f(v.pos[0], v.pos[1], v.pos[2]) - eye).norm());
     return near;
   }
 
@@ -661,7 +663,8 @@ struct Renderer::Impl {
       for (int k = 0; k < kOverlayShapes; ++k)
         if (count[k]) {
           glBindVertexArray(ov_mesh[k].vao);
-          glDrawElementsInstanced(GL_TRIANGLES, ov_mesh[k].count, GL_UNSIGNED_INT, nullptr, (GLsizei)count[k]);
+          glDrawElementsInstanced(GL_TRIANGLES, ov_mesh[k].count, GL_UNSIGNED_INT, nullptr,
+                                  (GLsizei)count[k]);
         }
     };
     auto ribbons = [&] {

@@ -24,7 +24,7 @@ namespace simreel {
 
 // The scene's look (render/render_settings.hpp, where every default lives) and how to draw it.
 struct RenderSettings : RenderLook {
-  GlBackend gl = default_gl_backend();  ///< OSMesa or EGL; the same frames on llvmpipe
+  GlBackend gl = default_gl_backend();                 ///< OSMesa or EGL; the same frames on llvmpipe
   int width = kDefaultWidth, height = kDefaultHeight;  ///< px
   int shadow_size =
       1024;  ///< px, square shadow map over the fitted frustum (2048 costs ~1 ms more a 720p frame)
@@ -39,7 +39,9 @@ struct RenderSettings : RenderLook {
   int msaa() const {  ///< GL samples per pixel: 1, 2 or 4
     return antialiasing == AntiAliasing::msaa4 ? 4 : antialiasing == AntiAliasing::msaa2 ? 2 : 1;
   }
-  bool fxaa() const { return antialiasing == AntiAliasing::fxaa; }  ///< CPU edge anti-aliasing (render/fxaa.hpp)
+  bool fxaa() const {
+    return antialiasing == AntiAliasing::fxaa;
+  }  ///< CPU edge anti-aliasing (render/fxaa.hpp)
 };
 
 struct RenderStats {

@@ -41,7 +41,8 @@ struct Font::Impl {
     auto it = cache.find(index);
     if (it != cache.end()) return *it->second;
     auto g = std::make_unique<GlyphBitmap>();
-    if (FT_Load_Glyph(face, index, kLoadFlags) == 0 && FT_Render_Glyph(face->glyph, FT_RENDER_MODE_NORMAL) == 0) {
+    if (FT_Load_Glyph(face, index, kLoadFlags) == 0 &&
+        FT_Render_Glyph(face->glyph, FT_RENDER_MODE_NORMAL) == 0) {
       const FT_Bitmap& b = face->glyph->bitmap;
       g->width = (int)b.width;
       g->height = (int)b.rows;

@@ -16,8 +16,8 @@
 namespace simreel {
 
 struct VideoSettings {
-  std::string path;                ///< output video; empty for PNG frames only
-  std::string frames_dir;          ///< if set, also frame_00000.png ... here
+  std::string path;                                    ///< output video; empty for PNG frames only
+  std::string frames_dir;                              ///< if set, also frame_00000.png ... here
   int width = kDefaultWidth, height = kDefaultHeight;  ///< px; even for yuv420p
   double fps = 30;
   int crf = 20;  ///< x264 quality (lower is better; 18-23 typical)

@@ -28,8 +28,8 @@ std::string write_scene(const std::string& name, const std::string& text) {
 }
 
 int run(const std::string& args, const std::string& env = "") {
-  const std::string cmd = (env.empty() ? "" : "env " + env + " ") + std::string(SIMREEL_BIN) + " " + args +
-                          " > /dev/null 2>&1";
+  const std::string cmd =
+      (env.empty() ? "" : "env " + env + " ") + std::string(SIMREEL_BIN) + " " + args + " > /dev/null 2>&1";
   const int st = std::system(cmd.c_str());
   return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
 }
@@ -64,8 +64,10 @@ struct Drawn {
       frame.assign(px, px + (size_t)w() * h() * 4);
     };
     std::vector<FrameTarget> t;
-    if (k >= 0) t.push_back(plan_target(loop->plan(), k, scene.video.fps));
-    else t.push_back({0, 0, loop->world().steps()});
+    if (k >= 0)
+      t.push_back(plan_target(loop->plan(), k, scene.video.fps));
+    else
+      t.push_back({0, 0, loop->world().steps()});
     loop->run(t, hooks, false);
     return frame;
   }
@@ -106,7 +108,8 @@ const char* kArrows =
 void expect_tip(Drawn& d, bool (*is)(const std::array<int, 3>&), const Vec3& from, const Vec3& tip,
                 const char* what) {
   const CameraView& cam = d.view->camera;
-  const Eigen::Vector2d a = project_to_pixel(cam, d.w(), d.h(), from), b = project_to_pixel(cam, d.w(), d.h(), tip);
+  const Eigen::Vector2d a = project_to_pixel(cam, d.w(), d.h(), from),
+                        b = project_to_pixel(cam, d.w(), d.h(), tip);
   const Eigen::Vector2d dir = (b - a).normalized(), side(-dir.y(), dir.x());
   double best = -1e9, lateral = 0;
   int count = 0;
@@ -131,33 +134,35 @@ TEST(Overlays, ArrowTipsLandOnTheProjectedPointWithinAPixel) {
     const World& w = d.loop->world();
     const Vec3 c = w.centroid(0);
     expect_tip(d, magenta, c, c + 0.55 * w.angular_velocity(0), "omega");
-    // The velocity arrow scales itself: the run's largest |v| (constant here) is 1.5 body radii.
+    // The velocity arrow scales itself: the run's largest |v| (constant here) is kArrowReach body radii.
     const double R = 0.5 * Vec3(0.3, 0.2, 0.25).norm();
     const double scale = d.view->overlays->arrow_scale(0, ShowKind::velocity);
-    EXPECT_NEAR(scale, 1.5 * R / Vec3(1, 0, 0.3).norm(), 1e-7);  // R from the float render mesh
+    EXPECT_NEAR(scale, kArrowReach * R / Vec3(1, 0, 0.3).norm(), 1e-7);  // R from the float render mesh
     expect_tip(d, cyan, c, c + scale * w.linear_velocity(0), "v");
   }
 }
 
 TEST(Overlays, AngularMomentumScaleComesFromThePrePass) {
   // A torque-free box tumbling about no principal axis: |omega| changes over the run, |L| does not.
-  const std::string path = write_scene("prepass.yaml",
-                                       "simulation: { duration: 3, timestep: 0.002, gravity: [0, 0, 0] }\n"
-                                       "video: { width: 64, height: 48 }\n"
-                                       "bodies:\n"
-                                       "  - { name: b, angular_velocity: [3, 0.2, 1.5],\n"
-                                       "      colliders: [ { shape: box, size: [1, 0.5, 0.2], density: 10 } ],\n"
-                                       "      show: [ angular_momentum, angular_velocity ] }\n");
+  const std::string path =
+      write_scene("prepass.yaml",
+                  "simulation: { duration: 3, timestep: 0.002, gravity: [0, 0, 0] }\n"
+                  "video: { width: 64, height: 48 }\n"
+                  "bodies:\n"
+                  "  - { name: b, angular_velocity: [3, 0.2, 1.5],\n"
+                  "      colliders: [ { shape: box, size: [1, 0.5, 0.2], density: 10 } ],\n"
+                  "      show: [ angular_momentum, angular_velocity ] }\n");
   Drawn d(path);
   const World& w = d.loop->world();
   const double R = 0.5 * Vec3(1, 0.5, 0.2).norm();
-  EXPECT_NEAR(d.view->overlays->arrow_scale(0, ShowKind::angular_momentum), 1.5 * R / w.angular_momentum(0).norm(),
-              1e-6 * 1.5 * R / w.angular_momentum(0).norm());
+  EXPECT_NEAR(d.view->overlays->arrow_scale(0, ShowKind::angular_momentum),
+              kArrowReach * R / w.angular_momentum(0).norm(),
+              1e-6 * kArrowReach * R / w.angular_momentum(0).norm());
   // omega's largest magnitude is over every step of the run, not the initial one.
   const std::vector<Magnitudes> m = measure_magnitudes(d.scene, 1);
   EXPECT_GE(m[0].omega, w.angular_velocity(0).norm());
-  EXPECT_NEAR(d.view->overlays->arrow_scale(0, ShowKind::angular_velocity), 1.5 * R / m[0].omega,
-              1e-6 * 1.5 * R / m[0].omega);
+  EXPECT_NEAR(d.view->overlays->arrow_scale(0, ShowKind::angular_velocity), kArrowReach * R / m[0].omega,
+              1e-6 * kArrowReach * R / m[0].omega);
 }
 
 const char* kTrail =
@@ -189,7 +194,8 @@ TEST(Overlays, TrailPassesThroughThePositionsSimulateReports) {
     std::string f[9];
     for (auto& x : f) std::getline(ss, x, ',');
     const Quat q(std::stod(f[5]), std::stod(f[6]), std::stod(f[7]), std::stod(f[8]));
-    rows.push_back({std::stod(f[0]), Vec3(std::stod(f[2]), std::stod(f[3]), std::stod(f[4])) + q * Vec3(0.1, 0, 0.05)});
+    rows.push_back(
+        {std::stod(f[0]), Vec3(std::stod(f[2]), std::stod(f[3]), std::stod(f[4])) + q * Vec3(0.1, 0, 0.05)});
   }
   Drawn d(path);
   const long k = 45;  // t = 1.5 s: the trail shows 0.5 .. 1.5 s
@@ -201,9 +207,13 @@ TEST(Overlays, TrailPassesThroughThePositionsSimulateReports) {
   ASSERT_GE(v.size(), 6u);
   std::vector<Vec3> centre;  // the ribbon's centre line: the traced points
   for (size_t q = 0; q < v.size(); q += 6) {
-    centre.push_back(Vec3(v[q].pos[0] + v[q + 1].pos[0], v[q].pos[1] + v[q + 1].pos[1], v[q].pos[2] + v[q + 1].pos[2]) / 2);
+    centre.push_back(
+        Vec3(v[q].pos[0] + v[q + 1].pos[0], v[q].pos[1] + v[q + 1].pos[1], v[q].pos[2] + v[q + 1].pos[2]) /
+        2);
     if (q + 6 == v.size())
-      centre.push_back(Vec3(v[q + 2].pos[0] + v[q + 5].pos[0], v[q + 2].pos[1] + v[q + 5].pos[1], v[q + 2].pos[2] + v[q + 5].pos[2]) / 2);
+      centre.push_back(Vec3(v[q + 2].pos[0] + v[q + 5].pos[0], v[q + 2].pos[1] + v[q + 5].pos[1],
+                            v[q + 2].pos[2] + v[q + 5].pos[2]) /
+                       2);
   }
   int checked = 0, dark = 0;
   for (const auto& [t, p] : rows) {
@@ -235,16 +245,18 @@ TEST(Overlays, TrailPassesThroughThePositionsSimulateReports) {
 // thread for --frames-dir, in the renderer for --at).
 TEST(Overlays, FramesAreTheSameBytesAcrossRunsThreadsAndPartialRenders) {
   const std::string path = write_scene(
-      "det.yaml", std::string(kTrail) + "      - angular_velocity\n      - axes\n"
-                                        "overlays: { title: Test, hud: [\"t = {t:.2f} s  ω = {|omega|:.3f}  {frame}\"] }\n");
-  const fs::path full = test::scratch("det_full"), part = test::scratch("det_part"), t4 = test::scratch("det_t4"),
-                 at = test::scratch("det_at.png");
+      "det.yaml", std::string(kTrail) +
+                      "      - angular_velocity\n      - axes\n"
+                      "overlays: { title: Test, hud: [\"t = {t:.2f} s  ω = {|omega|:.3f}  {frame}\"] }\n");
+  const fs::path full = test::scratch("det_full"), part = test::scratch("det_part"),
+                 t4 = test::scratch("det_t4"), at = test::scratch("det_at.png");
   for (const fs::path& p : {full, part, t4}) fs::remove_all(p);
   ASSERT_EQ(run("render " + path + " --no-video --quiet --frames-dir " + full.string()), 0);
   ASSERT_EQ(run("render " + path + " --no-video --quiet --frames 40:42,50 --frames-dir " + part.string()), 0);
-  ASSERT_EQ(run("render " + path + " --no-video --quiet --threads 3 --frames 40:42,50 --frames-dir " + t4.string(),
-                "LP_NUM_THREADS=1"),
-            0);
+  ASSERT_EQ(
+      run("render " + path + " --no-video --quiet --threads 3 --frames 40:42,50 --frames-dir " + t4.string(),
+          "LP_NUM_THREADS=1"),
+      0);
   ASSERT_EQ(run("render " + path + " --quiet --at 1.4 -o " + at.string(), "LP_NUM_THREADS=4"), 0);
   for (const char* n : {"frame_00040.png", "frame_00041.png", "frame_00042.png", "frame_00050.png"}) {
     const std::string f = slurp(full / n);

@@ -28,19 +28,22 @@ std::string error_of(const std::string& text) {
   return "";
 }
 
-const char* kHead = "simulation: { duration: 4 }\nbodies:\n  - name: handle\n"
-                    "    colliders: [ { shape: box, size: [1, 2, 3], density: 10 } ]\n";
+const char* kHead =
+    "simulation: { duration: 4 }\nbodies:\n  - name: handle\n"
+    "    colliders: [ { shape: box, size: [1, 2, 3], density: 10 } ]\n";
 
 // The example of issue 12, word for word.
 TEST(SceneOverlays, TheContractExampleLoads) {
-  const Scene s = load_scene(write_scene("contract.yaml", std::string(kHead) +
-                                                              "    show:\n"
-                                                              "      - axes\n"
-                                                              "      - angular_momentum                                    # defaults\n"
-                                                              "      - { angular_velocity: { color: [1, 0, 1], scale: 0.2 } }   # scale: m per rad/s\n"
-                                                              "      - { trail: { point: [0.5, 0, 0], frame: body, length: 3.0 } }\n"
-                                                              "overlays:\n"
-                                                              "  hud: [\"t = {t:.2f} s\"]\n"));
+  const Scene s = load_scene(write_scene(
+      "contract.yaml",
+      std::string(kHead) +
+          "    show:\n"
+          "      - axes\n"
+          "      - angular_momentum                                    # defaults\n"
+          "      - { angular_velocity: { color: [1, 0, 1], scale: 0.2 } }   # scale: m per rad/s\n"
+          "      - { trail: { point: [0.5, 0, 0], frame: body, length: 3.0 } }\n"
+          "overlays:\n"
+          "  hud: [\"t = {t:.2f} s\"]\n"));
   ASSERT_EQ(s.overlays.show.size(), 1u);
   const auto& items = s.overlays.show[0];
   ASSERT_EQ(items.size(), 4u);
@@ -64,10 +67,10 @@ TEST(SceneOverlays, TheContractExampleLoads) {
 }
 
 TEST(SceneOverlays, HudFieldsBodiesComponentsAndNorms) {
-  const Scene s = load_scene(write_scene(
-      "hud.yaml", std::string(kHead) +
-                      "overlays:\n  title: Spin\n  text_size: 1.5\n"
-                      "  hud:\n    corner: bottom_right\n    lines: [\"{{ {handle.omega.y:+8.3e} }} {|L|} {omega} {frame}\"]\n"));
+  const Scene s = load_scene(
+      write_scene("hud.yaml", std::string(kHead) + "overlays:\n  title: Spin\n  text_size: 1.5\n"
+                                                   "  hud:\n    corner: bottom_right\n    lines: [\"{{ "
+                                                   "{handle.omega.y:+8.3e} }} {|L|} {omega} {frame}\"]\n"));
   const HudLine& h = s.overlays.hud[0];
   ASSERT_EQ(h.fields.size(), 4u);
   EXPECT_EQ(h.text[0], "{ ");
@@ -91,30 +94,40 @@ TEST(SceneOverlays, MistakesNameFileLineAndKey) {
                       "'angular_velocity'?"),
             std::string::npos)
       << error_of(show + "      - angular_velocty\n");
-  EXPECT_NE(error_of(show + "      - { trail: { lenght: 2 } }\n")
-                .find("bad_overlay.yaml:6:20: bodies[0].show[0].trail.lenght: unknown key 'lenght'; did you mean "
-                      "'length'?"),
-            std::string::npos)
+  EXPECT_NE(
+      error_of(show + "      - { trail: { lenght: 2 } }\n")
+          .find("bad_overlay.yaml:6:20: bodies[0].show[0].trail.lenght: unknown key 'lenght'; did you mean "
+                "'length'?"),
+      std::string::npos)
       << error_of(show + "      - { trail: { lenght: 2 } }\n");
-  EXPECT_NE(error_of(show + "      - { trail: { frame: space } }\n").find("bodies[0].show[0].trail.frame: expected body"),
+  EXPECT_NE(error_of(show + "      - { trail: { frame: space } }\n")
+                .find("bodies[0].show[0].trail.frame: expected body"),
             std::string::npos);
-  EXPECT_NE(error_of(show + "      - { velocity: { scale: -1 } }\n").find("bodies[0].show[0].velocity.scale: must lie in"),
+  EXPECT_NE(error_of(show + "      - { velocity: { scale: -1 } }\n")
+                .find("bodies[0].show[0].velocity.scale: must lie in"),
             std::string::npos);
-  EXPECT_NE(error_of(show + "      - { axes: { color: [1, 0, 0] } }\n").find("unknown key 'color'"), std::string::npos);
+  EXPECT_NE(error_of(show + "      - { axes: { color: [1, 0, 0] } }\n").find("unknown key 'color'"),
+            std::string::npos);
   EXPECT_NE(error_of(show + "      - 3\n").find("unknown item '3'"), std::string::npos);
-  EXPECT_NE(error_of(std::string(kHead) + "overlays:\n  hud: [\"{omgea:.2f}\"]\n")
-                .find("bad_overlay.yaml:6:9: overlays.hud[0]: '{omgea:.2f}': unknown quantity 'omgea'; did you mean "
-                      "'omega'?"),
-            std::string::npos)
+  EXPECT_NE(
+      error_of(std::string(kHead) + "overlays:\n  hud: [\"{omgea:.2f}\"]\n")
+          .find(
+              "bad_overlay.yaml:6:9: overlays.hud[0]: '{omgea:.2f}': unknown quantity 'omgea'; did you mean "
+              "'omega'?"),
+      std::string::npos)
       << error_of(std::string(kHead) + "overlays:\n  hud: [\"{omgea:.2f}\"]\n");
-  EXPECT_NE(error_of(std::string(kHead) + "overlays:\n  hud: [\"{t:.2q}\"]\n").find("format '.2q'"), std::string::npos);
+  EXPECT_NE(error_of(std::string(kHead) + "overlays:\n  hud: [\"{t:.2q}\"]\n").find("format '.2q'"),
+            std::string::npos);
   EXPECT_NE(error_of(std::string(kHead) + "overlays:\n  hud: [\"{hanlde.omega}\"]\n")
                 .find("no body is named 'hanlde'; did you mean 'handle'?"),
             std::string::npos);
-  EXPECT_NE(error_of(std::string(kHead) + "overlays:\n  hud: [\"{t\"]\n").find("without its '}'"), std::string::npos);
-  EXPECT_NE(error_of(std::string(kHead) + "overlays:\n  hud: [\"{handle.t}\"]\n").find("number of the whole scene"),
+  EXPECT_NE(error_of(std::string(kHead) + "overlays:\n  hud: [\"{t\"]\n").find("without its '}'"),
             std::string::npos);
-  EXPECT_NE(error_of(std::string(kHead) + "overlays:\n  hdu: []\n").find("overlays.hdu: unknown key 'hdu'; did you mean 'hud'?"),
+  EXPECT_NE(
+      error_of(std::string(kHead) + "overlays:\n  hud: [\"{handle.t}\"]\n").find("number of the whole scene"),
+      std::string::npos);
+  EXPECT_NE(error_of(std::string(kHead) + "overlays:\n  hdu: []\n")
+                .find("overlays.hdu: unknown key 'hdu'; did you mean 'hud'?"),
             std::string::npos);
   EXPECT_NE(error_of(std::string(kHead) + "overlays:\n  hud: { lines: [a], corner: middle }\n")
                 .find("overlays.hud.corner: expected top_left"),

@@ -386,8 +386,12 @@ TEST(Render, EglBackendDrawsTheSameFramesAsOsMesa) {
       for (BodyDef& b : bodies) b.p_WB = 0.5 * b.p_WB - Vec3(1, 1, 49);
       auto osmesa = [](RenderSettings& rs) { rs.gl = GlBackend::osmesa, rs.ground_tile = 0.5; };
       auto egl = [](RenderSettings& rs) { rs.gl = GlBackend::egl, rs.ground_tile = 0.5; };
-      auto osmesa4 = [](RenderSettings& rs) { rs.gl = GlBackend::osmesa, rs.ground_tile = 0.5, rs.antialiasing = AntiAliasing::msaa4; };
-      auto egl4 = [](RenderSettings& rs) { rs.gl = GlBackend::egl, rs.ground_tile = 0.5, rs.antialiasing = AntiAliasing::msaa4; };
+      auto osmesa4 = [](RenderSettings& rs) {
+        rs.gl = GlBackend::osmesa, rs.ground_tile = 0.5, rs.antialiasing = AntiAliasing::msaa4;
+      };
+      auto egl4 = [](RenderSettings& rs) {
+        rs.gl = GlBackend::egl, rs.ground_tile = 0.5, rs.antialiasing = AntiAliasing::msaa4;
+      };
       Fixture s(bodies, c, true, true, k == 0 ? (msaa ? +osmesa4 : +osmesa) : (msaa ? +egl4 : +egl));
       description[k] = s.renderer->description();
       for (int f = 0; f < 3; ++f) {

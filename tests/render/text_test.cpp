@@ -82,8 +82,8 @@ TEST(Text, CompositeBlendsAndClips) {
   composite(l, img.data(), W, H);
   EXPECT_EQ(img[0], (255 * 127 + 0 * 128 + 127) / 255);  // red, then half blue over it
   EXPECT_EQ(img[2], (0 * 127 + 255 * 128 + 127) / 255);
-  EXPECT_EQ(img[3], 100);                                 // alpha left alone
-  EXPECT_EQ(img[(10 * W + 10) * 4], 100);                  // outside both
+  EXPECT_EQ(img[3], 100);                  // alpha left alone
+  EXPECT_EQ(img[(10 * W + 10) * 4], 100);  // outside both
 }
 
 }  // namespace
