@@ -37,6 +37,8 @@ int default_color(ShowKind k) {
     case ShowKind::center_of_mass:
     case ShowKind::axes:
       return 0;  // black
+    case ShowKind::cones:
+      return 1;  // orange (the body cone; the space cone is blue, as L)
   }
   return 0;
 }
@@ -135,6 +137,8 @@ SceneOverlays::SceneOverlays(const Scene& scene, const World& world, const std::
       it.radius = 0.018 * R * it.spec.width;
     } else if (it.spec.kind == ShowKind::center_of_mass) {
       it.scale = it.spec.scale ? *it.spec.scale : 0.07 * R;
+    } else if (it.spec.kind == ShowKind::cones) {
+      it.scale = it.spec.scale ? *it.spec.scale : kArrowReach * R;  // slant: an auto-scaled omega's length
     }
   }
   E0_ = world.kinetic_energy() + world.potential_energy();
@@ -231,7 +235,28 @@ void SceneOverlays::build(const World& w, long frame, DrawList& dl) {
         break;
       }
       case ShowKind::trail:
+      case ShowKind::cones:  // below, after every other item: translucent
         break;
+    }
+  }
+  for (const Item& it : items_) {
+    if (it.spec.kind != ShowKind::cones) continue;
+    // The body cone (swept by omega about the symmetry axis, fixed in the body) and the space
+    // cone (swept about L, fixed in space): the body cone rolls on the space cone along omega.
+    // The symmetry axis is the principal axis whose moment stands apart from the other two.
+    const int i = it.body;
+    const Vec3 c = w.centroid(i), om = w.angular_velocity(i), L = w.angular_momentum(i);
+    if (!(om.norm() > 0) || !(L.norm() > 0)) continue;
+    const Vec3 u = om.normalized();
+    const Vec3 I = w.model(i).I_P;
+    const Mat3 R = w.state(i).q_WP.toRotationMatrix();
+    Vec3 s = R.col(std::fabs(I[0] - I[1]) < std::fabs(I[1] - I[2]) ? 2 : 0);
+    if (s.dot(u) < 0) s = -s;
+    const float a = (float)it.spec.opacity, xray = (float)it.spec.xray;
+    for (const auto& [axis, color] :
+         {std::pair<Vec3, Rgba>{s, okabe_ito(1, a)}, {L.normalized(), okabe_ito(5, a)}}) {
+      const double cosb = std::clamp(u.dot(axis), -1.0, 1.0), sinb = std::sqrt(1 - cosb * cosb);
+      dl.overlay.cone(c, axis * (it.scale * cosb), it.scale * sinb, color, xray);
     }
   }
   const long now = w.steps();

@@ -96,6 +96,7 @@ const std::vector<std::pair<std::string, ShowKind>>& kinds() {
       {"trail", ShowKind::trail},
       {"inertia_box", ShowKind::inertia_box},
       {"inertia_ellipsoid", ShowKind::inertia_ellipsoid},
+      {"cones", ShowKind::cones},
   };
   return k;
 }
@@ -116,6 +117,8 @@ std::vector<std::string> keys_of(ShowKind k) {
     case ShowKind::inertia_box:
     case ShowKind::inertia_ellipsoid:
       return {"color", "opacity"};
+    case ShowKind::cones:
+      return {"scale", "opacity", "xray"};
   }
   return {};
 }
@@ -148,6 +151,7 @@ ShowItem show_item(const YAML::Node& n, const Where& w, double duration) {
   ShowItem item;
   item.kind = kinds()[(size_t)(it - names.begin())].second;
   if (item.kind == ShowKind::inertia_box || item.kind == ShowKind::inertia_ellipsoid) item.opacity = 0.35;
+  if (item.kind == ShowKind::cones) item.opacity = 0.3;
   if (item.kind == ShowKind::trail) item.width = 3;
   if (!opts || opts.IsNull()) return item;
   const Where c = w.child(name);

@@ -36,6 +36,7 @@ enum class ShowKind {
   trail,              ///< the path of a body point, fading over `length` seconds
   inertia_box,        ///< the uniform box with the body's mass and principal moments
   inertia_ellipsoid,  ///< the uniform solid ellipsoid with the body's mass and principal moments
+  cones,              ///< body and space cones: omega's cone about the symmetry axis and about L
 };
 const char* to_string(ShowKind k);
 

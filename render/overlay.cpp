@@ -44,6 +44,21 @@ void OverlayList::arrow(const Vec3& from, const Vec3& vec, double radius, const 
   instances[(int)OverlayShape::cone].push_back({along(base, from + vec - base, 2.5 * radius), color, xray});
 }
 
+void OverlayList::cone(const Vec3& apex, const Vec3& axis, double radius, const Rgba& color, float xray) {
+  const double h = axis.norm();
+  if (!(h > 0) || !std::isfinite(h) || !(radius >= 0)) return;
+  Vec3 e1, e2;
+  basis(axis / h, e1, e2);
+  // The unit cone's base (z = 0) at apex + axis and its tip (z = 1) at the apex: columns e2, e1,
+  // -axis keep the determinant positive (the winding, and with it back-face culling, unchanged).
+  Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
+  m.block<3, 1>(0, 0) = e2 * radius;
+  m.block<3, 1>(0, 1) = e1 * radius;
+  m.block<3, 1>(0, 2) = -axis;
+  m.block<3, 1>(0, 3) = apex + axis;
+  instances[(int)OverlayShape::cone].push_back({m.cast<float>(), color, xray});
+}
+
 void OverlayList::rod(const Vec3& a, const Vec3& b, double radius, const Rgba& color, float xray) {
   const Vec3 ab = b - a;
   if (!(ab.norm() > 0) || !std::isfinite(ab.norm())) return;

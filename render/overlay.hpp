@@ -49,6 +49,9 @@ struct OverlayList {
   // radius 2.5 * radius and length min(6 * radius, 0.4 |vec|), its tip exactly at from + vec.
   // Nothing for a vector shorter than a tenth of the radius.
   void arrow(const Vec3& from, const Vec3& vec, double radius, const Rgba& color, float xray = 0);
+  // A cone with its apex at `apex`, opening along `axis` (m: apex to the base's centre), base
+  // radius `radius` (m).
+  void cone(const Vec3& apex, const Vec3& axis, double radius, const Rgba& color, float xray = 0);
   // A rod (capped cylinder) from a to b.
   void rod(const Vec3& a, const Vec3& b, double radius, const Rgba& color, float xray = 0);
   // A sphere, or an ellipsoid: centre, semi-axes (m) along the columns of `axes` (orthonormal).

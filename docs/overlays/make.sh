@@ -53,6 +53,19 @@ handle "[ { center_of_mass: { xray: 0.8, color: [0.9, 0.6, 0] } }, { axes: { opa
   render center_of_mass 1.0
 handle "[ inertia_box ]" "" > "$tmp/inertia_box.yaml" && render inertia_box 1.0
 handle "[ inertia_ellipsoid ]" "" > "$tmp/inertia_ellipsoid.yaml" && render inertia_ellipsoid 1.0
+cat > "$tmp/cones.yaml" <<YAML
+simulation: { duration: 2, gravity: [0, 0, 0] }
+video: { width: 320, height: 180 }
+camera: { position: [2.0, -2.0, 1.5], look_at: [0, 0, 0.3], fov: 40 }
+bodies:
+  - name: disc
+    orientation: [0.9659258262890683, 0.25881904510252074, 0, 0]
+    angular_velocity: [0, 0, 4]
+    color: [0.2, 0.6, 0.35]
+    show: [ { cones: { scale: 0.8 } }, { angular_velocity: { scale: 0.2 } } ]
+    colliders: [ { shape: cylinder, radius: 0.6, height: 0.08 } ]
+YAML
+render cones 1.0
 thrown "[ { velocity: { scale: 0.15 } }, { trail: { length: 0.3, width: 2 } } ]" > "$tmp/velocity.yaml" && render velocity 0.3
 thrown "[ { trail: { point: [0, 0, 0.3], length: 1.0 } }, { trail: { point: [0, 0, 0], length: 1.0, color: [0.8, 0.1, 0.1] } } ]" \
   > "$tmp/trail.yaml" && render trail 1.0

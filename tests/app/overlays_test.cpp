@@ -312,6 +312,42 @@ TEST(Overlays, HudGlyphsAppearWhereTheFontPutsThemAndStayCrispAfterFxaa) {
   EXPECT_NE(with.frame, without.frame);
 }
 
+// The body cone (about the symmetry axis) and the space cone (about L) touch along omega: omega's
+// direction at the cones' slant lies on both base circles; the space cone stays put.
+TEST(Overlays, BodyAndSpaceConesMeetAlongOmegaAndTheSpaceConeStandsStill) {
+  const std::string path =
+      write_scene("cones.yaml",
+                  "simulation: { duration: 2, gravity: [0, 0, 0] }\n"
+                  "video: { width: 64, height: 48 }\n"
+                  "bodies:\n"
+                  "  - { name: disc, orientation: [0.9659258262890683, 0.25881904510252074, 0, 0],\n"
+                  "      angular_velocity: [0, 0, 4],\n"
+                  "      colliders: [ { shape: cylinder, radius: 0.6, height: 0.08 } ],\n"
+                  "      show: [ { cones: { scale: 0.8 } } ] }\n");
+  Drawn d(path);
+  Eigen::Matrix4f space0 = Eigen::Matrix4f::Zero();
+  for (long k : {0L, 17L, 45L}) {
+    d.draw_frame(k);
+    DrawList dl;
+    dl.camera = d.view->camera;
+    d.view->overlays->build(d.loop->world(), k, dl);
+    const auto& cones = dl.overlay.instances[(int)OverlayShape::cone];
+    ASSERT_EQ(cones.size(), 2u);
+    const World& w = d.loop->world();
+    const Vec3 p = w.centroid(0) + 0.8 * w.angular_velocity(0).normalized();  // on the contact line
+    for (const OverlayInstance& c : cones) {
+      const Eigen::Vector4d q = c.model.cast<double>().inverse() * Eigen::Vector4d(p.x(), p.y(), p.z(), 1);
+      EXPECT_NEAR(q.z(), 0, 1e-5) << "frame " << k;                     // on the base's plane
+      EXPECT_NEAR(std::hypot(q.x(), q.y()), 1, 1e-5) << "frame " << k;  // on its rim
+    }
+    if (k == 0) space0 = cones[1].model;
+    EXPECT_LT((cones[1].model - space0).cwiseAbs().maxCoeff(), 1e-5) << "the space cone moved by frame " << k;
+    if (k > 0) {
+      EXPECT_GT((cones[0].model.col(2) - space0.col(2)).norm(), 1e-3) << "the body cone turns";
+    }
+  }
+}
+
 TEST(Overlays, ScenesWithoutOverlaysHaveNone) {
   Drawn d(write_scene("none.yaml", "bodies: [ { name: a, colliders: [ { shape: sphere, radius: 1 } ] } ]\n"));
   EXPECT_EQ(d.view->overlays, nullptr);
