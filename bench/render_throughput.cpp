@@ -89,7 +89,7 @@ struct Setup {
 
 // The same clip as a scene with teaching overlays (issue 12): an angular velocity arrow on every
 // box, scaled by the pre-pass (which simulates the clip once more first), and a three-line HUD.
-Scene overlay_scene(const Boxes& b, int frames) {
+Scene overlay_scene(const Boxes& b, int frames, int parts = 3) {  // parts: 1 arrows, 2 HUD, 3 both
   Scene sc;
   sc.name = "bench_overlays";
   sc.timestep = Setup::config().dt;
@@ -99,7 +99,8 @@ Scene overlay_scene(const Boxes& b, int frames) {
   sc.bodies = b.bodies;
   ShowItem omega;
   omega.kind = ShowKind::angular_velocity;
-  sc.overlays.show.assign(b.bodies.size(), {omega});
+  sc.overlays.show.assign(b.bodies.size(), {});
+  if (parts & 1) sc.overlays.show.assign(b.bodies.size(), {omega});
   auto line = [](std::vector<std::string> text, std::vector<HudField> fields) {
     HudLine l;
     l.text = std::move(text);
@@ -110,6 +111,7 @@ Scene overlay_scene(const Boxes& b, int frames) {
                      line({"E/E\u2080 \u2212 1 = ", ""}, {{"E_drift", -1, -1, false, "%+.1e"}}),
                      line({"|\u03c9| of box0 = ", " rad/s"}, {{"omega", 0, -1, true, "%.3f"}})};
   sc.overlays.title = "100 boxes";
+  if (!(parts & 2)) sc.overlays.hud.clear(), sc.overlays.title.clear();
   return sc;
 }
 
@@ -133,6 +135,8 @@ RenderSettings settings(const std::string& aa, bool shadows = true, int shadow_s
 
 int main(int argc, char** argv) {
   const int frames = argc > 1 ? std::atoi(argv[1]) : 300;
+  // `overlays`: only the render-only rows with and without overlays (a quick look at their cost).
+  const bool only_overlays = argc > 2 && std::string(argv[2]) == "overlays";
   const auto bodies = hundred_boxes();
   std::printf("case,frames,width,height,seconds,fps,note\n");
   // The note is quoted (RFC 4180): renderer strings hold commas.
@@ -155,15 +159,20 @@ int main(int argc, char** argv) {
     bool shadows;
     int shadow_size;
     GlBackend gl = default_gl_backend();
+    int overlays = 0;  // overlay_scene's parts: 1 an arrow per box, 2 a title and HUD, 3 both
   };
   std::vector<Mode> modes;
   for (const Mode m :
        {Mode{"fxaa_shadow1024", "fxaa", true, 1024}, Mode{"msaa4_shadow1024", "msaa4", true, 1024},
         Mode{"none_shadow1024", "none", true, 1024}, Mode{"fxaa_shadow2048", "fxaa", true, 2048},
         Mode{"fxaa_no_shadows", "fxaa", false, 0}, Mode{"none_no_shadows", "none", false, 0},
-        Mode{"fxaa_shadow1024_egl", "fxaa", true, 1024, GlBackend::egl}})
-    if (gl_backend_built(m.gl)) modes.push_back(m);
-  std::vector<std::vector<double>> seconds(modes.size());
+        Mode{"fxaa_shadow1024_egl", "fxaa", true, 1024, GlBackend::egl},
+        Mode{"fxaa_shadow1024_overlays", "fxaa", true, 1024, default_gl_backend(), 3},
+        Mode{"fxaa_shadow1024_arrows", "fxaa", true, 1024, default_gl_backend(), 1},
+        Mode{"fxaa_shadow1024_hud", "fxaa", true, 1024, default_gl_backend(), 2}})
+    if (gl_backend_built(m.gl) && (!only_overlays || m.overlays || std::string(m.name) == "fxaa_shadow1024"))
+      modes.push_back(m);
+  std::vector<std::vector<double>> seconds(modes.size()), cpu(modes.size());
   std::vector<std::string> described(modes.size());
   for (int round = 0; round < 3; ++round)
     for (size_t i = 0; i < modes.size(); ++i) {
@@ -172,31 +181,47 @@ int main(int argc, char** argv) {
       RenderSettings rs = settings(m.aa, m.shadows, m.shadow_size);
       rs.gl = m.gl;
       Renderer r(rs, s.meshes);
+      std::unique_ptr<SceneOverlays> ov;
+      if (m.overlays) {
+        std::vector<double> radius;
+        for (int b = 0; b < s.loop.world().body_count(); ++b) radius.push_back(s.meshes.meshes[b].radius);
+        ov = std::make_unique<SceneOverlays>(overlay_scene(bodies, frames, m.overlays), s.loop.world(),
+                                             radius, W, H, 1);
+      }
       DrawList dl;
       build_draw_list(s.loop.world(), s.meshes, s.cam, -1, dl);
+      if (ov) ov->build(s.loop.world(), 0, dl);
       r.render(dl);  // first frame compiles shaders: not timed
-      FILE* out = round == 0 && i == 0 ? std::fopen(raw.c_str(), "wb") : nullptr;  // the defaults
-      double t = 0;
+      FILE* out =
+          round == 0 && i == 0 && !only_overlays ? std::fopen(raw.c_str(), "wb") : nullptr;  // the defaults
+      double t = 0, c = 0;
+      long k = 0;
       s.run([&](const World& w) {
-        const double t0 = bench::now_s();
+        const double t0 = bench::now_s(), c0 = cpu_s();
         build_draw_list(w, s.meshes, s.cam, -1, dl);
+        if (ov) ov->build(w, k++, dl);
         const uint8_t* img = r.render(dl);
         t += bench::now_s() - t0;
+        c += cpu_s() - c0;
         if (out) std::fwrite(img, 1, (size_t)W * H * 4, out);
       });
       if (out) std::fclose(out);
       seconds[i].push_back(t);
+      cpu[i].push_back(c);
       described[i] = r.description();
     }
   for (size_t i = 0; i < modes.size(); ++i) {
     std::vector<double> v = seconds[i];
     std::sort(v.begin(), v.end());
-    char runs[96];
-    std::snprintf(runs, sizeof runs, "runs %.3f %.3f %.3f s, the median reported; ", seconds[i][0],
-                  seconds[i][1], seconds[i][2]);
+    std::vector<double> c = cpu[i];
+    std::sort(c.begin(), c.end());
+    char runs[160];
+    std::snprintf(runs, sizeof runs, "runs %.3f %.3f %.3f s, the median reported; CPU median %.3f s; ",
+                  seconds[i][0], seconds[i][1], seconds[i][2], c[1]);
     row((std::string("render_only_") + modes[i].name).c_str(), v[1],
         std::string("draw list + GL passes + readback (+ FXAA); ") + runs + described[i]);
   }
+  if (only_overlays) return 0;
 
   // End to end, in process: what `simreel render` does (FXAA on the writer's thread).
   double last_cpu = 0;  // CPU seconds of the last end_to_end run
@@ -208,10 +233,13 @@ int main(int argc, char** argv) {
         PostStage::caller;  // FXAA and the screen layer on the writer's thread, as `simreel render` does
     Renderer r(rs, s.meshes);
     std::unique_ptr<SceneOverlays> ov;
+    double setup_s = 0;
     if (overlays) {  // the pre-pass, the fonts: inside the timed span, as in `simreel render`
+      const double s0 = bench::now_s();
       std::vector<double> radius;
       for (int i = 0; i < s.loop.world().body_count(); ++i) radius.push_back(s.meshes.meshes[i].radius);
       ov = std::make_unique<SceneOverlays>(overlay_scene(bodies, frames), s.loop.world(), radius, W, H, 1);
+      setup_s = bench::now_s() - s0;
     }
     VideoSettings vs;
     vs.fxaa = rs.fxaa();
@@ -231,7 +259,10 @@ int main(int argc, char** argv) {
     v.finish();
     const double t = bench::now_s() - t0;
     last_cpu = cpu_s() - c0;
-    note = "simulate + render + libx264 veryfast crf20 on its thread; CPU " +
+    note = std::string(overlays ? "overlays set up (pre-pass, fonts) in " +
+                                      std::to_string(setup_s).substr(0, 5) + " s; "
+                                : "") +
+           "simulate + render + libx264 veryfast crf20 on its thread; CPU " +
            std::to_string(last_cpu).substr(0, 6) + " s (all threads); encoder busy " +
            std::to_string(v.encode_seconds()) + " s; " + std::to_string(std::filesystem::file_size(vs.path)) +
            " bytes";

@@ -20,7 +20,7 @@ enum class OverlayShape { cylinder, cone, sphere };
 inline constexpr int kOverlayShapes = 3;
 
 struct OverlayInstance {
-  Eigen::Matrix4f model;  ///< unit mesh to world (any affine map)
+  Eigen::Matrix4f model;  ///< unit mesh to world: affine, its 3x3 part with orthogonal columns
   Rgba color{1, 1, 1, 1};
   float xray = 0;  ///< opacity of the parts hidden behind bodies; 0: hidden parts not drawn
 };

@@ -566,8 +566,8 @@ struct Renderer::Impl {
   void setup_overlay() {
     ov_solid = overlay_program(false);
     ov_ribbon = overlay_program(true);
-    RenderMesh unit[kOverlayShapes] = {tessellate_cylinder(1, 1, 20), tessellate_cone(1, 1, 20),
-                                       tessellate_sphere(1, 16)};
+    RenderMesh unit[kOverlayShapes] = {tessellate_cylinder(1, 1, 12), tessellate_cone(1, 1, 16),
+                                       tessellate_sphere(1, 12)};
     for (size_t i = 2; i < unit[0].vertices.size(); i += 6) unit[0].vertices[i] += 0.5f;  // z from 0 to 1
     for (int k = 0; k < kOverlayShapes; ++k) {
       ov_mesh[k] = upload(unit[k]);
@@ -633,6 +633,7 @@ struct Renderer::Impl {
     if (!ov_ready) setup_overlay();
     size_t count[kOverlayShapes];
     bool any_xray = ov.ribbon_xray > 0 && !ov.ribbons.empty();
+    bool translucent = !ov.ribbons.empty();  // blending only when needed: it costs llvmpipe a read
     for (int k = 0; k < kOverlayShapes; ++k) {
       const auto& v = ov.instances[k];
       count[k] = v.size();
@@ -645,6 +646,7 @@ struct Renderer::Impl {
         d[20] = in.xray;
         d += 21;
         any_xray = any_xray || in.xray > 0;
+        translucent = translucent || in.color[3] < 1;
       }
       stream(ov_inst_vbo[k], ov_inst_capacity[k], ov_staging.data(), ov_staging.size() * sizeof(float));
     }
@@ -656,7 +658,7 @@ struct Renderer::Impl {
       glUniform3f(p->eye, eye.x(), eye.y(), eye.z());
       glUniform1f(p->ribbon_xray, ov.ribbon_xray);
     }
-    glEnable(GL_BLEND);
+    if (translucent || any_xray) glEnable(GL_BLEND);
     glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);
     auto solids = [&] {
       glUseProgram(ov_solid.id);

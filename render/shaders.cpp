@@ -148,7 +148,10 @@ void main() {
   mat4 model = mat4(i_m0, i_m1, i_m2, i_m3);
   vec4 w = model * vec4(a_pos, 1.0);
   v_pos = w.xyz;
-  v_nrm = transpose(inverse(mat3(model))) * a_nrm;
+  // Instances have orthogonal columns (a rotation times a scaling): the inverse transpose is the
+  // matrix with each column divided by its squared length (no inverse() per vertex on llvmpipe).
+  mat3 m = mat3(model);
+  v_nrm = m * (a_nrm / vec3(dot(m[0], m[0]), dot(m[1], m[1]), dot(m[2], m[2])));
   v_color = i_color;
   v_xray = i_xray;
   gl_Position = u_viewproj * w;
