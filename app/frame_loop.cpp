@@ -117,7 +117,8 @@ std::vector<FrameTarget> FrameLoop::all_frames() const {
   return out;
 }
 
-void FrameLoop::advance_to(long step, const std::atomic<int>* stop) {
+void FrameLoop::advance_to(long step, const Hooks& hooks) {
+  const std::atomic<int>* stop = hooks.stop;
   const size_t n = plan_.frame_step.size();
   for (;;) {
     // Frames of the plan at the current step: the drift is sampled there, whatever is drawn.
@@ -137,6 +138,7 @@ void FrameLoop::advance_to(long step, const std::atomic<int>* stop) {
         break;
       }
       world_.step();
+      if (hooks.step) hooks.step(world_);
     }
     step_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (interrupted_) return;
@@ -145,9 +147,10 @@ void FrameLoop::advance_to(long step, const std::atomic<int>* stop) {
 
 long FrameLoop::run(const std::vector<FrameTarget>& targets, const Hooks& hooks, bool to_end) {
   long done = 0;
+  if (hooks.step) hooks.step(world_);  // the state the run starts from
   for (const FrameTarget& t : targets) {
     if (t.step < world_.steps()) continue;  // before a resumed world's start
-    advance_to(t.step, hooks.stop);
+    advance_to(t.step, hooks);
     if (interrupted_) return done;
     if (hooks.frame) hooks.frame(t, world_);
     ++done;
@@ -158,7 +161,7 @@ long FrameLoop::run(const std::vector<FrameTarget>& targets, const Hooks& hooks,
     }
   }
   if (to_end) {
-    advance_to(plan_.total_steps, hooks.stop);
+    advance_to(plan_.total_steps, hooks);
     if (!interrupted_) drift_.sample(world_);  // the end, whether or not a frame falls there
   }
   return done;

@@ -64,6 +64,10 @@ class FrameLoop {
   struct Hooks {
     std::function<void(const FrameTarget&, const World&)> frame;  ///< at each target, in order
     std::function<void(long done)> progress;                      ///< after each target
+    /// At every physics step the loop runs through, drawn or not (and once at the state it
+    /// starts from): what a trail's history is recorded from (app/overlays.hpp), so it depends on
+    /// the steps alone, never on which frames are drawn.
+    std::function<void(const World&)> step;
     const std::atomic<int>* stop = nullptr;  ///< checked between steps: non-zero ends the run early
   };
   // Steps from the world's current step through `targets` (sorted by step, from parse_frame_spec or
@@ -75,7 +79,7 @@ class FrameLoop {
   long run(const std::vector<FrameTarget>& targets, const Hooks& hooks, bool to_end);
 
  private:
-  void advance_to(long step, const std::atomic<int>* stop);
+  void advance_to(long step, const Hooks& hooks);
 
   World world_;
   double fps_;

@@ -140,12 +140,14 @@ int render_at(const ParsedArgs& a, const Scene& scene, FrameLoop& loop, int w, i
   check_output(path, {".png"}, "--at's output");
   ViewOptions o = view_options(a);
   o.width = w, o.height = h;
+  o.threads = loop.world().config().threads;
   SceneView view(scene, loop.world(), o);
   Renderer renderer(view.settings, view.meshes);
   const FrameTarget target{-1, t, step_at(t, scene.timestep, loop.plan().total_steps)};
   double render_s = 0;
   FrameLoop::Hooks hooks;
   hooks.stop = &stop.flag();
+  hooks.step = view.step_hook();  // trails: every physics step, drawn or not
   hooks.frame = [&](const FrameTarget&, const World& world) {
     const auto t0 = std::chrono::steady_clock::now();
     const uint8_t* rgba = view.draw(renderer, world);
@@ -237,9 +239,12 @@ int cmd_render(const std::vector<std::string>& args) {
 
   ViewOptions o = view_options(a);
   o.width = w, o.height = h;
+  o.threads = threads;
   SceneView view(scene, loop.world(), o);
-  view.settings.fxaa = false;  // FXAA runs on the writer's thread, overlapping the next frame's rendering
-  vs.fxaa = view.aa == AntiAliasing::fxaa;
+  // The post stage (FXAA, then the screen layer) runs on the writer's thread, overlapping the next
+  // frame's rendering.
+  view.settings.post = PostStage::caller;
+  vs.fxaa = view.settings.fxaa();
   Renderer renderer(view.settings, view.meshes);
   VideoWriter writer(vs);
 
@@ -247,6 +252,7 @@ int cmd_render(const std::vector<std::string>& args) {
   double render_s = 0;
   FrameLoop::Hooks hooks;
   hooks.stop = &stop.flag();
+  hooks.step = view.step_hook();  // trails: every physics step, drawn or not
   // Frames that show no body at all: most of them empty means a camera or a scale gone wrong.
   const std::vector<double> radii = body_radii(loop.world());
   const double aspect = (double)w / h;
@@ -258,8 +264,8 @@ int cmd_render(const std::vector<std::string>& args) {
                                               view.camera.up, view.camera.fov_deg, aspect) ||
                             body_around(world, radii, view.camera.eye) >= 0))
       ++empty;
-    view.draw(renderer, world, writer.acquire());  // read back straight into the writer's queue
-    writer.commit(t.index);
+    view.draw(renderer, world, writer.acquire(), t.index);  // read back straight into the writer's queue
+    writer.commit(t.index, &view.screen());
     render_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   };
   hooks.progress = [&](long done) { progress.update(done); };

@@ -531,10 +531,9 @@ struct Loader {
   }
 
   BodyDef body(const YAML::Node& n, const Ctx& c, size_t i, BodyLook& look) {
-    check_keys(
-        n, c,
-        {"name", "position", "orientation", "euler", "axis_angle", "linear_velocity", "angular_velocity",
-         "angular_velocity_body", "type", "static", "color", "integrator", "colliders"});
+    check_keys(n, c,
+               {"name", "position", "orientation", "euler", "axis_angle", "linear_velocity", "angular_velocity",
+                "angular_velocity_body", "type", "static", "color", "integrator", "colliders", "show"});
     BodyDef b;
     b.name = n["name"] ? text(n["name"], c.child("name")) : "body" + std::to_string(i);
     if (n["position"]) b.p_WB = vec<3>(n["position"], c.child("position"));
@@ -659,7 +658,8 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
   const Ctx top(path, "");
   if (!root.IsMap())
     top.fail(root, "a scene is a mapping with keys simulation, video, camera, render, ground, bodies");
-  check_keys(root, top, {"simulation", "video", "camera", "render", "ground", "bodies", "test", "forces"});
+  check_keys(root, top,
+             {"simulation", "video", "camera", "render", "ground", "bodies", "test", "forces", "overlays"});
 
   if (const YAML::Node sim = root["simulation"]) {
     const Ctx c = top.child("simulation");
@@ -861,6 +861,7 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
       }
     }
   }
+  load_overlays(root, path, s);  // bodies' show: and overlays: (app/scene_overlays.cpp)
   return s;
 }
 

@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "app/scene_overlays.hpp"
+#include "render/render_settings.hpp"
 #include "sim/body.hpp"
 #include "sim/contact_settings.hpp"
 #include "sim/forces.hpp"
@@ -13,9 +15,9 @@
 namespace simreel {
 
 struct VideoSpec {
-  int width = 1280;  ///< px
-  int height = 720;  ///< px
-  double fps = 30;   ///< frames per second of simulated time
+  int width = kDefaultWidth;    ///< px
+  int height = kDefaultHeight;  ///< px
+  double fps = 30;              ///< frames per second of simulated time
 };
 
 struct CameraSpec {
@@ -29,30 +31,20 @@ struct CameraSpec {
   bool fit = false;
 };
 
-// fxaa: edge anti-aliasing on the CPU after readback (cheap); msaa2/msaa4: GL multisampling
-// (smoother, ~13 ms more a 720p frame on llvmpipe); none.
-enum class AntiAliasing { none, fxaa, msaa2, msaa4 };
 const char* to_string(AntiAliasing a);
 std::optional<AntiAliasing> antialiasing_from_name(const std::string& name);
 
-struct RenderSpec {
-  bool shadows = true;
-  AntiAliasing antialiasing = AntiAliasing::fxaa;
-  std::array<float, 3> background{0.60f, 0.70f, 0.82f};  ///< linear RGB, top of the sky
-  bool ground = false;                                   ///< draw a checkered ground plane
-  double ground_height = 0;                              ///< m, z of the plane
-  double ground_size = 20;                               ///< m, side of the square
-  double ground_tile = 1;                                ///< m, checker tile
-};
+// The `render:` block: the look, whose fields and defaults live with the renderer's settings.
+using RenderSpec = RenderLook;
 
 // The top-level `ground`: a static body named "ground" with one plane collider (origin (0, 0, height),
 // normal +z) and the checkered ground drawn under the scene (render.ground draws without colliding).
 struct GroundSpec {
-  double height = 0;       ///< m, z of the plane
-  double friction = 0.6;   ///< Coulomb coefficient
-  double restitution = 0;  ///< in [0, 1]
-  double size = 20;        ///< m, side of the drawn square (the plane itself is infinite)
-  double tile = 1;         ///< m, checker tile
+  double height = 0;                       ///< m, z of the plane
+  double friction = 0.6;                   ///< Coulomb coefficient
+  double restitution = 0;                  ///< in [0, 1]
+  double size = RenderLook{}.ground_size;  ///< m, side of the drawn square (the plane is infinite)
+  double tile = RenderLook{}.ground_tile;  ///< m, checker tile
 };
 
 using Rgb = std::array<float, 3>;  ///< linear RGB in [0, 1]
@@ -97,6 +89,7 @@ struct Scene {
   std::optional<GroundSpec> ground;  ///< the top-level `ground` (its body is the last of `bodies`)
   ContactSettings contacts;          ///< simulation.contacts
   TestSpec test;                     ///< test: what `simreel check` compares
+  OverlaySpec overlays;              ///< bodies' `show:` and the `overlays:` block (app/scene_overlays.hpp)
   std::vector<std::pair<int, int>> ignore_pairs;  ///< simulation.ignore_pairs, as body indices
   std::vector<ForceDef> forces;    ///< the `forces:` list, by body index (app/scene_forces.cpp)
   std::vector<std::string> notes;  ///< what was done with mesh defects and ignored keys, with file and body

@@ -1,5 +1,7 @@
 #include "app/scene_view.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 namespace simreel {
@@ -21,8 +23,23 @@ SceneStyles styles_of(const Scene& scene) {
 
 }  // namespace
 
+// Each body's drawn size: the radius about its centre of mass that holds its drawn colliders.
+static std::vector<double> body_radii(const World& w, const SceneMeshes& sm) {
+  std::vector<double> r((size_t)w.body_count(), 0.0);
+  for (int i = 0; i < w.body_count(); ++i) {
+    const BodyDef& d = w.def(i);
+    for (size_t k = 0; k < d.colliders.size(); ++k) {
+      const int m = sm.mesh_of[i][k];
+      if (m < 0) continue;
+      r[i] = std::max(r[i], (d.colliders[k].p_BC - w.local_centroid(i)).norm() + sm.meshes[m].radius);
+    }
+    if (r[i] <= 0) r[i] = 0.5;
+  }
+  return r;
+}
+
 SceneView::SceneView(const Scene& scene, const World& world, const ViewOptions& o)
-    : meshes(world, styles_of(scene)) {
+    : meshes(world, styles_of(scene)), fps_(scene.video.fps) {
   RenderSettings& rs = settings;
   if (!o.gl.empty()) {
     const auto b = gl_backend_from_name(o.gl);
@@ -31,22 +48,16 @@ SceneView::SceneView(const Scene& scene, const World& world, const ViewOptions& 
       throw std::invalid_argument("this simreel was built without the " + o.gl + " backend");
     rs.gl = *b;
   }
+  static_cast<RenderLook&>(rs) = scene.render;  // the scene's look, field for field
   rs.width = o.width > 0 ? o.width : scene.video.width;
   rs.height = o.height > 0 ? o.height : scene.video.height;
-  aa = scene.render.antialiasing;
   if (!o.aa.empty()) {
     const auto m = antialiasing_from_name(o.aa);
     if (!m) throw std::invalid_argument("unknown --aa '" + o.aa + "' (fxaa, msaa2, msaa4, none)");
-    aa = *m;
+    rs.antialiasing = *m;
   }
-  rs.msaa = aa == AntiAliasing::msaa4 ? 4 : aa == AntiAliasing::msaa2 ? 2 : 1;
-  rs.fxaa = aa == AntiAliasing::fxaa;
-  rs.shadows = scene.render.shadows && !o.no_shadows;
-  rs.background = scene.render.background;
-  rs.ground = scene.render.ground;
-  rs.ground_height = scene.render.ground_height;
-  rs.ground_size = scene.render.ground_size;
-  rs.ground_tile = scene.render.ground_tile;
+  aa = rs.antialiasing;
+  if (o.no_shadows) rs.shadows = false;
 
   camera.eye = scene.camera.position;
   camera.target = scene.camera.look_at;
@@ -56,11 +67,21 @@ SceneView::SceneView(const Scene& scene, const World& world, const ViewOptions& 
     if (world.def(i).name == scene.camera.follow) follow = i;
   // A following camera moves every frame: caching the ground would only redraw the cache.
   rs.cache_ground = follow < 0;
+  if (scene.overlays.any())
+    overlays = std::make_unique<SceneOverlays>(scene, world, body_radii(world, meshes), rs.width, rs.height,
+                                               std::max(1, o.threads));
 }
 
-const uint8_t* SceneView::draw(Renderer& r, const World& world, uint8_t* out) {
+const uint8_t* SceneView::draw(Renderer& r, const World& world, uint8_t* out, long frame) {
   build_draw_list(world, meshes, camera, follow, dl_);
+  if (overlays) overlays->build(world, frame >= 0 ? frame : std::lround(world.time() * fps_), dl_);
   return r.render(dl_, out);
+}
+
+std::function<void(const World&)> SceneView::step_hook() {
+  if (!overlays || !overlays->has_trails()) return {};
+  SceneOverlays* o = overlays.get();
+  return [o](const World& w) { o->record(w); };
 }
 
 }  // namespace simreel

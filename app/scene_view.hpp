@@ -1,8 +1,12 @@
-// A scene as the renderer takes it: the render meshes and colours, the camera and the render
-// settings, made in one place for every command that draws frames (render, check).
+// A scene as the renderer takes it: the render meshes and colours, the camera, the render
+// settings and the teaching overlays (app/overlays.hpp), made in one place for every command that
+// draws frames (render, check).
 #pragma once
+#include <functional>
+#include <memory>
 #include <string>
 
+#include "app/overlays.hpp"
 #include "app/scene.hpp"
 #include "render/draw_list.hpp"
 #include "render/renderer.hpp"
@@ -15,7 +19,8 @@ struct ViewOptions {
   int width = 0, height = 0;  ///< px; 0: the scene's (odd sizes round up to even for video)
   std::string aa;             ///< "": the scene's; fxaa, msaa2, msaa4, none
   bool no_shadows = false;
-  std::string gl;  ///< "": the default backend; osmesa, egl
+  std::string gl;   ///< "": the default backend; osmesa, egl
+  int threads = 1;  ///< for the overlays' pre-pass (frames are the same for any count)
 };
 
 struct SceneView {
@@ -24,14 +29,22 @@ struct SceneView {
   int follow = -1;  ///< body the camera tracks, or -1
   RenderSettings settings;
   AntiAliasing aa = AntiAliasing::fxaa;
-  // Throws UsageError-like std::invalid_argument for an unknown backend or mode.
+  std::unique_ptr<SceneOverlays> overlays;  ///< null for a scene without `show:` or `overlays:`
+  // Throws UsageError-like std::invalid_argument for an unknown backend or mode. `world` must be
+  // at the scene's initial state (trails given in world coordinates, the HUD's E0 and L0).
   SceneView(const Scene& scene, const World& world, const ViewOptions& o);
-  // The frame of the world's present state, FXAA included when the settings ask for it in the
-  // renderer; valid until the next call.
-  const uint8_t* draw(Renderer& r, const World& world, uint8_t* out = nullptr);
+  // The frame of the world's present state, with the post stage (FXAA, screen layer) when the
+  // settings leave it to the renderer; valid until the next call. `frame`: the frame's number in
+  // the clip for the HUD (-1: the nearest frame to the world's time).
+  const uint8_t* draw(Renderer& r, const World& world, uint8_t* out = nullptr, long frame = -1);
+  // The screen layer of the last draw(): for a caller that runs the post stage itself.
+  const ScreenLayer& screen() const { return dl_.screen; }
+  // For FrameLoop::Hooks::step: records trails at every physics step (empty if none are shown).
+  std::function<void(const World&)> step_hook();
 
  private:
   DrawList dl_;
+  double fps_ = 30;
 };
 
 }  // namespace simreel

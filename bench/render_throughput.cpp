@@ -6,6 +6,8 @@
 //     the same encoder settings (libx264 veryfast, CRF 20, yuv420p), i.e. encoding alone.
 // CSV on stdout. Usage: bench_render_throughput [FRAMES]   (default 300; ffmpeg must be on PATH
 // for the ceiling row; the raw frames need FRAMES x 3.7 MB in the temp folder).
+#include <sys/resource.h>
+
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -14,6 +16,7 @@
 #include <vector>
 
 #include "app/frame_loop.hpp"
+#include "app/overlays.hpp"
 #include "bench/bench_util.hpp"
 #include "render/draw_list.hpp"
 #include "render/renderer.hpp"
@@ -26,6 +29,15 @@ using namespace simreel;
 namespace {
 
 constexpr int W = 1280, H = 720, kFps = 30;
+
+// CPU seconds of this process so far, every thread (llvmpipe's, the encoder's): steadier than
+// wall time on a machine shared with other work.
+double cpu_s() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return (double)(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
+         1e-6 * (double)(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
 
 // 100 boxes of assorted sizes in a 10 x 10 grid, 1.5 m apart, 1 m over the ground, spinning
 // with random angular velocities (no gravity, so the view stays full for the whole clip).
@@ -75,13 +87,43 @@ struct Setup {
   }
 };
 
+// The same clip as a scene with teaching overlays (issue 12): an angular velocity arrow on every
+// box, scaled by the pre-pass (which simulates the clip once more first), and a three-line HUD.
+Scene overlay_scene(const Boxes& b, int frames, int parts = 3) {  // parts: 1 arrows, 2 HUD, 3 both
+  Scene sc;
+  sc.name = "bench_overlays";
+  sc.timestep = Setup::config().dt;
+  sc.gravity = Setup::config().gravity;
+  sc.duration = (frames - 1) / (double)kFps;
+  sc.video.fps = kFps;
+  sc.bodies = b.bodies;
+  ShowItem omega;
+  omega.kind = ShowKind::angular_velocity;
+  sc.overlays.show.assign(b.bodies.size(), {});
+  if (parts & 1) sc.overlays.show.assign(b.bodies.size(), {omega});
+  auto line = [](std::vector<std::string> text, std::vector<HudField> fields) {
+    HudLine l;
+    l.text = std::move(text);
+    l.fields = std::move(fields);
+    return l;
+  };
+  sc.overlays.hud = {line({"t = ", " s"}, {{"t", -1, -1, false, "%.2f"}}),
+                     line({"E/E\u2080 \u2212 1 = ", ""}, {{"E_drift", -1, -1, false, "%+.1e"}}),
+                     line({"|\u03c9| of box0 = ", " rad/s"}, {{"omega", 0, -1, true, "%.3f"}})};
+  sc.overlays.title = "100 boxes";
+  if (!(parts & 2)) sc.overlays.hud.clear(), sc.overlays.title.clear();
+  return sc;
+}
+
 // aa: "fxaa" (the default), "msaa4", "msaa2" or "none".
 RenderSettings settings(const std::string& aa, bool shadows = true, int shadow_size = 1024) {
   RenderSettings rs;
   rs.width = W;
   rs.height = H;
-  rs.msaa = aa == "msaa4" ? 4 : aa == "msaa2" ? 2 : 1;
-  rs.fxaa = aa == "fxaa";
+  rs.antialiasing = aa == "msaa4"   ? AntiAliasing::msaa4
+                    : aa == "msaa2" ? AntiAliasing::msaa2
+                    : aa == "fxaa"  ? AntiAliasing::fxaa
+                                    : AntiAliasing::none;
   rs.shadow_size = shadow_size;
   rs.shadows = shadows;
   rs.ground = true;
@@ -93,6 +135,8 @@ RenderSettings settings(const std::string& aa, bool shadows = true, int shadow_s
 
 int main(int argc, char** argv) {
   const int frames = argc > 1 ? std::atoi(argv[1]) : 300;
+  // `overlays`: only the render-only rows with and without overlays (a quick look at their cost).
+  const bool only_overlays = argc > 2 && std::string(argv[2]) == "overlays";
   const auto bodies = hundred_boxes();
   std::printf("case,frames,width,height,seconds,fps,note\n");
   // The note is quoted (RFC 4180): renderer strings hold commas.
@@ -115,15 +159,20 @@ int main(int argc, char** argv) {
     bool shadows;
     int shadow_size;
     GlBackend gl = default_gl_backend();
+    int overlays = 0;  // overlay_scene's parts: 1 an arrow per box, 2 a title and HUD, 3 both
   };
   std::vector<Mode> modes;
   for (const Mode m :
        {Mode{"fxaa_shadow1024", "fxaa", true, 1024}, Mode{"msaa4_shadow1024", "msaa4", true, 1024},
         Mode{"none_shadow1024", "none", true, 1024}, Mode{"fxaa_shadow2048", "fxaa", true, 2048},
         Mode{"fxaa_no_shadows", "fxaa", false, 0}, Mode{"none_no_shadows", "none", false, 0},
-        Mode{"fxaa_shadow1024_egl", "fxaa", true, 1024, GlBackend::egl}})
-    if (gl_backend_built(m.gl)) modes.push_back(m);
-  std::vector<std::vector<double>> seconds(modes.size());
+        Mode{"fxaa_shadow1024_egl", "fxaa", true, 1024, GlBackend::egl},
+        Mode{"fxaa_shadow1024_overlays", "fxaa", true, 1024, default_gl_backend(), 3},
+        Mode{"fxaa_shadow1024_arrows", "fxaa", true, 1024, default_gl_backend(), 1},
+        Mode{"fxaa_shadow1024_hud", "fxaa", true, 1024, default_gl_backend(), 2}})
+    if (gl_backend_built(m.gl) && (!only_overlays || m.overlays || std::string(m.name) == "fxaa_shadow1024"))
+      modes.push_back(m);
+  std::vector<std::vector<double>> seconds(modes.size()), cpu(modes.size());
   std::vector<std::string> described(modes.size());
   for (int round = 0; round < 3; ++round)
     for (size_t i = 0; i < modes.size(); ++i) {
@@ -132,55 +181,89 @@ int main(int argc, char** argv) {
       RenderSettings rs = settings(m.aa, m.shadows, m.shadow_size);
       rs.gl = m.gl;
       Renderer r(rs, s.meshes);
+      std::unique_ptr<SceneOverlays> ov;
+      if (m.overlays) {
+        std::vector<double> radius;
+        for (int b = 0; b < s.loop.world().body_count(); ++b) radius.push_back(s.meshes.meshes[b].radius);
+        ov = std::make_unique<SceneOverlays>(overlay_scene(bodies, frames, m.overlays), s.loop.world(),
+                                             radius, W, H, 1);
+      }
       DrawList dl;
       build_draw_list(s.loop.world(), s.meshes, s.cam, -1, dl);
+      if (ov) ov->build(s.loop.world(), 0, dl);
       r.render(dl);  // first frame compiles shaders: not timed
-      FILE* out = round == 0 && i == 0 ? std::fopen(raw.c_str(), "wb") : nullptr;  // the defaults
-      double t = 0;
+      FILE* out =
+          round == 0 && i == 0 && !only_overlays ? std::fopen(raw.c_str(), "wb") : nullptr;  // the defaults
+      double t = 0, c = 0;
+      long k = 0;
       s.run([&](const World& w) {
-        const double t0 = bench::now_s();
+        const double t0 = bench::now_s(), c0 = cpu_s();
         build_draw_list(w, s.meshes, s.cam, -1, dl);
+        if (ov) ov->build(w, k++, dl);
         const uint8_t* img = r.render(dl);
         t += bench::now_s() - t0;
+        c += cpu_s() - c0;
         if (out) std::fwrite(img, 1, (size_t)W * H * 4, out);
       });
       if (out) std::fclose(out);
       seconds[i].push_back(t);
+      cpu[i].push_back(c);
       described[i] = r.description();
     }
   for (size_t i = 0; i < modes.size(); ++i) {
     std::vector<double> v = seconds[i];
     std::sort(v.begin(), v.end());
-    char runs[96];
-    std::snprintf(runs, sizeof runs, "runs %.3f %.3f %.3f s, the median reported; ", seconds[i][0],
-                  seconds[i][1], seconds[i][2]);
+    std::vector<double> c = cpu[i];
+    std::sort(c.begin(), c.end());
+    char runs[160];
+    std::snprintf(runs, sizeof runs, "runs %.3f %.3f %.3f s, the median reported; CPU median %.3f s; ",
+                  seconds[i][0], seconds[i][1], seconds[i][2], c[1]);
     row((std::string("render_only_") + modes[i].name).c_str(), v[1],
         std::string("draw list + GL passes + readback (+ FXAA); ") + runs + described[i]);
   }
+  if (only_overlays) return 0;
 
   // End to end, in process: what `simreel render` does (FXAA on the writer's thread).
-  auto end_to_end = [&](const char* aa, std::string& note) {
-    const double t0 = bench::now_s();
+  double last_cpu = 0;  // CPU seconds of the last end_to_end run
+  auto end_to_end = [&](const char* aa, std::string& note, bool overlays = false) {
+    const double t0 = bench::now_s(), c0 = cpu_s();
     Setup s(bodies, frames);
     RenderSettings rs = settings(aa);
-    rs.fxaa = false;
+    rs.post =
+        PostStage::caller;  // FXAA and the screen layer on the writer's thread, as `simreel render` does
     Renderer r(rs, s.meshes);
+    std::unique_ptr<SceneOverlays> ov;
+    double setup_s = 0;
+    if (overlays) {  // the pre-pass, the fonts: inside the timed span, as in `simreel render`
+      const double s0 = bench::now_s();
+      std::vector<double> radius;
+      for (int i = 0; i < s.loop.world().body_count(); ++i) radius.push_back(s.meshes.meshes[i].radius);
+      ov = std::make_unique<SceneOverlays>(overlay_scene(bodies, frames), s.loop.world(), radius, W, H, 1);
+      setup_s = bench::now_s() - s0;
+    }
     VideoSettings vs;
-    vs.fxaa = std::string(aa) == "fxaa";
+    vs.fxaa = rs.fxaa();
     vs.path = (dir / "e2e.mp4").string();
     vs.width = W;
     vs.height = H;
     vs.fps = kFps;
     VideoWriter v(vs);
     DrawList dl;
+    long k = 0;
     s.run([&](const World& w) {
       build_draw_list(w, s.meshes, s.cam, -1, dl);
+      if (ov) ov->build(w, k, dl);
       r.render(dl, v.acquire());
-      v.commit();
+      v.commit(k++, &dl.screen);
     });
     v.finish();
     const double t = bench::now_s() - t0;
-    note = "simulate + render + libx264 veryfast crf20 on its thread; encoder busy " +
+    last_cpu = cpu_s() - c0;
+    note = std::string(overlays ? "overlays set up (pre-pass, fonts) in " +
+                                      std::to_string(setup_s).substr(0, 5) + " s; "
+                                : "") +
+           "simulate + render + libx264 veryfast crf20 on its thread; CPU " +
+           std::to_string(last_cpu).substr(0, 6) + " s (all threads); encoder busy " +
            std::to_string(v.encode_seconds()) + " s; " + std::to_string(std::filesystem::file_size(vs.path)) +
            " bytes";
     return t;
@@ -200,11 +283,20 @@ int main(int argc, char** argv) {
   // The target compares end to end with the ceiling; this machine's speed drifts by up to 30%
   // over minutes, so they run in alternation, three pairs, and the ratio is the median of the
   // pairs' ratios.
-  std::vector<double> ratios;
+  // Each pair also runs the clip with overlays (an arrow per box and a HUD) right after the plain
+  // one: their ratio is the overlays' cost (target: at most 1.15).
+  std::vector<double> ratios, overlay_ratios, overlay_cpu_ratios;
   for (int pair = 1; pair <= 3; ++pair) {
     std::string note;
     const double e2e = end_to_end("fxaa", note);
+    const double plain_cpu = last_cpu;
     row("end_to_end_fxaa", e2e, note + "; pair " + std::to_string(pair));
+    const double e2e_ov = end_to_end("fxaa", note, true);
+    row("end_to_end_fxaa_overlays", e2e_ov,
+        "100 angular velocity arrows (auto-scaled: one more simulation first) and a title and 3-line HUD; " +
+            note + "; pair " + std::to_string(pair));
+    overlay_ratios.push_back(e2e_ov / e2e);
+    overlay_cpu_ratios.push_back(last_cpu / plain_cpu);
     const double c = ceiling();
     if (c < 0) {
       std::printf(
@@ -222,6 +314,20 @@ int main(int argc, char** argv) {
     for (double q : ratios) all += (all.empty() ? "" : " ") + std::to_string(q).substr(0, 4);
     std::printf("end_to_end_over_ceiling,%d,%d,%d,,,\"median %.2f of the pairs' ratios (%s); target 1.5\"\n",
                 frames, W, H, ratios[ratios.size() / 2], all.c_str());
+  }
+  if (!overlay_ratios.empty()) {
+    std::sort(overlay_ratios.begin(), overlay_ratios.end());
+    std::string all;
+    for (double q : overlay_ratios) all += (all.empty() ? "" : " ") + std::to_string(q).substr(0, 5);
+    std::sort(overlay_cpu_ratios.begin(), overlay_cpu_ratios.end());
+    std::string cpu;
+    for (double q : overlay_cpu_ratios) cpu += (cpu.empty() ? "" : " ") + std::to_string(q).substr(0, 5);
+    std::printf(
+        "overlays_over_plain,%d,%d,%d,,,\"wall: median %.3f of the pairs' ratios (%s); CPU seconds: median "
+        "%.3f "
+        "(%s); target 1.15\"\n",
+        frames, W, H, overlay_ratios[overlay_ratios.size() / 2], all.c_str(),
+        overlay_cpu_ratios[overlay_cpu_ratios.size() / 2], cpu.c_str());
   }
   {
     std::string note;

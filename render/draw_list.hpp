@@ -1,11 +1,15 @@
 // Simulation state to a draw list: what to draw, where, in which colour. sim/ knows nothing of GL;
-// the GL passes in renderer.cpp know nothing of bodies. Overlays (arrows, axes, trails, text)
-// will be further item kinds here.
+// the GL passes in renderer.cpp know nothing of bodies. A frame is the bodies (items), the unlit
+// 3D overlay geometry (render/overlay.hpp) and the 2D screen layer (render/screen.hpp); app/
+// fills the last two from a scene's `show:` and `overlays:` (app/overlays.hpp).
 #pragma once
 #include <Eigen/Core>
 #include <array>
 #include <vector>
 
+#include "render/camera.hpp"
+#include "render/overlay.hpp"
+#include "render/screen.hpp"
 #include "render/tessellate.hpp"
 #include "sim/world.hpp"
 
@@ -17,16 +21,13 @@ struct DrawItem {
   std::array<float, 3> color{};  ///< linear RGB
 };
 
-struct CameraView {
-  Vec3 eye = Vec3(8, -8, 5), target = Vec3::Zero(), up = Vec3::UnitZ();  ///< m
-  double fov_deg = 40;                                                   ///< vertical
-};
-
 struct DrawList {
   std::vector<DrawItem> items;
   CameraView camera;
   Vec3 bounds_center = Vec3::Zero();  ///< m, sphere holding every body this frame
   double bounds_radius = 1;           ///< m
+  OverlayList overlay;                ///< 3D overlay pass: empty for a scene without overlays
+  ScreenLayer screen;                 ///< 2D, composited after anti-aliasing
 };
 
 // How one collider is drawn. Appearance is not part of sim/: app/ makes these from the scene.
@@ -48,7 +49,8 @@ struct SceneMeshes {
   explicit SceneMeshes(const World& w, const SceneStyles& styles = {});
 };
 
-// Fills `out` (reusing its storage) from the world's current state. With follow >= 0 the camera
+// Fills `out`'s bodies, bounds and camera (reusing its storage) from the world's current state;
+// leaves its overlay and screen layer alone. With follow >= 0 the camera
 // target tracks that body's centre of mass and the eye keeps its offset from it.
 void build_draw_list(const World& w, const SceneMeshes& sm, const CameraView& cam, int follow, DrawList& out);
 

@@ -11,9 +11,11 @@
 #include <string>
 #include <vector>
 
+#include "render/camera.hpp"
 #include "render/footprint.hpp"
 #include "render/fxaa.hpp"
 #include "render/gl_context.hpp"
+#include "render/screen.hpp"
 #include "render/shaders.hpp"
 
 namespace simreel {
@@ -21,35 +23,6 @@ namespace {
 
 using M4 = Eigen::Matrix4f;
 using V3f = Eigen::Vector3f;
-
-M4 look_at(const V3f& eye, const V3f& target, const V3f& up) {
-  const V3f f = (target - eye).normalized(), s = f.cross(up).normalized(), u = s.cross(f);
-  M4 m = M4::Identity();
-  m.row(0) << s.transpose(), -s.dot(eye);
-  m.row(1) << u.transpose(), -u.dot(eye);
-  m.row(2) << -f.transpose(), f.dot(eye);
-  return m;
-}
-
-M4 perspective(float fovy_rad, float aspect, float n, float f) {
-  const float t = 1.0f / std::tan(fovy_rad / 2);
-  M4 m = M4::Zero();
-  m(0, 0) = t / aspect;
-  m(1, 1) = t;
-  m(2, 2) = (f + n) / (n - f);
-  m(2, 3) = 2 * f * n / (n - f);
-  m(3, 2) = -1;
-  return m;
-}
-
-M4 ortho(float r, float n, float f) {
-  M4 m = M4::Identity();
-  m(0, 0) = 1 / r;
-  m(1, 1) = 1 / r;
-  m(2, 2) = -2 / (f - n);
-  m(2, 3) = -(f + n) / (f - n);
-  return m;
-}
 
 struct GpuMesh {
   GLuint vao = 0, vbo = 0, ebo = 0;
@@ -122,6 +95,7 @@ struct LitProgram {
 
 struct Renderer::Impl {
   RenderSettings s;
+  int msaa = 1;  // samples per pixel, as far as the GL allows
   std::unique_ptr<GlContext> ctx;
   LitProgram body_prog, ground_prog;  // the lit shader for bodies and for the ground
   GLuint depth = 0;
@@ -179,10 +153,10 @@ struct Renderer::Impl {
   // copy into OSMesa's default framebuffer (y-flipped) took 5.5 ms as a shader blit. The 4x MSAA
   // resolve costs ~6.5 ms either way.
   void setup_targets() {
-    make_target(frame_fbo, frame_color, frame_depth, 0, s.msaa <= 1);
-    if (s.msaa > 1) make_target(msaa_fbo, msaa_color, msaa_depth, s.msaa, true);
+    make_target(frame_fbo, frame_color, frame_depth, 0, msaa <= 1);
+    if (msaa > 1) make_target(msaa_fbo, msaa_color, msaa_depth, msaa, true);
     if (s.ground && s.cache_ground) {
-      make_target(cache_fbo, cache_color, cache_depth, s.msaa > 1 ? s.msaa : 0, true);
+      make_target(cache_fbo, cache_color, cache_depth, msaa > 1 ? msaa : 0, true);
       glGenVertexArrays(1, &foot_vao);
       glBindVertexArray(foot_vao);
       glGenBuffers(1, &foot_vbo);
@@ -385,7 +359,7 @@ struct Renderer::Impl {
       // centre, where the ground is shaded for all its samples, is in the shadow's soft edge:
       // widen by the size of a pixel on the ground there, d 2 tan(fov/2) / height / sin(elevation).
       float m = margin;
-      if (s.msaa > 1) {
+      if (msaa > 1) {
         const V3f c(mid.x(), mid.y(), zg);
         const V3f eye = dl.camera.eye.cast<float>();
         const float d = (eye - c).norm();
@@ -431,6 +405,302 @@ struct Renderer::Impl {
     if (g.two_sided) glEnable(GL_CULL_FACE);
   }
 
+  // The camera of a frame: projection and eye, and the ground's placement.
+  struct View {
+    M4 vp;      // world to clip, y flipped (see view())
+    V3f eye;    // m
+    M4 ground;  // the ground plane's model matrix
+  };
+  View view(const DrawList& dl) const {
+    const CameraView& cam = dl.camera;
+    View v;
+    v.eye = cam.eye.cast<float>();
+    const float dist = (cam.eye - dl.bounds_center).norm();
+    const float reach = dist + (float)dl.bounds_radius + (s.ground ? (float)s.ground_size : 0.0f);
+    // Depth range: a function of this frame alone (a frame must not depend on the frames drawn
+    // before it), rounded to powers of two so the projection, and with it the cached ground,
+    // changes only when the bodies' distance changes by a factor of two. Near: half the distance
+    // to the bodies' bounding sphere (at most a tenth of the camera's distance), rounded down; far:
+    // 1.5x the farthest reach, rounded up. 24-bit depth keeps ~1e-4 relative resolution over that.
+    // Overlay geometry reaching nearer than the bodies pulls the near plane in to half its distance.
+    float need_near = std::max(0.01f, std::min(0.1f * dist, dist - (float)dl.bounds_radius) * 0.5f);
+    if (!dl.overlay.empty())
+      need_near = std::max(0.01f, std::min(need_near, 0.5f * overlay_nearest(dl.overlay, v.eye)));
+    const float need_far = reach * 1.5f;
+    const float near = std::max(0.01f, std::exp2(std::floor(std::log2(need_near))));
+    const float far = std::exp2(std::ceil(std::log2(std::max(need_far, 2 * near))));
+    // Drawn upside down (y negated in clip space, so the winding that faces the camera turns
+    // clockwise): glReadPixels returns the bottom row first, which is then the top of the image.
+    const M4 flip_y = Eigen::Vector4f(1, -1, 1, 1).asDiagonal();
+    v.vp = flip_y * perspective((float)(cam.fov_deg * M_PI / 180.0), (float)s.width / s.height, near, far) *
+           look_at(v.eye, cam.target.cast<float>(), cam.up.cast<float>());
+    // Fixed in the world, centred on the origin: it must not move under the bodies between frames
+    // (it used to re-centre on them in whole checker periods, a visible jump of two tiles).
+    v.ground = M4::Identity();
+    v.ground(2, 3) = (float)s.ground_height;
+    return v;
+  }
+
+  // Pass 2: sky, ground and bodies, lit and shadowed, into the frame's target (left bound).
+  void bodies_pass(const DrawList& dl, const View& v, const M4& lvp, bool batched) {
+    const GLuint target = msaa > 1 ? msaa_fbo : frame_fbo;
+    glViewport(0, 0, s.width, s.height);
+    const auto g = [](float c) { return std::pow(c, 1.0f / 2.2f); };
+    glClearColor(g(s.background[0]), g(s.background[1]), g(s.background[2]), 1.0f);
+    const M4& vp = v.vp;
+    const V3f& eye = v.eye;
+    const M4& ground = v.ground;
+
+    glFrontFace(GL_CW);
+    for (const LitProgram* lp : {&body_prog, &ground_prog}) {
+      glUseProgram(lp->id);
+      glUniformMatrix4fv(lp->viewproj, 1, GL_FALSE, vp.data());
+      glUniformMatrix4fv(lp->lightvp, 1, GL_FALSE, lvp.data());
+      glUniform3f(lp->light_dir, light_dir.x(), light_dir.y(), light_dir.z());
+      glUniform3f(lp->eye, eye.x(), eye.y(), eye.z());
+      glUniform1f(lp->tile, (float)s.ground_tile);
+      // Depth bias: about two shadow-map texels of depth, relative to the frustum depth.
+      glUniform1f(lp->bias, 0.0015f);
+      glUniform1f(lp->texel, 1.0f / (float)s.shadow_size);
+      glUniform1i(lp->shadows, s.shadows ? 1 : 0);
+    }
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, shadow_tex);
+
+    // The ground covers most of the frame, and on llvmpipe every covered pixel runs the lit shader
+    // on the CPU (7.4 ms a 720p frame for the ground alone, before the shader was trimmed; with a
+    // constant-colour shader the whole frame's llvmpipe work fell from 12 to 4.3 ms). Unshadowed, it
+    // depends only on the camera and its placement: draw it once into a cache, copy the cache into
+    // each frame (a copy-speed blit, ~1 ms with depth), and shade with shadows only the ground
+    // under each body's shadow footprint.
+    // A camera that follows a body would redraw the cache every frame for nothing: the caller says
+    // so up front (RenderSettings::cache_ground false), and the ground is drawn directly then. The
+    // choice is a setting, never a guess from earlier frames, so every frame is drawn the same way
+    // whichever frames came before it; the cache's content depends only on the projection.
+    const bool cached = s.ground && s.cache_ground;
+    if (cached) {
+      if (!cache_valid || vp != cache_vp || ground != cache_ground) {
+        glBindFramebuffer(GL_FRAMEBUFFER, cache_fbo);
+        glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+        glUseProgram(ground_prog.id);
+        glUniform1i(ground_prog.shadows, 0);
+        draw(ground_prog, this->ground, ground, s.ground_color);
+        glUniform1i(ground_prog.shadows, s.shadows ? 1 : 0);
+        cache_vp = vp;
+        cache_ground = ground;
+        cache_valid = true;
+        ++stats.ground_cached;
+      } else {
+        ++stats.ground_reused;
+      }
+    }
+    // The ground's depth matters only if the ground can hide part of a body: the camera below the
+    // plane, or a body reaching under it. Otherwise (the usual case) the cache's colour is enough,
+    // and the footprints need no depth offset against the ground's own depth (on llvmpipe the
+    // polygon offset and the depth copy cost ~1.5 ms a 720p frame).
+    bool ground_depth = !cached || eye.z() <= (float)s.ground_height;
+    for (size_t i = 0; i < dl.items.size() && !ground_depth; ++i)
+      ground_depth = dl.items[i].model(2, 3) - meshes[dl.items[i].mesh].reach < (float)s.ground_height;
+    if (cached) {
+      glBindFramebuffer(GL_READ_FRAMEBUFFER, cache_fbo);
+      glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
+      glBlitFramebuffer(0, 0, s.width, s.height, 0, 0, s.width, s.height,
+                        GL_COLOR_BUFFER_BIT | (ground_depth ? GL_DEPTH_BUFFER_BIT : 0), GL_NEAREST);
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, target);
+    if (!cached)
+      glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    else if (!ground_depth)
+      glClear(GL_DEPTH_BUFFER_BIT);
+    // Footprints over the ground's depth go first and write no depth, so the bodies then meet the
+    // ground's own depth exactly as when the whole ground is drawn; without it they go last, where
+    // the bodies hide part of them.
+    if (cached && s.shadows && ground_depth) draw_shadow_footprints(dl, true);
+    glUseProgram(body_prog.id);
+    draw_bodies(dl, batched, body_prog.batched, nullptr);
+    if (cached) {
+      if (s.shadows && !ground_depth) draw_shadow_footprints(dl, false);
+    } else if (s.ground) {
+      draw(ground_prog, this->ground, ground, s.ground_color);
+    }
+  }
+
+  // The frame's target resolved (MSAA) and read back into img (RGBA8, top row first).
+  void read_back(uint8_t* img) {
+    if (msaa > 1) {
+      glBindFramebuffer(GL_READ_FRAMEBUFFER, msaa_fbo);
+      glBindFramebuffer(GL_DRAW_FRAMEBUFFER, frame_fbo);
+      glBlitFramebuffer(0, 0, s.width, s.height, 0, 0, s.width, s.height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    }
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, frame_fbo);
+    glReadBuffer(GL_COLOR_ATTACHMENT0);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, 0, s.width, s.height, GL_RGBA, GL_UNSIGNED_BYTE, img);  // waits for the frame
+  }
+
+  // ---- the overlay pass (render/overlay.hpp): set up on the first frame that has overlays, so a
+  // scene without any does no extra GL work at all.
+  struct OverlayProgram {
+    GLuint id = 0;
+    GLint viewproj = -1, eye = -1, xray = -1, ribbon_xray = -1;
+  };
+  OverlayProgram ov_solid, ov_ribbon;
+  GpuMesh ov_mesh[kOverlayShapes];
+  GLuint ov_inst_vbo[kOverlayShapes] = {};
+  size_t ov_inst_capacity[kOverlayShapes] = {};
+  GLuint ov_ribbon_vao = 0, ov_ribbon_vbo = 0;
+  size_t ov_ribbon_capacity = 0;
+  std::vector<float> ov_staging;  // 21 floats per instance: model (column-major), rgba, x-ray
+  bool ov_ready = false;
+
+  static OverlayProgram overlay_program(bool ribbon) {
+    OverlayProgram p;
+    p.id = link_program(overlay_vertex_shader(ribbon), overlay_fragment_shader(ribbon).c_str());
+    p.viewproj = glGetUniformLocation(p.id, "u_viewproj");
+    p.eye = glGetUniformLocation(p.id, "u_eye");
+    p.xray = glGetUniformLocation(p.id, "u_xray");
+    p.ribbon_xray = glGetUniformLocation(p.id, "u_ribbon_xray");
+    return p;
+  }
+
+  void setup_overlay() {
+    ov_solid = overlay_program(false);
+    ov_ribbon = overlay_program(true);
+    RenderMesh unit[kOverlayShapes] = {tessellate_cylinder(1, 1, 12), tessellate_cone(1, 1, 16),
+                                       tessellate_sphere(1, 12)};
+    for (size_t i = 2; i < unit[0].vertices.size(); i += 6) unit[0].vertices[i] += 0.5f;  // z from 0 to 1
+    for (int k = 0; k < kOverlayShapes; ++k) {
+      ov_mesh[k] = upload(unit[k]);
+      glBindVertexArray(ov_mesh[k].vao);
+      glGenBuffers(1, &ov_inst_vbo[k]);
+      glBindBuffer(GL_ARRAY_BUFFER, ov_inst_vbo[k]);
+      const GLsizei stride = 21 * sizeof(float);
+      for (int c = 0; c < 4; ++c) {
+        glEnableVertexAttribArray(2 + c);
+        glVertexAttribPointer(2 + c, 4, GL_FLOAT, GL_FALSE, stride, (void*)(4 * c * sizeof(float)));
+        glVertexAttribDivisor(2 + c, 1);
+      }
+      glEnableVertexAttribArray(6);
+      glVertexAttribPointer(6, 4, GL_FLOAT, GL_FALSE, stride, (void*)(16 * sizeof(float)));
+      glVertexAttribDivisor(6, 1);
+      glEnableVertexAttribArray(7);
+      glVertexAttribPointer(7, 1, GL_FLOAT, GL_FALSE, stride, (void*)(20 * sizeof(float)));
+      glVertexAttribDivisor(7, 1);
+    }
+    glGenVertexArrays(1, &ov_ribbon_vao);
+    glBindVertexArray(ov_ribbon_vao);
+    glGenBuffers(1, &ov_ribbon_vbo);
+    glBindBuffer(GL_ARRAY_BUFFER, ov_ribbon_vbo);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(OverlayVertex), (void*)0);
+    glEnableVertexAttribArray(1);
+    glVertexAttribPointer(1, 4, GL_FLOAT, GL_FALSE, sizeof(OverlayVertex), (void*)(3 * sizeof(float)));
+    glBindVertexArray(0);
+    ov_ready = true;
+  }
+
+  // Uploads into `vbo`, growing it (to twice the need) only when it is too small.
+  static void stream(GLuint vbo, size_t& capacity, const void* data, size_t bytes) {
+    glBindBuffer(GL_ARRAY_BUFFER, vbo);
+    if (bytes > capacity) {
+      capacity = 2 * bytes;
+      glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)capacity, nullptr, GL_STREAM_DRAW);
+    }
+    glBufferSubData(GL_ARRAY_BUFFER, 0, (GLsizeiptr)bytes, data);
+  }
+
+  // The nearest distance (m) from the eye to the overlay geometry (bounding spheres), for the
+  // near plane: an arrow may reach closer to the camera than the bodies.
+  static float overlay_nearest(const OverlayList& ov, const V3f& eye) {
+    float near = INFINITY;
+    for (int k = 0; k < kOverlayShapes; ++k)
+      for (const OverlayInstance& in : ov.instances[k]) {
+        const V3f c =
+            (in.model * Eigen::Vector4f(0, 0, k == (int)OverlayShape::sphere ? 0.0f : 0.5f, 1)).head<3>();
+        const float r = in.model.col(0).head<3>().norm() + in.model.col(1).head<3>().norm() +
+                        in.model.col(2).head<3>().norm();
+        near = std::min(near, (c - eye).norm() - r);
+      }
+    for (const OverlayVertex& v : ov.ribbons)
+      near = std::min(near, (V3f(v.pos[0], v.pos[1], v.pos[2]) - eye).norm());
+    return near;
+  }
+
+  // Pass 3: the overlay geometry into the bound target, over the bodies' depth. Hidden parts of
+  // x-ray items first (depth test GREATER against the bodies alone, faded, no depth written), then
+  // everything visible (solids opaque or translucent with depth, then ribbons without).
+  void overlay_pass(const OverlayList& ov, const M4& vp, const V3f& eye) {
+    if (!ov_ready) setup_overlay();
+    size_t count[kOverlayShapes];
+    bool any_xray = ov.ribbon_xray > 0 && !ov.ribbons.empty();
+    bool translucent = !ov.ribbons.empty();  // blending only when needed: it costs llvmpipe a read
+    for (int k = 0; k < kOverlayShapes; ++k) {
+      const auto& v = ov.instances[k];
+      count[k] = v.size();
+      if (v.empty()) continue;
+      ov_staging.resize(21 * v.size());
+      float* d = ov_staging.data();
+      for (const OverlayInstance& in : v) {
+        std::copy(in.model.data(), in.model.data() + 16, d);
+        std::copy(in.color.begin(), in.color.end(), d + 16);
+        d[20] = in.xray;
+        d += 21;
+        any_xray = any_xray || in.xray > 0;
+        translucent = translucent || in.color[3] < 1;
+      }
+      stream(ov_inst_vbo[k], ov_inst_capacity[k], ov_staging.data(), ov_staging.size() * sizeof(float));
+    }
+    if (!ov.ribbons.empty())
+      stream(ov_ribbon_vbo, ov_ribbon_capacity, ov.ribbons.data(), ov.ribbons.size() * sizeof(OverlayVertex));
+    for (const OverlayProgram* p : {&ov_solid, &ov_ribbon}) {
+      glUseProgram(p->id);
+      glUniformMatrix4fv(p->viewproj, 1, GL_FALSE, vp.data());
+      glUniform3f(p->eye, eye.x(), eye.y(), eye.z());
+      glUniform1f(p->ribbon_xray, ov.ribbon_xray);
+    }
+    if (translucent || any_xray) glEnable(GL_BLEND);
+    glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);
+    auto solids = [&] {
+      glUseProgram(ov_solid.id);
+      for (int k = 0; k < kOverlayShapes; ++k)
+        if (count[k]) {
+          glBindVertexArray(ov_mesh[k].vao);
+          glDrawElementsInstanced(GL_TRIANGLES, ov_mesh[k].count, GL_UNSIGNED_INT, nullptr,
+                                  (GLsizei)count[k]);
+        }
+    };
+    auto ribbons = [&] {
+      if (ov.ribbons.empty()) return;
+      glUseProgram(ov_ribbon.id);
+      glDisable(GL_CULL_FACE);
+      glBindVertexArray(ov_ribbon_vao);
+      glDrawArrays(GL_TRIANGLES, 0, (GLsizei)ov.ribbons.size());
+      glEnable(GL_CULL_FACE);
+    };
+    if (any_xray) {
+      for (const OverlayProgram* p : {&ov_solid, &ov_ribbon}) {
+        glUseProgram(p->id);
+        glUniform1i(p->xray, 1);
+      }
+      glDepthFunc(GL_GREATER);
+      glDepthMask(GL_FALSE);
+      solids();
+      ribbons();
+      glDepthFunc(GL_LESS);
+      glDepthMask(GL_TRUE);
+      for (const OverlayProgram* p : {&ov_solid, &ov_ribbon}) {
+        glUseProgram(p->id);
+        glUniform1i(p->xray, 0);
+      }
+    }
+    solids();
+    glDepthMask(GL_FALSE);
+    ribbons();
+    glDepthMask(GL_TRUE);
+    glDisable(GL_BLEND);
+    glBindVertexArray(0);
+  }
+
   // One mesh with the program `lp` (made current here) at pose `model` in colour `color`.
   static void draw(const LitProgram& lp, const GpuMesh& g, const M4& model,
                    const std::array<float, 3>& color) {
@@ -447,7 +717,7 @@ Renderer::Renderer(const RenderSettings& s, const SceneMeshes& sm) : p_(std::mak
   P.ctx = make_offscreen_context(s.gl);
   GLint max_samples = 1;
   glGetIntegerv(GL_MAX_SAMPLES, &max_samples);
-  P.s.msaa = std::max(1, std::min(P.s.msaa, (int)max_samples));
+  P.msaa = std::max(1, std::min(s.msaa(), (int)max_samples));
   P.body_prog.create(LitKind::body);
   P.ground_prog.create(LitKind::ground);
   P.depth = link_program(depth_vertex_shader(), depth_fragment_shader());
@@ -476,121 +746,17 @@ const uint8_t* Renderer::render(const DrawList& dl, uint8_t* out) {
   P.ctx->make_current();
   const M4 lvp = P.light_viewproj(dl);
   const bool batched = P.fill_items(dl);
-  if (s.shadows) P.shadow_pass(dl, lvp, batched);
-
-  const GLuint target = s.msaa > 1 ? P.msaa_fbo : P.frame_fbo;
-  glViewport(0, 0, s.width, s.height);
-  const auto g = [](float c) { return std::pow(c, 1.0f / 2.2f); };
-  glClearColor(g(s.background[0]), g(s.background[1]), g(s.background[2]), 1.0f);
-
-  const CameraView& cam = dl.camera;
-  const V3f eye = cam.eye.cast<float>();
-  const float dist = (cam.eye - dl.bounds_center).norm();
-  const float reach = dist + (float)dl.bounds_radius + (s.ground ? (float)s.ground_size : 0.0f);
-  // Depth range: a function of this frame alone (a frame must not depend on the frames drawn
-  // before it), rounded to powers of two so the projection, and with it the cached ground,
-  // changes only when the bodies' distance changes by a factor of two. Near: half the distance
-  // to the bodies' bounding sphere (at most a tenth of the camera's distance), rounded down; far:
-  // 1.5x the farthest reach, rounded up. 24-bit depth keeps ~1e-4 relative resolution over that.
-  const float need_near = std::max(0.01f, std::min(0.1f * dist, dist - (float)dl.bounds_radius) * 0.5f);
-  const float need_far = reach * 1.5f;
-  const float near = std::max(0.01f, std::exp2(std::floor(std::log2(need_near))));
-  const float far = std::exp2(std::ceil(std::log2(std::max(need_far, 2 * near))));
-  // Drawn upside down (y negated in clip space, so the winding that faces the camera turns
-  // clockwise): glReadPixels returns the bottom row first, which is then the top of the image.
-  const M4 flip_y = Eigen::Vector4f(1, -1, 1, 1).asDiagonal();
-  const M4 vp = flip_y *
-                perspective((float)(cam.fov_deg * M_PI / 180.0), (float)s.width / s.height, near, far) *
-                look_at(eye, cam.target.cast<float>(), cam.up.cast<float>());
-  // Fixed in the world, centred on the origin: it must not move under the bodies between frames
-  // (it used to re-centre on them in whole checker periods, a visible jump of two tiles).
-  M4 ground = M4::Identity();
-  ground(2, 3) = (float)s.ground_height;
-
-  glFrontFace(GL_CW);
-  for (const LitProgram* lp : {&P.body_prog, &P.ground_prog}) {
-    glUseProgram(lp->id);
-    glUniformMatrix4fv(lp->viewproj, 1, GL_FALSE, vp.data());
-    glUniformMatrix4fv(lp->lightvp, 1, GL_FALSE, lvp.data());
-    glUniform3f(lp->light_dir, P.light_dir.x(), P.light_dir.y(), P.light_dir.z());
-    glUniform3f(lp->eye, eye.x(), eye.y(), eye.z());
-    glUniform1f(lp->tile, (float)s.ground_tile);
-    // Depth bias: about two shadow-map texels of depth, relative to the frustum depth.
-    glUniform1f(lp->bias, 0.0015f);
-    glUniform1f(lp->texel, 1.0f / (float)s.shadow_size);
-    glUniform1i(lp->shadows, s.shadows ? 1 : 0);
-  }
-  glActiveTexture(GL_TEXTURE0);
-  glBindTexture(GL_TEXTURE_2D, P.shadow_tex);
-
-  // The ground covers most of the frame, and on llvmpipe every covered pixel runs the lit shader
-  // on the CPU (7.4 ms a 720p frame for the ground alone, before the shader was trimmed; with a
-  // constant-colour shader the whole frame's llvmpipe work fell from 12 to 4.3 ms). Unshadowed, it
-  // depends only on the camera and its placement: draw it once into a cache, copy the cache into
-  // each frame (a copy-speed blit, ~1 ms with depth), and shade with shadows only the ground
-  // under each body's shadow footprint.
-  // A camera that follows a body would redraw the cache every frame for nothing: the caller says
-  // so up front (RenderSettings::cache_ground false), and the ground is drawn directly then. The
-  // choice is a setting, never a guess from earlier frames, so every frame is drawn the same way
-  // whichever frames came before it; the cache's content depends only on the projection.
-  const bool cached = s.ground && s.cache_ground;
-  if (cached) {
-    if (!P.cache_valid || vp != P.cache_vp || ground != P.cache_ground) {
-      glBindFramebuffer(GL_FRAMEBUFFER, P.cache_fbo);
-      glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-      glUseProgram(P.ground_prog.id);
-      glUniform1i(P.ground_prog.shadows, 0);
-      P.draw(P.ground_prog, P.ground, ground, s.ground_color);
-      glUniform1i(P.ground_prog.shadows, s.shadows ? 1 : 0);
-      P.cache_vp = vp;
-      P.cache_ground = ground;
-      P.cache_valid = true;
-      ++P.stats.ground_cached;
-    } else {
-      ++P.stats.ground_reused;
-    }
-  }
-  // The ground's depth matters only if the ground can hide part of a body: the camera below the
-  // plane, or a body reaching under it. Otherwise (the usual case) the cache's colour is enough,
-  // and the footprints need no depth offset against the ground's own depth (on llvmpipe the
-  // polygon offset and the depth copy cost ~1.5 ms a 720p frame).
-  bool ground_depth = !cached || eye.z() <= (float)s.ground_height;
-  for (size_t i = 0; i < dl.items.size() && !ground_depth; ++i)
-    ground_depth = dl.items[i].model(2, 3) - P.meshes[dl.items[i].mesh].reach < (float)s.ground_height;
-  if (cached) {
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, P.cache_fbo);
-    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
-    glBlitFramebuffer(0, 0, s.width, s.height, 0, 0, s.width, s.height,
-                      GL_COLOR_BUFFER_BIT | (ground_depth ? GL_DEPTH_BUFFER_BIT : 0), GL_NEAREST);
-  }
-  glBindFramebuffer(GL_FRAMEBUFFER, target);
-  if (!cached)
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-  else if (!ground_depth)
-    glClear(GL_DEPTH_BUFFER_BIT);
-  // Footprints over the ground's depth go first and write no depth, so the bodies then meet the
-  // ground's own depth exactly as when the whole ground is drawn; without it they go last, where
-  // the bodies hide part of them.
-  if (cached && s.shadows && ground_depth) P.draw_shadow_footprints(dl, true);
-  glUseProgram(P.body_prog.id);
-  P.draw_bodies(dl, batched, P.body_prog.batched, nullptr);
-  if (cached) {
-    if (s.shadows && !ground_depth) P.draw_shadow_footprints(dl, false);
-  } else if (s.ground) {
-    P.draw(P.ground_prog, P.ground, ground, s.ground_color);
-  }
-  if (s.msaa > 1) {
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, P.msaa_fbo);
-    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, P.frame_fbo);
-    glBlitFramebuffer(0, 0, s.width, s.height, 0, 0, s.width, s.height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
-  }
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, P.frame_fbo);
-  glReadBuffer(GL_COLOR_ATTACHMENT0);
-  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  if (s.shadows) P.shadow_pass(dl, lvp, batched);  // pass 1
+  const Impl::View v = P.view(dl);
+  P.bodies_pass(dl, v, lvp, batched);                                // pass 2
+  if (!dl.overlay.empty()) P.overlay_pass(dl.overlay, v.vp, v.eye);  // pass 3
   uint8_t* img = out ? out : P.frame.data();
-  glReadPixels(0, 0, s.width, s.height, GL_RGBA, GL_UNSIGNED_BYTE, img);  // waits for the frame
+  P.read_back(img);
   ++P.stats.frames;
-  if (s.fxaa) fxaa(img, s.width, s.height, P.fxaa_buffers);
+  if (s.post == PostStage::renderer) {  // pass 4, else the caller's
+    if (s.fxaa()) fxaa(img, s.width, s.height, P.fxaa_buffers);
+    if (!dl.screen.empty()) composite(dl.screen, img, s.width, s.height);
+  }
   return img;
 }
 

@@ -1,7 +1,16 @@
-// GL passes over a draw list: shadow depth from the key light (orthographic frustum fitted to the
-// bodies, skipped while nothing moved), then the lit pass (Blinn-Phong key light with 2 bilinear
-// PCF taps, hemisphere fill, checker ground, gamma 2.2) into an FBO (multisampled and resolved if
-// msaa > 1), read back, then FXAA on the CPU if enabled.
+// The frame in passes over a draw list (render/draw_list.hpp):
+//   1. shadow: depth from the key light (orthographic frustum fitted to the bodies, skipped while
+//      nothing moved);
+//   2. bodies: the lit pass (Blinn-Phong key light with 2 bilinear PCF taps, hemisphere fill,
+//      checker ground, gamma 2.2) into an FBO, multisampled if MSAA is on;
+//   3. overlay: unlit 3D geometry (arrows, axes, trails; render/overlay.hpp), depth-tested against
+//      the bodies, hidden parts optionally drawn faded (x-ray);
+//   then the MSAA resolve and the readback, and on the CPU
+//   4. post: FXAA if enabled, then the 2D screen layer (text; render/screen.hpp) composited over
+//      the anti-aliased image, so text stays sharp. RenderSettings::post says whether render()
+//      does this stage or leaves it to the caller (the video writer's thread).
+// A frame is a function of the draw list and the settings only: nothing carried over from earlier
+// frames changes a pixel (caches are exact: the ground cache, the reused shadow map).
 #pragma once
 #include <array>
 #include <cstdint>
@@ -9,25 +18,30 @@
 
 #include "render/draw_list.hpp"
 #include "render/gl_context.hpp"
+#include "render/render_settings.hpp"
 
 namespace simreel {
 
-struct RenderSettings {
-  GlBackend gl = default_gl_backend();  ///< OSMesa or EGL; the same frames on llvmpipe
-  int width = 1280, height = 720;       ///< px
-  int msaa = 1;                         ///< 1, 2 or 4 samples per pixel (GL multisampling)
-  bool fxaa = true;  ///< CPU edge anti-aliasing after readback (render/fxaa.hpp); `simreel render`
-                     ///< leaves it to the video writer's thread instead (VideoSettings::fxaa)
-  bool shadows = true;
+// The scene's look (render/render_settings.hpp, where every default lives) and how to draw it.
+struct RenderSettings : RenderLook {
+  GlBackend gl = default_gl_backend();                 ///< OSMesa or EGL; the same frames on llvmpipe
+  int width = kDefaultWidth, height = kDefaultHeight;  ///< px
   int shadow_size =
       1024;  ///< px, square shadow map over the fitted frustum (2048 costs ~1 ms more a 720p frame)
-  std::array<float, 3> background{0.60f, 0.70f, 0.82f};  ///< linear RGB
-  bool ground = false;
-  double ground_height = 0, ground_size = 20, ground_tile = 1;  ///< m
-  std::array<float, 3> ground_color{0.62f, 0.62f, 0.58f};
+  std::array<float, 3> ground_color{0.62f, 0.62f, 0.58f};  ///< linear RGB
   /// Draw the unshadowed ground once per projection and copy it into each frame (see
   /// Renderer::render); false for a camera that moves every frame (one that follows a body).
   bool cache_ground = true;
+  /// Where FXAA and the 2D screen layer run: in render(), or left to the caller (`simreel render`
+  /// leaves them to the video writer's thread, VideoSettings::fxaa and VideoWriter::commit).
+  PostStage post = PostStage::renderer;
+
+  int msaa() const {  ///< GL samples per pixel: 1, 2 or 4
+    return antialiasing == AntiAliasing::msaa4 ? 4 : antialiasing == AntiAliasing::msaa2 ? 2 : 1;
+  }
+  bool fxaa() const {
+    return antialiasing == AntiAliasing::fxaa;
+  }  ///< CPU edge anti-aliasing (render/fxaa.hpp)
 };
 
 struct RenderStats {

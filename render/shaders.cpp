@@ -125,6 +125,90 @@ const char* kDepthFS = R"(#version 330 core
 void main() {}
 )";
 
+// The overlay pass (render/overlay.hpp): unlit, a flat colour with a little headlight shading so
+// that a rod reads as round; gamma-encoded like the lit pass. Solids are unit meshes instanced
+// with a model matrix, colour and x-ray opacity per instance; ribbons are plain triangles with a
+// colour per vertex. u_xray 1 draws only hidden parts (depth test GREATER), faded to the
+// item's x-ray opacity, and discards items without one.
+const char* kOverlaySolidVS = R"(#version 330 core
+layout(location = 0) in vec3 a_pos;
+layout(location = 1) in vec3 a_nrm;
+layout(location = 2) in vec4 i_m0;
+layout(location = 3) in vec4 i_m1;
+layout(location = 4) in vec4 i_m2;
+layout(location = 5) in vec4 i_m3;
+layout(location = 6) in vec4 i_color;
+layout(location = 7) in float i_xray;
+uniform mat4 u_viewproj;
+out vec3 v_pos;
+out vec3 v_nrm;
+flat out vec4 v_color;
+flat out float v_xray;
+void main() {
+  mat4 model = mat4(i_m0, i_m1, i_m2, i_m3);
+  vec4 w = model * vec4(a_pos, 1.0);
+  v_pos = w.xyz;
+  // Instances have orthogonal columns (a rotation times a scaling): the inverse transpose is the
+  // matrix with each column divided by its squared length (no inverse() per vertex on llvmpipe).
+  mat3 m = mat3(model);
+  v_nrm = m * (a_nrm / vec3(dot(m[0], m[0]), dot(m[1], m[1]), dot(m[2], m[2])));
+  v_color = i_color;
+  v_xray = i_xray;
+  gl_Position = u_viewproj * w;
+}
+)";
+const char* kOverlayRibbonVS = R"(#version 330 core
+layout(location = 0) in vec3 a_pos;
+layout(location = 1) in vec4 a_color;
+uniform mat4 u_viewproj;
+uniform float u_ribbon_xray;
+out vec3 v_pos;
+out vec3 v_nrm;
+flat out vec4 v_color;
+flat out float v_xray;
+out vec4 v_rgba;
+void main() {
+  v_pos = a_pos;
+  v_nrm = vec3(0.0);
+  v_color = vec4(0.0);
+  v_rgba = a_color;
+  v_xray = u_ribbon_xray;
+  gl_Position = u_viewproj * vec4(a_pos, 1.0);
+}
+)";
+// RIBBON (1 or 0) and kGamma are defined above this text by overlay_fragment_shader().
+const char* kOverlayFS = R"(
+in vec3 v_pos;
+in vec3 v_nrm;
+flat in vec4 v_color;
+flat in float v_xray;
+#if RIBBON
+in vec4 v_rgba;
+#endif
+uniform vec3 u_eye;
+uniform int u_xray;
+out vec4 o_color;
+vec3 gamma_encode(vec3 x) {  // x^(1/2.2), see render/shaders.hpp
+  vec3 c = clamp(x, 0.0, 1.0), s = sqrt(c), q = sqrt(s);
+  return kGamma.x * s + kGamma.y * q + c * (kGamma.z + kGamma.w * q);
+}
+void main() {
+  float alpha = 1.0;
+  if (u_xray == 1) {
+    if (v_xray <= 0.0) discard;
+    alpha = v_xray;
+  }
+#if RIBBON
+  vec4 c = v_rgba;
+#else
+  vec3 n = normalize(v_nrm);
+  float facing = abs(dot(n, normalize(u_eye - v_pos)));
+  vec4 c = vec4(v_color.rgb * (0.62 + 0.38 * facing), v_color.a);
+#endif
+  o_color = vec4(gamma_encode(c.rgb), c.a * alpha);
+}
+)";
+
 GLuint compile(GLenum type, const char* src) {
   const GLuint s = glCreateShader(type);
   glShaderSource(s, 1, &src, nullptr);
@@ -150,6 +234,19 @@ const char* depth_vertex_shader() {
 }
 const char* depth_fragment_shader() {
   return kDepthFS;
+}
+
+const char* overlay_vertex_shader(bool ribbon) {
+  return ribbon ? kOverlayRibbonVS : kOverlaySolidVS;
+}
+
+std::string overlay_fragment_shader(bool ribbon) {
+  char head[256];
+  std::snprintf(head, sizeof head,
+                "#version 330 core\n#define RIBBON %d\nconst vec4 kGamma = vec4(%.9g, %.9g, %.9g, %.9g);\n",
+                ribbon ? 1 : 0, (double)kGammaFit[0], (double)kGammaFit[1], (double)kGammaFit[2],
+                (double)kGammaFit[3]);
+  return head + std::string(kOverlayFS);
 }
 
 std::string lit_fragment_shader(LitKind kind) {

@@ -26,6 +26,9 @@ enum class LitKind { body, ground };
 const char* lit_vertex_shader();
 std::string lit_fragment_shader(LitKind kind);  ///< kGammaFit written into the source
 const char* depth_vertex_shader();
+// The overlay pass (render/overlay.hpp): instanced unit solids, or ribbons with a colour per vertex.
+const char* overlay_vertex_shader(bool ribbon);
+std::string overlay_fragment_shader(bool ribbon);
 const char* depth_fragment_shader();
 
 // Compiles and links; throws std::runtime_error with the driver's log on failure. Needs a

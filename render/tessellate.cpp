@@ -95,6 +95,14 @@ RenderMesh tessellate_cylinder(double r, double h, int seg) {
   return m;
 }
 
+RenderMesh tessellate_cone(double r, double h, int seg) {
+  RenderMesh m;
+  const double l = std::hypot(r, h), nr = h / l, nz = r / l;
+  revolve(m, {{r, 0, nr, nz}, {0, h, nr, nz}}, seg);
+  disk(m, r, 0, -1, seg);
+  return m;
+}
+
 RenderMesh tessellate_capsule(double r, double h, int seg) {
   RenderMesh m;
   const double half = h / 2 - r;  // centre of each hemisphere

@@ -19,6 +19,7 @@ struct RenderMesh {
 RenderMesh tessellate_box(const Vec3& size);
 RenderMesh tessellate_sphere(double r, int rings = 24);
 RenderMesh tessellate_cylinder(double r, double h, int segments = 48);
+RenderMesh tessellate_cone(double r, double h, int segments = 48);  ///< base disk at z = 0, tip at z = h
 RenderMesh tessellate_capsule(double r, double h, int segments = 48);
 RenderMesh tessellate_plane(double size);  ///< square in z = 0, normal +z, centred on the origin
 // The unit sphere's mesh scaled by the semi-axes r: positions diag(r) p, normals diag(1/r) n

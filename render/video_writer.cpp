@@ -52,6 +52,7 @@ struct VideoWriter::Impl {
   // Bounded queue: slots cycle free -> filled (by push) -> free (by the encoder thread).
   std::vector<std::vector<uint8_t>> slots;
   std::vector<long> slot_index;           // the frame number each slot carries: its PNG name and timestamp
+  std::vector<ScreenLayer> slot_layer;    // the screen layer each slot carries (storage reused)
   bool palette_fitted = false;            // GIF only
   size_t head = 0, tail = 0, filled = 0;  // ring indices, guarded by mu
   bool closing = false;
@@ -144,8 +145,9 @@ struct VideoWriter::Impl {
     }
   }
 
-  void encode(uint8_t* rgba, long index) {
+  void encode(uint8_t* rgba, long index, const ScreenLayer& layer) {
     if (s.fxaa) fxaa(rgba, s.width, s.height, fxaa_buffers);
+    if (!layer.empty()) composite(layer, rgba, s.width, s.height);
     if (!s.frames_dir.empty()) {
       char name[32];
       std::snprintf(name, sizeof name, "frame_%05ld.png", index);
@@ -176,10 +178,11 @@ struct VideoWriter::Impl {
       if (filled == 0 && closing) return;
       std::vector<uint8_t>& slot = slots[tail];
       const long index = slot_index[tail];
+      const ScreenLayer& layer = slot_layer[tail];
       lk.unlock();
       const auto t0 = std::chrono::steady_clock::now();
       try {
-        if (error.empty()) encode(slot.data(), index);
+        if (error.empty()) encode(slot.data(), index, layer);
       } catch (const std::exception& ex) {
         std::lock_guard<std::mutex> g(mu);
         error = ex.what();
@@ -231,6 +234,7 @@ VideoWriter::VideoWriter(const VideoSettings& s) : p_(std::make_unique<Impl>()) 
   }
   P.slots.assign(std::max(1, s.queue), std::vector<uint8_t>((size_t)s.width * s.height * 4));
   P.slot_index.assign(P.slots.size(), 0);
+  P.slot_layer.assign(P.slots.size(), ScreenLayer{});
   P.worker = std::thread([this] { p_->run(); });
 }
 
@@ -249,7 +253,7 @@ uint8_t* VideoWriter::acquire() {
   return P.slots[P.head].data();  // the caller is the only writer of this slot until commit()
 }
 
-void VideoWriter::commit(long index) {
+void VideoWriter::commit(long index, const ScreenLayer* layer) {
   Impl& P = *p_;
   std::lock_guard<std::mutex> lk(P.mu);
   if (index < 0) index = P.next_index;
@@ -258,15 +262,22 @@ void VideoWriter::commit(long index) {
                            " after " + std::to_string(P.next_index - 1) + ")");
   P.next_index = index + 1;
   P.slot_index[P.head] = index;
+  // Vector assignment reuses the slot's storage: no allocation once the slots have grown.
+  if (layer) {
+    P.slot_layer[P.head].rects = layer->rects;
+    P.slot_layer[P.head].glyphs = layer->glyphs;
+  } else {
+    P.slot_layer[P.head].clear();
+  }
   P.head = (P.head + 1) % P.slots.size();
   ++P.filled;
   ++P.nframes;
   P.cv_pop.notify_one();
 }
 
-void VideoWriter::push(const uint8_t* rgba, long index) {
+void VideoWriter::push(const uint8_t* rgba, long index, const ScreenLayer* layer) {
   std::memcpy(acquire(), rgba, p_->slots[0].size());
-  commit(index);
+  commit(index, layer);
 }
 
 void VideoWriter::finish() {

@@ -10,18 +10,23 @@
 #include <memory>
 #include <string>
 
+#include "render/render_settings.hpp"
+#include "render/screen.hpp"
+
 namespace simreel {
 
 struct VideoSettings {
-  std::string path;                ///< output video; empty for PNG frames only
-  std::string frames_dir;          ///< if set, also frame_00000.png ... here
-  int width = 1280, height = 720;  ///< px; even for yuv420p
+  std::string path;                                    ///< output video; empty for PNG frames only
+  std::string frames_dir;                              ///< if set, also frame_00000.png ... here
+  int width = kDefaultWidth, height = kDefaultHeight;  ///< px; even for yuv420p
   double fps = 30;
   int crf = 20;  ///< x264 quality (lower is better; 18-23 typical)
   std::string preset = "veryfast";
   int queue = 4;  ///< frames in flight between renderer and encoder
   // FXAA (render/fxaa.hpp) on each frame, on the encoding thread, before PNG and video: there it
-  // overlaps the rendering of the next frame instead of delaying it.
+  // overlaps the rendering of the next frame instead of delaying it. Then each frame's screen
+  // layer (commit's `layer`) is composited over it: the renderer's post stage, moved to this
+  // thread (RenderSettings::post = PostStage::caller; set fxaa to RenderSettings::fxaa()).
   bool fxaa = false;
 };
 
@@ -33,11 +38,12 @@ class VideoWriter {
   // `index` is the frame's number in the whole clip: its PNG is frame_<index>.png and its
   // timestamp index / fps, whichever frames came before (a partial render names and times its
   // frames as the full render does). Increasing; -1 takes the number after the previous frame's.
-  void push(const uint8_t* rgba, long index = -1);
+  // `layer`: drawn over the frame after FXAA (copied; its glyph bitmaps must outlive the writer).
+  void push(const uint8_t* rgba, long index = -1, const ScreenLayer* layer = nullptr);
   // The same without the copy: acquire() returns the next free frame buffer (width*height*4
   // bytes; blocks while the queue is full), the caller fills it, commit() queues it.
   uint8_t* acquire();
-  void commit(long index = -1);
+  void commit(long index = -1, const ScreenLayer* layer = nullptr);
   // Drains the queue, flushes the encoder, writes the trailer and renames into place.
   void finish();
   long frames() const;

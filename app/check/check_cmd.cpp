@@ -227,12 +227,13 @@ int cmd_check(const std::vector<std::string>& args) {
     std::vector<Checked> got;
     double render_s = 0;
     FrameLoop::Hooks hooks;
+    hooks.step = view.step_hook();  // trails: every physics step, drawn or not
     hooks.frame = [&](const FrameTarget& t, const World& w) {
       const auto t0 = std::chrono::steady_clock::now();
       Checked c{t, Image{}, body_states(w)};
       c.image.width = view.settings.width;
       c.image.height = view.settings.height;
-      const uint8_t* px = view.draw(renderer, w);
+      const uint8_t* px = view.draw(renderer, w, nullptr, t.index);
       c.image.rgba.assign(px, px + (size_t)c.image.width * c.image.height * 4);
       got.push_back(std::move(c));
       render_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

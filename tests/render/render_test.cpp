@@ -217,12 +217,12 @@ TEST(Render, CachedGroundLooksLikeTheFullGround) {
     };
     auto checker4 = [](RenderSettings& rs) {
       rs.ground_tile = 0.5;
-      rs.msaa = 4;
+      rs.antialiasing = AntiAliasing::msaa4;
     };
     auto full4 = [](RenderSettings& rs) {
       rs.ground_tile = 0.5;
       rs.cache_ground = false;
-      rs.msaa = 4;
+      rs.antialiasing = AntiAliasing::msaa4;
     };
     Fixture a(bodies, c, true, true, msaa ? +checker4 : +checker),
         b(bodies, c, true, true, msaa ? +full4 : +full);
@@ -386,8 +386,12 @@ TEST(Render, EglBackendDrawsTheSameFramesAsOsMesa) {
       for (BodyDef& b : bodies) b.p_WB = 0.5 * b.p_WB - Vec3(1, 1, 49);
       auto osmesa = [](RenderSettings& rs) { rs.gl = GlBackend::osmesa, rs.ground_tile = 0.5; };
       auto egl = [](RenderSettings& rs) { rs.gl = GlBackend::egl, rs.ground_tile = 0.5; };
-      auto osmesa4 = [](RenderSettings& rs) { rs.gl = GlBackend::osmesa, rs.ground_tile = 0.5, rs.msaa = 4; };
-      auto egl4 = [](RenderSettings& rs) { rs.gl = GlBackend::egl, rs.ground_tile = 0.5, rs.msaa = 4; };
+      auto osmesa4 = [](RenderSettings& rs) {
+        rs.gl = GlBackend::osmesa, rs.ground_tile = 0.5, rs.antialiasing = AntiAliasing::msaa4;
+      };
+      auto egl4 = [](RenderSettings& rs) {
+        rs.gl = GlBackend::egl, rs.ground_tile = 0.5, rs.antialiasing = AntiAliasing::msaa4;
+      };
       Fixture s(bodies, c, true, true, k == 0 ? (msaa ? +osmesa4 : +osmesa) : (msaa ? +egl4 : +egl));
       description[k] = s.renderer->description();
       for (int f = 0; f < 3; ++f) {
@@ -551,7 +555,7 @@ std::vector<uint8_t> read_png(const std::string& path) {
 TEST(Video, WriterFxaaMatchesRendererFxaa) {
   CameraView c;
   c.eye = Vec3(3, -3, 2);
-  auto raw = [](RenderSettings& rs) { rs.fxaa = false; };
+  auto raw = [](RenderSettings& rs) { rs.antialiasing = AntiAliasing::none; };
   Fixture with({colored(r1_tumble_body(), {0.8f, 0.4f, 0.2f}, Vec3::Zero())}, c, true);
   Fixture without({colored(r1_tumble_body(), {0.8f, 0.4f, 0.2f}, Vec3::Zero())}, c, true, true, raw);
   with.render();

@@ -1,0 +1,379 @@
+#include "app/overlays.hpp"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "app/frame_loop.hpp"
+#include "render/camera.hpp"
+
+namespace simreel {
+
+namespace {
+
+float srgb_to_linear(int c) {
+  const double x = c / 255.0;
+  return (float)(x <= 0.04045 ? x / 12.92 : std::pow((x + 0.055) / 1.055, 2.4));
+}
+
+Rgba with_alpha(const ShowRgb& c, double a) {
+  return {c[0], c[1], c[2], (float)a};
+}
+
+// The default colour of each kind (Okabe-Ito indices, okabe_ito()).
+int default_color(ShowKind k) {
+  switch (k) {
+    case ShowKind::angular_velocity:
+      return 7;  // reddish purple
+    case ShowKind::angular_momentum:
+      return 5;  // blue
+    case ShowKind::velocity:
+      return 3;  // bluish green
+    case ShowKind::inertia_box:
+    case ShowKind::inertia_ellipsoid:
+      return 2;  // sky blue
+    case ShowKind::trail:
+    case ShowKind::center_of_mass:
+    case ShowKind::axes:
+      return 0;  // black
+    case ShowKind::cones:
+      return 1;  // orange (the body cone; the space cone is blue, as L)
+  }
+  return 0;
+}
+
+bool is_arrow(ShowKind k) {
+  return k == ShowKind::angular_velocity || k == ShowKind::angular_momentum || k == ShowKind::velocity;
+}
+
+Vec3 quantity(const World& w, int i, ShowKind k) {
+  switch (k) {
+    case ShowKind::angular_velocity:
+      return w.angular_velocity(i);
+    case ShowKind::angular_momentum:
+      return w.angular_momentum(i);
+    case ShowKind::velocity:
+      return w.linear_velocity(i);
+    default:
+      return Vec3::Zero();
+  }
+}
+
+// The largest component of each magnitude, per body.
+double largest(const Magnitudes& m, ShowKind k) {
+  return k == ShowKind::angular_velocity ? m.omega : k == ShowKind::angular_momentum ? m.L : m.v;
+}
+
+}  // namespace
+
+Rgba okabe_ito(int index, float alpha) {
+  static const int hex[8] = {0x000000, 0xE69F00, 0x56B4E9, 0x009E73, 0xF0E442, 0x0072B2, 0xD55E00, 0xCC79A7};
+  const int h = hex[((index % 8) + 8) % 8];
+  return {srgb_to_linear(h >> 16), srgb_to_linear((h >> 8) & 255), srgb_to_linear(h & 255), alpha};
+}
+
+std::vector<Magnitudes> measure_magnitudes(const Scene& scene, int threads) {
+  FrameLoop loop(scene, threads);
+  std::vector<Magnitudes> m((size_t)loop.world().body_count());
+  FrameLoop::Hooks h;
+  h.step = [&](const World& w) {
+    for (int i = 0; i < w.body_count(); ++i) {
+      if (w.type(i) != BodyType::dynamic) continue;
+      m[i].omega = std::max(m[i].omega, w.angular_velocity(i).norm());
+      m[i].L = std::max(m[i].L, w.angular_momentum(i).norm());
+      m[i].v = std::max(m[i].v, w.linear_velocity(i).norm());
+    }
+  };
+  loop.run({}, h, true);
+  return m;
+}
+
+SceneOverlays::SceneOverlays(const Scene& scene, const World& world, const std::vector<double>& body_radius,
+                             int width, int height, int threads)
+    : width_(width),
+      height_(height),
+      dt_(scene.timestep),
+      fps_(scene.video.fps),
+      body_radius_(body_radius),
+      hud_(scene.overlays.hud),
+      hud_corner_(scene.overlays.hud_corner),
+      title_(scene.overlays.title) {
+  const OverlaySpec& o = scene.overlays;
+  bool need_scales = false;
+  for (size_t i = 0; i < o.show.size(); ++i)
+    for (const ShowItem& s : o.show[i]) {
+      if (s.kind == ShowKind::trail) {
+        Trail t;
+        t.body = (int)i;
+        t.p_B = s.point_in_world ? world.world_to_local((int)i, s.point) : s.point;
+        t.color =
+            s.color ? with_alpha(*s.color, s.opacity) : okabe_ito(default_color(s.kind), (float)s.opacity);
+        t.width_px = std::max(1.5, s.width * height / 720.0);  // px, at least 1.5 on small frames
+        // About 120 samples a second of simulated time, on whole steps.
+        t.every = std::max(1L, std::lround(1.0 / (120.0 * dt_)));
+        t.span = std::lround(s.length / dt_);
+        const size_t cap = (size_t)(t.span / t.every + 3);
+        t.points.resize(cap);
+        t.steps.resize(cap);
+        t.scratch.reserve(cap + 1);
+        t.colors.reserve(cap + 1);
+        trails_.push_back(std::move(t));
+        continue;
+      }
+      need_scales = need_scales || (is_arrow(s.kind) && !s.scale);
+      items_.push_back({(int)i, s});
+    }
+  std::vector<Magnitudes> mags;
+  if (need_scales) mags = measure_magnitudes(scene, threads);
+  for (Item& it : items_) {
+    const double R = it.body < (int)body_radius_.size() ? body_radius_[it.body] : 0.5;
+    if (is_arrow(it.spec.kind)) {
+      const double big = it.spec.scale ? 0 : largest(mags[it.body], it.spec.kind);
+      it.scale = it.spec.scale ? *it.spec.scale : big > 0 ? kArrowReach * R / big : 0;
+      it.radius = 0.028 * R * it.spec.width;
+    } else if (it.spec.kind == ShowKind::axes) {
+      it.scale = it.spec.scale ? *it.spec.scale : 1.25 * R;
+      it.radius = 0.018 * R * it.spec.width;
+    } else if (it.spec.kind == ShowKind::center_of_mass) {
+      it.scale = it.spec.scale ? *it.spec.scale : 0.07 * R;
+    } else if (it.spec.kind == ShowKind::cones) {
+      it.scale = it.spec.scale ? *it.spec.scale : kArrowReach * R;  // slant: an auto-scaled omega's length
+    }
+  }
+  E0_ = world.kinetic_energy() + world.potential_energy();
+  L0_ = world.total_angular_momentum();
+  if (!hud_.empty() || !title_.empty()) {
+    const std::string font = default_font_path();
+    const int px = std::max(10, (int)std::lround(height * 0.032 * o.text_size));
+    font_ = std::make_unique<Font>(font, px);
+    title_font_ = std::make_unique<Font>(font, std::max(12, (int)std::lround(px * 1.4)));
+    lines_.resize(hud_.size());
+  }
+}
+
+SceneOverlays::~SceneOverlays() = default;
+
+double SceneOverlays::arrow_scale(int body, ShowKind kind) const {
+  for (const Item& it : items_)
+    if (it.body == body && it.spec.kind == kind) return it.scale;
+  return 0;
+}
+
+void SceneOverlays::record(const World& w) {
+  const long s = w.steps();
+  for (Trail& t : trails_) {
+    if (s <= t.last) continue;
+    t.last = s;
+    if (s % t.every) continue;
+    t.points[t.head] = w.local_to_world(t.body, t.p_B);
+    t.steps[t.head] = s;
+    t.head = (t.head + 1) % t.points.size();
+    t.count = std::min(t.count + 1, t.points.size());
+  }
+}
+
+void SceneOverlays::build(const World& w, long frame, DrawList& dl) {
+  dl.overlay.clear();
+  dl.screen.clear();
+  const Vec3 eye = dl.camera.eye;
+  for (const Item& it : items_) {
+    const int i = it.body;
+    const Vec3 c = w.centroid(i);
+    const ShowItem& s = it.spec;
+    const Rgba color =
+        s.color ? with_alpha(*s.color, s.opacity) : okabe_ito(default_color(s.kind), (float)s.opacity);
+    const float xray = (float)s.xray;
+    // Thin next to a small body seen from far away: at least 1.5 px (times `width`) thick.
+    const double px = pixel_size_at(dl.camera, height_, std::max((c - eye).norm(), 1e-3));
+    const double radius = std::max(it.radius, 0.75 * px * s.width);
+    switch (s.kind) {
+      case ShowKind::angular_velocity:
+      case ShowKind::angular_momentum:
+      case ShowKind::velocity:
+        dl.overlay.arrow(c, quantity(w, i, s.kind) * it.scale, radius, color, xray);
+        break;
+      case ShowKind::axes: {
+        const Mat3 R = w.state(i).q_WP.toRotationMatrix();
+        // e1 e2 e3 red, green, blue: Okabe-Ito's vermillion, bluish green and blue.
+        const int axis_color[3] = {6, 3, 5};
+        for (int k = 0; k < 3; ++k)
+          dl.overlay.arrow(c, R.col(k) * it.scale, radius, okabe_ito(axis_color[k], (float)s.opacity), xray);
+        break;
+      }
+      case ShowKind::center_of_mass:
+        dl.overlay.ellipsoid(c, Mat3::Identity(), Vec3::Constant(it.scale), color, xray);
+        break;
+      case ShowKind::inertia_box:
+      case ShowKind::inertia_ellipsoid: {
+        // The uniform box (I_1 = m (b^2 + c^2) / 12 ...) or solid ellipsoid (m (b^2 + c^2) / 5)
+        // with the body's mass and principal moments: half-sides / semi-axes from the moments.
+        const BodyModel& m = w.model(i);
+        const Vec3 I = m.I_P;
+        const double k = s.kind == ShowKind::inertia_box ? 6.0 : 2.5;
+        Vec3 half;
+        for (int a = 0; a < 3; ++a)
+          half[a] = std::sqrt(std::max(0.0, k * (I[(a + 1) % 3] + I[(a + 2) % 3] - I[a]) / m.mass)) *
+                    (s.kind == ShowKind::inertia_box ? 0.5 : 1.0);
+        const Mat3 R = w.state(i).q_WP.toRotationMatrix();
+        if (s.kind == ShowKind::inertia_ellipsoid) {
+          dl.overlay.ellipsoid(c, R, half, color, xray);
+        } else {
+          // A box as a cylinder would not do: draw its 12 edges as rods.
+          const double r = 0.012 * body_radius_[i];
+          for (int a = 0; a < 3; ++a)
+            for (int sb : {-1, 1})
+              for (int sc : {-1, 1}) {
+                Vec3 p = Vec3::Zero();
+                p[(a + 1) % 3] = sb * half[(a + 1) % 3];
+                p[(a + 2) % 3] = sc * half[(a + 2) % 3];
+                Vec3 q = p;
+                p[a] = -half[a], q[a] = half[a];
+                dl.overlay.rod(c + R * p, c + R * q, r, {color[0], color[1], color[2], 1.0f}, xray);
+              }
+        }
+        break;
+      }
+      case ShowKind::trail:
+      case ShowKind::cones:  // below, after every other item: translucent
+        break;
+    }
+  }
+  for (const Item& it : items_) {
+    if (it.spec.kind != ShowKind::cones) continue;
+    // The body cone (swept by omega about the symmetry axis, fixed in the body) and the space
+    // cone (swept about L, fixed in space): the body cone rolls on the space cone along omega.
+    // The symmetry axis is the principal axis whose moment stands apart from the other two.
+    const int i = it.body;
+    const Vec3 c = w.centroid(i), om = w.angular_velocity(i), L = w.angular_momentum(i);
+    if (!(om.norm() > 0) || !(L.norm() > 0)) continue;
+    const Vec3 u = om.normalized();
+    const Vec3 I = w.model(i).I_P;
+    const Mat3 R = w.state(i).q_WP.toRotationMatrix();
+    Vec3 s = R.col(std::fabs(I[0] - I[1]) < std::fabs(I[1] - I[2]) ? 2 : 0);
+    if (s.dot(u) < 0) s = -s;
+    const float a = (float)it.spec.opacity, xray = (float)it.spec.xray;
+    for (const auto& [axis, color] :
+         {std::pair<Vec3, Rgba>{s, okabe_ito(1, a)}, {L.normalized(), okabe_ito(5, a)}}) {
+      const double cosb = std::clamp(u.dot(axis), -1.0, 1.0), sinb = std::sqrt(1 - cosb * cosb);
+      dl.overlay.cone(c, axis * (it.scale * cosb), it.scale * sinb, color, xray);
+    }
+  }
+  const long now = w.steps();
+  for (Trail& t : trails_) {
+    t.scratch.clear();
+    t.colors.clear();
+    const size_t n = t.points.size();
+    for (size_t k = 0; k < t.count; ++k) {
+      const size_t idx = (t.head + n - t.count + k) % n;  // oldest first
+      const long age = now - t.steps[idx];
+      if (age < 0 || age > t.span) continue;
+      t.scratch.push_back(t.points[idx]);
+    }
+    // The newest sample may lag the frame by a few steps: end at the point's present position.
+    const Vec3 p_now = w.local_to_world(t.body, t.p_B);
+    if (t.count == 0 || t.steps[(t.head + n - 1) % n] != now) t.scratch.push_back(p_now);
+    // Fade: opacity falls linearly with age, from the item's at present to 0 `length` ago.
+    const size_t m = t.scratch.size();
+    for (size_t k = 0; k < m; ++k) {
+      Rgba c = t.color;
+      c[3] *= m > 1 ? (float)(k + 1) / (float)m : 1.0f;
+      t.colors.push_back(c);
+    }
+    double d = (p_now - eye).norm();
+    const double width = t.width_px * pixel_size_at(dl.camera, height_, std::max(d, 1e-3));
+    dl.overlay.ribbon(t.scratch.data(), t.colors.data(), (int)m, eye, width);
+  }
+  if (!hud_.empty() || !title_.empty()) build_hud(w, frame, dl.screen);
+}
+
+void format_hud_line(const HudLine& line, const World& w, long frame, double E0, const Vec3& L0,
+                     std::string& out) {
+  out.clear();
+  char buf[96];
+  for (size_t k = 0; k < line.fields.size(); ++k) {
+    out += line.text[k];
+    const HudField& f = line.fields[k];
+    const char* fmt = f.printf.c_str();
+    if (f.name == "frame") {
+      std::snprintf(buf, sizeof buf, fmt, frame);
+      out += buf;
+      continue;
+    }
+    if (f.body < 0) {
+      double v = 0;
+      const double E = w.kinetic_energy() + w.potential_energy();
+      if (f.name == "t")
+        v = w.time();
+      else if (f.name == "E")
+        v = E;
+      else if (f.name == "E_drift")
+        v = E0 != 0 ? (E - E0) / std::fabs(E0) : E - E0;
+      else if (f.name == "L_drift") {
+        const double n0 = L0.norm();
+        v = n0 > 0 ? (w.total_angular_momentum() - L0).norm() / n0 : (w.total_angular_momentum() - L0).norm();
+      }
+      std::snprintf(buf, sizeof buf, fmt, v);
+      out += buf;
+      continue;
+    }
+    const int i = f.body;
+    Vec3 v = Vec3::Zero();
+    if (f.name == "omega")
+      v = w.angular_velocity(i);
+    else if (f.name == "omega_body")
+      v = w.state(i).w_P;
+    else if (f.name == "L")
+      v = w.angular_momentum(i);
+    else if (f.name == "v")
+      v = w.linear_velocity(i);
+    else if (f.name == "position")
+      v = w.centroid(i);
+    if (f.norm || f.component >= 0) {
+      std::snprintf(buf, sizeof buf, fmt, f.norm ? v.norm() : v[f.component]);
+      out += buf;
+      continue;
+    }
+    out += '(';
+    for (int c = 0; c < 3; ++c) {
+      std::snprintf(buf, sizeof buf, fmt, v[c]);
+      out += buf;
+      if (c < 2) out += ", ";
+    }
+    out += ')';
+  }
+  out += line.text.back();
+}
+
+void SceneOverlays::build_hud(const World& w, long frame, ScreenLayer& out) {
+  const Rgba8 panel{16, 20, 28, 150}, ink{255, 255, 255, 255};
+  int title_bottom = 0;  // px: a HUD in a top corner goes below the title
+  if (!title_.empty()) {
+    Font& f = *title_font_;
+    const int tw = f.width(title_), pad = f.pixel_size() / 2;
+    const int x = (width_ - tw) / 2, base = pad + f.ascent() + pad / 2;
+    title_bottom = base + f.descent() + pad / 2;
+    out.rects.push_back({x - pad, pad / 2, x + tw + pad, title_bottom, panel});
+    f.draw(title_, x, base, ink, &out);
+  }
+  if (hud_.empty()) return;
+  Font& f = *font_;
+  int widest = 0;
+  for (size_t k = 0; k < hud_.size(); ++k) {
+    format_hud_line(hud_[k], w, frame, E0_, L0_, lines_[k]);
+    widest = std::max(widest, f.width(lines_[k]));
+  }
+  const int pad = f.pixel_size() / 2, lh = f.line_height();
+  const int box_w = widest + 2 * pad,
+            box_h = (int)hud_.size() * lh + 2 * pad - (lh - f.ascent() - f.descent());
+  const bool right = hud_corner_.find("right") != std::string::npos;
+  const bool bottom = hud_corner_.find("bottom") != std::string::npos;
+  const int margin = pad;
+  const int x0 = right ? width_ - margin - box_w : margin;
+  const int y0 = bottom ? height_ - margin - box_h : title_bottom + margin;
+  out.rects.push_back({x0, y0, x0 + box_w, y0 + box_h, panel});
+  for (size_t k = 0; k < hud_.size(); ++k)
+    f.draw(lines_[k], x0 + pad, y0 + pad + f.ascent() + (int)k * lh, ink, &out);
+}
+
+}  // namespace simreel

@@ -1,0 +1,76 @@
+#!/usr/bin/env bash
+# Renders the overlay pictures of scenes/README.md (one per `show:` item, and the HUD) from small
+# scenes written here: bash docs/overlays/make.sh [path/to/simreel]   (from the repository root)
+set -euo pipefail
+bin=${1:-build/simreel}
+out=docs/overlays
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+
+# A T-handle tumbling in zero gravity (as scenes/dzhanibekov.yaml), seen from the side.
+handle() {  # $1: show items (YAML flow list), $2: extra top-level YAML
+  cat <<YAML
+simulation: { duration: 4, gravity: [0, 0, 0] }
+video: { width: 320, height: 180 }
+camera: { position: [1.35, -1.35, 0.8], look_at: [0, -0.15, 0], fov: 40 }
+bodies:
+  - name: handle
+    angular_velocity: [0.4, 6.0, 0.4]
+    color: [0.85, 0.35, 0.15]
+    show: $1
+    colliders:
+      - { shape: cylinder, radius: 0.07, height: 1.0, density: 7800, orientation: [0.7071067811865476, 0, 0.7071067811865476, 0] }
+      - { shape: cylinder, radius: 0.05, height: 0.7, density: 7800, position: [0, -0.35, 0], orientation: [0.7071067811865476, -0.7071067811865476, 0, 0] }
+$2
+YAML
+}
+# A capsule thrown over a ground (as scenes/projectile.yaml).
+thrown() {  # $1: show items
+  cat <<YAML
+simulation: { duration: 1.3 }
+video: { width: 320, height: 180 }
+camera: { position: [1.3, -4.5, 1.6], look_at: [1.3, 0, 1.5], fov: 45 }
+render: { ground: true }
+bodies:
+  - name: capsule
+    position: [0, 0, 0.3]
+    linear_velocity: [2.5, 0, 6]
+    angular_velocity: [0, 5, 0]
+    color: [0.2, 0.45, 0.8]
+    show: $1
+    colliders: [ { shape: capsule, radius: 0.15, height: 0.8, density: 500, orientation: [0.7071067811865476, 0.7071067811865476, 0, 0] } ]
+YAML
+}
+
+render() {  # $1: name, $2: time
+  "$bin" render "$tmp/$1.yaml" --quiet --at "$2" -o "$out/$1.png" > /dev/null
+}
+
+handle "[ { axes: { xray: true, scale: 0.45 } } ]" "" > "$tmp/axes.yaml" && render axes 0.2
+handle "[ { angular_velocity: { xray: true } } ]" "" > "$tmp/angular_velocity.yaml" && render angular_velocity 2.6
+handle "[ { angular_momentum: { xray: true } } ]" "" > "$tmp/angular_momentum.yaml" && render angular_momentum 2.6
+handle "[ { center_of_mass: { xray: 0.8, color: [0.9, 0.6, 0] } }, { axes: { opacity: 0.5 } } ]" "" > "$tmp/center_of_mass.yaml" &&
+  render center_of_mass 1.0
+handle "[ inertia_box ]" "" > "$tmp/inertia_box.yaml" && render inertia_box 1.0
+handle "[ inertia_ellipsoid ]" "" > "$tmp/inertia_ellipsoid.yaml" && render inertia_ellipsoid 1.0
+cat > "$tmp/cones.yaml" <<YAML
+simulation: { duration: 2, gravity: [0, 0, 0] }
+video: { width: 320, height: 180 }
+camera: { position: [2.0, -2.0, 1.5], look_at: [0, 0, 0.3], fov: 40 }
+bodies:
+  - name: disc
+    orientation: [0.9659258262890683, 0.25881904510252074, 0, 0]
+    angular_velocity: [0, 0, 4]
+    color: [0.2, 0.6, 0.35]
+    show: [ { cones: { scale: 0.8 } }, { angular_velocity: { scale: 0.2 } } ]
+    colliders: [ { shape: cylinder, radius: 0.6, height: 0.08 } ]
+YAML
+render cones 1.0
+thrown "[ { velocity: { scale: 0.15 } }, { trail: { length: 0.3, width: 2 } } ]" > "$tmp/velocity.yaml" && render velocity 0.3
+thrown "[ { trail: { point: [0, 0, 0.3], length: 1.0 } }, { trail: { point: [0, 0, 0], length: 1.0, color: [0.8, 0.1, 0.1] } } ]" \
+  > "$tmp/trail.yaml" && render trail 1.0
+handle "[ angular_momentum, angular_velocity ]" '
+overlays:
+  title: "Title"
+  hud: ["t = {t:.2f} s", "ω₂ = {omega_body.y:+.2f} rad/s", "E/E₀ − 1 = {E_drift:+.1e}"]' > "$tmp/hud.yaml" && render hud 2.6
+ls -l "$out"/*.png

@@ -1,0 +1,41 @@
+// Text for the screen layer: FreeType rasterises, HarfBuzz shapes (kerning, ligatures, combining
+// marks), from a Debian font (DejaVu Sans, fonts-dejavu-core). Deterministic: outlines are
+// rasterised unhinted (FT_LOAD_NO_HINTING, the same coverage on every run whatever the hinting
+// engine), pen positions are summed in 26.6 fixed point and each glyph is placed on a whole
+// pixel, so a string's pixels depend only on the string, its size and its position.
+#pragma once
+#include <memory>
+#include <string>
+#include <string_view>
+
+#include "render/screen.hpp"
+
+namespace simreel {
+
+// The font simreel draws text in: DejaVu Sans from Debian's fonts-dejavu-core (or
+// SIMREEL_FONT if set). Throws std::runtime_error naming the package if it is missing.
+std::string default_font_path();
+
+class Font {
+ public:
+  Font(const std::string& path, int pixel_size);  ///< throws std::runtime_error
+  ~Font();
+  Font(const Font&) = delete;
+  Font& operator=(const Font&) = delete;
+
+  // Shapes UTF-8 `text` and appends its glyphs to `out` with the pen starting at x (px) on the
+  // baseline y (px, down). Returns the advance (px). With out == nullptr it only measures.
+  // Glyphs are rasterised once and kept: the bitmaps `out` points at live as long as the Font.
+  int draw(std::string_view text, int x, int baseline, const Rgba8& color, ScreenLayer* out);
+  int width(std::string_view text) { return draw(text, 0, 0, {}, nullptr); }
+  int ascent() const;       ///< px above the baseline
+  int descent() const;      ///< px below the baseline (positive)
+  int line_height() const;  ///< px, baseline to baseline
+  int pixel_size() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> p_;
+};
+
+}  // namespace simreel

@@ -1,0 +1,143 @@
+// Parsing of the teaching overlays (issue 12): bodies' `show:` items and the `overlays:` block.
+// The item names and their form are a contract; every mistake names the file, line and key.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "app/scene.hpp"
+#include "sim/error.hpp"
+#include "tests/scratch.hpp"
+
+namespace simreel {
+namespace {
+
+std::string write_scene(const std::string& name, const std::string& text) {
+  const std::filesystem::path p = test::scratch(name);
+  std::ofstream(p) << text;
+  return p.string();
+}
+
+std::string error_of(const std::string& text) {
+  try {
+    load_scene(write_scene("bad_overlay.yaml", text));
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "scene was accepted:\n" << text;
+  return "";
+}
+
+const char* kHead =
+    "simulation: { duration: 4 }\nbodies:\n  - name: handle\n"
+    "    colliders: [ { shape: box, size: [1, 2, 3], density: 10 } ]\n";
+
+// The example of issue 12, word for word.
+TEST(SceneOverlays, TheContractExampleLoads) {
+  const Scene s = load_scene(write_scene(
+      "contract.yaml",
+      std::string(kHead) +
+          "    show:\n"
+          "      - axes\n"
+          "      - angular_momentum                                    # defaults\n"
+          "      - { angular_velocity: { color: [1, 0, 1], scale: 0.2 } }   # scale: m per rad/s\n"
+          "      - { trail: { point: [0.5, 0, 0], frame: body, length: 3.0 } }\n"
+          "overlays:\n"
+          "  hud: [\"t = {t:.2f} s\"]\n"));
+  ASSERT_EQ(s.overlays.show.size(), 1u);
+  const auto& items = s.overlays.show[0];
+  ASSERT_EQ(items.size(), 4u);
+  EXPECT_EQ(items[0].kind, ShowKind::axes);
+  EXPECT_EQ(items[1].kind, ShowKind::angular_momentum);
+  EXPECT_FALSE(items[1].scale.has_value());
+  EXPECT_EQ(items[2].kind, ShowKind::angular_velocity);
+  EXPECT_EQ(*items[2].scale, 0.2);
+  EXPECT_EQ((*items[2].color)[1], 0.0f);
+  EXPECT_EQ(items[3].kind, ShowKind::trail);
+  EXPECT_EQ(items[3].point, Vec3(0.5, 0, 0));
+  EXPECT_FALSE(items[3].point_in_world);
+  EXPECT_EQ(items[3].length, 3.0);
+  ASSERT_EQ(s.overlays.hud.size(), 1u);
+  const HudLine& h = s.overlays.hud[0];
+  EXPECT_EQ(h.text, (std::vector<std::string>{"t = ", " s"}));
+  ASSERT_EQ(h.fields.size(), 1u);
+  EXPECT_EQ(h.fields[0].name, "t");
+  EXPECT_EQ(h.fields[0].printf, "%.2f");
+  EXPECT_TRUE(s.overlays.any());
+}
+
+TEST(SceneOverlays, HudFieldsBodiesComponentsAndNorms) {
+  const Scene s = load_scene(
+      write_scene("hud.yaml", std::string(kHead) + "overlays:\n  title: Spin\n  text_size: 1.5\n"
+                                                   "  hud:\n    corner: bottom_right\n    lines: [\"{{ "
+                                                   "{handle.omega.y:+8.3e} }} {|L|} {omega} {frame}\"]\n"));
+  const HudLine& h = s.overlays.hud[0];
+  ASSERT_EQ(h.fields.size(), 4u);
+  EXPECT_EQ(h.text[0], "{ ");
+  EXPECT_EQ(h.fields[0].body, 0);
+  EXPECT_EQ(h.fields[0].component, 1);
+  EXPECT_EQ(h.fields[0].printf, "%+8.3e");
+  EXPECT_EQ(h.text[1], " } ");
+  EXPECT_TRUE(h.fields[1].norm);
+  EXPECT_EQ(h.fields[1].name, "L");
+  EXPECT_EQ(h.fields[2].component, -1);
+  EXPECT_EQ(h.fields[3].printf, "%ld");
+  EXPECT_EQ(s.overlays.hud_corner, "bottom_right");
+  EXPECT_EQ(s.overlays.title, "Spin");
+  EXPECT_EQ(s.overlays.text_size, 1.5);
+}
+
+TEST(SceneOverlays, MistakesNameFileLineAndKey) {
+  const std::string show = std::string(kHead) + "    show:\n";
+  EXPECT_NE(error_of(show + "      - angular_velocty\n")
+                .find("bad_overlay.yaml:6:9: bodies[0].show[0]: unknown item 'angular_velocty'; did you mean "
+                      "'angular_velocity'?"),
+            std::string::npos)
+      << error_of(show + "      - angular_velocty\n");
+  EXPECT_NE(
+      error_of(show + "      - { trail: { lenght: 2 } }\n")
+          .find("bad_overlay.yaml:6:20: bodies[0].show[0].trail.lenght: unknown key 'lenght'; did you mean "
+                "'length'?"),
+      std::string::npos)
+      << error_of(show + "      - { trail: { lenght: 2 } }\n");
+  EXPECT_NE(error_of(show + "      - { trail: { frame: space } }\n")
+                .find("bodies[0].show[0].trail.frame: expected body"),
+            std::string::npos);
+  EXPECT_NE(error_of(show + "      - { velocity: { scale: -1 } }\n")
+                .find("bodies[0].show[0].velocity.scale: must lie in"),
+            std::string::npos);
+  EXPECT_NE(error_of(show + "      - { axes: { color: [1, 0, 0] } }\n").find("unknown key 'color'"),
+            std::string::npos);
+  EXPECT_NE(error_of(show + "      - 3\n").find("unknown item '3'"), std::string::npos);
+  EXPECT_NE(
+      error_of(std::string(kHead) + "overlays:\n  hud: [\"{omgea:.2f}\"]\n")
+          .find(
+              "bad_overlay.yaml:6:9: overlays.hud[0]: '{omgea:.2f}': unknown quantity 'omgea'; did you mean "
+              "'omega'?"),
+      std::string::npos)
+      << error_of(std::string(kHead) + "overlays:\n  hud: [\"{omgea:.2f}\"]\n");
+  EXPECT_NE(error_of(std::string(kHead) + "overlays:\n  hud: [\"{t:.2q}\"]\n").find("format '.2q'"),
+            std::string::npos);
+  EXPECT_NE(error_of(std::string(kHead) + "overlays:\n  hud: [\"{hanlde.omega}\"]\n")
+                .find("no body is named 'hanlde'; did you mean 'handle'?"),
+            std::string::npos);
+  EXPECT_NE(error_of(std::string(kHead) + "overlays:\n  hud: [\"{t\"]\n").find("without its '}'"),
+            std::string::npos);
+  EXPECT_NE(
+      error_of(std::string(kHead) + "overlays:\n  hud: [\"{handle.t}\"]\n").find("number of the whole scene"),
+      std::string::npos);
+  EXPECT_NE(error_of(std::string(kHead) + "overlays:\n  hdu: []\n")
+                .find("overlays.hdu: unknown key 'hdu'; did you mean 'hud'?"),
+            std::string::npos);
+  EXPECT_NE(error_of(std::string(kHead) + "overlays:\n  hud: { lines: [a], corner: middle }\n")
+                .find("overlays.hud.corner: expected top_left"),
+            std::string::npos);
+}
+
+TEST(SceneOverlays, ASceneWithoutOverlaysHasNone) {
+  const Scene s = load_scene(write_scene("plain.yaml", kHead));
+  EXPECT_FALSE(s.overlays.any());
+}
+
+}  // namespace
+}  // namespace simreel
