@@ -96,6 +96,7 @@ SceneOverlays::SceneOverlays(const Scene& scene, const World& world, const std::
     : width_(width),
       height_(height),
       dt_(scene.timestep),
+      duration_(scene.duration),
       fps_(scene.video.fps),
       body_radius_(body_radius),
       hud_(scene.overlays.hud),
@@ -172,7 +173,7 @@ void SceneOverlays::add_trail(int body, const ShowItem& s, Source src, const Rgb
   t.width_px = std::max(1.5, s.width * height / 720.0);  // px, at least 1.5 on small frames
   // About 120 samples a second of simulated time, on whole steps.
   t.every = std::max(1L, std::lround(1.0 / (120.0 * dt_)));
-  t.span = std::lround(s.length / dt_);
+  t.span = std::lround(std::min(s.length, duration_ + dt_) / dt_);  // the ring holds no more than the run
   const size_t cap = (size_t)(t.span / t.every + 3);
   t.points.resize(cap);
   t.steps.resize(cap);

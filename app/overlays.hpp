@@ -89,7 +89,7 @@ class SceneOverlays {
   void add_trail(int body, const ShowItem& s, Source src, const Rgba& color, int height);
 
   int width_, height_;
-  double dt_, fps_;
+  double dt_, duration_, fps_;
   std::vector<double> body_radius_;
   std::vector<Item> items_;
   std::vector<Trail> trails_;
