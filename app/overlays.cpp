@@ -39,6 +39,8 @@ int default_color(ShowKind k) {
       return 0;  // black
     case ShowKind::cones:
       return 1;  // orange (the body cone; the space cone is blue, as L)
+    case ShowKind::poinsot:
+      return 2;  // sky blue (the ellipsoid)
   }
   return 0;
 }
@@ -94,6 +96,7 @@ SceneOverlays::SceneOverlays(const Scene& scene, const World& world, const std::
     : width_(width),
       height_(height),
       dt_(scene.timestep),
+      duration_(scene.duration),
       fps_(scene.video.fps),
       body_radius_(body_radius),
       hud_(scene.overlays.hud),
@@ -104,25 +107,27 @@ SceneOverlays::SceneOverlays(const Scene& scene, const World& world, const std::
   for (size_t i = 0; i < o.show.size(); ++i)
     for (const ShowItem& s : o.show[i]) {
       if (s.kind == ShowKind::trail) {
-        Trail t;
-        t.body = (int)i;
-        t.p_B = s.point_in_world ? world.world_to_local((int)i, s.point) : s.point;
-        t.color =
-            s.color ? with_alpha(*s.color, s.opacity) : okabe_ito(default_color(s.kind), (float)s.opacity);
-        t.width_px = std::max(1.5, s.width * height / 720.0);  // px, at least 1.5 on small frames
-        // About 120 samples a second of simulated time, on whole steps.
-        t.every = std::max(1L, std::lround(1.0 / (120.0 * dt_)));
-        t.span = std::lround(s.length / dt_);
-        const size_t cap = (size_t)(t.span / t.every + 3);
-        t.points.resize(cap);
-        t.steps.resize(cap);
-        t.scratch.reserve(cap + 1);
-        t.colors.reserve(cap + 1);
-        trails_.push_back(std::move(t));
+        add_trail(
+            (int)i, s, Source::point,
+            s.color ? with_alpha(*s.color, s.opacity) : okabe_ito(default_color(s.kind), (float)s.opacity),
+            height);
+        trails_.back().p_B = s.point_in_world ? world.world_to_local((int)i, s.point) : s.point;
+        continue;
+      }
+      if (s.kind == ShowKind::poinsot) {
+        Item it{(int)i, s, 0, 0, {-1, -1}};
+        ShowItem line = s;
+        line.opacity = 1;
+        it.trails[0] = (int)trails_.size();
+        add_trail((int)i, line, Source::polhode, okabe_ito(1), height);  // orange, on the body
+        it.trails[1] = (int)trails_.size();
+        add_trail((int)i, line, Source::herpolhode, okabe_ito(0), height);  // black, on the plane
+        need_scales = need_scales || !s.scale;
+        items_.push_back(it);
         continue;
       }
       need_scales = need_scales || (is_arrow(s.kind) && !s.scale);
-      items_.push_back({(int)i, s});
+      items_.push_back({(int)i, s, 0, 0, {-1, -1}});
     }
   std::vector<Magnitudes> mags;
   if (need_scales) mags = measure_magnitudes(scene, threads);
@@ -137,6 +142,11 @@ SceneOverlays::SceneOverlays(const Scene& scene, const World& world, const std::
       it.radius = 0.018 * R * it.spec.width;
     } else if (it.spec.kind == ShowKind::center_of_mass) {
       it.scale = it.spec.scale ? *it.spec.scale : 0.07 * R;
+    } else if (it.spec.kind == ShowKind::poinsot) {
+      // m per rad/s: as an auto-scaled omega arrow, whose tip is then the contact point.
+      const double big = it.spec.scale ? 0 : mags[it.body].omega;
+      it.scale = it.spec.scale ? *it.spec.scale : big > 0 ? kArrowReach * R / big : 0;
+      for (int k : it.trails) trails_[k].k = it.scale;
     } else if (it.spec.kind == ShowKind::cones) {
       it.scale = it.spec.scale ? *it.spec.scale : kArrowReach * R;  // slant: an auto-scaled omega's length
     }
@@ -154,6 +164,48 @@ SceneOverlays::SceneOverlays(const Scene& scene, const World& world, const std::
 
 SceneOverlays::~SceneOverlays() = default;
 
+void SceneOverlays::add_trail(int body, const ShowItem& s, Source src, const Rgba& color, int height) {
+  Trail t;
+  t.body = body;
+  t.source = src;
+  t.p_B = Vec3::Zero();
+  t.color = color;
+  t.width_px = std::max(1.5, s.width * height / 720.0);  // px, at least 1.5 on small frames
+  // About 120 samples a second of simulated time, on whole steps.
+  t.every = std::max(1L, std::lround(1.0 / (120.0 * dt_)));
+  t.span = std::lround(std::min(s.length, duration_ + dt_) / dt_);  // the ring holds no more than the run
+  const size_t cap = (size_t)(t.span / t.every + 3);
+  t.points.resize(cap);
+  t.steps.resize(cap);
+  t.scratch.reserve(cap + 1);
+  t.colors.reserve(cap + 1);
+  trails_.push_back(std::move(t));
+}
+
+Vec3 SceneOverlays::sample(const Trail& t, const World& w) const {
+  switch (t.source) {
+    case Source::polhode:
+      return t.k * w.state(t.body).w_P;
+    case Source::herpolhode:
+      return t.k * w.angular_velocity(t.body);
+    case Source::point:
+      break;
+  }
+  return w.local_to_world(t.body, t.p_B);
+}
+
+Vec3 SceneOverlays::to_world(const Trail& t, const World& w, const Vec3& v) const {
+  switch (t.source) {
+    case Source::polhode:  // on the principal axes, drawn a hair outside the ellipsoid it lies on
+      return w.centroid(t.body) + w.state(t.body).q_WP * (v * 1.006);
+    case Source::herpolhode:
+      return w.centroid(t.body) + v;
+    case Source::point:
+      break;
+  }
+  return v;
+}
+
 double SceneOverlays::arrow_scale(int body, ShowKind kind) const {
   for (const Item& it : items_)
     if (it.body == body && it.spec.kind == kind) return it.scale;
@@ -166,7 +218,7 @@ void SceneOverlays::record(const World& w) {
     if (s <= t.last) continue;
     t.last = s;
     if (s % t.every) continue;
-    t.points[t.head] = w.local_to_world(t.body, t.p_B);
+    t.points[t.head] = sample(t, w);
     t.steps[t.head] = s;
     t.head = (t.head + 1) % t.points.size();
     t.count = std::min(t.count + 1, t.points.size());
@@ -235,9 +287,34 @@ void SceneOverlays::build(const World& w, long frame, DrawList& dl) {
         break;
       }
       case ShowKind::trail:
-      case ShowKind::cones:  // below, after every other item: translucent
+      case ShowKind::poinsot:  // below, after every other item: translucent
+      case ShowKind::cones:
         break;
     }
+  }
+  for (const Item& it : items_) {
+    if (it.spec.kind != ShowKind::poinsot || !(it.scale > 0)) continue;
+    // Poinsot: in omega-space scaled by k (m per rad/s), the energy ellipsoid omega.I.omega = 2T
+    // (semi-axes sqrt(2T / I_i) on the principal axes, moving with the body) touches the
+    // invariable plane omega.L / |L| = 2T / |L| (fixed in space) at omega itself, and rolls on it
+    // without slipping: the contact point traces the polhode on the ellipsoid and the herpolhode on
+    // the plane.
+    const int i = it.body;
+    const Vec3 c = w.centroid(i), L = w.angular_momentum(i), wP = w.state(i).w_P;
+    const Vec3 I = w.model(i).I_P;
+    if (!(L.norm() > 0)) continue;
+    const double twoT = wP.dot(I.cwiseProduct(wP)), k = it.scale;
+    const Vec3 semi(k * std::sqrt(twoT / I[0]), k * std::sqrt(twoT / I[1]), k * std::sqrt(twoT / I[2]));
+    const Mat3 R = w.state(i).q_WP.toRotationMatrix();
+    const float a = (float)it.spec.opacity;
+    dl.overlay.ellipsoid(c, R, semi, okabe_ito(2, a));
+    const Vec3 n = L.normalized();
+    Vec3 u = n.cross(std::fabs(n.z()) < 0.9 ? Vec3::UnitZ() : Vec3::UnitX()).normalized(), v = n.cross(u);
+    const double half = 1.05 * semi.maxCoeff();
+    dl.overlay.quad(c + n * (k * twoT / L.norm()), u * half, v * half, {0.35f, 0.35f, 0.4f, 0.6f * a});
+    dl.overlay.ellipsoid(c + k * w.angular_velocity(i), Mat3::Identity(),
+                         Vec3::Constant(0.03 * semi.minCoeff()),
+                         okabe_ito(6));  // the contact point, vermillion
   }
   for (const Item& it : items_) {
     if (it.spec.kind != ShowKind::cones) continue;
@@ -268,10 +345,10 @@ void SceneOverlays::build(const World& w, long frame, DrawList& dl) {
       const size_t idx = (t.head + n - t.count + k) % n;  // oldest first
       const long age = now - t.steps[idx];
       if (age < 0 || age > t.span) continue;
-      t.scratch.push_back(t.points[idx]);
+      t.scratch.push_back(to_world(t, w, t.points[idx]));
     }
     // The newest sample may lag the frame by a few steps: end at the point's present position.
-    const Vec3 p_now = w.local_to_world(t.body, t.p_B);
+    const Vec3 p_now = to_world(t, w, sample(t, w));
     if (t.count == 0 || t.steps[(t.head + n - 1) % n] != now) t.scratch.push_back(p_now);
     // Fade: opacity falls linearly with age, from the item's at present to 0 `length` ago.
     const size_t m = t.scratch.size();

@@ -59,12 +59,19 @@ class SceneOverlays {
   struct Item {
     int body;
     ShowItem spec;
-    double scale = 0;   // arrows: m per unit; axes: m; centre of mass: m radius
-    double radius = 0;  // m, arrow shaft
+    double scale = 0;          // arrows, poinsot: m per unit; axes: m; centre of mass: m radius
+    double radius = 0;         // m, arrow shaft
+    int trails[2] = {-1, -1};  // poinsot: its polhode and herpolhode
   };
+  // What a trail traces: a body point (world), or Poinsot's contact point k omega, recorded on
+  // the principal axes (the polhode, drawn on the moving body) or in the world (the herpolhode,
+  // drawn on the fixed invariable plane), both from the centre of mass.
+  enum class Source { point, polhode, herpolhode };
   struct Trail {
     int body;
-    Vec3 p_B;  // m, the traced point in the body frame
+    Source source = Source::point;
+    double k = 0;  // m per rad/s (polhode, herpolhode)
+    Vec3 p_B;      // m, the traced point in the body frame
     Rgba color;
     double width_px;
     long every;                // steps between samples
@@ -77,9 +84,12 @@ class SceneOverlays {
     std::vector<Rgba> colors;   // its colours, reused
   };
   void build_hud(const World& w, long frame, ScreenLayer& out);
+  Vec3 sample(const Trail& t, const World& w) const;                   // what a trail records now
+  Vec3 to_world(const Trail& t, const World& w, const Vec3& v) const;  // a recorded sample, drawn now
+  void add_trail(int body, const ShowItem& s, Source src, const Rgba& color, int height);
 
   int width_, height_;
-  double dt_, fps_;
+  double dt_, duration_, fps_;
   std::vector<double> body_radius_;
   std::vector<Item> items_;
   std::vector<Trail> trails_;

@@ -97,6 +97,7 @@ const std::vector<std::pair<std::string, ShowKind>>& kinds() {
       {"inertia_box", ShowKind::inertia_box},
       {"inertia_ellipsoid", ShowKind::inertia_ellipsoid},
       {"cones", ShowKind::cones},
+      {"poinsot", ShowKind::poinsot},
   };
   return k;
 }
@@ -119,6 +120,8 @@ std::vector<std::string> keys_of(ShowKind k) {
       return {"color", "opacity"};
     case ShowKind::cones:
       return {"scale", "opacity", "xray"};
+    case ShowKind::poinsot:
+      return {"scale", "opacity", "length", "width"};
   }
   return {};
 }
@@ -152,6 +155,7 @@ ShowItem show_item(const YAML::Node& n, const Where& w, double duration) {
   item.kind = kinds()[(size_t)(it - names.begin())].second;
   if (item.kind == ShowKind::inertia_box || item.kind == ShowKind::inertia_ellipsoid) item.opacity = 0.35;
   if (item.kind == ShowKind::cones) item.opacity = 0.3;
+  if (item.kind == ShowKind::poinsot) item.opacity = 0.3, item.length = duration, item.width = 3;
   if (item.kind == ShowKind::trail) item.width = 3;
   if (!opts || opts.IsNull()) return item;
   const Where c = w.child(name);
@@ -176,8 +180,7 @@ ShowItem show_item(const YAML::Node& n, const Where& w, double duration) {
           f, "expected body (point in the body's frame) or world (where it is at t = 0), got " + show(f));
     item.point_in_world = fr == "world";
   }
-  if (opts["length"])
-    item.length = in_range(opts["length"], c.child("length"), 0, std::max(duration, 1e-9), true);
+  if (opts["length"]) item.length = in_range(opts["length"], c.child("length"), 0, 1e6, true);
   return item;
 }
 

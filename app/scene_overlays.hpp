@@ -37,6 +37,7 @@ enum class ShowKind {
   inertia_box,        ///< the uniform box with the body's mass and principal moments
   inertia_ellipsoid,  ///< the uniform solid ellipsoid with the body's mass and principal moments
   cones,              ///< body and space cones: omega's cone about the symmetry axis and about L
+  poinsot,            ///< the energy ellipsoid rolling on the invariable plane, polhode and herpolhode
 };
 const char* to_string(ShowKind k);
 

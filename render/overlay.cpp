@@ -73,6 +73,16 @@ void OverlayList::ellipsoid(const Vec3& center, const Mat3& axes, const Vec3& se
   instances[(int)OverlayShape::sphere].push_back({m.cast<float>(), color, xray});
 }
 
+void OverlayList::quad(const Vec3& c, const Vec3& u, const Vec3& v, const Rgba& color) {
+  const Vec3 p[4] = {c - u - v, c + u - v, c + u + v, c - u + v};
+  for (int k : {0, 1, 2, 0, 2, 3}) {
+    OverlayVertex x;
+    for (int i = 0; i < 3; ++i) x.pos[i] = (float)p[k][i];
+    for (int i = 0; i < 4; ++i) x.rgba[i] = color[i];
+    ribbons.push_back(x);
+  }
+}
+
 void OverlayList::ribbon(const Vec3* p, const Rgba* colors, int n, const Vec3& eye, double width) {
   if (n < 2) return;
   Vec3 prev_side = Vec3::Zero();

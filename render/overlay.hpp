@@ -57,6 +57,8 @@ struct OverlayList {
   // A sphere, or an ellipsoid: centre, semi-axes (m) along the columns of `axes` (orthonormal).
   void ellipsoid(const Vec3& center, const Mat3& axes, const Vec3& semi_axes, const Rgba& color,
                  float xray = 0);
+  // A parallelogram centred on `center` with half-sides `u` and `v` (m), translucent with the ribbons.
+  void quad(const Vec3& center, const Vec3& u, const Vec3& v, const Rgba& color);
   // A polyline as a flat ribbon `width` m wide facing `eye`, one colour per point (a fade).
   // `n` points; nothing for fewer than two.
   void ribbon(const Vec3* points, const Rgba* colors, int n, const Vec3& eye, double width);

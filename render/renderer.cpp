@@ -567,7 +567,7 @@ struct Renderer::Impl {
     ov_solid = overlay_program(false);
     ov_ribbon = overlay_program(true);
     RenderMesh unit[kOverlayShapes] = {tessellate_cylinder(1, 1, 12), tessellate_cone(1, 1, 16),
-                                       tessellate_sphere(1, 12)};
+                                       tessellate_sphere(1, 16)};
     for (size_t i = 2; i < unit[0].vertices.size(); i += 6) unit[0].vertices[i] += 0.5f;  // z from 0 to 1
     for (int k = 0; k < kOverlayShapes; ++k) {
       ov_mesh[k] = upload(unit[k]);

@@ -66,6 +66,18 @@ bodies:
     colliders: [ { shape: cylinder, radius: 0.6, height: 0.08 } ]
 YAML
 render cones 1.0
+cat > "$tmp/poinsot.yaml" <<YAML
+simulation: { duration: 6, gravity: [0, 0, 0] }
+video: { width: 320, height: 180 }
+camera: { position: [2.8, -3.6, 2.4], look_at: [0, 0, 0.25], fov: 40 }
+bodies:
+  - name: brick
+    angular_velocity: [0.9, 0.7, 3.0]
+    color: [0.75, 0.7, 0.6]
+    show: [ poinsot ]
+    colliders: [ { shape: box, size: [0.8, 0.5, 0.25], density: 600 } ]
+YAML
+render poinsot 5.0
 thrown "[ { velocity: { scale: 0.15 } }, { trail: { length: 0.3, width: 2 } } ]" > "$tmp/velocity.yaml" && render velocity 0.3
 thrown "[ { trail: { point: [0, 0, 0.3], length: 1.0 } }, { trail: { point: [0, 0, 0], length: 1.0, color: [0.8, 0.1, 0.1] } } ]" \
   > "$tmp/trail.yaml" && render trail 1.0

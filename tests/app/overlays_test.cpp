@@ -348,6 +348,57 @@ TEST(Overlays, BodyAndSpaceConesMeetAlongOmegaAndTheSpaceConeStandsStill) {
   }
 }
 
+// Poinsot: omega (scaled) touches the energy ellipsoid and the invariable plane; the herpolhode
+// stays in the plane and the polhode on the ellipsoid, over the whole run so far.
+TEST(Overlays, PoinsotContactPointPolhodeAndHerpolhodeLieOnTheEllipsoidAndThePlane) {
+  const std::string path =
+      write_scene("poinsot.yaml",
+                  "simulation: { duration: 3, gravity: [0, 0, 0] }\n"
+                  "video: { width: 64, height: 48 }\n"
+                  "bodies:\n"
+                  "  - { name: brick, angular_velocity: [0.9, 0.7, 3.0],\n"
+                  "      colliders: [ { shape: box, size: [0.8, 0.5, 0.25], density: 600 } ],\n"
+                  "      show: [ poinsot ] }\n");
+  Drawn d(path);
+  d.draw_frame(80);
+  DrawList dl;
+  dl.camera = d.view->camera;
+  const World& w = d.loop->world();
+  d.view->overlays->build(w, 80, dl);
+  const auto& spheres = dl.overlay.instances[(int)OverlayShape::sphere];
+  ASSERT_EQ(spheres.size(), 2u);  // the ellipsoid and the contact point
+  const Eigen::Matrix4d E = spheres[0].model.cast<double>(), Einv = E.inverse();
+  const Vec3 c = w.centroid(0), L = w.angular_momentum(0), n = L.normalized();
+  const Vec3 contact = spheres[1].model.cast<double>().block<3, 1>(0, 3);
+  EXPECT_NEAR((Einv * contact.homogeneous()).head<3>().norm(), 1.0, 1e-5)
+      << "the contact point is on the ellipsoid";
+  const double k = d.view->overlays->arrow_scale(0, ShowKind::poinsot);
+  EXPECT_LT((contact - (c + k * w.angular_velocity(0))).norm(), 1e-6) << "the contact point is k omega";
+  // The plane: 2 triangles, its centre at 2T/|L| k along L.
+  const auto& rib = dl.overlay.ribbons;
+  const Vec3 q0(rib[0].pos[0], rib[0].pos[1], rib[0].pos[2]);
+  const double plane = (q0 - c).dot(n);
+  EXPECT_NEAR((contact - c).dot(n), plane, 1e-5) << "the contact point is on the plane";
+  // The ribbons after the plane's 6 vertices: the polhode's, then the herpolhode's.
+  ASSERT_GT(rib.size(), 6u + 12u);
+  int on_plane = 0, on_ellipsoid = 0, total = 0;
+  for (size_t q = 6; q < rib.size(); q += 6) {
+    const Vec3 p = Vec3(rib[q].pos[0] + rib[q + 1].pos[0], rib[q].pos[1] + rib[q + 1].pos[1],
+                        rib[q].pos[2] + rib[q + 1].pos[2]) /
+                   2;
+    ++total;
+    on_plane += std::fabs((p - c).dot(n) - plane) < 2e-5;
+    on_ellipsoid += std::fabs((Einv * p.homogeneous()).head<3>().norm() - 1.006) < 2e-5;  // drawn 0.6% out
+    if (std::fabs((p - c).dot(n) - plane) >= 2e-5 &&
+        std::fabs((Einv * p.homogeneous()).head<3>().norm() - 1.006) >= 2e-5)
+      ADD_FAILURE() << "point " << q / 6 << " is on neither: " << (p - c).dot(n) - plane
+                    << " from the plane, " << (Einv * p.homogeneous()).head<3>().norm() << " ellipsoid radii";
+  }
+  EXPECT_GT(on_plane, total / 3) << "the herpolhode";
+  EXPECT_GT(on_ellipsoid, total / 3) << "the polhode";
+  EXPECT_GE(on_plane + on_ellipsoid, total);  // near the contact point the polhode is on the plane too
+}
+
 TEST(Overlays, ScenesWithoutOverlaysHaveNone) {
   Drawn d(write_scene("none.yaml", "bodies: [ { name: a, colliders: [ { shape: sphere, radius: 1 } ] } ]\n"));
   EXPECT_EQ(d.view->overlays, nullptr);
