@@ -82,6 +82,27 @@ void check_output(const std::string& path, const std::vector<std::string>& exts,
   if (!ensure_parent_dir(path, &err)) throw std::runtime_error(err);
 }
 
+// Frame sizes the encoders cannot take, refused before anything runs (FFmpeg found out after the
+// first frames, 2.3 s and 3.2 GB into a 16384 x 16384 H.264 render). H.264's highest level (6.2)
+// allows 139264 macroblocks of 16 x 16 px a frame, and a side of at most sqrt(8 x 139264) = 1055
+// macroblocks; VP9 takes sides up to 65536 px, GIF up to 65535.
+void check_codec_limits(const std::string& path, int w, int h) {
+  const std::string e = lower_ext(path);
+  if (e == ".gif") {
+    if (w > 65535 || h > 65535)
+      throw UsageError("a GIF's sides are at most 65535 px, asked " + std::to_string(w) + "x" +
+                       std::to_string(h));
+    return;
+  }
+  if (e == ".webm") return;  // VP9: up to 65536, beyond the 16384 simreel allows
+  const long mbw = (w + 15) / 16, mbh = (h + 15) / 16;
+  if (mbw * mbh > 139264 || mbw > 1055 || mbh > 1055)
+    throw UsageError("H.264 cannot encode " + std::to_string(w) + "x" + std::to_string(h) + " (" +
+                     std::to_string(mbw * mbh) +
+                     " macroblocks a frame; its highest level allows 139264, e.g. 8192x4320): use a smaller "
+                     "--width/--height, or .webm (VP9)");
+}
+
 bool is_frame_png(const std::filesystem::path& p) {
   const std::string n = p.filename().string();
   return n.rfind("frame_", 0) == 0 && lower_ext(n) == ".png";
@@ -230,6 +251,7 @@ int cmd_render(const std::vector<std::string>& args) {
   if (!a.has("--no-video")) {
     vs.path = a.has("-o") ? a.options.at("-o") : "out/" + scene.name + ".mp4";
     check_output(vs.path, {".mp4", ".mov", ".mkv", ".webm", ".gif"}, "a video");
+    check_codec_limits(vs.path, w, h);
     remove_stale_partials(vs.path);  // left by a render that was killed (SIGKILL cannot be caught)
   }
   if (a.has("--frames-dir")) {

@@ -706,4 +706,15 @@ TEST(Cli, MissingMeshListsAbsolutePathsOnce) {
   }
 }
 
+// Frame sizes the encoder cannot take are refused before rendering: exit 2, nothing written.
+TEST(Cli, CodecLimitsAreCheckedUpFront) {
+  const std::string scene = write("g.yaml", kGood);
+  const auto t0 = std::chrono::steady_clock::now();
+  const Result r = run("render " + scene + " --width 16384 --height 16384 -o " + tmp("huge.mp4").string());
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("H.264 cannot encode 16384x16384"), std::string::npos) << r.out;
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 2.0);
+  EXPECT_FALSE(fs::exists(tmp("huge.mp4")));
+}
+
 }  // namespace
