@@ -531,9 +531,10 @@ struct Loader {
   }
 
   BodyDef body(const YAML::Node& n, const Ctx& c, size_t i, BodyLook& look) {
-    check_keys(n, c,
-               {"name", "position", "orientation", "euler", "axis_angle", "linear_velocity", "angular_velocity",
-                "angular_velocity_body", "type", "static", "color", "integrator", "colliders", "show"});
+    check_keys(
+        n, c,
+        {"name", "position", "orientation", "euler", "axis_angle", "linear_velocity", "angular_velocity",
+         "angular_velocity_body", "type", "static", "color", "integrator", "colliders", "show"});
     BodyDef b;
     b.name = n["name"] ? text(n["name"], c.child("name")) : "body" + std::to_string(i);
     if (n["position"]) b.p_WB = vec<3>(n["position"], c.child("position"));
@@ -590,7 +591,7 @@ struct Loader {
       // The scene's body colour wins over the file's material; the collider's own colour over both.
       if (n["color"] && !cols[k]["color"]) cl.color.reset();
       look.colliders.push_back(cl);
-      b.add_collider(std::move(col));
+      b.append_collider(std::move(col));  // composed once, when the body is done
     }
     // The body as a whole (colliders far apart: the parallel-axis terms can overflow).
     bool massive = false;
@@ -779,6 +780,23 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
   // Assets next to the scene's folder (scenes/../assets) as well as the working directory's.
   const fs::path up_assets = fs::path(path).parent_path().parent_path() / "assets";
   if (fs::is_directory(up_assets, ec)) L.assets = up_assets;
+  // Limits of one scene, named in the message (a scene past them is a mistake or an attack: a
+  // 64 KB file of YAML aliases could stand for millions of bodies).
+  constexpr size_t kMaxBodies = 100000, kMaxColliders = 1000000;
+  if (bodies.size() > kMaxBodies)
+    top.child("bodies").fail(bodies, std::to_string(bodies.size()) + " bodies: a scene holds at most " +
+                                         std::to_string(kMaxBodies));
+  size_t colliders = 0;
+  for (size_t i = 0; i < bodies.size(); ++i)
+    if (const YAML::Node cs = bodies[i]["colliders"]; cs && cs.IsSequence()) {
+      colliders += cs.size();
+      if (colliders > kMaxColliders)
+        top.child("bodies")
+            .index(i)
+            .child("colliders")
+            .fail(cs, "more than " + std::to_string(kMaxColliders) +
+                          " colliders in the scene: a scene holds at most " + std::to_string(kMaxColliders));
+    }
   std::set<std::string> names;
   for (size_t i = 0; i < bodies.size(); ++i) {
     const Ctx c = top.child("bodies").index(i);

@@ -65,7 +65,18 @@ MassProperties compose(const std::vector<Collider>& colliders) {
 
 const MassProperties& BodyDef::add_collider(Collider c) {
   colliders.push_back(std::move(c));
-  mass_B_ = compose(colliders);
+  return mass_B();
+}
+
+void BodyDef::append_collider(Collider c) {
+  colliders.push_back(std::move(c));
+}
+
+const MassProperties& BodyDef::mass_B() const {
+  if (composed_ != colliders.size()) {
+    mass_B_ = compose(colliders);
+    composed_ = colliders.size();
+  }
   return mass_B_;
 }
 

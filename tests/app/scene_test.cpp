@@ -706,3 +706,28 @@ TEST(Scene, UpAxisYTurnsAMeshUpright) {
 
 }  // namespace
 }  // namespace simreel
+
+namespace simreel {
+namespace {
+
+// Composition is linear in the colliders (each addition used to re-sum all earlier ones: 16,000
+// colliders took 20 s), and a scene's body and collider counts have limits named in the message.
+TEST(Scene, ManyCollidersComposeInLinearTimeAndLimitsAreNamed) {
+  std::string text = "bodies:\n  - name: many\n    colliders:\n";
+  for (int i = 0; i < 16000; ++i)
+    text += "      - { shape: sphere, radius: 0.1, position: [" + std::to_string(i % 100) + ", " +
+            std::to_string(i / 100) + ", 0] }\n";
+  const auto t0 = std::chrono::steady_clock::now();
+  const Scene s = load_scene(write_scene("many.yaml", text));
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 5.0);
+  const double m1 = 1000 * 4.0 / 3.0 * M_PI * 0.001;  // one sphere, kg
+  EXPECT_NEAR(s.bodies[0].mass_B().mass, 16000 * m1, 1e-9 * 16000 * m1);
+  EXPECT_NEAR(s.bodies[0].mass_B().com.x(), 49.5, 1e-9);
+  EXPECT_NEAR(s.bodies[0].mass_B().com.y(), 79.5, 1e-9);
+  std::string big = "bodies: [";
+  for (int i = 0; i <= 100000; ++i) big += std::string(i ? ", " : "") + "{}";
+  EXPECT_NE(error_of(big + "]\n").find("a scene holds at most 100000"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace simreel
