@@ -56,13 +56,13 @@ struct RunSummary {
   int bodies = 0, dynamic_bodies = 0, frames = 0;
   double step_seconds = 0;  ///< wall time inside World::step only
   double energy_rel_drift = 0, momentum_rel_drift = 0;
-  bool contacts = false;       ///< the scene has colliding shapes
-  int contacts_max = 0;        ///< most contact points in a step
-  double max_penetration = 0;  ///< m, over the run
-  double energy_gained = 0;    ///< J, largest rise between two frames
+  bool contacts = false;              ///< the scene has colliding shapes
+  int contacts_max = 0;               ///< most contact points in a step
+  double max_penetration = 0;         ///< m, over the run
+  double energy_gained = 0;           ///< J, largest rise between two frames
   std::vector<std::string> warnings;  ///< what went wrong or was odd in the run
   std::vector<std::string> notes;     ///< the scene's notes (already printed on stderr before the run)
-  const Profile* profile = nullptr;                 ///< set with --profile
+  const Profile* profile = nullptr;   ///< set with --profile
   double render_seconds = -1, encode_seconds = -1;  ///< render command only
   std::string renderer;                             ///< render command only: GL backend, renderer, version
   std::string output;

@@ -2,8 +2,8 @@
 // file, line, column and key, and the command line around it (profile, threads, resume).
 #include <gtest/gtest.h>
 
-#include <nlohmann/json.hpp>
 #include <sys/wait.h>
+#include <nlohmann/json.hpp>
 
 #include <cstdio>
 #include <filesystem>
