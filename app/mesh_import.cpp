@@ -238,6 +238,11 @@ RawMesh contained_read(const std::string& path, const char* who, const std::func
   if (pid == 0) {  // the child: read, reply, _exit (no atexit handlers, no stdio flush of the parent's)
     close(fds[0]);
     signal(SIGPIPE, SIG_DFL);
+    // A crash in here must end the child by its signal, so the parent can name it, even where a
+    // sanitizer (ASan turns SIGSEGV and SIGBUS into exit status 1) or the parent's stop handlers
+    // installed their own.
+    for (int sig : {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGINT, SIGTERM, SIGHUP, SIGQUIT})
+      signal(sig, SIG_DFL);
 #ifndef SIMREEL_ASAN
     // Memory: half the machine at most, so a file that claims billions of records fails in here.
     const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
