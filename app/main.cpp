@@ -308,12 +308,7 @@ int cmd_inspect(const std::vector<std::string>& args) {
   try {
     r = analyze_mesh(mesh, opt);
   } catch (const InputError& e) {
-    // The mesh library speaks scene keys (`mode: shell`); here the same choice is a flag.
-    std::string msg = e.what();
-    for (const char* m : {"shell", "hull", "solid"})
-      for (size_t p = 0; (p = msg.find(std::string("`mode: ") + m + "`", p)) != std::string::npos;)
-        msg.replace(p, 7 + std::strlen(m) + 1, std::string("`--mode ") + m + "`");
-    throw InputError(path + ": " + msg);
+    throw InputError(path + ": " + e.what());
   }
   r.warnings.insert(r.warnings.begin(), im.notes.begin(), im.notes.end());
   const PrincipalAxes pa = principal_axes(r.props.inertia);

@@ -7,59 +7,18 @@
 #include <sstream>
 
 #include "app/scene.hpp"
+#include "app/scene_yaml.hpp"
 #include "sim/error.hpp"
 
 namespace simreel {
 
 namespace {
 
-// Where a value sits, as app/scene.cpp reports it: "FILE:LINE:COL: KEY: what".
-class Where {
- public:
-  Where(std::string file, std::string key) : file_(std::move(file)), key_(std::move(key)) {}
-  Where child(const std::string& k) const { return Where(file_, key_.empty() ? k : key_ + "." + k); }
-  Where index(size_t i) const { return Where(file_, key_ + "[" + std::to_string(i) + "]"); }
-  [[noreturn]] void fail(const YAML::Node& n, const std::string& what) const {
-    std::ostringstream os;
-    os << file_;
-    if (n.IsDefined() && n.Mark().line >= 0) os << ":" << n.Mark().line + 1 << ":" << n.Mark().column + 1;
-    os << ": " << key_ << ": " << what;
-    throw InputError(os.str());
-  }
+// The readers every part of the scene format shares (app/scene_yaml.hpp): values are read, and
+// refused, as strictly here as in the rest of the scene.
+using namespace scene_yaml;
 
- private:
-  std::string file_, key_;
-};
-
-std::string show(const YAML::Node& n) {
-  if (n.IsScalar()) return "'" + n.Scalar() + "'";
-  if (n.IsSequence()) return "a list";
-  if (n.IsMap()) return "a mapping";
-  return "nothing";
-}
-
-void check_keys(const YAML::Node& map, const Where& w, const std::vector<std::string>& known) {
-  if (!map.IsMap()) w.fail(map, "expected a mapping of keys, got " + show(map));
-  for (const auto& kv : map) {
-    const std::string k = kv.first.as<std::string>();
-    if (std::find(known.begin(), known.end(), k) != known.end()) continue;
-    std::string msg = "unknown key '" + k + "'";
-    if (auto s = nearest(k, known)) msg += "; did you mean '" + *s + "'?";
-    w.child(k).fail(kv.first, msg);
-  }
-}
-
-double number(const YAML::Node& n, const Where& w) {
-  if (!n.IsScalar()) w.fail(n, "expected a number, got " + show(n));
-  const std::string& s = n.Scalar();
-  char* end = nullptr;
-  const double v = std::strtod(s.c_str(), &end);
-  if (s.empty() || end != s.c_str() + s.size() || !std::isfinite(v))
-    w.fail(n, "expected a finite number, got " + show(n));
-  return v;
-}
-
-double in_range(const YAML::Node& n, const Where& w, double lo, double hi, bool open_lo = false) {
+double in_range(const YAML::Node& n, const Ctx& w, double lo, double hi, bool open_lo = false) {
   const double v = number(n, w);
   if (v < lo || v > hi || (open_lo && v == lo)) {
     std::ostringstream os;
@@ -69,19 +28,19 @@ double in_range(const YAML::Node& n, const Where& w, double lo, double hi, bool 
   return v;
 }
 
-Vec3 vec3(const YAML::Node& n, const Where& w) {
-  if (!n.IsSequence() || n.size() != 3) w.fail(n, "expected a list of 3 numbers, got " + show(n));
-  return Vec3(number(n[0], w.index(0)), number(n[1], w.index(1)), number(n[2], w.index(2)));
+Vec3 vec3(const YAML::Node& n, const Ctx& w) {
+  return vec<3>(n, w);
 }
 
-ShowRgb rgb(const YAML::Node& n, const Where& w) {
+ShowRgb rgb(const YAML::Node& n, const Ctx& w) {
   const Vec3 v = vec3(n, w);
   for (int i = 0; i < 3; ++i)
     if (v[i] < 0 || v[i] > 1) w.index(i).fail(n[i], "colour components must lie in [0, 1]");
   return {(float)v[0], (float)v[1], (float)v[2]};
 }
 
-std::string text(const YAML::Node& n, const Where& w) {
+// A HUD line may be empty (a spacer); every other text value may not (scene_yaml::text).
+std::string line_text(const YAML::Node& n, const Ctx& w) {
   if (!n.IsScalar()) w.fail(n, "expected text, got " + show(n));
   return n.Scalar();
 }
@@ -126,7 +85,7 @@ std::vector<std::string> keys_of(ShowKind k) {
   return {};
 }
 
-ShowItem show_item(const YAML::Node& n, const Where& w, double duration) {
+ShowItem show_item(const YAML::Node& n, const Ctx& w, double duration) {
   std::vector<std::string> names;
   for (const auto& [name, kind] : kinds()) names.push_back(name);
   std::string name;
@@ -158,7 +117,7 @@ ShowItem show_item(const YAML::Node& n, const Where& w, double duration) {
   if (item.kind == ShowKind::poinsot) item.opacity = 0.3, item.length = duration, item.width = 3;
   if (item.kind == ShowKind::trail) item.width = 3;
   if (!opts || opts.IsNull()) return item;
-  const Where c = w.child(name);
+  const Ctx c = w.child(name);
   check_keys(opts, c, keys_of(item.kind));
   if (opts["color"]) item.color = rgb(opts["color"], c.child("color"));
   if (opts["scale"]) item.scale = in_range(opts["scale"], c.child("scale"), 0, 1e9, true);
@@ -209,9 +168,9 @@ bool printf_of(const std::string& spec, bool integer, std::string& out) {
   return true;
 }
 
-HudLine hud_line(const YAML::Node& n, const Where& w, const Scene& s) {
+HudLine hud_line(const YAML::Node& n, const Ctx& w, const Scene& s) {
   HudLine line;
-  line.source = text(n, w);
+  line.source = line_text(n, w);
   const std::string& src = line.source;
   std::string lit;
   auto bad = [&](const std::string& what) { w.fail(n, "'" + src + "': " + what); };
@@ -330,12 +289,12 @@ bool OverlaySpec::any() const {
 void load_overlays(const YAML::Node& root, const std::string& path, Scene& s) {
   OverlaySpec& o = s.overlays;
   o.show.assign(s.bodies.size(), {});
-  const Where top(path, "");
+  const Ctx top(path, "");
   if (const YAML::Node bodies = root["bodies"]; bodies && bodies.IsSequence())
     for (size_t i = 0; i < bodies.size() && i < s.bodies.size(); ++i) {
       const YAML::Node sh = bodies[i]["show"];
       if (!sh) continue;
-      const Where w = top.child("bodies").index(i).child("show");
+      const Ctx w = top.child("bodies").index(i).child("show");
       if (!sh.IsSequence())
         w.fail(sh, "expected a list of items (axes, angular_velocity, ...), got " + show(sh));
       if (s.bodies[i].type != BodyType::dynamic)
@@ -344,10 +303,10 @@ void load_overlays(const YAML::Node& root, const std::string& path, Scene& s) {
     }
   const YAML::Node ov = root["overlays"];
   if (!ov) return;
-  const Where w = top.child("overlays");
+  const Ctx w = top.child("overlays");
   check_keys(ov, w, {"hud", "title", "text_size"});
   if (const YAML::Node h = ov["hud"]) {
-    const Where hw = w.child("hud");
+    const Ctx hw = w.child("hud");
     YAML::Node lines = h;
     if (h.IsMap()) {
       check_keys(h, hw, {"lines", "corner"});
@@ -361,7 +320,7 @@ void load_overlays(const YAML::Node& root, const std::string& path, Scene& s) {
       }
       if (!lines) hw.fail(h, "missing key 'lines' (a list of text lines)");
     }
-    const Where lw = h.IsMap() ? hw.child("lines") : hw;
+    const Ctx lw = h.IsMap() ? hw.child("lines") : hw;
     if (!lines.IsSequence()) lw.fail(lines, "expected a list of text lines, got " + show(lines));
     for (size_t k = 0; k < lines.size(); ++k) o.hud.push_back(hud_line(lines[k], lw.index(k), s));
   }

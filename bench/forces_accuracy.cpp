@@ -18,6 +18,7 @@
 
 #include "sim/primitives.hpp"
 #include "sim/world.hpp"
+#include "tests/sim/hermite_crossing.hpp"
 
 using namespace simreel;
 
@@ -34,8 +35,11 @@ BodyDef block(const Vec3& size, double mass, const Vec3& at, const std::string& 
   return b;
 }
 
-double spring_error(double dt, bool stages, Integrator in = Integrator::automatic) {
-  const double m = 1, k = 100, L0 = 1;
+// The spring of both measurements: a 1 kg block on a 100 N/m spring of rest length 1 m to the
+// origin, released 0.1 m stretched, no gravity; the force evaluated at every stage (the scene's
+// forces:) or, without `stages`, left to the caller to hold over each step.
+constexpr double m = 1, k = 100, L0 = 1;
+World spring_world(double dt, bool stages, Integrator in) {
   ForceDef f;
   f.kind = ForceKind::spring;
   f.body = 0;
@@ -46,7 +50,11 @@ double spring_error(double dt, bool stages, Integrator in = Integrator::automati
   cfg.integrator = in;
   cfg.gravity = Vec3::Zero();
   if (stages) cfg.forces = {f};
-  World w(cfg, {block(Vec3(0.2, 0.2, 0.2), m, Vec3(0, 0, -L0 - 0.1))});
+  return World(cfg, {block(Vec3(0.2, 0.2, 0.2), m, Vec3(0, 0, -L0 - 0.1))});
+}
+
+double spring_error(double dt, bool stages, Integrator in = Integrator::automatic) {
+  World w = spring_world(dt, stages, in);
   const double T = 2 * std::numbers::pi * std::sqrt(m / k);
   std::vector<double> c;
   auto s_of = [&] { return -w.centroid(0).z() - L0; };
@@ -61,18 +69,7 @@ double spring_error(double dt, bool stages, Integrator in = Integrator::automati
     w.step();
     const double t1 = w.time(), s1 = s_of(), d1 = d_of();
     if (s0 < 0 && s1 >= 0) {
-      const double h = t1 - t0;
-      auto p = [&](double u) {
-        const double u2 = u * u, u3 = u2 * u;
-        return (2 * u3 - 3 * u2 + 1) * s0 + (u3 - 2 * u2 + u) * h * d0 + (-2 * u3 + 3 * u2) * s1 +
-               (u3 - u2) * h * d1;
-      };
-      double lo = 0, hi = 1;
-      for (int it = 0; it < 100; ++it) {
-        const double mid = 0.5 * (lo + hi);
-        (p(mid) < 0 ? lo : hi) = mid;
-      }
-      c.push_back(t0 + 0.5 * (lo + hi) * h);
+      c.push_back(test::hermite_zero(t0, s0, d0, t1, s1, d1));
     }
     t0 = t1, s0 = s1, d0 = d1;
   }
@@ -82,18 +79,7 @@ double spring_error(double dt, bool stages, Integrator in = Integrator::automati
 
 // The same spring: relative change of its energy (kinetic + elastic) after 100 periods.
 double spring_energy(double dt, bool stages, Integrator in = Integrator::automatic) {
-  const double m = 1, k = 100, L0 = 1;
-  ForceDef f;
-  f.kind = ForceKind::spring;
-  f.body = 0;
-  f.stiffness = k;
-  f.rest_length = L0;
-  WorldConfig cfg;
-  cfg.dt = dt;
-  cfg.integrator = in;
-  cfg.gravity = Vec3::Zero();
-  if (stages) cfg.forces = {f};
-  World w(cfg, {block(Vec3(0.2, 0.2, 0.2), m, Vec3(0, 0, -L0 - 0.1))});
+  World w = spring_world(dt, stages, in);
   auto energy = [&] {
     const double s = w.centroid(0).norm() - L0;
     return 0.5 * m * w.linear_velocity(0).squaredNorm() + 0.5 * k * s * s;

@@ -75,7 +75,8 @@ void check_points(const std::vector<Vec3>& pts) {
   }
   if (d == n)
     throw InputError(
-        "convex hull: all points lie in one plane, they span no volume (a flat mesh: use `mode: shell`)");
+        "convex hull: all points lie in one plane, they span no volume (a flat mesh: weigh it as a thin "
+        "surface, shell mode)");
 }
 
 // Copies qhull's facets out as vertex loops. qhull reports internal errors by longjmp to

@@ -349,9 +349,10 @@ TriangleMesh prepare(const TriangleMesh& in, MeshReport& rep, bool require_close
   };
   if (!rep.closed) {
     if (require_closed)
-      throw InputError("mesh is open: " + plural(s.boundary, "edge") +
-                       " belong to a single face (a hole), so it does not enclose a volume; use "
-                       "`mode: shell` to weigh it as a thin surface, or `mode: hull` for its convex hull");
+      throw InputError(
+          "mesh is open: " + plural(s.boundary, "edge") +
+          " belong to a single face (a hole), so it does not enclose a volume; weigh it as a thin "
+          "surface (shell mode) or as its convex hull (hull mode)");
     drop_slivers();
     return m;
   }
@@ -368,7 +369,7 @@ TriangleMesh prepare(const TriangleMesh& in, MeshReport& rep, bool require_close
       throw InputError("mesh has " + plural(s.unbalanced, "edge") + " whose faces disagree on winding and " +
                        plural(rep.nonmanifold_edges, "edge") +
                        " shared by more than two faces; cannot repair it, "
-                       "use `mode: hull` or fix the file");
+                       "weigh its convex hull (hull mode) or fix the file");
     std::vector<int> flip(m.triangles.size(), -1);
     std::vector<int> queue;
     for (size_t seed = 0; seed < m.triangles.size(); ++seed) {
@@ -507,15 +508,15 @@ TriangleMesh prepare(const TriangleMesh& in, MeshReport& rep, bool require_close
   if (!(std::fabs(v) > 1e-12 * diag * diag * diag)) {
     if (coplanar(m.vertices, diag))
       throw InputError(
-          "mesh is flat (all its vertices lie in one plane), so it encloses no volume; use `mode: shell` "
-          "to weigh it as a thin surface");
+          "mesh is flat (all its vertices lie in one plane), so it encloses no volume; weigh it as a thin "
+          "surface (shell mode)");
     throw InputError(
         "mesh encloses no volume: its faces cancel out, as when a surface is given with both sides"
         " (each face twice, once per winding)" +
         (rep.nonmanifold_edges
              ? "; " + plural(rep.nonmanifold_edges, "edge") + " shared by more than two faces"
              : std::string()) +
-        "; use `mode: shell` to weigh it as a thin surface");
+        "; weigh it as a thin surface (shell mode)");
   }
   return m;
 }

@@ -15,6 +15,7 @@
 #include "app/check/fingerprint.hpp"
 #include "app/check/goldens.hpp"
 #include "app/check/junit.hpp"
+#include "app/check/metrics_report.hpp"
 #include "app/commands.hpp"
 #include "app/frame_loop.hpp"
 #include "app/regress/image.hpp"
@@ -315,13 +316,7 @@ int cmd_check(const std::vector<std::string>& args) {
         else if (!pixels_ok && rf.kind.empty())
           rf.kind = "rendering";
         pass = physics.empty() && g->step == c.target.step && pixels_ok;
-        rf.differing = r.differing;
-        rf.antialiased = r.antialiased;
-        rf.diff_ratio = r.diff_ratio;
-        rf.largest_cluster = r.largest_cluster;
-        rf.psnr = r.psnr;
-        rf.ssim = r.ssim;
-        for (const Cluster& k : r.clusters) rf.clusters.push_back({k.x0, k.y0, k.x1, k.y1, k.pixels});
+        put_metrics(r, rf);
         if (report.golden_fingerprint.empty() || !pass) report.golden_fingerprint = g->fingerprint;
         if (a.has("--report")) {
           rf.expected_png = slurp((std::filesystem::path(dir) / g->file).string());

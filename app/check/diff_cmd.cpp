@@ -8,6 +8,7 @@
 #include <memory>
 #include <optional>
 
+#include "app/check/metrics_report.hpp"
 #include "app/check/video_frames.hpp"
 #include "app/commands.hpp"
 #include "app/regress/image.hpp"
@@ -218,13 +219,7 @@ int cmd_diff(const std::vector<std::string>& args) {
       ++differing;
       rf.messages.push_back(r.reason);
     }
-    rf.differing = r.differing;
-    rf.antialiased = r.antialiased;
-    rf.diff_ratio = r.diff_ratio;
-    rf.largest_cluster = r.largest_cluster;
-    rf.psnr = r.psnr;
-    rf.ssim = r.ssim;
-    for (const Cluster& k : r.clusters) rf.clusters.push_back({k.x0, k.y0, k.x1, k.y1, k.pixels});
+    put_metrics(r, rf);
     if (r.same_size) {
       worst_psnr = std::min(worst_psnr, r.psnr);
       worst_ssim = std::min(worst_ssim, r.ssim);

@@ -9,31 +9,18 @@
 #include <fstream>
 #include <sstream>
 
+#include "tests/cli_run.hpp"
 #include "tests/scratch.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
+using simreel::test::Result;
+using simreel::test::slurp;
 
-struct Result {
-  int code;
-  std::string out;
-};
-
-Result run(const std::string& args, const std::string& env = "") {
-  const std::string cmd = "env -u CI " + env + " " + std::string(SIMREEL_BIN) + " " + args + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  std::string out;
-  char buf[4096];
-  size_t n;
-  while ((n = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
-  const int st = pclose(p);
-  return {WIFEXITED(st) ? WEXITSTATUS(st) : -1, out};
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), {});
+// CI is unset: --update's default must not depend on the environment the tests run in.
+Result run(const std::string& args) {
+  return simreel::test::run(args, "-u CI");
 }
 
 // A ball dropped on the ground beside a spinning box: contacts, shadows, motion.

@@ -16,29 +16,16 @@
 
 #include <nlohmann/json.hpp>
 
+#include "tests/cli_run.hpp"
 #include "tests/render/decode.hpp"
 #include "tests/scratch.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
-
-struct Result {
-  int code;
-  std::string out;  // stdout and stderr together
-};
-
-Result run(const std::string& args, const std::string& env = "") {
-  const std::string cmd =
-      (env.empty() ? "" : "env " + env + " ") + std::string(SIMREEL_BIN) + " " + args + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  std::string out;
-  char buf[4096];
-  size_t n;
-  while ((n = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
-  const int st = pclose(p);
-  return {WIFEXITED(st) ? WEXITSTATUS(st) : -1, out};
-}
+using simreel::test::Result;
+using simreel::test::run;
+using simreel::test::slurp;
 
 // The JSON object a command printed (other lines, such as notes on stderr, around it).
 nlohmann::json json_of(const std::string& out) {
@@ -182,8 +169,6 @@ const char* kContactScene =
     "  - name: c\n    position: [0.05, 0.02, 3]\n"
     "    colliders: [ { shape: sphere, radius: 0.15 } ]\n";
 
-std::string slurp(const fs::path& p);
-
 TEST(Cli, ResumeEqualsStraightRun) {
   const std::string sc = write("contact.yaml", kContactScene);
   ASSERT_EQ(run("simulate " + sc + " --quiet --csv " + tmp("full.csv").string()).code, 0);
@@ -249,8 +234,8 @@ TEST(Cli, InspectReportsMassPropertiesAsJson) {
   EXPECT_EQ(j["warnings"], nlohmann::json::array());
   const Result open = run("inspect assets/open_box.obj");
   EXPECT_EQ(open.code, 2);
-  EXPECT_NE(open.out.find("`--mode shell`"), std::string::npos) << "inspect's hint names its flag\n"
-                                                                << open.out;
+  EXPECT_NE(open.out.find("(shell mode)"), std::string::npos) << "the hint names the mode, not a scene key\n"
+                                                              << open.out;
   const Result scene = run("inspect scenes/projectile.yaml");
   EXPECT_EQ(scene.code, 2);
   EXPECT_NE(scene.out.find("is a scene file, not a mesh"), std::string::npos) << scene.out;
@@ -258,11 +243,6 @@ TEST(Cli, InspectReportsMassPropertiesAsJson) {
   EXPECT_EQ(hull.code, 0);
   EXPECT_EQ(json_of(hull.out)["closed"], false) << hull.out;
   EXPECT_EQ(run("inspect " + write("junk.obj", "this is not a mesh\n")).code, 2);
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), {});
 }
 
 // Byte-identical PNG frames from separate processes, whatever llvmpipe's rasteriser thread count

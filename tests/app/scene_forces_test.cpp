@@ -14,6 +14,7 @@
 #include "app/scene.hpp"
 #include "sim/error.hpp"
 #include "sim/world.hpp"
+#include "tests/cli_run.hpp"
 #include "tests/scratch.hpp"
 
 namespace simreel {
@@ -216,25 +217,10 @@ TEST(SceneForces, TheTopLevelKeyIsKnown) {
 }
 
 // ---- The command line.
-struct Result {
-  int code;
-  std::string out;
-};
-Result run(const std::string& args) {
-  FILE* p = popen((std::string(SIMREEL_BIN) + " " + args + " 2>&1").c_str(), "r");
-  std::string out;
-  char buf[4096];
-  size_t n;
-  while ((n = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
-  const int st = pclose(p);
-  return {WIFEXITED(st) ? WEXITSTATUS(st) : -1, out};
-}
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+
+using test::Result;
+using test::run;
+using test::slurp;
 
 const char* kForcesScene =
     "simulation: { duration: 2.0 }\n"

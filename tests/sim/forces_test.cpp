@@ -12,6 +12,7 @@
 #include "sim/primitives.hpp"
 #include "sim/world.hpp"
 #include "tests/sim/contact_fixtures.hpp"
+#include "tests/sim/hermite_crossing.hpp"
 
 namespace simreel {
 namespace {
@@ -148,18 +149,7 @@ std::vector<double> upward_crossings(World& w, int body, const Vec3& axis, doubl
     const double t1 = w.time(), s1 = w.centroid(body).dot(axis) - rest,
                  d1 = w.linear_velocity(body).dot(axis);
     if (s0 < 0 && s1 >= 0) {
-      const double h = t1 - t0;
-      auto p = [&](double u) {
-        const double u2 = u * u, u3 = u2 * u;
-        return (2 * u3 - 3 * u2 + 1) * s0 + (u3 - 2 * u2 + u) * h * d0 + (-2 * u3 + 3 * u2) * s1 +
-               (u3 - u2) * h * d1;
-      };
-      double lo = 0, hi = 1;
-      for (int it = 0; it < 100; ++it) {
-        const double mid = 0.5 * (lo + hi);
-        (p(mid) < 0 ? lo : hi) = mid;
-      }
-      out.push_back(t0 + 0.5 * (lo + hi) * h);
+      out.push_back(test::hermite_zero(t0, s0, d0, t1, s1, d1));
     }
     t0 = t1, s0 = s1, d0 = d1;
   }
