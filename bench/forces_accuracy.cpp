@@ -18,7 +18,7 @@
 
 #include "sim/primitives.hpp"
 #include "sim/world.hpp"
-#include "tests/sim/hermite_crossing.hpp"
+#include "tests/sim/force_references.hpp"
 
 using namespace simreel;
 
@@ -140,15 +140,7 @@ double thrust_error(double dt, bool stages, Integrator in = Integrator::automati
   const double t = w.time();
   const double Izz = m / 12 * (size.x() * size.x() + size.y() * size.y());
   const double alpha = -r * F / Izz;
-  const int n = 200000;
-  double cx = 0, cy = 0;
-  for (int j = 0; j <= n; ++j) {
-    const double s = t * j / n, th = 0.5 * alpha * s * s;
-    const double wgt = (j == 0 || j == n) ? 1 : (j % 2 ? 4 : 2);
-    cx += wgt * std::cos(th);
-    cy += wgt * std::sin(th);
-  }
-  const Vec3 v = F / m * t / (3.0 * n) * Vec3(cx, cy, 0);
+  const Vec3 v = test::offset_thrust_velocity(F, m, alpha, t);
   return (w.linear_velocity(0) - v).norm();
 }
 

@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <fstream>
 #include <string>
 
 namespace simreel::test {
@@ -29,6 +30,13 @@ inline std::filesystem::path scratch_dir() {
 
 inline std::string scratch(const std::string& file) {
   return (scratch_dir() / file).string();
+}
+
+// Writes `text` to a file of that name in the scratch folder; returns its path.
+inline std::string scratch_file(const std::string& name, const std::string& text) {
+  const std::string p = scratch(name);
+  std::ofstream(p) << text;
+  return p;
 }
 
 }  // namespace simreel::test

@@ -19,9 +19,7 @@ namespace {
 namespace fs = std::filesystem;
 
 std::string write_scene(const std::string& name, const std::string& text) {
-  const fs::path p = test::scratch(name);
-  std::ofstream(p) << text;
-  return p.string();
+  return test::scratch_file(name, text);
 }
 
 // Loads a scene expected to be rejected; returns the message.

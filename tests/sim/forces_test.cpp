@@ -12,7 +12,7 @@
 #include "sim/primitives.hpp"
 #include "sim/world.hpp"
 #include "tests/sim/contact_fixtures.hpp"
-#include "tests/sim/hermite_crossing.hpp"
+#include "tests/sim/force_references.hpp"
 
 namespace simreel {
 namespace {
@@ -126,15 +126,7 @@ TEST(Forces, BodyFrameThrustAtAnOffsetSpinsUpAtTorqueOverInertia) {
   const Quat q = w.orientation(0);
   const double theta = 2 * std::atan2(q.z(), q.w());
   EXPECT_NEAR(theta, 0.5 * alpha * t * t, 1e-9);
-  const int n = 200000;
-  double cx = 0, cy = 0;
-  for (int j = 0; j <= n; ++j) {
-    const double s = t * j / n, th = 0.5 * alpha * s * s;
-    const double wgt = (j == 0 || j == n) ? 1 : (j % 2 ? 4 : 2);
-    cx += wgt * std::cos(th);
-    cy += wgt * std::sin(th);
-  }
-  const Vec3 v_want = F / m * t / (3.0 * n) * Vec3(cx, cy, 0);
+  const Vec3 v_want = test::offset_thrust_velocity(F, m, alpha, t);
   EXPECT_LT((w.linear_velocity(0) - v_want).norm(), 1e-9)
       << w.linear_velocity(0).transpose() << " vs " << v_want.transpose();
 }
