@@ -62,14 +62,26 @@ std::string fit_camera(Scene& scene, int threads) {
   loop.run(loop.all_frames(), h, false);
   if (!(lo.x() <= hi.x())) return "camera.auto: nothing to frame (no body has a finite size)";
   const Vec3 centre = 0.5 * (lo + hi);
-  const double radius = 0.5 * (hi - lo).norm();
-  // The narrower of the two fields of view must hold the sphere: sin(half angle) = R / distance.
+  // Back off along the viewing direction until every corner of the box lies inside the view
+  // pyramid, with a 10% margin on each side: in camera coordinates (right r, up u, forward f) a
+  // corner at offset q from the centre needs |q.r| <= tan(half_h) (D + q.f), the same with q.u and
+  // half_v, where D is the camera's distance from the centre. (A bounding sphere instead would back
+  // a long flat scene off far more than it needs.)
   const double aspect = (double)scene.video.width / scene.video.height;
-  const double half_v = 0.5 * scene.camera.fov * M_PI / 180;
-  const double half_h = std::atan(std::tan(half_v) * aspect);
-  const double distance = 1.1 * radius / std::sin(std::min(half_v, half_h));
+  const double tv = std::tan(0.5 * scene.camera.fov * M_PI / 180) / 1.1, th = tv * aspect;
   Vec3 dir = scene.camera.position - scene.camera.look_at;
   dir = dir.norm() > 0 ? dir.normalized() : Vec3(1, -1, 0.6).normalized();
+  const Vec3 f = -dir;
+  Vec3 r = f.cross(scene.camera.up);
+  r = r.norm() > 0 ? r.normalized() : f.unitOrthogonal();
+  const Vec3 u = r.cross(f);
+  double distance = 0;
+  for (int c = 0; c < 8; ++c) {
+    const Vec3 corner((c & 1) ? hi.x() : lo.x(), (c & 2) ? hi.y() : lo.y(), (c & 4) ? hi.z() : lo.z());
+    const Vec3 q = corner - centre;
+    distance = std::max({distance, std::fabs(q.dot(r)) / th - q.dot(f), std::fabs(q.dot(u)) / tv - q.dot(f)});
+  }
+  distance = std::max(distance, 1e-3);
   scene.camera.look_at = centre;
   scene.camera.position = centre + distance * dir;
   char b[200];

@@ -16,8 +16,8 @@ std::vector<double> body_radii(const World& w);
 
 // Fits scene.camera when scene.camera.fit: runs the scene once (threads as given), takes the box
 // holding every body's bounding sphere at every frame, then aims look_at at its centre and moves
-// the camera along its viewing direction (position - look_at, kept) to the distance where the box's
-// bounding sphere fills the narrower field of view with a 10% margin. Returns a note saying where
+// the camera along its viewing direction (position - look_at, kept) to the nearest distance at
+// which all eight corners of the box are in view with a 10% margin. Returns a note saying where
 // the camera went, "" when nothing was done.
 std::string fit_camera(Scene& scene, int threads);
 
