@@ -307,10 +307,10 @@ void load_overlays(const YAML::Node& root, const std::string& path, Scene& s) {
   check_keys(ov, w, {"hud", "title", "text_size"});
   if (const YAML::Node h = ov["hud"]) {
     const Ctx hw = w.child("hud");
-    YAML::Node lines = h;
+    // A copy binds to the node (operator= would write into `h`; reset() throws on a missing key).
+    const YAML::Node lines = h.IsMap() ? h["lines"] : h;
     if (h.IsMap()) {
       check_keys(h, hw, {"lines", "corner"});
-      lines.reset(h["lines"]);  // rebinds (operator= would write into `h`)
       if (const YAML::Node c = h["corner"]) {
         o.hud_corner = text(c, hw.child("corner"));
         const std::vector<std::string> corners = {"top_left", "top_right", "bottom_left", "bottom_right"};
