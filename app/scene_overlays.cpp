@@ -292,7 +292,7 @@ void load_overlays(const YAML::Node& root, const std::string& path, Scene& s) {
   const Ctx top(path, "");
   if (const YAML::Node bodies = root["bodies"]; bodies && bodies.IsSequence())
     for (size_t i = 0; i < bodies.size() && i < s.bodies.size(); ++i) {
-      const YAML::Node sh = bodies[i]["show"];
+      const YAML::Node sh = bodies[i].IsMap() ? bodies[i]["show"] : YAML::Node();
       if (!sh) continue;
       const Ctx w = top.child("bodies").index(i).child("show");
       if (!sh.IsSequence())
