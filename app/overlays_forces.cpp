@@ -144,10 +144,12 @@ void SceneOverlays::build_forces(const Item& it, const World& w, const CameraVie
     spring_points_.push_back(pb - lead * u);
     spring_points_.push_back(pb);
     const Rgba grey{0.06f, 0.06f, 0.07f, (float)s.opacity};
-    spring_colors_.assign(spring_points_.size(), grey);
+    spring_colors_.assign(2, grey);
     const double width = std::max(1.5, 2.5 * s.width * height_ / 720.0) *
                          pixel_size_at(cam, height_, std::max((mid - cam.eye).norm(), 1e-3));
-    out.ribbon(spring_points_.data(), spring_colors_.data(), (int)spring_points_.size(), cam.eye, width);
+    // Segment by segment: a ribbon through the sharp corners would narrow where it turns.
+    for (size_t k = 0; k + 1 < spring_points_.size(); ++k)
+      out.ribbon(&spring_points_[k], spring_colors_.data(), 2, cam.eye, width);
   }
 }
 

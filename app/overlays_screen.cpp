@@ -254,19 +254,24 @@ void SceneOverlays::build_screen(const World& w, long frame, const CameraView& c
   const int margin = font_->pixel_size() / 2;
   int next_top[2] = {top + margin, top + margin};             // left, right: the next box's top
   int next_bottom[2] = {height_ - margin, height_ - margin};  // left, right: the next box's bottom
+  // y of a box at x, y (w x h px) moved out of the way of the inset plots: below one (or above
+  // it, `up`) that it overlaps.
+  auto clear_of_plots = [&](int x, int y, int bw, int bh, bool up) {
+    for (int pass = 0; pass < 2; ++pass)
+      for (const Plot& p : plots_) {
+        const PlotLayout& L = p.plot->layout();
+        if (x < L.x + L.width && x + bw > L.x && y < L.y + L.height && y + bh > L.y)
+          y = up ? L.y - margin - bh : L.y + L.height + margin;
+      }
+    return y;
+  };
   // A box of w x h px in a corner, stacked under (over) what is there already: its top-left.
   auto place = [&](const std::string& corner, int bw, int bh) {
     const int side = corner.find("right") != std::string::npos ? 1 : 0;
     const int x = side ? width_ - margin - bw : margin;
     const bool bottom = corner.find("bottom") != std::string::npos;
-    int y = bottom ? next_bottom[side] - bh : next_top[side];
     // Out of the way of the inset plots: below one in a top corner, above it in a bottom one.
-    for (int pass = 0; pass < 2; ++pass)
-      for (const Plot& p : plots_) {
-        const PlotLayout& L = p.plot->layout();
-        if (x < L.x + L.width && x + bw > L.x && y < L.y + L.height && y + bh > L.y)
-          y = bottom ? L.y - margin - bh : L.y + L.height + margin;
-      }
+    const int y = clear_of_plots(x, bottom ? next_bottom[side] - bh : next_top[side], bw, bh, bottom);
     if (bottom)
       next_bottom[side] = y - margin;
     else
@@ -337,7 +342,7 @@ void SceneOverlays::build_screen(const World& w, long frame, const CameraView& c
     // Kept inside the frame, whole.
     int x0 = (int)std::lround(cx - 0.5 * bw), y0 = (int)std::lround(cy - 0.5 * bh);
     x0 = std::clamp(x0, margin, std::max(margin, width_ - margin - bw));
-    y0 = std::clamp(y0, margin, std::max(margin, height_ - margin - bh));
+    y0 = std::clamp(y0, top + margin, std::max(top + margin, height_ - margin - bh));  // below the title
     const Rgba8 ink = l.color ? to_display({(*l.color)[0], (*l.color)[1], (*l.color)[2], 1}) : kInk;
     out.rects.push_back({x0, y0, x0 + bw, y0 + bh, kPanel});
     f.draw(l.text, x0 + pad, y0 + pad / 2 + f.ascent(), ink, &out);
@@ -350,14 +355,14 @@ void SceneOverlays::build_screen(const World& w, long frame, const CameraView& c
     Typeface& f = *font_;
     const int tw = f.width(c.text), pad = f.pixel_size() / 2;
     const int bh = f.ascent() + f.descent() + pad;
+    const int x = (width_ - tw) / 2;
     int y0;
     if (c.position == "top")
-      y0 = top + margin;
+      y0 = clear_of_plots(x - pad, top + margin, tw + 2 * pad, bh, false);
     else if (c.position == "center")
       y0 = (height_ - bh) / 2;
     else
-      y0 = height_ - 2 * margin - bh;
-    const int x = (width_ - tw) / 2;
+      y0 = clear_of_plots(x - pad, height_ - 2 * margin - bh, tw + 2 * pad, bh, true);
     out.rects.push_back({x - pad, y0, x + tw + pad, y0 + bh, faded(kPanel, a)});
     f.draw(c.text, x, y0 + pad / 2 + f.ascent(), faded(kInk, a), &out);
   }

@@ -155,7 +155,10 @@ TEST(Overlays, FramesAreTheSameBytesAcrossRunsThreadsAndPartialRenders) {
   const std::string path = write_scene(
       "det.yaml", std::string(kTrail) +
                       "      - angular_velocity\n      - axes\n"
-                      "overlays: { title: Test, hud: [\"t = {t:.2f} s  ω = {|omega|:.3f}  {frame}\"] }\n");
+                      "overlays: { title: Test, hud: [\"t = {t:.2f} s  ω = {|omega|:.3f}  {frame}\"],\n"
+                      "  captions: [ { text: 'x_1 \\cdot \\vec{L}', from: 1.2, to: 1.8 } ], legend: true,\n"
+                      "  labels: [ { body: ball, text: '\\omega_{ball}' } ],\n"
+                      "  plots: [ { quantities: [omega_body.x, '|v|'], rect: [0.5, 0.6, 0.48, 0.38] } ] }\n");
   const fs::path full = test::scratch("det_full"), part = test::scratch("det_part"),
                  t4 = test::scratch("det_t4"), at = test::scratch("det_at.png");
   for (const fs::path& p : {full, part, t4}) fs::remove_all(p);
