@@ -301,7 +301,11 @@ void load_captions(const YAML::Node& n, const Ctx& w, Scene& s) {
     cap.text = text(e["text"], c.child("text"));
     cap.from = e["from"] ? in_range(e["from"], c.child("from"), 0, 1e9) : 0.0;
     cap.to = e["to"] ? in_range(e["to"], c.child("to"), 0, 1e9) : s.duration + 1;
-    if (cap.to <= cap.from) c.child("to").fail(e["to"], "must come after 'from'");
+    if (cap.to <= cap.from) {
+      if (!e["to"])
+        c.child("from").fail(e["from"], "comes after the end of the run: the caption would never show");
+      c.child("to").fail(e["to"], "must come after 'from'");
+    }
     if (e["fade"]) cap.fade = in_range(e["fade"], c.child("fade"), 0, 1e6);
     if (const YAML::Node p = e["position"]) {
       cap.position = text(p, c.child("position"));
