@@ -164,6 +164,7 @@ class SceneOverlays {
   Legend legend_;
   std::vector<Plot> plots_;
   bool has_screen_ = false;
+  size_t max_lines_ = 0;            // screen lines a frame may hold (plots), reserved once
   std::vector<char> shows_forces_;  // per body: has a `forces` item (springs drawn once)
   double E0_ = 0;
   Vec3 L0_ = Vec3::Zero();

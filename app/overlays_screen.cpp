@@ -153,6 +153,9 @@ void SceneOverlays::make_screen(const Scene& scene, const World& world) {
     p.series.clear();
     for (const auto& v : p.values) p.series.push_back(v.data());
     p.now.assign(p.values.size(), 0.0f);
+    // Lines a frame can hold: the fixed ones (under 200 for a plot), every segment of every curve, the
+    // cursor.
+    max_lines_ += 256 + p.values.size() * (p.t.size() + 1) + 1;
   }
   (void)world;
 }
@@ -279,6 +282,8 @@ void SceneOverlays::build_screen(const World& w, long frame, const CameraView& c
     return std::pair<int, int>{x, y};
   };
 
+  if (!plots_.empty() && out.lines.capacity() < max_lines_)
+    out.lines.reserve(max_lines_);  // once: curves grow
   for (Plot& p : plots_) {
     for (size_t q = 0; q < p.spec.quantities.size(); ++q)
       p.now[q] = (float)quantity_value(p.spec.quantities[q], w, frame, E0_, L0_);
