@@ -47,22 +47,36 @@ InsetPlot::InsetPlot(const PlotLayout& layout, Typeface& text) : L_(layout) {
     vlabels.push_back(tick_text(v, vstep));
     label_w = std::max(label_w, text.width(vlabels.back()));
   }
-  // The plotting area: tick labels to its left and below it, the legend row above it.
+  // The legend rows above the plotting area: the title, then a swatch and a label per curve,
+  // wrapped onto more rows where the panel is too narrow.
+  const int swatch = (int)(2.8 * pad), right = x1 - pad;
+  int pen = x0 + pad, row = 0;
+  std::vector<std::pair<int, int>> at;  // per item (the title first, if any): its pen and row
+  auto place = [&](int w) {
+    if (pen > x0 + pad && pen + w > right) pen = x0 + pad, ++row;
+    at.push_back({pen, row});
+    pen += w + 2 * pad;
+  };
+  if (!L_.title.empty()) place(text.width(L_.title));
+  for (const std::string& l : L_.labels) place(swatch + pad / 2 + text.width(l));
+  size_t item = 0;
+  auto base_of = [&](int r) { return y0 + pad + text.ascent() + r * lh; };
+  if (!L_.title.empty()) {
+    text.draw(L_.title, at[0].first, base_of(at[0].second), kInk, &fixed_);
+    ++item;
+  }
+  for (size_t c = 0; c < L_.labels.size(); ++c, ++item) {
+    const int p = at[item].first, base = base_of(at[item].second);
+    const float ym = base - 0.3f * text.ascent();
+    fixed_.lines.push_back({(float)p, ym, (float)(p + swatch), ym, 3.0f, L_.colors[c]});
+    text.draw(L_.labels[c], p + swatch + pad / 2, base, kInk, &fixed_);
+  }
+
+  // The plotting area: tick labels to its left and below it, the legend rows above it.
   ax0_ = x0 + pad + label_w + pad * 0.75;
   ax1_ = x1 - pad * 1.5;
-  ay0_ = y0 + pad + lh + pad * 0.5;
+  ay0_ = y0 + pad + (row + 1) * lh + pad * 0.5;
   ay1_ = y1 - pad * 0.5 - lh;
-
-  // Legend row: the title, then a swatch and a label per curve.
-  int pen = x0 + pad;
-  const int base = y0 + pad + text.ascent();
-  if (!L_.title.empty()) pen += text.draw(L_.title, pen, base, kInk, &fixed_) + 2 * pad;
-  for (size_t c = 0; c < L_.labels.size(); ++c) {
-    const float ym = base - 0.3f * text.ascent();
-    fixed_.lines.push_back({(float)pen, ym, (float)(pen + 1.4 * pad * 2), ym, 3.0f, L_.colors[c]});
-    pen += (int)(2.8 * pad) + pad / 2;
-    pen += text.draw(L_.labels[c], pen, base, kInk, &fixed_) + 2 * pad;
-  }
 
   // Value axis: grid lines and tick labels, right-aligned.
   for (size_t k = 0; k < ticks_.size(); ++k) {
