@@ -22,7 +22,9 @@ struct VideoSettings {
   double fps = 30;
   int crf = 20;  ///< x264 quality (lower is better; 18-23 typical)
   std::string preset = "veryfast";
-  int queue = 4;  ///< frames in flight between renderer and encoder
+  int gif_width = 0;   ///< GIF only: output width, px (the height keeps the aspect); 0: `width`
+  double gif_fps = 0;  ///< GIF only: frames/s, at most `fps` and 50; 0: `fps` up to 50
+  int queue = 4;       ///< frames in flight between renderer and encoder
   // FXAA (render/fxaa.hpp) on each frame, on the encoding thread, before PNG and video: there it
   // overlaps the rendering of the next frame instead of delaying it. Then each frame's screen
   // layer (commit's `layer`) is composited over it: the renderer's post stage, moved to this
