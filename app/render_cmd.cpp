@@ -3,6 +3,7 @@
 #include <chrono>
 #include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 
 #include <unistd.h>
@@ -280,8 +281,28 @@ int cmd_render(const std::vector<std::string>& args) {
   vs.height = h;
   vs.fps = scene.video.fps;
   if (r.crf) vs.crf = *r.crf;
-  if (r.gif_width) vs.gif_width = *r.gif_width;
-  if (r.gif_fps) vs.gif_fps = *r.gif_fps;
+  if (r.gif_width) {
+    if (*r.gif_width > w)
+      throw UsageError("--gif-width " + std::to_string(*r.gif_width) + " is wider than the frames (" +
+                       std::to_string(w) + " px): render them wider with --width");
+    vs.gif_width = *r.gif_width;
+  }
+  if (r.gif_fps) {
+    char f[160];
+    std::snprintf(f, sizeof f, "--gif-fps %g is above ", *r.gif_fps);
+    if (*r.gif_fps > 50)
+      throw UsageError(std::string(f) +
+                       "50 (GIF delays are whole hundredths of a second; browsers show delays "
+                       "under 2 as 10)");
+    if (*r.gif_fps > scene.video.fps * (1 + 1e-12)) {
+      std::snprintf(f + std::strlen(f), sizeof f - std::strlen(f), "the video's frame rate (fps %g)",
+                    scene.video.fps);
+      throw UsageError(f);
+    }
+    vs.gif_fps = *r.gif_fps;
+  } else if (gif && scene.video.fps > 50 && !r.run.quiet) {
+    std::fprintf(stderr, "note: the GIF runs at 50 frames/s, the most GIF timing allows (--gif-fps)\n");
+  }
   if (!r.no_video) {
     vs.path = r.out ? *r.out : "out/" + scene.name + ".mp4";
     check_output(vs.path, {".mp4", ".mov", ".mkv", ".webm", ".gif"}, "a video");

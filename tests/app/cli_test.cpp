@@ -565,6 +565,32 @@ TEST(Cli, OptionErrorsNameTheOptionAndExitWith2) {
   EXPECT_NE(neg.out.find("--at -0.5 is outside the run"), std::string::npos) << neg.out;
 }
 
+// GIF options end to end: --gif-width scales (the height by the aspect ratio), --gif-fps picks the
+// frame nearest each GIF frame's time; both refused beyond what the frames have. The same scene
+// gives the same GIF, byte for byte.
+TEST(Cli, GifWidthAndFrameRate) {
+  const std::string scene = write("g.yaml", kGood);  // 64x48, 10 frames/s, 1 s: 11 frames
+  const fs::path gif = tmp("g.gif"), again = tmp("again.gif");
+  ASSERT_EQ(run("render " + scene + " --quiet -o " + gif.string() + " --gif-width 32 --gif-fps 5").code, 0);
+  const simreel::test::Decoded d = simreel::test::decode(gif.string());
+  EXPECT_EQ(d.codec, "gif");
+  EXPECT_EQ(d.width, 32);
+  EXPECT_EQ(d.height, 24);
+  EXPECT_EQ(d.frames, 6);  // t = 0, 0.2, ..., 1.0
+  EXPECT_NEAR(d.duration, 1.2, 0.011);
+  ASSERT_EQ(run("render " + scene + " --quiet -o " + again.string() + " --gif-width 32 --gif-fps 5").code, 0);
+  EXPECT_TRUE(slurp(gif) == slurp(again)) << "two renders of one scene gave different GIFs";
+  const Result wide = run("render " + scene + " --quiet -o " + tmp("w.gif").string() + " --gif-width 128");
+  EXPECT_EQ(wide.code, 2);
+  EXPECT_NE(wide.out.find("--gif-width 128 is wider than the frames (64 px)"), std::string::npos) << wide.out;
+  const Result fast = run("render " + scene + " --quiet -o " + tmp("f.gif").string() + " --gif-fps 12");
+  EXPECT_EQ(fast.code, 2);
+  EXPECT_NE(fast.out.find("--gif-fps 12 is above the video's frame rate (fps 10)"), std::string::npos)
+      << fast.out;
+  EXPECT_FALSE(fs::exists(tmp("w.gif")));
+  EXPECT_FALSE(fs::exists(tmp("f.gif")));
+}
+
 // --quiet prints nothing but errors; without it a run that is not on a terminal logs plain
 // progress lines (every 10%) on stderr and the summary on stdout.
 TEST(Cli, QuietIsQuietAndLogsGetPlainProgress) {
@@ -713,6 +739,17 @@ TEST(Cli, SignalsStopBetweenStepsAndFinishTheOutputs) {
     ASSERT_TRUE(fs::exists(out)) << second_ms;
     EXPECT_GT(simreel::test::decode(out.string()).frames, 0);
   }
+  // A GIF is encoded after the last frame (its palette needs them all): interrupted, and again
+  // while it is being encoded, it is still finished.
+  const fs::path gif = tmp("int.gif");
+  pid = start({"render", scene, "-o", gif.string(), "--quiet"});
+  wait_started(gif, 500);
+  kill(pid, SIGINT);
+  std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  kill(pid, SIGTERM);
+  EXPECT_EQ(wait_code(pid), 130);
+  ASSERT_TRUE(fs::exists(gif));
+  EXPECT_GT(simreel::test::decode(gif.string()).frames, 0);
   pid = start({"render", scene, "-o", tmp("hup.mp4").string(), "--quiet"});
   wait_started(tmp("hup.mp4"), 500);
   kill(pid, SIGHUP);
