@@ -182,13 +182,9 @@ CLI::Option* add_positionals(CLI::App& app, std::vector<std::string>& into) {
   return app.add_option("args", into)->group("");
 }
 
-std::string help(const CLI::App& app) {
-  return app.help();
-}
-
 bool parse(CLI::App& app, const std::vector<std::string>& args) {
   if (prescan(app, args)) {
-    std::fputs(help(app).c_str(), stdout);
+    std::fputs(app.help().c_str(), stdout);
     return false;
   }
   std::vector<std::string> reversed(args.rbegin(), args.rend());  // CLI11 takes them last first
@@ -198,7 +194,7 @@ bool parse(CLI::App& app, const std::vector<std::string>& args) {
     // CLI11 says "NAME: MESSAGE"; the validators' messages hold "{}" where the name goes.
     const std::string what = e.what();
     const size_t colon = what.find(": ");
-    if (colon == std::string::npos) throw UsageError(what);
+    if (colon == std::string::npos || what.find("{}", colon) == std::string::npos) throw UsageError(what);
     throw UsageError(with_name(what.substr(colon + 2), what.substr(0, colon)));
   } catch (const CLI::ParseError& e) {
     throw UsageError(e.what());

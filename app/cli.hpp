@@ -29,9 +29,6 @@ CLI::Option* add_positionals(CLI::App& app, std::vector<std::string>& into);
 // asked for: it has been printed to stdout. Throws UsageError.
 bool parse(CLI::App& app, const std::vector<std::string>& args);
 
-// The help text of a command (as --help prints it).
-std::string help(const CLI::App& app);
-
 // Value checks for the tables. Their messages name the option: "--width expects a whole number
 // from 16 to 16384, got '8'".
 CLI::Validator number();                                // a finite number

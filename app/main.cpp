@@ -28,8 +28,9 @@ std::string top_help() {
   std::string s = "simreel: scene file in, simulated rigid-body video out.\n\ncommands:\n";
   for (const CommandInfo& c : kCommands)
     s += std::string("  simreel ") + c.name + " " + c.synopsis + " [options]\n      " + c.summary + "\n";
-  s += "\n'simreel COMMAND --help' lists a command's options. Exit codes: 0 done, 2 bad input (usage,\n"
-       "scene, mesh), 1 other failure, 128 + N when stopped by signal N. Scene format: scenes/README.md.\n";
+  s += "\n'simreel COMMAND --help' lists a command's options; 'simreel --version' prints the version.\n"
+       "Exit codes: 0 done, 2 bad input (usage, scene, mesh), 1 other failure, 128 + N when stopped by\n"
+       "signal N. Scene format: scenes/README.md.\n";
   return s;
 }
 

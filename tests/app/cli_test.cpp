@@ -747,7 +747,10 @@ TEST(Cli, SignalsStopBetweenStepsAndFinishTheOutputs) {
   kill(pid, SIGINT);
   std::this_thread::sleep_for(std::chrono::milliseconds(20));
   kill(pid, SIGTERM);
-  EXPECT_EQ(wait_code(pid), 130);
+  // (On a loaded machine the process may not run between the two kills: both are then pending and
+  // either can be the first it sees.)
+  const int gif_code = wait_code(pid);
+  EXPECT_TRUE(gif_code == 130 || gif_code == 143) << gif_code;
   ASSERT_TRUE(fs::exists(gif));
   EXPECT_GT(simreel::test::decode(gif.string()).frames, 0);
   pid = start({"render", scene, "-o", tmp("hup.mp4").string(), "--quiet"});
