@@ -365,7 +365,7 @@ void SceneOverlays::build(const World& w, long frame, DrawList& dl) {
 }
 
 void format_hud_line(const HudLine& line, const World& w, long frame, double E0, const Vec3& L0,
-                     std::string& out) {
+                     std::string& out, double fps) {
   out.clear();
   char buf[96];
   for (size_t k = 0; k < line.fields.size(); ++k) {
@@ -382,6 +382,8 @@ void format_hud_line(const HudLine& line, const World& w, long frame, double E0,
       const double E = w.kinetic_energy() + w.potential_energy();
       if (f.name == "t")
         v = w.time();
+      else if (f.name == "video_t")
+        v = fps > 0 ? (double)frame / fps : w.time();
       else if (f.name == "E")
         v = E;
       else if (f.name == "E_drift")
@@ -437,7 +439,7 @@ void SceneOverlays::build_hud(const World& w, long frame, ScreenLayer& out) {
   Font& f = *font_;
   int widest = 0;
   for (size_t k = 0; k < hud_.size(); ++k) {
-    format_hud_line(hud_[k], w, frame, E0_, L0_, lines_[k]);
+    format_hud_line(hud_[k], w, frame, E0_, L0_, lines_[k], fps_);
     widest = std::max(widest, f.width(lines_[k]));
   }
   const int pad = f.pixel_size() / 2, lh = f.line_height();

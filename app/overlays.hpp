@@ -101,8 +101,9 @@ class SceneOverlays {
   std::vector<std::string> lines_;  // HUD text this frame, storage reused
 };
 
-// A HUD line with its fields filled from the world; `out` keeps its storage.
+// A HUD line with its fields filled from the world; `out` keeps its storage. `fps`: the video's,
+// for {video_t} = frame / fps (app/scene_time.hpp; 0: the simulated time).
 void format_hud_line(const HudLine& line, const World& w, long frame, double E0, const Vec3& L0,
-                     std::string& out);
+                     std::string& out, double fps = 0);
 
 }  // namespace simreel

@@ -227,7 +227,7 @@ HudLine hud_line(const YAML::Node& n, const Ctx& w, const Scene& s) {
     if (!scalar && !vector) {
       std::string msg = "unknown quantity '" + f.name + "'";
       if (auto sug = nearest(f.name, all)) msg += "; did you mean '" + *sug + "'?";
-      msg += " (t, frame, E, E_drift, L_drift; per body omega, omega_body, L, v, position)";
+      msg += " (t, video_t, frame, E, E_drift, L_drift; per body omega, omega_body, L, v, position)";
       bad(msg);
     }
     if (scalar && (!body.empty() || f.component >= 0 || f.norm))
@@ -271,7 +271,7 @@ const char* to_string(ShowKind k) {
 }
 
 const std::vector<std::string>& hud_scalar_names() {
-  static const std::vector<std::string> v = {"t", "frame", "E", "E_drift", "L_drift"};
+  static const std::vector<std::string> v = {"t", "video_t", "frame", "E", "E_drift", "L_drift"};
   return v;
 }
 const std::vector<std::string>& hud_body_names() {
