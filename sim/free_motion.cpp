@@ -92,7 +92,12 @@ FreeMotion::FreeMotion(const Vec3& I_P, const Quat& q_WP0, const Vec3& w_P0, con
   // On the major-axis side (L^2 > 2 E I2) w3 = c dn never vanishes; on the minor-axis side w1.
   polar_ = L_P.squaredNorm() < w0_.dot(L_P) * I_[1] ? 0 : 2;
   period_ = top_->flip_half_period();  // w^2 has half the period of w: 2 K / lambda
-  phi_period_ = phi_integral(0, period_, kPanelsPerPeriod);
+  // phi at the panel boundaries of one period, summed once: a call then integrates one panel.
+  cumulative_.assign(kPanelsPerPeriod + 1, 0.0);
+  const double h = period_ / kPanelsPerPeriod;
+  for (int j = 0; j < kPanelsPerPeriod; ++j)
+    cumulative_[j + 1] = cumulative_[j] + phi_integral(j * h, (j + 1) * h, 1);
+  phi_period_ = cumulative_.back();
   align_ = q0_.toRotationMatrix() * euler_part(0, 0).transpose();
 }
 
@@ -141,10 +146,11 @@ Quat FreeMotion::orientation(double t) const {
     case Kind::asymmetric:
       break;
   }
-  // phi(t) = whole periods, then the rest of one (phi' is periodic in t).
-  const double n = std::floor(t / period_), rest = t - n * period_;
-  const int panels = std::max(1, (int)std::ceil(kPanelsPerPeriod * rest / period_));
-  const double phi = n * phi_period_ + phi_integral(0, rest, panels);
+  // phi(t) = whole periods, whole panels of the rest, then the last part of a panel (phi' is
+  // periodic in t).
+  const double n = std::floor(t / period_), rest = t - n * period_, h = period_ / kPanelsPerPeriod;
+  const int j = std::clamp((int)std::floor(rest / h), 0, kPanelsPerPeriod - 1);
+  const double phi = n * phi_period_ + cumulative_[j] + phi_integral(j * h, rest, 1);
   return Quat(Mat3(align_ * euler_part(t, phi))).normalized();
 }
 

@@ -6,8 +6,9 @@
 //     (Landau & Lifshitz, Mechanics, section 37): the body's L gives the nutation theta and the
 //     spin psi at once (cos theta = L3 / |L|, tan psi = L1 / L2), and the precession phi about L
 //     grows at phi' = |L| (I1 w1^2 + I2 w2^2) / (I1^2 w1^2 + I2^2 w2^2) (37.16), a periodic
-//     function of t with the period of w^2, integrated here by Gauss-Legendre quadrature: whole
-//     periods once, the rest of one at each call (a function of t alone, ~1e-13 rad);
+//     function of t with the period of w^2, integrated here by Gauss-Legendre quadrature (10
+//     points a panel, 256 panels a period): whole periods and whole panels summed once, the last
+//     part of a panel at each call (a function of t alone, ~1e-13 rad);
 //   - symmetric body (two equal moments It, the third I3): a rotation about L at |L| / It after
 //     one about the symmetry axis at -(I3 - It) w3 / It, both uniform (section 33); a sphere-like
 //     body (three equal) turns uniformly about its omega;
@@ -18,6 +19,7 @@
 #pragma once
 #include <array>
 #include <optional>
+#include <vector>
 
 #include "sim/free_top.hpp"
 #include "sim/types.hpp"
@@ -57,6 +59,7 @@ class FreeMotion {
   Mat3 align_;             // L-frame to world: R_WP(t) = align_ euler_part(t)
   double period_ = 0;      // s, of phi'
   double phi_period_ = 0;  // rad, phi over one period
+  std::vector<double> cumulative_;  // rad, phi at the panel boundaries of one period
   double L_ = 0;           // |L|
 };
 
