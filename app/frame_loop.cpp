@@ -123,6 +123,13 @@ FrameLoop::FrameLoop(const WorldConfig& config, const std::vector<BodyDef>& bodi
 
 std::vector<FrameTarget> FrameLoop::all_frames() const {
   std::vector<FrameTarget> out;
+  for (size_t k = 0; k < plan_.frame_step.size(); ++k)
+    if (plan_.frame_step[k] >= world_.steps()) out.push_back(plan_target(plan_, (long)k, fps_));
+  return out;
+}
+
+std::vector<FrameTarget> FrameLoop::video_frames() const {
+  std::vector<FrameTarget> out;
   for (size_t k = 0; k < video_.frame_step.size(); ++k)
     if (video_.frame_step[k] >= world_.steps()) out.push_back(plan_target(video_, (long)k, fps_));
   return out;

@@ -67,8 +67,11 @@ class FrameLoop {
   // After the world's state was replaced (a resumed run): drift is measured from here.
   void state_restored() { drift_ = Drift(world_); }
 
-  // Every frame of the video plan from the world's current step on (a resumed world starts late).
+  // Every frame of the simulation plan from the world's current step on (a resumed world starts
+  // late): what simulate writes.
   std::vector<FrameTarget> all_frames() const;
+  // Every frame of the video plan from the world's current step on: what render draws.
+  std::vector<FrameTarget> video_frames() const;
 
   struct Hooks {
     std::function<void(const FrameTarget&, const World&)> frame;  ///< at each target, in order

@@ -235,7 +235,7 @@ int cmd_render(const std::vector<std::string>& args) {
   FrameLoop loop(scene, threads);
   if (a.has("--at")) return render_at(a, scene, loop, w, h, stop);
 
-  std::vector<FrameTarget> targets = loop.all_frames();
+  std::vector<FrameTarget> targets = loop.video_frames();
   if (a.has("--frames")) {
     try {
       // Frames of the video: numbers and times of the clip (with a `time:` block, video time).

@@ -661,8 +661,8 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
   if (!root.IsMap())
     top.fail(root, "a scene is a mapping with keys simulation, video, camera, render, ground, bodies");
   check_keys(root, top,
-             {"simulation", "video", "camera", "render", "ground", "bodies", "test", "forces", "overlays", "time",
-              "panes", "variants"});
+             {"simulation", "video", "camera", "render", "ground", "bodies", "test", "forces", "overlays",
+              "time", "panes", "variants"});
 
   if (const YAML::Node sim = root["simulation"]) {
     const Ctx c = top.child("simulation");
@@ -720,9 +720,11 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
     if (cam["follow"]) s.camera.follow = text(cam["follow"], c.child("follow"));
     if (cam["frame"]) s.camera.frame_body = camera_frame_body(cam["frame"], c.child("frame"));
     if (!s.camera.follow.empty() && !s.camera.frame_body.empty())
-      c.child("follow").fail(cam["follow"], "a camera riding in a body's frame does not also follow one: give one");
+      c.child("follow").fail(cam["follow"],
+                             "a camera riding in a body's frame does not also follow one: give one");
     if (s.camera.fit && !s.camera.frame_body.empty())
-      c.child("auto").fail(cam["auto"], "camera.auto frames the world: a camera riding in a body's frame is placed by hand");
+      c.child("auto").fail(
+          cam["auto"], "camera.auto frames the world: a camera riding in a body's frame is placed by hand");
     if ((s.camera.position - s.camera.look_at).norm() == 0)
       c.child("look_at").fail(cam["look_at"], "coincides with the camera position");
     if (s.camera.up.cross(s.camera.position - s.camera.look_at).norm() == 0)

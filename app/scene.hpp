@@ -67,7 +67,7 @@ struct BodyLook {
   Rgb color{0.8f, 0.8f, 0.8f};          ///< the body's `color`
   std::vector<ColliderLook> colliders;  ///< parallel to the body's colliders
   bool drawn = true;                    ///< false for the ground body: the renderer's ground draws it
-  GhostSpec ghost;                      ///< `ghost:`: its closed-form motion drawn translucent (app/ghost.hpp)
+  GhostSpec ghost;                      ///< its exact motion drawn translucent (app/ghost.hpp)
   // What a collider is drawn in: its file's material, else the body colour.
   Rgb collider_color(size_t k) const {
     return k < colliders.size() && colliders[k].color ? *colliders[k].color : color;

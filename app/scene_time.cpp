@@ -18,7 +18,8 @@ TimeMap::TimeMap(const TimeSpec& spec, double duration) : duration_(duration) {
   std::vector<double> marks = {duration};
   for (const TimeSegment& g : spec.segments)
     if (g.until < duration) marks.push_back(g.until);
-  for (const TimeHold& h : spec.holds) marks.push_back(std::min(h.at, duration));
+  for (const TimeHold& h : spec.holds)  // (a hold after a shortened --duration is dropped)
+    if (h.at <= duration) marks.push_back(h.at);
   std::sort(marks.begin(), marks.end());
   marks.erase(std::unique(marks.begin(), marks.end()), marks.end());
   auto speed_at = [&](double s) {
@@ -35,7 +36,7 @@ TimeMap::TimeMap(const TimeSpec& spec, double duration) : duration_(duration) {
       s = m;
     }
     for (const TimeHold& h : spec.holds)
-      if (std::min(h.at, duration) == m) {
+      if (h.at == m) {
         pieces_.push_back({v, v + h.seconds, s, 0.0});
         v = pieces_.back().v1;
       }

@@ -55,12 +55,12 @@ class FreeMotion {
   double precession_ = 0;
   // asymmetric
   std::optional<FreeTop> top_;
-  int polar_ = 2;          // principal axis index of the Euler polar axis
-  Mat3 align_;             // L-frame to world: R_WP(t) = align_ euler_part(t)
-  double period_ = 0;      // s, of phi'
-  double phi_period_ = 0;  // rad, phi over one period
+  int polar_ = 2;                   // principal axis index of the Euler polar axis
+  Mat3 align_;                      // L-frame to world: R_WP(t) = align_ euler_part(t)
+  double period_ = 0;               // s, of phi'
+  double phi_period_ = 0;           // rad, phi over one period
   std::vector<double> cumulative_;  // rad, phi at the panel boundaries of one period
-  double L_ = 0;           // |L|
+  double L_ = 0;                    // |L|
 };
 
 }  // namespace simreel

@@ -18,10 +18,10 @@
 #include "app/check/metrics_report.hpp"
 #include "app/commands.hpp"
 #include "app/frame_loop.hpp"
+#include "app/panes.hpp"
 #include "app/regress/image.hpp"
 #include "app/regress/metrics.hpp"
 #include "app/regress/report.hpp"
-#include "app/panes.hpp"
 #include "app/text.hpp"
 #include "sim/error.hpp"
 
@@ -237,7 +237,8 @@ int cmd_check(const std::vector<std::string>& args) {
       const uint8_t* px = view.draw(w, nullptr, frame);
       Checked c{t, Image{}, {}};
       const std::vector<const World*> worlds = view.worlds();
-      for (size_t k = 0; k < worlds.size(); ++k) {  // the variants' bodies after the scene's, as "VARIANT/BODY"
+      // The variants' bodies after the scene's, as "VARIANT/BODY".
+      for (size_t k = 0; k < worlds.size(); ++k) {
         std::vector<BodyState> b = body_states(*worlds[k]);
         if (k > 0)
           for (BodyState& bs : b) bs.name = scene.views.variants[k - 1].name + "/" + bs.name;

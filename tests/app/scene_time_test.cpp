@@ -70,11 +70,13 @@ TEST(TimeMap, VideoPlanSamplesTheNearestStep) {
     last = w.steps();
     ++count;
   };
-  loop.run(loop.all_frames(), h, true);
+  loop.run(loop.video_frames(), h, true);
   EXPECT_EQ(count, 166);
   EXPECT_TRUE(ordered);
   EXPECT_EQ(loop.video_frame_at_step(100), 40);
   EXPECT_EQ(loop.video_frame_at_step(101), -1);  // 1.01 s falls between frames at speed 0.25
+  // simulate's frames stay those of the simulation plan.
+  EXPECT_EQ(FrameLoop(s, 1).all_frames().size(), 41u);
 }
 
 TEST(TimeMap, UnevenSpeedsAreNoted) {
