@@ -6,7 +6,7 @@
 #include <stdexcept>
 
 #include "app/camera_fit.hpp"
-#include "render/fxaa.hpp"
+#include "sim/error.hpp"
 
 namespace simreel {
 
@@ -100,8 +100,12 @@ SceneFrames::SceneFrames(const Scene& scene, FrameLoop& main, const ViewOptions&
     variants_.push_back(std::move(var));
   }
   const std::vector<PaneSpec>& specs = scene.views.panes;
-  const std::vector<PaneRect> rects =
-      layout_panes((int)specs.size(), scene.views.columns, width_, height_, band_);
+  std::vector<PaneRect> rects;
+  try {
+    rects = layout_panes((int)specs.size(), scene.views.columns, width_, height_, band_);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(scene.path + ": panes: " + e.what());
+  }
   for (size_t k = 0; k < specs.size(); ++k) {
     auto pane = std::make_unique<Pane>();
     const PaneSpec& ps = specs[k];
