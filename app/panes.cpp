@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "app/camera_fit.hpp"
+#include "render/fxaa.hpp"
 #include "sim/error.hpp"
 
 namespace simreel {
@@ -90,7 +91,7 @@ SceneFrames::SceneFrames(const Scene& scene, FrameLoop& main, const ViewOptions&
     band_ = (int)std::lround(px * 1.9);
     const int tw = title_font_->width(title_);
     const int base = (band_ + title_font_->ascent() - title_font_->descent()) / 2;
-    title_font_->draw(title_, (width_ - tw) / 2, base, {255, 255, 255, 255}, &screen_);
+    title_font_->draw(title_, (width_ - tw) / 2, base, {255, 255, 255, 255}, &title_layer_);
   }
   for (const VariantSpec& v : scene.views.variants) {
     auto var = std::make_unique<Variant>();
@@ -120,7 +121,9 @@ SceneFrames::SceneFrames(const Scene& scene, FrameLoop& main, const ViewOptions&
     po.height = pane->rect.height;
     const World& w = pane->world ? variants_[pane->world - 1]->loop->world() : main.world();
     pane->view = std::make_unique<SceneView>(pane->scene, w, po);
-    pane->view->settings.post = PostStage::renderer;  // each pane finishes its own frame
+    // FXAA and the text run once over the whole frame (on the video writer's thread in render).
+    pane->view->settings.post = PostStage::caller;
+    fxaa_ = pane->view->settings.fxaa();
     pane->renderer = std::make_unique<Renderer>(pane->view->settings, pane->view->meshes);
     if (pane->world)
       if (auto h = pane->view->step_hook()) variants_[pane->world - 1]->step_hooks.push_back(h);
@@ -167,6 +170,7 @@ const uint8_t* SceneFrames::draw(const World& main, uint8_t* out, long frame) {
   advance_variants(main);
   uint8_t* img = out ? out : frame_.data();
   for (size_t i = 0; i < (size_t)width_ * height_; ++i) std::memcpy(img + 4 * i, kGutter, 4);
+  screen_ = title_layer_;  // (keeps its storage once grown)
   for (const auto& p : panes_) {
     const World& w = p->world ? variants_[p->world - 1]->loop->world() : main;
     const uint8_t* px = p->view->draw(*p->renderer, w, nullptr, frame);
@@ -174,8 +178,21 @@ const uint8_t* SceneFrames::draw(const World& main, uint8_t* out, long frame) {
     for (int y = 0; y < r.height; ++y)
       std::memcpy(img + ((size_t)(r.y0 + y) * width_ + r.x0) * 4, px + (size_t)y * r.width * 4,
                   (size_t)r.width * 4);
+    // The pane's text, moved to where the pane sits (its panels clipped to the pane).
+    for (ScreenRect q : p->view->screen().rects) {
+      q.x0 = std::clamp(q.x0, 0, r.width) + r.x0, q.x1 = std::clamp(q.x1, 0, r.width) + r.x0;
+      q.y0 = std::clamp(q.y0, 0, r.height) + r.y0, q.y1 = std::clamp(q.y1, 0, r.height) + r.y0;
+      screen_.rects.push_back(q);
+    }
+    for (ScreenGlyph g : p->view->screen().glyphs) {
+      g.x += r.x0, g.y += r.y0;
+      screen_.glyphs.push_back(g);
+    }
   }
-  if (post_ == PostStage::renderer && !screen_.empty()) composite(screen_, img, width_, height_);
+  if (post_ == PostStage::renderer) {
+    if (fxaa_) fxaa(img, width_, height_, fxaa_buffers_);
+    composite(screen_, img, width_, height_);
+  }
   return img;
 }
 
@@ -184,7 +201,7 @@ const ScreenLayer& SceneFrames::screen() const {
 }
 
 bool SceneFrames::caller_fxaa() const {
-  return post_ == PostStage::caller && view_ && view_->settings.fxaa();
+  return post_ == PostStage::caller && (view_ ? view_->settings.fxaa() : fxaa_);
 }
 
 std::string SceneFrames::description() const {

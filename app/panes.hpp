@@ -4,10 +4,11 @@
 // Panes are laid out in a grid (`columns` per row, all in one row by default) with a thin dark
 // gutter between them, under a band holding the scene's title when it has one. Each pane is a
 // SceneView of its own size with its own renderer: its camera, its title (drawn as the pane's
-// overlay title), its HUD with its world's values; it finishes its own frame (FXAA, then its text)
-// and is copied into the whole frame. Each variant is its own World and FrameLoop, advanced at
-// every frame, in the order the variants are listed, to the step nearest the simulated time the
-// main world shows: frames are a function of the scene alone, the same for any --threads.
+// overlay title), its HUD with its world's values. The panes' images are copied into the whole
+// frame, which is then finished once as a single view's is: FXAA (on the video writer's thread in
+// `simreel render`), then every pane's text moved into place, so text stays sharp. Each variant is its own
+// World and FrameLoop, advanced at every frame, in the order the variants are listed, to the step nearest the
+// simulated time the main world shows: frames are a function of the scene alone, the same for any --threads.
 #pragma once
 #include <functional>
 #include <memory>
@@ -16,6 +17,7 @@
 
 #include "app/frame_loop.hpp"
 #include "app/scene_view.hpp"
+#include "render/fxaa.hpp"
 #include "render/renderer.hpp"
 #include "render/text.hpp"
 
@@ -32,7 +34,7 @@ std::vector<PaneRect> layout_panes(int n, int columns, int width, int height, in
 class SceneFrames {
  public:
   // `main` at the scene's initial state; `post`: who runs FXAA and the screen layer of a single
-  // view (a split screen finishes each pane itself and leaves the caller only screen()).
+  // view or of the whole split screen.
   SceneFrames(const Scene& scene, FrameLoop& main, const ViewOptions& o,
               PostStage post = PostStage::renderer);
   ~SceneFrames();
@@ -69,7 +71,10 @@ class SceneFrames {
   // A split screen.
   std::vector<std::unique_ptr<Variant>> variants_;
   std::vector<std::unique_ptr<Pane>> panes_;
-  ScreenLayer screen_;  // the title band's text
+  ScreenLayer title_layer_;  // the title band's text
+  ScreenLayer screen_;       // the frame's: the title band's and every pane's text, in place
+  bool fxaa_ = false;
+  FxaaBuffers fxaa_buffers_;
   std::unique_ptr<Font> title_font_;
   std::string title_;
   int band_ = 0;  // px, the title band's height

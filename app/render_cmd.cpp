@@ -266,7 +266,7 @@ int cmd_render(const std::vector<std::string>& args) {
   o.width = w, o.height = h;
   o.threads = threads;
   // The post stage (FXAA, then the screen layer) runs on the writer's thread, overlapping the next
-  // frame's rendering (a split screen finishes its panes itself: app/panes.hpp).
+  // frame's rendering.
   SceneFrames view(scene, loop, o, PostStage::caller);
   for (const std::string& n : view.notes()) std::fprintf(stderr, "note: %s\n", n.c_str());
   vs.fxaa = view.caller_fxaa();

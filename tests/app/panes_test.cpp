@@ -290,6 +290,15 @@ test: { frames: "0%, 1s, 2.5s", width: 200, height: 100 }
   EXPECT_NE(second.out.find("PASS views t=2.5s"), std::string::npos) << second.out;
   const std::string manifest = test::slurp(dir + "/goldens/views/manifest.json");
   EXPECT_NE(manifest.find("seed/handle"), std::string::npos);  // the variant's physics is checked too
+  // render's frame is check's: simulated 2.5 s is first shown at video 1 / 0.25 + 0.5 + 1.5 / 0.25 =
+  // 10.5 s, frame 315.
+  const test::Result r =
+      test::run("render " + scene + " --width 200 --height 100 --frames 315 --frames-dir " + dir +
+                "/f --no-video --gl osmesa");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const test::Result d =
+      test::run("diff " + dir + "/f/frame_00315.png " + dir + "/goldens/views/t2.5s.png --tolerance exact");
+  EXPECT_EQ(d.code, 0) << d.out;
 }
 
 }  // namespace
