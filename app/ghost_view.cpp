@@ -8,7 +8,7 @@
 
 namespace simreel {
 
-GhostView::GhostView(const Scene& scene, const World& world, const SceneMeshes& meshes) : meshes_(&meshes) {
+GhostView::GhostView(const Scene& scene, const World& world) {
   for (int i = 0; i < world.body_count() && i < (int)scene.looks.size(); ++i) {
     const GhostSpec& g = scene.looks[i].ghost;
     if (!g.on) continue;
@@ -28,7 +28,7 @@ GhostView::GhostView(const Scene& scene, const World& world, const SceneMeshes& 
   }
 }
 
-void GhostView::build(const World& w, DrawList& dl) const {
+void GhostView::build(const World& w, const SceneMeshes& meshes, DrawList& dl) const {
   const double t = w.time();
   const Vec3 eye = dl.camera.eye;
   for (const Ghost& g : ghosts_) {
@@ -36,9 +36,9 @@ void GhostView::build(const World& w, DrawList& dl) const {
     const Vec3 x = g.motion.position(t) + g.offset;  // centre of mass, drawn
     const BodyDef& d = w.def(g.body);
     for (size_t k = 0; k < d.colliders.size(); ++k) {
-      const int m = meshes_->mesh_of[g.body][k];
+      const int m = meshes.mesh_of[g.body][k];
       if (m < 0) continue;
-      const RenderMesh& rm = meshes_->meshes[m];
+      const RenderMesh& rm = meshes.meshes[m];
       const Collider& c = d.colliders[k];
       // Collider vertex p_C -> world: x + s R_WB (p_BC + R_BC p_C - c_B), grown by s about the centre.
       const Mat3 R = R_WB * c.q_BC.toRotationMatrix();

@@ -19,10 +19,11 @@ class GhostView {
  public:
   // `world` at the scene's initial state. Throws InputError naming the body when its motion has
   // no closed form after all (spinning exactly on the separatrix).
-  GhostView(const Scene& scene, const World& world, const SceneMeshes& meshes);
+  GhostView(const Scene& scene, const World& world);
   bool empty() const { return ghosts_.empty(); }
-  // Appends the ghosts at the world's time to dl.overlay (dl.camera set already).
-  void build(const World& w, DrawList& dl) const;
+  // Appends the ghosts at the world's time to dl.overlay (dl.camera set already), drawn with the
+  // bodies' render meshes.
+  void build(const World& w, const SceneMeshes& meshes, DrawList& dl) const;
 
  private:
   struct Ghost {
@@ -34,7 +35,6 @@ class GhostView {
     Vec3 offset;
   };
   std::vector<Ghost> ghosts_;
-  const SceneMeshes* meshes_;
 };
 
 }  // namespace simreel

@@ -73,7 +73,7 @@ SceneView::SceneView(const Scene& scene, const World& world, const ViewOptions& 
     overlays = std::make_unique<SceneOverlays>(scene, world, body_radii(world, meshes), rs.width, rs.height,
                                                std::max(1, o.threads));
   for (const BodyLook& l : scene.looks)
-    if (l.ghost.on && !ghosts) ghosts = std::make_unique<GhostView>(scene, world, meshes);
+    if (l.ghost.on && !ghosts) ghosts = std::make_unique<GhostView>(scene, world);
 }
 
 const uint8_t* SceneView::draw(Renderer& r, const World& world, uint8_t* out, long frame) {
@@ -86,7 +86,7 @@ const uint8_t* SceneView::draw(Renderer& r, const World& world, uint8_t* out, lo
   if (overlays) overlays->build(world, frame >= 0 ? frame : std::lround(world.time() * fps_), dl_);
   if (ghosts) {
     if (!overlays) dl_.overlay.clear();
-    ghosts->build(world, dl_);
+    ghosts->build(world, meshes, dl_);
   }
   return r.render(dl_, out);
 }
