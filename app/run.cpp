@@ -139,7 +139,8 @@ std::string summary_text(const RunSummary& s) {
     if (s.profile->shapes > 0)
       o << "  contacts: " << s.profile->shapes << " shapes; summed over steps: " << s.profile->pairs
         << " candidate pairs, " << s.profile->contact_points << " contact points, "
-        << s.profile->solver_bodies << " bodies through the solver\n";
+        << s.profile->solver_bodies << " bodies through the solver, " << s.profile->impact_substeps
+        << " substeps with an impact (one more sweep)\n";
     if (s.profile->forces > 0)
       o << "  forces: " << s.profile->forces << " records (the drag is one per body), "
         << s.profile->forced_bodies << " bodies stepped by RK4 with the forces evaluated at every stage\n";
@@ -184,7 +185,8 @@ std::string summary_json(const RunSummary& s) {
     p["contacts"] = {{"shapes", s.profile->shapes},
                      {"pairs", s.profile->pairs},
                      {"contact_points", s.profile->contact_points},
-                     {"solver_bodies", s.profile->solver_bodies}};
+                     {"solver_bodies", s.profile->solver_bodies},
+                     {"impact_substeps", s.profile->impact_substeps}};
     p["applied_forces"] = {{"records", s.profile->forces}, {"rk4_bodies", s.profile->forced_bodies}};
     o["profile"] = std::move(p);
   }

@@ -797,7 +797,8 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
                                          std::to_string(kMaxBodies));
   size_t colliders = 0;
   for (size_t i = 0; i < bodies.size(); ++i)
-    if (const YAML::Node cs = bodies[i]["colliders"]; cs && cs.IsSequence()) {
+    if (const YAML::Node cs = bodies[i].IsMap() ? bodies[i]["colliders"] : YAML::Node();
+        cs && cs.IsSequence()) {
       colliders += cs.size();
       if (colliders > kMaxColliders)
         top.child("bodies")

@@ -264,8 +264,7 @@ void VideoWriter::commit(long index, const ScreenLayer* layer) {
   P.slot_index[P.head] = index;
   // Vector assignment reuses the slot's storage: no allocation once the slots have grown.
   if (layer) {
-    P.slot_layer[P.head].rects = layer->rects;
-    P.slot_layer[P.head].glyphs = layer->glyphs;
+    P.slot_layer[P.head] = *layer;
   } else {
     P.slot_layer[P.head].clear();
   }
