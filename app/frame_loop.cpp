@@ -104,17 +104,40 @@ std::vector<FrameTarget> parse_frame_spec(const std::string& spec, const FramePl
 }
 
 FrameLoop::FrameLoop(const Scene& scene, int threads)
-    : FrameLoop(world_config(scene, threads), scene.bodies, scene.duration, scene.video.fps) {}
+    : FrameLoop(world_config(scene, threads), scene.bodies, scene.duration, scene.video.fps) {
+  if (!scene.time.identity()) {
+    const TimeMap map(scene.time, scene.duration);
+    video_ = plan_video(map, scene.timestep, fps_);
+    video_duration_ = map.video_duration();
+  }
+}
 
 FrameLoop::FrameLoop(const WorldConfig& config, const std::vector<BodyDef>& bodies, double duration,
                      double fps)
-    : world_(config, bodies), fps_(fps), plan_(plan_frames(duration, config.dt, fps)), drift_(world_) {}
+    : world_(config, bodies),
+      fps_(fps),
+      plan_(plan_frames(duration, config.dt, fps)),
+      video_(plan_),
+      video_duration_(duration),
+      drift_(world_) {}
 
 std::vector<FrameTarget> FrameLoop::all_frames() const {
   std::vector<FrameTarget> out;
   for (size_t k = 0; k < plan_.frame_step.size(); ++k)
     if (plan_.frame_step[k] >= world_.steps()) out.push_back(plan_target(plan_, (long)k, fps_));
   return out;
+}
+
+std::vector<FrameTarget> FrameLoop::video_frames() const {
+  std::vector<FrameTarget> out;
+  for (size_t k = 0; k < video_.frame_step.size(); ++k)
+    if (video_.frame_step[k] >= world_.steps()) out.push_back(plan_target(video_, (long)k, fps_));
+  return out;
+}
+
+long FrameLoop::video_frame_at_step(long step) const {
+  const auto it = std::lower_bound(video_.frame_step.begin(), video_.frame_step.end(), step);
+  return it != video_.frame_step.end() && *it == step ? (long)(it - video_.frame_step.begin()) : -1;
 }
 
 void FrameLoop::advance_to(long step, const Hooks& hooks) {

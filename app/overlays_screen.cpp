@@ -50,11 +50,12 @@ Vec3 body_vector(const HudField& f, const World& w) {
 
 }  // namespace
 
-double quantity_value(const HudField& f, const World& w, long frame, double E0, const Vec3& L0) {
+double quantity_value(const HudField& f, const World& w, long frame, double E0, const Vec3& L0, double fps) {
   if (f.name == "frame") return (double)frame;
   if (f.body < 0) {
     const double E = w.kinetic_energy() + w.potential_energy();
     if (f.name == "t") return w.time();
+    if (f.name == "video_t") return fps > 0 ? (double)frame / fps : w.time();
     if (f.name == "E") return E;
     if (f.name == "E_drift") return E0 != 0 ? (E - E0) / std::fabs(E0) : E - E0;
     if (f.name == "L_drift") {
@@ -69,7 +70,7 @@ double quantity_value(const HudField& f, const World& w, long frame, double E0, 
 }
 
 void format_hud_line(const HudLine& line, const World& w, long frame, double E0, const Vec3& L0,
-                     std::string& out) {
+                     std::string& out, double fps) {
   out.clear();
   char buf[96];
   for (size_t k = 0; k < line.fields.size(); ++k) {
@@ -82,7 +83,7 @@ void format_hud_line(const HudLine& line, const World& w, long frame, double E0,
       continue;
     }
     if (f.body < 0 || f.norm || f.component >= 0) {
-      std::snprintf(buf, sizeof buf, fmt, quantity_value(f, w, frame, E0, L0));
+      std::snprintf(buf, sizeof buf, fmt, quantity_value(f, w, frame, E0, L0, fps));
       out += buf;
       continue;
     }
@@ -294,7 +295,7 @@ void SceneOverlays::build_screen(const World& w, long frame, const CameraView& c
     Typeface& f = *font_;
     int widest = 0;
     for (size_t k = 0; k < hud_.size(); ++k) {
-      format_hud_line(hud_[k], w, frame, E0_, L0_, lines_[k]);
+      format_hud_line(hud_[k], w, frame, E0_, L0_, lines_[k], fps_);
       widest = std::max(widest, f.width(lines_[k]));
     }
     const int pad = f.pixel_size() / 2, lh = f.line_height();

@@ -18,7 +18,7 @@
 #include "app/text.hpp"
 
 #ifdef SIMREEL_HAVE_RENDER
-#include "app/scene_view.hpp"
+#include "app/panes.hpp"
 #include "render/png_writer.hpp"
 #include "render/renderer.hpp"
 #include "render/video_writer.hpp"
@@ -43,7 +43,8 @@ struct RenderOptions {
 void render_table(CLI::App& app, RenderOptions& o) {
   cli::setup(app, "render",
              "Simulates SCENE and writes a video: frame k shows simulated time k / fps exactly (the timestep "
-             "is shortened, with a note, when it does not divide 1/fps).",
+             "is shortened, with a note, when it does not divide 1/fps); a scene's `time:` block plays it "
+             "slower, faster or held (frame k then shows the step nearest f(k / fps)).",
              "The video appears at its path only when complete; Ctrl-C (SIGINT), SIGTERM, SIGHUP or SIGQUIT "
              "stops the run between steps and finishes a playable video of the frames done so far (exit 130, "
              "143, 129 or 131), however many signals follow.");
@@ -54,8 +55,8 @@ void render_table(CLI::App& app, RenderOptions& o) {
       ->type_name("OUT");
   app.add_option("--frames", o.frames,
                  "render only these frames (the physics runs through the others): comma-separated frame "
-                 "numbers N, ranges A:B (both included; A:, :B), times Ts (the frame at or after T seconds) "
-                 "and shares P% of the duration. Frame k of a partial render is byte for byte frame k of the "
+                 "numbers N, ranges A:B (both included; A:, :B), times Ts (the frame at or after T seconds "
+                 "of video) and shares P% of the video. Frame k of a partial render is byte for byte frame k of the "
                  "full render, with the same PNG name and timestamp")
       ->type_name("SPEC");
   app.add_option("--at", o.at,
@@ -198,8 +199,8 @@ int render_at(const RenderOptions& r, const Scene& scene, FrameLoop& loop, int w
   ViewOptions o = view_options(r);
   o.width = w, o.height = h;
   o.threads = loop.world().config().threads;
-  SceneView view(scene, loop.world(), o);
-  Renderer renderer(view.settings, view.meshes);
+  SceneFrames view(scene, loop, o);  // one view or panes (app/panes.hpp)
+  for (const std::string& n : view.notes()) std::fprintf(stderr, "note: %s\n", n.c_str());
   const FrameTarget target{-1, t, step_at(t, scene.timestep, loop.plan().total_steps)};
   double render_s = 0;
   FrameLoop::Hooks hooks;
@@ -207,7 +208,8 @@ int render_at(const RenderOptions& r, const Scene& scene, FrameLoop& loop, int w
   hooks.step = view.step_hook();  // trails: every physics step, drawn or not
   hooks.frame = [&](const FrameTarget&, const World& world) {
     const auto t0 = std::chrono::steady_clock::now();
-    const uint8_t* rgba = view.draw(renderer, world);
+    // The HUD's frame: the first video frame showing this step, if one does.
+    const uint8_t* rgba = view.draw(world, nullptr, loop.video_frame_at_step(world.steps()));
     const std::string tmp = path + ".partial-" + std::to_string(getpid()) + ".png";
     try {
       write_png(tmp, rgba, w, h);
@@ -222,7 +224,7 @@ int render_at(const RenderOptions& r, const Scene& scene, FrameLoop& loop, int w
   RunSummary s = make_summary(scene, loop.world(), loop.drift(), (int)done, loop.step_seconds());
   s.render_seconds = render_s;
   s.encode_seconds = 0;
-  s.renderer = renderer.description();
+  s.renderer = view.description();
   if (done) s.output = path;
   if (stop.signal())
     s.warnings.push_back("interrupted by signal " + std::to_string(stop.signal()) + " before the frame");
@@ -266,11 +268,12 @@ int cmd_render(const std::vector<std::string>& args) {
   FrameLoop loop(scene, threads);
   if (r.at) return render_at(r, scene, loop, w, h, stop);
 
-  std::vector<FrameTarget> targets = loop.all_frames();
+  std::vector<FrameTarget> targets = loop.video_frames();
   if (r.frames) {
     try {
-      targets =
-          parse_frame_spec(*r.frames, loop.plan(), scene.video.fps, scene.timestep, scene.duration, true);
+      // Frames of the video: numbers and times of the clip (with a `time:` block, video time).
+      targets = parse_frame_spec(*r.frames, loop.video_plan(), scene.video.fps, scene.timestep,
+                                 loop.video_duration(), true);
     } catch (const std::invalid_argument& e) {
       throw UsageError(std::string("--frames: ") + e.what());
     }
@@ -317,12 +320,11 @@ int cmd_render(const std::vector<std::string>& args) {
   ViewOptions o = view_options(r);
   o.width = w, o.height = h;
   o.threads = threads;
-  SceneView view(scene, loop.world(), o);
   // The post stage (FXAA, then the screen layer) runs on the writer's thread, overlapping the next
   // frame's rendering.
-  view.settings.post = PostStage::caller;
-  vs.fxaa = view.settings.fxaa();
-  Renderer renderer(view.settings, view.meshes);
+  SceneFrames view(scene, loop, o, PostStage::caller);
+  for (const std::string& n : view.notes()) std::fprintf(stderr, "note: %s\n", n.c_str());
+  vs.fxaa = view.caller_fxaa();
   VideoWriter writer(vs);
 
   Progress progress("frames", (long)targets.size(), r.run.quiet || r.run.json);
@@ -332,16 +334,12 @@ int cmd_render(const std::vector<std::string>& args) {
   hooks.step = view.step_hook();  // trails: every physics step, drawn or not
   // Frames that show no body at all: most of them empty means a camera or a scale gone wrong.
   const std::vector<double> radii = body_radii(loop.world());
-  const double aspect = (double)w / h;
   long empty = 0;
   hooks.frame = [&](const FrameTarget& t, const World& world) {
     const auto t0 = std::chrono::steady_clock::now();
+    view.draw(world, writer.acquire(), t.index);  // read back straight into the writer's queue
     // (A camera inside a body sees its inside faces culled: nothing.)
-    if (view.follow < 0 && (!any_body_in_view(world, radii, view.camera.eye, view.camera.target,
-                                              view.camera.up, view.camera.fov_deg, aspect) ||
-                            body_around(world, radii, view.camera.eye) >= 0))
-      ++empty;
-    view.draw(renderer, world, writer.acquire(), t.index);  // read back straight into the writer's queue
+    if (view.shows_nothing(world)) ++empty;
     writer.commit(t.index, &view.screen());
     render_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   };
@@ -354,7 +352,7 @@ int cmd_render(const std::vector<std::string>& args) {
 
   RunSummary s = make_summary(scene, loop.world(), loop.drift(), (int)done, loop.step_seconds());
   s.render_seconds = render_s;
-  s.renderer = renderer.description();
+  s.renderer = view.description();
   s.encode_seconds = writer.encode_seconds();
   if (done > 0) s.output = vs.path.empty() ? vs.frames_dir : vs.path;
   if (done > 0 && empty * 2 > done) {
@@ -362,8 +360,9 @@ int cmd_render(const std::vector<std::string>& args) {
         std::to_string(empty) + " of " + std::to_string(done) +
         " frames show no body: is the camera aimed at the scene (camera.look_at), or the scene in the "
         "units you meant (metres)? camera: { auto: true } frames everything";
-    if (const int inside = body_around(loop.world(), radii, view.camera.eye); inside >= 0)
-      msg += "; the camera is inside body '" + loop.world().def(inside).name + "'";
+    if (!view.split())
+      if (const int inside = body_around(loop.world(), radii, scene.camera.position); inside >= 0)
+        msg += "; the camera is inside body '" + loop.world().def(inside).name + "'";
     s.warnings.push_back(msg);
   }
   if (stop.signal()) {

@@ -41,7 +41,7 @@ void prepare_run(Scene& s) {
   // fall on the grid; otherwise shorten the step to the next whole number of steps per frame.
   const double interval = 1.0 / s.video.fps, per = interval / s.timestep;
   const double whole = std::round(per);
-  if (whole >= 1 && std::fabs(per - whole) <= 1e-9 * per) return;
+  if (whole >= 1 && std::fabs(per - whole) <= 1e-9 * per) return prepare_time(s);  // app/scene_time.hpp
   const double n = std::ceil(per);
   const double dt = interval / n;
   char note[256];
@@ -52,6 +52,7 @@ void prepare_run(Scene& s) {
       s.timestep, s.video.fps, per < 1 ? " (it is longer than the interval)" : "", dt, n);
   s.notes.push_back(note);
   s.timestep = dt;
+  prepare_time(s);
 }
 
 Drift::Drift(const World& w)

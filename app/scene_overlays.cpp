@@ -399,7 +399,8 @@ void load_plots(const YAML::Node& n, const Ctx& w, Scene& s) {
         qc.fail(q[j], "'" + name + "': " + m);
       };
       HudField f = parse_quantity(name, s, body, bad);
-      if (f.name == "frame" || f.name == "t") bad("plots are against time already: plot another quantity");
+      if (f.name == "frame" || f.name == "t" || f.name == "video_t")
+        bad("plots are against time already: plot another quantity");
       if (f.body >= 0 && !f.norm && f.component < 0)
         bad("a vector: plot a component (" + name + ".x) or its magnitude (|" + name + "|)");
       f.printf = "%.6g";
@@ -480,7 +481,7 @@ HudField parse_quantity(const std::string& field_in, const Scene& s, int default
   if (!scalar && !vector) {
     std::string msg = "unknown quantity '" + f.name + "'";
     if (auto sug = nearest(f.name, all)) msg += "; did you mean '" + *sug + "'?";
-    msg += " (t, frame, E, E_drift, L_drift; per body omega, omega_body, L, v, position)";
+    msg += " (t, video_t, frame, E, E_drift, L_drift; per body omega, omega_body, L, v, position)";
     bad(msg);
   }
   if (scalar && (!body.empty() || f.component >= 0 || f.norm))
@@ -514,7 +515,7 @@ const char* to_string(ShowKind k) {
 }
 
 const std::vector<std::string>& hud_scalar_names() {
-  static const std::vector<std::string> v = {"t", "frame", "E", "E_drift", "L_drift"};
+  static const std::vector<std::string> v = {"t", "video_t", "frame", "E", "E_drift", "L_drift"};
   return v;
 }
 const std::vector<std::string>& hud_body_names() {

@@ -19,10 +19,10 @@
 #include "app/cli.hpp"
 #include "app/commands.hpp"
 #include "app/frame_loop.hpp"
+#include "app/panes.hpp"
 #include "app/regress/image.hpp"
 #include "app/regress/metrics.hpp"
 #include "app/regress/report.hpp"
-#include "app/scene_view.hpp"
 #include "app/text.hpp"
 #include "sim/error.hpp"
 
@@ -214,19 +214,30 @@ int cmd_check(const std::vector<std::string>& args) {
     // Run: the physics through every step, a frame drawn only at the checked moments.
     vo.width = scene.test.width;
     vo.height = scene.test.height;
-    SceneView view(scene, loop.world(), vo);
-    Renderer renderer(view.settings, view.meshes);  // FXAA in the renderer: the frame `render` writes
-    const Fingerprint fp = fingerprint(renderer.description());
+    // One view or panes (app/panes.hpp); FXAA in the renderer: the frame `render` writes.
+    SceneFrames view(scene, loop, vo);
+    const Fingerprint fp = fingerprint(view.description());
     std::vector<Checked> got;
     double render_s = 0;
     FrameLoop::Hooks hooks;
     hooks.step = view.step_hook();  // trails: every physics step, drawn or not
     hooks.frame = [&](const FrameTarget& t, const World& w) {
       const auto t0 = std::chrono::steady_clock::now();
-      Checked c{t, Image{}, body_states(w)};
-      c.image.width = view.settings.width;
-      c.image.height = view.settings.height;
-      const uint8_t* px = view.draw(renderer, w, nullptr, t.index);
+      // Checked moments are simulated times (scenes/README.md, `test`); the HUD's frame is the
+      // first video frame that shows the step (with a `time:` block it is not t * fps).
+      const long frame = scene.time.identity() ? t.index : loop.video_frame_at_step(t.step);
+      const uint8_t* px = view.draw(w, nullptr, frame);
+      Checked c{t, Image{}, {}};
+      const std::vector<const World*> worlds = view.worlds();
+      // The variants' bodies after the scene's, as "VARIANT/BODY".
+      for (size_t k = 0; k < worlds.size(); ++k) {
+        std::vector<BodyState> b = body_states(*worlds[k]);
+        if (k > 0)
+          for (BodyState& bs : b) bs.name = scene.views.variants[k - 1].name + "/" + bs.name;
+        c.bodies.insert(c.bodies.end(), b.begin(), b.end());
+      }
+      c.image.width = view.width();
+      c.image.height = view.height();
       c.image.rgba.assign(px, px + (size_t)c.image.width * c.image.height * 4);
       got.push_back(std::move(c));
       render_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
