@@ -211,6 +211,8 @@ struct Table {
     set(C::capsule, C::capsule, capsule_capsule);
     set(C::sphere, C::box, sphere_box);
     set(C::sphere, C::hull, sphere_hull);
+    set(C::capsule, C::cylinder, capsule_cylinder);
+    set(C::cylinder, C::cylinder, cylinder_cylinder);
     set(C::capsule, C::box, capsule_hull);
     set(C::capsule, C::hull, capsule_hull);
     set(C::cylinder, C::box, curved_hull);
