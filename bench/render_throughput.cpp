@@ -184,7 +184,8 @@ int main(int argc, char** argv) {
       std::unique_ptr<SceneOverlays> ov;
       if (m.overlays) {
         std::vector<double> radius;
-        for (int b = 0; b < s.loop.world().body_count(); ++b) radius.push_back(s.meshes.meshes[b].radius);
+        for (int b = 0; b < s.loop.world().body_count(); ++b)
+          radius.push_back(s.meshes.meshes[s.meshes.mesh_of[b][0]].radius);
         ov = std::make_unique<SceneOverlays>(overlay_scene(bodies, frames, m.overlays), s.loop.world(),
                                              radius, W, H, 1);
       }
@@ -237,7 +238,8 @@ int main(int argc, char** argv) {
     if (overlays) {  // the pre-pass, the fonts: inside the timed span, as in `simreel render`
       const double s0 = bench::now_s();
       std::vector<double> radius;
-      for (int i = 0; i < s.loop.world().body_count(); ++i) radius.push_back(s.meshes.meshes[i].radius);
+      for (int i = 0; i < s.loop.world().body_count(); ++i)
+        radius.push_back(s.meshes.meshes[s.meshes.mesh_of[i][0]].radius);
       ov = std::make_unique<SceneOverlays>(overlay_scene(bodies, frames), s.loop.world(), radius, W, H, 1);
       setup_s = bench::now_s() - s0;
     }
