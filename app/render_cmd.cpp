@@ -233,7 +233,7 @@ int cmd_render(const std::vector<std::string>& args) {
   FrameLoop loop(scene, threads);
   if (a.has("--at")) return render_at(a, scene, loop, w, h, stop);
 
-  std::vector<FrameTarget> targets = loop.all_frames();
+  FrameTargets targets = loop.all_frames();
   if (a.has("--frames")) {
     try {
       targets = parse_frame_spec(a.options.at("--frames"), loop.plan(), scene.video.fps, scene.timestep,

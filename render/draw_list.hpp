@@ -48,8 +48,8 @@ size_t available_memory();
 // render/tessellate.hpp: a thousand bodies of one mesh file at one scale, or of boxes of one size,
 // share one mesh), and per drawn collider its mesh and colour.
 struct SceneMeshes {
-  std::vector<RenderMesh> meshes;                           ///< distinct
-  std::vector<std::vector<int>> mesh_of;                    ///< per body, per collider: its mesh, -1 if not drawn
+  std::vector<RenderMesh> meshes;         ///< distinct
+  std::vector<std::vector<int>> mesh_of;  ///< per body, per collider: its mesh, -1 if not drawn
   std::vector<std::vector<std::array<float, 3>>> color_of;  ///< per body, per collider: linear RGB
   size_t bytes = 0;                                         ///< vertex and index data of `meshes`
   // Bodies or colliders that `styles` does not reach get ColliderStyle{} (drawn, light grey).

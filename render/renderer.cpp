@@ -108,8 +108,8 @@ struct Renderer::Impl {
   std::vector<GpuMesh> meshes;
   GpuMesh ground;
   GLuint items_tbo = 0, items_tex = 0, slots_vbo = 0;
-  size_t items_capacity = 0, slots_capacity = 0;  // items the buffers hold
-  std::vector<float> item_data;                   // 20 floats per item: model (column-major), colour, 0
+  size_t items_capacity = 0, slots_capacity = 0;        // items the buffers hold
+  std::vector<float> item_data;                         // 20 floats per item: model (column-major), colour, 0
   std::vector<int> group_size, group_base, group_next;  // per mesh: this frame's items, first slot
   std::vector<int> groups, seen;                        // meshes drawn this frame, in draw order
   GLint d_batched = -1, d_items = -1;
@@ -763,7 +763,7 @@ const uint8_t* Renderer::render(const DrawList& dl, uint8_t* out) {
   P.group_items(dl);
   if (s.shadows) P.shadow_pass(dl, lvp);  // pass 1
   const Impl::View v = P.view(dl);
-  P.bodies_pass(dl, v, lvp);                                // pass 2
+  P.bodies_pass(dl, v, lvp);                                         // pass 2
   if (!dl.overlay.empty()) P.overlay_pass(dl.overlay, v.vp, v.eye);  // pass 3
   uint8_t* img = out ? out : P.frame.data();
   P.read_back(img);

@@ -240,7 +240,7 @@ size_t render_mesh_bytes(const Collider& c) {
   // revolve() makes (profile points) x (segments + 1) vertices and 6 indices per quad; disk() 2 +
   // segments vertices and 3 indices per segment. The tests compare with the meshes themselves.
   auto bytes = [](size_t vertices, size_t indices) { return (6 * vertices + indices) * 4; };
-  constexpr size_t rings = 24, seg = 48;                 // the defaults of the tessellate_ functions
+  constexpr size_t rings = 24, seg = 48;  // the defaults of the tessellate_ functions
   const size_t sphere = bytes((rings + 1) * (2 * rings + 1), rings * 2 * rings * 6);
   switch (c.shape) {
     case ShapeKind::box:

@@ -47,7 +47,7 @@ RenderMesh tessellate_collider(const Collider& c, double plane_size = 10,
 // by identity (the scene loader shares one imported mesh per file and scale), not by content.
 struct RenderMeshKey {
   ShapeKind shape = ShapeKind::box;
-  std::array<double, 3> dims{};  ///< m: the sizes the shape's tessellation reads, zero elsewhere
+  std::array<double, 3> dims{};   ///< m: the sizes the shape's tessellation reads, zero elsewhere
   const void* mesh = nullptr;     ///< mesh shapes: the surface...
   const void* normals = nullptr;  ///< ...and the file's shading normals (nullptr: crease normals)
   auto operator<=>(const RenderMeshKey&) const = default;
