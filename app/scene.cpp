@@ -483,7 +483,8 @@ struct Loader {
           std::snprintf(b, sizeof b, "%a", v);
           return std::string(b);
         };
-        const std::string mkey = file + "|" + exact(scale.x()) + "," + exact(scale.y()) + "," + exact(scale.z());
+        const std::string mkey =
+            file + "|" + exact(scale.x()) + "," + exact(scale.y()) + "," + exact(scale.z());
         const std::string rkey = mkey + "|" + std::to_string((int)opt.mode) + "," + exact(opt.thickness);
         MeshReport rep;
         try {
