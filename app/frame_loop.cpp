@@ -204,22 +204,51 @@ FrameTargets parse_frame_spec(const std::string& spec, const FramePlan& plan, do
 }
 
 FrameLoop::FrameLoop(const Scene& scene, int threads)
-    : FrameLoop(world_config(scene, threads), scene.bodies, scene.duration, scene.video.fps) {}
+    : FrameLoop(world_config(scene, threads), scene.bodies, scene.duration, scene.video.fps) {
+  if (!scene.time.identity()) {
+    const TimeMap map(scene.time, scene.duration);
+    video_ = plan_video(map, scene.timestep, fps_);
+    video_duration_ = map.video_duration();
+  }
+}
 
 FrameLoop::FrameLoop(const WorldConfig& config, const std::vector<BodyDef>& bodies, double duration,
                      double fps)
-    : world_(config, bodies), fps_(fps), plan_(plan_frames(duration, config.dt, fps)), drift_(world_) {}
+    : world_(config, bodies),
+      fps_(fps),
+      plan_(plan_frames(duration, config.dt, fps)),
+      video_(plan_),
+      video_duration_(duration),
+      drift_(world_) {}
 
-FrameTargets FrameLoop::all_frames() const {
-  // The first frame at or after the world's step (steps never decrease with k), by bisection.
-  long a = -1, b = plan_.frames;  // frame a is before the world's step; the answer is in (a, b]
+namespace {
+// The first frame of `plan` taken at or after `step` (steps never decrease with k), by bisection;
+// plan.frames if none.
+long first_at_or_after(const FramePlan& plan, long step) {
+  long a = -1, b = plan.frames;  // frame a is before `step`; the answer is in (a, b]
   while (b - a > 1) {
     const long mid = a + (b - a) / 2;
-    (plan_.step(mid) >= world_.steps() ? b : a) = mid;
+    (plan.step(mid) >= step ? b : a) = mid;
   }
+  return b;
+}
+}  // namespace
+
+FrameTargets FrameLoop::all_frames() const {
   FrameTargets out;
-  out.push_back_frames(plan_, b, plan_.frames - 1);
+  out.push_back_frames(plan_, first_at_or_after(plan_, world_.steps()), plan_.frames - 1);
   return out;
+}
+
+FrameTargets FrameLoop::video_frames() const {
+  FrameTargets out;
+  out.push_back_frames(video_, first_at_or_after(video_, world_.steps()), video_.frames - 1);
+  return out;
+}
+
+long FrameLoop::video_frame_at_step(long step) const {
+  const long k = first_at_or_after(video_, step);
+  return k < video_.frames && video_.step(k) == step ? k : -1;
 }
 
 void FrameLoop::advance_to(long step, const Hooks& hooks) {

@@ -18,8 +18,8 @@ namespace simreel {
 
 // One moment at which a frame is taken.
 struct FrameTarget {
-  long index = -1;  ///< frame k of the plan (t = k / fps), or -1 for a time between plan frames
-  double time = 0;  ///< s, the nominal time asked for
+  long index = -1;  ///< frame k of the plan (video time k / fps), or -1 for a time between plan frames
+  double time = 0;  ///< s, the nominal time asked for (of the video, for frames of a video plan)
   long step = 0;    ///< the world's step count when it is taken: the first step whose time reaches `time`
 };
 
@@ -101,14 +101,23 @@ FrameTargets parse_frame_spec(const std::string& spec, const FramePlan& plan, do
 
 class FrameLoop {
  public:
-  // The world as the scene describes it, `threads` integration threads.
+  // The world as the scene describes it, `threads` integration threads. A scene with a `time:`
+  // block gets a video plan apart from its simulation plan (app/scene_time.hpp).
   FrameLoop(const Scene& scene, int threads);
   // For programs without a scene file (the benchmarks): the same loop over bodies built in code.
   FrameLoop(const WorldConfig& config, const std::vector<BodyDef>& bodies, double duration, double fps);
 
   World& world() { return world_; }
   const World& world() const { return world_; }
+  /// Frame k of the simulation plan is simulated time k / fps: where drift is sampled, what
+  /// simulate writes and check's times name.
   const FramePlan& plan() const { return plan_; }
+  /// Frame k of the video (video time k / fps) shows step video_plan().step(k): the
+  /// simulation plan itself unless the scene's `time:` remaps playback.
+  const FramePlan& video_plan() const { return video_; }
+  double video_duration() const { return video_duration_; }  ///< s
+  // The first frame of the video that shows step `step`, or -1 if none does.
+  long video_frame_at_step(long step) const;
   const Drift& drift() const { return drift_; }
   double fps() const { return fps_; }
   double step_seconds() const { return step_seconds_; }  ///< s of wall time inside World::step
@@ -117,8 +126,11 @@ class FrameLoop {
   // After the world's state was replaced (a resumed run): drift is measured from here.
   void state_restored() { drift_ = Drift(world_); }
 
-  // Every frame of the plan from the world's current step on (a resumed world starts late).
+  // Every frame of the simulation plan from the world's current step on (a resumed world starts
+  // late): what simulate writes.
   FrameTargets all_frames() const;
+  // Every frame of the video plan from the world's current step on: what render draws.
+  FrameTargets video_frames() const;
 
   struct Hooks {
     std::function<void(const FrameTarget&, const World&)> frame;  ///< at each target, in order
@@ -136,13 +148,15 @@ class FrameLoop {
   // last step after the last target (and samples there). Returns the targets delivered: fewer
   // than asked only if stopped.
   long run(const FrameTargets& targets, const Hooks& hooks, bool to_end);
-
- private:
+  // Steps on to `step` (the hooks' step and stop only; drift sampled on the way as in run()):
+  // how the worlds of a scene's variants are kept at the frame the main loop shows.
   void advance_to(long step, const Hooks& hooks);
 
+ private:
   World world_;
   double fps_;
-  FramePlan plan_;
+  FramePlan plan_, video_;
+  double video_duration_ = 0;
   Drift drift_;
   long next_sample_ = 0;  ///< the next frame of the plan at which drift is sampled
   double step_seconds_ = 0;

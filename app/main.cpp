@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "app/cli.hpp"
 #include "app/commands.hpp"
 #include "app/frame_loop.hpp"
 #include "app/mesh_import.hpp"
@@ -22,136 +23,60 @@ namespace simreel {
 
 namespace {
 
-const char* kTopHelp = R"(simreel: scene file in, simulated rigid-body video out.
+// simreel --help: the commands of the registry (app/commands.hpp), each with its synopsis.
+std::string top_help() {
+  std::string s = "simreel: scene file in, simulated rigid-body video out.\n\ncommands:\n";
+  for (const CommandInfo& c : kCommands)
+    s += std::string("  simreel ") + c.name + " " + c.synopsis + " [options]\n      " + c.summary + "\n";
+  s += "\n'simreel COMMAND --help' lists a command's options; 'simreel --version' prints the version.\n"
+       "Exit codes: 0 done, 2 bad input (usage, scene, mesh), 1 other failure, 128 + N when stopped by\n"
+       "signal N. Scene format: scenes/README.md.\n";
+  return s;
+}
 
-usage:
-  simreel render   SCENE [-o OUT.mp4] [--frames-dir DIR] [--width W] [--height H] [--fps F] [--duration S] [--quiet]
-  simreel simulate SCENE [--csv OUT.csv] [--json] [--integrator NAME] [--timestep DT] [--duration S] [--quiet]
-  simreel inspect  MESH  [--json] [--density RHO]
-  simreel check    SCENE... --goldens DIR [--update missing|changed|all|none] [--frames SPEC]
-                   [--report DIR] [--junit FILE] [--tolerance auto|exact|portable]
-  simreel diff     A B [--out DIR]     (PNGs, folders of PNGs or videos)
-
-'simreel COMMAND --help' describes each command. Exit codes: 0 done, 2 bad input, 1 other failure.
-Scene format: scenes/README.md.
-)";
-
-const char* kSimulateHelp = R"(usage: simreel simulate SCENE [options]
-
-Runs the physics of SCENE with no rendering and prints a summary: steps, bodies, wall time spent
-stepping, and the relative drift of total energy and angular momentum (about the centre of mass).
-
-options:
-  --csv FILE          write the state of every body at every video frame (t = 0 .. duration):
-                      t,body,px,py,pz,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz
-                      (body origin position m, body-to-world quaternion, centre-of-mass velocity
-                      m/s, world angular velocity rad/s)
-  --json              print the summary as one JSON object
-  --integrator NAME   auto (default), seed, euler_gyro, rk4, splitting
-  --timestep DT       fixed physics step, s
-  --duration S        simulated time, s
-  --threads N         integration threads (results are identical for any N); default 1
-  --profile           time each stage of the step and report what was skipped
-  --save-state FILE   write the whole world state at the end (poses, velocities, step count,
-                      contacts and their warm-start impulses) to FILE
-  --resume FILE       start from a state saved from the same scene and continue to --duration
-                      (absolute time); the CSV starts at the saved time. Bit-identical to a
-                      straight run
-  --quiet             print nothing but errors (no progress, no summary; --json still prints)
-
-Ctrl-C (SIGINT), SIGTERM, SIGHUP or SIGQUIT stops the run between steps: the CSV keeps the rows
-done and --save-state the state reached; exit 128 + the signal (130, 143, 129, 131).
-)";
-
-const char* kInspectHelp = R"(usage: simreel inspect MESH [options]
-
-Prints a mesh's mass properties: volume, mass, centroid, inertia tensor about the centroid (mesh
-axes), principal moments and axes, and what was found and done about defects (open, inside-out,
-inconsistent winding, degenerate faces).
-
-options:
-  --json            one JSON object
-  --density RHO     kg/m^3, default 1000
-  --mode MODE       solid (default), shell (mass on the surface), hull (convex hull)
-  --thickness T     m, shell wall thickness (default 0.001)
-  --scale S         multiply every coordinate (meshes authored in mm: 0.001)
-)";
+const std::vector<std::string> kIntegrators = {"auto", "seed", "euler_gyro", "rk4", "splitting"};
 
 }  // namespace
 
-double ParsedArgs::number(const std::string& k, bool positive) const {
-  const std::string& s = options.at(k);
-  char* end = nullptr;
-  const double v = std::strtod(s.c_str(), &end);
-  if (s.empty() || end != s.c_str() + s.size() || !std::isfinite(v))
-    throw UsageError(k + " expects a number, got '" + s + "'");
-  if (positive && !(v > 0)) throw UsageError(k + " must be positive, got '" + s + "'");
-  return v;
-}
-
-int ParsedArgs::whole(const std::string& k, int lo, int hi) const {
-  const double v = number(k, false);
-  if (v != std::floor(v) || v < lo || v > hi)
-    throw UsageError(k + " expects a whole number from " + std::to_string(lo) + " to " + std::to_string(hi));
-  return (int)v;
-}
-
-ParsedArgs parse_args(const std::vector<std::string>& args, const std::map<std::string, bool>& spec) {
-  ParsedArgs a;
-  for (size_t i = 0; i < args.size(); ++i) {
-    std::string k = args[i], v;
-    if (k.size() > 1 && k[0] == '-') {
-      const size_t eq = k.find('=');
-      bool inline_value = false;
-      if (k.rfind("--", 0) == 0 && eq != std::string::npos) {
-        v = k.substr(eq + 1);
-        k = k.substr(0, eq);
-        inline_value = true;
-      }
-      const auto it = spec.find(k);
-      if (it == spec.end()) {
-        std::vector<std::string> names;
-        for (const auto& [n, _] : spec) names.push_back(n);
-        std::string msg = "unknown option " + k;
-        if (auto s = nearest(k, names)) msg += "; did you mean " + *s + "?";
-        throw UsageError(msg);
-      }
-      if (it->second) {
-        if (!inline_value) {
-          if (i + 1 >= args.size()) throw UsageError(k + " needs a value");
-          v = args[++i];
-          // "--csv --quiet" must not write a file called --quiet: an option is never a value.
-          if (v.size() > 1 && v[0] == '-' && spec.count(v.substr(0, v.find('='))))
-            throw UsageError(k + " needs a value, got the option " + v);
-        }
-      } else if (inline_value) {
-        throw UsageError(k + " takes no value");
-      }
-      a.options[k] = v;
-    } else {
-      a.positional.push_back(k);
-    }
+void add_scene_overrides(CLI::App& app, RunOptions& o, bool video) {
+  if (video) {
+    app.add_option("--width", o.width, "video width, overriding the scene's")
+        ->type_name("W")
+        ->transform(cli::whole(16, 16384));
+    app.add_option("--height", o.height, "video height, overriding the scene's")
+        ->type_name("H")
+        ->transform(cli::whole(16, 16384));
+    app.add_option("--fps", o.fps, "frames per second of simulated time, overriding the scene's")
+        ->type_name("F")
+        ->check(cli::positive());
   }
-  return a;
+  app.add_option("--duration", o.duration, "simulated time, s, overriding the scene's")
+      ->type_name("S")
+      ->check(cli::positive());
+  app.add_option("--integrator", o.integrator, "the integrator, overriding the scene's")
+      ->check(cli::choice(kIntegrators));
+  app.add_option("--timestep", o.timestep, "fixed physics step, s, overriding the scene's")
+      ->type_name("DT")
+      ->check(cli::positive());
+  app.add_option("--threads", o.threads,
+                 std::string("integration threads (") + (video ? "frames" : "results") +
+                     " are identical for any N); default 1")
+      ->type_name("N")
+      ->transform(cli::whole(1, 256));
 }
 
-void apply_overrides(const ParsedArgs& a, Scene& s) {
-  if (a.has("--duration")) s.duration = a.number("--duration", true);
-  if (a.has("--timestep")) s.timestep = a.number("--timestep", true);
-  if (a.has("--integrator")) {
-    const std::string& n = a.options.at("--integrator");
-    const auto i = integrator_from_name(n);
-    if (!i) {
-      std::string msg = "unknown integrator '" + n + "' (" + integrator_names() + ")";
-      if (auto m = nearest(n, {"auto", "seed", "euler_gyro", "rk4", "splitting"}))
-        msg += "; did you mean '" + *m + "'?";
-      throw UsageError(msg);
-    }
-    s.integrator = *i;
-  }
-  if (a.has("--fps")) s.video.fps = a.number("--fps", true);
-  if (a.has("--width")) s.video.width = a.whole("--width", 16, 16384);
-  if (a.has("--height")) s.video.height = a.whole("--height", 16, 16384);
+void add_summary_flags(CLI::App& app, RunOptions& o) {
+  app.add_flag("--json", o.json, "print the summary as one JSON object (also with --quiet)");
+  app.add_flag("--quiet", o.quiet, "print nothing but errors (no progress, no summary)");
+}
+
+void apply_overrides(const RunOptions& o, Scene& s) {
+  if (o.duration) s.duration = *o.duration;
+  if (o.timestep) s.timestep = *o.timestep;
+  if (o.integrator) s.integrator = *integrator_from_name(*o.integrator);  // the table checked the name
+  if (o.fps) s.video.fps = *o.fps;
+  if (o.width) s.video.width = *o.width;
+  if (o.height) s.video.height = *o.height;
   if (s.timestep > s.duration) throw UsageError("the timestep is longer than the duration");
   try {
     prepare_run(s);
@@ -160,43 +85,98 @@ void apply_overrides(const ParsedArgs& a, Scene& s) {
   }
 }
 
-void print_summary(const ParsedArgs& a, const RunSummary& s) {
-  if (a.has("--json"))
+void print_summary(const RunOptions& o, const RunSummary& s) {
+  if (o.json)
     std::fputs((summary_json(s) + "\n").c_str(), stdout);
-  else if (!a.has("--quiet"))
+  else if (!o.quiet)
     std::fputs(summary_text(s).c_str(), stdout);
 }
 
+namespace {
+
+struct SimulateOptions {
+  std::vector<std::string> scenes;
+  RunOptions run;
+  std::optional<std::string> csv, save_state, resume;
+  bool profile = false;
+};
+
+// simulate's option table.
+void simulate_table(CLI::App& app, SimulateOptions& o) {
+  cli::setup(
+      app, "simulate",
+      "Runs the physics of SCENE with no rendering and prints a summary: steps, bodies, wall time "
+      "spent stepping, and the relative drift of total energy and angular momentum (about the centre "
+      "of mass).",
+      "Ctrl-C (SIGINT), SIGTERM, SIGHUP or SIGQUIT stops the run between steps: the CSV keeps the rows "
+      "done and --save-state the state reached; exit 128 + the signal (130, 143, 129, 131).");
+  cli::add_positionals(app, o.scenes);
+  app.add_option("--csv", o.csv,
+                 "write the state of every body at every video frame (t = 0 .. duration):\n"
+                 "t,body,px,py,pz,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz\n"
+                 "(body origin position m, body-to-world quaternion, centre-of-mass velocity m/s, world "
+                 "angular velocity rad/s)")
+      ->type_name("FILE");
+  add_summary_flags(app, o.run);
+  add_scene_overrides(app, o.run, false);
+  app.add_flag("--profile", o.profile, "time each stage of the step and report what was skipped");
+  app.add_option("--save-state", o.save_state,
+                 "write the whole world state at the end (poses, velocities, step count, contacts and their "
+                 "warm-start impulses) to FILE")
+      ->type_name("FILE");
+  app.add_option("--resume", o.resume,
+                 "start from a state saved from the same scene and continue to --duration (absolute time); "
+                 "the CSV starts at the saved time. Bit-identical to a straight run")
+      ->type_name("FILE");
+}
+
+struct InspectOptions {
+  std::vector<std::string> meshes;
+  bool json = false;
+  double density = MeshMassOptions{}.density, thickness = MeshMassOptions{}.thickness, scale = 1;
+  std::string mode = to_string(MeshMassOptions{}.mode);
+};
+
+// inspect's option table.
+void inspect_table(CLI::App& app, InspectOptions& o) {
+  cli::setup(
+      app, "inspect",
+      "Prints a mesh's mass properties: volume, mass, centroid, inertia tensor about the centroid (mesh "
+      "axes), principal moments and axes, and what was found and done about defects (open, "
+      "inside-out, inconsistent winding, degenerate faces).",
+      "");
+  cli::add_positionals(app, o.meshes);
+  app.add_flag("--json", o.json, "print one JSON object");
+  app.add_option("--density", o.density, "kg/m^3, default 1000")->type_name("RHO")->check(cli::positive());
+  app.add_option("--mode", o.mode, "solid (default), shell (mass on the surface), hull (convex hull)")
+      ->check(cli::choice({"solid", "shell", "hull"}));
+  app.add_option("--thickness", o.thickness, "m, shell wall thickness (default 0.001)")
+      ->type_name("T")
+      ->check(cli::positive());
+  app.add_option("--scale", o.scale, "multiply every coordinate (meshes authored in mm: 0.001)")
+      ->type_name("S")
+      ->check(cli::positive());
+}
+
+}  // namespace
+
 int cmd_simulate(const std::vector<std::string>& args) {
-  const ParsedArgs a = parse_args(args, {{"--csv", true},
-                                         {"--json", false},
-                                         {"--integrator", true},
-                                         {"--timestep", true},
-                                         {"--duration", true},
-                                         {"--quiet", false},
-                                         {"--profile", false},
-                                         {"--threads", true},
-                                         {"--save-state", true},
-                                         {"--resume", true},
-                                         {"--help", false},
-                                         {"-h", false}});
-  if (a.has("--help") || a.has("-h")) {
-    std::fputs(kSimulateHelp, stdout);
-    return kExitOk;
-  }
-  if (a.positional.size() != 1) throw UsageError("simulate takes one scene file");
+  SimulateOptions o;
+  CLI::App app;
+  simulate_table(app, o);
+  if (!cli::parse(app, args)) return kExitOk;
+  if (o.scenes.size() != 1) throw UsageError("simulate takes one scene file");
   // From here a signal ends the run between steps (before the first one if it comes while the
   // scene loads); the CSV keeps the rows done.
   const StopSignals stop;
-  Scene scene = load_scene(a.positional[0]);
-  apply_overrides(a, scene);
-  const int threads = a.has("--threads") ? a.whole("--threads", 1, 256) : 1;
-  FrameLoop loop(scene, threads);
+  Scene scene = load_scene(o.scenes[0]);
+  apply_overrides(o.run, scene);
+  FrameLoop loop(scene, o.run.threads);
   World& world = loop.world();
-  world.set_profiling(a.has("--profile"));
+  world.set_profiling(o.profile);
   for (const std::string& n : scene.notes) std::fprintf(stderr, "note: %s\n", n.c_str());
-  if (a.has("--resume")) {
-    const std::string& path = a.options.at("--resume");
+  if (o.resume) {
+    const std::string& path = *o.resume;
     std::ifstream in(path, std::ios::binary);
     if (!in) throw InputError(path + ": cannot open the saved state");
     try {
@@ -210,17 +190,17 @@ int cmd_simulate(const std::vector<std::string>& args) {
                        std::to_string(world.time()) + " s)");
   }
   std::unique_ptr<AtomicFile> saved;  // created before the run so a bad path fails at once
-  if (a.has("--save-state")) {
+  if (o.save_state) {
     std::string err;
-    if (!ensure_parent_dir(a.options.at("--save-state"), &err)) throw std::runtime_error(err);
-    saved = std::make_unique<AtomicFile>(a.options.at("--save-state"));
+    if (!ensure_parent_dir(*o.save_state, &err)) throw std::runtime_error(err);
+    saved = std::make_unique<AtomicFile>(*o.save_state);
   }
 
   std::unique_ptr<AtomicFile> csv;
-  if (a.has("--csv")) {
+  if (o.csv) {
     std::string err;
-    if (!ensure_parent_dir(a.options.at("--csv"), &err)) throw std::runtime_error(err);
-    csv = std::make_unique<AtomicFile>(a.options.at("--csv"));
+    if (!ensure_parent_dir(*o.csv, &err)) throw std::runtime_error(err);
+    csv = std::make_unique<AtomicFile>(*o.csv);
     std::fputs("t,body,px,py,pz,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz\n", csv->get());
   }
 
@@ -232,7 +212,7 @@ int cmd_simulate(const std::vector<std::string>& args) {
     targets.push_front(FrameTarget{-1, world.time(), world.steps()});
   if (targets.back().step < plan.total_steps)
     targets.push_back(FrameTarget{-1, scene.duration, plan.total_steps});
-  Progress progress("frames", (long)targets.size(), a.has("--quiet") || a.has("--json"));
+  Progress progress("frames", (long)targets.size(), o.run.quiet || o.run.json);
   FrameLoop::Hooks hooks;
   hooks.stop = &stop.flag();
   if (csv)
@@ -256,44 +236,33 @@ int cmd_simulate(const std::vector<std::string>& args) {
     world.save_state(bytes);
     const std::string b = bytes.str();
     if (std::fwrite(b.data(), 1, b.size(), saved->get()) != b.size())
-      throw std::runtime_error(a.options.at("--save-state") + ": could not write the saved state");
+      throw std::runtime_error(*o.save_state + ": could not write the saved state");
     saved->commit();
   }
 
   RunSummary s = make_summary(scene, world, loop.drift(), (int)plan.frames, loop.step_seconds());
-  if (a.has("--profile")) s.profile = &world.profile();
-  if (csv) s.output = a.options.at("--csv");
+  if (o.profile) s.profile = &world.profile();
+  if (csv) s.output = *o.csv;
   if (stop.signal())
     s.warnings.push_back("interrupted by signal " + std::to_string(stop.signal()) +
                          " at t = " + std::to_string(world.time()) + " s" +
                          (csv ? ": the CSV holds the rows up to then" : ""));
-  print_summary(a, s);
+  print_summary(o.run, s);
   return stop.signal() ? 128 + stop.signal() : kExitOk;
 }
 
 int cmd_inspect(const std::vector<std::string>& args) {
-  const ParsedArgs a = parse_args(args, {{"--json", false},
-                                         {"--density", true},
-                                         {"--mode", true},
-                                         {"--thickness", true},
-                                         {"--scale", true},
-                                         {"--help", false},
-                                         {"-h", false}});
-  if (a.has("--help") || a.has("-h")) {
-    std::fputs(kInspectHelp, stdout);
-    return kExitOk;
-  }
-  if (a.positional.size() != 1) throw UsageError("inspect takes one mesh file");
+  InspectOptions o;
+  CLI::App app;
+  inspect_table(app, o);
+  if (!cli::parse(app, args)) return kExitOk;
+  if (o.meshes.size() != 1) throw UsageError("inspect takes one mesh file");
   MeshMassOptions opt;
-  if (a.has("--density")) opt.density = a.number("--density", true);
-  if (a.has("--thickness")) opt.thickness = a.number("--thickness", true);
-  if (a.has("--mode")) {
-    const auto mode = mass_mode_from_name(a.options.at("--mode"));
-    if (!mode) throw UsageError("unknown --mode '" + a.options.at("--mode") + "' (solid, shell or hull)");
-    opt.mode = *mode;
-  }
-  const double scale = a.has("--scale") ? a.number("--scale", true) : 1.0;
-  const std::string path = a.positional[0];
+  opt.density = o.density;
+  opt.thickness = o.thickness;
+  opt.mode = *mass_mode_from_name(o.mode);  // the table checked the name
+  const double scale = o.scale;
+  const std::string path = o.meshes[0];
   {
     std::string ext = std::filesystem::path(path).extension().string();
     for (char& ch : ext) ch = (char)std::tolower((unsigned char)ch);
@@ -312,7 +281,7 @@ int cmd_inspect(const std::vector<std::string>& args) {
   }
   r.warnings.insert(r.warnings.begin(), im.notes.begin(), im.notes.end());
   const PrincipalAxes pa = principal_axes(r.props.inertia);
-  if (a.has("--json")) {
+  if (o.json) {
     using J = nlohmann::ordered_json;
     auto vec = [](const Vec3& v) { return J::array({v.x(), v.y(), v.z()}); };
     auto mat = [&](const Mat3& m) { return J::array({vec(m.row(0)), vec(m.row(1)), vec(m.row(2))}); };
@@ -368,7 +337,7 @@ int main(int argc, char** argv) {
   using namespace simreel;
   std::vector<std::string> args(argv + 1, argv + argc);
   if (args.empty() || args[0] == "--help" || args[0] == "-h" || args[0] == "help") {
-    std::fputs(kTopHelp, args.empty() ? stderr : stdout);
+    std::fputs(top_help().c_str(), args.empty() ? stderr : stdout);
     return args.empty() ? kExitBadInput : kExitOk;
   }
   if (args[0] == "--version") {
@@ -377,21 +346,21 @@ int main(int argc, char** argv) {
   }
   const std::string cmd = args[0];
   args.erase(args.begin());
+  const CommandInfo* command = nullptr;
+  for (const CommandInfo& c : kCommands)
+    if (cmd == c.name) command = &c;
   try {
-    if (cmd == "simulate") return cmd_simulate(args);
-    if (cmd == "inspect") return cmd_inspect(args);
-    if (cmd == "render") return cmd_render(args);
-    if (cmd == "check") return cmd_check(args);
-    if (cmd == "diff") return cmd_diff(args);
-    std::string msg = "unknown command '" + cmd + "'";
-    if (auto s = nearest(cmd, {"render", "simulate", "inspect", "check", "diff"}))
-      msg += "; did you mean '" + *s + "'?";
-    throw UsageError(msg);
+    if (!command) {
+      std::vector<std::string> names;
+      for (const CommandInfo& c : kCommands) names.push_back(c.name);
+      std::string msg = "unknown command '" + cmd + "'";
+      if (auto s = nearest(cmd, names)) msg += "; did you mean '" + *s + "'?";
+      throw UsageError(msg);
+    }
+    return command->run(args);
   } catch (const UsageError& e) {
-    const bool known =
-        cmd == "render" || cmd == "simulate" || cmd == "inspect" || cmd == "check" || cmd == "diff";
     std::fprintf(stderr, "simreel %s: %s (see simreel %s--help)\n", cmd.c_str(), e.what(),
-                 known ? (cmd + " ").c_str() : "");
+                 command ? (cmd + " ").c_str() : "");
     return kExitBadInput;
   } catch (const InputError& e) {
     std::fprintf(stderr, "error: %s\n", e.what());

@@ -41,6 +41,10 @@ int default_color(ShowKind k) {
       return 1;  // orange (the body cone; the space cone is blue, as L)
     case ShowKind::poinsot:
       return 2;  // sky blue (the ellipsoid)
+    case ShowKind::forces:
+      return 6;  // vermillion
+    case ShowKind::contacts:
+      return 1;  // orange
   }
   return 0;
 }
@@ -75,20 +79,72 @@ Rgba okabe_ito(int index, float alpha) {
   return {srgb_to_linear(h >> 16), srgb_to_linear((h >> 8) & 255), srgb_to_linear(h & 255), alpha};
 }
 
+namespace {
+
+// The largest magnitudes of the world's present state into m (dynamic bodies).
+void accumulate(const World& w, std::vector<Magnitudes>& m) {
+  for (int i = 0; i < w.body_count(); ++i) {
+    if (w.type(i) != BodyType::dynamic) continue;
+    m[i].omega = std::max(m[i].omega, w.angular_velocity(i).norm());
+    m[i].L = std::max(m[i].L, w.angular_momentum(i).norm());
+    m[i].v = std::max(m[i].v, w.linear_velocity(i).norm());
+  }
+  if (!w.has_forces()) return;
+  struct Max : ForceVisitor {
+    std::vector<Magnitudes>& m;
+    explicit Max(std::vector<Magnitudes>& m) : m(m) {}
+    void force(int i, const Vec3& F, const Vec3&, ForceKind) override {
+      m[i].force = std::max(m[i].force, F.norm());
+    }
+    void torque(int i, const Vec3& t) override { m[i].torque = std::max(m[i].torque, t.norm()); }
+  } v(m);
+  visit_forces(w, v);
+}
+
+}  // namespace
+
+Rgba item_color(const ShowItem& s) {
+  return s.color ? with_alpha(*s.color, s.opacity) : okabe_ito(default_color(s.kind), (float)s.opacity);
+}
+
 std::vector<Magnitudes> measure_magnitudes(const Scene& scene, int threads) {
   FrameLoop loop(scene, threads);
   std::vector<Magnitudes> m((size_t)loop.world().body_count());
   FrameLoop::Hooks h;
+  h.step = [&](const World& w) { accumulate(w, m); };
+  loop.run({}, h, true);
+  return m;
+}
+
+void SceneOverlays::prepass(const Scene& scene, int threads, bool magnitudes, std::vector<Magnitudes>& mags,
+                            std::vector<double>& contact_forces) {
+  FrameLoop loop(scene, threads);
+  const World& w0 = loop.world();
+  mags.assign((size_t)w0.body_count(), Magnitudes{});
+  const double E0 = w0.kinetic_energy() + w0.potential_energy();
+  const Vec3 L0 = w0.total_angular_momentum();
+  std::vector<int> contact_bodies;
+  for (const Item& it : items_)
+    if (it.spec.kind == ShowKind::contacts && !it.spec.scale) contact_bodies.push_back(it.body);
+  // Contact forces sampled about 60 times a simulated second (a landing lasts a few steps).
+  const long contact_every = std::max(1L, std::lround(1.0 / (60.0 * dt_)));
+  FrameLoop::Hooks h;
   h.step = [&](const World& w) {
-    for (int i = 0; i < w.body_count(); ++i) {
-      if (w.type(i) != BodyType::dynamic) continue;
-      m[i].omega = std::max(m[i].omega, w.angular_velocity(i).norm());
-      m[i].L = std::max(m[i].L, w.angular_momentum(i).norm());
-      m[i].v = std::max(m[i].v, w.linear_velocity(i).norm());
+    if (magnitudes) accumulate(w, mags);
+    const long s = w.steps();
+    if (!contact_bodies.empty() && s % contact_every == 0)
+      for (int b : contact_bodies)
+        visit_contacts(w, b, [&](const Vec3&, const Vec3&, const Vec3& F) {
+          if (F.norm() > 0) contact_forces.push_back(F.norm());
+        });
+    for (Plot& p : plots_) {
+      if (s % p.every != 0) continue;
+      p.t.push_back(w.time());
+      for (size_t q = 0; q < p.spec.quantities.size(); ++q)
+        p.values[q].push_back((float)quantity_value(p.spec.quantities[q], w, -1, E0, L0));
     }
   };
   loop.run({}, h, true);
-  return m;
 }
 
 SceneOverlays::SceneOverlays(const Scene& scene, const World& world, const std::vector<double>& body_radius,
@@ -101,9 +157,13 @@ SceneOverlays::SceneOverlays(const Scene& scene, const World& world, const std::
       body_radius_(body_radius),
       hud_(scene.overlays.hud),
       hud_corner_(scene.overlays.hud_corner),
-      title_(scene.overlays.title) {
+      title_(scene.overlays.title),
+      captions_(scene.overlays.captions),
+      labels_(scene.overlays.labels),
+      legend_(scene.overlays.legend) {
   const OverlaySpec& o = scene.overlays;
   bool need_scales = false;
+  shows_forces_.assign(o.show.size(), 0);
   for (size_t i = 0; i < o.show.size(); ++i)
     for (const ShowItem& s : o.show[i]) {
       if (s.kind == ShowKind::trail) {
@@ -126,17 +186,60 @@ SceneOverlays::SceneOverlays(const Scene& scene, const World& world, const std::
         items_.push_back(it);
         continue;
       }
+      if (s.kind == ShowKind::forces) {
+        shows_forces_[i] = 1;
+        need_scales = need_scales || !s.scale || !s.torque_scale;
+      }
       need_scales = need_scales || (is_arrow(s.kind) && !s.scale);
       items_.push_back({(int)i, s, 0, 0, {-1, -1}});
     }
-  std::vector<Magnitudes> mags;
-  if (need_scales) mags = measure_magnitudes(scene, threads);
+  bool contacts_auto = false;
+  for (const Item& it : items_)
+    contacts_auto = contacts_auto || (it.spec.kind == ShowKind::contacts && !it.spec.scale);
+  // Plots: their samples come from the pre-pass, about 1.5 per pixel of the plot's width.
+  for (const PlotSpec& ps : o.plots) {
+    Plot p;
+    p.spec = ps;
+    const double wpx = std::max(8.0, ps.rect[2] * width);
+    const long steps = std::max(1L, std::lround(duration_ / dt_));
+    p.every = std::max(1L, std::lround(steps / (1.5 * wpx)));
+    p.t.reserve((size_t)(steps / p.every + 2));
+    p.values.assign(ps.quantities.size(), {});
+    for (auto& v : p.values) v.reserve(p.t.capacity());
+    plots_.push_back(std::move(p));
+  }
+  std::vector<Magnitudes> mags((size_t)world.body_count());
+  std::vector<double> contact_forces;
+  if (need_scales || contacts_auto || !plots_.empty())
+    prepass(scene, threads, need_scales, mags, contact_forces);
+  // Contacts: one scale for every body showing them, so that forces compare across the pile.
+  double contact_scale = 0;
+  if (contacts_auto && !contact_forces.empty()) {
+    const size_t k = std::min(contact_forces.size() - 1, (size_t)(kContactQuantile * contact_forces.size()));
+    std::nth_element(contact_forces.begin(), contact_forces.begin() + (long)k, contact_forces.end());
+    double R = 0;
+    int n = 0;
+    for (const Item& it : items_)
+      if (it.spec.kind == ShowKind::contacts && !it.spec.scale) R += body_radius_[it.body], ++n;
+    contact_scale = kContactReach * (R / n) / contact_forces[k];
+  }
+  const Vec3 g = world.config().gravity;
   for (Item& it : items_) {
     const double R = it.body < (int)body_radius_.size() ? body_radius_[it.body] : 0.5;
     if (is_arrow(it.spec.kind)) {
       const double big = it.spec.scale ? 0 : largest(mags[it.body], it.spec.kind);
       it.scale = it.spec.scale ? *it.spec.scale : big > 0 ? kArrowReach * R / big : 0;
       it.radius = 0.028 * R * it.spec.width;
+    } else if (it.spec.kind == ShowKind::forces) {
+      double big = mags[it.body].force;
+      if (it.spec.gravity) big = std::max(big, world.model(it.body).mass * g.norm());
+      it.scale = it.spec.scale ? *it.spec.scale : big > 0 ? kForceReach * R / big : 0;
+      const double tb = mags[it.body].torque;
+      it.torque_scale = it.spec.torque_scale ? *it.spec.torque_scale : tb > 0 ? kForceReach * R / tb : 0;
+      it.radius = 0.028 * R * it.spec.width;
+    } else if (it.spec.kind == ShowKind::contacts) {
+      it.scale = it.spec.scale ? *it.spec.scale : contact_scale;
+      it.radius = 0.02 * R * it.spec.width;
     } else if (it.spec.kind == ShowKind::axes) {
       it.scale = it.spec.scale ? *it.spec.scale : 1.25 * R;
       it.radius = 0.018 * R * it.spec.width;
@@ -153,13 +256,7 @@ SceneOverlays::SceneOverlays(const Scene& scene, const World& world, const std::
   }
   E0_ = world.kinetic_energy() + world.potential_energy();
   L0_ = world.total_angular_momentum();
-  if (!hud_.empty() || !title_.empty()) {
-    const std::string font = default_font_path();
-    const int px = std::max(10, (int)std::lround(height * 0.032 * o.text_size));
-    font_ = std::make_unique<Font>(font, px);
-    title_font_ = std::make_unique<Font>(font, std::max(12, (int)std::lround(px * 1.4)));
-    lines_.resize(hud_.size());
-  }
+  make_screen(scene, world);
 }
 
 SceneOverlays::~SceneOverlays() = default;
@@ -206,9 +303,9 @@ Vec3 SceneOverlays::to_world(const Trail& t, const World& w, const Vec3& v) cons
   return v;
 }
 
-double SceneOverlays::arrow_scale(int body, ShowKind kind) const {
+double SceneOverlays::arrow_scale(int body, ShowKind kind, bool torque) const {
   for (const Item& it : items_)
-    if (it.body == body && it.spec.kind == kind) return it.scale;
+    if (it.body == body && it.spec.kind == kind) return torque ? it.torque_scale : it.scale;
   return 0;
 }
 
@@ -286,6 +383,12 @@ void SceneOverlays::build(const World& w, long frame, DrawList& dl) {
         }
         break;
       }
+      case ShowKind::forces:
+        build_forces(it, w, dl.camera, dl.overlay);
+        break;
+      case ShowKind::contacts:
+        build_contacts(it, w, dl.camera, dl.overlay);
+        break;
       case ShowKind::trail:
       case ShowKind::poinsot:  // below, after every other item: translucent
       case ShowKind::cones:
@@ -361,96 +464,7 @@ void SceneOverlays::build(const World& w, long frame, DrawList& dl) {
     const double width = t.width_px * pixel_size_at(dl.camera, height_, std::max(d, 1e-3));
     dl.overlay.ribbon(t.scratch.data(), t.colors.data(), (int)m, eye, width);
   }
-  if (!hud_.empty() || !title_.empty()) build_hud(w, frame, dl.screen);
-}
-
-void format_hud_line(const HudLine& line, const World& w, long frame, double E0, const Vec3& L0,
-                     std::string& out) {
-  out.clear();
-  char buf[96];
-  for (size_t k = 0; k < line.fields.size(); ++k) {
-    out += line.text[k];
-    const HudField& f = line.fields[k];
-    const char* fmt = f.printf.c_str();
-    if (f.name == "frame") {
-      std::snprintf(buf, sizeof buf, fmt, frame);
-      out += buf;
-      continue;
-    }
-    if (f.body < 0) {
-      double v = 0;
-      const double E = w.kinetic_energy() + w.potential_energy();
-      if (f.name == "t")
-        v = w.time();
-      else if (f.name == "E")
-        v = E;
-      else if (f.name == "E_drift")
-        v = E0 != 0 ? (E - E0) / std::fabs(E0) : E - E0;
-      else if (f.name == "L_drift") {
-        const double n0 = L0.norm();
-        v = n0 > 0 ? (w.total_angular_momentum() - L0).norm() / n0 : (w.total_angular_momentum() - L0).norm();
-      }
-      std::snprintf(buf, sizeof buf, fmt, v);
-      out += buf;
-      continue;
-    }
-    const int i = f.body;
-    Vec3 v = Vec3::Zero();
-    if (f.name == "omega")
-      v = w.angular_velocity(i);
-    else if (f.name == "omega_body")
-      v = w.state(i).w_P;
-    else if (f.name == "L")
-      v = w.angular_momentum(i);
-    else if (f.name == "v")
-      v = w.linear_velocity(i);
-    else if (f.name == "position")
-      v = w.centroid(i);
-    if (f.norm || f.component >= 0) {
-      std::snprintf(buf, sizeof buf, fmt, f.norm ? v.norm() : v[f.component]);
-      out += buf;
-      continue;
-    }
-    out += '(';
-    for (int c = 0; c < 3; ++c) {
-      std::snprintf(buf, sizeof buf, fmt, v[c]);
-      out += buf;
-      if (c < 2) out += ", ";
-    }
-    out += ')';
-  }
-  out += line.text.back();
-}
-
-void SceneOverlays::build_hud(const World& w, long frame, ScreenLayer& out) {
-  const Rgba8 panel{16, 20, 28, 150}, ink{255, 255, 255, 255};
-  int title_bottom = 0;  // px: a HUD in a top corner goes below the title
-  if (!title_.empty()) {
-    Font& f = *title_font_;
-    const int tw = f.width(title_), pad = f.pixel_size() / 2;
-    const int x = (width_ - tw) / 2, base = pad + f.ascent() + pad / 2;
-    title_bottom = base + f.descent() + pad / 2;
-    out.rects.push_back({x - pad, pad / 2, x + tw + pad, title_bottom, panel});
-    f.draw(title_, x, base, ink, &out);
-  }
-  if (hud_.empty()) return;
-  Font& f = *font_;
-  int widest = 0;
-  for (size_t k = 0; k < hud_.size(); ++k) {
-    format_hud_line(hud_[k], w, frame, E0_, L0_, lines_[k]);
-    widest = std::max(widest, f.width(lines_[k]));
-  }
-  const int pad = f.pixel_size() / 2, lh = f.line_height();
-  const int box_w = widest + 2 * pad,
-            box_h = (int)hud_.size() * lh + 2 * pad - (lh - f.ascent() - f.descent());
-  const bool right = hud_corner_.find("right") != std::string::npos;
-  const bool bottom = hud_corner_.find("bottom") != std::string::npos;
-  const int margin = pad;
-  const int x0 = right ? width_ - margin - box_w : margin;
-  const int y0 = bottom ? height_ - margin - box_h : title_bottom + margin;
-  out.rects.push_back({x0, y0, x0 + box_w, y0 + box_h, panel});
-  for (size_t k = 0; k < hud_.size(); ++k)
-    f.draw(lines_[k], x0 + pad, y0 + pad + f.ascent() + (int)k * lh, ink, &out);
+  if (has_screen_) build_screen(w, frame, dl.camera, dl.screen);
 }
 
 }  // namespace simreel

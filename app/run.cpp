@@ -32,6 +32,7 @@ FramePlan plan_frames(double duration, double dt, double fps) {
 }
 
 long FramePlan::step(long k) const {
+  if (sim_time) return std::min(saturated(std::round(sim_time((double)k / fps) / dt)), total_steps);
   return std::min(saturated(std::ceil((double)k / fps / dt - 1e-9)), total_steps);
 }
 
@@ -102,6 +103,7 @@ void prepare_run(Scene& s) {
     s.timestep = dt;
     check_limits(s);  // a shorter step is more steps
   }
+  prepare_time(s);  // app/scene_time.hpp
   // Legal but long: say so before starting, with what it may take and how to stop it.
   const double steps = s.duration / s.timestep, frames = s.duration * s.video.fps;
   const double est = estimate_physics_seconds(s, steps);
@@ -204,7 +206,8 @@ std::string summary_text(const RunSummary& s) {
     if (s.profile->shapes > 0)
       o << "  contacts: " << s.profile->shapes << " shapes; summed over steps: " << s.profile->pairs
         << " candidate pairs, " << s.profile->contact_points << " contact points, "
-        << s.profile->solver_bodies << " bodies through the solver\n";
+        << s.profile->solver_bodies << " bodies through the solver, " << s.profile->impact_substeps
+        << " substeps with an impact (one more sweep)\n";
     if (s.profile->forces > 0)
       o << "  forces: " << s.profile->forces << " records (the drag is one per body), "
         << s.profile->forced_bodies << " bodies stepped by RK4 with the forces evaluated at every stage\n";
@@ -249,7 +252,8 @@ std::string summary_json(const RunSummary& s) {
     p["contacts"] = {{"shapes", s.profile->shapes},
                      {"pairs", s.profile->pairs},
                      {"contact_points", s.profile->contact_points},
-                     {"solver_bodies", s.profile->solver_bodies}};
+                     {"solver_bodies", s.profile->solver_bodies},
+                     {"impact_substeps", s.profile->impact_substeps}};
     p["applied_forces"] = {{"records", s.profile->forces}, {"rk4_bodies", s.profile->forced_bodies}};
     o["profile"] = std::move(p);
   }

@@ -1,5 +1,6 @@
 // Running a scene: the frame schedule, conservation bookkeeping and the summary both commands share.
 #pragma once
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -13,10 +14,13 @@ namespace simreel {
 // Computed, never tabulated: a plan of 1e7 frames is as small as one of ten (a table of them
 // took 80 MB, and `duration: 1e7` 2.3 GB before the limits below).
 struct FramePlan {
-  long total_steps = 0;     ///< ceil(duration / dt)
-  long frames = 0;          ///< floor(duration x fps) + 1
-  double dt = 0;            ///< s
-  double fps = 0;           ///< frames per simulated second
+  long total_steps = 0;  ///< ceil(duration / dt)
+  long frames = 0;       ///< floor(duration x fps) + 1
+  double dt = 0;         ///< s
+  double fps = 0;        ///< frames per second (of simulated time, or of video with sim_time)
+  /// A video plan's (app/scene_time.hpp): the simulated time (s) frame k shows, of its video time
+  /// k / fps, and the step is the nearest; empty: frame k shows simulated time k / fps.
+  std::function<double(double)> sim_time;
   long step(long k) const;  ///< step count at which frame k (0 <= k < frames) is taken
 };
 FramePlan plan_frames(double duration, double dt, double fps);

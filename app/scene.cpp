@@ -549,7 +549,7 @@ struct Loader {
     check_keys(
         n, c,
         {"name", "position", "orientation", "euler", "axis_angle", "linear_velocity", "angular_velocity",
-         "angular_velocity_body", "type", "static", "color", "integrator", "colliders", "show"});
+         "angular_velocity_body", "type", "static", "color", "integrator", "colliders", "show", "ghost"});
     BodyDef b;
     b.name = n["name"] ? text(n["name"], c.child("name")) : "body" + std::to_string(i);
     if (n["position"]) b.p_WB = vec<3>(n["position"], c.child("position"));
@@ -596,6 +596,7 @@ struct Loader {
     }
     if (n["color"]) look.color = color(n["color"], c.child("color"));
     if (n["integrator"]) b.integrator = integrator(n["integrator"], c.child("integrator"));
+    if (n["ghost"]) look.ghost = parse_ghost(n["ghost"], c.child("ghost"));
     const YAML::Node cols = n["colliders"];
     if (!cols) c.fail(n, "body '" + b.name + "' needs 'colliders' (a list of shapes)");
     if (!cols.IsSequence() || cols.size() == 0)
@@ -675,7 +676,8 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
   if (!root.IsMap())
     top.fail(root, "a scene is a mapping with keys simulation, video, camera, render, ground, bodies");
   check_keys(root, top,
-             {"simulation", "video", "camera", "render", "ground", "bodies", "test", "forces", "overlays"});
+             {"simulation", "video", "camera", "render", "ground", "bodies", "test", "forces", "overlays",
+              "time", "panes", "variants"});
 
   if (const YAML::Node sim = root["simulation"]) {
     const Ctx c = top.child("simulation");
@@ -721,7 +723,7 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
   }
   if (const YAML::Node cam = root["camera"]) {
     const Ctx c = top.child("camera");
-    check_keys(cam, c, {"position", "look_at", "up", "fov", "follow", "auto"});
+    check_keys(cam, c, {"position", "look_at", "up", "fov", "follow", "auto", "frame"});
     if (cam["auto"]) s.camera.fit = boolean(cam["auto"], c.child("auto"));
     if (cam["position"]) s.camera.position = vec<3>(cam["position"], c.child("position"));
     if (cam["look_at"]) s.camera.look_at = vec<3>(cam["look_at"], c.child("look_at"));
@@ -731,6 +733,13 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
       if (s.camera.fov >= 179) c.child("fov").fail(cam["fov"], "must be below 179 degrees");
     }
     if (cam["follow"]) s.camera.follow = text(cam["follow"], c.child("follow"));
+    if (cam["frame"]) s.camera.frame_body = camera_frame_body(cam["frame"], c.child("frame"));
+    if (!s.camera.follow.empty() && !s.camera.frame_body.empty())
+      c.child("follow").fail(cam["follow"],
+                             "a camera riding in a body's frame does not also follow one: give one");
+    if (s.camera.fit && !s.camera.frame_body.empty())
+      c.child("auto").fail(
+          cam["auto"], "camera.auto frames the world: a camera riding in a body's frame is placed by hand");
     if ((s.camera.position - s.camera.look_at).norm() == 0)
       c.child("look_at").fail(cam["look_at"], "coincides with the camera position");
     if (s.camera.up.cross(s.camera.position - s.camera.look_at).norm() == 0)
@@ -803,7 +812,8 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
                                          std::to_string(kMaxBodies));
   size_t colliders = 0;
   for (size_t i = 0; i < bodies.size(); ++i)
-    if (const YAML::Node cs = bodies[i]["colliders"]; cs && cs.IsSequence()) {
+    if (const YAML::Node cs = bodies[i].IsMap() ? bodies[i]["colliders"] : YAML::Node();
+        cs && cs.IsSequence()) {
       colliders += cs.size();
       if (colliders > kMaxColliders)
         top.child("bodies")
@@ -879,6 +889,12 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
   if (!s.camera.follow.empty() && !names.count(s.camera.follow))
     top.child("camera").child("follow").fail(root["camera"]["follow"],
                                              "no body is named '" + s.camera.follow + "'");
+  if (!s.camera.frame_body.empty() && !names.count(s.camera.frame_body))
+    top.child("camera").child("frame").child("body").fail(root["camera"]["frame"],
+                                                          "no body is named '" + s.camera.frame_body + "'");
+  check_ghosts(root, path, s);  // app/ghost.cpp: only where a closed form exists
+  load_time(root, path, s);     // app/scene_time.cpp
+  load_views(root, path, s);    // app/scene_views.cpp: variants and panes
   if (const YAML::Node t = root["test"]) {
     const Ctx c = top.child("test");
     check_keys(t, c, {"frames", "width", "height"});

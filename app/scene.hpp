@@ -5,7 +5,10 @@
 #include <string>
 #include <vector>
 
+#include "app/ghost.hpp"
 #include "app/scene_overlays.hpp"
+#include "app/scene_time.hpp"
+#include "app/scene_views.hpp"
 #include "render/render_settings.hpp"
 #include "sim/body.hpp"
 #include "sim/contact_settings.hpp"
@@ -29,6 +32,9 @@ struct CameraSpec {
   /// `auto: true`: simulate first, then aim at the middle of everything that moves over the run
   /// and back off (along position - look_at) until all of it is in view (app/camera_fit.hpp).
   bool fit = false;
+  /// `frame: { body: NAME }`: position, look_at and up are in that body's frame and the camera
+  /// rides with it (app/scene_views.hpp); "" for the world.
+  std::string frame_body;
 };
 
 const char* to_string(AntiAliasing a);
@@ -61,6 +67,7 @@ struct BodyLook {
   Rgb color{0.8f, 0.8f, 0.8f};          ///< the body's `color`
   std::vector<ColliderLook> colliders;  ///< parallel to the body's colliders
   bool drawn = true;                    ///< false for the ground body: the renderer's ground draws it
+  GhostSpec ghost;                      ///< its exact motion drawn translucent (app/ghost.hpp)
   // What a collider is drawn in: its file's material, else the body colour.
   Rgb collider_color(size_t k) const {
     return k < colliders.size() && colliders[k].color ? *colliders[k].color : color;
@@ -90,6 +97,8 @@ struct Scene {
   ContactSettings contacts;          ///< simulation.contacts
   TestSpec test;                     ///< test: what `simreel check` compares
   OverlaySpec overlays;              ///< bodies' `show:` and the `overlays:` block (app/scene_overlays.hpp)
+  TimeSpec time;                     ///< `time:`: playback speed, segments, holds (app/scene_time.hpp)
+  ViewsSpec views;                   ///< `panes:` and `variants:` (app/scene_views.hpp)
   std::vector<std::pair<int, int>> ignore_pairs;  ///< simulation.ignore_pairs, as body indices
   std::vector<ForceDef> forces;    ///< the `forces:` list, by body index (app/scene_forces.cpp)
   std::vector<std::string> notes;  ///< what was done with mesh defects and ignored keys, with file and body

@@ -63,18 +63,31 @@ SceneView::SceneView(const Scene& scene, const World& world, const ViewOptions& 
   camera.target = scene.camera.look_at;
   camera.up = scene.camera.up;
   camera.fov_deg = scene.camera.fov;
-  for (int i = 0; i < world.body_count(); ++i)
+  for (int i = 0; i < world.body_count(); ++i) {
     if (world.def(i).name == scene.camera.follow) follow = i;
+    if (world.def(i).name == scene.camera.frame_body) ride = i;
+  }
   // A following camera moves every frame: caching the ground would only redraw the cache.
-  rs.cache_ground = follow < 0;
+  rs.cache_ground = follow < 0 && ride < 0;
   if (scene.overlays.any())
     overlays = std::make_unique<SceneOverlays>(scene, world, body_radii(world, meshes), rs.width, rs.height,
                                                std::max(1, o.threads));
+  for (const BodyLook& l : scene.looks)
+    if (l.ghost.on && !ghosts) ghosts = std::make_unique<GhostView>(scene, world);
 }
 
 const uint8_t* SceneView::draw(Renderer& r, const World& world, uint8_t* out, long frame) {
   build_draw_list(world, meshes, camera, follow, dl_);
+  if (ride >= 0) {  // camera.frame: the camera's points and up are in the body's frame
+    dl_.camera.eye = world.local_to_world(ride, camera.eye);
+    dl_.camera.target = world.local_to_world(ride, camera.target);
+    dl_.camera.up = world.local_to_world_vec(ride, camera.up);
+  }
   if (overlays) overlays->build(world, frame >= 0 ? frame : std::lround(world.time() * fps_), dl_);
+  if (ghosts) {
+    if (!overlays) dl_.overlay.clear();
+    ghosts->build(world, meshes, dl_);
+  }
   return r.render(dl_, out);
 }
 

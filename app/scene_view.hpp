@@ -6,6 +6,7 @@
 #include <memory>
 #include <string>
 
+#include "app/ghost_view.hpp"
 #include "app/overlays.hpp"
 #include "app/scene.hpp"
 #include "render/draw_list.hpp"
@@ -27,9 +28,12 @@ struct SceneView {
   SceneMeshes meshes;
   CameraView camera;
   int follow = -1;  ///< body the camera tracks, or -1
+  int ride = -1;    ///< body whose frame the camera rides in (camera.frame), or -1: `camera` is then
+                    ///< in that body's frame (points about its origin)
   RenderSettings settings;
   AntiAliasing aa = AntiAliasing::fxaa;
   std::unique_ptr<SceneOverlays> overlays;  ///< null for a scene without `show:` or `overlays:`
+  std::unique_ptr<GhostView> ghosts;        ///< null for a scene without `ghost:`
   // Throws UsageError-like std::invalid_argument for an unknown backend or mode. `world` must be
   // at the scene's initial state (trails given in world coordinates, the HUD's E0 and L0).
   SceneView(const Scene& scene, const World& world, const ViewOptions& o);

@@ -7,10 +7,9 @@
 // And memory per body (issue 16): the peak resident memory of a process that loads N copies of
 // one 100,000-triangle mesh (N = 1, 10, 100, 1000), or N boxes, spheres of one size or of N
 // sizes, and draws one frame of them; each case in a child process of its own (rows `memory_*`).
-// CSV on stdout. Usage: bench_render_throughput [FRAMES] [overlays|memory]   (default 300 frames,
-// every row; `overlays`: only the render-only rows with overlays; `memory`: only the memory rows.
-// ffmpeg must be on PATH for the ceiling row; the raw frames need FRAMES x 3.7 MB in the temp
-// folder).
+// CSV on stdout. Usage: bench_render_throughput [FRAMES [overlays|teaching|memory]]   (default 300;
+// `memory`: only the memory rows; ffmpeg must be on PATH for the ceiling row; the raw frames need
+// FRAMES x 3.7 MB in the temp folder).
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -20,6 +19,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -289,12 +289,99 @@ void memory_rows() {
   }
 }
 
+// Issue 12's speed target, in a function of its own: a HUD, an inset plot and 100 arrows on the
+// 100-box clip cost at most 15% more end-to-end time than the plain clip. Plain and overlaid runs
+// alternate, `pairs` pairs, each end to end as `simreel render` runs (FXAA and the screen layer on
+// the writer's thread, the overlays' pre-pass and fonts inside the timed span); the row is the
+// median of the pairs' wall-clock ratios, with the CPU-seconds ratios beside it.
+void teaching_overlay_rows(const Boxes& bodies, int frames, const std::filesystem::path& dir, int pairs,
+                           const std::function<void(const char*, double, const std::string&)>& row) {
+  Scene sc = overlay_scene(bodies, frames, 3);  // an arrow per box, a title and a 3-line HUD
+  PlotSpec plot;
+  for (int c = 0; c < 3; ++c) {
+    HudField f;
+    f.name = "omega_body";
+    f.body = 0;
+    f.component = c;
+    plot.quantities.push_back(f);
+    plot.labels.push_back(std::string("\\omega_") + (char)('1' + c));
+    plot.colors.push_back(std::nullopt);
+  }
+  plot.rect[0] = 0.6, plot.rect[1] = 0.6, plot.rect[2] = 0.38, plot.rect[3] = 0.36;
+  plot.title = "box0";
+  sc.overlays.plots = {plot};
+  auto run = [&](bool overlays, double& cpu, double& setup) {
+    const double t0 = bench::now_s(), c0 = cpu_s();
+    Setup s(bodies, frames);
+    RenderSettings rs = settings("fxaa");
+    rs.post = PostStage::caller;
+    Renderer r(rs, s.meshes);
+    std::unique_ptr<SceneOverlays> ov;
+    setup = 0;
+    if (overlays) {
+      const double s0 = bench::now_s();
+      std::vector<double> radius;
+      for (int i = 0; i < s.loop.world().body_count(); ++i)
+        radius.push_back(s.meshes.meshes[s.meshes.mesh_of[i][0]].radius);
+      ov = std::make_unique<SceneOverlays>(sc, s.loop.world(), radius, W, H, 1);
+      setup = bench::now_s() - s0;
+    }
+    VideoSettings vs;
+    vs.fxaa = rs.fxaa();
+    vs.path = (dir / "e2e_teaching.mp4").string();
+    vs.width = W;
+    vs.height = H;
+    vs.fps = kFps;
+    VideoWriter v(vs);
+    DrawList dl;
+    long k = 0;
+    s.run([&](const World& w) {
+      build_draw_list(w, s.meshes, s.cam, -1, dl);
+      if (ov) ov->build(w, k, dl);
+      r.render(dl, v.acquire());
+      v.commit(k++, &dl.screen);
+    });
+    v.finish();
+    cpu = cpu_s() - c0;
+    return bench::now_s() - t0;
+  };
+  std::vector<double> wall, cpu;
+  for (int pair = 1; pair <= pairs; ++pair) {
+    double c_plain = 0, c_ov = 0, setup = 0, ignored = 0;
+    const double plain = run(false, c_plain, ignored);
+    row("end_to_end_fxaa_plain_b", plain, "the plain clip, as end_to_end_fxaa; pair " + std::to_string(pair));
+    const double with = run(true, c_ov, setup);
+    row("end_to_end_fxaa_hud_plot_arrows", with,
+        "100 auto-scaled angular velocity arrows, a title, a 3-line HUD and an inset plot of box0's omega "
+        "(3 curves); pre-pass and fonts " +
+            std::to_string(setup).substr(0, 5) + " s; pair " + std::to_string(pair));
+    wall.push_back(with / plain);
+    cpu.push_back(c_ov / c_plain);
+  }
+  auto list = [](std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    std::string s;
+    for (double q : v) s += (s.empty() ? "" : " ") + std::to_string(q).substr(0, 5);
+    return std::pair<double, std::string>{v[v.size() / 2], s};
+  };
+  const auto [w, ws] = list(wall);
+  const auto [c, cs] = list(cpu);
+  std::printf(
+      "hud_plot_arrows_over_plain,%d,%d,%d,,,\"wall: median %.3f of the pairs' ratios (%s); CPU seconds: "
+      "median "
+      "%.3f (%s); target 1.15\"\n",
+      frames, W, H, w, ws.c_str(), c, cs.c_str());
+  std::fflush(stdout);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   const int frames = argc > 1 ? std::atoi(argv[1]) : 300;
   // `overlays`: only the render-only rows with and without overlays (a quick look at their cost).
   const bool only_overlays = argc > 2 && std::string(argv[2]) == "overlays";
+  // `teaching`: only issue 12's end-to-end row (HUD, inset plot, 100 arrows against the plain clip).
+  const bool only_teaching = argc > 2 && std::string(argv[2]) == "teaching";
   const auto bodies = hundred_boxes();
   std::printf("case,frames,width,height,seconds,fps,note\n");
   if (argc > 2 && std::string(argv[2]) == "memory") {
@@ -311,6 +398,10 @@ int main(int argc, char** argv) {
   const std::filesystem::path dir = std::filesystem::temp_directory_path() / "simreel-bench";
   std::filesystem::create_directories(dir);
   const std::string raw = (dir / "frames.rgba").string();
+  if (only_teaching) {
+    teaching_overlay_rows(bodies, frames, dir, 5, row);
+    return 0;
+  }
 
   // Render only, each setting in a fresh context. The settings run in turn, three rounds, and each
   // row is the median of its three runs: this VM's speed drifts within a run. The first round of
@@ -493,6 +584,7 @@ int main(int argc, char** argv) {
         frames, W, H, overlay_ratios[overlay_ratios.size() / 2], all.c_str(),
         overlay_cpu_ratios[overlay_cpu_ratios.size() / 2], cpu.c_str());
   }
+  teaching_overlay_rows(bodies, frames, dir, 3, row);
   {
     std::string note;
     row("end_to_end_msaa4", end_to_end("msaa4", note), note);

@@ -29,14 +29,30 @@ struct ScreenRect {
   Rgba8 color{0, 0, 0, 128};
 };
 
+// A straight line, anti-aliased: a pixel's coverage falls from 1 to 0 over the pixel at the
+// line's edge (its distance from the segment against half the width, plus half a pixel).
+struct ScreenLine {
+  float x0 = 0, y0 = 0, x1 = 0, y1 = 0;  ///< px, continuous coordinates (a pixel's centre at +0.5), y down
+  float width = 1;                       ///< px
+  Rgba8 color{255, 255, 255, 255};
+};
+
 struct ScreenLayer {
   std::vector<ScreenRect> rects;    ///< drawn first, in order
+  std::vector<ScreenLine> lines;    ///< then these (plots' axes and curves)
   std::vector<ScreenGlyph> glyphs;  ///< then these, in order
   void clear() {
     rects.clear();
+    lines.clear();
     glyphs.clear();
   }
-  bool empty() const { return rects.empty() && glyphs.empty(); }
+  bool empty() const { return rects.empty() && lines.empty() && glyphs.empty(); }
+  // Appends `other`'s commands (storage reused once grown).
+  void append(const ScreenLayer& other) {
+    rects.insert(rects.end(), other.rects.begin(), other.rects.end());
+    lines.insert(lines.end(), other.lines.begin(), other.lines.end());
+    glyphs.insert(glyphs.end(), other.glyphs.begin(), other.glyphs.end());
+  }
 };
 
 // Blends the layer over an RGBA8 image (rows top first) in place; clipped to the image. Alpha of

@@ -5,6 +5,7 @@
 #include <hb-ft.h>
 #include <hb.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -115,6 +116,58 @@ int Font::line_height() const {
 }
 int Font::pixel_size() const {
   return p_->size;
+}
+
+}  // namespace simreel
+
+namespace simreel {
+
+Typeface::Typeface(const std::string& path, int pixel_size)
+    : main_(std::make_unique<Font>(path, pixel_size)),
+      script_(std::make_unique<Font>(path, std::max(6, (int)std::lround(0.7 * pixel_size)))),
+      sup_((int)std::lround(0.36 * pixel_size)),
+      sub_((int)std::lround(0.22 * pixel_size)) {}
+
+int Typeface::draw(std::string_view tex, int x, int baseline, const Rgba8& color, ScreenLayer* out) {
+  parse_tex(tex, parsed_);
+  int pen = x;
+  for (const TexSpan& sp : parsed_.spans) {
+    const std::string_view s(parsed_.text.data() + sp.begin, sp.end - sp.begin);
+    Font& f = sp.shift ? *script_ : *main_;
+    const int base = baseline - (sp.shift > 0 ? sup_ : sp.shift < 0 ? -sub_ : 0);
+    const size_t first = out ? out->glyphs.size() : 0;
+    const int adv = f.draw(s, pen, base, color, out);
+    if (out && sp.accent != TexAccent::none && out->glyphs.size() > first) {
+      // The ink box of the span, then the accent's glyph centred over it, a gap above its top.
+      int left = 1 << 30, right = -(1 << 30), top = 1 << 30;
+      for (size_t k = first; k < out->glyphs.size(); ++k) {
+        const ScreenGlyph& g = out->glyphs[k];
+        left = std::min(left, g.x), right = std::max(right, g.x + g.bitmap->width);
+        top = std::min(top, g.y);
+      }
+      const char* mark = sp.accent == TexAccent::vec    ? "→"
+                         : sp.accent == TexAccent::dot  ? "˙"
+                         : sp.accent == TexAccent::ddot ? "¨"
+                         : sp.accent == TexAccent::hat  ? "ˆ"
+                                                        : "¯";
+      Font& af = sp.accent == TexAccent::vec ? *script_ : f;
+      const size_t a0 = out->glyphs.size();
+      af.draw(mark, 0, 0, color, out);
+      if (out->glyphs.size() > a0) {
+        int aleft = 1 << 30, aright = -(1 << 30), abottom = -(1 << 30);
+        for (size_t k = a0; k < out->glyphs.size(); ++k) {
+          const ScreenGlyph& g = out->glyphs[k];
+          aleft = std::min(aleft, g.x), aright = std::max(aright, g.x + g.bitmap->width);
+          abottom = std::max(abottom, g.y + g.bitmap->height);
+        }
+        const int gap = std::max(1, main_->pixel_size() / 12);
+        const int dx = (left + right) / 2 - (aleft + aright) / 2, dy = top - gap - abottom;
+        for (size_t k = a0; k < out->glyphs.size(); ++k) out->glyphs[k].x += dx, out->glyphs[k].y += dy;
+      }
+    }
+    pen += adv;
+  }
+  return pen - x;
 }
 
 }  // namespace simreel

@@ -9,6 +9,7 @@
 #include <string_view>
 
 #include "render/screen.hpp"
+#include "render/tex.hpp"
 
 namespace simreel {
 
@@ -36,6 +37,31 @@ class Font {
  private:
   struct Impl;
   std::unique_ptr<Impl> p_;
+};
+
+// Text in the TeX subset of render/tex.hpp at one size: a Font for the text and a smaller one
+// (0.7x) for subscripts, superscripts and the arrow of \vec. Superscripts are raised 0.36 em,
+// subscripts lowered 0.22 em (em: the main size in px), both on whole pixels. Plain text draws
+// exactly as Font::draw draws it.
+class Typeface {
+ public:
+  Typeface(const std::string& path, int pixel_size);  ///< throws std::runtime_error
+  // As Font::draw, for text in the TeX subset.
+  int draw(std::string_view tex, int x, int baseline, const Rgba8& color, ScreenLayer* out);
+  int width(std::string_view tex) { return draw(tex, 0, 0, {}, nullptr); }
+  Font& main() { return *main_; }
+  Font& script() { return *script_; }
+  int pixel_size() const { return main_->pixel_size(); }
+  int ascent() const { return main_->ascent(); }
+  int descent() const { return main_->descent(); }
+  int line_height() const { return main_->line_height(); }
+  int superscript_shift() const { return sup_; }  ///< px up
+  int subscript_shift() const { return sub_; }    ///< px down
+
+ private:
+  std::unique_ptr<Font> main_, script_;
+  int sup_ = 0, sub_ = 0;
+  TexText parsed_;  // storage reused
 };
 
 }  // namespace simreel

@@ -1,7 +1,7 @@
 #include "render/video_writer.hpp"
 
 #include "render/fxaa.hpp"
-#include "render/palette.hpp"
+#include "render/gif_frames.hpp"
 #include "render/yuv.hpp"
 
 extern "C" {
@@ -44,8 +44,7 @@ struct VideoWriter::Impl {
   AVStream* st = nullptr;
   AVFrame* frame = nullptr;
   AVPacket* pkt = nullptr;
-  Palette palette;               // GIF only
-  std::vector<int> dither_rows;  // GIF only: error-diffusion scratch, reused
+  std::unique_ptr<GifFrames> gif;  // GIF only: palettes by libavfilter, in two passes
   FxaaBuffers fxaa_buffers;
   bool header_written = false, finished = false;
 
@@ -53,7 +52,6 @@ struct VideoWriter::Impl {
   std::vector<std::vector<uint8_t>> slots;
   std::vector<long> slot_index;           // the frame number each slot carries: its PNG name and timestamp
   std::vector<ScreenLayer> slot_layer;    // the screen layer each slot carries (storage reused)
-  bool palette_fitted = false;            // GIF only
   size_t head = 0, tail = 0, filled = 0;  // ring indices, guarded by mu
   bool closing = false;
   std::string error;  // first error on the encoder thread
@@ -72,19 +70,32 @@ struct VideoWriter::Impl {
     if (avformat_alloc_output_context2(&fmt, nullptr, nullptr, s.path.c_str()) < 0 || !fmt)
       throw std::runtime_error("no video format for '" + s.path + "' (use .mp4, .webm or .gif)");
     const std::string ext = target.extension().string();
-    const bool gif = ext == ".gif", webm = ext == ".webm";
-    const AVCodec* codec = avcodec_find_encoder_by_name(gif ? "gif" : webm ? "libvpx-vp9" : "libx264");
+    const bool is_gif = ext == ".gif", webm = ext == ".webm";
+    const AVCodec* codec = avcodec_find_encoder_by_name(is_gif ? "gif" : webm ? "libvpx-vp9" : "libx264");
     if (!codec) throw std::runtime_error("this FFmpeg has no encoder for '" + ext + "'");
     st = avformat_new_stream(fmt, nullptr);
     enc = avcodec_alloc_context3(codec);
     enc->width = s.width;
     enc->height = s.height;
-    const AVRational rate = av_d2q(s.fps, 100000);
+    AVRational rate = av_d2q(s.fps, 100000);
+    if (is_gif) {
+      GifSettings g;
+      g.width = s.width;
+      g.height = s.height;
+      g.fps = s.fps;
+      g.out_width = s.gif_width;
+      g.out_fps = s.gif_fps > 0 ? s.gif_fps : std::min(s.fps, 50.0);
+      g.dir = target.has_parent_path() ? target.parent_path().string() : ".";
+      gif = std::make_unique<GifFrames>(g);
+      enc->width = gif->out_width();
+      enc->height = gif->out_height();
+      rate = av_d2q(gif->out_fps(), 100000);
+    }
     enc->time_base = av_inv_q(rate);
     enc->framerate = rate;
-    enc->pix_fmt = gif ? AV_PIX_FMT_PAL8 : AV_PIX_FMT_YUV420P;
+    enc->pix_fmt = is_gif ? AV_PIX_FMT_PAL8 : AV_PIX_FMT_YUV420P;
     enc->gop_size = (int)std::max(1.0, s.fps * 2);
-    if (!gif) {
+    if (!is_gif) {
       enc->color_range = AVCOL_RANGE_MPEG;
       enc->colorspace = AVCOL_SPC_BT709;
       enc->color_primaries = AVCOL_PRI_BT709;
@@ -93,7 +104,7 @@ struct VideoWriter::Impl {
     }
     if (fmt->oformat->flags & AVFMT_GLOBALHEADER) enc->flags |= AV_CODEC_FLAG_GLOBAL_HEADER;
     AVDictionary* opts = nullptr;
-    if (!gif && !webm) {
+    if (!is_gif && !webm) {
       av_dict_set(&opts, "preset", s.preset.c_str(), 0);
       av_dict_set(&opts, "crf", std::to_string(s.crf).c_str(), 0);
     } else if (webm) {
@@ -120,6 +131,8 @@ struct VideoWriter::Impl {
     av_dict_free(&mopts);
     if (e < 0) throw std::runtime_error("cannot start '" + s.path + "': " + av_err(e));
     header_written = true;
+    pkt = av_packet_alloc();
+    if (is_gif) return;  // GIF frames come from GifFrames, in finish()
     frame = av_frame_alloc();
     frame->format = enc->pix_fmt;
     frame->width = s.width;
@@ -129,8 +142,7 @@ struct VideoWriter::Impl {
     frame->color_primaries = enc->color_primaries;
     frame->color_trc = enc->color_trc;
     if (av_frame_get_buffer(frame, 0) < 0) throw std::runtime_error("out of memory for a video frame");
-    pkt = av_packet_alloc();
-    // Pixel conversion in encode(): palette mapping for GIF, render/yuv.hpp for YUV 4:2:0.
+    // Pixel conversion in encode(): render/yuv.hpp for YUV 4:2:0.
   }
 
   void drain_packets() {
@@ -154,19 +166,19 @@ struct VideoWriter::Impl {
       write_png((std::filesystem::path(s.frames_dir) / name).string(), rgba, s.width, s.height);
     }
     if (!enc) return;
-    if (av_frame_make_writable(frame) < 0) throw std::runtime_error("video frame not writable");
-    if (enc->pix_fmt == AV_PIX_FMT_PAL8) {
-      // GIF: one palette for the clip, fitted to its first frame (render/palette.hpp).
-      if (!palette_fitted) palette = fit_palette(rgba, s.width, s.height);
-      palette_fitted = true;
-      map_to_palette(palette, rgba, s.width, s.height, frame->data[0], frame->linesize[0], dither_rows);
-      std::memcpy(frame->data[1], palette.argb.data(), sizeof palette.argb);
-    } else {
-      rgba_to_yuv420_bt709(rgba, s.width, s.height, frame->data[0], frame->linesize[0], frame->data[1],
-                           frame->linesize[1], frame->data[2], frame->linesize[2]);
+    if (gif) {
+      gif->add(rgba, index);  // pass 1; the GIF is encoded in finish()
+      return;
     }
+    if (av_frame_make_writable(frame) < 0) throw std::runtime_error("video frame not writable");
+    rgba_to_yuv420_bt709(rgba, s.width, s.height, frame->data[0], frame->linesize[0], frame->data[1],
+                         frame->linesize[1], frame->data[2], frame->linesize[2]);
     frame->pts = index;
-    const int e = avcodec_send_frame(enc, frame);
+    send(frame);
+  }
+
+  void send(AVFrame* f) {
+    const int e = avcodec_send_frame(enc, f);
     if (e < 0) throw std::runtime_error("encoding failed: " + av_err(e));
     drain_packets();
   }
@@ -208,6 +220,7 @@ struct VideoWriter::Impl {
     av_packet_free(&pkt);
     av_frame_free(&frame);
     avcodec_free_context(&enc);
+    gif.reset();
     if (fmt) {
       if (fmt->pb) avio_closep(&fmt->pb);
       avformat_free_context(fmt);
@@ -264,8 +277,7 @@ void VideoWriter::commit(long index, const ScreenLayer* layer) {
   P.slot_index[P.head] = index;
   // Vector assignment reuses the slot's storage: no allocation once the slots have grown.
   if (layer) {
-    P.slot_layer[P.head].rects = layer->rects;
-    P.slot_layer[P.head].glyphs = layer->glyphs;
+    P.slot_layer[P.head] = *layer;
   } else {
     P.slot_layer[P.head].clear();
   }
@@ -285,6 +297,7 @@ void VideoWriter::finish() {
   P.stop_worker();
   if (!P.error.empty()) throw std::runtime_error(P.error);
   if (P.enc) {
+    if (P.gif) P.gif->finish([&](AVFrame* f) { P.send(f); });  // pass 2: palette, frames mapped
     avcodec_send_frame(P.enc, nullptr);
     P.drain_packets();
     const int e = av_write_trailer(P.fmt);

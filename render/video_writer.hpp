@@ -2,7 +2,8 @@
 // rendering and encoding overlap and memory stays flat however long the clip.
 //   .mp4 .mov .mkv  H.264 (libx264, yuv420p, CRF, +faststart), BT.709 tagged
 //   .webm           VP9 (libvpx-vp9, realtime, CRF)
-//   .gif            GIF (256-colour palette fitted to the first frame written, Floyd-Steinberg dithered)
+//   .gif            GIF: one palette for the clip by FFmpeg's palettegen/paletteuse filters, in two
+//                   passes (render/gif_frames.hpp); optionally scaled and at a lower frame rate
 // The file is written beside the target as "<name>.partial-<pid>.<ext>" and renamed into place by
 // finish(); destroying the writer without finish() removes it. The target never holds a partial file.
 #pragma once
@@ -22,7 +23,9 @@ struct VideoSettings {
   double fps = 30;
   int crf = 20;  ///< x264 quality (lower is better; 18-23 typical)
   std::string preset = "veryfast";
-  int queue = 4;  ///< frames in flight between renderer and encoder
+  int gif_width = 0;   ///< GIF only: output width, px (the height keeps the aspect); 0: `width`
+  double gif_fps = 0;  ///< GIF only: frames/s, at most `fps` and 50; 0: `fps` up to 50
+  int queue = 4;       ///< frames in flight between renderer and encoder
   // FXAA (render/fxaa.hpp) on each frame, on the encoding thread, before PNG and video: there it
   // overlaps the rendering of the next frame instead of delaying it. Then each frame's screen
   // layer (commit's `layer`) is composited over it: the renderer's post stage, moved to this

@@ -329,7 +329,7 @@ struct ManifoldSolve {
   double total_normal = 0, twist_limit = 0;
   double total_normal_pass = 0, twist_pass = 0, change = 0, scale = 1e-300;
   int pass = 0;
-  bool impact = false, done = false, had_impact = false;
+  bool impact = false, done = false, had_impact = false, struck = false;
 
   static constexpr int kPasses = 32, kRestingPasses = 8;
   static constexpr double kImpactTolerance = 1e-6, kRestingTolerance = 1e-4;
@@ -410,6 +410,7 @@ struct ManifoldSolve {
     total_normal_pass += total;
     twist_pass += p.lever * total;
     impact = impact || (s > 0 && total > 0);
+    struck = struck || (s > 0 && total > 0 && vn < -kImpactSpeed);
     change = std::max(change, std::fabs(lambda));
     scale = std::max(scale, total);
     apply_normal<kStatic>(A, B, k, p, lambda);
@@ -486,8 +487,9 @@ struct ManifoldSolve {
 
 // Flattened: GCC at -O2 inlines neither Eigen's 3x3 products nor the helpers above here, and the
 // calls cost more than the arithmetic (the order of operations is the same either way).
+// Returns whether the manifold was struck (see kImpactSpeed).
 template <int kStatic>
-__attribute__((flatten)) void solve_one(ContactConstraint& k, const SolveParams& q,
+__attribute__((flatten)) bool solve_one(ContactConstraint& k, const SolveParams& q,
                                         std::vector<SolverBody>& sb) {
   ManifoldSolve<kStatic> m(k, q, sb);
   while (!m.done) {
@@ -496,6 +498,7 @@ __attribute__((flatten)) void solve_one(ContactConstraint& k, const SolveParams&
     m.end_pass();
   }
   m.finish(sb);
+  return m.struck;
 }
 
 // Two manifolds with no body in common (bar the static one, which is never written), each in
@@ -503,7 +506,7 @@ __attribute__((flatten)) void solve_one(ContactConstraint& k, const SolveParams&
 // manifold is one long chain of dependent operations, and the processor runs two such chains
 // side by side.
 template <int kStatic0, int kStatic1>
-__attribute__((flatten)) void solve_two(ContactConstraint& k0, ContactConstraint& k1, const SolveParams& q,
+__attribute__((flatten)) bool solve_two(ContactConstraint& k0, ContactConstraint& k1, const SolveParams& q,
                                         std::vector<SolverBody>& sb) {
   ManifoldSolve<kStatic0> m0(k0, q, sb);
   ManifoldSolve<kStatic1> m1(k1, q, sb);
@@ -530,10 +533,11 @@ __attribute__((flatten)) void solve_two(ContactConstraint& k0, ContactConstraint
   }
   m0.finish(sb);
   m1.finish(sb);
+  return m0.struck || m1.struck;
 }
 
 template <int kStatic0>
-void solve_two_dispatch(ContactConstraint& k0, ContactConstraint& k1, const SolveParams& q,
+bool solve_two_dispatch(ContactConstraint& k0, ContactConstraint& k1, const SolveParams& q,
                         std::vector<SolverBody>& sb) {
   switch (static_side(k1)) {
     case kStaticA:
@@ -585,40 +589,42 @@ void ContactSolver::schedule() {
   }
 }
 
-void ContactSolver::solve(double h, bool use_bias, bool first_iteration) {
+bool ContactSolver::solve(double h, bool use_bias, bool first_iteration) {
   const SolveParams q{1.0 / h,
                       in_.settings.max_push_out,
                       in_.settings.linear_slop,
                       1e-3 * in_.settings.linear_slop + 1e-12,
                       use_bias,
                       first_iteration};
+  bool struck = false;
   for (const auto& [i, j] : slots_) {
     ContactConstraint& k0 = cons_[i];
     if (j < 0) {
       switch (static_side(k0)) {
         case kStaticA:
-          solve_one<kStaticA>(k0, q, sb_);
+          struck |= solve_one<kStaticA>(k0, q, sb_);
           break;
         case kStaticB:
-          solve_one<kStaticB>(k0, q, sb_);
+          struck |= solve_one<kStaticB>(k0, q, sb_);
           break;
         default:
-          solve_one<kNoneStatic>(k0, q, sb_);
+          struck |= solve_one<kNoneStatic>(k0, q, sb_);
       }
       continue;
     }
     ContactConstraint& k1 = cons_[j];
     switch (static_side(k0)) {
       case kStaticA:
-        solve_two_dispatch<kStaticA>(k0, k1, q, sb_);
+        struck |= solve_two_dispatch<kStaticA>(k0, k1, q, sb_);
         break;
       case kStaticB:
-        solve_two_dispatch<kStaticB>(k0, k1, q, sb_);
+        struck |= solve_two_dispatch<kStaticB>(k0, k1, q, sb_);
         break;
       default:
-        solve_two_dispatch<kNoneStatic>(k0, k1, q, sb_);
+        struck |= solve_two_dispatch<kNoneStatic>(k0, k1, q, sb_);
     }
   }
+  return struck;
 }
 
 void ContactSolver::integrate_positions(double h) {

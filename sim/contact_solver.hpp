@@ -107,7 +107,8 @@ class ContactSolver {
                std::vector<int>& solver_index);
   void integrate_velocities(double h);
   void warm_start();
-  void solve(double h, bool use_bias, bool first_iteration);
+  // One Gauss-Seidel sweep over the manifolds; returns whether one was struck (kImpactSpeed).
+  bool solve(double h, bool use_bias, bool first_iteration);
   void integrate_positions(double h);
   void restitution(double threshold);  ///< call after each substep's relax
   void store_impulses(std::vector<Contact>& contacts) const;

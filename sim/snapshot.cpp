@@ -170,6 +170,7 @@ void World::save_state(std::ostream& os) const {
   }
   o.u32((uint32_t)fired_.size());
   for (char f : fired_) o.u8((uint8_t)f);
+  o.i32(settle_substeps_);
   if (!os) throw std::runtime_error("could not write the saved state");
 }
 
@@ -180,7 +181,7 @@ void World::restore_state(std::istream& is) {
     throw InputError("not a simreel saved state");
   In in(is);
   const uint32_t version = in.u32();
-  if (version != kStateVersion && version != 1)
+  if (version < 1 || version > kStateVersion)
     throw InputError("saved state has version " + std::to_string(version) + "; this simreel reads version " +
                      std::to_string(kStateVersion));
   if (in.u64() != fingerprint())
@@ -250,7 +251,14 @@ void World::restore_state(std::istream& is) {
       f = (char)b;
     }
   }
+  // Version 3: substeps left with an impact's extra sweep (none before).
+  int settle = 0;
+  if (version >= 3) {
+    settle = in.i32();
+    if (settle < 0 || settle > 100000) throw InputError("saved state is damaged (impact settling)");
+  }
   fired_ = std::move(fired);
+  settle_substeps_ = settle;
   state_ = std::move(state);
   wrench_ = std::move(wrench);
   wrench_dirty_ = dirty;

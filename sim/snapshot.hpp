@@ -19,6 +19,6 @@
 
 namespace simreel {
 
-constexpr uint32_t kStateVersion = 2;
+constexpr uint32_t kStateVersion = 3;
 
 }  // namespace simreel

@@ -96,6 +96,7 @@ struct Profile {
   long pairs = 0;             ///< candidate pairs from the broad phase, summed over steps
   long contact_points = 0;    ///< manifold points, summed over steps
   long solver_bodies = 0;     ///< bodies stepped by the contact solver, summed over steps
+  long impact_substeps = 0;   ///< substeps with an impact (one more sweep: kImpactSpeed)
 };
 
 // What contact did over the run (simulate --json).
@@ -258,6 +259,7 @@ class World {
   std::vector<Pose> poses_;                  ///< per moving shape, world pose this step (broad phase)
   std::vector<std::pair<int, int>> ignore_;  ///< body pairs, (lo, hi), sorted
   BroadPhase broad_;
+  int settle_substeps_ = 0;  ///< substeps left with one more sweep after an impact (saved state)
   std::vector<uint64_t> pairs_;
   std::vector<Contact> contacts_, contacts_next_;
   std::vector<char> in_contact_;        ///< per body, this step

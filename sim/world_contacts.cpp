@@ -239,9 +239,18 @@ bool World::stage_solve_contacts() {
       StageTimer t(profiling_, &sec[(int)Stage::warm_start]);
       solver_.warm_start();
     }
+    // One more sweep each while the last impact settles (kImpactSettleTime), and one at once on
+    // an impact in this substep's first sweeps.
+    const int sweeps = cs.iterations + (settle_substeps_ > 0 ? 1 : 0);
     {
       StageTimer t(profiling_, &sec[(int)Stage::solve]);
-      for (int it = 0; it < cs.iterations; ++it) solver_.solve(h, true, it == 0);
+      bool struck = false;
+      for (int it = 0; it < sweeps; ++it) struck |= solver_.solve(h, true, it == 0);
+      if (struck && settle_substeps_ == 0) solver_.solve(h, true, false);
+      if (struck) {
+        settle_substeps_ = (int)std::ceil(kImpactSettleTime / h - 1e-9) + 1;
+        ++profile_.impact_substeps;
+      }
     }
     {
       StageTimer t(profiling_, &sec[(int)Stage::integrate_positions]);
@@ -249,7 +258,9 @@ bool World::stage_solve_contacts() {
     }
     {
       StageTimer t(profiling_, &sec[(int)Stage::relax]);
-      for (int it = 0; it < cs.iterations; ++it) solver_.solve(h, false, false);
+      const int relax = cs.iterations + (settle_substeps_ > 0 ? 1 : 0);
+      for (int it = 0; it < relax; ++it) solver_.solve(h, false, false);
+      if (settle_substeps_ > 0) --settle_substeps_;
     }
     {
       StageTimer t(profiling_, &sec[(int)Stage::restitution]);

@@ -16,47 +16,19 @@
 #include "app/check/goldens.hpp"
 #include "app/check/junit.hpp"
 #include "app/check/metrics_report.hpp"
+#include "app/cli.hpp"
 #include "app/commands.hpp"
 #include "app/frame_loop.hpp"
+#include "app/panes.hpp"
 #include "app/regress/image.hpp"
 #include "app/regress/metrics.hpp"
 #include "app/regress/report.hpp"
-#include "app/scene_view.hpp"
 #include "app/text.hpp"
 #include "sim/error.hpp"
 
 namespace simreel {
 
 namespace {
-
-const char* kCheckHelp = R"(usage: simreel check SCENE... --goldens DIR [options]
-
-Runs each scene and compares chosen frames with goldens in DIR/<scene>/ (PNGs and manifest.json):
-first the physics (every body's pose and velocity, relative tolerance 1e-9: "physics changed"),
-then the pixels ("rendering changed"). Only the checked frames are drawn; the physics runs
-through the rest.
-
-options:
-  --goldens DIR       the golden folder (required)
-  --update MODE       missing: write goldens that do not exist yet (the default on a terminal);
-                      changed: rewrite those that fail; all: rewrite every checked frame;
-                      none: write nothing (the default when CI is set or output is not a terminal)
-  --frames SPEC       the moments to check, overriding the scene's test.frames (default
-                      "0%, 25%, 50%, 75%, 100%": by time, so a new fps keeps the goldens valid):
-                      frame numbers N, ranges A:B, times Ts, shares P%
-  --tolerance MODE    auto (default): exact pixels when the renderer fingerprint matches the
-                      golden's, else portable; exact: the decoded pixels must be identical;
-                      portable: a perceptual comparison that ignores anti-aliasing and noise but
-                      fails on many differing pixels or one cluster of them
-  --report DIR        write DIR/index.html: one self-contained page to review the differences
-  --junit FILE        write JUnit XML (one test case per scene and frame) for CI systems
-  --gl BACKEND        osmesa or egl
-  --quiet             print only failures and the summary
-
-Frame size: the scene's test.width x test.height (default 480x270, small goldens).
-Exit codes: 0 all pass (or accepted by --update), 1 a difference, 2 bad input or a golden missing
-without --update.
-)";
 
 enum class Update { missing, changed, all, none };
 enum class Tolerance { automatic, exact, portable };
@@ -105,63 +77,83 @@ struct SceneOutcome {
   int passed = 0, failed = 0, missing = 0, written = 0;
 };
 
+struct CheckOptions {
+  std::vector<std::string> scenes;
+  std::optional<std::string> goldens, update, frames, tolerance, report, junit, gl;
+  bool quiet = false;
+};
+
+// check's option table.
+void check_table(CLI::App& app, CheckOptions& o) {
+  cli::setup(app, "check",
+             "Runs each scene and compares chosen frames with goldens in DIR/<scene>/ (PNGs and "
+             "manifest.json): first the physics (every body's pose and velocity, relative tolerance 1e-9: "
+             "\"physics changed\"), then the pixels (\"rendering changed\"). Only the checked frames are "
+             "drawn; the physics runs through the rest.",
+             "Frame size: the scene's test.width x test.height (default 480x270, small goldens).\n"
+             "Exit codes: 0 all pass (or accepted by --update), 1 a difference, 2 bad input or a golden "
+             "missing without --update.");
+  cli::add_positionals(app, o.scenes);
+  app.add_option("--goldens", o.goldens, "the golden folder (required)")->type_name("DIR");
+  app.add_option(
+         "--update", o.update,
+         "missing: write goldens that do not exist yet (the default on a terminal); changed: rewrite "
+         "those that fail; all: rewrite every checked frame; none: write nothing (the default when CI "
+         "is set or output is not a terminal)")
+      ->check(cli::choice({"missing", "changed", "all", "none"}));
+  app.add_option("--frames", o.frames,
+                 "the moments to check, overriding the scene's test.frames (default \"0%, 25%, 50%, 75%, "
+                 "100%\": by time, so a new fps keeps the goldens valid): frame numbers N, ranges A:B, times "
+                 "Ts, shares P%")
+      ->type_name("SPEC");
+  app.add_option("--tolerance", o.tolerance,
+                 "auto (default): exact pixels when the renderer fingerprint matches the golden's, else "
+                 "portable; exact: the decoded pixels must be identical; portable: a perceptual comparison "
+                 "that ignores anti-aliasing and noise but fails on many differing pixels or one cluster of "
+                 "them")
+      ->check(cli::choice({"auto", "exact", "portable"}));
+  app.add_option("--report", o.report,
+                 "write DIR/index.html: one self-contained page to review the differences")
+      ->type_name("DIR");
+  app.add_option("--junit", o.junit, "write JUnit XML (one test case per scene and frame) for CI systems")
+      ->type_name("FILE");
+  app.add_option("--gl", o.gl, "OpenGL context: osmesa or egl")->check(cli::choice({"osmesa", "egl"}));
+  app.add_flag("--quiet", o.quiet, "print only failures and the summary");
+}
+
 }  // namespace
 
 int cmd_check(const std::vector<std::string>& args) {
-  const ParsedArgs a = parse_args(args, {{"--goldens", true},
-                                         {"--update", true},
-                                         {"--frames", true},
-                                         {"--tolerance", true},
-                                         {"--report", true},
-                                         {"--junit", true},
-                                         {"--gl", true},
-                                         {"--quiet", false},
-                                         {"--help", false},
-                                         {"-h", false}});
-  if (a.has("--help") || a.has("-h")) {
-    std::fputs(kCheckHelp, stdout);
-    return kExitOk;
-  }
-  if (a.positional.empty()) throw UsageError("check takes one or more scene files");
-  if (!a.has("--goldens")) throw UsageError("check needs --goldens DIR");
-  const std::string goldens = a.options.at("--goldens");
+  CheckOptions o;
+  CLI::App app;
+  check_table(app, o);
+  if (!cli::parse(app, args)) return kExitOk;
+  if (o.scenes.empty()) throw UsageError("check takes one or more scene files");
+  if (!o.goldens) throw UsageError("check needs --goldens DIR");
+  const std::string goldens = *o.goldens;
   Update update = std::getenv("CI") || !isatty(1) ? Update::none : Update::missing;
-  if (a.has("--update")) {
-    const std::string& u = a.options.at("--update");
-    if (u == "missing")
-      update = Update::missing;
-    else if (u == "changed")
-      update = Update::changed;
-    else if (u == "all")
-      update = Update::all;
-    else if (u == "none")
-      update = Update::none;
-    else
-      throw UsageError("unknown --update '" + u + "' (missing, changed, all, none)");
+  if (o.update) {  // names checked by the table
+    const std::string& u = *o.update;
+    update = u == "missing"   ? Update::missing
+             : u == "changed" ? Update::changed
+             : u == "all"     ? Update::all
+                              : Update::none;
   }
   Tolerance tolerance = Tolerance::automatic;
-  if (a.has("--tolerance")) {
-    const std::string& t = a.options.at("--tolerance");
-    if (t == "auto")
-      tolerance = Tolerance::automatic;
-    else if (t == "exact")
-      tolerance = Tolerance::exact;
-    else if (t == "portable")
-      tolerance = Tolerance::portable;
-    else
-      throw UsageError("unknown --tolerance '" + t + "' (auto, exact, portable)");
-  }
+  if (o.tolerance)
+    tolerance = *o.tolerance == "exact"      ? Tolerance::exact
+                : *o.tolerance == "portable" ? Tolerance::portable
+                                             : Tolerance::automatic;
   ViewOptions vo;
-  if (a.has("--gl")) {
-    vo.gl = a.options.at("--gl");
-    const auto b = gl_backend_from_name(vo.gl);
-    if (!b) throw UsageError("unknown --gl '" + vo.gl + "' (osmesa, egl)");
-    if (!gl_backend_built(*b)) throw UsageError("this simreel was built without the " + vo.gl + " backend");
+  if (o.gl) {
+    vo.gl = *o.gl;
+    if (!gl_backend_built(*gl_backend_from_name(vo.gl)))
+      throw UsageError("this simreel was built without the " + vo.gl + " backend");
   }
-  const bool quiet = a.has("--quiet");
+  const bool quiet = o.quiet;
   // Outputs are checked before anything runs.
   std::string err;
-  if (a.has("--junit") && !ensure_parent_dir(a.options.at("--junit"), &err)) throw std::runtime_error(err);
+  if (o.junit && !ensure_parent_dir(*o.junit, &err)) throw std::runtime_error(err);
 
   ReportInput report;
   report.title = "simreel check";
@@ -171,7 +163,7 @@ int cmd_check(const std::vector<std::string>& args) {
   int bad_input = 0, differ = 0, missing = 0, frames_total = 0, passed_total = 0, written_total = 0;
   std::set<std::string> names;
 
-  for (const std::string& path : a.positional) {
+  for (const std::string& path : o.scenes) {
     Scene scene;
     try {
       scene = load_scene(path);
@@ -194,7 +186,7 @@ int cmd_check(const std::vector<std::string>& args) {
       continue;
     }
     fit_camera(scene, 1);  // camera: { auto: true }
-    const std::string spec = a.has("--frames") ? a.options.at("--frames") : scene.test.frames;
+    const std::string spec = o.frames ? *o.frames : scene.test.frames;
     FrameLoop loop(scene, 1);
     FrameTargets targets;
     try {
@@ -222,19 +214,30 @@ int cmd_check(const std::vector<std::string>& args) {
     // Run: the physics through every step, a frame drawn only at the checked moments.
     vo.width = scene.test.width;
     vo.height = scene.test.height;
-    SceneView view(scene, loop.world(), vo);
-    Renderer renderer(view.settings, view.meshes);  // FXAA in the renderer: the frame `render` writes
-    const Fingerprint fp = fingerprint(renderer.description());
+    // One view or panes (app/panes.hpp); FXAA in the renderer: the frame `render` writes.
+    SceneFrames view(scene, loop, vo);
+    const Fingerprint fp = fingerprint(view.description());
     std::vector<Checked> got;
     double render_s = 0;
     FrameLoop::Hooks hooks;
     hooks.step = view.step_hook();  // trails: every physics step, drawn or not
     hooks.frame = [&](const FrameTarget& t, const World& w) {
       const auto t0 = std::chrono::steady_clock::now();
-      Checked c{t, Image{}, body_states(w)};
-      c.image.width = view.settings.width;
-      c.image.height = view.settings.height;
-      const uint8_t* px = view.draw(renderer, w, nullptr, t.index);
+      // Checked moments are simulated times (scenes/README.md, `test`); the HUD's frame is the
+      // first video frame that shows the step (with a `time:` block it is not t * fps).
+      const long frame = scene.time.identity() ? t.index : loop.video_frame_at_step(t.step);
+      const uint8_t* px = view.draw(w, nullptr, frame);
+      Checked c{t, Image{}, {}};
+      const std::vector<const World*> worlds = view.worlds();
+      // The variants' bodies after the scene's, as "VARIANT/BODY".
+      for (size_t k = 0; k < worlds.size(); ++k) {
+        std::vector<BodyState> b = body_states(*worlds[k]);
+        if (k > 0)
+          for (BodyState& bs : b) bs.name = scene.views.variants[k - 1].name + "/" + bs.name;
+        c.bodies.insert(c.bodies.end(), b.begin(), b.end());
+      }
+      c.image.width = view.width();
+      c.image.height = view.height();
       c.image.rgba.assign(px, px + (size_t)c.image.width * c.image.height * 4);
       got.push_back(std::move(c));
       render_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -318,7 +321,7 @@ int cmd_check(const std::vector<std::string>& args) {
         pass = physics.empty() && g->step == c.target.step && pixels_ok;
         put_metrics(r, rf);
         if (report.golden_fingerprint.empty() || !pass) report.golden_fingerprint = g->fingerprint;
-        if (a.has("--report")) {
+        if (o.report) {
           rf.expected_png = slurp((std::filesystem::path(dir) / g->file).string());
           if (!pass && r.same_size) rf.diff_png = encode_png(diff);
         }
@@ -357,7 +360,7 @@ int cmd_check(const std::vector<std::string>& args) {
         ++so.failed;
       else
         ++so.missing;
-      if (a.has("--report")) rf.actual_png = encode_png(c.image);
+      if (o.report) rf.actual_png = encode_png(c.image);
       report.actual_fingerprint = fp;
 
       char t[32];
@@ -432,11 +435,11 @@ int cmd_check(const std::vector<std::string>& args) {
   report.summary = summary.str();
   std::printf("%s\n", report.summary.c_str());
   if (differ) std::printf("to accept the changes: %s\n", report.accept_command.c_str());
-  if (a.has("--report")) {
-    const std::string page = write_report(a.options.at("--report"), report);
+  if (o.report) {
+    const std::string page = write_report(*o.report, report);
     std::printf("report: %s\n", page.c_str());
   }
-  if (a.has("--junit")) write_junit(a.options.at("--junit"), "simreel check", junit);
+  if (o.junit) write_junit(*o.junit, "simreel check", junit);
   if (bad_input || missing) return kExitBadInput;
   return differ ? kExitFailure : kExitOk;
 }

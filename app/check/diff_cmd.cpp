@@ -10,6 +10,7 @@
 
 #include "app/check/metrics_report.hpp"
 #include "app/check/video_frames.hpp"
+#include "app/cli.hpp"
 #include "app/commands.hpp"
 #include "app/regress/image.hpp"
 #include "app/regress/metrics.hpp"
@@ -22,22 +23,29 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const char* kDiffHelp = R"(usage: simreel diff A B [options]
+struct DiffOptions {
+  std::vector<std::string> inputs;
+  std::optional<std::string> out, tolerance;
+  bool quiet = false;
+};
 
-Compares A with B frame by frame. Each is a PNG, a folder of PNGs (matched by file name) or a
-video (.mp4, .webm, .gif, ...; decoded with the FFmpeg libraries and matched by timestamp).
-Prints per-frame metrics (differing pixels, largest cluster, PSNR, SSIM) and a summary; frame
-count, size and frame rate mismatches are reported as differences.
-
-options:
-  --out DIR           write diff images of the worst frames and DIR/index.html, the review page
-  --tolerance MODE    portable (default): a perceptual comparison that ignores anti-aliasing and
-                      noise but fails on many differing pixels or one cluster of them; exact: any
-                      changed pixel fails
-  --quiet             print only differing frames and the summary
-
-Exit codes: 0 no difference, 1 a difference, 2 bad input (unreadable file).
-)";
+// diff's option table.
+void diff_table(CLI::App& app, DiffOptions& o) {
+  cli::setup(app, "diff",
+             "Compares A with B frame by frame. Each is a PNG, a folder of PNGs (matched by file name) or a "
+             "video (.mp4, .webm, .gif, ...; decoded with the FFmpeg libraries and matched by timestamp). "
+             "Prints per-frame metrics (differing pixels, largest cluster, PSNR, SSIM) and a summary; frame "
+             "count, size and frame rate mismatches are reported as differences.",
+             "Exit codes: 0 no difference, 1 a difference, 2 bad input (unreadable file).");
+  cli::add_positionals(app, o.inputs);
+  app.add_option("--out", o.out, "write diff images of the worst frames and DIR/index.html, the review page")
+      ->type_name("DIR");
+  app.add_option("--tolerance", o.tolerance,
+                 "portable (default): a perceptual comparison that ignores anti-aliasing and noise but fails "
+                 "on many differing pixels or one cluster of them; exact: any changed pixel fails")
+      ->check(cli::choice({"portable", "exact"}));
+  app.add_flag("--quiet", o.quiet, "print only differing frames and the summary");
+}
 
 // One side of the comparison, read a frame at a time.
 class Source {
@@ -127,23 +135,15 @@ std::string fmt(const char* f, double v) {
 }  // namespace
 
 int cmd_diff(const std::vector<std::string>& args) {
-  const ParsedArgs a = parse_args(
-      args, {{"--out", true}, {"--tolerance", true}, {"--quiet", false}, {"--help", false}, {"-h", false}});
-  if (a.has("--help") || a.has("-h")) {
-    std::fputs(kDiffHelp, stdout);
-    return kExitOk;
-  }
-  if (a.positional.size() != 2) throw UsageError("diff takes two inputs, A and B");
+  DiffOptions o;
+  CLI::App app;
+  diff_table(app, o);
+  if (!cli::parse(app, args)) return kExitOk;
+  if (o.inputs.size() != 2) throw UsageError("diff takes two inputs, A and B");
   CompareOptions opt;
-  if (a.has("--tolerance")) {
-    const std::string& t = a.options.at("--tolerance");
-    if (t == "exact")
-      opt = CompareOptions::exact();
-    else if (t != "portable")
-      throw UsageError("unknown --tolerance '" + t + "' (portable, exact)");
-  }
-  const bool quiet = a.has("--quiet");
-  std::unique_ptr<Source> A = open_source(a.positional[0]), B = open_source(a.positional[1]);
+  if (o.tolerance == "exact") opt = CompareOptions::exact();  // names checked by the table
+  const bool quiet = o.quiet;
+  std::unique_ptr<Source> A = open_source(o.inputs[0]), B = open_source(o.inputs[1]);
   std::vector<std::string> mismatches;
   if (A->timed() && B->timed() && A->fps() > 0 && B->fps() > 0 &&
       std::fabs(A->fps() - B->fps()) > 1e-6 * A->fps())
@@ -231,7 +231,7 @@ int cmd_diff(const std::vector<std::string>& args) {
                   r.same_size ? "" : ("  (" + r.reason + ")").c_str());
     // Keep the images of the worst frames only: a long video never sits in memory.
     const double badness = r.same_size ? (r.pass ? 0.0 : 1.0) + r.diff_ratio + (1 - r.ssim) : 2.0;
-    if (a.has("--out") && badness > 0 && (worst.size() < 6 || badness > worst.rbegin()->first)) {
+    if (o.out && badness > 0 && (worst.size() < 6 || badness > worst.rbegin()->first)) {
       kept.resize(frames.size() + 1);
       kept[frames.size()] = std::array<Image, 3>{ia, ib, diff};
       worst.emplace(badness + 1e-12 * (double)frames.size(), frames.size());
@@ -257,8 +257,8 @@ int cmd_diff(const std::vector<std::string>& args) {
   for (const std::string& m : mismatches) summary += "; " + m;
   std::printf("%s\n", summary.c_str());
 
-  if (a.has("--out")) {
-    const std::string out = a.options.at("--out");
+  if (o.out) {
+    const std::string out = *o.out;
     std::error_code ec;
     fs::create_directories(out, ec);
     if (ec) throw std::runtime_error("cannot create '" + out + "': " + ec.message());

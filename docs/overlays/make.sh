@@ -85,4 +85,69 @@ handle "[ angular_momentum, angular_velocity ]" '
 overlays:
   title: "Title"
   hud: ["t = {t:.2f} s", "ω₂ = {omega_body.y:+.2f} rad/s", "E/E₀ − 1 = {E_drift:+.1e}"]' > "$tmp/hud.yaml" && render hud 2.6
+# Forces: a box pushed off-centre by a world force and turned by a torque, on a spring to an
+# anchor, under drag, its weight drawn.
+cat > "$tmp/forces.yaml" <<YAML
+simulation: { duration: 2 }
+video: { width: 320, height: 180 }
+camera: { position: [0.7, -2.6, 1.3], look_at: [0.0, 0, 1.0], fov: 40 }
+bodies:
+  - name: box
+    position: [0, 0, 0.9]
+    color: [0.75, 0.7, 0.6]
+    linear_velocity: [0, 0, -1.2]
+    show: [ { forces: { gravity: true } } ]
+    colliders: [ { shape: box, size: [0.4, 0.3, 0.3], density: 300 } ]
+forces:
+  - { type: force, body: box, vector: [30, 0, 0], at: [0.2, 0, -0.1] }
+  - { type: torque, body: box, vector: [2, -1, 1.5] }
+  - { type: spring, body: box, point: [0, 0, 0.15], anchor: [-0.8, 0, 1.9], stiffness: 60, rest_length: 0.5 }
+  - { type: drag, body: box, linear: 8 }
+YAML
+render forces 0.05
+# Contacts: a box resting on a larger one on the ground, a ball against them.
+cat > "$tmp/contacts.yaml" <<YAML
+simulation: { duration: 1.5, contacts: { rolling_resistance: 0.2 } }
+video: { width: 320, height: 180 }
+camera: { position: [1.05, -1.35, 0.8], look_at: [0.1, 0, 0.22], fov: 40 }
+ground: { height: 0, tile: 0.5 }
+bodies:
+  - { name: low, position: [0, 0, 0.15], color: [0.8, 0.25, 0.2], show: [ contacts ],
+      colliders: [ { shape: box, size: [0.6, 0.5, 0.3], density: 500 } ] }
+  - { name: top, position: [0.05, 0, 0.42], color: [0.6, 0.35, 0.7], show: [ contacts ],
+      colliders: [ { shape: box, size: [0.3, 0.3, 0.24], density: 800 } ] }
+  - { name: ball, position: [0.45, -0.1, 0.15], color: [0.2, 0.45, 0.8], show: [ contacts ],
+      colliders: [ { shape: sphere, radius: 0.15, density: 1000 } ] }
+YAML
+render contacts 1.2
+# The 2D layer: a caption, a label, a legend, an inset plot, TeX in every text.
+handle_at() {  # $1: width, $2: height, $3: show items, $4: overlays (YAML)
+  handle "$3" "$4" | sed -e "s/width: 320, height: 180/width: $1, height: $2/" \
+    -e "s/position: \[1.35, -1.35, 0.8\], look_at: \[0, -0.15, 0\]/position: [2.3, -2.3, 1.3], look_at: [0.45, 0.1, -0.35]/"
+}
+handle_at 640 360 "[ angular_momentum, angular_velocity, { trail: { point: [0, -0.7, 0], length: 1.0 } } ]" '
+overlays:
+  title: "The Dzhanibekov effect: \\vec{L} stands still"
+  captions: [ { text: "the stem flips: \\omega_2 \\to -\\omega_2", from: 2, to: 4 } ]
+  labels: [ { body: handle, text: "I_1 < I_2 < I_3" } ]
+  legend: { corner: bottom_left }
+  plots:
+    - quantities: [omega_body.x, omega_body.y, omega_body.z]
+      rect: [0.57, 0.15, 0.41, 0.42]
+      title: "\\omega on e_1 e_2 e_3"' > "$tmp/screen.yaml" && render screen 2.6
+# TeX in text: subscripts, superscripts, accents and symbols, large.
+cat > "$tmp/tex.yaml" <<'YAML'
+simulation: { duration: 1, gravity: [0, 0, 0] }
+video: { width: 640, height: 200 }
+bodies: [ { name: b, colliders: [ { shape: sphere, radius: 0.1 } ] } ]
+camera: { position: [0, -5, 0], look_at: [0, 0, 3] }
+overlays:
+  text_size: 4
+  hud: ['\vec{L} = I\vec\omega,  \omega \cdot L,  \dot\theta_1,  r^2,  I_{xx}', "plain: omega_body E_drift"]
+YAML
+render tex 0.5
+# A title wider than the frame is set smaller.
+handle "[ axes ]" '
+overlays:
+  title: "A title much wider than this small frame is set smaller instead of cut"' > "$tmp/title.yaml" && render title 0.5
 ls -l "$out"/*.png

@@ -46,9 +46,10 @@
 //                                   tested first (early out when separated by more than the
 //                                   speculative distance); the cached face also wins ties within
 //                                   kAbsTol. Axis choice with hysteresis: B's face wins over A's
-//                                   only when its separation exceeds kRelFaceTol (0.98) * sA +
-//                                   kAbsTol, an edge pair only when it exceeds kRelEdgeTol (0.9) *
-//                                   max(face) + kAbsTol, kAbsTol = 1e-3 * (sum of the two inner
+//                                   only when its separation exceeds sA + 0.02 |sA| + kAbsTol,
+//                                   an edge pair only when it exceeds max(face) + 0.1 |max(face)|
+//                                   + kAbsTol (for overlaps, Gregorius's kRelFaceTol (0.98) * sA
+//                                   + kAbsTol), kAbsTol = 1e-3 * (sum of the two inner
 //                                   radii) - so a reported depth may exceed the minimum one by
 //                                   those margins, never fall short of it. Face contact: reference
 //                                   face; incident face = the most anti-parallel of the faces

@@ -15,7 +15,15 @@ constexpr int kMaxFaceVerts = 64;                         // incident face verti
 constexpr int kMaxClip = 2 * kMaxFaceVerts + 16;          // polygon buffer while clipping
 constexpr int kMaxLocal = 128;                            // hull vertices/faces transformed once per call
 constexpr double kRelFaceTol = 0.98, kRelEdgeTol = 0.90;  // Gregorius's hysteresis factors
-constexpr double kParallelEdgeTol = 0.005;                // |E1 x E2| < this |E1||E2|: parallel, skipped
+// Whether separation x beats ref clearly: by a share (1 - rel) of |ref| plus tol. Gregorius's
+// x > rel ref + tol, written for overlaps (ref < 0, where rel ref is the larger), inverts for a
+// speculative pair (ref > 0: rel ref is the smaller), and let an edge pair win over a face 10%
+// closer: two stacked cubes 12 mm apart got a one-point edge manifold, the falling cube was
+// stopped at one point only and sank 11 mm into the one below (the R3 pile's landing).
+inline double clear_margin(double ref, double rel, double tol) {
+  return ref + (1 - rel) * std::fabs(ref) + tol;
+}
+constexpr double kParallelEdgeTol = 0.005;  // |E1 x E2| < this |E1||E2|: parallel, skipped
 
 // Feature tags (14-bit indices): vertex v, half-edge of the incident face, reference side plane.
 constexpr uint32_t kTagEdge = 0x4000, kTagPlane = 0x8000;
@@ -336,14 +344,14 @@ int hull_hull(const CollideShape& a, const Pose& xa, const CollideShape& b, cons
     return 0;
   }
   const double face_best = std::max(fa.sep, fb.sep);
-  const EdgeQuery eq = query_edges(A, BinA, std::min(spec, kRelEdgeTol * face_best + tol));
+  const EdgeQuery eq = query_edges(A, BinA, std::min(spec, clear_margin(face_best, kRelEdgeTol, tol)));
   if (eq.sep > spec) {
     cache = {kCacheEdges, eq.ea, eq.eb};
     out.normal_W = xa.R * eq.axis;
     return 0;
   }
   // 3. Choose the axis: A's face, unless B's face or the edge pair is clearly better.
-  const bool edge = eq.ea >= 0 && eq.sep > kRelEdgeTol * face_best + tol;
+  const bool edge = eq.ea >= 0 && eq.sep > clear_margin(face_best, kRelEdgeTol, tol);
   if (edge) {
     cache = {kCacheEdges, eq.ea, eq.eb};
     const Vec3& p1 = A.vertices[A.edges[2 * eq.ea].origin];
@@ -363,7 +371,7 @@ int hull_hull(const CollideShape& a, const Pose& xa, const CollideShape& b, cons
   }
   Candidate cand[kMaxClip];
   int nc;
-  const bool refA = !(fb.sep > kRelFaceTol * fa.sep + tol);
+  const bool refA = !(fb.sep > clear_margin(fa.sep, kRelFaceTol, tol));
   if (refA) {
     cache = {kCacheFaceA, fa.face, -1};
     out.normal_W = xa.R * A.faces[fa.face].normal;
@@ -572,7 +580,7 @@ int box_box(const CollideShape& a, const Pose& xa, const CollideShape& b, const 
   // Edge axes: only those that could matter (separating beyond spec, or deep enough to win the
   // axis choice below) are normalised; the others are rejected without a square root.
   const double face_best = std::max(fa.sep, fb.sep);
-  const double thr = std::min(spec, kRelEdgeTol * face_best + tol);
+  const double thr = std::min(spec, clear_margin(face_best, kRelEdgeTol, tol));
   int ei = -1, ej = -1;
   double esep = -INFINITY;
   for (int i = 0; i < 3; ++i)
@@ -593,7 +601,7 @@ int box_box(const CollideShape& a, const Pose& xa, const CollideShape& b, const 
     return out.normal_W = xa.R * eaxis, 0;
   }
   // 3. Axis choice, as hull_hull.
-  if (ei >= 0 && esep > kRelEdgeTol * face_best + tol) {
+  if (ei >= 0 && esep > clear_margin(face_best, kRelEdgeTol, tol)) {
     cache = {kCacheBoxEdges, ei, ej};
     out.normal_W = xa.R * eaxis;
     // The supporting edges: A's along axis ei on the side of the normal, B's along ej opposite.
@@ -632,7 +640,7 @@ int box_box(const CollideShape& a, const Pose& xa, const CollideShape& b, const 
   }
   Candidate cand[16];
   int nc;
-  if (!(fb.sep > kRelFaceTol * fa.sep + tol)) {
+  if (!(fb.sep > clear_margin(fa.sep, kRelFaceTol, tol))) {
     cache = {kCacheFaceA, fa.face, -1};
     out.normal_W = box_face_normal_W(xa, fa.face);
     nc = box_face_contact(ha, fa.face >> 1, (fa.face & 1) ? 1.0 : -1.0, hb, C, t, xa, spec, cand);
@@ -787,7 +795,7 @@ int capsule_hull(const CollideShape& a, const Pose& xa, const CollideShape& b, c
     }
   }
   const double tol = 1e-3 * H.inner_radius;
-  if (ebest >= 0 && esep > kRelEdgeTol * fsep + tol) {
+  if (ebest >= 0 && esep > clear_margin(fsep, kRelEdgeTol, tol)) {
     const Vec3& P = H.vertices[H.edges[2 * ebest].origin];
     const Vec3& Q = H.vertices[H.edges[2 * ebest + 1].origin];
     double s, t;

@@ -7,10 +7,12 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <sstream>
 #include <thread>
 
@@ -432,6 +434,163 @@ TEST(Cli, OptionsAreNeverValuesAndTyposGetTheNearestCommand) {
   EXPECT_NE(t.out.find("see simreel --help"), std::string::npos) << t.out;
 }
 
+// The options a help text lists: its lines "  -o OUT  ..." and "  -h, --help  ..."; -h and --help,
+// which every command has, are left out.
+std::set<std::string> help_options(const std::string& help) {
+  std::set<std::string> names;
+  std::istringstream in(help);
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("  -", 0) != 0) continue;
+    std::istringstream words(line);
+    for (std::string w; words >> w;) {
+      const bool more = w.back() == ',';
+      if (more) w.pop_back();
+      if (w != "-h" && w != "--help") names.insert(w);
+      if (!more) break;
+    }
+  }
+  return names;
+}
+
+// The options the README's usage block gives `command`: every -x / --word in its lines (a command's
+// line starts "simreel COMMAND", its continuation lines with spaces).
+std::set<std::string> readme_options(const std::string& readme, const std::string& command) {
+  const size_t a = readme.find("## Using it\n```\n");
+  const size_t b = readme.find("```", a + 16);
+  std::istringstream in(readme.substr(a + 16, b - a - 16));
+  std::set<std::string> names;
+  bool mine = false;
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("simreel ", 0) == 0) {
+      std::istringstream w(line.substr(8));
+      std::string c;
+      w >> c;
+      mine = c == command;
+    }
+    if (!mine) continue;
+    for (size_t i = 0; i < line.size(); ++i) {
+      if (line[i] != '-' || (i > 0 && line[i - 1] != '[' && line[i - 1] != ' ')) continue;
+      size_t j = i;
+      while (j < line.size() && (line[j] == '-' || std::isalnum((unsigned char)line[j]))) ++j;
+      names.insert(line.substr(i, j - i));
+      i = j;
+    }
+  }
+  return names;
+}
+
+// Issue 13: the README's usage block lists every option of every command and no other: the same
+// set as each command's --help (which the option tables generate).
+TEST(Cli, ReadmeUsageBlockAndHelpListTheSameOptions) {
+  const std::string readme = slurp("README.md");
+  ASSERT_NE(readme.find("## Using it\n```\n"), std::string::npos);
+  const Result top = run("--help");
+  ASSERT_EQ(top.code, 0);
+  std::istringstream in(top.out);
+  int commands = 0;
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("  simreel ", 0) != 0) continue;
+    const std::string command = line.substr(10, line.find(' ', 10) - 10);
+    ++commands;
+    const Result h = run(command + " --help");
+    ASSERT_EQ(h.code, 0) << command;
+    const std::set<std::string> help = help_options(h.out), doc = readme_options(readme, command);
+    EXPECT_GT(help.size(), 2u) << command << ": " << h.out;
+    for (const std::string& o : help)
+      EXPECT_TRUE(doc.count(o)) << "simreel " << command << " " << o
+                                << " is missing from the README's usage block";
+    for (const std::string& o : doc)
+      EXPECT_TRUE(help.count(o)) << "the README gives simreel " << command << " " << o
+                                 << ", which --help does not list";
+  }
+  EXPECT_EQ(commands, 5) << top.out;
+}
+
+// Help comes from the option tables, in one layout; --help wins over any other error.
+TEST(Cli, HelpIsGeneratedFromTheTables) {
+  for (const char* c : {"render", "simulate", "inspect", "check", "diff"}) {
+    const Result h = run(std::string(c) + " --bogus --width 1 --help");
+    EXPECT_EQ(h.code, 0) << c << ": " << h.out;
+    EXPECT_EQ(h.out.rfind(std::string("usage: simreel ") + c + " ", 0), 0u) << h.out;
+    EXPECT_NE(h.out.find("\noptions:\n"), std::string::npos) << h.out;
+    EXPECT_NE(h.out.find("  -h, --help          print this help\n"), std::string::npos) << h.out;
+    std::istringstream in(h.out);
+    for (std::string line; std::getline(in, line);) EXPECT_LE(line.size(), 100u) << c << ": " << line;
+    EXPECT_EQ(run(std::string(c) + " -h").out, h.out);
+  }
+  const Result top = run("help");
+  EXPECT_EQ(top.code, 0);
+  EXPECT_NE(top.out.find("  simreel check SCENE... --goldens DIR [options]\n"), std::string::npos) << top.out;
+}
+
+// Parsing rules on top of CLI11: nearest option named, flags take no value, the last of a repeated
+// option wins, values are checked with messages that name the option, an option's value may be a
+// negative number, and every usage error exits 2 naming the command's help.
+TEST(Cli, OptionErrorsNameTheOptionAndExitWith2) {
+  const std::string scene = write("g.yaml", kGood);
+  const struct {
+    std::string args, message;
+  } bad[] = {
+      {"simulate " + scene + " --integratr rk4", "unknown option --integratr; did you mean --integrator?"},
+      {"simulate " + scene + " --quiet=yes", "--quiet takes no value"},
+      {"simulate " + scene + " --csv", "--csv needs a value (see simreel simulate --help)"},
+      {"simulate " + scene + " --duration abc", "--duration expects a number, got 'abc'"},
+      {"simulate " + scene + " --duration inf", "--duration expects a number, got 'inf'"},
+      {"simulate " + scene + " --timestep -1", "--timestep must be positive, got '-1'"},
+      {"simulate " + scene + " --threads 2.5", "--threads expects a whole number from 1 to 256, got '2.5'"},
+      {"simulate " + scene + " --integrator rk5",
+       "unknown --integrator 'rk5' (auto, seed, euler_gyro, rk4, splitting); did you mean 'rk4'?"},
+      {"render " + scene + " --crf 52", "--crf expects a whole number from 0 to 51, got '52'"},
+      {"render " + scene + " --aa msaa3", "unknown --aa 'msaa3' (fxaa, msaa2, msaa4, none)"},
+      {"render " + scene + " -o " + tmp("x.mp4").string() + " --gif-fps 10",
+       "--gif-fps applies to a .gif output"},
+      {"render " + scene + " " + scene, "render takes one scene file"},
+      {"inspect x.obj --mode solid --mode wire", "unknown --mode 'wire' (solid, shell, hull)"},
+      {"check " + scene + " --update sometimes --goldens g",
+       "unknown --update 'sometimes' (missing, changed, all, none)"},
+      {"diff a.png b.png --tolerance loose", "unknown --tolerance 'loose' (portable, exact)"},
+      {"diff a.png", "diff takes two inputs, A and B"},
+  };
+  for (const auto& b : bad) {
+    const Result r = run(b.args);
+    EXPECT_EQ(r.code, 2) << b.args << ": " << r.out;
+    EXPECT_NE(r.out.find(b.message), std::string::npos) << b.args << ": " << r.out;
+  }
+  // The last of a repeated option wins; "2.0" is a whole number; a negative value is a value.
+  const Result r = run("simulate " + scene + " --json --duration 5 --duration 0.5 --threads 2.0");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_EQ(json_of(r.out)["steps"], 50) << r.out;
+  const Result neg = run("render " + scene + " --at -0.5 -o " + tmp("n.png").string());
+  EXPECT_EQ(neg.code, 2) << neg.out;
+  EXPECT_NE(neg.out.find("--at -0.5 is outside the run"), std::string::npos) << neg.out;
+}
+
+// GIF options end to end: --gif-width scales (the height by the aspect ratio), --gif-fps picks the
+// frame nearest each GIF frame's time; both refused beyond what the frames have. The same scene
+// gives the same GIF, byte for byte.
+TEST(Cli, GifWidthAndFrameRate) {
+  const std::string scene = write("g.yaml", kGood);  // 64x48, 10 frames/s, 1 s: 11 frames
+  const fs::path gif = tmp("g.gif"), again = tmp("again.gif");
+  ASSERT_EQ(run("render " + scene + " --quiet -o " + gif.string() + " --gif-width 32 --gif-fps 5").code, 0);
+  const simreel::test::Decoded d = simreel::test::decode(gif.string());
+  EXPECT_EQ(d.codec, "gif");
+  EXPECT_EQ(d.width, 32);
+  EXPECT_EQ(d.height, 24);
+  EXPECT_EQ(d.frames, 6);  // t = 0, 0.2, ..., 1.0
+  EXPECT_NEAR(d.duration, 1.2, 0.011);
+  ASSERT_EQ(run("render " + scene + " --quiet -o " + again.string() + " --gif-width 32 --gif-fps 5").code, 0);
+  EXPECT_TRUE(slurp(gif) == slurp(again)) << "two renders of one scene gave different GIFs";
+  const Result wide = run("render " + scene + " --quiet -o " + tmp("w.gif").string() + " --gif-width 128");
+  EXPECT_EQ(wide.code, 2);
+  EXPECT_NE(wide.out.find("--gif-width 128 is wider than the frames (64 px)"), std::string::npos) << wide.out;
+  const Result fast = run("render " + scene + " --quiet -o " + tmp("f.gif").string() + " --gif-fps 12");
+  EXPECT_EQ(fast.code, 2);
+  EXPECT_NE(fast.out.find("--gif-fps 12 is above the video's frame rate (fps 10)"), std::string::npos)
+      << fast.out;
+  EXPECT_FALSE(fs::exists(tmp("w.gif")));
+  EXPECT_FALSE(fs::exists(tmp("f.gif")));
+}
+
 // --quiet prints nothing but errors; without it a run that is not on a terminal logs plain
 // progress lines (every 10%) on stderr and the summary on stdout.
 TEST(Cli, QuietIsQuietAndLogsGetPlainProgress) {
@@ -580,6 +739,20 @@ TEST(Cli, SignalsStopBetweenStepsAndFinishTheOutputs) {
     ASSERT_TRUE(fs::exists(out)) << second_ms;
     EXPECT_GT(simreel::test::decode(out.string()).frames, 0);
   }
+  // A GIF is encoded after the last frame (its palette needs them all): interrupted, and again
+  // while it is being encoded, it is still finished.
+  const fs::path gif = tmp("int.gif");
+  pid = start({"render", scene, "-o", gif.string(), "--quiet"});
+  wait_started(gif, 500);
+  kill(pid, SIGINT);
+  std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  kill(pid, SIGTERM);
+  // (On a loaded machine the process may not run between the two kills: both are then pending and
+  // either can be the first it sees.)
+  const int gif_code = wait_code(pid);
+  EXPECT_TRUE(gif_code == 130 || gif_code == 143) << gif_code;
+  ASSERT_TRUE(fs::exists(gif));
+  EXPECT_GT(simreel::test::decode(gif.string()).frames, 0);
   pid = start({"render", scene, "-o", tmp("hup.mp4").string(), "--quiet"});
   wait_started(tmp("hup.mp4"), 500);
   kill(pid, SIGHUP);

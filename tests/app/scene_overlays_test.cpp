@@ -134,6 +134,110 @@ TEST(SceneOverlays, MistakesNameFileLineAndKey) {
             std::string::npos);
 }
 
+TEST(SceneOverlays, ForcesContactsCaptionsLabelsLegendAndPlotsLoad) {
+  const Scene s = load_scene(write_scene(
+      "more.yaml",
+      std::string(kHead) +
+          "    show:\n"
+          "      - forces\n"
+          "      - { forces: { gravity: true, anchor: tip, scale: 0.1, torque_scale: 0.2, springs: false } "
+          "}\n"
+          "      - { contacts: { normals: false, scale: 0.01 } }\n"
+          "  - { name: other, position: [3, 0, 0], colliders: [ { shape: sphere, radius: 1 } ] }\n"
+          "overlays:\n"
+          "  hud: ['\\omega_{ij} = {omega.x:.1f}, \\vec{L}, x^{2}']\n"
+          "  captions:\n"
+          "    - { text: 'First', from: 0.5, to: 1.5 }\n"
+          "    - { text: 'Second', from: 1, to: 2, fade: 0, position: top }\n"
+          "  labels: [ { body: other, text: 'x_1', offset: [10, -5], color: [1, 1, 0] } ]\n"
+          "  legend: { corner: bottom_right }\n"
+          "  plots:\n"
+          "    - { quantities: [omega_body.y, '|other.v|', E_drift], body: handle, rect: [0.1, 0.2, 0.3, "
+          "0.4],\n"
+          "        y_range: [-1, 2], labels: [a, b, c], title: T }\n"
+          "    - { quantities: [other.position.z], y_range: auto }\n"));
+  const auto& items = s.overlays.show[0];
+  ASSERT_EQ(items.size(), 3u);
+  EXPECT_EQ(items[0].kind, ShowKind::forces);
+  EXPECT_FALSE(items[0].gravity);
+  EXPECT_FALSE(items[0].at_tip);
+  EXPECT_TRUE(items[1].gravity);
+  EXPECT_TRUE(items[1].at_tip);
+  EXPECT_EQ(*items[1].torque_scale, 0.2);
+  EXPECT_FALSE(items[1].springs);
+  EXPECT_EQ(items[2].kind, ShowKind::contacts);
+  EXPECT_FALSE(items[2].normals);
+  EXPECT_TRUE(items[2].points);
+  EXPECT_EQ(items[2].xray, 0.6);  // contacts lie inside bodies: drawn through them by default
+  // TeX groups in a HUD line are text, not fields.
+  const HudLine& h = s.overlays.hud[0];
+  ASSERT_EQ(h.fields.size(), 1u);
+  EXPECT_EQ(h.text[0], "\\omega_{ij} = ");
+  EXPECT_EQ(h.text[1], ", \\vec{L}, x^{2}");
+  ASSERT_EQ(s.overlays.captions.size(), 2u);
+  EXPECT_EQ(s.overlays.captions[0].fade, 0.3);
+  EXPECT_EQ(s.overlays.captions[0].position, "bottom");
+  EXPECT_EQ(s.overlays.captions[1].position, "top");
+  EXPECT_EQ(s.overlays.captions[1].fade, 0.0);
+  ASSERT_EQ(s.overlays.labels.size(), 1u);
+  EXPECT_EQ(s.overlays.labels[0].body, 1);
+  EXPECT_TRUE(s.overlays.labels[0].has_offset);
+  EXPECT_EQ(s.overlays.labels[0].dy, -5.0);
+  EXPECT_TRUE(s.overlays.legend.shown);
+  EXPECT_EQ(s.overlays.legend.corner, "bottom_right");
+  ASSERT_EQ(s.overlays.plots.size(), 2u);
+  const PlotSpec& p = s.overlays.plots[0];
+  ASSERT_EQ(p.quantities.size(), 3u);
+  EXPECT_EQ(p.quantities[0].body, 0);
+  EXPECT_EQ(p.quantities[0].component, 1);
+  EXPECT_EQ(p.quantities[1].body, 1);
+  EXPECT_TRUE(p.quantities[1].norm);
+  EXPECT_EQ(p.quantities[2].body, -1);
+  EXPECT_FALSE(p.auto_range);
+  EXPECT_EQ(p.y_max, 2.0);
+  EXPECT_EQ(p.rect[3], 0.4);
+  EXPECT_EQ(p.labels, (std::vector<std::string>{"a", "b", "c"}));
+  EXPECT_TRUE(s.overlays.plots[1].auto_range);
+  EXPECT_EQ(s.overlays.plots[1].labels, (std::vector<std::string>{"z"}));
+  EXPECT_EQ(s.overlays.plots[1].quantities[0].body, 1);
+}
+
+TEST(SceneOverlays, MistakesInTheNewKeysNameFileLineAndKey) {
+  const std::string head = std::string(kHead) + "overlays:\n";
+  auto has = [&](const std::string& yaml, const std::string& what) {
+    const std::string e = error_of(head + yaml);
+    EXPECT_NE(e.find(what), std::string::npos) << e;
+  };
+  has("  labels: [ { body: handel, text: a } ]\n",
+      "bad_overlay.yaml:6:21: overlays.labels[0].body: no body is named 'handel'; did you mean 'handle'?");
+  has("  labels: [ { body: handle } ]\n", "overlays.labels[0]: missing key 'text'");
+  has("  captions: [ { text: a, from: 2, to: 1 } ]\n", "overlays.captions[0].to: must come after 'from'");
+  has("  captions: [ { text: a, position: left } ]\n", "overlays.captions[0].position: expected bottom, top");
+  has("  captions: [ { txt: a } ]\n", "overlays.captions[0].txt: unknown key 'txt'; did you mean 'text'?");
+  has("  legend: { corner: middle }\n", "overlays.legend.corner: expected top_left");
+  has("  legend: { items: [ { text: a } ] }\n", "overlays.legend.items[0]: missing key 'color'");
+  has("  plots: [ { quantities: [omega] } ]\n",
+      "overlays.plots[0].quantities[0]: 'omega': a vector: plot a component (omega.x) or its magnitude");
+  has("  plots: [ { quantities: [t] } ]\n", "plots are against time already");
+  has("  plots: [ { quantities: [omgea.x] } ]\n", "unknown quantity 'omgea'; did you mean 'omega'?");
+  has("  plots: [ { quantities: [E], rect: [0.8, 0, 0.5, 0.5] } ]\n", "overlays.plots[0].rect: [x, y, w, h]");
+  has("  plots: [ { quantities: [E], y_range: [1, 1] } ]\n",
+      "overlays.plots[0].y_range: expected auto or [min, max]");
+  has("  plots: [ { quantities: [E, t_drift] } ]\n", "unknown quantity 't_drift'");
+  has("  plots: [ { quantities: [E], labels: [a, b] } ]\n",
+      "overlays.plots[0].labels: expected one label per quantity");
+  has("  plots: [ { rect: [0, 0, 1, 1] } ]\n", "overlays.plots[0]: missing key 'quantities'");
+  const std::string show = std::string(kHead) + "    show:\n";
+  EXPECT_NE(error_of(show + "      - { forces: { anchor: middle } }\n")
+                .find("bodies[0].show[0].forces.anchor: expected tail"),
+            std::string::npos);
+  EXPECT_NE(error_of(show + "      - { contacts: { gravity: true } }\n").find("unknown key 'gravity'"),
+            std::string::npos);
+  EXPECT_NE(
+      error_of(show + "      - { forces: { torque_scale: 0 } }\n").find("forces.torque_scale: must lie in"),
+      std::string::npos);
+}
+
 TEST(SceneOverlays, ASceneWithoutOverlaysHasNone) {
   const Scene s = load_scene(write_scene("plain.yaml", kHead));
   EXPECT_FALSE(s.overlays.any());

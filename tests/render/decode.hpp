@@ -12,14 +12,17 @@ extern "C" {
 
 namespace simreel::test {
 
-// Decodes a video file: codec, pixel format, size, frame count, rate, duration, first frame RGBA.
+// Decodes a video file: codec, pixel format, size, frame count, rate, duration, first frame RGBA;
+// with `all`, every frame's RGBA and time (s).
 struct Decoded {
   std::string codec, pix_fmt, chroma_location;
   int width = 0, height = 0, frames = 0;
   double fps = 0, duration = 0;
   std::vector<uint8_t> first_rgba;
+  std::vector<std::vector<uint8_t>> rgba;  ///< with `all`
+  std::vector<double> times;               ///< with `all`
 };
-inline Decoded decode(const std::string& path) {
+inline Decoded decode(const std::string& path, bool all = false) {
   Decoded d;
   AVFormatContext* fmt = nullptr;
   if (avformat_open_input(&fmt, path.c_str(), nullptr, nullptr) < 0) return d;
@@ -41,7 +44,7 @@ inline Decoded decode(const std::string& path) {
   AVFrame* fr = av_frame_alloc();
   auto take = [&] {
     while (avcodec_receive_frame(dec, fr) == 0) {
-      if (d.frames++ == 0) {
+      if (d.frames++ == 0 || all) {
         d.first_rgba.resize((size_t)fr->width * fr->height * 4);
         SwsContext* sws =
             sws_getContext(fr->width, fr->height, (AVPixelFormat)fr->format, fr->width, fr->height,
@@ -52,6 +55,10 @@ inline Decoded decode(const std::string& path) {
         const int stride[1] = {fr->width * 4};
         sws_scale(sws, fr->data, fr->linesize, 0, fr->height, dst, stride);
         sws_freeContext(sws);
+        if (all) {
+          d.rgba.push_back(d.first_rgba);
+          d.times.push_back(fr->best_effort_timestamp * av_q2d(st->time_base));
+        }
       }
     }
   };
@@ -64,6 +71,7 @@ inline Decoded decode(const std::string& path) {
   }
   avcodec_send_packet(dec, nullptr);
   take();
+  if (all && !d.rgba.empty()) d.first_rgba = d.rgba.front();
   av_frame_free(&fr);
   av_packet_free(&pkt);
   avcodec_free_context(&dec);
