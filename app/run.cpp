@@ -174,6 +174,7 @@ RunSummary make_summary(const Scene& scene, const World& world, const Drift& dri
   s.contacts = world.has_contacts();
   s.contacts_max = world.contact_stats().contacts_max;
   s.max_penetration = world.contact_stats().max_penetration;
+  s.sleeping = world.sleeping_count();
   s.energy_gained = drift.energy_gained();
   s.warnings = world.warnings();
   s.notes = scene.notes;  // printed once, at the start; the JSON carries them for scripts
@@ -194,7 +195,8 @@ std::string summary_text(const RunSummary& s) {
     << " (relative), angular momentum drift: " << s.momentum_rel_drift << "\n";
   if (s.contacts)
     o << "  contacts: at most " << s.contacts_max << " points in a step, deepest overlap "
-      << s.max_penetration << " m, largest energy rise between frames " << s.energy_gained << " J\n";
+      << s.max_penetration << " m, largest energy rise between frames " << s.energy_gained << " J, "
+      << s.sleeping << " bodies asleep at the end\n";
   if (s.profile) {
     o << "  profile (stage: seconds, steps run, steps skipped):\n";
     for (int i = 0; i < (int)Stage::count; ++i)
@@ -234,6 +236,7 @@ std::string summary_json(const RunSummary& s) {
   o["contacts_max"] = s.contacts_max;
   o["max_penetration"] = s.max_penetration;
   o["energy_gained"] = s.energy_gained;
+  o["sleeping"] = s.sleeping;
   if (s.render_seconds >= 0) {
     o["render_seconds"] = s.render_seconds;
     o["encode_seconds"] = s.encode_seconds;

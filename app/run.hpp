@@ -77,6 +77,7 @@ struct RunSummary {
   bool contacts = false;              ///< the scene has colliding shapes
   int contacts_max = 0;               ///< most contact points in a step
   double max_penetration = 0;         ///< m, over the run
+  int sleeping = 0;                   ///< bodies asleep at the end
   double energy_gained = 0;           ///< J, largest rise between two frames
   std::vector<std::string> warnings;  ///< what went wrong or was odd in the run
   std::vector<std::string> notes;     ///< the scene's notes (already printed on stderr before the run)

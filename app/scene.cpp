@@ -681,12 +681,15 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
 
   if (const YAML::Node sim = root["simulation"]) {
     const Ctx c = top.child("simulation");
-    check_keys(sim, c, {"duration", "timestep", "integrator", "gravity", "contacts", "ignore_pairs"});
+    check_keys(sim, c,
+               {"duration", "timestep", "integrator", "gravity", "contacts", "ignore_pairs", "sleep"});
+    if (sim["sleep"]) s.contacts.sleep = boolean(sim["sleep"], c.child("sleep"));
     if (const YAML::Node k = sim["contacts"]) {
       const Ctx kc = c.child("contacts");
       check_keys(k, kc,
                  {"substeps", "iterations", "contact_hertz", "damping_ratio", "max_push_out",
-                  "restitution_threshold", "speculative_distance", "linear_slop", "rolling_resistance"});
+                  "restitution_threshold", "speculative_distance", "linear_slop", "rolling_resistance",
+                  "sleep_speed", "sleep_time"});
       ContactSettings& cs = s.contacts;
       if (k["substeps"]) cs.substeps = whole(k["substeps"], kc.child("substeps"), 0, 1000);  // 0: automatic
       if (k["iterations"]) cs.iterations = whole(k["iterations"], kc.child("iterations"), 1, 1000);
@@ -701,6 +704,8 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
       if (k["linear_slop"]) cs.linear_slop = non_negative(k["linear_slop"], kc.child("linear_slop"));
       if (k["rolling_resistance"])
         cs.rolling_resistance = non_negative(k["rolling_resistance"], kc.child("rolling_resistance"));
+      if (k["sleep_speed"]) cs.sleep_speed = non_negative(k["sleep_speed"], kc.child("sleep_speed"));
+      if (k["sleep_time"]) cs.sleep_time = non_negative(k["sleep_time"], kc.child("sleep_time"));
     }
     if (sim["duration"]) s.duration = positive(sim["duration"], c.child("duration"));
     if (sim["timestep"]) s.timestep = positive(sim["timestep"], c.child("timestep"));

@@ -1,6 +1,6 @@
 // R3 contacts: the anchors' 1000-cube pile and 20-cube tower (../shared/anchors/CONTACTS.md), plus a
 // box-on-plane sanity scene (100 cubes on a 1.5 m grid dropped from z = 1), stepped 10 s at
-// dt = 1/240 by simreel (one thread; sleeping does not exist yet) and, in the same run when
+// dt = 1/240 by simreel (one thread, sleeping off and on) and, in the same run when
 // libbullet-dev is installed, by Bullet 3.24 f64 with sleeping off and with sleeping on.
 //
 // stdout: one CSV row per engine, scene and setting (bench/results/r3_contacts.csv).
@@ -185,10 +185,12 @@ void simreel_cubes(const World& w, int n, std::vector<Cube>& out) {
 }
 
 // Returns the final state hash; with `profile`, the run is profiled and not tracked.
-uint64_t simreel_run(const Scene& s, bool profile, Result* r, Profile* prof, double* wall = nullptr) {
+uint64_t simreel_run(const Scene& s, bool profile, Result* r, Profile* prof, double* wall = nullptr,
+                     bool sleep = false) {
   WorldConfig c;
   c.dt = kR3Dt;
   c.threads = 1;
+  c.contacts.sleep = sleep;
   World w(c, s.defs);
   w.set_profiling(profile);
   std::vector<Cube> cubes;
@@ -218,8 +220,8 @@ uint64_t simreel_run(const Scene& s, bool profile, Result* r, Profile* prof, dou
       r->final_pen_engine = std::max(r->final_pen_engine, -c.points[j].separation);
   const uint64_t h = state_hash(w);
   char buf[160];
-  std::snprintf(buf, sizeof buf, "state hash %016" PRIx64 "; contacts_max %d", h,
-                w.contact_stats().contacts_max);
+  std::snprintf(buf, sizeof buf, "state hash %016" PRIx64 "; contacts_max %d; asleep at end %d", h,
+                w.contact_stats().contacts_max, w.sleeping_count());
   r->notes = buf;
   return h;
 }
@@ -379,9 +381,9 @@ void merge(Result& best, const Result& r, int rep) {
 // Runs interleave (simreel, Bullet sleeping off, Bullet sleeping on) `repeats` times, so that the
 // machine's load drifts over all engines alike; each row reports the least stepping time.
 void run_scene(const Scene& s, int repeats) {
-  Result sim;
-  uint64_t hash = 0;
-  bool same = true;
+  Result sim, slept;
+  uint64_t hash = 0, slept_hash = 0;
+  bool same = true, slept_same = true;
 #ifdef SIMREEL_BENCH_BULLET
   Result bul[2];
   double phases[2][PhasedWorld::n] = {};
@@ -392,6 +394,11 @@ void run_scene(const Scene& s, int repeats) {
     if (rep == 0) hash = h;
     same = same && h == hash;
     merge(sim, r, rep);
+    Result rs;
+    const uint64_t hs = simreel_run(s, false, &rs, nullptr, nullptr, true);
+    if (rep == 0) slept_hash = hs;
+    slept_same = slept_same && hs == slept_hash;
+    merge(slept, rs, rep);
 #ifdef SIMREEL_BENCH_BULLET
     for (int sl = 0; sl < 2; ++sl) {
       Result b;
@@ -403,11 +410,13 @@ void run_scene(const Scene& s, int repeats) {
 #endif
   }
   if (repeats > 1) sim.notes += same ? "; same hash in every run" : "; HASH DIFFERS BETWEEN RUNS";
+  if (repeats > 1) slept.notes += slept_same ? "; same hash in every run" : "; HASH DIFFERS BETWEEN RUNS";
   // The narrow phase's stand-in (sim/collide/dev_stub.cpp) has no box-box contact: say so in the
   // row when cubes end up inside each other, so that such a row is never read as the R3 figure.
   if (sim.pen_cube > 0.1) sim.notes += "; CUBES PASS THROUGH EACH OTHER (no box-box contact)";
   simreel_profile(s, sim, hash);
   print_row("simreel", s, "sleeping_off_1thread", sim);
+  print_row("simreel", s, "sleeping_on_1thread", slept);
 #ifdef SIMREEL_BENCH_BULLET
   print_row("bullet_f64", s, "sleeping_off", bul[0]);
   print_row("bullet_f64", s, "sleeping_on", bul[1]);

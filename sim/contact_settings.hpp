@@ -30,6 +30,11 @@ struct ContactSettings {
   double speculative_distance = 0.02;  ///< m, contacts are created this far before touching
   double linear_slop = 0.0001;         ///< m, overlap left uncorrected (keeps resting contacts quiet)
   double rolling_resistance = 0;       ///< dimensionless (lever per unit radius), 0 = off
+  // Sleeping (sim/README.md "Sleeping"): a group of touching bodies whose every point has moved
+  // slower than sleep_speed for sleep_time stops being stepped until something wakes it.
+  bool sleep = true;          ///< scene: simulation.sleep
+  double sleep_speed = 0.01;  ///< m/s, |v| + |w| r (r: the body's farthest shape point)
+  double sleep_time = 0.5;    ///< s
 };
 
 }  // namespace simreel

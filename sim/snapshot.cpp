@@ -1,6 +1,7 @@
 #include "sim/snapshot.hpp"
 
 #include <bit>
+#include <cmath>
 #include <cstring>
 #include <istream>
 #include <ostream>
@@ -171,6 +172,10 @@ void World::save_state(std::ostream& os) const {
   o.u32((uint32_t)fired_.size());
   for (char f : fired_) o.u8((uint8_t)f);
   o.i32(settle_substeps_);
+  for (size_t i = 0; i < state_.size(); ++i) {
+    o.f64(still_time_[i]);
+    o.i32(asleep_[i]);
+  }
   if (!os) throw std::runtime_error("could not write the saved state");
 }
 
@@ -252,13 +257,28 @@ void World::restore_state(std::istream& is) {
     }
   }
   // Version 3: substeps left with an impact's extra sweep (none before).
+  // and each body's still time and sleeping island (all awake before).
   int settle = 0;
+  std::vector<double> still(state_.size(), 0.0);
+  std::vector<int> asleep(state_.size(), -1);
+  int sleeping = 0;
   if (version >= 3) {
     settle = in.i32();
     if (settle < 0 || settle > 100000) throw InputError("saved state is damaged (impact settling)");
+    for (size_t i = 0; i < state_.size(); ++i) {
+      still[i] = in.f64();
+      asleep[i] = in.i32();
+      if (!(still[i] >= 0) || !std::isfinite(still[i]) || asleep[i] < -1 || asleep[i] >= (int)state_.size() ||
+          (asleep[i] >= 0 && (!sleep_enabled_ || !may_sleep_[i])))
+        throw InputError("saved state is damaged (sleep state of body '" + defs_[i].name + "')");
+      sleeping += asleep[i] >= 0;
+    }
   }
   fired_ = std::move(fired);
   settle_substeps_ = settle;
+  still_time_ = std::move(still);
+  asleep_ = std::move(asleep);
+  sleeping_ = sleeping;
   state_ = std::move(state);
   wrench_ = std::move(wrench);
   wrench_dirty_ = dirty;

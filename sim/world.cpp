@@ -26,6 +26,7 @@ const char* to_string(Stage s) {
                                       "store_impulses",
                                       "integrate",
                                       "check",
+                                      "sleep",
                                       "clear",
                                       "derived"};
   static_assert(sizeof(names) / sizeof(names[0]) == (size_t)Stage::count);
@@ -197,8 +198,11 @@ World::World(const WorldConfig& config, std::vector<BodyDef> bodies)
   }
   if (cfg_.threads > 1) pool_ = std::make_unique<WorkerPool>(cfg_.threads);
   chunk_sum_.resize(cfg_.threads);
+  asleep_.assign(defs_.size(), -1);  // everyone awake (init_contacts collides once)
+  still_time_.assign(defs_.size(), 0.0);
   init_forces();  // before init_contacts: it takes bodies under forces out of groups_
   init_contacts();
+  init_sleep();  // after init_contacts: needs the shapes
   check_spin();
 }
 
@@ -251,6 +255,13 @@ void World::step() {
   runs[(int)Stage::integrate]++;
   runs[(int)Stage::check]++;
   if (!kinematic_.empty()) stage_kinematic();
+  if (sleep_enabled_) {
+    Timer t(profiling_, &sec[(int)Stage::sleep]);
+    stage_sleep();
+    runs[(int)Stage::sleep]++;
+  } else {
+    skipped[(int)Stage::sleep]++;
+  }
   ++steps_;
   if (!finite) check_state();  // throws, naming the body and the time
   if (wrench_dirty_) {
@@ -307,8 +318,17 @@ bool World::stage_integrate_and_check() {
   const bool forced_finite = forced_.empty() || integrate_forced();
   // Bodies the contact solver stepped this step are left out (free_ holds the rest).
   const bool some_in_contact = !contact_bodies_.empty();
+  if (!some_in_contact && sleeping_ > 0) {
+    // Nothing was solved (free_ is stale) but some bodies sleep: the awake ones only.
+    for (size_t g = 0; g < groups_.size(); ++g) {
+      free_[g].clear();
+      for (int i : groups_[g].bodies)
+        if (asleep_[i] < 0) free_[g].push_back(i);
+    }
+  }
+  const bool some_left_out = some_in_contact || sleeping_ > 0;
   auto list = [&](size_t g) -> const std::vector<int>& {
-    return some_in_contact ? free_[g] : groups_[g].bodies;
+    return some_left_out ? free_[g] : groups_[g].bodies;
   };
   auto work = [&](int c, int nc) {
     for (size_t g = 0; g < groups_.size(); ++g) {
@@ -399,6 +419,7 @@ Vec3 World::origin_position(int i) const {
 }
 
 void World::set_origin_position(int i, const Vec3& p_W) {
+  wake(i);
   state_[i].x_W = p_W + orientation(i) * model_[i].c_B;
 }
 
@@ -416,6 +437,7 @@ Vec3 World::world_to_local_vec(int i, const Vec3& v_W) const {
 }
 
 void World::set_angular_velocity(int i, const Vec3& w_W) {
+  wake(i);
   state_[i].w_P = model_[i].is_static ? Vec3::Zero() : Vec3(state_[i].q_WP.conjugate() * w_W);
 }
 
@@ -439,6 +461,7 @@ Wrench& World::wrench(int i) {
 }
 
 void World::apply_force(int i, const Vec3& f_W, const Vec3& at_W) {
+  wake(i);
   Wrench& w = wrench(i);
   w.f_W += f_W;
   w.tau_W += (at_W - state_[i].x_W).cross(f_W);
@@ -449,20 +472,24 @@ void World::apply_force_local(int i, const Vec3& f_B, const Vec3& at_B) {
 }
 
 void World::apply_central_force(int i, const Vec3& f_W) {
+  wake(i);
   wrench(i).f_W += f_W;
 }
 
 void World::apply_torque(int i, const Vec3& tau_W) {
+  wake(i);
   wrench(i).tau_W += tau_W;
 }
 
 void World::apply_impulse(int i, const Vec3& J_W, const Vec3& at_W) {
+  wake(i);
   if (model_[i].inv_mass == 0) return;
   state_[i].v_W += model_[i].inv_mass * J_W;
   apply_angular_impulse(i, (at_W - state_[i].x_W).cross(J_W));
 }
 
 void World::apply_angular_impulse(int i, const Vec3& dL_W) {
+  wake(i);
   if (model_[i].inv_mass == 0) return;
   state_[i].w_P += model_[i].inv_I_P.cwiseProduct(state_[i].q_WP.conjugate() * dL_W);
 }

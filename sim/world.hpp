@@ -74,6 +74,7 @@ enum class Stage {
   store_impulses,
   integrate,
   check,
+  sleep,
   clear,
   derived,
   count
@@ -140,7 +141,10 @@ class World {
   Vec3 local_to_world_vec(int i, const Vec3& v_B) const;                    ///< direction: rotation only
   Vec3 world_to_local_vec(int i, const Vec3& v_W) const;
   const Vec3& linear_velocity(int i) const { return state_[i].v_W; }  ///< m/s, of the centroid
-  void set_linear_velocity(int i, const Vec3& v_W) { state_[i].v_W = v_W; }
+  void set_linear_velocity(int i, const Vec3& v_W) {
+    wake(i);
+    state_[i].v_W = v_W;
+  }
   Vec3 angular_velocity(int i) const { return state_[i].q_WP * state_[i].w_P; }  ///< rad/s, world
   void set_angular_velocity(int i, const Vec3& w_W);
   Vec3 angular_momentum(int i) const;       ///< kg m^2/s about the centroid, world
@@ -180,6 +184,12 @@ class World {
   bool has_contacts() const { return collide_enabled_; }  ///< false: contact stages always skipped
   int substeps() const { return substeps_; }              ///< contact solver substeps per step (resolved)
 
+  // ---- Sleeping (sim/world_sleep.cpp): a sleeping body is not stepped; touching it, a force,
+  // an impulse or setting its pose or velocity wakes it with the bodies it slept with.
+  bool asleep(int i) const { return asleep_[i] >= 0; }
+  int sleeping_count() const { return sleeping_; }
+  void wake(int i);
+
   // ---- Applied forces (config().forces).
   bool has_forces() const { return !cfg_.forces.empty(); }
   bool impulse_applied(int k) const { return fired_[k] != 0; }  ///< force k (an impulse) was applied
@@ -202,6 +212,9 @@ class World {
   void stage_collide();
   bool stage_solve_contacts();  ///< false if a non-finite value appeared
   void stage_kinematic();
+  void init_sleep();
+  void stage_sleep();
+  bool inert(int i) const;  ///< static, asleep, or kinematic at rest: neither moves nor wakes
   void stage_clear();
   template <typename F>
   void for_each_chunk(F& f);
@@ -260,6 +273,16 @@ class World {
   std::vector<std::pair<int, int>> ignore_;  ///< body pairs, (lo, hi), sorted
   BroadPhase broad_;
   int settle_substeps_ = 0;  ///< substeps left with one more sweep after an impact (saved state)
+
+  // ---- Sleeping (sim/world_sleep.cpp).
+  bool sleep_enabled_ = false;
+  std::vector<char> may_sleep_;     ///< per body: dynamic and under no continuous force
+  std::vector<double> reach_;       ///< per body: m, farthest shape point from the centroid
+  std::vector<double> still_time_;  ///< per body: s slow and touching (saved state)
+  std::vector<int> asleep_;         ///< per body: -1 awake, else its island's id (saved state)
+  int sleeping_ = 0;
+  std::vector<int> uf_;             ///< union-find parents (scratch)
+  std::vector<double> island_min_;  ///< per island root: least still_time_ (scratch)
   std::vector<uint64_t> pairs_;
   std::vector<Contact> contacts_, contacts_next_;
   std::vector<char> in_contact_;        ///< per body, this step

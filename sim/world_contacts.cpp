@@ -138,12 +138,19 @@ void World::stage_collide() {
   size_t old = 0;
   int points = 0;
   std::fill(in_contact_.begin(), in_contact_.end(), 0);
+  bool woke = false;
   for (uint64_t key : pairs_) {
     const int a = (int)(key >> 32), b = (int)(key & 0xFFFFFFFFu);
     while (old < contacts_.size() && contacts_[old].key() < key) ++old;
     const Contact* prev = (old < contacts_.size() && contacts_[old].key() == key) ? &contacts_[old] : nullptr;
     const ShapeRecord& A = st[a];
     const ShapeRecord& B = st[b];
+    // A pair that cannot move (asleep, static or a kinematic body at rest on either side) keeps
+    // its contact as it was when it fell asleep: neither body has moved since.
+    if (sleeping_ > 0 && inert(A.body) && inert(B.body)) {
+      if (prev) contacts_next_.push_back(*prev);
+      continue;
+    }
     const MotionState& sa = state_[A.body];
     const MotionState& sb = state_[B.body];
     Contact& c = contacts_next_.emplace_back();  // in place: the record is large
@@ -186,11 +193,22 @@ void World::stage_collide() {
     }
     if (n > 0) {
       points += n;
+      // Something awake comes within reach of a sleeping body: its island wakes.
+      if (asleep_[A.body] >= 0) wake(A.body), woke = true;
+      if (asleep_[B.body] >= 0) wake(B.body), woke = true;
       in_contact_[A.body] = in_contact_[A.body] || !model_[A.body].is_static;
       in_contact_[B.body] = in_contact_[B.body] || !model_[B.body].is_static;
     }
   }
   contacts_.swap(contacts_next_);
+  if (woke) {
+    // Contacts kept for bodies that slept until now (earlier in the loop) are theirs again.
+    for (const Contact& c : contacts_) {
+      if (c.count == 0) continue;
+      if (asleep_[c.body_a] < 0 && !model_[c.body_a].is_static) in_contact_[c.body_a] = 1;
+      if (asleep_[c.body_b] < 0 && !model_[c.body_b].is_static) in_contact_[c.body_b] = 1;
+    }
+  }
   contact_stats_.contacts_max = std::max(contact_stats_.contacts_max, points);
   profile_.contact_points += points;
   contact_bodies_.clear();
@@ -296,7 +314,7 @@ bool World::stage_solve_contacts() {
     for (size_t g = 0; g < groups_.size(); ++g) {
       free_[g].clear();
       for (int i : groups_[g].bodies)
-        if (!in_contact_[i]) free_[g].push_back(i);
+        if (!in_contact_[i] && asleep_[i] < 0) free_[g].push_back(i);
     }
     profile_.solver_bodies += solved;
   }

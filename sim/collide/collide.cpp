@@ -68,9 +68,35 @@
 //                                   its exact rim point), the ellipsoid's exact support point (no
 //                                   EPA facets while it rolls on a face); otherwise GJK/EPA's
 //                                   single point.
+//   cylinder-cylinder,              GJK/EPA (below) for the normal and witnesses; the normal picks
+//   capsule-cylinder                each shape's feature (cylinders.cpp): its cap when the axis is
+//                                   within ~2.6 degrees of the normal, its side within ~2.6 degrees
+//                                   of perpendicular, else its rim. Then exact geometry: cap on cap,
+//                                   the lens where the discs overlap (projected along the reference
+//                                   cap's normal, exact for a tilted incident disc: the rims'
+//                                   crossings by Newton on the incident rim): its support points in
+//                                   four directions (along and across the centre line, or the
+//                                   incident body's x and y when the centres nearly coincide), plus
+//                                   its deepest point (the support point down the incident cap's
+//                                   slope) when more than 1e-5 x size deeper, reduced to 4; the
+//                                   reference cap is kept in PairCache (type 1 A's, 2 B's). A side on
+//                                   a cap: the side's line clipped to the disc exactly (2 points). Two
+//                                   sides with axes parallel within ~2.6 degrees: the ends of the
+//                                   axes' overlap, each from A's surface along the normal to B's
+//                                   side. Otherwise one exact point: a rim on a cap (its deepest rim
+//                                   point, as plane-cylinder), crossed sides (the axes' closest
+//                                   points), a rim on a side or on a rim (Newton on the rim
+//                                   parameters from EPA's witnesses: the rim point nearest the
+//                                   side's axis; the rim pair joined perpendicular to both). A
+//                                   capsule lying on a cap (its axis within ~2.6 degrees of the cap's
+//                                   plane): its segment clipped to the disc, at capsule radius (2
+//                                   points); an end on a cap: that end's sphere; alongside a side,
+//                                   axes parallel: as two sides. A manifold that would not keep
+//                                   GJK/EPA's depth (to 1e-7 x size; the lens: its deepest point),
+//                                   or a pair no case covers: GJK/EPA's single point.
 //   everything else                 GJK (Gilbert-Johnson-Keerthi, with Ericson's closest-point-on-
-//   (cylinder, ellipsoid pairs)     simplex sub-algorithm) on the cores with the sphere/capsule
-//                                   radius as a margin; when the cores overlap, EPA (van den
+//   (sphere-cylinder; ellipsoid     simplex sub-algorithm) on the cores with the sphere/capsule
+//   with all but box and hull)      radius as a margin; when the cores overlap, EPA (van den
 //                                   Bergen 2001) from GJK's final simplex. 1 point.
 //
 // REDUCTION (more than 4 candidates): the deepest point, then the point furthest from it in the
@@ -83,7 +109,10 @@
 // it); polyhedron face contacts use (feature of the incident polygon edge, feature of the clip
 // plane) with 14-bit indices tagged by kind (incident vertex, incident half-edge 0x4000,
 // reference side plane 0x8000), so they persist while the same features touch; an unclipped
-// incident vertex is its vertex index. Ids are unique within a manifold. Hulls may have at most
+// incident vertex is its vertex index; cylinder and capsule-cylinder points carry a tag per
+// feature pair plus the point's index (internal.hpp: kIdLens + direction 0-3, kIdLensDeep,
+// kIdCapSide / kIdSides / kIdCapsuleCap / kIdCapsuleSide + line end 0-1, one exact point's own
+// tag, kIdGeneric for GJK/EPA's point). Ids are unique within a manifold. Hulls may have at most
 // 16383 half-edges for the ids to stay unique.
 //
 // SHAPES: a box needs `hull` (its make_box_polyhedron) for box-hull and capsule-box; box-box,
@@ -211,6 +240,8 @@ struct Table {
     set(C::capsule, C::capsule, capsule_capsule);
     set(C::sphere, C::box, sphere_box);
     set(C::sphere, C::hull, sphere_hull);
+    set(C::capsule, C::cylinder, capsule_cylinder);
+    set(C::cylinder, C::cylinder, cylinder_cylinder);
     set(C::capsule, C::box, capsule_hull);
     set(C::capsule, C::hull, capsule_hull);
     set(C::cylinder, C::box, curved_hull);

@@ -62,6 +62,13 @@ inline Vec3 any_perpendicular(const Vec3& u) {
 // lower disk's points at +90, -90 and 180 degrees from the deepest one.
 void cylinder_rim_points(const CollideShape& cyl, const Pose& xc, const Vec3& n, Vec3 q[5]);
 
+// Feature ids of the cylinder-cylinder and capsule-cylinder points (cylinders.cpp): a tag per
+// feature pair plus the point's index (lens: support direction 0-3, then 4 the deepest point;
+// lines: end 0 or 1). kIdGeneric marks GJK/EPA's own point (no exact feature pair applied).
+constexpr uint32_t kIdLens = 0x10, kIdLensDeep = 0x14, kIdCapSide = 0x20, kIdSides = 0x30, kIdCapRim = 0x40,
+                   kIdCrossed = 0x41, kIdRimSide = 0x42, kIdRimRim = 0x43, kIdCapsuleCap = 0x50,
+                   kIdCapsuleEnd = 0x52, kIdCapsuleSide = 0x60, kIdGeneric = 0x7F;
+
 // ---------------------------------------------------------------- support mapping (GJK/EPA)
 // A shape as GJK sees it: a core (sphere: its centre; capsule: its segment; the others: the
 // whole solid) plus a margin (the sphere or capsule radius).
@@ -116,6 +123,10 @@ int hull_hull(const CollideShape&, const Pose&, const CollideShape&, const Pose&
               Manifold&);
 int curved_hull(const CollideShape&, const Pose&, const CollideShape&, const Pose&, double, PairCache&,
                 Manifold&);
+int cylinder_cylinder(const CollideShape&, const Pose&, const CollideShape&, const Pose&, double, PairCache&,
+                      Manifold&);
+int capsule_cylinder(const CollideShape&, const Pose&, const CollideShape&, const Pose&, double, PairCache&,
+                     Manifold&);
 int convex_generic(const CollideShape&, const Pose&, const CollideShape&, const Pose&, double, PairCache&,
                    Manifold&);
 

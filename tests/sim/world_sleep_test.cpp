@@ -1,0 +1,114 @@
+// Sleeping (sim/world_sleep.cpp): still islands stop being stepped, and wake when touched or
+// pushed; free flight never sleeps; saved and restored state and thread count change nothing.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <sstream>
+
+#include "tests/sim/contact_fixtures.hpp"
+
+namespace simreel {
+namespace {
+
+using namespace contact_test;
+
+// Two 0.5 m boxes stacked on the ground and a ball rolling toward them from 3 m away at 1 m/s
+// (it starts rolling without slipping: w = v / r).
+std::vector<BodyDef> stack_and_ball(double ball_speed) {
+  std::vector<BodyDef> b{ground(0.6, 0), box(Vec3::Constant(0.5), Vec3(0, 0, 0.25)),
+                         box(Vec3::Constant(0.5), Vec3(0, 0, 0.75)), sphere(0.2, Vec3(-3, 0, 0.2))};
+  b[3].v_W = Vec3(ball_speed, 0, 0);
+  b[3].w_W = Vec3(0, ball_speed / 0.2, 0);
+  return b;
+}
+
+bool same_state(const World& a, const World& b) {
+  for (int i = 0; i < a.body_count(); ++i) {
+    const MotionState &x = a.state(i), &y = b.state(i);
+    if (std::memcmp(&x, &y, sizeof x) != 0) return false;
+  }
+  return true;
+}
+
+// The stack settles and sleeps (within sleep_time of settling), costs no integration while
+// asleep (its pose is bit-for-bit frozen), and the ball's arrival wakes both boxes: the lower one,
+// hit, moves. Without the wake the ball would stop against a frozen box.
+TEST(Sleep, StillStackSleepsAndWakesWhenTouched) {
+  World w(WorldConfig{}, stack_and_ball(1.0));
+  while (w.time() < 1.5) w.step();
+  EXPECT_TRUE(w.asleep(1));
+  EXPECT_TRUE(w.asleep(2));
+  EXPECT_FALSE(w.asleep(3));  // rolling at 1 m/s
+  EXPECT_EQ(w.sleeping_count(), 2);
+  const Vec3 frozen = w.centroid(1);
+  w.step();
+  EXPECT_EQ(std::memcmp(frozen.data(), w.centroid(1).data(), sizeof(double) * 3), 0);
+  // The ball (at x = -3 + t, radius 0.2) reaches the box (face at -0.25) at t ~ 2.55 s.
+  double woke_at = -1, top_woke_at = -1;
+  while (w.time() < 4) {
+    w.step();
+    if (woke_at < 0 && !w.asleep(1)) woke_at = w.time();
+    if (top_woke_at < 0 && !w.asleep(2)) top_woke_at = w.time();
+  }
+  EXPECT_GT(woke_at, 2.3);
+  EXPECT_LT(woke_at, 2.6);
+  EXPECT_EQ(top_woke_at, woke_at);                  // woken with its island
+  EXPECT_GT(w.centroid(1).x(), frozen.x() + 1e-3);  // pushed
+}
+
+// A body in free flight never sleeps, however slow: a box drifting at 1 mm/s with no gravity
+// keeps x = v t exactly (to rounding) for 10 s.
+TEST(Sleep, FreeFlightNeverSleeps) {
+  WorldConfig c;
+  c.gravity = Vec3::Zero();
+  std::vector<BodyDef> b{ground(0.6, 0), box(Vec3::Constant(0.5), Vec3(0, 0, 5))};
+  b[1].v_W = Vec3(1e-3, 0, 0);
+  World w(c, b);
+  while (w.time() < 10) w.step();
+  EXPECT_FALSE(w.asleep(1));
+  EXPECT_NEAR(w.centroid(1).x(), 1e-3 * w.time(), 1e-12);
+}
+
+// simulation.sleep: false: nothing sleeps, and the sleep stage is skipped.
+TEST(Sleep, OffMeansNothingSleeps) {
+  WorldConfig c;
+  c.contacts.sleep = false;
+  World w(c, stack_and_ball(1.0));
+  while (w.time() < 1.5) w.step();
+  EXPECT_EQ(w.sleeping_count(), 0);
+  EXPECT_EQ(w.profile().runs[(int)Stage::sleep], 0);
+}
+
+// An impulse (or a force, or a velocity set) wakes a sleeping body and its island.
+TEST(Sleep, ImpulseWakesTheIsland) {
+  World w(WorldConfig{}, stack_and_ball(0.0));
+  while (w.time() < 1.5) w.step();
+  ASSERT_TRUE(w.asleep(2));
+  w.apply_impulse(2, Vec3(100, 0, 0), w.centroid(2));  // 0.8 m/s to the 125 kg box
+  EXPECT_FALSE(w.asleep(1));
+  EXPECT_FALSE(w.asleep(2));
+  const double x0 = w.centroid(2).x();
+  for (int k = 0; k < 24; ++k) w.step();
+  EXPECT_GT(w.centroid(2).x(), x0 + 1e-3);
+}
+
+// Saved while the stack sleeps and resumed, the run equals a straight one through the wake-up;
+// and any thread count gives the same bits.
+TEST(Sleep, ResumeWhileAsleepAndThreadsEqualStraightRun) {
+  WorldConfig c2;
+  c2.threads = 2;
+  World straight(WorldConfig{}, stack_and_ball(1.0)), threaded(c2, stack_and_ball(1.0));
+  while (straight.time() < 1.5) straight.step(), threaded.step();
+  ASSERT_EQ(straight.sleeping_count(), 2);
+  std::stringstream saved;
+  straight.save_state(saved);
+  World resumed(WorldConfig{}, stack_and_ball(1.0));
+  resumed.restore_state(saved);
+  EXPECT_EQ(resumed.sleeping_count(), 2);
+  while (straight.time() < 4) straight.step(), resumed.step(), threaded.step();
+  EXPECT_TRUE(same_state(straight, resumed));
+  EXPECT_TRUE(same_state(straight, threaded));
+}
+
+}  // namespace
+}  // namespace simreel
