@@ -5,6 +5,8 @@
 #pragma once
 #include <atomic>
 #include <functional>
+#include <initializer_list>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -28,6 +30,63 @@ long step_at(double t, double dt, long total_steps);
 // Frame k of the plan as a target.
 FrameTarget plan_target(const FramePlan& plan, long k, double fps);
 
+// Targets in the order they are taken (by step, then time), held as runs of consecutive frames of
+// a plan and single targets: never one entry per frame, so all 1e7 frames of a plan are one run
+// (as a list of FrameTargets they took 240 MB). Reads like a list of FrameTargets.
+class FrameTargets {
+ public:
+  FrameTargets() = default;
+  FrameTargets(std::initializer_list<FrameTarget> ts) : FrameTargets(std::vector<FrameTarget>(ts)) {}
+  FrameTargets(const std::vector<FrameTarget>& ts);  ///< each a single target, in the order given
+  // Frames first..last (inclusive) of `plan`; the plan is kept (one plan per FrameTargets).
+  void push_back_frames(const FramePlan& plan, long first, long last);
+  void push_back(const FrameTarget& t);
+  void push_front(const FrameTarget& t);
+
+  size_t size() const { return size_; }
+  bool empty() const { return size_ == 0; }
+  FrameTarget operator[](size_t i) const;
+  FrameTarget front() const { return (*this)[0]; }
+  FrameTarget back() const { return (*this)[size_ - 1]; }
+
+  class const_iterator {
+   public:
+    using iterator_category = std::forward_iterator_tag;
+    using value_type = FrameTarget;
+    using difference_type = std::ptrdiff_t;
+    using pointer = void;
+    using reference = FrameTarget;
+    const_iterator() = default;
+    FrameTarget operator*() const;
+    const_iterator& operator++();
+    const_iterator operator++(int) {
+      const_iterator old = *this;
+      ++*this;
+      return old;
+    }
+    bool operator==(const const_iterator& o) const { return run_ == o.run_ && at_ == o.at_; }
+
+   private:
+    friend class FrameTargets;
+    const FrameTargets* t_ = nullptr;
+    size_t run_ = 0;
+    long at_ = 0;  ///< offset in the run
+  };
+  const_iterator begin() const;
+  const_iterator end() const;
+
+ private:
+  struct Run {
+    long first = 0, count = 1;  ///< frames first .. first + count - 1 of the plan, if `frames`
+    bool frames = false;
+    FrameTarget single;  ///< else this one
+  };
+  FrameTarget at(const Run& r, long offset) const;
+  std::vector<Run> runs_;
+  FramePlan plan_;
+  size_t size_ = 0;
+};
+
 // A frame spec: comma-separated items, each
 //   N        frame N of the plan (t = N / fps)
 //   A:B      frames A to B, both included; A defaults to 0, B to the last frame
@@ -37,8 +96,8 @@ FrameTarget plan_target(const FramePlan& plan, long k, double fps);
 // PNG sequence, whose frames fall at k / fps) a time takes the first frame of the plan at or
 // after it. Throws std::invalid_argument with a message naming the item for anything else, or
 // for a frame or time outside the run.
-std::vector<FrameTarget> parse_frame_spec(const std::string& spec, const FramePlan& plan, double fps,
-                                          double dt, double duration, bool plan_only = false);
+FrameTargets parse_frame_spec(const std::string& spec, const FramePlan& plan, double fps, double dt,
+                              double duration, bool plan_only = false);
 
 class FrameLoop {
  public:
@@ -53,7 +112,7 @@ class FrameLoop {
   /// Frame k of the simulation plan is simulated time k / fps: where drift is sampled, what
   /// simulate writes and check's times name.
   const FramePlan& plan() const { return plan_; }
-  /// Frame k of the video (video time k / fps) shows step video_plan().frame_step[k]: the
+  /// Frame k of the video (video time k / fps) shows step video_plan().step(k): the
   /// simulation plan itself unless the scene's `time:` remaps playback.
   const FramePlan& video_plan() const { return video_; }
   double video_duration() const { return video_duration_; }  ///< s
@@ -69,9 +128,9 @@ class FrameLoop {
 
   // Every frame of the simulation plan from the world's current step on (a resumed world starts
   // late): what simulate writes.
-  std::vector<FrameTarget> all_frames() const;
+  FrameTargets all_frames() const;
   // Every frame of the video plan from the world's current step on: what render draws.
-  std::vector<FrameTarget> video_frames() const;
+  FrameTargets video_frames() const;
 
   struct Hooks {
     std::function<void(const FrameTarget&, const World&)> frame;  ///< at each target, in order
@@ -88,7 +147,7 @@ class FrameLoop {
   // depend on which frames a command wants. With `to_end` the physics goes on to the duration's
   // last step after the last target (and samples there). Returns the targets delivered: fewer
   // than asked only if stopped.
-  long run(const std::vector<FrameTarget>& targets, const Hooks& hooks, bool to_end);
+  long run(const FrameTargets& targets, const Hooks& hooks, bool to_end);
   // Steps on to `step` (the hooks' step and stop only; drift sampled on the way as in run()):
   // how the worlds of a scene's variants are kept at the frame the main loop shows.
   void advance_to(long step, const Hooks& hooks);
@@ -99,7 +158,7 @@ class FrameLoop {
   FramePlan plan_, video_;
   double video_duration_ = 0;
   Drift drift_;
-  size_t next_sample_ = 0;  ///< the next frame of the plan at which drift is sampled
+  long next_sample_ = 0;  ///< the next frame of the plan at which drift is sampled
   double step_seconds_ = 0;
   bool interrupted_ = false;
 };

@@ -207,9 +207,9 @@ int cmd_simulate(const std::vector<std::string>& args) {
   // Rows at every frame of the plan; a resumed run starts with the saved time's row, and the CSV
   // ends at t = duration even when the duration is not a whole number of frames.
   const FramePlan& plan = loop.plan();
-  std::vector<FrameTarget> targets = loop.all_frames();
+  FrameTargets targets = loop.all_frames();
   if (targets.empty() || targets.front().step != world.steps())
-    targets.insert(targets.begin(), FrameTarget{-1, world.time(), world.steps()});
+    targets.push_front(FrameTarget{-1, world.time(), world.steps()});
   if (targets.back().step < plan.total_steps)
     targets.push_back(FrameTarget{-1, scene.duration, plan.total_steps});
   Progress progress("frames", (long)targets.size(), o.run.quiet || o.run.json);
@@ -240,7 +240,7 @@ int cmd_simulate(const std::vector<std::string>& args) {
     saved->commit();
   }
 
-  RunSummary s = make_summary(scene, world, loop.drift(), (int)plan.frame_step.size(), loop.step_seconds());
+  RunSummary s = make_summary(scene, world, loop.drift(), (int)plan.frames, loop.step_seconds());
   if (o.profile) s.profile = &world.profile();
   if (csv) s.output = *o.csv;
   if (stop.signal())

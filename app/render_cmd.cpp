@@ -53,11 +53,12 @@ void render_table(CLI::App& app, RenderOptions& o) {
                  "output video, .mp4/.mov/.mkv (H.264), .webm (VP9) or .gif; default out/<scene>.mp4. With "
                  "--at: a .png")
       ->type_name("OUT");
-  app.add_option("--frames", o.frames,
-                 "render only these frames (the physics runs through the others): comma-separated frame "
-                 "numbers N, ranges A:B (both included; A:, :B), times Ts (the frame at or after T seconds "
-                 "of video) and shares P% of the video. Frame k of a partial render is byte for byte frame k of the "
-                 "full render, with the same PNG name and timestamp")
+  app.add_option(
+         "--frames", o.frames,
+         "render only these frames (the physics runs through the others): comma-separated frame "
+         "numbers N, ranges A:B (both included; A:, :B), times Ts (the frame at or after T seconds "
+         "of video) and shares P% of the video. Frame k of a partial render is byte for byte frame k of the "
+         "full render, with the same PNG name and timestamp")
       ->type_name("SPEC");
   app.add_option("--at", o.at,
                  "one frame at simulated time T (seconds, need not fall on a frame) as a PNG (-o, default "
@@ -268,7 +269,7 @@ int cmd_render(const std::vector<std::string>& args) {
   FrameLoop loop(scene, threads);
   if (r.at) return render_at(r, scene, loop, w, h, stop);
 
-  std::vector<FrameTarget> targets = loop.video_frames();
+  FrameTargets targets = loop.video_frames();
   if (r.frames) {
     try {
       // Frames of the video: numbers and times of the clip (with a `time:` block, video time).

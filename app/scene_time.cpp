@@ -56,10 +56,10 @@ FramePlan plan_video(const TimeMap& map, double dt, double fps) {
   FramePlan p;
   const double duration = map.pieces().empty() ? 0 : map.sim_time(map.video_duration());
   p.total_steps = (long)std::ceil(duration / dt - 1e-9);
-  const long frames = (long)std::floor(map.video_duration() * fps + 1e-9) + 1;
-  p.frame_step.resize((size_t)frames);
-  for (long k = 0; k < frames; ++k)
-    p.frame_step[(size_t)k] = std::min((long)std::llround(map.sim_time((double)k / fps) / dt), p.total_steps);
+  p.frames = (long)std::floor(map.video_duration() * fps + 1e-9) + 1;
+  p.dt = dt;
+  p.fps = fps;
+  p.sim_time = [map](double t) { return map.sim_time(t); };  // frame k: llround(sim_time(k / fps) / dt)
   return p;
 }
 

@@ -62,7 +62,7 @@ void load_time(const YAML::Node& root, const std::string& path, Scene& s);
 void prepare_time(Scene& s);
 
 // The frame plan of the video: frame k (video time k / fps) shows the step nearest f(k / fps)
-// (frame_step[k]), for k = 0 .. the last k / fps <= video_duration.
+// (step(k)), for k = 0 .. the last k / fps <= video_duration.
 struct FramePlan;
 FramePlan plan_video(const TimeMap& map, double dt, double fps);
 

@@ -4,11 +4,18 @@
 //   - end to end in-process (simulate + draw + encode to H.264 MP4 on the encoder thread),
 //   - against the ceiling: the `ffmpeg` command-line tool encoding the same raw RGBA frames with
 //     the same encoder settings (libx264 veryfast, CRF 20, yuv420p), i.e. encoding alone.
-// CSV on stdout. Usage: bench_render_throughput [FRAMES [overlays|teaching]]   (default 300; ffmpeg must be
-// on PATH for the ceiling row; the raw frames need FRAMES x 3.7 MB in the temp folder).
+// And memory per body (issue 16): the peak resident memory of a process that loads N copies of
+// one 100,000-triangle mesh (N = 1, 10, 100, 1000), or N boxes, spheres of one size or of N
+// sizes, and draws one frame of them; each case in a child process of its own (rows `memory_*`).
+// CSV on stdout. Usage: bench_render_throughput [FRAMES [overlays|teaching|memory]]   (default 300;
+// `memory`: only the memory rows; ffmpeg must be on PATH for the ceiling row; the raw frames need
+// FRAMES x 3.7 MB in the temp folder).
 #include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <functional>
@@ -132,6 +139,156 @@ RenderSettings settings(const std::string& aa, bool shadows = true, int shadow_s
   return rs;
 }
 
+// ---- memory per body -------------------------------------------------------------------------
+
+// A torus (R 0.5 m, r 0.15 m) of 224 x 224 quads: 100,352 triangles, an 8.4 MB render mesh.
+std::shared_ptr<const TriangleMesh> torus_100k() {
+  auto m = std::make_shared<TriangleMesh>();
+  const int n = 224;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      const double u = 2 * M_PI * i / n, v = 2 * M_PI * j / n;
+      m->vertices.push_back(Vec3((0.5 + 0.15 * std::cos(v)) * std::cos(u),
+                                 (0.5 + 0.15 * std::cos(v)) * std::sin(u), 0.15 * std::sin(v)));
+    }
+  auto at = [n](int i, int j) { return (i % n) * n + (j % n); };
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      m->triangles.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+      m->triangles.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+    }
+  return m;
+}
+
+// What one memory case loads: N bodies of a shape, in a grid 1.5 m apart, each its own colour.
+enum class Copies { mesh, box, box_sizes, sphere, sphere_sizes };
+const char* name_of(Copies c) {
+  switch (c) {
+    case Copies::mesh:
+      return "mesh100k";
+    case Copies::box:
+      return "box";
+    case Copies::box_sizes:
+      return "box_sizes";
+    case Copies::sphere:
+      return "sphere";
+    case Copies::sphere_sizes:
+      return "sphere_sizes";
+  }
+  return "";
+}
+
+struct MemoryCase {
+  double seconds = 0;  ///< drawing the frame
+  long meshes = 0;     ///< GPU meshes
+  size_t mesh_bytes = 0;
+  long triangles = 0;  ///< drawn in the frame (each pass)
+};
+
+// In the calling (child) process: loads and draws one frame of n bodies. W x H, shadows, FXAA.
+MemoryCase load_and_draw(Copies what, int n) {
+  const auto torus = what == Copies::mesh ? torus_100k() : nullptr;
+  std::vector<BodyDef> bodies;
+  SceneStyles styles;
+  const int side = (int)std::ceil(std::cbrt((double)n));
+  for (int i = 0; i < n; ++i) {
+    Collider c;
+    c.collide = false;  // drawing is measured, not contacts
+    if (what == Copies::mesh) {
+      c.shape = ShapeKind::mesh;
+      c.mesh = torus;
+    } else if (what == Copies::box || what == Copies::box_sizes) {
+      c.shape = ShapeKind::box;
+      c.size = Vec3(0.8, 0.6, 0.4) * (what == Copies::box_sizes ? 1 + 1e-4 * i : 1.0);
+    } else {
+      c.shape = ShapeKind::sphere;
+      c.radius = 0.5 * (what == Copies::sphere_sizes ? 1 + 1e-4 * i : 1.0);
+    }
+    c.props_C.mass = 1;
+    c.props_C.inertia = Mat3::Identity();
+    BodyDef b;
+    b.name = "b" + std::to_string(i);
+    b.colliders = {c};
+    b.p_WB = 1.5 * Vec3(i % side, (i / side) % side, 1 + i / (side * side));
+    bodies.push_back(b);
+    ColliderStyle st;
+    st.color = {0.3f + 0.6f * (float)(i % 7) / 7, 0.5f, 0.3f + 0.6f * (float)(i % 5) / 5};
+    styles.push_back({st});
+  }
+  WorldConfig wc;
+  wc.gravity = Vec3::Zero();
+  World w(wc, bodies);
+  SceneMeshes sm(w, styles);
+  Renderer r(settings("fxaa"), sm);
+  CameraView cam;
+  const double span = 1.5 * side;
+  cam.target = Vec3(0.5 * span, 0.5 * span, 0.5 * span);
+  cam.eye = cam.target + Vec3(1.2, -2.0, 1.2) * span + Vec3(2, -3, 2);
+  DrawList dl;
+  build_draw_list(w, sm, cam, -1, dl);
+  const double t0 = bench::now_s();
+  r.render(dl);
+  MemoryCase out;
+  out.seconds = bench::now_s() - t0;
+  out.meshes = r.stats().meshes;
+  out.mesh_bytes = r.stats().mesh_bytes;
+  for (const DrawItem& it : dl.items) out.triangles += (long)sm.meshes[it.mesh].indices.size() / 3;
+  return out;
+}
+
+// Runs load_and_draw in a child process; its peak resident memory (MB) and what it reported.
+std::pair<double, MemoryCase> in_child(Copies what, int n) {
+  int fd[2];
+  if (pipe(fd) != 0) return {-1, {}};
+  const pid_t pid = fork();
+  if (pid == 0) {
+    close(fd[0]);
+    MemoryCase c = load_and_draw(what, n);
+    if (write(fd[1], &c, sizeof c) != (ssize_t)sizeof c) _exit(2);
+    _exit(0);
+  }
+  close(fd[1]);
+  MemoryCase c;
+  const bool got = read(fd[0], &c, sizeof c) == (ssize_t)sizeof c;
+  close(fd[0]);
+  int st = 0;
+  rusage u{};
+  wait4(pid, &st, 0, &u);
+  if (!got || !WIFEXITED(st) || WEXITSTATUS(st) != 0) return {-1, {}};
+  return {u.ru_maxrss / 1024.0, c};
+}
+
+void memory_rows() {
+  struct Series {
+    Copies what;
+    std::vector<int> counts;
+  };
+  for (const Series& s :
+       {Series{Copies::mesh, {1, 10, 100, 1000}}, Series{Copies::box, {1, 10, 100, 1000, 10000}},
+        Series{Copies::box_sizes, {1, 10, 100, 1000, 10000}},
+        Series{Copies::sphere, {1, 10, 100, 1000, 10000}},
+        Series{Copies::sphere_sizes, {1, 10, 100, 1000, 10000}}}) {
+    double one = -1;
+    for (int n : s.counts) {
+      const auto [mb, c] = in_child(s.what, n);
+      if (mb < 0) {
+        std::printf("memory_%s_x%d,1,%d,%d,,,\"the child failed\"\n", name_of(s.what), n, W, H);
+        continue;
+      }
+      if (n == 1) one = mb;
+      char per[64] = "";
+      if (n > 1 && one > 0) std::snprintf(per, sizeof per, " per_body_kb=%.1f", (mb - one) * 1024 / (n - 1));
+      std::printf(
+          "memory_%s_x%d,1,%d,%d,%.3f,%.2f,\"peak_rss_mb=%.1f%s bodies=%d gpu_meshes=%ld mesh_mb=%.2f "
+          "triangles_drawn=%ld; per_body_kb is the peak's growth a body above one body; one frame drawn "
+          "(shadows, FXAA) in a child process\"\n",
+          name_of(s.what), n, W, H, c.seconds, 1 / c.seconds, mb, per, n, c.meshes, c.mesh_bytes / 1e6,
+          c.triangles);
+      std::fflush(stdout);
+    }
+  }
+}
+
 // Issue 12's speed target, in a function of its own: a HUD, an inset plot and 100 arrows on the
 // 100-box clip cost at most 15% more end-to-end time than the plain clip. Plain and overlaid runs
 // alternate, `pairs` pairs, each end to end as `simreel render` runs (FXAA and the screen layer on
@@ -164,7 +321,8 @@ void teaching_overlay_rows(const Boxes& bodies, int frames, const std::filesyste
     if (overlays) {
       const double s0 = bench::now_s();
       std::vector<double> radius;
-      for (int i = 0; i < s.loop.world().body_count(); ++i) radius.push_back(s.meshes.meshes[i].radius);
+      for (int i = 0; i < s.loop.world().body_count(); ++i)
+        radius.push_back(s.meshes.meshes[s.meshes.mesh_of[i][0]].radius);
       ov = std::make_unique<SceneOverlays>(sc, s.loop.world(), radius, W, H, 1);
       setup = bench::now_s() - s0;
     }
@@ -226,6 +384,10 @@ int main(int argc, char** argv) {
   const bool only_teaching = argc > 2 && std::string(argv[2]) == "teaching";
   const auto bodies = hundred_boxes();
   std::printf("case,frames,width,height,seconds,fps,note\n");
+  if (argc > 2 && std::string(argv[2]) == "memory") {
+    memory_rows();
+    return 0;
+  }
   // The note is quoted (RFC 4180): renderer strings hold commas.
   auto row = [&](const char* name, double s, const std::string& note) {
     std::string q;
@@ -275,7 +437,8 @@ int main(int argc, char** argv) {
       std::unique_ptr<SceneOverlays> ov;
       if (m.overlays) {
         std::vector<double> radius;
-        for (int b = 0; b < s.loop.world().body_count(); ++b) radius.push_back(s.meshes.meshes[b].radius);
+        for (int b = 0; b < s.loop.world().body_count(); ++b)
+          radius.push_back(s.meshes.meshes[s.meshes.mesh_of[b][0]].radius);
         ov = std::make_unique<SceneOverlays>(overlay_scene(bodies, frames, m.overlays), s.loop.world(),
                                              radius, W, H, 1);
       }
@@ -328,7 +491,8 @@ int main(int argc, char** argv) {
     if (overlays) {  // the pre-pass, the fonts: inside the timed span, as in `simreel render`
       const double s0 = bench::now_s();
       std::vector<double> radius;
-      for (int i = 0; i < s.loop.world().body_count(); ++i) radius.push_back(s.meshes.meshes[i].radius);
+      for (int i = 0; i < s.loop.world().body_count(); ++i)
+        radius.push_back(s.meshes.meshes[s.meshes.mesh_of[i][0]].radius);
       ov = std::make_unique<SceneOverlays>(overlay_scene(bodies, frames), s.loop.world(), radius, W, H, 1);
       setup_s = bench::now_s() - s0;
     }
@@ -426,5 +590,6 @@ int main(int argc, char** argv) {
     row("end_to_end_msaa4", end_to_end("msaa4", note), note);
   }
   std::filesystem::remove(raw);
+  memory_rows();
   return 0;
 }

@@ -1,23 +1,93 @@
 #include "render/draw_list.hpp"
 
+#include <sys/resource.h>
+
 #include <Eigen/Geometry>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <stdexcept>
+#include <string>
 
 namespace simreel {
 
-SceneMeshes::SceneMeshes(const World& w, const SceneStyles& styles) {
-  mesh_of.resize(w.body_count());
+size_t available_memory() {
+  size_t avail = SIZE_MAX;
+  long vm_size = -1, vm_data = -1;  // kB
+  auto field = [](const std::string& line, const char* name, long& out) {
+    if (line.rfind(name, 0) == 0) out = std::atol(line.c_str() + std::strlen(name));
+  };
+  {
+    std::ifstream in("/proc/meminfo");
+    long kb = -1;
+    for (std::string line; std::getline(in, line);) field(line, "MemAvailable:", kb);
+    if (kb >= 0) avail = (size_t)kb * 1024;
+  }
+  {
+    std::ifstream in("/proc/self/status");
+    for (std::string line; std::getline(in, line);) {
+      field(line, "VmSize:", vm_size);
+      field(line, "VmData:", vm_data);
+    }
+  }
+  auto limit = [&](int resource, long used_kb) {
+    rlimit r{};
+    if (getrlimit(resource, &r) != 0 || r.rlim_cur == RLIM_INFINITY || used_kb < 0) return;
+    const size_t used = (size_t)used_kb * 1024;
+    avail = std::min(avail, r.rlim_cur > used ? (size_t)(r.rlim_cur - used) : 0);
+  };
+  limit(RLIMIT_AS, vm_size);
+  limit(RLIMIT_DATA, vm_data);
+  return avail;
+}
+
+SceneMeshes::SceneMeshes(const World& w, const SceneStyles& styles, size_t budget) {
+  auto style = [&](int i, size_t k) {
+    return (size_t)i < styles.size() && k < styles[i].size() ? styles[i][k] : ColliderStyle{};
+  };
+  // First the distinct meshes and what they will need, so that a scene that cannot be drawn
+  // says so before anything is made.
+  std::map<RenderMeshKey, int> index;
+  size_t need = 0;
   for (int i = 0; i < w.body_count(); ++i) {
     const std::vector<Collider>& cols = w.def(i).colliders;
     for (size_t k = 0; k < cols.size(); ++k) {
-      const ColliderStyle st =
-          (size_t)i < styles.size() && k < styles[i].size() ? styles[i][k] : ColliderStyle{};
+      const ColliderStyle st = style(i, k);
+      if (st.drawn && index.try_emplace(render_mesh_key(cols[k], st.plane_size, st.normals), -1).second)
+        need += render_mesh_bytes(cols[k]);
+    }
+  }
+  if (need > budget / 2) {
+    char msg[400];
+    std::snprintf(msg, sizeof msg,
+                  "drawing this scene needs %.3g GB for its %zu distinct render meshes (%.3g GB, held twice: "
+                  "here and in the GL), more than the %.3g GB this process can still allocate; colliders "
+                  "share one render mesh when they are the same mesh file at the same scale, or primitives "
+                  "of the same size",
+                  2e-9 * (double)need, index.size(), 1e-9 * (double)need, 1e-9 * (double)budget);
+    throw std::runtime_error(msg);
+  }
+  mesh_of.resize(w.body_count());
+  color_of.resize(w.body_count());
+  for (int i = 0; i < w.body_count(); ++i) {
+    const std::vector<Collider>& cols = w.def(i).colliders;
+    for (size_t k = 0; k < cols.size(); ++k) {
+      const ColliderStyle st = style(i, k);
+      color_of[i].push_back(st.color);
       if (!st.drawn) {
         mesh_of[i].push_back(-1);
         continue;
       }
-      mesh_of[i].push_back((int)meshes.size());
-      meshes.push_back(tessellate_collider(cols[k], st.plane_size, st.normals));
-      colors.push_back(st.color);
+      int& m = index.at(render_mesh_key(cols[k], st.plane_size, st.normals));
+      if (m < 0) {
+        m = (int)meshes.size();
+        meshes.push_back(tessellate_collider(cols[k], st.plane_size, st.normals));
+        bytes += meshes.back().bytes();
+      }
+      mesh_of[i].push_back(m);
     }
   }
 }
@@ -42,7 +112,7 @@ void build_draw_list(const World& w, const SceneMeshes& sm, const CameraView& ca
       DrawItem it;
       it.mesh = mesh;
       it.model = T.matrix().cast<float>();
-      it.color = sm.colors[mesh];
+      it.color = sm.color_of[i][k];
       out.items.push_back(it);
       const double r = sm.meshes[it.mesh].radius;
       lo = lo.cwiseMin(T.translation() - Vec3::Constant(r));

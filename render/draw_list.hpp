@@ -40,13 +40,23 @@ struct ColliderStyle {
 };
 using SceneStyles = std::vector<std::vector<ColliderStyle>>;  ///< per body, per collider
 
-// The static side: one render mesh per drawn collider, in body order, made once.
+// Bytes this process can still allocate: the least of the system's available memory
+// (/proc/meminfo MemAvailable) and what the address-space and data limits (ulimit -v, -d) leave.
+size_t available_memory();
+
+// The static side, made once: one render mesh per distinct drawn shape (equal RenderMeshKeys,
+// render/tessellate.hpp: a thousand bodies of one mesh file at one scale, or of boxes of one size,
+// share one mesh), and per drawn collider its mesh and colour.
 struct SceneMeshes {
-  std::vector<RenderMesh> meshes;
-  std::vector<std::array<float, 3>> colors;  ///< per mesh, linear RGB
-  std::vector<std::vector<int>> mesh_of;     ///< per body, per collider: its mesh, -1 if not drawn
+  std::vector<RenderMesh> meshes;         ///< distinct
+  std::vector<std::vector<int>> mesh_of;  ///< per body, per collider: its mesh, -1 if not drawn
+  std::vector<std::vector<std::array<float, 3>>> color_of;  ///< per body, per collider: linear RGB
+  size_t bytes = 0;                                         ///< vertex and index data of `meshes`
   // Bodies or colliders that `styles` does not reach get ColliderStyle{} (drawn, light grey).
-  explicit SceneMeshes(const World& w, const SceneStyles& styles = {});
+  // `budget`: bytes this process may still allocate (default: available_memory()); the meshes
+  // are held twice (here and in the GL, whose llvmpipe crashes with SIGSEGV when an upload finds
+  // no memory), so more than half of it throws std::runtime_error saying how much is needed.
+  explicit SceneMeshes(const World& w, const SceneStyles& styles = {}, size_t budget = available_memory());
 };
 
 // Fills `out`'s bodies, bounds and camera (reusing its storage) from the world's current state;

@@ -100,14 +100,18 @@ struct Renderer::Impl {
   LitProgram body_prog, ground_prog;  // the lit shader for bodies and for the ground
   GLuint depth = 0;
   GLint u_mvp = -1;
+  // One GPU mesh per distinct scene mesh, however many items draw it: each frame the items are
+  // grouped by mesh and each group is one instanced draw (see group_items). An item's model
+  // matrix and colour sit in a buffer texture (5 RGBA32F texels per item, read by the lit and
+  // depth vertex shaders, render/shaders.cpp, as "batched"); its slot there comes in as the
+  // per-instance attribute a_item, from `slots_vbo` (0, 1, 2, ...) at the group's first slot.
   std::vector<GpuMesh> meshes;
   GpuMesh ground;
-  // All body meshes in one buffer for one draw call (see the lit vertex shader in render/shaders.cpp):
-  // one-sided meshes' triangles first, then the two-sided ones.
-  GLuint batch_vao = 0, batch_vbo = 0, batch_item_vbo = 0, batch_ebo = 0, items_tbo = 0, items_tex = 0;
-  GLsizei batch_one = 0, batch_two = 0;
-  std::vector<float> item_data;  // 20 floats per mesh: model matrix (column-major), colour, 0
-  std::vector<char> item_seen;
+  GLuint items_tbo = 0, items_tex = 0, slots_vbo = 0;
+  size_t items_capacity = 0, slots_capacity = 0;        // items the buffers hold
+  std::vector<float> item_data;                         // 20 floats per item: model (column-major), colour, 0
+  std::vector<int> group_size, group_base, group_next;  // per mesh: this frame's items, first slot
+  std::vector<int> groups, seen;                        // meshes drawn this frame, in draw order
   GLint d_batched = -1, d_items = -1;
   GLuint msaa_fbo = 0, msaa_color = 0, msaa_depth = 0;
   GLuint frame_fbo = 0, frame_color = 0, frame_depth = 0;  // single-sample, read back
@@ -218,7 +222,7 @@ struct Renderer::Impl {
     return true;
   }
 
-  void shadow_pass(const DrawList& dl, const M4& lvp, bool batched) {
+  void shadow_pass(const DrawList& dl, const M4& lvp) {
     if (poses_unchanged(dl, lvp)) {
       ++stats.shadow_reused;
       return;
@@ -231,100 +235,106 @@ struct Renderer::Impl {
     glFrontFace(GL_CCW);
     glEnable(GL_POLYGON_OFFSET_FILL);
     glPolygonOffset(1.5f, 2.0f);
-    if (batched) glUniformMatrix4fv(u_mvp, 1, GL_FALSE, lvp.data());
-    draw_bodies(dl, batched, d_batched, &lvp);
+    glUniformMatrix4fv(u_mvp, 1, GL_FALSE, lvp.data());
+    draw_bodies(d_batched);
     glDisable(GL_POLYGON_OFFSET_FILL);
     last_models.resize(dl.items.size());
     for (size_t i = 0; i < dl.items.size(); ++i) last_models[i] = dl.items[i].model;
     last_lightvp = lvp;
   }
 
-  void build_batch(const SceneMeshes& sm) {
-    std::vector<float> v;
-    std::vector<uint32_t> item, one, two;
-    for (size_t i = 0; i < sm.meshes.size(); ++i) {
-      const RenderMesh& m = sm.meshes[i];
-      const uint32_t base = (uint32_t)(v.size() / 6);
-      v.insert(v.end(), m.vertices.begin(), m.vertices.end());
-      item.insert(item.end(), m.vertices.size() / 6, (uint32_t)i);
-      for (uint32_t k : m.indices) (m.two_sided ? two : one).push_back(base + k);
-    }
-    batch_one = (GLsizei)one.size();
-    batch_two = (GLsizei)two.size();
-    one.insert(one.end(), two.begin(), two.end());
-    glGenVertexArrays(1, &batch_vao);
-    glBindVertexArray(batch_vao);
-    glGenBuffers(1, &batch_vbo);
-    glBindBuffer(GL_ARRAY_BUFFER, batch_vbo);
-    glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(v.size() * sizeof(float)), v.data(), GL_STATIC_DRAW);
-    glEnableVertexAttribArray(0);
-    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), (void*)0);
-    glEnableVertexAttribArray(1);
-    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), (void*)(3 * sizeof(float)));
-    glGenBuffers(1, &batch_item_vbo);
-    glBindBuffer(GL_ARRAY_BUFFER, batch_item_vbo);
-    glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(item.size() * sizeof(uint32_t)), item.data(), GL_STATIC_DRAW);
+  // The per-instance slot attribute (location 2) of each body mesh, read from slots_vbo.
+  void attach_slots(GpuMesh& g) {
+    glBindVertexArray(g.vao);
+    glBindBuffer(GL_ARRAY_BUFFER, slots_vbo);
     glEnableVertexAttribArray(2);
     glVertexAttribIPointer(2, 1, GL_UNSIGNED_INT, 0, (void*)0);
-    glGenBuffers(1, &batch_ebo);
-    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, batch_ebo);
-    glBufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)(one.size() * sizeof(uint32_t)), one.data(),
-                 GL_STATIC_DRAW);
+    glVertexAttribDivisor(2, 1);
     glBindVertexArray(0);
-    item_data.assign(std::max<size_t>(1, sm.meshes.size()) * 20, 0.0f);
-    item_seen.assign(sm.meshes.size(), 0);
+  }
+
+  void setup_items(size_t mesh_count) {
+    glGenBuffers(1, &slots_vbo);
     glGenBuffers(1, &items_tbo);
-    glBindBuffer(GL_TEXTURE_BUFFER, items_tbo);
-    glBufferData(GL_TEXTURE_BUFFER, (GLsizeiptr)(item_data.size() * sizeof(float)), nullptr, GL_STREAM_DRAW);
     glGenTextures(1, &items_tex);
+    group_size.assign(mesh_count, 0);
+    group_base.assign(mesh_count, 0);
+    group_next.assign(mesh_count, 0);
+    groups.reserve(mesh_count);
+    seen.reserve(mesh_count);
+    reserve_items(std::max<size_t>(1, mesh_count));
+  }
+
+  // Room for n items in the buffer texture and the slot buffer; grows (to twice the need) only
+  // when too small, so a steady draw list allocates nothing per frame.
+  void reserve_items(size_t n) {
+    if (n <= items_capacity) return;
+    const size_t cap = std::max<size_t>(2 * n, 64);
+    std::vector<uint32_t> slots(cap);
+    for (size_t i = 0; i < cap; ++i) slots[i] = (uint32_t)i;
+    glBindBuffer(GL_ARRAY_BUFFER, slots_vbo);
+    glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(cap * sizeof(uint32_t)), slots.data(), GL_STATIC_DRAW);
+    glBindBuffer(GL_TEXTURE_BUFFER, items_tbo);
+    glBufferData(GL_TEXTURE_BUFFER, (GLsizeiptr)(cap * 20 * sizeof(float)), nullptr, GL_STREAM_DRAW);
     glBindTexture(GL_TEXTURE_BUFFER, items_tex);
     glTexBuffer(GL_TEXTURE_BUFFER, GL_RGBA32F, items_tbo);
+    item_data.resize(cap * 20);
+    items_capacity = slots_capacity = cap;
   }
 
-  // This frame's model matrices and colours into the buffer texture. False if the draw list is
-  // not one item per mesh (then every item is drawn on its own). A mesh without an item gets a
-  // zero matrix: its triangles collapse and draw nothing.
-  bool fill_items(const DrawList& dl) {
-    std::fill(item_data.begin(), item_data.end(), 0.0f);
-    std::fill(item_seen.begin(), item_seen.end(), 0);
+  // This frame's items grouped by mesh, into the buffer texture: the meshes in the order of their
+  // first item, one-sided ones first, then the two-sided (drawn without culling), as the single
+  // batched draw of all bodies did before meshes were shared (the same triangles in the same order
+  // when no two items share a mesh); within a group, items in draw list order.
+  void group_items(const DrawList& dl) {
+    const size_t n = dl.items.size();
+    for (const DrawItem& it : dl.items)
+      if (it.mesh < 0 || it.mesh >= (int)meshes.size())
+        throw std::invalid_argument("draw item's mesh " + std::to_string(it.mesh) + " is not one of the " +
+                                    std::to_string(meshes.size()) + " meshes uploaded");
+    for (int m : groups) group_size[m] = 0;  // the last frame's
+    seen.clear();
+    for (const DrawItem& it : dl.items)
+      if (group_size[it.mesh]++ == 0) seen.push_back(it.mesh);
+    groups.clear();
+    for (bool two : {false, true})
+      for (int m : seen)
+        if (meshes[m].two_sided == two) groups.push_back(m);
+    int next = 0;
+    for (int m : groups) {
+      group_base[m] = group_next[m] = next;
+      next += group_size[m];
+    }
+    reserve_items(n);
     for (const DrawItem& it : dl.items) {
-      if (it.mesh < 0 || it.mesh >= (int)item_seen.size() || item_seen[it.mesh]) return false;
-      item_seen[it.mesh] = 1;
-      float* d = &item_data[20 * (size_t)it.mesh];
+      float* d = &item_data[20 * (size_t)group_next[it.mesh]++];
       std::copy(it.model.data(), it.model.data() + 16, d);
-      d[16] = it.color[0], d[17] = it.color[1], d[18] = it.color[2];
+      d[16] = it.color[0], d[17] = it.color[1], d[18] = it.color[2], d[19] = 0;
     }
-    glBindBuffer(GL_TEXTURE_BUFFER, items_tbo);
-    glBufferSubData(GL_TEXTURE_BUFFER, 0, (GLsizeiptr)(item_data.size() * sizeof(float)), item_data.data());
-    return true;
+    if (n) {
+      glBindBuffer(GL_TEXTURE_BUFFER, items_tbo);
+      glBufferSubData(GL_TEXTURE_BUFFER, 0, (GLsizeiptr)(n * 20 * sizeof(float)), item_data.data());
+    }
   }
 
-  // Every body, with the program in use (lit or depth): one draw per winding kind when batched.
-  void draw_bodies(const DrawList& dl, bool batched, GLint batched_loc, const M4* light_vp) {
-    if (batched) {
-      glUniform1i(batched_loc, 1);
-      glActiveTexture(GL_TEXTURE1);
-      glBindTexture(GL_TEXTURE_BUFFER, items_tex);
-      glActiveTexture(GL_TEXTURE0);
-      glBindVertexArray(batch_vao);
-      if (batch_one) glDrawElements(GL_TRIANGLES, batch_one, GL_UNSIGNED_INT, nullptr);
-      if (batch_two) {
-        glDisable(GL_CULL_FACE);
-        glDrawElements(GL_TRIANGLES, batch_two, GL_UNSIGNED_INT, (void*)(batch_one * sizeof(uint32_t)));
-        glEnable(GL_CULL_FACE);
-      }
-      glUniform1i(batched_loc, 0);
-      return;
+  // Every body, with the program in use (lit or depth): one instanced draw per mesh drawn this
+  // frame (group_items).
+  void draw_bodies(GLint batched_loc) {
+    glUniform1i(batched_loc, 1);
+    glActiveTexture(GL_TEXTURE1);
+    glBindTexture(GL_TEXTURE_BUFFER, items_tex);
+    glActiveTexture(GL_TEXTURE0);
+    glBindBuffer(GL_ARRAY_BUFFER, slots_vbo);
+    for (int m : groups) {
+      const GpuMesh& g = meshes[m];
+      glBindVertexArray(g.vao);
+      glVertexAttribIPointer(2, 1, GL_UNSIGNED_INT, 0, (void*)((size_t)group_base[m] * sizeof(uint32_t)));
+      if (g.two_sided) glDisable(GL_CULL_FACE);
+      glDrawElementsInstanced(GL_TRIANGLES, g.count, GL_UNSIGNED_INT, nullptr, group_size[m]);
+      if (g.two_sided) glEnable(GL_CULL_FACE);
     }
-    for (const DrawItem& it : dl.items) {
-      if (light_vp) {
-        const M4 mvp = *light_vp * it.model;
-        glUniformMatrix4fv(u_mvp, 1, GL_FALSE, mvp.data());
-        draw_mesh(meshes[it.mesh]);
-      } else {
-        draw(body_prog, meshes[it.mesh], it.model, it.color);
-      }
-    }
+    glBindVertexArray(0);
+    glUniform1i(batched_loc, 0);
   }
 
   // Ground rectangles that hold every shadow a body can cast on the ground this frame: the 8
@@ -442,7 +452,7 @@ struct Renderer::Impl {
   }
 
   // Pass 2: sky, ground and bodies, lit and shadowed, into the frame's target (left bound).
-  void bodies_pass(const DrawList& dl, const View& v, const M4& lvp, bool batched) {
+  void bodies_pass(const DrawList& dl, const View& v, const M4& lvp) {
     const GLuint target = msaa > 1 ? msaa_fbo : frame_fbo;
     glViewport(0, 0, s.width, s.height);
     const auto g = [](float c) { return std::pow(c, 1.0f / 2.2f); };
@@ -517,7 +527,7 @@ struct Renderer::Impl {
     // the bodies hide part of them.
     if (cached && s.shadows && ground_depth) draw_shadow_footprints(dl, true);
     glUseProgram(body_prog.id);
-    draw_bodies(dl, batched, body_prog.batched, nullptr);
+    draw_bodies(body_prog.batched);
     if (cached) {
       if (s.shadows && !ground_depth) draw_shadow_footprints(dl, false);
     } else if (s.ground) {
@@ -728,8 +738,13 @@ Renderer::Renderer(const RenderSettings& s, const SceneMeshes& sm) : p_(std::mak
   glUniform1i(P.d_items, 1);
   glUniform1i(P.d_batched, 0);
   glUseProgram(0);
-  for (const RenderMesh& m : sm.meshes) P.meshes.push_back(upload(m));
-  P.build_batch(sm);
+  P.setup_items(sm.meshes.size());
+  for (const RenderMesh& m : sm.meshes) {
+    P.meshes.push_back(upload(m));
+    P.attach_slots(P.meshes.back());
+    ++P.stats.meshes;
+    P.stats.mesh_bytes += m.bytes();
+  }
   if (s.ground) P.ground = upload(tessellate_plane(s.ground_size));
   P.setup_targets();
   glEnable(GL_DEPTH_TEST);
@@ -745,10 +760,10 @@ const uint8_t* Renderer::render(const DrawList& dl, uint8_t* out) {
   const RenderSettings& s = P.s;
   P.ctx->make_current();
   const M4 lvp = P.light_viewproj(dl);
-  const bool batched = P.fill_items(dl);
-  if (s.shadows) P.shadow_pass(dl, lvp, batched);  // pass 1
+  P.group_items(dl);
+  if (s.shadows) P.shadow_pass(dl, lvp);  // pass 1
   const Impl::View v = P.view(dl);
-  P.bodies_pass(dl, v, lvp, batched);                                // pass 2
+  P.bodies_pass(dl, v, lvp);                                         // pass 2
   if (!dl.overlay.empty()) P.overlay_pass(dl.overlay, v.vp, v.eye);  // pass 3
   uint8_t* img = out ? out : P.frame.data();
   P.read_back(img);

@@ -47,11 +47,13 @@ struct RenderSettings : RenderLook {
 struct RenderStats {
   long frames = 0, shadow_passes = 0, shadow_reused = 0;
   long ground_cached = 0, ground_reused = 0;  ///< frames that drew / copied the cached ground
+  long meshes = 0;                            ///< body meshes uploaded: one per distinct scene mesh
+  size_t mesh_bytes = 0;                      ///< their vertex and index data
 };
 
 class Renderer {
  public:
-  Renderer(const RenderSettings& s, const SceneMeshes& meshes);  ///< uploads every mesh once
+  Renderer(const RenderSettings& s, const SceneMeshes& meshes);  ///< uploads each distinct mesh once
   ~Renderer();
   // Draws and returns the frame: RGBA8, top row first, width*height*4 bytes, valid until the next
   // call; read back into `out` instead of the renderer's own buffer if given.

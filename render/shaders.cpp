@@ -17,10 +17,10 @@ float gamma_encode(float x) {
 
 namespace {
 
-// Bodies are drawn in one call: every body mesh lives in one vertex buffer whose vertices carry
-// their mesh's index (a_item), and each frame the meshes' model matrices and colours go into a
-// buffer texture (5 RGBA32F texels per mesh). With u_batched == 0 a single mesh is drawn with
-// the u_model and u_color uniforms (the ground, footprints, and the fallback).
+// Bodies are drawn instanced, one draw per distinct mesh: each frame the items' model matrices
+// and colours go into a buffer texture (5 RGBA32F texels per item) and a_item, a per-instance
+// attribute, is the item's slot there (render/renderer.cpp, group_items). With u_batched == 0 a
+// single mesh is drawn with the u_model and u_color uniforms (the ground, footprints).
 const char* kLitVS = R"(#version 330 core
 layout(location = 0) in vec3 a_pos;
 layout(location = 1) in vec3 a_nrm;

@@ -207,4 +207,57 @@ RenderMesh tessellate_collider(const Collider& c, double plane_size, const Corne
   return {};
 }
 
+RenderMeshKey render_mesh_key(const Collider& c, double plane_size, const CornerNormals* normals) {
+  RenderMeshKey k;
+  k.shape = c.shape;
+  switch (c.shape) {
+    case ShapeKind::box:
+      k.dims = {c.size.x(), c.size.y(), c.size.z()};
+      break;
+    case ShapeKind::sphere:
+      k.dims = {c.radius, 0, 0};
+      break;
+    case ShapeKind::cylinder:
+    case ShapeKind::capsule:
+      k.dims = {c.radius, c.height, 0};
+      break;
+    case ShapeKind::mesh:
+      k.mesh = c.mesh.get();
+      k.normals = normals;
+      break;
+    case ShapeKind::ellipsoid:
+      k.dims = {c.radii.x(), c.radii.y(), c.radii.z()};
+      break;
+    case ShapeKind::plane:
+      k.dims = {plane_size, 0, 0};
+      break;
+  }
+  return k;
+}
+
+size_t render_mesh_bytes(const Collider& c) {
+  // Floats per vertex, and per shape its vertices and indices as the functions above make them:
+  // revolve() makes (profile points) x (segments + 1) vertices and 6 indices per quad; disk() 2 +
+  // segments vertices and 3 indices per segment. The tests compare with the meshes themselves.
+  auto bytes = [](size_t vertices, size_t indices) { return (6 * vertices + indices) * 4; };
+  constexpr size_t rings = 24, seg = 48;  // the defaults of the tessellate_ functions
+  const size_t sphere = bytes((rings + 1) * (2 * rings + 1), rings * 2 * rings * 6);
+  switch (c.shape) {
+    case ShapeKind::box:
+      return bytes(24, 36);
+    case ShapeKind::sphere:
+    case ShapeKind::ellipsoid:
+      return sphere;
+    case ShapeKind::cylinder:
+      return bytes(2 * (seg + 1) + 2 * (seg + 2), seg * 6 + 2 * seg * 3);
+    case ShapeKind::capsule:
+      return bytes((2 * (seg / 4 + 1)) * (seg + 1), (2 * (seg / 4 + 1) - 1) * seg * 6);
+    case ShapeKind::mesh:
+      return c.mesh ? bytes(3 * c.mesh->triangles.size(), 3 * c.mesh->triangles.size()) : 0;
+    case ShapeKind::plane:
+      return bytes(4, 6);
+  }
+  return 0;
+}
+
 }  // namespace simreel

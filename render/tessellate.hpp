@@ -1,5 +1,7 @@
 // Render meshes: positions and normals for GL, made once per collider in the collider frame.
 #pragma once
+#include <array>
+#include <compare>
 #include <cstdint>
 #include <vector>
 
@@ -14,6 +16,8 @@ struct RenderMesh {
   // Drawn without back-face culling, lit on the side seen. Set for meshes from files, whose winding
   // may be inside-out or open (shells): they must look the same as the repaired solid was weighed.
   bool two_sided = false;
+
+  size_t bytes() const { return (vertices.size() + indices.size()) * 4; }  ///< vertex and index data
 };
 
 RenderMesh tessellate_box(const Vec3& size);
@@ -37,5 +41,21 @@ RenderMesh tessellate_mesh(const TriangleMesh& m, const CornerNormals* normals =
 // plane_size: m, the side of the square drawn for a plane collider (planes are infinite).
 RenderMesh tessellate_collider(const Collider& c, double plane_size = 10,
                                const CornerNormals* normals = nullptr);
+
+// Everything tessellate_collider reads from its arguments: colliders with equal keys have the
+// same render mesh, bit for bit, so one copy serves them all. A mesh's surface and normals count
+// by identity (the scene loader shares one imported mesh per file and scale), not by content.
+struct RenderMeshKey {
+  ShapeKind shape = ShapeKind::box;
+  std::array<double, 3> dims{};   ///< m: the sizes the shape's tessellation reads, zero elsewhere
+  const void* mesh = nullptr;     ///< mesh shapes: the surface...
+  const void* normals = nullptr;  ///< ...and the file's shading normals (nullptr: crease normals)
+  auto operator<=>(const RenderMeshKey&) const = default;
+};
+RenderMeshKey render_mesh_key(const Collider& c, double plane_size = 10,
+                              const CornerNormals* normals = nullptr);
+// RenderMesh::bytes() of tessellate_collider(c) without making it: what a scene's meshes will
+// need, checked before any is made.
+size_t render_mesh_bytes(const Collider& c);
 
 }  // namespace simreel

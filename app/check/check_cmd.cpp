@@ -188,7 +188,7 @@ int cmd_check(const std::vector<std::string>& args) {
     fit_camera(scene, 1);  // camera: { auto: true }
     const std::string spec = o.frames ? *o.frames : scene.test.frames;
     FrameLoop loop(scene, 1);
-    std::vector<FrameTarget> targets;
+    FrameTargets targets;
     try {
       targets = parse_frame_spec(spec, loop.plan(), scene.video.fps, scene.timestep, scene.duration);
     } catch (const std::invalid_argument& e) {

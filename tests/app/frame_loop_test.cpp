@@ -14,7 +14,7 @@ namespace {
 // 2 s at 10 fps with dt = 0.01: frames 0..20 at steps 0, 10, ..., 200.
 struct Fixture {
   FramePlan plan = plan_frames(2.0, 0.01, 10);
-  std::vector<FrameTarget> parse(const std::string& s, bool plan_only = false) {
+  FrameTargets parse(const std::string& s, bool plan_only = false) {
     return parse_frame_spec(s, plan, 10, 0.01, 2.0, plan_only);
   }
 };

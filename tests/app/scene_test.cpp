@@ -508,6 +508,31 @@ TEST(Scene, MeshCollisionHullsAndParts) {
             std::string::npos);
 }
 
+// Copies of one mesh file share what the loader makes of it: the imported surface (and through it
+// one render mesh), the analysis and the collision hulls; a part mode has its own hulls, and
+// scales that six decimals would not tell apart are other meshes (their masses scale as s^3).
+TEST(Scene, CopiesOfOneMeshShareTheirHullsAndScalesAreExact) {
+  write_two_cubes("two_cubes.obj");
+  const Scene s = load_scene(write_scene(
+      "copies.yaml",
+      "bodies:\n"
+      "  - { colliders: [ { shape: mesh, file: two_cubes.obj } ] }\n"
+      "  - { position: [0, 5, 0], colliders: [ { shape: mesh, file: two_cubes.obj } ] }\n"
+      "  - { position: [0, 9, 0], colliders: [ { shape: mesh, file: two_cubes.obj, mode: parts } ] }\n"
+      "  - { position: [0, 0, 9], colliders: [ { shape: mesh, file: two_cubes.obj, scale: 1e-7 } ] }\n"
+      "  - { position: [0, 0, 19], colliders: [ { shape: mesh, file: two_cubes.obj, scale: 2e-7 } ] }\n"));
+  const Collider &a = s.bodies[0].colliders[0], &b = s.bodies[1].colliders[0], &p = s.bodies[2].colliders[0];
+  EXPECT_EQ(a.mesh.get(), b.mesh.get());
+  EXPECT_EQ(a.mesh.get(), p.mesh.get());
+  ASSERT_EQ(a.hulls.size(), 1u);
+  EXPECT_EQ(a.hulls, b.hulls);
+  ASSERT_EQ(p.hulls.size(), 2u);
+  EXPECT_NE(p.hulls[0].get(), a.hulls[0].get());
+  const Collider &small = s.bodies[3].colliders[0], &twice = s.bodies[4].colliders[0];
+  EXPECT_NE(small.mesh.get(), twice.mesh.get());
+  EXPECT_NEAR(twice.props_C.mass / small.props_C.mass, 8.0, 1e-9);
+}
+
 // ---- issue 16: YAML that yaml-cpp would read silently, and values that make no body -----------
 
 // The message from the file's name on (the scratch folder differs per run).

@@ -51,22 +51,22 @@ TEST(TimeMap, VideoPlanSamplesTheNearestStep) {
   const FramePlan& v = loop.video_plan();
   // 1 s simulated = 4 s video, a 0.5 s hold, then 3 s simulated = 12 s video: 16.5 s, 166 frames.
   EXPECT_DOUBLE_EQ(loop.video_duration(), 16.5);
-  ASSERT_EQ(v.frame_step.size(), 166u);
+  ASSERT_EQ((size_t)v.frames, 166u);
   // Frame k at video k / 10 s: before the hold simulated k / 40 s, 2.5 k steps of 0.01 s, rounded
   // to the nearest (odd k fall halfway: either step).
-  for (long k = 0; k <= 40; k += 2) EXPECT_EQ(v.frame_step[k], 5 * k / 2) << k;
-  for (long k = 40; k <= 45; ++k) EXPECT_EQ(v.frame_step[k], 100) << "held at t = 1 s, frame " << k;
-  EXPECT_EQ(v.frame_step[49], 110);  // video 4.9 s: sim 1 + 0.4 / 4 = 1.1 s
-  EXPECT_EQ(v.frame_step[165], 400);
+  for (long k = 0; k <= 40; k += 2) EXPECT_EQ(v.step(k), 5 * k / 2) << k;
+  for (long k = 40; k <= 45; ++k) EXPECT_EQ(v.step(k), 100) << "held at t = 1 s, frame " << k;
+  EXPECT_EQ(v.step(49), 110);  // video 4.9 s: sim 1 + 0.4 / 4 = 1.1 s
+  EXPECT_EQ(v.step(165), 400);
   // The simulation plan (drift, simulate's CSV, check's times) is untouched: k / 10 s.
-  ASSERT_EQ(loop.plan().frame_step.size(), 41u);
-  EXPECT_EQ(loop.plan().frame_step[7], 70);
+  ASSERT_EQ((size_t)loop.plan().frames, 41u);
+  EXPECT_EQ(loop.plan().step(7), 70);
   // Every frame of the video is a frame the run delivers, in order, holds repeated.
   long count = 0, last = -1;
   bool ordered = true;
   FrameLoop::Hooks h;
   h.frame = [&](const FrameTarget& t, const World& w) {
-    ordered = ordered && t.index == count && w.steps() == v.frame_step[(size_t)t.index] && w.steps() >= last;
+    ordered = ordered && t.index == count && w.steps() == v.step(t.index) && w.steps() >= last;
     last = w.steps();
     ++count;
   };
