@@ -174,7 +174,8 @@ int cmd_simulate(const std::vector<std::string>& args) {
   FrameLoop loop(scene, o.run.threads);
   World& world = loop.world();
   world.set_profiling(o.profile);
-  for (const std::string& n : scene.notes) std::fprintf(stderr, "note: %s\n", n.c_str());
+  if (!o.run.quiet)  // --quiet: nothing but errors (the JSON still carries the notes)
+    for (const std::string& n : scene.notes) std::fprintf(stderr, "note: %s\n", n.c_str());
   if (o.resume) {
     const std::string& path = *o.resume;
     std::ifstream in(path, std::ios::binary);

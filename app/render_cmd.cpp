@@ -201,7 +201,8 @@ int render_at(const RenderOptions& r, const Scene& scene, FrameLoop& loop, int w
   o.width = w, o.height = h;
   o.threads = loop.world().config().threads;
   SceneFrames view(scene, loop, o);  // one view or panes (app/panes.hpp)
-  for (const std::string& n : view.notes()) std::fprintf(stderr, "note: %s\n", n.c_str());
+  if (!r.run.quiet)
+    for (const std::string& n : view.notes()) std::fprintf(stderr, "note: %s\n", n.c_str());
   const FrameTarget target{-1, t, step_at(t, scene.timestep, loop.plan().total_steps)};
   double render_s = 0;
   FrameLoop::Hooks hooks;
@@ -256,7 +257,8 @@ int cmd_render(const std::vector<std::string>& args) {
   const StopSignals stop;
   Scene scene = load_scene(r.scenes[0]);
   apply_overrides(r.run, scene);
-  for (const std::string& n : scene.notes) std::fprintf(stderr, "note: %s\n", n.c_str());
+  if (!r.run.quiet)  // --quiet: nothing but errors
+    for (const std::string& n : scene.notes) std::fprintf(stderr, "note: %s\n", n.c_str());
   int w = scene.video.width, h = scene.video.height;
   if (!r.at && (w % 2 || h % 2)) {
     std::fprintf(stderr, "note: %dx%d rounded up to %dx%d (yuv420p video needs even sizes)\n", w, h,
@@ -324,7 +326,8 @@ int cmd_render(const std::vector<std::string>& args) {
   // The post stage (FXAA, then the screen layer) runs on the writer's thread, overlapping the next
   // frame's rendering.
   SceneFrames view(scene, loop, o, PostStage::caller);
-  for (const std::string& n : view.notes()) std::fprintf(stderr, "note: %s\n", n.c_str());
+  if (!r.run.quiet)
+    for (const std::string& n : view.notes()) std::fprintf(stderr, "note: %s\n", n.c_str());
   vs.fxaa = view.caller_fxaa();
   VideoWriter writer(vs);
 

@@ -596,6 +596,14 @@ TEST(Cli, GifWidthAndFrameRate) {
 TEST(Cli, QuietIsQuietAndLogsGetPlainProgress) {
   const std::string scene = write("g.yaml", kGood);
   EXPECT_EQ(run("simulate " + scene + " --quiet").out, "");
+  // Notes too (here: the timestep shortened to divide 1/fps) are silent under --quiet.
+  const std::string noted = write("noted.yaml",
+                                  "simulation: { duration: 0.2, timestep: 0.003 }\n"
+                                  "video: { width: 64, height: 48, fps: 25 }\n"
+                                  "bodies:\n  - { colliders: [ { shape: box, size: [1, 1, 1] } ] }\n");
+  EXPECT_NE(run("simulate " + noted).out.find("note:"), std::string::npos);
+  EXPECT_EQ(run("simulate " + noted + " --quiet").out, "");
+  EXPECT_EQ(run("render " + noted + " --quiet -o " + tmp("noted.mp4").string()).out, "");
   const std::string err = tmp("err.txt");
   const Result r = run("simulate " + scene + " 2>" + err + " >/dev/null; cat " + err);
   EXPECT_NE(r.out.find("11/11 frames (100%)"), std::string::npos) << r.out;
