@@ -261,18 +261,6 @@ std::optional<AntiAliasing> antialiasing_from_name(const std::string& name) {
 
 namespace {
 
-Integrator integrator(const YAML::Node& n, const Ctx& c) {
-  const std::string name = text(n, c);
-  const auto i = integrator_from_name(name);
-  if (!i) {
-    std::string msg = "unknown integrator '" + name + "' (" + integrator_names() + ")";
-    if (auto s = nearest(name, {"auto", "seed", "euler_gyro", "rk4", "splitting"}))
-      msg += "; did you mean '" + *s + "'?";
-    c.fail(n, msg);
-  }
-  return *i;
-}
-
 struct Loader {
   Scene& scene;
   fs::path dir;

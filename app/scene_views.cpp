@@ -25,18 +25,6 @@ void check_body(const Scene& s, const std::string& name, const YAML::Node& n, co
   c.fail(n, msg);
 }
 
-Integrator integrator_of(const YAML::Node& n, const Ctx& c) {
-  const std::string name = text(n, c);
-  const auto i = integrator_from_name(name);
-  if (!i) {
-    std::string msg = "unknown integrator '" + name + "' (" + integrator_names() + ")";
-    if (auto s = nearest(name, {"auto", "seed", "euler_gyro", "rk4", "splitting"}))
-      msg += "; did you mean '" + *s + "'?";
-    c.fail(n, msg);
-  }
-  return *i;
-}
-
 PaneCamera pane_camera(const YAML::Node& n, const Ctx& c, const Scene& s) {
   if (!n.IsMap()) c.fail(n, "expected a mapping (position, look_at, up, fov, follow, frame), got " + show(n));
   check_keys(n, c, {"position", "look_at", "up", "fov", "follow", "frame"});
@@ -107,7 +95,7 @@ void load_views(const YAML::Node& root, const std::string& path, Scene& s) {
       for (const VariantSpec& o : vs.variants)
         if (o.name == var.name)
           e.child("name").fail(n["name"], "another variant is named '" + var.name + "'");
-      if (n["integrator"]) var.integrator = integrator_of(n["integrator"], e.child("integrator"));
+      if (n["integrator"]) var.integrator = integrator(n["integrator"], e.child("integrator"));
       if (n["timestep"]) {
         var.timestep = positive(n["timestep"], e.child("timestep"));
         if (*var.timestep > s.duration)

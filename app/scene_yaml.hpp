@@ -4,6 +4,8 @@
 #pragma once
 #include <yaml-cpp/yaml.h>
 
+#include "sim/integrators.hpp"
+
 #include <cstdint>
 #include <initializer_list>
 #include <sstream>
@@ -52,7 +54,8 @@ double unit_interval(const YAML::Node& n, const Ctx& c);
 uint32_t bits(const YAML::Node& n, const Ctx& c);
 std::string where(const YAML::Node& n, const Ctx& c);  ///< "FILE:LINE: KEY", for notes
 bool boolean(const YAML::Node& n, const Ctx& c);
-std::string text(const YAML::Node& n, const Ctx& c);  ///< a non-empty scalar
+std::string text(const YAML::Node& n, const Ctx& c);       ///< a non-empty scalar
+Integrator integrator(const YAML::Node& n, const Ctx& c);  ///< a name; a typo gets the nearest
 
 template <int N>
 Eigen::Matrix<double, N, 1> vec(const YAML::Node& n, const Ctx& c) {
