@@ -180,7 +180,8 @@ class SceneOverlays {
 void format_hud_line(const HudLine& line, const World& w, long frame, double E0, const Vec3& L0,
                      std::string& out, double fps = 0);
 // The value of a scalar quantity (a HUD field with a component, |...| or a scene scalar).
-double quantity_value(const HudField& f, const World& w, long frame, double E0, const Vec3& L0, double fps = 0);
+double quantity_value(const HudField& f, const World& w, long frame, double E0, const Vec3& L0,
+                      double fps = 0);
 
 // A linear RGB colour as the screen layer's display (sRGB-encoded) bytes.
 Rgba8 to_display(const Rgba& linear);
