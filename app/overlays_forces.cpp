@@ -11,15 +11,6 @@ namespace simreel {
 
 namespace {
 
-// Two unit vectors completing d (unit) to a right-handed basis (e1 x e2 = d).
-void basis(const Vec3& d, Vec3& e1, Vec3& e2) {
-  const Vec3 a = std::fabs(d.x()) < 0.6   ? Vec3::UnitX()
-                 : std::fabs(d.y()) < 0.6 ? Vec3::UnitY()
-                                          : Vec3::UnitZ();
-  e1 = d.cross(a).normalized();
-  e2 = d.cross(e1);
-}
-
 // A torque: a double-headed arrow along it (the engineering convention for a moment) and, round
 // its middle, a 270-degree arc turning the way it turns (right-handed about it) with a head.
 void torque_arrow(OverlayList& out, const Vec3& c, const Vec3& vec, double radius, double arc_radius,
@@ -32,7 +23,7 @@ void torque_arrow(OverlayList& out, const Vec3& c, const Vec3& vec, double radiu
   if (len > 2.5 * head)
     out.cone(c + vec - head * d, -head * d, 2.5 * radius, color, xray);  // the second head
   Vec3 e1, e2;
-  basis(d, e1, e2);
+  orthonormal_basis(d, e1, e2);
   const Vec3 m = c + 0.45 * vec;
   const int n = 18;
   const double span = 1.5 * M_PI;

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "sim/primitives.hpp"
+#include "sim/scene_builders.hpp"
 #include "sim/world.hpp"
 #include "tests/sim/force_references.hpp"
 
@@ -25,12 +26,7 @@ using namespace simreel;
 namespace {
 
 BodyDef block(const Vec3& size, double mass, const Vec3& at, const std::string& name = "b") {
-  BodyDef b;
-  b.name = name;  // (a literal here trips GCC 12's false -Wrestrict, PR 105329)
-  Collider c;
-  c.size = size;
-  c.props_C = box_mass(size, mass / (size.x() * size.y() * size.z()));
-  b.add_collider(c);
+  BodyDef b = box_body(name.c_str(), size, mass);
   b.p_WB = at;
   return b;
 }

@@ -289,6 +289,53 @@ void memory_rows() {
   }
 }
 
+// One end-to-end run as `simreel render` does it: simulate, draw, FXAA and the screen layer on the
+// writer's thread, libx264 on its own; with `overlays`, their pre-pass and fonts inside the timed
+// span. Used by the end_to_end rows and by the teaching-overlay pairs.
+struct EndToEnd {
+  double wall = 0, cpu = 0, setup = 0, encode = 0;
+  uintmax_t bytes = 0;
+};
+EndToEnd end_to_end_run(const Boxes& bodies, int frames, const char* aa, const Scene* overlays,
+                        const std::filesystem::path& out) {
+  EndToEnd e;
+  const double t0 = bench::now_s(), c0 = cpu_s();
+  Setup s(bodies, frames);
+  RenderSettings rs = settings(aa);
+  rs.post = PostStage::caller;
+  Renderer r(rs, s.meshes);
+  std::unique_ptr<SceneOverlays> ov;
+  if (overlays) {
+    const double s0 = bench::now_s();
+    std::vector<double> radius;
+    for (int i = 0; i < s.loop.world().body_count(); ++i)
+      radius.push_back(s.meshes.meshes[s.meshes.mesh_of[i][0]].radius);
+    ov = std::make_unique<SceneOverlays>(*overlays, s.loop.world(), radius, W, H, 1);
+    e.setup = bench::now_s() - s0;
+  }
+  VideoSettings vs;
+  vs.fxaa = rs.fxaa();
+  vs.path = out.string();
+  vs.width = W;
+  vs.height = H;
+  vs.fps = kFps;
+  VideoWriter v(vs);
+  DrawList dl;
+  long k = 0;
+  s.run([&](const World& w) {
+    build_draw_list(w, s.meshes, s.cam, -1, dl);
+    if (ov) ov->build(w, k, dl);
+    r.render(dl, v.acquire());
+    v.commit(k++, &dl.screen);
+  });
+  v.finish();
+  e.wall = bench::now_s() - t0;
+  e.cpu = cpu_s() - c0;
+  e.encode = v.encode_seconds();
+  e.bytes = std::filesystem::file_size(out);
+  return e;
+}
+
 // Issue 12's speed target, in a function of its own: a HUD, an inset plot and 100 arrows on the
 // 100-box clip cost at most 15% more end-to-end time than the plain clip. Plain and overlaid runs
 // alternate, `pairs` pairs, each end to end as `simreel render` runs (FXAA and the screen layer on
@@ -311,39 +358,10 @@ void teaching_overlay_rows(const Boxes& bodies, int frames, const std::filesyste
   plot.title = "box0";
   sc.overlays.plots = {plot};
   auto run = [&](bool overlays, double& cpu, double& setup) {
-    const double t0 = bench::now_s(), c0 = cpu_s();
-    Setup s(bodies, frames);
-    RenderSettings rs = settings("fxaa");
-    rs.post = PostStage::caller;
-    Renderer r(rs, s.meshes);
-    std::unique_ptr<SceneOverlays> ov;
-    setup = 0;
-    if (overlays) {
-      const double s0 = bench::now_s();
-      std::vector<double> radius;
-      for (int i = 0; i < s.loop.world().body_count(); ++i)
-        radius.push_back(s.meshes.meshes[s.meshes.mesh_of[i][0]].radius);
-      ov = std::make_unique<SceneOverlays>(sc, s.loop.world(), radius, W, H, 1);
-      setup = bench::now_s() - s0;
-    }
-    VideoSettings vs;
-    vs.fxaa = rs.fxaa();
-    vs.path = (dir / "e2e_teaching.mp4").string();
-    vs.width = W;
-    vs.height = H;
-    vs.fps = kFps;
-    VideoWriter v(vs);
-    DrawList dl;
-    long k = 0;
-    s.run([&](const World& w) {
-      build_draw_list(w, s.meshes, s.cam, -1, dl);
-      if (ov) ov->build(w, k, dl);
-      r.render(dl, v.acquire());
-      v.commit(k++, &dl.screen);
-    });
-    v.finish();
-    cpu = cpu_s() - c0;
-    return bench::now_s() - t0;
+    const EndToEnd e =
+        end_to_end_run(bodies, frames, "fxaa", overlays ? &sc : nullptr, dir / "e2e_teaching.mp4");
+    cpu = e.cpu, setup = e.setup;
+    return e.wall;
   };
   std::vector<double> wall, cpu;
   for (int pair = 1; pair <= pairs; ++pair) {
@@ -480,48 +498,16 @@ int main(int argc, char** argv) {
   // End to end, in process: what `simreel render` does (FXAA on the writer's thread).
   double last_cpu = 0;  // CPU seconds of the last end_to_end run
   auto end_to_end = [&](const char* aa, std::string& note, bool overlays = false) {
-    const double t0 = bench::now_s(), c0 = cpu_s();
-    Setup s(bodies, frames);
-    RenderSettings rs = settings(aa);
-    rs.post =
-        PostStage::caller;  // FXAA and the screen layer on the writer's thread, as `simreel render` does
-    Renderer r(rs, s.meshes);
-    std::unique_ptr<SceneOverlays> ov;
-    double setup_s = 0;
-    if (overlays) {  // the pre-pass, the fonts: inside the timed span, as in `simreel render`
-      const double s0 = bench::now_s();
-      std::vector<double> radius;
-      for (int i = 0; i < s.loop.world().body_count(); ++i)
-        radius.push_back(s.meshes.meshes[s.meshes.mesh_of[i][0]].radius);
-      ov = std::make_unique<SceneOverlays>(overlay_scene(bodies, frames), s.loop.world(), radius, W, H, 1);
-      setup_s = bench::now_s() - s0;
-    }
-    VideoSettings vs;
-    vs.fxaa = rs.fxaa();
-    vs.path = (dir / "e2e.mp4").string();
-    vs.width = W;
-    vs.height = H;
-    vs.fps = kFps;
-    VideoWriter v(vs);
-    DrawList dl;
-    long k = 0;
-    s.run([&](const World& w) {
-      build_draw_list(w, s.meshes, s.cam, -1, dl);
-      if (ov) ov->build(w, k, dl);
-      r.render(dl, v.acquire());
-      v.commit(k++, &dl.screen);
-    });
-    v.finish();
-    const double t = bench::now_s() - t0;
-    last_cpu = cpu_s() - c0;
+    const Scene ov = overlay_scene(bodies, frames);
+    const EndToEnd e = end_to_end_run(bodies, frames, aa, overlays ? &ov : nullptr, dir / "e2e.mp4");
+    last_cpu = e.cpu;
     note = std::string(overlays ? "overlays set up (pre-pass, fonts) in " +
-                                      std::to_string(setup_s).substr(0, 5) + " s; "
+                                      std::to_string(e.setup).substr(0, 5) + " s; "
                                 : "") +
            "simulate + render + libx264 veryfast crf20 on its thread; CPU " +
-           std::to_string(last_cpu).substr(0, 6) + " s (all threads); encoder busy " +
-           std::to_string(v.encode_seconds()) + " s; " + std::to_string(std::filesystem::file_size(vs.path)) +
-           " bytes";
-    return t;
+           std::to_string(e.cpu).substr(0, 6) + " s (all threads); encoder busy " + std::to_string(e.encode) +
+           " s; " + std::to_string(e.bytes) + " bytes";
+    return e.wall;
   };
   // The ceiling: encoding alone, by the ffmpeg CLI, with VideoWriter's settings (veryfast, CRF 20, a keyframe
   // every 2 s). Negative if ffmpeg fails.

@@ -18,15 +18,11 @@ extern "C" {
 #include <stdexcept>
 #include <vector>
 
+#include "render/av_error.hpp"
+
 namespace simreel {
 
 namespace {
-
-std::string av_err(int e) {
-  char b[AV_ERROR_MAX_STRING_SIZE] = {};
-  av_strerror(e, b, sizeof b);
-  return b;
-}
 
 void check(int e, const char* what) {
   if (e < 0) throw std::runtime_error(std::string("GIF: ") + what + ": " + av_err(e));

@@ -6,11 +6,7 @@
 
 namespace simreel {
 
-namespace {
-
-// Two unit vectors completing d (unit) to a right-handed orthonormal basis, chosen the same way
-// every time for the same d.
-void basis(const Vec3& d, Vec3& e1, Vec3& e2) {
+void orthonormal_basis(const Vec3& d, Vec3& e1, Vec3& e2) {
   const Vec3 a = std::fabs(d.x()) < 0.6   ? Vec3::UnitX()
                  : std::fabs(d.y()) < 0.6 ? Vec3::UnitY()
                                           : Vec3::UnitZ();
@@ -18,12 +14,14 @@ void basis(const Vec3& d, Vec3& e1, Vec3& e2) {
   e2 = d.cross(e1);
 }
 
+namespace {
+
 // The unit cylinder or cone (radius 1 along +z, 0 to 1) from `from` along `axis`, radius r.
 Eigen::Matrix4f along(const Vec3& from, const Vec3& axis, double r) {
   const double len = axis.norm();
   const Vec3 d = axis / len;
   Vec3 e1, e2;
-  basis(d, e1, e2);
+  orthonormal_basis(d, e1, e2);
   Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
   m.block<3, 1>(0, 0) = e1 * r;
   m.block<3, 1>(0, 1) = e2 * r;
@@ -48,7 +46,7 @@ void OverlayList::cone(const Vec3& apex, const Vec3& axis, double radius, const 
   const double h = axis.norm();
   if (!(h > 0) || !std::isfinite(h) || !(radius >= 0)) return;
   Vec3 e1, e2;
-  basis(axis / h, e1, e2);
+  orthonormal_basis(axis / h, e1, e2);
   // The unit cone's base (z = 0) at apex + axis and its tip (z = 1) at the apex: columns e2, e1,
   // -axis keep the determinant positive (the winding, and with it back-face culling, unchanged).
   Eigen::Matrix4d m = Eigen::Matrix4d::Identity();

@@ -64,4 +64,8 @@ struct OverlayList {
   void ribbon(const Vec3* points, const Rgba* colors, int n, const Vec3& eye, double width);
 };
 
+// Two unit vectors completing d (unit) to a right-handed orthonormal basis (e1 x e2 = d), chosen
+// the same way every time for the same d.
+void orthonormal_basis(const Vec3& d, Vec3& e1, Vec3& e2);
+
 }  // namespace simreel

@@ -23,18 +23,10 @@ extern "C" {
 #include <thread>
 #include <vector>
 
+#include "render/av_error.hpp"
 #include "render/png_writer.hpp"
 
 namespace simreel {
-namespace {
-
-std::string av_err(int e) {
-  char b[AV_ERROR_MAX_STRING_SIZE] = {};
-  av_strerror(e, b, sizeof b);
-  return b;
-}
-
-}  // namespace
 
 struct VideoWriter::Impl {
   VideoSettings s;

@@ -106,6 +106,14 @@ std::vector<BodyDef> r3_pile() {
   return v;
 }
 
+std::vector<BodyDef> r3_column(int n) {
+  std::vector<BodyDef> v;
+  v.reserve(n + 1);
+  for (int k = 0; k < n; ++k) v.push_back(r3_cube("cube" + std::to_string(k), Vec3(0, 0, 1.0 + k * 1.1)));
+  v.push_back(r3_ground());
+  return v;
+}
+
 std::vector<BodyDef> r3_tower(int n) {
   std::vector<BodyDef> v;
   v.reserve(n + 1);

@@ -190,9 +190,7 @@ TEST(ContactStack, TenBoxesRestForTenSeconds) {
 // At 1.5 s every cube is slower than 1 cm/s (the R3 pile's criterion for "moving").
 TEST(ContactStack, ColumnOfTenCubesLandsWithinOneMillimetre) {
   SKIP_WITHOUT(has_box_box(), "box-box");
-  std::vector<BodyDef> bodies;
-  for (int k = 0; k < 10; ++k) bodies.push_back(r3_cube("c" + std::to_string(k), Vec3(0, 0, 1.0 + 1.1 * k)));
-  bodies.push_back(r3_ground());
+  const std::vector<BodyDef> bodies = r3_column(10);
   WorldConfig cfg;
   cfg.dt = kR3Dt;
   World w(cfg, bodies);
@@ -211,9 +209,7 @@ TEST(ContactStack, ColumnOfTenCubesLandsWithinOneMillimetre) {
 // sweep travel in the saved state (restored as zero, the next steps differ).
 TEST(ContactStack, ResumeRightAfterAnImpactEqualsStraightRun) {
   SKIP_WITHOUT(has_box_box(), "box-box");
-  std::vector<BodyDef> bodies;
-  for (int k = 0; k < 3; ++k) bodies.push_back(r3_cube("c" + std::to_string(k), Vec3(0, 0, 1.0 + 1.1 * k)));
-  bodies.push_back(r3_ground());
+  const std::vector<BodyDef> bodies = r3_column(3);
   WorldConfig cfg;
   cfg.dt = kR3Dt;
   World straight(cfg, bodies);

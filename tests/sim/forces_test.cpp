@@ -10,6 +10,7 @@
 
 #include "sim/error.hpp"
 #include "sim/primitives.hpp"
+#include "sim/scene_builders.hpp"
 #include "sim/world.hpp"
 #include "tests/sim/contact_fixtures.hpp"
 #include "tests/sim/force_references.hpp"
@@ -31,12 +32,7 @@ constexpr double kTau = 2 * std::numbers::pi;
 
 // A box of full extents `size` and mass `mass`, origin at its centre.
 BodyDef block(const std::string& name, const Vec3& size, double mass, const Vec3& at = Vec3::Zero()) {
-  BodyDef b;
-  b.name = name;
-  Collider c;
-  c.size = size;
-  c.props_C = box_mass(size, mass / (size.x() * size.y() * size.z()));
-  b.add_collider(c);
+  BodyDef b = box_body(name.c_str(), size, mass);
   b.p_WB = at;
   return b;
 }
