@@ -122,6 +122,20 @@ std::vector<BodyDef> r3_tower(int n) {
   return v;
 }
 
+std::vector<BodyDef> r3_pyramid(int base) {
+  std::vector<BodyDef> v;
+  v.reserve(base * (base + 1) / 2 + 1);
+  for (int r = 0; r < base; ++r)
+    for (int j = r; j < base; ++j) {
+      // Box3D's x = (r + 1) h + 2 (j - r) h - h base with h = 0.5 m.
+      BodyDef b = r3_cube("cube" + std::to_string(v.size()), Vec3(0.5 * (r + 1) + (j - r) - 0.5 * base, 0, 0.5 + r));
+      for (Collider& c : b.colliders) c.friction = kPyramidFriction;
+      v.push_back(std::move(b));
+    }
+  v.push_back(r3_ground(0.0, kPyramidFriction));
+  return v;
+}
+
 std::vector<BodyDef> r3_cube_grid_drop(int nx, int ny, double spacing, double height) {
   std::vector<BodyDef> v;
   v.reserve(nx * ny + 1);

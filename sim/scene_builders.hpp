@@ -11,6 +11,12 @@
 //              z = 1, over the static plane z = 0 (friction 0.5); dt 1/240, 10 s. Same layout and
 //              body order as ../shared/anchors/src/common.hpp (x fastest, then y, then z).
 //   R3 tower:  n unit cubes stacked touching, centres at (0, 0, 0.5 + k), same cubes and ground.
+//   Large pyramid (Box3D's shared/benchmarks.c, CreateLargePyramid, with a base of 100 as in
+//              ../shared/anchors/CONTACTS.md): a wall one cube deep, row r (0 at the bottom) holds
+//              base - r unit cubes touching side by side, centres at z = 0.5 + r, each row shifted
+//              half a cube along x; 5,050 cubes for base 100. Cubes of density 1 (mass 1 kg) with
+//              Box3D's default friction 0.6, restitution 0, on the plane z = 0 (friction 0.6).
+//              Sleeping off, 200 steps of 1/60 s.
 // The R3 builders list the cubes first (in the anchors' order) and the ground last, as the scene
 // loader appends its top-level ground: cube k is body k.
 #pragma once
@@ -47,6 +53,10 @@ BodyDef r3_ground(double height = 0.0, double friction = kR3Friction);
 std::vector<BodyDef> r3_pile();              ///< 1000 cubes, then the ground
 std::vector<BodyDef> r3_column(int n = 10);  ///< one column of the pile, at x = y = 0, then the ground
 std::vector<BodyDef> r3_tower(int n = 20);   ///< n cubes bottom to top, then the ground
+constexpr double kPyramidDt = 1.0 / 60.0;  ///< s
+constexpr int kPyramidSteps = 200;
+constexpr double kPyramidFriction = 0.6;
+std::vector<BodyDef> r3_pyramid(int base = 100);  ///< base (base + 1) / 2 cubes, row by row from the bottom, then the ground
 /// Sanity scene for box-plane contact only: nx x ny cubes `spacing` m apart (centre to centre,
 /// grid centred on the z axis) with centres at z = height, then the ground.
 std::vector<BodyDef> r3_cube_grid_drop(int nx = 10, int ny = 10, double spacing = 1.5, double height = 1.0);
