@@ -128,7 +128,8 @@ std::vector<BodyDef> r3_pyramid(int base) {
   for (int r = 0; r < base; ++r)
     for (int j = r; j < base; ++j) {
       // Box3D's x = (r + 1) h + 2 (j - r) h - h base with h = 0.5 m.
-      BodyDef b = r3_cube("cube" + std::to_string(v.size()), Vec3(0.5 * (r + 1) + (j - r) - 0.5 * base, 0, 0.5 + r));
+      BodyDef b =
+          r3_cube("cube" + std::to_string(v.size()), Vec3(0.5 * (r + 1) + (j - r) - 0.5 * base, 0, 0.5 + r));
       for (Collider& c : b.colliders) c.friction = kPyramidFriction;
       v.push_back(std::move(b));
     }

@@ -53,10 +53,11 @@ BodyDef r3_ground(double height = 0.0, double friction = kR3Friction);
 std::vector<BodyDef> r3_pile();              ///< 1000 cubes, then the ground
 std::vector<BodyDef> r3_column(int n = 10);  ///< one column of the pile, at x = y = 0, then the ground
 std::vector<BodyDef> r3_tower(int n = 20);   ///< n cubes bottom to top, then the ground
-constexpr double kPyramidDt = 1.0 / 60.0;  ///< s
+constexpr double kPyramidDt = 1.0 / 60.0;    ///< s
 constexpr int kPyramidSteps = 200;
 constexpr double kPyramidFriction = 0.6;
-std::vector<BodyDef> r3_pyramid(int base = 100);  ///< base (base + 1) / 2 cubes, row by row from the bottom, then the ground
+std::vector<BodyDef> r3_pyramid(
+    int base = 100);  ///< base (base + 1) / 2 cubes, row by row from the bottom, then the ground
 /// Sanity scene for box-plane contact only: nx x ny cubes `spacing` m apart (centre to centre,
 /// grid centred on the z axis) with centres at z = height, then the ground.
 std::vector<BodyDef> r3_cube_grid_drop(int nx = 10, int ny = 10, double spacing = 1.5, double height = 1.0);
