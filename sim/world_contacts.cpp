@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "sim/error.hpp"
+#include "sim/task_pool.hpp"
 #include "sim/world.hpp"
 
 namespace simreel {
@@ -245,6 +246,7 @@ bool World::stage_solve_contacts() {
     in.substeps = substeps_;
     in.shapes = shapes_.get();
     in.settings = cs;
+    in.pool = pool_.get();
     solver_.prepare(in, contact_bodies_, contacts_, solver_index_);
   }
   runs[(int)Stage::prepare_contacts]++;

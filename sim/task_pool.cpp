@@ -1,0 +1,51 @@
+#include "sim/task_pool.hpp"
+
+namespace simreel {
+
+WorkerPool::WorkerPool(int threads) : n_(threads) {
+  for (int w = 1; w < n_; ++w) workers_.emplace_back([this, w] { worker_loop(w); });
+}
+
+WorkerPool::~WorkerPool() {
+  quit_.store(true, std::memory_order_release);
+  gen_.fetch_add(1, std::memory_order_acq_rel);
+  gen_.notify_all();
+  for (auto& t : workers_) t.join();
+}
+
+void WorkerPool::worker_loop(int w) {
+  unsigned seen = 0;
+  for (;;) {
+    seen = await_change<unsigned>(gen_, seen);
+    if (quit_.load(std::memory_order_acquire)) return;
+    fn_(ctx_, w, n_);
+    if (done_.fetch_add(1, std::memory_order_acq_rel) + 1 == n_ - 1) done_.notify_one();
+  }
+}
+
+void WorkerPool::run(Fn fn, void* ctx) {
+  fn_ = fn;
+  ctx_ = ctx;
+  done_.store(0, std::memory_order_relaxed);
+  gen_.fetch_add(1, std::memory_order_acq_rel);
+  gen_.notify_all();
+  fn_(ctx_, 0, n_);
+  for (int d = done_.load(std::memory_order_acquire); d != n_ - 1; d = done_.load(std::memory_order_acquire))
+    await_change(done_, d);
+}
+
+// A counting barrier with a generation: the last to arrive resets the count and advances the
+// generation, which releases the others (they read the generation before arriving, so a fast
+// worker reaching the next barrier cannot be confused with this one).
+void WorkerPool::barrier() {
+  const unsigned gen = barrier_gen_.load(std::memory_order_acquire);
+  if (arrived_.fetch_add(1, std::memory_order_acq_rel) + 1 == n_) {
+    arrived_.store(0, std::memory_order_relaxed);
+    barrier_gen_.fetch_add(1, std::memory_order_acq_rel);
+    barrier_gen_.notify_all();
+    return;
+  }
+  await_change(barrier_gen_, gen);
+}
+
+}  // namespace simreel
