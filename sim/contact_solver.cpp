@@ -648,6 +648,7 @@ bool ContactSolver::solve(double h, bool use_bias, bool first_iteration) {
                       1e-3 * in_.settings.linear_slop + 1e-12,
                       use_bias,
                       first_iteration};
+  for (Flag& f : struck_) f.value = false;  // the pool may run everything as worker 0 of 1
   on_workers([&](int w, int nw) {
     bool struck = false;
     by_colour(w, nw, [&](int begin, int end) {

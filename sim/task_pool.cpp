@@ -1,5 +1,7 @@
 #include "sim/task_pool.hpp"
 
+#include <algorithm>
+
 namespace simreel {
 
 WorkerPool::WorkerPool(int threads) : n_(threads) {
@@ -16,7 +18,7 @@ WorkerPool::~WorkerPool() {
 void WorkerPool::worker_loop(int w) {
   unsigned seen = 0;
   for (;;) {
-    seen = await_change<unsigned>(gen_, seen);
+    seen = await_change<unsigned>(gen_, seen, false);
     if (quit_.load(std::memory_order_acquire)) return;
     fn_(ctx_, w, n_);
     if (done_.fetch_add(1, std::memory_order_acq_rel) + 1 == n_ - 1) done_.notify_one();
@@ -24,6 +26,13 @@ void WorkerPool::worker_loop(int w) {
 }
 
 void WorkerPool::run(Fn fn, void* ctx) {
+  ++runs_;
+  if (backoff_ > 0) {
+    --backoff_;
+    ++alone_;
+    fn(ctx, 0, 1);
+    return;
+  }
   fn_ = fn;
   ctx_ = ctx;
   done_.store(0, std::memory_order_relaxed);
@@ -32,6 +41,13 @@ void WorkerPool::run(Fn fn, void* ctx) {
   fn_(ctx_, 0, n_);
   for (int d = done_.load(std::memory_order_acquire); d != n_ - 1; d = done_.load(std::memory_order_acquire))
     await_change(done_, d);
+  // Every worker has finished (done_ acquired): slow_ holds whatever they saw.
+  if (slow_.exchange(false, std::memory_order_relaxed)) {
+    backoff_ = backoff_next_;
+    backoff_next_ = std::min(2 * backoff_next_, kBackoffMax);
+  } else {
+    backoff_next_ = kBackoffMin;
+  }
 }
 
 // A counting barrier with a generation: the last to arrive resets the count and advances the

@@ -8,11 +8,20 @@
 // ranges by worker index, or claimed from a shared counter where results do not depend on who
 // does which item, so no result depends on the thread count or on timing.
 //
-// Waiting spins first (a step's next piece of work arrives within microseconds) and then blocks
-// in atomic::wait, so an idle pool costs nothing. Waking a blocked thread took ~0.3 ms on this
-// machine's VM (futex wake + hypervisor scheduling), longer than a stage: with a 0.1 ms spin the
-// worker fell asleep every step and 2 threads ran at 0.7x one thread. std::barrier's futex hand-off
-// cost more than the work it split at N = 1000..10000 bodies (2 threads slower than 1).
+// Waiting spins first (a step's next piece of work arrives within microseconds), then yields the
+// core (on an oversubscribed machine the thread being waited for may be queued behind this one),
+// and after kSpin blocks in atomic::wait, so an idle pool costs nothing. Waking a blocked thread
+// took ~0.3 ms on this machine's VM (futex wake + hypervisor scheduling), longer than a stage:
+// with a 0.1 ms spin the worker fell asleep every step and 2 threads ran at 0.7x one thread.
+// std::barrier's futex hand-off cost more than the work it split at N = 1000..10000 bodies.
+//
+// Back-off. Fine-grained work needs every worker on a core at once. When the machine is busier
+// than its cores (other processes, or more threads than cores) a worker is often not running,
+// and each barrier then waits for the scheduler (ms): the R3 pile with two threads on a machine
+// at load 20 ran 75x slower than with one. So a wait longer than kSlow makes the next runs go on
+// the calling thread alone (f(0, 1)), 64 runs, doubling while it keeps happening (up to 4096),
+// and then the pool is tried again. Callers split work by the `workers` they are given, and
+// every split gives the same results, so this changes timing only, never a result.
 #pragma once
 #include <atomic>
 #include <chrono>
@@ -30,6 +39,7 @@ class WorkerPool {
   WorkerPool& operator=(const WorkerPool&) = delete;
 
   int size() const { return n_; }
+  // f(worker, workers) on every worker, or f(0, 1) on the caller alone while backing off.
   void run(Fn fn, void* ctx);
   template <typename F>
   void run(F& f) {
@@ -37,6 +47,8 @@ class WorkerPool {
   }
   // Called by every worker inside run(): returns once all of them have called it.
   void barrier();
+  long runs() const { return runs_; }          ///< run() calls
+  long alone_runs() const { return alone_; }  ///< of which on the caller alone (back-off)
 
   // Tells an SMT sibling that this thread is only waiting (x86 pause).
   static void cpu_relax() {
@@ -46,19 +58,32 @@ class WorkerPool {
   }
 
  private:
-  static constexpr std::chrono::microseconds kSpin{2000};
-  // Spins for up to kSpin while `a` holds `seen`, then sleeps in atomic::wait; returns the new value.
+  using clock = std::chrono::steady_clock;
+  static constexpr std::chrono::microseconds kPause{50}, kSpin{2000}, kSlow{1000};
+  static constexpr int kBackoffMin = 64, kBackoffMax = 4096;
+  // Waits while `a` holds `seen` (pause, then yield, then atomic::wait); returns the new value.
+  // `timed`: a wait inside a run (a barrier, the end of a run), where a long one means a worker
+  // was not running; an idle worker's wait for the next run is not.
   template <typename T>
-  static T await_change(std::atomic<T>& a, T seen) {
-    const auto t0 = std::chrono::steady_clock::now();
+  T await_change(std::atomic<T>& a, T seen, bool timed = true) {
+    const auto t0 = clock::now();
     for (int spins = 1;; ++spins) {
       const T v = a.load(std::memory_order_acquire);
-      if (v != seen) return v;
-      cpu_relax();
-      if (spins % 256 == 0 && std::chrono::steady_clock::now() - t0 > kSpin) {
+      if (v != seen) {
+        if (timed && spins > 64 && clock::now() - t0 > kSlow) slow_.store(true, std::memory_order_relaxed);
+        return v;
+      }
+      if (spins % 64 != 0) {
+        cpu_relax();
+        continue;
+      }
+      const auto waited = clock::now() - t0;
+      if (waited > kSpin) {
+        if (timed) slow_.store(true, std::memory_order_relaxed);
         a.wait(seen, std::memory_order_acquire);
         return a.load(std::memory_order_acquire);
       }
+      if (waited > kPause) std::this_thread::yield();
     }
   }
   void worker_loop(int w);
@@ -70,8 +95,11 @@ class WorkerPool {
   alignas(64) std::atomic<int> arrived_{0};   ///< workers at the barrier
   alignas(64) std::atomic<unsigned> barrier_gen_{0};
   alignas(64) std::atomic<bool> quit_{false};
+  alignas(64) std::atomic<bool> slow_{false};  ///< a wait took longer than kSlow
   Fn fn_ = nullptr;
   void* ctx_ = nullptr;
+  int backoff_ = 0, backoff_next_ = kBackoffMin;  ///< runs left alone; the next back-off's length
+  long runs_ = 0, alone_ = 0;
   std::vector<std::thread> workers_;
 };
 

@@ -276,6 +276,7 @@ bool World::stage_integrate_and_check() {
     }
     chunk_sum_[c].value = sum;
   };
+  for (ChunkSum& s : chunk_sum_) s.value = 0;  // the pool may run it as one chunk (sim/task_pool.hpp)
   for_each_chunk(work);
   if (profiling_) {
     const clock::time_point t1 = clock::now();

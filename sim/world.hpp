@@ -98,6 +98,8 @@ struct Profile {
   long contact_points = 0;    ///< manifold points, summed over steps
   long solver_bodies = 0;     ///< bodies stepped by the contact solver, summed over steps
   long impact_substeps = 0;   ///< substeps with an impact (one more sweep: kImpactSpeed)
+  long pool_runs = 0;         ///< parallel stage runs handed to the worker pool (threads > 1)
+  long pool_alone_runs = 0;   ///< of which run on the calling thread alone (sim/task_pool.hpp back-off)
 };
 
 // What contact did over the run (simulate --json).
@@ -210,6 +212,12 @@ class World {
   bool shapes_may_touch(int a, int b) const;
   void stage_broad_phase();
   void stage_collide();
+  struct CollideJob {
+    uint64_t key;  ///< the shape pair
+    int prev;      ///< its record in last step's contact list, or -1
+    bool keep;     ///< both sides inert: last step's record is kept as it is
+  };
+  double collide_pair(const CollideJob& job, Contact& c) const;
   bool stage_solve_contacts();  ///< false if a non-finite value appeared
   void stage_kinematic();
   void init_sleep();
@@ -285,6 +293,8 @@ class World {
   std::vector<double> island_min_;  ///< per island root: least still_time_ (scratch)
   std::vector<uint64_t> pairs_;
   std::vector<Contact> contacts_, contacts_next_;
+  std::vector<CollideJob> collide_jobs_;  ///< this step's pairs, in key order (stage_collide)
+  std::vector<ChunkSum> collide_sums_;    ///< per thread: deepest overlap (stage_collide)
   std::vector<char> in_contact_;        ///< per body, this step
   std::vector<int> contact_bodies_;     ///< dynamic and kinematic bodies in contact, ascending
   std::vector<int> solver_index_;       ///< per body, this step (0: not in the solver)

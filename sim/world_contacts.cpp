@@ -130,91 +130,137 @@ __attribute__((flatten)) void World::stage_broad_phase() {
   profile_.pairs += (long)pairs_.size();
 }
 
-// Narrow phase on each candidate pair, in key order; last step's contact for the same pair
-// (found by a merge of the two sorted lists) gives its cache and its points' impulses by id.
+// Narrow phase on each candidate pair; last step's contact for the same pair (found by a merge
+// of the two sorted lists) gives its cache and its points' impulses by id. In three passes, so
+// that the narrow phase, nearly all of the work, runs on every thread:
+//   1. (serial) the merge: each pair's record slot in the new list, its last-step record, and
+//      whether it is kept as it was (both sides inert: asleep, static or a resting kinematic);
+//   2. (threads) collide() on each pair not kept, into its own slot: pairs are independent;
+//   3. (serial, in key order) islands woken by a touch, and the bodies in contact. A pair kept in
+//      pass 1 whose body has just woken is collided then, until no more islands wake.
 void World::stage_collide() {
-  const ShapeTable& st = *shapes_;
-  const double spec = cfg_.contacts.speculative_distance, dt = cfg_.dt;
-  contacts_next_.clear();
+  collide_jobs_.clear();
   size_t old = 0;
-  int points = 0;
-  std::fill(in_contact_.begin(), in_contact_.end(), 0);
-  bool woke = false;
   for (uint64_t key : pairs_) {
-    const int a = (int)(key >> 32), b = (int)(key & 0xFFFFFFFFu);
     while (old < contacts_.size() && contacts_[old].key() < key) ++old;
-    const Contact* prev = (old < contacts_.size() && contacts_[old].key() == key) ? &contacts_[old] : nullptr;
-    const ShapeRecord& A = st[a];
-    const ShapeRecord& B = st[b];
-    // A pair that cannot move (asleep, static or a kinematic body at rest on either side) keeps
-    // its contact as it was when it fell asleep: neither body has moved since.
-    if (sleeping_ > 0 && inert(A.body) && inert(B.body)) {
-      if (prev) contacts_next_.push_back(*prev);
-      continue;
+    const int prev = (old < contacts_.size() && contacts_[old].key() == key) ? (int)old : -1;
+    const int a = (int)(key >> 32), b = (int)(key & 0xFFFFFFFFu);
+    // A pair that cannot move keeps its contact as it was when it fell asleep: neither body has
+    // moved since.
+    const bool keep = sleeping_ > 0 && inert((*shapes_)[a].body) && inert((*shapes_)[b].body);
+    if (keep && prev < 0) continue;
+    collide_jobs_.push_back(CollideJob{key, prev, keep});
+  }
+  const int n = (int)collide_jobs_.size();
+  contacts_next_.resize(n);
+  collide_sums_.resize(cfg_.threads);
+  auto work = [&](int w, int nw) {
+    int begin = (int)((long)n * w / nw), end = (int)((long)n * (w + 1) / nw);
+    double deepest = 0;
+    for (int j = begin; j < end; ++j) {
+      const CollideJob& job = collide_jobs_[j];
+      if (job.keep)
+        contacts_next_[j] = contacts_[job.prev];
+      else
+        deepest = std::max(deepest, collide_pair(job, contacts_next_[j]));
     }
-    const MotionState& sa = state_[A.body];
-    const MotionState& sb = state_[B.body];
-    Contact& c = contacts_next_.emplace_back();  // in place: the record is large
-    c.shape_a = a;
-    c.shape_b = b;
-    c.body_a = A.body;
-    c.body_b = B.body;
-    c.friction = std::sqrt(A.friction * B.friction);
-    c.restitution = std::max(A.restitution, B.restitution);
-    if (prev) {
-      c.cache = prev->cache;
-      c.friction_impulse_W = prev->friction_impulse_W;
-      c.twist_impulse = prev->twist_impulse;
-      c.rolling_impulse = prev->rolling_impulse;
-    }
-    // How far the two can close this step, bounded: relative speed of their farthest points.
-    const double reach_a = (A.p_PC.norm() + A.geom.bounding_radius) * sa.w_P.norm();
-    const double reach_b = (B.p_PC.norm() + B.geom.bounding_radius) * sb.w_P.norm();
-    const double closing = ((sa.v_W - sb.v_W).norm() + reach_a + reach_b) * dt;
-    Manifold m;
-    // World poses: the broad phase's for moving shapes (made from this same state).
-    const Pose xa = shape_moving_[a] ? poses_[a] : ShapeTable::world_pose(A, sa);
-    const Pose xb = shape_moving_[b] ? poses_[b] : ShapeTable::world_pose(B, sb);
-    const int n = collide(A.geom, xa, B.geom, xb, spec + closing, c.cache, m);
-    c.normal_W = m.normal_W;
-    c.count = n;
+    collide_sums_[w].value = deepest;
+  };
+  // Threads only for enough pairs to be worth a pool run (the result is the same either way).
+  // (The pool may also run it as worker 0 of 1: sim/task_pool.hpp.)
+  constexpr int kMinParallelPairs = 64;
+  for (ChunkSum& d : collide_sums_) d.value = 0;
+  if (pool_ && n >= kMinParallelPairs)
+    pool_->run(work);
+  else
+    work(0, 1);
+  for (const ChunkSum& d : collide_sums_)
+    contact_stats_.max_penetration = std::max(contact_stats_.max_penetration, d.value);
+
+  std::fill(in_contact_.begin(), in_contact_.end(), 0);
+  int points = 0;
+  bool woke = false;
+  auto touch = [&](const Contact& c) {
+    if (c.count == 0) return;
+    points += c.count;
+    // Something awake comes within reach of a sleeping body: its island wakes.
+    if (asleep_[c.body_a] >= 0) wake(c.body_a), woke = true;
+    if (asleep_[c.body_b] >= 0) wake(c.body_b), woke = true;
+    in_contact_[c.body_a] = in_contact_[c.body_a] || !model_[c.body_a].is_static;
+    in_contact_[c.body_b] = in_contact_[c.body_b] || !model_[c.body_b].is_static;
+  };
+  for (int j = 0; j < n; ++j)
+    if (!collide_jobs_[j].keep) touch(contacts_next_[j]);
+  while (woke) {
+    woke = false;
     for (int j = 0; j < n; ++j) {
-      ContactPoint& p = c.points[j];
-      p.id = m.points[j].id;
-      p.p_W = m.points[j].p_W;
-      p.separation = m.points[j].separation;
-      if (prev) {
-        for (int k = 0; k < prev->count; ++k)
-          if (prev->points[k].id == p.id) {
-            p.normal_impulse = prev->points[k].normal_impulse;
-            break;
-          }
-      }
-      contact_stats_.max_penetration = std::max(contact_stats_.max_penetration, -p.separation);
-    }
-    if (n > 0) {
-      points += n;
-      // Something awake comes within reach of a sleeping body: its island wakes.
-      if (asleep_[A.body] >= 0) wake(A.body), woke = true;
-      if (asleep_[B.body] >= 0) wake(B.body), woke = true;
-      in_contact_[A.body] = in_contact_[A.body] || !model_[A.body].is_static;
-      in_contact_[B.body] = in_contact_[B.body] || !model_[B.body].is_static;
+      CollideJob& job = collide_jobs_[j];
+      if (!job.keep || (inert(contacts_next_[j].body_a) && inert(contacts_next_[j].body_b))) continue;
+      job.keep = false;
+      contact_stats_.max_penetration =
+          std::max(contact_stats_.max_penetration, collide_pair(job, contacts_next_[j]));
+      touch(contacts_next_[j]);
     }
   }
   contacts_.swap(contacts_next_);
-  if (woke) {
-    // Contacts kept for bodies that slept until now (earlier in the loop) are theirs again.
-    for (const Contact& c : contacts_) {
-      if (c.count == 0) continue;
-      if (asleep_[c.body_a] < 0 && !model_[c.body_a].is_static) in_contact_[c.body_a] = 1;
-      if (asleep_[c.body_b] < 0 && !model_[c.body_b].is_static) in_contact_[c.body_b] = 1;
-    }
-  }
   contact_stats_.contacts_max = std::max(contact_stats_.contacts_max, points);
   profile_.contact_points += points;
   contact_bodies_.clear();
   for (int i = 0; i < (int)in_contact_.size(); ++i)
     if (in_contact_[i]) contact_bodies_.push_back(i);
+}
+
+// One pair's narrow phase into c (overwritten); returns its deepest overlap (m, >= 0). Reads only
+// the state, the shapes, this step's poses and last step's contact list: pairs run in parallel.
+double World::collide_pair(const CollideJob& job, Contact& c) const {
+  const ShapeTable& st = *shapes_;
+  const double spec = cfg_.contacts.speculative_distance, dt = cfg_.dt;
+  const int a = (int)(job.key >> 32), b = (int)(job.key & 0xFFFFFFFFu);
+  const Contact* prev = job.prev >= 0 ? &contacts_[job.prev] : nullptr;
+  const ShapeRecord& A = st[a];
+  const ShapeRecord& B = st[b];
+  const MotionState& sa = state_[A.body];
+  const MotionState& sb = state_[B.body];
+  c = Contact{};
+  c.shape_a = a;
+  c.shape_b = b;
+  c.body_a = A.body;
+  c.body_b = B.body;
+  c.friction = std::sqrt(A.friction * B.friction);
+  c.restitution = std::max(A.restitution, B.restitution);
+  if (prev) {
+    c.cache = prev->cache;
+    c.friction_impulse_W = prev->friction_impulse_W;
+    c.twist_impulse = prev->twist_impulse;
+    c.rolling_impulse = prev->rolling_impulse;
+  }
+  // How far the two can close this step, bounded: relative speed of their farthest points.
+  const double reach_a = (A.p_PC.norm() + A.geom.bounding_radius) * sa.w_P.norm();
+  const double reach_b = (B.p_PC.norm() + B.geom.bounding_radius) * sb.w_P.norm();
+  const double closing = ((sa.v_W - sb.v_W).norm() + reach_a + reach_b) * dt;
+  Manifold m;
+  // World poses: the broad phase's for moving shapes (made from this same state).
+  const Pose xa = shape_moving_[a] ? poses_[a] : ShapeTable::world_pose(A, sa);
+  const Pose xb = shape_moving_[b] ? poses_[b] : ShapeTable::world_pose(B, sb);
+  const int n = collide(A.geom, xa, B.geom, xb, spec + closing, c.cache, m);
+  c.normal_W = m.normal_W;
+  c.count = n;
+  double deepest = 0;
+  for (int j = 0; j < n; ++j) {
+    ContactPoint& p = c.points[j];
+    p.id = m.points[j].id;
+    p.p_W = m.points[j].p_W;
+    p.separation = m.points[j].separation;
+    if (prev) {
+      for (int k = 0; k < prev->count; ++k)
+        if (prev->points[k].id == p.id) {
+          p.normal_impulse = prev->points[k].normal_impulse;
+          break;
+        }
+    }
+    deepest = std::max(deepest, -p.separation);
+  }
+  return deepest;
 }
 
 // The soft step over the bodies in contact (sim/contact_solver.hpp), then their new state.
@@ -319,6 +365,7 @@ bool World::stage_solve_contacts() {
         if (!in_contact_[i] && asleep_[i] < 0) free_[g].push_back(i);
     }
     profile_.solver_bodies += solved;
+    if (pool_) profile_.pool_runs = pool_->runs(), profile_.pool_alone_runs = pool_->alone_runs();
   }
   runs[(int)Stage::store_impulses]++;
   return finite;
