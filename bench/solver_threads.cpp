@@ -68,7 +68,8 @@ double run(const Scene& s, int threads, bool profile, uint64_t* hash) {
   if (profile) {
     const Profile& p = w.profile();
     std::fprintf(stderr, "%s threads %d, profiled run (%.3f s):\n", s.name.c_str(), threads, t);
-    std::fprintf(stderr, "  pool runs %ld, of which on one thread (back-off) %ld\n", p.pool_runs, p.pool_alone_runs);
+    std::fprintf(stderr, "  pool runs %ld, of which on one thread (back-off) %ld\n", p.pool_runs,
+                 p.pool_alone_runs);
     for (int k = 0; k < (int)Stage::count; ++k)
       if (p.seconds[k] > 0) std::fprintf(stderr, "  %-22s %8.4f s\n", to_string((Stage)k), p.seconds[k]);
   }
@@ -95,12 +96,18 @@ int main(int argc, char** argv) {
       }
       return argv[++i];
     };
-    if (a == "--repeats") repeats = std::atoi(next());
-    else if (a == "--base") base = std::atoi(next());
-    else if (a == "--pyramid-steps") pyramid_steps = std::atol(next());
-    else if (a == "--pile-steps") pile_steps = std::atol(next());
-    else if (a == "--threads") threads2 = std::atoi(next());
-    else if (a == "--only") only = next();
+    if (a == "--repeats")
+      repeats = std::atoi(next());
+    else if (a == "--base")
+      base = std::atoi(next());
+    else if (a == "--pyramid-steps")
+      pyramid_steps = std::atol(next());
+    else if (a == "--pile-steps")
+      pile_steps = std::atol(next());
+    else if (a == "--threads")
+      threads2 = std::atoi(next());
+    else if (a == "--only")
+      only = next();
     else {
       std::fprintf(stderr, "unknown option %s\n", a.c_str());
       return 2;

@@ -186,7 +186,8 @@ __attribute__((flatten)) void ContactSolver::prepare(const SolverInput& in, cons
     }
     if (nw > 1) pool_->barrier();  // the constraints read the solver bodies
     share(ncons, w, nw, b, e);
-    for (int j = b; j < e; ++j) make_constraint(cons_[graph_.slot(j)], wanted_[j], contacts[wanted_[j]], solver_index);
+    for (int j = b; j < e; ++j)
+      make_constraint(cons_[graph_.slot(j)], wanted_[j], contacts[wanted_[j]], solver_index);
   });
 }
 
@@ -626,7 +627,8 @@ bool solve_single(ContactConstraint& k, const SolveParams& q, std::vector<Solver
   }
 }
 
-bool solve_pair(ContactConstraint& k0, ContactConstraint& k1, const SolveParams& q, std::vector<SolverBody>& sb) {
+bool solve_pair(ContactConstraint& k0, ContactConstraint& k1, const SolveParams& q,
+                std::vector<SolverBody>& sb) {
   switch (static_side(k0)) {
     case kStaticA:
       return solve_two_dispatch<kStaticA>(k0, k1, q, sb);
@@ -726,8 +728,7 @@ void ContactSolver::restitution_one(ContactConstraint& k, double threshold) {
         if (!bounce[j]) continue;
         const ConstraintPoint& p = k.p[j];
         const double vn = normal_velocity(A, B, k.n, p);
-        const double total =
-            std::max(acc[j] - p.normal_mass * (vn + k.restitution * p.impact_velocity), 0.0);
+        const double total = std::max(acc[j] - p.normal_mass * (vn + k.restitution * p.impact_velocity), 0.0);
         apply_normal(A, B, k, p, total - acc[j]);
         change = std::max(change, std::fabs(total - acc[j]));
         scale = std::max(scale, total);

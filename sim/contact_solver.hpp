@@ -133,12 +133,12 @@ class ContactSolver {
 
  private:
   SolverInput in_;
-  std::vector<int> bodies_;      ///< body index of solver body k + 1
-  std::vector<SolverBody> sb_;   ///< [0] is the static body: never written (zero mass and inertia)
-  std::vector<Mat3> I_W_;        ///< world inertia of each solver body (gyroscopic term)
-  std::vector<char> gyro_;       ///< needs the gyroscopic term
-  std::vector<Vec3> accel_;      ///< m/s^2, g + f/m
-  std::vector<Vec3> ang_accel_;  ///< rad/s^2, I^-1 tau
+  std::vector<int> bodies_;              ///< body index of solver body k + 1
+  std::vector<SolverBody> sb_;           ///< [0] is the static body: never written (zero mass and inertia)
+  std::vector<Mat3> I_W_;                ///< world inertia of each solver body (gyroscopic term)
+  std::vector<char> gyro_;               ///< needs the gyroscopic term
+  std::vector<Vec3> accel_;              ///< m/s^2, g + f/m
+  std::vector<Vec3> ang_accel_;          ///< rad/s^2, I^-1 tau
   std::vector<ContactConstraint> cons_;  ///< in solve order: colour by colour (graph_.slot)
   Softness soft_, static_soft_;
   bool any_restitution_ = false;  ///< some constraint has restitution > 0 (else the stage is empty)
@@ -147,7 +147,7 @@ class ContactSolver {
   WorkerPool* pool_ = nullptr;  ///< null, or not used this step (too little work to split)
   int workers_ = 1;
   ConstraintGraph graph_;
-  std::vector<int> wanted_;          ///< contact index of each constraint, in contact order
+  std::vector<int> wanted_;           ///< contact index of each constraint, in contact order
   std::vector<int> edge_a_, edge_b_;  ///< their solver bodies (the graph's edges)
   struct alignas(64) Flag {           // one cache line per worker
     bool value = false;

@@ -47,7 +47,7 @@ class WorkerPool {
   }
   // Called by every worker inside run(): returns once all of them have called it.
   void barrier();
-  long runs() const { return runs_; }          ///< run() calls
+  long runs() const { return runs_; }         ///< run() calls
   long alone_runs() const { return alone_; }  ///< of which on the caller alone (back-off)
 
   // Tells an SMT sibling that this thread is only waiting (x86 pause).

@@ -84,9 +84,11 @@ TEST(ConstraintGraph, ColumnColoursAreItsLevels) {
 // deeper ones wrap round and stay valid colourings.
 TEST(ConstraintGraph, RandomGraphsAreValidAndKeepTheOrderUpTo32Levels) {
   SplitMix64 rng(7);
-  for (int trial = 0; trial < 40; ++trial) {
-    const int bodies = 2 + (int)(rng.uniform() * 300);
-    const int n = (int)(rng.uniform() * 3 * bodies);
+  int wrapped = 0;
+  for (int trial = 0; trial < 80; ++trial) {
+    // Half sparse (mostly shallow), half dense (deep: they wrap round and overflow).
+    const int bodies = 2 + (int)(rng.uniform() * (trial < 40 ? 300 : 20));
+    const int n = (int)(rng.uniform() * (trial < 40 ? 3 : 30) * bodies);
     Edges e;
     for (int i = 0; i < n; ++i) {
       int x = (int)(rng.uniform() * bodies), y = (int)(rng.uniform() * bodies);
@@ -111,8 +113,11 @@ TEST(ConstraintGraph, RandomGraphsAreValidAndKeepTheOrderUpTo32Levels) {
     if (depth <= ConstraintGraph::kColours) {
       EXPECT_EQ(inversions, 0) << "trial " << trial << ", depth " << depth;
       EXPECT_EQ(g.overflow_count(), 0);
+    } else {
+      ++wrapped;
     }
   }
+  EXPECT_GT(wrapped, 10);  // the deep cases were exercised
 }
 
 // A body touching 40 others: 32 colours, then the overflow set. The static body does not count:
