@@ -22,7 +22,9 @@
 //   derived              world inverse inertia for consumers that need it every step
 // A scene without colliding shapes skips every contact stage and pays nothing for them.
 // Thread count never changes results: free-flight bodies are split into fixed contiguous chunks
-// and each body is advanced independently; the contact stages run in one fixed order.
+// and each body is advanced independently; the narrow phase writes each pair into its own slot;
+// the contact solver goes colour by colour through a colouring of its constraints that depends on
+// the contact list alone (sim/constraint_graph.hpp, sim/README.md "Threads").
 #pragma once
 #include <iosfwd>
 #include <memory>
