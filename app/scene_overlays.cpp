@@ -163,7 +163,16 @@ ShowItem show_item(const YAML::Node& n, const Ctx& w, double duration) {
   if (opts["points"]) item.points = boolean(opts["points"], c.child("points"));
   if (opts["normals"]) item.normals = boolean(opts["normals"], c.child("normals"));
   if (opts["arrows"]) item.arrows = boolean(opts["arrows"], c.child("arrows"));
-  if (opts["springs"]) item.springs = boolean(opts["springs"], c.child("springs"));
+  if (const YAML::Node sp = opts["springs"]) {
+    // `line`: straight, for springs standing in for strings (a Newton's cradle); else a bool.
+    item.spring_lines = sp.IsScalar() && sp.Scalar() == "line";
+    if (!item.spring_lines) {
+      if (sp.IsScalar() && sp.Scalar() != "true" && sp.Scalar() != "false" && sp.Scalar() != "yes" &&
+          sp.Scalar() != "no" && sp.Scalar() != "on" && sp.Scalar() != "off")
+        c.child("springs").fail(sp, "expected true, false or line (straight lines), got " + show(sp));
+      item.springs = boolean(sp, c.child("springs"));
+    }
+  }
   return item;
 }
 

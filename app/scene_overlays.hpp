@@ -69,7 +69,8 @@ struct ShowItem {
   bool points = true;   ///< contacts: a dot at each contact point
   bool normals = true;  ///< contacts: the contact normal at each point
   bool arrows = true;   ///< contacts: the contact force at each point (forces: the arrows)
-  bool springs = true;  ///< forces: springs drawn as zig-zag lines
+  bool springs = true;        ///< forces: springs drawn as zig-zag lines
+  bool spring_lines = false;  ///< forces: ... or as straight lines (`springs: line`: strings, cords)
 };
 
 // One field of a HUD line: {name}, {body.name}, {name.x}, {|name|}, each with an optional
