@@ -59,7 +59,7 @@ class WorkerPool {
 
  private:
   using clock = std::chrono::steady_clock;
-  static constexpr std::chrono::microseconds kPause{50}, kSpin{2000}, kSlow{1000};
+  static constexpr std::chrono::microseconds kPause{50}, kSpin{2000}, kSlow{2000};
   static constexpr int kBackoffMin = 64, kBackoffMax = 4096;
   // Waits while `a` holds `seen` (pause, then yield, then atomic::wait); returns the new value.
   // `timed`: a wait inside a run (a barrier, the end of a run), where a long one means a worker

@@ -1,6 +1,7 @@
 // World's contact stages (the pipeline is in world.cpp): broad phase, collide, the solver's
 // substeps, and kinematic bodies.
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <sstream>
@@ -154,15 +155,22 @@ void World::stage_collide() {
   const int n = (int)collide_jobs_.size();
   contacts_next_.resize(n);
   collide_sums_.resize(cfg_.threads);
-  auto work = [&](int w, int nw) {
-    int begin = (int)((long)n * w / nw), end = (int)((long)n * (w + 1) / nw);
+  // Blocks of pairs claimed from a shared counter (pairs cost from a sphere-plane formula to a
+  // hull-hull clipping, so fixed shares would leave one thread waiting): which thread collides a
+  // pair changes nothing, as each writes its own slot and the deepest overlap is a maximum.
+  constexpr int kBlock = 32;
+  std::atomic<int> next_block{0};
+  auto work = [&](int w, int) {
     double deepest = 0;
-    for (int j = begin; j < end; ++j) {
-      const CollideJob& job = collide_jobs_[j];
-      if (job.keep)
-        contacts_next_[j] = contacts_[job.prev];
-      else
-        deepest = std::max(deepest, collide_pair(job, contacts_next_[j]));
+    for (int begin; (begin = kBlock * next_block.fetch_add(1, std::memory_order_relaxed)) < n;) {
+      const int end = std::min(n, begin + kBlock);
+      for (int j = begin; j < end; ++j) {
+        const CollideJob& job = collide_jobs_[j];
+        if (job.keep)
+          contacts_next_[j] = contacts_[job.prev];
+        else
+          deepest = std::max(deepest, collide_pair(job, contacts_next_[j]));
+      }
     }
     collide_sums_[w].value = deepest;
   };
