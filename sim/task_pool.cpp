@@ -41,12 +41,18 @@ void WorkerPool::run(Fn fn, void* ctx) {
   fn_(ctx_, 0, n_);
   for (int d = done_.load(std::memory_order_acquire); d != n_ - 1; d = done_.load(std::memory_order_acquire))
     await_change(done_, d);
-  // Every worker has finished (done_ acquired): slow_ holds whatever they saw.
-  if (slow_.exchange(false, std::memory_order_relaxed)) {
+  // Every worker has finished (done_ acquired): slow_ holds whatever they saw. One stall now and
+  // then (a few ms, ~20 in 20 steps of the large pyramid even with this process's priority
+  // raised) costs less than the runs it shares; a second within kWindow runs backs off.
+  if (slow_.exchange(false, std::memory_order_relaxed) && ++slow_in_window_ >= 2) {
     backoff_ = backoff_next_;
     backoff_next_ = std::min(2 * backoff_next_, kBackoffMax);
-  } else {
-    backoff_next_ = kBackoffMin;
+    slow_in_window_ = window_runs_ = 0;
+    return;
+  }
+  if (++window_runs_ >= kWindow) {
+    if (slow_in_window_ == 0) backoff_next_ = kBackoffMin;
+    slow_in_window_ = window_runs_ = 0;
   }
 }
 

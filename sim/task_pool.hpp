@@ -8,20 +8,22 @@
 // ranges by worker index, or claimed from a shared counter where results do not depend on who
 // does which item, so no result depends on the thread count or on timing.
 //
-// Waiting spins first (a step's next piece of work arrives within microseconds), then yields the
-// core (on an oversubscribed machine the thread being waited for may be queued behind this one),
-// and after kSpin blocks in atomic::wait, so an idle pool costs nothing. Waking a blocked thread
-// took ~0.3 ms on this machine's VM (futex wake + hypervisor scheduling), longer than a stage:
-// with a 0.1 ms spin the worker fell asleep every step and 2 threads ran at 0.7x one thread.
-// std::barrier's futex hand-off cost more than the work it split at N = 1000..10000 bodies.
+// Waiting spins (x86 pause) for up to kSpin and then blocks in atomic::wait, so an idle pool
+// costs nothing. Waking a blocked thread took ~0.3 ms on this machine's VM, and several ms when
+// its cores were busy: the large pyramid's serial parts between two runs (the colouring, the
+// broad phase, the merge of the pairs) take a few ms, and with a 2 ms spin the worker fell asleep
+// there and the waits made the pool back off for 896 of its 1844 runs in 20 steps (1.47x one
+// thread); with 5 ms, 64 runs (1.54x). Not sched_yield while spinning: a yielded core went to
+// another process for up to a scheduler tick (~20 stalls of 3-4 ms in those 20 steps).
 //
 // Back-off. Fine-grained work needs every worker on a core at once. When the machine is busier
 // than its cores (other processes, or more threads than cores) a worker is often not running,
 // and each barrier then waits for the scheduler (ms): the R3 pile with two threads on a machine
-// at load 20 ran 75x slower than with one. So a wait longer than kSlow makes the next runs go on
-// the calling thread alone (f(0, 1)), 64 runs, doubling while it keeps happening (up to 4096),
-// and then the pool is tried again. Callers split work by the `workers` they are given, and
-// every split gives the same results, so this changes timing only, never a result.
+// at load 20 ran 75x slower than with one. So when two runs within kWindow runs have a wait
+// longer than kSlow, the next runs go on the calling thread alone (f(0, 1)), 64 runs, doubling
+// while it keeps happening (up to 4096), and then the pool is tried again. Callers split work by
+// the `workers` they are given, and every split gives the same results, so this changes timing
+// only, never a result.
 #pragma once
 #include <atomic>
 #include <chrono>
@@ -59,9 +61,9 @@ class WorkerPool {
 
  private:
   using clock = std::chrono::steady_clock;
-  static constexpr std::chrono::microseconds kPause{50}, kSpin{2000}, kSlow{2000};
-  static constexpr int kBackoffMin = 64, kBackoffMax = 4096;
-  // Waits while `a` holds `seen` (pause, then yield, then atomic::wait); returns the new value.
+  static constexpr std::chrono::microseconds kSpin{5000}, kSlow{5000};
+  static constexpr int kBackoffMin = 64, kBackoffMax = 4096, kWindow = 32;
+  // Waits while `a` holds `seen` (pause, then atomic::wait); returns the new value.
   // `timed`: a wait inside a run (a barrier, the end of a run), where a long one means a worker
   // was not running; an idle worker's wait for the next run is not.
   template <typename T>
@@ -83,7 +85,6 @@ class WorkerPool {
         a.wait(seen, std::memory_order_acquire);
         return a.load(std::memory_order_acquire);
       }
-      if (waited > kPause) std::this_thread::yield();
     }
   }
   void worker_loop(int w);
@@ -99,6 +100,7 @@ class WorkerPool {
   Fn fn_ = nullptr;
   void* ctx_ = nullptr;
   int backoff_ = 0, backoff_next_ = kBackoffMin;  ///< runs left alone; the next back-off's length
+  int slow_in_window_ = 0, window_runs_ = 0;      ///< slow runs among the last window_runs_ runs
   long runs_ = 0, alone_ = 0;
   std::vector<std::thread> workers_;
 };
