@@ -107,7 +107,10 @@ struct SolverInput {
 // and positions, the write-back) and per-constraint stages that write nothing shared (prepare,
 // store) take fixed shares; the stages that apply impulses (warm start, solve, relax,
 // restitution) go colour by colour through the constraint graph (sim/constraint_graph.hpp), each
-// colour split among the workers, with a barrier between colours. Within a colour no two
+// colour split among the workers in fixed shares, with a barrier between colours. (Blocks of 16
+// constraints claimed from a shared counter balanced the load but moved each constraint and its
+// bodies between the cores' caches: the large pyramid's solve ran 1.55x one thread with them,
+// 1.64x with fixed shares.) Within a colour no two
 // constraints share a moving body, so every body receives the same impulses in the same order
 // whatever the thread count: results are bit for bit those of one thread.
 class ContactSolver {
