@@ -256,7 +256,9 @@ std::string metrics(const ReportFrame& f) {
   s += "<td>" + grouped(f.differing) + "</td><td>" + ratio + "</td>";
   s += "<td>" + std::to_string(f.clusters.size()) + "</td>";
   s += "<td>" + grouped(f.largest_cluster) + " px</td><td>" + grouped(f.antialiased) + " px</td>";
-  s += "<td>" + num(f.psnr, "%.2f", " dB") + "</td><td>" + num(f.ssim, "%.4f", "") + "</td></tr></table>";
+  // SSIM near 1 with six digits: a small change (0.999982) must not read as 1.0000.
+  s += "<td>" + num(f.psnr, "%.2f", " dB") + "</td><td>" +
+       num(f.ssim, f.ssim >= 0.9999 && f.ssim < 1 ? "%.6f" : "%.4f", "") + "</td></tr></table>";
   return s;
 }
 
