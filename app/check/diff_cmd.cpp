@@ -186,7 +186,7 @@ int cmd_diff(const std::vector<std::string>& args) {
     rf.frame = (int)run.index;
     rf.time = run.time;
     rf.status = "fail";
-    rf.kind = "size";
+    rf.kind = "count";
     rf.width = run.width;
     rf.height = run.height;
     rf.messages.push_back(std::string("only in ") + side + ": " + what +
@@ -248,7 +248,7 @@ int cmd_diff(const std::vector<std::string>& args) {
       ++size_mismatch;
       rf.kind = "size";
     } else if (!r.pass) {
-      rf.kind = "rendering";
+      rf.kind = "pixels";
     }
     if (!r.pass) {
       ++differing;

@@ -274,6 +274,12 @@ std::string attribution(const ReportFrame& f) {
   } else if (f.kind == "size") {
     what = "Image size changed";
     why = "the frame's dimensions differ from the golden image";
+  } else if (f.kind == "pixels") {  // simreel diff: two renders, no physics to blame
+    what = "Pixels differ";
+    why = "A and B differ in this frame";
+  } else if (f.kind == "count") {
+    what = "Frame on one side only";
+    why = "A and B do not both have this frame";
   } else if (!f.kind.empty()) {
     what = "Changed";
   }
@@ -413,7 +419,7 @@ std::string report_html(const ReportInput& in) {
       const ReportFrame& f = in.frames[i];
       if (rank(f.status) > 1) break;
       s += "<a href=\"#f" + std::to_string(i) + "\">" + html_escape(f.scene) +
-           (f.frame >= 0 ? " #" + std::to_string(f.frame) : " t=" + fmt("%g", f.time) + "s") + "</a>";
+           (f.frame >= 0 ? " #" + std::to_string(f.frame) : " t=" + fmt("%g", f.time) + "s") + "</a> ";
     }
     s += "</div>";
   }

@@ -20,7 +20,9 @@ struct ReportFrame {
   double time = 0;    // s
   // "pass", "fail", "new" (golden written), "missing" (no golden, not written), "updated"
   std::string status;
-  std::string kind;                   // "" | "physics" | "rendering" | "size" : what changed
+  // What changed: "" | "physics" | "rendering" | "size" (check) | "pixels" | "count" (diff: a
+  // frame of only one side).
+  std::string kind;
   std::vector<std::string> messages;  // e.g. "physics changed: body 'ball' position x by 0.05 m (rel 3.2e-2)"
   // Metrics. The doubles are NaN when not computed (no golden to compare with); the page then shows
   // no metrics table. The counts are shown only when diff_ratio is computed.

@@ -348,6 +348,25 @@ TEST(ReportPage, CardsAttributeAndMeasure) {
   EXPECT_EQ(updated.find("class=\"viewer\""), std::string::npos);
 }
 
+// simreel diff's kinds: two renders compared have no physics to blame, and a frame of one side
+// only is no size change. The jump links can wrap (a space between them).
+TEST(ReportPage, DiffKindsAndJumpLinks) {
+  ReportInput in;
+  for (const char* kind : {"pixels", "count", "pixels"}) {
+    ReportFrame f;
+    f.scene = std::string("t=1.000s ") + kind;
+    f.status = "fail";
+    f.kind = kind;
+    in.frames.push_back(f);
+  }
+  const std::string html = simreel::report_html(in);
+  EXPECT_NE(card(html, 0).find("Pixels differ"), std::string::npos);
+  EXPECT_EQ(card(html, 0).find("simulation"), std::string::npos);
+  EXPECT_NE(card(html, 1).find("Frame on one side only"), std::string::npos);
+  EXPECT_EQ(card(html, 1).find("size"), std::string::npos);
+  EXPECT_NE(html.find("#0</a> <a href=\"#f1\">"), std::string::npos);
+}
+
 TEST(ReportPage, FingerprintsSideBySide) {
   const std::string html = simreel::report_html(sample());
   // renderer and the two keys only one side has differ; version, GL version and scene hash agree.
