@@ -161,6 +161,62 @@ TEST(Check, UncheckableScenesAreReportedInJunitAndReport) {
   EXPECT_NE(page.find("could not be checked: " + twin), std::string::npos);
 }
 
+// chromium for the browser test: $SIMREEL_CHROMIUM, else chromium or chromium-browser on PATH.
+std::string find_chromium() {
+  if (const char* e = std::getenv("SIMREEL_CHROMIUM"); e && *e) return e;
+  const char* path = std::getenv("PATH");
+  std::stringstream dirs(path ? path : "");
+  for (std::string dir; std::getline(dirs, dir, ':');)
+    for (const char* name : {"chromium", "chromium-browser"})
+      if (!dir.empty() && fs::exists(fs::path(dir) / name)) return (fs::path(dir) / name).string();
+  return "";
+}
+
+// The page's own self-test (app/regress/report_page.hpp: images decoded, views, slider, blink,
+// heat map boxes) run in headless chromium on a page written by check or diff; its result line.
+std::string browser_selftest(const fs::path& page, const fs::path& work) {
+  const std::string cmd = "timeout 90 '" + find_chromium() +
+                          "' --headless=new --no-sandbox --disable-gpu --no-first-run --disable-extensions "
+                          "--disable-dev-shm-usage --user-data-dir='" +
+                          (work / "profile").string() + "' --virtual-time-budget=5000 --dump-dom 'file://" +
+                          fs::absolute(page).string() + "#selftest' 2>/dev/null";
+  FILE* p = popen(cmd.c_str(), "r");
+  std::string dom;
+  char buf[65536];
+  for (size_t n; p && (n = fread(buf, 1, sizeof buf, p)) > 0;) dom.append(buf, n);
+  if (p) pclose(p);
+  const size_t b = dom.find("id=\"selftest-result\"");
+  if (b == std::string::npos) return "no #selftest-result in the DOM";
+  const size_t t = dom.find('>', b) + 1;
+  return dom.substr(t, dom.find('<', t) - t);
+}
+
+// The synthetic page is tested in tests/app/report_test.cpp; here the pages check and diff write
+// for a real failure (a colour change: expected, actual, diff image, clusters) pass the same test.
+TEST(Check, RealReportsPassTheBrowserSelfTest) {
+  if (find_chromium().empty()) GTEST_SKIP() << "chromium not found (.ci/setup installs it)";
+  const fs::path base = simreel::test::scratch_dir();
+  const std::string goldens = (base / "goldens").string();
+  const std::string scene = write_scene(base / "a", scene_text());
+  const std::string recolored = write_scene(base / "color", scene_text("0.5", "[0.2, 0.3, 0.8]"));
+  ASSERT_EQ(run("check " + scene + " --goldens " + goldens + " --update missing --quiet").code, 0);
+  const fs::path check_report = base / "check_report";
+  Result r = run("check " + recolored + " --goldens " + goldens + " --update none --quiet --report " +
+                 check_report.string());
+  ASSERT_EQ(r.code, 1) << r.out;
+  std::string result = browser_selftest(check_report / "index.html", base / "c");
+  EXPECT_EQ(result.rfind("SELFTEST PASS (", 0), 0u) << result;
+
+  const fs::path fa = base / "fa", fb = base / "fb", diff_report = base / "diff_report";
+  ASSERT_EQ(run("render " + scene + " --no-video --quiet --frames 0:4 --frames-dir " + fa.string()).code, 0);
+  ASSERT_EQ(run("render " + recolored + " --no-video --quiet --frames 2:6 --frames-dir " + fb.string()).code,
+            0);
+  r = run("diff " + fa.string() + " " + fb.string() + " --quiet --out " + diff_report.string());
+  ASSERT_EQ(r.code, 1) << r.out;
+  result = browser_selftest(diff_report / "index.html", base / "d");
+  EXPECT_EQ(result.rfind("SELFTEST PASS (", 0), 0u) << result;
+}
+
 TEST(Check, BadInputExitsWith2) {
   const fs::path base = simreel::test::scratch_dir();
   const std::string scene = write_scene(base / "a", scene_text());
