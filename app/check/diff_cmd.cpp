@@ -158,6 +158,8 @@ int cmd_diff(const std::vector<std::string>& args) {
 
   ReportInput report;
   report.title = "simreel diff";
+  report.expected_label = "A: " + o.inputs[0];
+  report.actual_label = "B: " + o.inputs[1];
   report.command = "simreel diff";
   for (const std::string& s : args) report.command += " " + s;
   std::vector<ReportFrame> frames;  // every frame's metrics (images only for the worst)

@@ -48,6 +48,8 @@ struct ReportInput {
   std::vector<std::pair<std::string, std::string>> golden_fingerprint, actual_fingerprint;
   std::vector<ReportFrame> frames;
   std::string summary;  // one line, e.g. "3 of 15 frames differ (2 physics, 1 rendering)"
+  // What the two images are called on the cards (simreel diff: "A: old.mp4", "B: new.mp4").
+  std::string expected_label = "Expected (golden)", actual_label = "Actual";
 };
 
 // The whole page as a string (write_report writes this).

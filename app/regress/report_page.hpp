@@ -229,7 +229,8 @@ inline constexpr const char* kJs = R"js(
     var s = v.querySelector('.blink-stage');
     if (!s) return;
     s.classList.toggle('show-expected', expected);
-    v.querySelector('.blink-label').textContent = expected ? 'Expected (golden)' : 'Actual';
+    var l = v.querySelector('.blink-label');
+    l.textContent = l.getAttribute(expected ? 'data-expected' : 'data-actual');
     v.setAttribute('data-flips', String(+v.getAttribute('data-flips') + 1));
   }
   function flip(v) {
