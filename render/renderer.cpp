@@ -560,11 +560,8 @@ struct Renderer::Impl {
   size_t ov_inst_capacity[kOverlayShapes] = {};
   GLuint ov_ribbon_vao = 0, ov_ribbon_vbo = 0;
   size_t ov_ribbon_capacity = 0;
-  // Per instance: model (column-major), rgba, x-ray, padded to 24 floats (96 bytes, a multiple of
-  // 16). With a 21-float stride, llvmpipe at a 128-bit vector width (LP_NATIVE_VECTOR_WIDTH=128)
-  // corrupted the heap in the instanced draw ("double free or corruption" inside glDrawElements-
-  // Instanced, every scene with an arrow, on Mesa 22.3.6); padded, it draws the same pixels.
-  static constexpr int kOverlayInstanceFloats = 24;
+  // Per instance: model (column-major, x-ray strength in place of its bottom-left 0), rgba.
+  static constexpr int kOverlayInstanceFloats = 20;
   std::vector<float> ov_staging;
   bool ov_ready = false;
 
@@ -598,9 +595,6 @@ struct Renderer::Impl {
       glEnableVertexAttribArray(6);
       glVertexAttribPointer(6, 4, GL_FLOAT, GL_FALSE, stride, (void*)(16 * sizeof(float)));
       glVertexAttribDivisor(6, 1);
-      glEnableVertexAttribArray(7);
-      glVertexAttribPointer(7, 1, GL_FLOAT, GL_FALSE, stride, (void*)(20 * sizeof(float)));
-      glVertexAttribDivisor(7, 1);
     }
     glGenVertexArrays(1, &ov_ribbon_vao);
     glBindVertexArray(ov_ribbon_vao);
@@ -653,12 +647,12 @@ struct Renderer::Impl {
       const auto& v = ov.instances[k];
       count[k] = v.size();
       if (v.empty()) continue;
-      ov_staging.assign(kOverlayInstanceFloats * v.size(), 0.0f);
+      ov_staging.resize(kOverlayInstanceFloats * v.size());
       float* d = ov_staging.data();
       for (const OverlayInstance& in : v) {
         std::copy(in.model.data(), in.model.data() + 16, d);
+        d[3] = in.xray;  // in place of the affine model's bottom-left 0 (the shader puts the 0 back)
         std::copy(in.color.begin(), in.color.end(), d + 16);
-        d[20] = in.xray;
         d += kOverlayInstanceFloats;
         any_xray = any_xray || in.xray > 0;
         translucent = translucent || in.color[3] < 1;
