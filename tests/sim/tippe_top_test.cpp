@@ -75,9 +75,11 @@ BodyDef top_body(const TippeTop& p, double theta0, double n0) {
   return b;
 }
 
-// simreel's run sampled every `every` seconds, as TippeSamples (theta, Jellett's quantity, energy).
-std::vector<TippeSample> simulate(const TippeTop& p, double duration, double every) {
+// simreel's run sampled every `every` seconds, as TippeSamples (theta, Jellett's quantity, energy),
+// at the step dt.
+std::vector<TippeSample> simulate(const TippeTop& p, double duration, double every, double dt) {
   WorldConfig cfg;
+  cfg.dt = dt;
   cfg.contacts.sleep = false;
   cfg.contacts.slip_speed = p.eps;
   World w(cfg, {ground(p.mu), top_body(p, kTheta0, kSpin)});
@@ -117,7 +119,27 @@ double final_theta_deg(const std::vector<TippeSample>& s) {
   return s.back().theta * 180 / kPi;
 }
 
-constexpr double kDuration = 8, kEvery = 0.05;
+constexpr double kDuration = 8, kEvery = 0.01;
+
+// The step of the simreel runs: 1/38400 s. The contact solver is first order and prepares its
+// constraints once per step (world inertia, lever arms), and this top is a hard case for it: spun
+// at 120 rad/s with I1 close to I3, its axis cones about L at I3 n / I1 = 133 rad/s while friction
+// turns it over. Jellett's quantity drifted at most, Group II (measured): 8.8e-2 at 1/240 s,
+// 8.7e-3 at 1/2400, 5.3e-3 at 1/4800, 2.6e-3 at 1/9600, 1.3e-3 at 1/19200, 6.3e-4 at 1/38400:
+// first order, and 1e-3 (the issue's) needs 1/38400 (about 1 s of run time per top here). At the
+// default 1/240 s the outcome is wrong: all three tops turn over (Group I to 176 degrees, its
+// Jellett quantity off by 42%); from 1/2400 s on all three match the reference (Group III stops
+// at 116 degrees at 1/2400, 105 at 1/19200; the reference at 103).
+constexpr double kDt = 1.0 / 38400;
+
+// Each simreel run once (two tests read them).
+const std::vector<TippeSample>& simulated(double gamma) {
+  static std::vector<std::pair<double, std::vector<TippeSample>>> runs;
+  for (const auto& [g, s] : runs)
+    if (g == gamma) return s;
+  runs.emplace_back(gamma, simulate(top(gamma), kDuration, kEvery, kDt));
+  return runs.back().second;
+}
 
 // The reference against the theory: Jellett's quantity kept to its integration error (1e-8; the
 // Dormand-Prince pair at 1e-11 keeps it to 1e-10, measured), and the three groups' outcomes as
@@ -134,8 +156,12 @@ TEST(TippeTop, ReferenceOdeFollowsUedaSasakiWatanabe) {
                 gamma, final_theta_deg(s), time_on_side(s), max_jellett_drift(s), n_min);
     EXPECT_LT(max_jellett_drift(s), 1e-8) << gamma;
     EXPECT_GT(n_min, 0) << gamma << ": the top would leave the table; the model assumes it does not";
-    if (gamma == kGroupI) EXPECT_LT(final_theta_deg(s), 10) << "Group I never turns over";
-    if (gamma == kGroupII) EXPECT_GT(final_theta_deg(s), 170) << "Group II turns fully over";
+    if (gamma == kGroupI) {
+      EXPECT_LT(final_theta_deg(s), 10) << "Group I never turns over";
+    }
+    if (gamma == kGroupII) {
+      EXPECT_GT(final_theta_deg(s), 170) << "Group II turns fully over";
+    }
     if (gamma == kGroupIII) {
       EXPECT_GT(final_theta_deg(s), 30) << "Group III turns part way";
       EXPECT_LT(final_theta_deg(s), 150) << "Group III turns part way";
@@ -147,9 +173,9 @@ TEST(TippeTop, ReferenceOdeFollowsUedaSasakiWatanabe) {
 // top that turns fully over and one that does not.
 TEST(TippeTop, JellettsQuantityIsConserved) {
   for (double gamma : {kGroupI, kGroupII}) {
-    const auto s = simulate(top(gamma), kDuration, kEvery);
-    std::printf("[measure] simreel gamma %.2f: Jellett's quantity drifts at most %.2e (relative) in %.0f s\n",
-                gamma, max_jellett_drift(s), kDuration);
+    const auto& s = simulated(gamma);
+    std::printf("[measure] simreel gamma %.2f, dt 1/%.0f s: Jellett's quantity drifts at most %.2e (relative) in %.0f s\n",
+                gamma, 1 / kDt, max_jellett_drift(s), kDuration);
     EXPECT_LT(max_jellett_drift(s), 1e-3) << gamma;
   }
 }
@@ -162,7 +188,7 @@ TEST(TippeTop, OutcomeMatchesTheReferenceOde) {
   for (double gamma : {kGroupI, kGroupII, kGroupIII}) {
     const TippeTopOde ode(top(gamma));
     const auto ref = ode.run(ode.initial(kTheta0, kSpin), kDuration, kEvery);
-    const auto sim = simulate(top(gamma), kDuration, kEvery);
+    const auto& sim = simulated(gamma);
     std::printf("[measure] gamma %.2f: final theta simreel %.2f deg, reference %.2f deg; on its side at "
                 "%.2f s, reference %.2f s\n",
                 gamma, final_theta_deg(sim), final_theta_deg(ref), time_on_side(sim), time_on_side(ref));
@@ -170,8 +196,11 @@ TEST(TippeTop, OutcomeMatchesTheReferenceOde) {
       EXPECT_LT(final_theta_deg(sim), 10);
       EXPECT_LT(time_on_side(sim), 0);
     } else {
-      if (gamma == kGroupII) EXPECT_GT(final_theta_deg(sim), 170);
-      if (gamma == kGroupIII) EXPECT_NEAR(final_theta_deg(sim), final_theta_deg(ref), 10);
+      if (gamma == kGroupII) {
+        EXPECT_GT(final_theta_deg(sim), 170);
+      } else {
+        EXPECT_NEAR(final_theta_deg(sim), final_theta_deg(ref), 10);
+      }
       EXPECT_NEAR(time_on_side(sim), time_on_side(ref), 0.1 * time_on_side(ref)) << gamma;
     }
   }
