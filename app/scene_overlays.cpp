@@ -546,6 +546,16 @@ bool OverlaySpec::any() const {
   return false;
 }
 
+std::vector<ShowItem> read_show_list(const YAML::Node& sh, const scene_yaml::Ctx& w, const Scene& s,
+                                     size_t body) {
+  if (!sh.IsSequence()) w.fail(sh, "expected a list of items (axes, angular_velocity, ...), got " + show(sh));
+  if (s.bodies[body].type != BodyType::dynamic && sh.size() > 0)
+    w.fail(sh, "body '" + s.bodies[body].name + "' does not move: show items are for moving bodies");
+  std::vector<ShowItem> items;
+  for (size_t k = 0; k < sh.size(); ++k) items.push_back(show_item(sh[k], w.index(k), s.duration));
+  return items;
+}
+
 void load_overlays(const YAML::Node& root, const std::string& path, Scene& s) {
   OverlaySpec& o = s.overlays;
   o.show.assign(s.bodies.size(), {});
@@ -554,12 +564,7 @@ void load_overlays(const YAML::Node& root, const std::string& path, Scene& s) {
     for (size_t i = 0; i < bodies.size() && i < s.bodies.size(); ++i) {
       const YAML::Node sh = bodies[i].IsMap() ? bodies[i]["show"] : YAML::Node();
       if (!sh) continue;
-      const Ctx w = top.child("bodies").index(i).child("show");
-      if (!sh.IsSequence())
-        w.fail(sh, "expected a list of items (axes, angular_velocity, ...), got " + show(sh));
-      if (s.bodies[i].type != BodyType::dynamic)
-        w.fail(sh, "body '" + s.bodies[i].name + "' does not move: show items are for moving bodies");
-      for (size_t k = 0; k < sh.size(); ++k) o.show[i].push_back(show_item(sh[k], w.index(k), s.duration));
+      o.show[i] = read_show_list(sh, top.child("bodies").index(i).child("show"), s, i);
     }
   const YAML::Node ov = root["overlays"];
   if (!ov) return;
