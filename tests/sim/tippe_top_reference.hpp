@@ -31,14 +31,14 @@
 namespace simreel::test {
 
 struct TippeTop {
-  double m = 0.02;      ///< kg
-  double R = 0.02;      ///< m, sphere radius
-  double alpha = 0.3;   ///< offset of the centre of mass from the sphere's centre, / R
-  double I1 = 0;        ///< kg m^2, about an axis across the symmetry axis through G
-  double I3 = 0;        ///< kg m^2, about the symmetry axis
-  double mu = 0.3;      ///< sliding friction coefficient
-  double g = 9.81;      ///< m/s^2
-  double eps = 1e-3;    ///< m/s, slip speed below which friction is viscous (regularisation)
+  double m = 0.02;     ///< kg
+  double R = 0.02;     ///< m, sphere radius
+  double alpha = 0.3;  ///< offset of the centre of mass from the sphere's centre, / R
+  double I1 = 0;       ///< kg m^2, about an axis across the symmetry axis through G
+  double I3 = 0;       ///< kg m^2, about the symmetry axis
+  double mu = 0.3;     ///< sliding friction coefficient
+  double g = 9.81;     ///< m/s^2
+  double eps = 1e-3;   ///< m/s, slip speed below which friction is viscous (regularisation)
   double a() const { return alpha * R; }
 };
 
@@ -98,8 +98,8 @@ class TippeTopOde {
     const Vec3 acc = e.N * f / p_.m - p_.g * z;
     const Quat dq = Quat(0, e.w.x(), e.w.y(), e.w.z()) * q;
     const Vec3 dL = e.r.cross(e.N * f);
-    e.dy = {v.x(), v.y(), v.z(), acc.x(), acc.y(), acc.z(), 0.5 * dq.w(), 0.5 * dq.x(), 0.5 * dq.y(),
-            0.5 * dq.z(), dL.x(), dL.y(), dL.z()};
+    e.dy = {v.x(),        v.y(),        v.z(),        acc.x(), acc.y(), acc.z(), 0.5 * dq.w(),
+            0.5 * dq.x(), 0.5 * dq.y(), 0.5 * dq.z(), dL.x(),  dL.y(),  dL.z()};
     return e;
   }
 
@@ -170,8 +170,8 @@ class TippeTopOde {
         {9017.0 / 3168, -355.0 / 33, 46732.0 / 5247, 49.0 / 176, -5103.0 / 18656, 0},
         {35.0 / 384, 0, 500.0 / 1113, 125.0 / 192, -2187.0 / 6784, 11.0 / 84}};
     // Fifth-order weights (the last row of A, FSAL) minus the embedded fourth-order ones.
-    static constexpr double E[7] = {71.0 / 57600,      0, -71.0 / 16695, 71.0 / 1920, -17253.0 / 339200,
-                                    22.0 / 525, -1.0 / 40};
+    static constexpr double E[7] = {71.0 / 57600,      0,          -71.0 / 16695, 71.0 / 1920,
+                                    -17253.0 / 339200, 22.0 / 525, -1.0 / 40};
     (void)c;  // autonomous system: the stage times are not needed
     std::array<TippeState, 7> k;
     k[0] = eval(y).dy;
