@@ -92,70 +92,141 @@ Sample sample(const World& w, int i) {
   return s;
 }
 
-TEST(EulersDisk, Probe) {
-  Disk d;
-  if (const char* e = std::getenv("MU")) d.friction = std::atof(e);
-  const double alpha0 = 20 * std::numbers::pi / 180;
-  WorldConfig cfg;
-  cfg.contacts.sleep = false;
-  if (const char* e = std::getenv("DT")) cfg.dt = 1.0 / std::atof(e);
-  if (const char* e = std::getenv("SUB")) cfg.contacts.substeps = std::atoi(e);
-  BodyDef disk = steady_disk(d, alpha0, 0, 1e-4);
-  if (const char* e = std::getenv("KICK")) disk.v_W += Vec3(0, std::atof(e), 0);
-  World w(cfg, {ground(d.friction), disk});
-  double worst = 0;
-  std::printf("E0 %.6f m %.5f W %.4f\n", contact_test::energy(w), d.mass(), std::sqrt(steady_omega2(d, alpha0, 0)));
-  const long nsteps = std::lround(5 / cfg.dt);
-  for (int k = 0; k < nsteps; ++k) {
+// Runs w for `seconds`, calling f(sample) after every step.
+template <class F>
+void run_for(World& w, double seconds, F&& f) {
+  const long n = std::lround(seconds / w.config().dt);
+  for (long k = 0; k < n; ++k) {
     w.step();
-    if (k < (std::getenv("NPR") ? std::atoi(std::getenv("NPR")) : 5)) {
-      const Contact& c = w.contacts()[0];
-      std::printf("  E %.7f count %d sep %.3e Pn %.4e (m g dt %.4e) Pf %.3e %.3e %.3e p %.5f %.5f %.5f\n", contact_test::energy(w), c.count, c.points[0].separation,
-                  c.points[0].normal_impulse, d.mass() * kG * cfg.dt / w.substeps(), c.friction_impulse_W.x(), c.friction_impulse_W.y(),
-                  c.friction_impulse_W.z(), c.points[0].p_W.x(), c.points[0].p_W.y(), c.points[0].p_W.z());
-    }
-    const Sample s = sample(w, 1);
-    const double r = s.omega * s.omega * std::sin(s.alpha) * d.a / (4 * kG) - 1;
-    const double rx = s.omega * s.omega / steady_omega2(d, s.alpha, 0) - 1;
-    worst = std::max(worst, std::fabs(rx));
-    if (k % (nsteps / 20) == nsteps / 20 - 1)
-      std::printf("t %.3f alpha %.4f deg Omega %.4f vG %.2e z %.6f  ratio-1 %.3e exact-1 %.3e contacts %d E %.6f\n", s.t,
-                  s.alpha * 180 / std::numbers::pi, s.omega, s.vG, s.height, r, rx,
-                  w.contacts().empty() ? 0 : w.contacts()[0].count, contact_test::energy(w));
+    f(sample(w, 1));
   }
-  std::printf("worst %.3e\n", worst);
 }
 
-}  // namespace
-}  // namespace simreel
+constexpr double kDeg = std::numbers::pi / 180;
 
-namespace simreel {
-namespace {
-TEST(RollingCoin, Probe) {
+// Euler's disk in Moffatt's steady motion: G at rest, the disk (radius 5 cm, 1 mm thick, steel)
+// leaning at 20 degrees and rolling on its rim so that the contact runs round a circle at
+// Omega = 48 rad/s. Omega^2 sin(alpha) must stay 4 g / a within 1% for 5 s: the thin-disk relation;
+// for the finite thickness (h / a = 0.01) the exact relation (steady_omega2) differs from it by
+// +0.35% at 20 degrees, and the test holds both. The steady motion needs no friction force (G at
+// rest), so this run is frictionless: with friction the solver's rolling constraint drifts at the
+// first order in the substep (next test). Substeps of 1/3840 s.
+TEST(EulersDisk, SteadyMotionHoldsOmegaSquaredSinAlphaEqualsFourGOverA) {
+  Disk d;
+  d.friction = 0;
+  WorldConfig cfg;
+  cfg.contacts.sleep = false;
+  cfg.contacts.substeps = 16;
+  World w(cfg, {ground(0), steady_disk(d, 20 * kDeg, 0, 1e-4)});
+  double worst = 0, worst_exact = 0, E0 = contact_test::energy(w), dE = 0;
+  run_for(w, 5.0, [&](const Sample& s) {
+    worst = std::max(worst, std::fabs(s.omega * s.omega * std::sin(s.alpha) * d.a / (4 * kG) - 1));
+    worst_exact = std::max(worst_exact, std::fabs(s.omega * s.omega / steady_omega2(d, s.alpha, 0) - 1));
+    dE = std::max(dE, std::fabs(contact_test::energy(w) / E0 - 1));
+  });
+  std::printf(
+      "[measure] Euler's disk, 5 s: max |Omega^2 sin(alpha) a / 4g - 1| %.2e, against the finite-thickness "
+      "relation %.2e, energy %.1e\n",
+      worst, worst_exact, dE);
+  EXPECT_LT(worst, 0.01);
+  EXPECT_LT(worst_exact, 0.01);
+  EXPECT_LT(dE, 0.01);
+}
+
+// The same with friction (mu 0.6, rolling without slipping): the motion stays near the steady one
+// but drifts away from it at the first order in the substep h (measured over 5 s: 9% at h = 1/3840
+// s, 2.3% at 1/15360 s; the first-order part not found, sim/README.md "Rolling on a rim"). Bound: 5%
+// at 1/15360 s.
+TEST(EulersDisk, RollingWithFrictionStaysNearTheSteadyMotion) {
+  Disk d;
+  WorldConfig cfg;
+  cfg.contacts.sleep = false;
+  cfg.contacts.substeps = 64;
+  World w(cfg, {ground(d.friction), steady_disk(d, 20 * kDeg, 0, 1e-4)});
+  double worst = 0;
+  run_for(w, 5.0, [&](const Sample& s) {
+    worst = std::max(worst, std::fabs(s.omega * s.omega / steady_omega2(d, s.alpha, 0) - 1));
+  });
+  std::printf("[measure] Euler's disk with friction, 5 s at h = 1/15360 s: max |Omega^2 / steady - 1| %.2e\n", worst);
+  EXPECT_LT(worst, 0.05);
+}
+
+// With rolling resistance mu_r (the torque mu_r a N against the spin) the disk spins down as
+// Moffatt describes, faster and faster toward a finite time. Energy balance in quasi-steady motion
+// (thin disk, small alpha): E = 3/2 m g a sin(alpha), dissipation mu_r a m g |w| with |w| = Omega
+// sin(alpha) = 2 sqrt(g sin(alpha) / a), so d sqrt(alpha) / dt = -(2/3) mu_r sqrt(g / a): sqrt(alpha)
+// falls linearly to zero at t0 = 3 sqrt(alpha0) / (2 mu_r) sqrt(a / g) while Omega ~ alpha^-1/2
+// grows without bound. Checked: Omega rises at every quarter second while alpha falls; sqrt(alpha)
+// is a straight line (fit residual) of the predicted slope within 10%, so t0 is finite; Omega more
+// than doubles. The disk lands flat when its lean reaches the narrow phase's cap tolerance (2.6
+// degrees), before t0.
+TEST(EulersDisk, RollingResistanceSpinsItDownTowardAFiniteTime) {
+  Disk d;
+  const double mu_r = 0.01, alpha0 = 20 * kDeg;
+  WorldConfig cfg;
+  cfg.contacts.sleep = false;
+  cfg.contacts.substeps = 16;
+  cfg.contacts.rolling_resistance = mu_r;
+  World w(cfg, {ground(d.friction), steady_disk(d, alpha0, 0, 1e-4)});
+  std::vector<double> t, root, omega;
+  long k = 0;
+  run_for(w, 6.0, [&](const Sample& s) {
+    if (++k % 60 == 0 && s.alpha > 3 * kDeg) {
+      t.push_back(s.t);
+      root.push_back(std::sqrt(s.alpha));
+      omega.push_back(s.omega);
+    }
+  });
+  ASSERT_GT(t.size(), 8u);
+  const contact_test::Line fit = contact_test::fit_line(t, root);
+  double resid = 0;
+  for (size_t j = 0; j < t.size(); ++j) resid = std::max(resid, std::fabs(root[j] - fit.a - fit.b * t[j]));
+  const double slope = -2.0 / 3.0 * mu_r * std::sqrt(kG / d.a);
+  const double t0 = -fit.a / fit.b, t0_pred = std::sqrt(alpha0) / -slope;
+  std::printf(
+      "[measure] Euler's disk spin-down, mu_r %.3g: d sqrt(alpha)/dt %.4f (predicted %.4f), line residual %.1e, "
+      "t0 %.2f s (predicted %.2f), Omega %.1f -> %.1f rad/s by t %.2f s\n",
+      mu_r, fit.b, slope, resid, t0, t0_pred, omega.front(), omega.back(), t.back());
+  EXPECT_NEAR(fit.b / slope, 1.0, 0.1);
+  EXPECT_LT(resid, 0.01);
+  EXPECT_NEAR(t0 / t0_pred, 1.0, 0.1);
+  for (size_t j = 1; j < omega.size(); ++j) EXPECT_GT(omega[j], omega[j - 1]) << "at t = " << t[j];
+  EXPECT_GT(omega.back(), 2 * omega.front());
+}
+
+// A coin (radius 12.5 mm, 0.05 mm thick: thin, so the thin-coin relation applies; a real 2 mm coin
+// leans 30% differently at 15 degrees, by the finite-thickness terms of steady_omega2) rolling on
+// its rim with its centre on a circle of radius 0.3 m, leaning 15 degrees into the turn. At every
+// half second of 5 s the lean phi from the vertical, the centre's speed v and its path radius
+// R = v / Omega, all measured, must satisfy tan(phi) = 3/2 v^2 / (g R) within 2% (the classic
+// relation for R >> a), and the exact steady relation (finite R and thickness) for the measured
+// lean and R within 1%. (The lean itself drifts, 15 -> 21 degrees over 5 s at these substeps, the
+// coin spiralling in: the first-order drift of the rolling constraint; the relation holds all along.)
+TEST(RollingCoin, LeansAtTheAngleTheoryGives) {
   Disk d;
   d.a = 0.0125;
-  d.h = std::getenv("HH") ? std::atof(std::getenv("HH")) : 2.5e-5;
-  const double phi0 = 15 * std::numbers::pi / 180, rho = 0.3;
-  const double alpha0 = std::numbers::pi / 2 - phi0;
+  d.h = 2.5e-5;
+  const double phi0 = 15 * kDeg, rho = 0.3;
   WorldConfig cfg;
   cfg.contacts.sleep = false;
-  if (const char* e = std::getenv("DT")) cfg.dt = 1.0 / std::atof(e);
-  if (const char* e = std::getenv("SUB")) cfg.contacts.substeps = std::atoi(e);
-  World w(cfg, {ground(d.friction), steady_disk(d, alpha0, rho, 1e-4)});
-  const double W0 = std::sqrt(steady_omega2(d, alpha0, rho));
-  std::printf("W0 %.4f v %.4f\n", W0, W0 * rho);
-  const long nsteps = std::lround(5 / cfg.dt);
-  for (long k = 0; k < nsteps; ++k) {
-    w.step();
-    if (k % (nsteps / 10) == nsteps / 10 - 1) {
-      const Sample s = sample(w, 1);
-      const double phi = std::numbers::pi / 2 - s.alpha;
-      const double R = s.vG / std::fabs(s.omega);  // the centre's path radius
-      const double approx = 1.5 * s.vG * s.vG / (kG * R);
-      std::printf("t %.2f phi %.4f deg v %.5f Omega %.4f R %.5f tan(phi)/(3/2 v^2/gR)-1 %.3e E %.7f\n", s.t,
-                  phi * 180 / std::numbers::pi, s.vG, s.omega, R, std::tan(phi) / approx - 1, contact_test::energy(w));
-    }
-  }
+  cfg.contacts.substeps = 16;
+  World w(cfg, {ground(d.friction), steady_disk(d, std::numbers::pi / 2 - phi0, rho, 1e-4)});
+  double worst = 0, worst_exact = 0, phi_end = 0;
+  long k = 0;
+  run_for(w, 5.0, [&](const Sample& s) {
+    if (++k % 120) return;
+    const double phi = std::numbers::pi / 2 - s.alpha, R = s.vG / std::fabs(s.omega);
+    worst = std::max(worst, std::fabs(std::tan(phi) / (1.5 * s.vG * s.vG / (kG * R)) - 1));
+    worst_exact = std::max(worst_exact, std::fabs(s.omega * s.omega / steady_omega2(d, s.alpha, R) - 1));
+    phi_end = phi;
+  });
+  std::printf(
+      "[measure] rolling coin, 5 s: max |tan(phi) / (3/2 v^2 / g R) - 1| %.2e, against the exact relation %.2e; "
+      "lean 15 -> %.2f deg\n",
+      worst, worst_exact, phi_end / kDeg);
+  EXPECT_LT(worst, 0.02);
+  EXPECT_LT(worst_exact, 0.01);
 }
+
 }  // namespace
 }  // namespace simreel
