@@ -19,10 +19,10 @@ constexpr double kG = 9.81;
 
 // A disk: simreel's cylinder of radius a and thickness 2 h, axis along the body z.
 struct Disk {
-  double a = 0.05;          ///< m, radius
-  double h = 0.0005;        ///< m, half thickness
-  double density = 7800;    ///< kg/m^3
-  double friction = 0.6;    ///< Coulomb
+  double a = 0.05;        ///< m, radius
+  double h = 0.0005;      ///< m, half thickness
+  double density = 7800;  ///< kg/m^3
+  double friction = 0.6;  ///< Coulomb
   double mass() const { return density * std::numbers::pi * a * a * 2 * h; }
   double A() const { return mass() * (a * a / 4 + h * h / 3); }  ///< about a diameter through G
   double C() const { return mass() * a * a / 2; }                ///< about the axis
@@ -147,7 +147,8 @@ TEST(EulersDisk, RollingWithFrictionStaysNearTheSteadyMotion) {
   run_for(w, 5.0, [&](const Sample& s) {
     worst = std::max(worst, std::fabs(s.omega * s.omega / steady_omega2(d, s.alpha, 0) - 1));
   });
-  std::printf("[measure] Euler's disk with friction, 5 s at h = 1/15360 s: max |Omega^2 / steady - 1| %.2e\n", worst);
+  std::printf("[measure] Euler's disk with friction, 5 s at h = 1/15360 s: max |Omega^2 / steady - 1| %.2e\n",
+              worst);
   EXPECT_LT(worst, 0.05);
 }
 
@@ -184,7 +185,8 @@ TEST(EulersDisk, RollingResistanceSpinsItDownTowardAFiniteTime) {
   const double slope = -2.0 / 3.0 * mu_r * std::sqrt(kG / d.a);
   const double t0 = -fit.a / fit.b, t0_pred = std::sqrt(alpha0) / -slope;
   std::printf(
-      "[measure] Euler's disk spin-down, mu_r %.3g: d sqrt(alpha)/dt %.4f (predicted %.4f), line residual %.1e, "
+      "[measure] Euler's disk spin-down, mu_r %.3g: d sqrt(alpha)/dt %.4f (predicted %.4f), line residual "
+      "%.1e, "
       "t0 %.2f s (predicted %.2f), Omega %.1f -> %.1f rad/s by t %.2f s\n",
       mu_r, fit.b, slope, resid, t0, t0_pred, omega.front(), omega.back(), t.back());
   EXPECT_NEAR(fit.b / slope, 1.0, 0.1);
@@ -221,7 +223,8 @@ TEST(RollingCoin, LeansAtTheAngleTheoryGives) {
     phi_end = phi;
   });
   std::printf(
-      "[measure] rolling coin, 5 s: max |tan(phi) / (3/2 v^2 / g R) - 1| %.2e, against the exact relation %.2e; "
+      "[measure] rolling coin, 5 s: max |tan(phi) / (3/2 v^2 / g R) - 1| %.2e, against the exact relation "
+      "%.2e; "
       "lean 15 -> %.2f deg\n",
       worst, worst_exact, phi_end / kDeg);
   EXPECT_LT(worst, 0.02);
