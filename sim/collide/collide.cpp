@@ -12,9 +12,14 @@
 //   plane-sphere, plane-ellipsoid   1 point, closed form. The ellipsoid's deepest point along -n is
 //                                   p_C = -diag(r^2) m / |diag(r) m|, m = R^T n (exact support).
 //   plane-capsule                   2 points: the two hemisphere bottoms.
-//   plane-cylinder                  the exact deepest rim point of each end disk, plus three more
-//                                   rim points of the lower disk at 90 degree steps (so a standing
-//                                   cylinder rests on 4 points); reduced to 4.
+//   plane-cylinder                  the exact deepest rim point; with the side facing the plane
+//                                   (axis within ~2.6 degrees of it) also the other end disk's (a
+//                                   lying cylinder rests on 2 points), with the cap facing it
+//                                   (axis within ~2.6 degrees of the normal) three more rim points
+//                                   of the lower disk at 90 degree steps (a standing one on 4).
+//                                   On its rim it touches at one point: a speculative point would
+//                                   move the friction centre off the contact (cylinder-on-face the
+//                                   same).
 //   plane-box, plane-hull           every vertex below the speculative distance, reduced to 4.
 //   sphere-sphere, sphere-capsule   closed form (closest point on the segment).
 //   capsule-capsule                 segment-segment closest points (Ericson 5.1.9); 2 points when
