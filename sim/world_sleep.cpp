@@ -36,6 +36,8 @@ void World::init_sleep() {
   }
   uf_.assign(n, 0);
   island_min_.assign(n, 0.0);
+  island_next_.assign(n, -1);
+  island_tail_.assign(n, -1);
 }
 
 bool World::inert(int i) const {
@@ -43,15 +45,37 @@ bool World::inert(int i) const {
   return defs_[i].type == BodyType::kinematic && state_[i].v_W.isZero(0) && state_[i].w_P.isZero(0);
 }
 
+// A sleeping island is a list threaded through island_next_, from its id (its least body, itself
+// a member) in ascending order: waking it visits its bodies only.
 void World::wake(int i) {
   if ((size_t)i >= asleep_.size() || asleep_[i] < 0) return;
-  const int island = asleep_[i];
-  for (int j : dynamic_)
-    if (asleep_[j] == island) {
-      asleep_[j] = -1;
-      still_time_[j] = 0;
-      --sleeping_;
-    }
+  for (int j = asleep_[i]; j >= 0;) {
+    const int next = island_next_[j];
+    asleep_[j] = -1;
+    still_time_[j] = 0;
+    island_next_[j] = -1;
+    --sleeping_;
+    j = next;
+  }
+  sleep_changed();
+}
+
+// After restore_state: the islands' lists from asleep_ (saved), and every shape's box made again.
+void World::after_restore() {
+  active_dirty_ = true;
+  std::fill(frozen_.begin(), frozen_.end(), 0);
+  broad_.reset();
+  if (!sleep_enabled_) return;
+  for (int j : dynamic_) {
+    island_next_[j] = -1;
+    const int r = asleep_[j];
+    if (r < 0) continue;
+    // An island's id is its least body, itself asleep in it (so it comes first here).
+    if (r > j || asleep_[r] != r)
+      throw InputError("saved state is damaged (sleeping island of body '" + defs_[j].name + "')");
+    if (j != r) island_next_[island_tail_[r]] = j;
+    island_tail_[r] = j;
+  }
 }
 
 void World::stage_sleep() {
@@ -94,17 +118,24 @@ void World::stage_sleep() {
       const int r = find(i);
       island_min_[r] = std::min(island_min_[r], still_time_[i]);
     }
+  // Members join their island's list in ascending order; its id, the least, comes first.
   const double t_sleep = std::max(cfg_.contacts.sleep_time, dt) - 1e-12;
+  bool fell_asleep = false;
   for (int i : dynamic_) {
     if (asleep_[i] >= 0) continue;
     const int r = find(i);
     if (!(island_min_[r] >= t_sleep)) continue;
     asleep_[i] = r;
+    island_next_[i] = -1;
+    if (i != r) island_next_[island_tail_[r]] = i;
+    island_tail_[r] = i;
+    fell_asleep = true;
     state_[i].v_W.setZero();
     state_[i].w_P.setZero();
     in_contact_[i] = 0;
     ++sleeping_;
   }
+  if (fell_asleep) sleep_changed();
 }
 
 }  // namespace simreel
