@@ -24,6 +24,8 @@
 //   top_drift/sink   tower: top cube's horizontal distance from its start and its initial minus
 //                    final centre height at 10 s, m
 //   notes            simreel: FNV-1a hash of every body's x_W, q_WP, v_W, w_P bytes at the end.
+#include <time.h>
+
 #include <algorithm>
 #include <cinttypes>
 #include <cmath>
@@ -45,6 +47,12 @@
 using namespace simreel;
 
 namespace {
+
+double cpu_s() {
+  timespec t;
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return t.tv_sec + 1e-9 * t.tv_nsec;
+}
 
 constexpr long kSteps = 2400;  // 10 s at 1/240
 
@@ -108,6 +116,7 @@ struct Scene {
   long steps = kSteps;            // steps in a run
   double friction = kR3Friction;  // of every cube and the ground
   bool sleeping_rows = true;      // also the sleeping-on rows (simreel and Bullet)
+  int alt_substeps = 0;           // > 0: also a simreel row with this many substeps (sleeping off)
   int cubes() const { return (int)defs.size() - 1; }
   // Cube-cube overlap checked every 0.1 s of simulated time.
   long sample_every() const { return std::max(1L, std::lround(0.1 / dt)); }
@@ -115,6 +124,7 @@ struct Scene {
 
 struct Result {
   double seconds = 0;
+  double cpu_seconds = 0;  // thread CPU time of the same stepping calls
   long steps = 0;
   double max_speed = 0;
   int moving = 0;
@@ -172,10 +182,10 @@ void print_row(const char* engine, const Scene& s, const char* setting, const Re
     runs += b;
   }
   std::printf(
-      "%s,%s,%s,%d,%ld,%.4g,%.4f,%.1f,%s,%.4e,%d,%.4e,%.4e,%.4e,%.4e,%.4e,%.4e,%.4e,%.4e,%.4e,%d,%s\n",
-      engine, s.name, setting, s.cubes(), r.steps, s.dt, r.seconds, r.steps / r.seconds, runs.c_str(),
-      r.max_speed, r.moving, r.pen_engine, r.final_pen_engine, r.pen_ground, r.pen_cube, r.final_pen_ground,
-      r.top_drift, r.top_sink, r.drift_late, r.drift_total, r.nan, r.notes.c_str());
+      "%s,%s,%s,%d,%ld,%.4g,%.4f,%.4f,%.1f,%s,%.4e,%d,%.4e,%.4e,%.4e,%.4e,%.4e,%.4e,%.4e,%.4e,%.4e,%d,%s\n",
+      engine, s.name, setting, s.cubes(), r.steps, s.dt, r.seconds, r.cpu_seconds, r.steps / r.seconds,
+      runs.c_str(), r.max_speed, r.moving, r.pen_engine, r.final_pen_engine, r.pen_ground, r.pen_cube,
+      r.final_pen_ground, r.top_drift, r.top_sink, r.drift_late, r.drift_total, r.nan, r.notes.c_str());
   std::fflush(stdout);
 }
 
@@ -206,19 +216,21 @@ void simreel_cubes(const World& w, int n, std::vector<Cube>& out) {
 
 // Returns the final state hash; with `profile`, the run is profiled and not tracked.
 uint64_t simreel_run(const Scene& s, bool profile, Result* r, Profile* prof, double* wall = nullptr,
-                     bool sleep = false) {
+                     bool sleep = false, int substeps = 0) {
   WorldConfig c;
   c.dt = s.dt;
+  c.contacts.substeps = substeps;
   c.threads = 1;
   c.contacts.sleep = sleep;
   World w(c, s.defs);
   w.set_profiling(profile);
   std::vector<Cube> cubes;
-  Tracker tr{s, *r};
-  double sec = 0;
+  Tracker tr{s, *r, {}};
+  double sec = 0, cpu = 0;
   for (long k = 1; k <= s.steps; ++k) {
-    const double t0 = bench::now_s();
+    const double t0 = bench::now_s(), c0 = cpu_s();
     w.step();
+    cpu += cpu_s() - c0;
     sec += bench::now_s() - t0;
     if (!profile) {
       simreel_cubes(w, s.cubes(), cubes);
@@ -233,6 +245,7 @@ uint64_t simreel_run(const Scene& s, bool profile, Result* r, Profile* prof, dou
   simreel_cubes(w, s.cubes(), cubes);
   tr.finish(cubes);
   r->seconds = sec;
+  r->cpu_seconds = cpu;
   r->steps = w.steps();
   r->pen_engine = w.contact_stats().max_penetration;
   for (const Contact& c : w.contacts())
@@ -326,7 +339,7 @@ void bullet_run(const Scene& s, bool sleeping, Result& r, double phases[PhasedWo
   for (int i = 0; i < s.cubes(); ++i) add(&cube, 1.0, 1.0 / 6.0, s.defs[i].p_WB);
 
   r = Result{};
-  Tracker tr{s, r};
+  Tracker tr{s, r, {}};
   std::vector<Cube> cubes(s.cubes());
   auto read = [&] {
     for (int i = 0; i < s.cubes(); ++i) {
@@ -341,8 +354,9 @@ void bullet_run(const Scene& s, bool sleeping, Result& r, double phases[PhasedWo
   };
   int points = 0, points_max = 0;
   for (long k = 1; k <= s.steps; ++k) {
-    const double t0 = bench::now_s();
+    const double t0 = bench::now_s(), c0 = cpu_s();
     world.stepSimulation(btScalar(s.dt), 0);  // maxSubSteps 0: exactly one internal step of dt
+    r.cpu_seconds += cpu_s() - c0;
     r.seconds += bench::now_s() - t0;
     points = 0;
     for (int m = 0; m < disp.getNumManifolds(); ++m) {
@@ -396,12 +410,14 @@ void merge(Result& best, const Result& r, int rep) {
   }
   best.all_seconds.push_back(r.seconds);
   best.seconds = std::min(best.seconds, r.seconds);
+  best.cpu_seconds = std::min(best.cpu_seconds, r.cpu_seconds);
 }
 
 // Runs interleave (simreel, Bullet sleeping off, Bullet sleeping on) `repeats` times, so that the
 // machine's load drifts over all engines alike; each row reports the least stepping time.
 void run_scene(const Scene& s, int repeats) {
-  Result sim, slept;
+  Result sim, slept, alt;
+  uint64_t alt_hash = 0;
   uint64_t hash = 0, slept_hash = 0;
   bool same = true, slept_same = true;
 #ifdef SIMREEL_BENCH_BULLET
@@ -414,6 +430,13 @@ void run_scene(const Scene& s, int repeats) {
     if (rep == 0) hash = h;
     same = same && h == hash;
     merge(sim, r, rep);
+    if (s.alt_substeps > 0) {
+      Result ra;
+      const uint64_t ha = simreel_run(s, false, &ra, nullptr, nullptr, false, s.alt_substeps);
+      if (rep == 0) alt_hash = ha;
+      if (ha != alt_hash) ra.notes += "; HASH DIFFERS BETWEEN RUNS";
+      merge(alt, ra, rep);
+    }
     if (s.sleeping_rows) {
       Result rs;
       const uint64_t hs = simreel_run(s, false, &rs, nullptr, nullptr, true);
@@ -439,6 +462,11 @@ void run_scene(const Scene& s, int repeats) {
   simreel_profile(s, sim, hash);
   print_row("simreel", s, "sleeping_off_1thread", sim);
   if (s.sleeping_rows) print_row("simreel", s, "sleeping_on_1thread", slept);
+  if (s.alt_substeps > 0) {
+    char setting[64];
+    std::snprintf(setting, sizeof setting, "sleeping_off_1thread_%d_substeps", s.alt_substeps);
+    print_row("simreel", s, setting, alt);
+  }
 #ifdef SIMREEL_BENCH_BULLET
   print_row("bullet_f64", s, "sleeping_off", bul[0]);
   if (s.sleeping_rows) print_row("bullet_f64", s, "sleeping_on", bul[1]);
@@ -470,11 +498,12 @@ int main(int argc, char** argv) {
   if (want("pyramid100")) {
     // Box3D's large pyramid: 200 steps of 1/60 s (automatic substeps), sleeping off. "Tower" rows:
     // the top cube's drift and sink.
-    Scene p{"pyramid100", r3_pyramid(100), true, kPyramidDt, kPyramidSteps, kPyramidFriction, false};
+    Scene p{"pyramid100", r3_pyramid(100), true, kPyramidDt, kPyramidSteps, kPyramidFriction, false, 4};
     scenes.push_back(std::move(p));
   }
   std::printf(
-      "engine,scene,setting,cubes,steps,dt_s,seconds,steps_per_s,seconds_each_run,max_speed_m_s,moving_gt_"
+      "engine,scene,setting,cubes,steps,dt_s,seconds,cpu_seconds,steps_per_s,seconds_each_run,max_speed_m_s,"
+      "moving_gt_"
       "1cm_s,"
       "max_pen_engine_m,final_pen_engine_m,max_pen_ground_geom_m,max_pen_cube_geom_m,final_pen_ground_geom_m,"
       "top_drift_m,top_sink_m,drift_late_max_m,drift_total_max_m,nan,notes\n");

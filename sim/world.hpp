@@ -209,8 +209,8 @@ class World {
   void init_contacts();
   bool shapes_may_touch(int a, int b) const;
   void stage_broad_phase();
-  void sleep_changed() { active_dirty_ = true; }  ///< some body fell asleep or woke (or a restore)
-  void after_restore();                           ///< caches of the broad phase and the islands
+  void init_awake();     ///< awake_bodies_, shape_first_ (after init_contacts)
+  void after_restore();  ///< caches of the broad phase and the islands
   void stage_collide();
   bool stage_solve_contacts();  ///< false if a non-finite value appeared
   void stage_kinematic();
@@ -274,10 +274,10 @@ class World {
   std::vector<Pose> poses_;                  ///< per moving shape, world pose this step (broad phase)
   std::vector<std::pair<int, int>> ignore_;  ///< body pairs, (lo, hi), sorted
   BroadPhase broad_;
-  std::vector<int> active_shapes_;  ///< moving shapes whose boxes may change: awake, or just fell asleep
-  std::vector<char> frozen_;        ///< per shape: boxes_ is its asleep box (from the pose, at rest)
-  bool active_dirty_ = true;        ///< active_shapes_ must be made again
-  int settle_substeps_ = 0;         ///< substeps left with one more sweep after an impact (saved state)
+  std::vector<int> active_shapes_;   ///< this step: moving shapes of awake bodies, then pending_freeze_
+  std::vector<int> pending_freeze_;  ///< shapes of bodies that fell asleep: one box at rest to make
+  std::vector<int> shape_first_;     ///< per body + 1: its shapes are shape_first_[b] .. [b + 1] - 1
+  int settle_substeps_ = 0;          ///< substeps left with one more sweep after an impact (saved state)
 
   // ---- Sleeping (sim/world_sleep.cpp).
   bool sleep_enabled_ = false;
@@ -287,6 +287,8 @@ class World {
   std::vector<int> asleep_;         ///< per body: -1 awake, else its island's id (saved state)
   std::vector<int> island_next_;    ///< per sleeping body: next body of its island, or -1
   std::vector<int> island_tail_;    ///< per island id: its list's last body (scratch)
+  std::vector<int> awake_bodies_;   ///< dynamic and kinematic bodies awake (ascending when sorted)
+  bool awake_sorted_ = true;        ///< false after a wake appended to awake_bodies_
   int sleeping_ = 0;
   std::vector<int> uf_;             ///< union-find parents (scratch)
   std::vector<double> island_min_;  ///< per island root: least still_time_ (scratch)
