@@ -111,8 +111,7 @@ bool World::shapes_may_touch(int a, int b) const {
 // point of the shape can travel this step (|v| + |w| r) dt, so a pair that can touch within the
 // step is found before it does. Only the active shapes are looked at: those of awake bodies, and
 // once those of a body that fell asleep (its box then has no motion margin: a function of its
-// pose alone, as a resumed run computes it). Static and sleeping shapes cost nothing. Before
-// init_awake (init_contacts' first collide) every body is awake.
+// pose alone, as a resumed run computes it). Static and sleeping shapes cost nothing.
 // (Flattened: GCC at -O2 calls Eigen's small products and the pose and bounds helpers here
 // instead of inlining them.)
 __attribute__((flatten)) void World::stage_broad_phase() {
