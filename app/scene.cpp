@@ -712,7 +712,7 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
       check_keys(k, kc,
                  {"substeps", "iterations", "contact_hertz", "damping_ratio", "max_push_out",
                   "restitution_threshold", "speculative_distance", "linear_slop", "rolling_resistance",
-                  "sleep_speed", "sleep_time"});
+                  "slip_speed", "sleep_speed", "sleep_time"});
       ContactSettings& cs = s.contacts;
       if (k["substeps"]) cs.substeps = whole(k["substeps"], kc.child("substeps"), 0, 1000);  // 0: automatic
       if (k["iterations"]) cs.iterations = whole(k["iterations"], kc.child("iterations"), 1, 1000);
@@ -727,6 +727,7 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
       if (k["linear_slop"]) cs.linear_slop = non_negative(k["linear_slop"], kc.child("linear_slop"));
       if (k["rolling_resistance"])
         cs.rolling_resistance = non_negative(k["rolling_resistance"], kc.child("rolling_resistance"));
+      if (k["slip_speed"]) cs.slip_speed = non_negative(k["slip_speed"], kc.child("slip_speed"));
       if (k["sleep_speed"]) cs.sleep_speed = non_negative(k["sleep_speed"], kc.child("sleep_speed"));
       if (k["sleep_time"]) cs.sleep_time = non_negative(k["sleep_time"], kc.child("sleep_time"));
     }

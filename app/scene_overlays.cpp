@@ -269,6 +269,7 @@ std::string default_plot_label(const HudField& f) {
   if (f.name == "omega_body") base = "\\omega", body_axes = true;
   if (f.name == "position") base = "x";
   if (f.name == "E_drift") return "E/E_0 - 1";
+  if (f.name == "tilt") return "\\theta";
   if (f.name == "L_drift") return "|L - L_0|/|L_0|";
   if (f.norm) return "|" + base + "|";
   if (f.component >= 0) {
@@ -490,7 +491,7 @@ HudField parse_quantity(const std::string& field_in, const Scene& s, int default
   if (!scalar && !vector) {
     std::string msg = "unknown quantity '" + f.name + "'";
     if (auto sug = nearest(f.name, all)) msg += "; did you mean '" + *sug + "'?";
-    msg += " (t, video_t, frame, E, E_drift, L_drift; per body omega, omega_body, L, v, position)";
+    msg += " (t, video_t, frame, E, E_drift, L_drift; per body omega, omega_body, L, v, position, tilt)";
     bad(msg);
   }
   if (scalar && (!body.empty() || f.component >= 0 || f.norm))
@@ -513,6 +514,10 @@ HudField parse_quantity(const std::string& field_in, const Scene& s, int default
       f.body = (int)(it - names.begin());
     }
     if (f.norm && f.component >= 0) bad("'{" + field + "}': a component or |...|, not both");
+    if (f.name == "tilt") {  // a number per body, carried as a vector's x
+      if (f.norm || f.component >= 0) bad("'tilt' is a number (degrees): no component or |...|");
+      f.component = 0;
+    }
   }
   return f;
 }
@@ -528,7 +533,7 @@ const std::vector<std::string>& hud_scalar_names() {
   return v;
 }
 const std::vector<std::string>& hud_body_names() {
-  static const std::vector<std::string> v = {"omega", "omega_body", "L", "v", "position"};
+  static const std::vector<std::string> v = {"omega", "omega_body", "L", "v", "position", "tilt"};
   return v;
 }
 

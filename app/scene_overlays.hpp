@@ -66,9 +66,9 @@ struct ShowItem {
   bool gravity = false;  ///< forces: also draw the weight m g at the centre of mass
   bool at_tip =
       false;  ///< forces: the arrow ends at the point of action (`anchor: tip`) instead of starting there
-  bool points = true;   ///< contacts: a dot at each contact point
-  bool normals = true;  ///< contacts: the contact normal at each point
-  bool arrows = true;   ///< contacts: the contact force at each point (forces: the arrows)
+  bool points = true;         ///< contacts: a dot at each contact point
+  bool normals = true;        ///< contacts: the contact normal at each point
+  bool arrows = true;         ///< contacts: the contact force at each point (forces: the arrows)
   bool springs = true;        ///< forces: springs drawn as zig-zag lines
   bool spring_lines = false;  ///< forces: ... or as straight lines (`springs: line`: strings, cords)
 };

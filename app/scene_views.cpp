@@ -164,8 +164,8 @@ void load_views(const YAML::Node& root, const std::string& path, Scene& s) {
     }
   } else if (!vs.variants.empty()) {
     // Variants without panes: the scene and each variant side by side, the scene's camera.
-    vs.panes.push_back({variant_title(s, nullptr), "", {}});
-    for (const VariantSpec& v : vs.variants) vs.panes.push_back({variant_title(s, &v), v.name, {}});
+    vs.panes.push_back({variant_title(s, nullptr), "", {}, {}});
+    for (const VariantSpec& v : vs.variants) vs.panes.push_back({variant_title(s, &v), v.name, {}, {}});
   }
 }
 

@@ -306,7 +306,7 @@ void ContactSolver::warm_start() {
 namespace {
 
 struct SolveParams {
-  double inv_h, max_push, slop, apart;
+  double inv_h, max_push, slop, apart, slip_speed;
   bool use_bias, first_iteration;
 };
 
@@ -445,6 +445,19 @@ struct ManifoldSolve {
                                k.t[1].dot(dv) + B.w.dot(k.fBt[1]) - A.w.dot(k.fAt[1]));
       const Eigen::Vector2d old(k.tangent_impulse[0], k.tangent_impulse[1]);
       Eigen::Vector2d total = old - k.tangent_mass * vt;
+      if (q.slip_speed > 0) {
+        // Regularised Coulomb (contacts.slip_speed): below the slip speed v_s friction is a
+        // damper, F = -c v with c = mu N / v_s, taken implicitly over the substep: the substep's
+        // impulse is -c h v_end, v_end = vt + K d, so (M + c h 1) d = -M (c h vt + old), M = K^-1
+        // (= tangent_mass); c h = mu lambda_N / v_s. As v_s -> 0 it becomes the sticking impulse.
+        const double ch = limit / q.slip_speed;
+        if (ch > 0) {
+          const Eigen::Matrix2d A = k.tangent_mass + ch * Eigen::Matrix2d::Identity();
+          total = old - A.inverse() * (k.tangent_mass * (ch * vt + old));
+        } else {
+          total.setZero();
+        }
+      }
       const double mag2 = total.squaredNorm();
       if (mag2 > limit * limit) total *= limit / std::sqrt(mag2);
       const Eigen::Vector2d d = total - old;
@@ -594,6 +607,7 @@ bool ContactSolver::solve(double h, bool use_bias, bool first_iteration) {
                       in_.settings.max_push_out,
                       in_.settings.linear_slop,
                       1e-3 * in_.settings.linear_slop + 1e-12,
+                      in_.settings.slip_speed,
                       use_bias,
                       first_iteration};
   bool struck = false;

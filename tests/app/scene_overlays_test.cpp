@@ -167,8 +167,8 @@ TEST(SceneOverlays, ForcesContactsCaptionsLabelsLegendAndPlotsLoad) {
   EXPECT_FALSE(items[1].springs);
   EXPECT_FALSE(items[1].spring_lines);
   // `springs: line`: straight lines (strings); anything else but a bool is an error naming it.
-  const Scene lines = load_scene(write_scene(
-      "lines.yaml", std::string(kHead) + "    show: [ { forces: { springs: line } } ]\n"));
+  const Scene lines = load_scene(
+      write_scene("lines.yaml", std::string(kHead) + "    show: [ { forces: { springs: line } } ]\n"));
   EXPECT_TRUE(lines.overlays.show[0][0].springs);
   EXPECT_TRUE(lines.overlays.show[0][0].spring_lines);
   EXPECT_NE(error_of(std::string(kHead) + "    show: [ { forces: { springs: coils } } ]\n")

@@ -95,7 +95,8 @@ TEST(NewtonsCradle, StruckBallsSendOffAsManyAtTheirSpeed) {
   for (bool floor : {false, true}) {
     for (int s : {1, 2, 3}) {
       char what[96];
-      std::snprintf(what, sizeof what, "5 balls, %d striking at %.1f m/s%s", s, v0, floor ? ", on a floor" : "");
+      std::snprintf(what, sizeof what, "5 balls, %d striking at %.1f m/s%s", s, v0,
+                    floor ? ", on a floor" : "");
       check_cradle(what, run_cradle(5, s, v0, 1e-3, floor), s, v0);
     }
   }
