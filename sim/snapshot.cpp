@@ -285,6 +285,7 @@ void World::restore_state(std::istream& is) {
   steps_ = steps;
   contact_stats_ = stats;
   contacts_ = std::move(contacts);
+  after_restore();
 }
 
 }  // namespace simreel

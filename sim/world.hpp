@@ -6,7 +6,7 @@
 //   forces               the scene's forces (sim/forces.hpp) into the accumulators at the step's
 //                        start, through apply_force / apply_torque; impulses due applied once
 //                        (skipped when there are none; gravity is applied inside integration)
-//   update_broad_phase   world boxes of the colliding shapes, sort and sweep -> candidate pairs
+//   update_broad_phase   world boxes of the awake colliding shapes, dynamic tree -> candidate pairs
 //   collide              narrow phase on each pair -> manifolds matched to last step's by feature
 //                        id (warm-start impulses carried over)
 //   prepare_contacts     solver bodies (world frame, fresh R I^-1 R^T) and constraints for the
@@ -209,6 +209,8 @@ class World {
   void init_contacts();
   bool shapes_may_touch(int a, int b) const;
   void stage_broad_phase();
+  void init_awake();     ///< awake_bodies_, shape_first_ (after init_contacts)
+  void after_restore();  ///< caches of the broad phase and the islands
   void stage_collide();
   bool stage_solve_contacts();  ///< false if a non-finite value appeared
   void stage_kinematic();
@@ -272,7 +274,10 @@ class World {
   std::vector<Pose> poses_;                  ///< per moving shape, world pose this step (broad phase)
   std::vector<std::pair<int, int>> ignore_;  ///< body pairs, (lo, hi), sorted
   BroadPhase broad_;
-  int settle_substeps_ = 0;  ///< substeps left with one more sweep after an impact (saved state)
+  std::vector<int> active_shapes_;   ///< this step: moving shapes of awake bodies, then pending_freeze_
+  std::vector<int> pending_freeze_;  ///< shapes of bodies that fell asleep: one box at rest to make
+  std::vector<int> shape_first_;     ///< per body + 1: its shapes are shape_first_[b] .. [b + 1] - 1
+  int settle_substeps_ = 0;          ///< substeps left with one more sweep after an impact (saved state)
 
   // ---- Sleeping (sim/world_sleep.cpp).
   bool sleep_enabled_ = false;
@@ -280,6 +285,10 @@ class World {
   std::vector<double> reach_;       ///< per body: m, farthest shape point from the centroid
   std::vector<double> still_time_;  ///< per body: s slow and touching (saved state)
   std::vector<int> asleep_;         ///< per body: -1 awake, else its island's id (saved state)
+  std::vector<int> island_next_;    ///< per sleeping body: next body of its island, or -1
+  std::vector<int> island_tail_;    ///< per island id: its list's last body (scratch)
+  std::vector<int> awake_bodies_;   ///< dynamic and kinematic bodies awake (ascending when sorted)
+  bool awake_sorted_ = true;        ///< false after a wake appended to awake_bodies_
   int sleeping_ = 0;
   std::vector<int> uf_;             ///< union-find parents (scratch)
   std::vector<double> island_min_;  ///< per island root: least still_time_ (scratch)
