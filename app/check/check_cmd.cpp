@@ -46,7 +46,9 @@ std::vector<uint8_t> slurp(const std::string& path) {
 
 // The command line that reproduces this run with another --update (for the report).
 std::string command_line(const std::vector<std::string>& args, const std::string& update) {
-  std::string out = "simreel check";
+  // As the user ran it (build/simreel when not on the PATH), so the printed command can be pasted.
+  const bool plain_prog = g_invoked_as.find_first_of(" \t\"'$\\*?;&|<>()") == std::string::npos;
+  std::string out = (plain_prog ? g_invoked_as : "'" + g_invoked_as + "'") + " check";
   bool skip = false;
   for (const std::string& a : args) {
     if (skip) {

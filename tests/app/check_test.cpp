@@ -102,6 +102,8 @@ TEST(Check, GoldensWrittenThenCheckedCleanThenChangesCaught) {
   EXPECT_NE(r.out.find("rendering changed"), std::string::npos) << r.out;
   EXPECT_EQ(r.out.find("physics changed"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("--update changed"), std::string::npos) << "the accept command is printed\n" << r.out;
+  // ... as it was run (here by the binary's full path), so that it can be pasted.
+  EXPECT_NE(r.out.find(std::string(SIMREEL_BIN) + " check "), std::string::npos) << r.out;
   // The same under the portable comparison: a colour change is no noise.
   r = run("check " + recolored + " --goldens " + goldens + " --update none --tolerance portable");
   EXPECT_EQ(r.code, 1) << r.out;
