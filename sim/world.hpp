@@ -210,6 +210,9 @@ class World {
   bool shapes_may_touch(int a, int b) const;
   void stage_broad_phase();
   void stage_collide();
+  // A pair with a static triangle mesh: appends its manifolds to contacts_next_, warm-started from
+  // last step's records of the pair (from contacts_[prev] on); returns the contact points.
+  int collide_mesh_pair(int a, int b, size_t prev);
   bool stage_solve_contacts();  ///< false if a non-finite value appeared
   void stage_kinematic();
   void init_sleep();

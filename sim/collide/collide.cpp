@@ -145,6 +145,8 @@ const char* to_string(CollideKind k) {
       return "box";
     case CollideKind::hull:
       return "hull";
+    case CollideKind::mesh:
+      return "mesh";
     default:
       return "?";
   }
@@ -227,8 +229,10 @@ struct Table {
   constexpr Table() {
     using C = CollideKind;
     auto set = [&](C a, C b, PairFn fn) { f[(int)a][(int)b] = fn; };
-    for (int a = 1; a < K; ++a)
-      for (int b = a; b < K; ++b) f[a][b] = convex_generic;
+    // Convex kinds only: a static mesh pairs through collide_mesh() (triangles.cpp).
+    constexpr int kConvex = (int)C::mesh;
+    for (int a = 1; a < kConvex; ++a)
+      for (int b = a; b < kConvex; ++b) f[a][b] = convex_generic;
     set(C::plane, C::sphere, plane_sphere);
     set(C::plane, C::capsule, plane_capsule);
     set(C::plane, C::cylinder, plane_cylinder);
