@@ -190,6 +190,27 @@ struct Cluster {
 struct Collector {
   Cluster cl[kMaxMeshManifolds];
   int n = 0;
+  // For triangles over which the shape has none of its exact points (cylinder rim points, an
+  // ellipsoid's support point), the shape's nearest point along the face normal: added at the end,
+  // only where no manifold of that normal already has a point as deep. On a flat or convex patch
+  // the neighbour's face contact is always as deep and they are dropped; in a concave crease where
+  // each face's exact points fall beyond it, they are the contact.
+  static constexpr int kMaxFallback = 16;
+  Candidate fb[kMaxFallback];
+  Vec3 fb_n[kMaxFallback];
+  int nfb = 0;
+
+  void defer(const Vec3& normal, const Candidate& q) {
+    if (nfb < kMaxFallback) fb_n[nfb] = normal, fb[nfb++] = q;
+  }
+  void finish() {
+    for (int k = 0; k < nfb; ++k) {
+      bool covered = false;
+      for (int i = 0; i < n && !covered; ++i)
+        covered = cl[i].n.dot(fb_n[k]) >= kMergeCos && cl[i].deepest <= fb[k].s + 1e-9;
+      if (!covered) add(fb_n[k], fb[k]);
+    }
+  }
 
   void add(const Vec3& normal, const Candidate& q) {
     int best = -1;
@@ -243,9 +264,12 @@ void sphere_triangle(const WorldTri& t, const CollideShape& b, const Pose& xb, d
     push(col, nu, Vec3(q - r * nu), s, 0);
     return;
   }
+  // The face's own region: the distance to its plane. An inactive edge or vertex: the face normal
+  // with the true distance (never deeper than the neighbour's face contact on a flat or convex
+  // fold, so it never lifts the sphere there; it keeps the contact in a concave crease).
   const double d = t.n.dot(q - t.p[0]);
   if (d < -r) return;  // one-sided: the centre is more than a radius behind
-  const double s = d - r;
+  const double s = f == 0 ? d - r : dist - r;
   if (s <= spec) push(col, t.n, Vec3(q - r * t.n), s, 0);
 }
 
@@ -301,7 +325,15 @@ void capsule_triangle(const WorldTri& t, const CollideShape& b, const Pose& xb, 
     else
       t0 = std::max(t0, tc);
   }
-  if (t0 > t1) return;
+  if (t0 > t1) {
+    // Nothing of the segment over the triangle (an inactive edge or vertex is nearest): the
+    // nearest point, along the face normal, at its true distance.
+    if (feat != 0 && dist - r <= spec) {
+      const double sep = dist - r;
+      col.defer(t.n, Candidate{Vec3(cseg - r * t.n - 0.5 * sep * t.n), sep, feature_id(t.index, feat)});
+    }
+    return;
+  }
   for (int e = 0; e < 2; ++e) {
     const double tp = e == 0 ? t0 : t1;
     if (e == 1 && t1 == t0) break;
@@ -316,13 +348,14 @@ void capsule_triangle(const WorldTri& t, const CollideShape& b, const Pose& xb, 
 }
 
 // ------------------------------------------------------------------ box, hull, cylinder, ellipsoid
-// The shape's exact points against the triangle's plane, kept over the triangle.
-void face_points(const WorldTri& t, const CollideShape& b, const Pose& xb, double spec, Collector& col) {
+// The shape's exact points against the triangle's plane, kept over the triangle; returns how many.
+int face_points(const WorldTri& t, const CollideShape& b, const Pose& xb, double spec, Collector& col) {
   const Vec3& n = t.n;
   const double tol = 1e-9 * std::max(1.0, b.bounding_radius);
+  int added = 0;
   auto keep = [&](const Vec3& x, uint32_t id) {
     const double s = n.dot(x - t.p[0]);
-    if (s <= spec) push(col, n, x, s, id);
+    if (s <= spec) push(col, n, x, s, id), ++added;
   };
   switch (b.kind) {
     case CollideKind::box:
@@ -386,6 +419,7 @@ void face_points(const WorldTri& t, const CollideShape& b, const Pose& xb, doubl
     default:
       break;
   }
+  return added;
 }
 
 void convex_triangle(const WorldTri& t, const CollideShape& b, const Pose& xb, double spec, Collector& col) {
@@ -393,7 +427,12 @@ void convex_triangle(const WorldTri& t, const CollideShape& b, const Pose& xb, d
   // Quick rejects: wholly above the plane by more than the speculative distance, or wholly behind.
   if (t.n.dot(B.support_W(-t.n) - t.p[0]) > spec) return;
   if (t.n.dot(B.support_W(t.n) - t.p[0]) < 0) return;
-  if (t.active != 0) {
+  // Boxes and hulls on a triangle whose features are all inactive (inside a flat or concave patch):
+  // always a face contact, and the incident face clipped to the triangle finds every part of it
+  // over the triangle, so GJK/EPA is skipped. A cylinder's or ellipsoid's few exact points may all
+  // lie beyond the triangle while the body overlaps it: those always run GJK/EPA.
+  const bool polyhedral = b.kind == CollideKind::box || b.kind == CollideKind::hull;
+  if (t.active != 0 || !polyhedral) {
     // GJK/EPA against the triangle as a three-vertex hull centred on its centroid.
     thread_local ConvexPolyhedron tri = [] {
       ConvexPolyhedron p;
@@ -421,6 +460,21 @@ void convex_triangle(const WorldTri& t, const CollideShape& b, const Pose& xb, d
       push(col, d.normal, d.pB, d.separation, feature_id(t.index, f));
       return;
     }
+    // A face contact, or an inactive edge or vertex: if none of the shape's exact points lies over
+    // the triangle (a cylinder lying across it, a shape reaching past a concave crease), GJK/EPA's
+    // point along the face normal, deferred (Collector::finish).
+    // Apart: GJK's true distance; overlapping: EPA's depth is along its own axis, not the face
+    // normal, so the depth of the shape's deepest point below the face's plane stands for it.
+    if (face_points(t, b, xb, spec, col) == 0 && d.separation <= spec) {
+      Vec3 x = d.pB;
+      double sep = d.separation;
+      if (sep <= 0) {
+        x = B.support_W(-t.n);
+        sep = t.n.dot(x - t.p[0]);
+      }
+      col.defer(t.n, Candidate{Vec3(x - 0.5 * sep * t.n), sep, feature_id(t.index, f)});
+    }
+    return;
   }
   face_points(t, b, xb, spec, col);
 }
@@ -465,6 +519,7 @@ int collide_mesh(const CollideShape& mesh, const Pose& xm, const CollideShape& b
         break;
     }
   });
+  col.finish();
   for (int i = 0; i < col.n; ++i) reduce_mesh(col.cl[i].c, col.cl[i].count, col.cl[i].n, out[i]);
   return col.n;
 }
