@@ -179,7 +179,8 @@ class World {
 
   // ---- Contacts.
   const ShapeTable& shapes() const { return *shapes_; }
-  const std::vector<Contact>& contacts() const { return contacts_; }  ///< by (shape a, shape b)
+  /// By (shape a, shape b); a pair with a static triangle mesh may have several, consecutive.
+  const std::vector<Contact>& contacts() const { return contacts_; }
   const ContactStats& contact_stats() const { return contact_stats_; }
   bool has_contacts() const { return collide_enabled_; }  ///< false: contact stages always skipped
   int substeps() const { return substeps_; }              ///< contact solver substeps per step (resolved)

@@ -99,6 +99,11 @@
 //   with all but box and hull)      radius as a margin; when the cores overlap, EPA (van den
 //                                   Bergen 2001) from GJK's final simplex. 1 point.
 //
+//   static triangle mesh with     collide_mesh() (triangles.cpp), not this table: the mesh's tree
+//   any of the above              gives the triangles near the shape, each collided in closed form
+//                                 (sphere, capsule) or by GJK/EPA and face clipping, internal edges
+//                                 handled, grouped into up to four manifolds by normal.
+//
 // REDUCTION (more than 4 candidates): the deepest point, then the point furthest from it in the
 // contact plane, then the two points making the largest signed areas on either side of that
 // diagonal (the quadrilateral of largest area containing the deepest point); ties to the lowest
