@@ -88,6 +88,28 @@ const char* kTrail =
     "    show:\n"
     "      - { trail: { point: [0.1, 0, 0.05], frame: body, length: 1.0, color: [0, 0, 0] } }\n";
 
+// A trail as long as a 1e7-step run holds at most kMaxTrailPoints samples, spread over the whole
+// length (was: 120 a second, 150 MB for a Poinsot trail); a short run keeps 120 samples a second.
+TEST(Overlays, TrailMemoryIsBoundedOnLongRuns) {
+  const auto trail_of = [&](const std::string& duration) {
+    std::string text = kTrail;
+    text.replace(text.find("length: 1.0"), 11, "length: 1e6");
+    text = "simulation: { duration: " + duration + ", timestep: 0.001 }\n" + text.substr(text.find('\n') + 1);
+    const std::string path = write_scene("long_trail.yaml", text);
+    const Scene scene = load_scene(path);
+    FrameLoop loop(scene, 1);
+    SceneOverlays o(scene, loop.world(), std::vector<double>(1, 0.2), 320, 180, 1);
+    return std::make_pair(o.trail_capacity(0), o.trail_every(0));
+  };
+  const auto [cap_long, every_long] = trail_of("10000");  // 1e7 steps
+  EXPECT_LE(cap_long, (size_t)kMaxTrailPoints + 3);
+  EXPECT_GE(cap_long, (size_t)(0.99 * kMaxTrailPoints)) << "the whole length is still sampled";
+  EXPECT_EQ(every_long, (10000000 + kMaxTrailPoints - 1) / kMaxTrailPoints);
+  const auto [cap_short, every_short] = trail_of("3");
+  EXPECT_EQ(every_short, 8) << "120 samples a second at dt 1 ms";
+  EXPECT_EQ(cap_short, (size_t)(3000 / 8 + 3));
+}
+
 TEST(Overlays, TrailPassesThroughThePositionsSimulateReports) {
   const std::string path = write_scene("trail.yaml", kTrail);
   const fs::path csv = test::scratch("trail.csv");
