@@ -163,7 +163,16 @@ ShowItem show_item(const YAML::Node& n, const Ctx& w, double duration) {
   if (opts["points"]) item.points = boolean(opts["points"], c.child("points"));
   if (opts["normals"]) item.normals = boolean(opts["normals"], c.child("normals"));
   if (opts["arrows"]) item.arrows = boolean(opts["arrows"], c.child("arrows"));
-  if (opts["springs"]) item.springs = boolean(opts["springs"], c.child("springs"));
+  if (const YAML::Node sp = opts["springs"]) {
+    // `line`: straight, for springs standing in for strings (a Newton's cradle); else a bool.
+    item.spring_lines = sp.IsScalar() && sp.Scalar() == "line";
+    if (!item.spring_lines) {
+      if (sp.IsScalar() && sp.Scalar() != "true" && sp.Scalar() != "false" && sp.Scalar() != "yes" &&
+          sp.Scalar() != "no" && sp.Scalar() != "on" && sp.Scalar() != "off")
+        c.child("springs").fail(sp, "expected true, false or line (straight lines), got " + show(sp));
+      item.springs = boolean(sp, c.child("springs"));
+    }
+  }
   return item;
 }
 
@@ -532,6 +541,16 @@ bool OverlaySpec::any() const {
   return false;
 }
 
+std::vector<ShowItem> read_show_list(const YAML::Node& sh, const scene_yaml::Ctx& w, const Scene& s,
+                                     size_t body) {
+  if (!sh.IsSequence()) w.fail(sh, "expected a list of items (axes, angular_velocity, ...), got " + show(sh));
+  if (s.bodies[body].type != BodyType::dynamic && sh.size() > 0)
+    w.fail(sh, "body '" + s.bodies[body].name + "' does not move: show items are for moving bodies");
+  std::vector<ShowItem> items;
+  for (size_t k = 0; k < sh.size(); ++k) items.push_back(show_item(sh[k], w.index(k), s.duration));
+  return items;
+}
+
 void load_overlays(const YAML::Node& root, const std::string& path, Scene& s) {
   OverlaySpec& o = s.overlays;
   o.show.assign(s.bodies.size(), {});
@@ -540,12 +559,7 @@ void load_overlays(const YAML::Node& root, const std::string& path, Scene& s) {
     for (size_t i = 0; i < bodies.size() && i < s.bodies.size(); ++i) {
       const YAML::Node sh = bodies[i].IsMap() ? bodies[i]["show"] : YAML::Node();
       if (!sh) continue;
-      const Ctx w = top.child("bodies").index(i).child("show");
-      if (!sh.IsSequence())
-        w.fail(sh, "expected a list of items (axes, angular_velocity, ...), got " + show(sh));
-      if (s.bodies[i].type != BodyType::dynamic)
-        w.fail(sh, "body '" + s.bodies[i].name + "' does not move: show items are for moving bodies");
-      for (size_t k = 0; k < sh.size(); ++k) o.show[i].push_back(show_item(sh[k], w.index(k), s.duration));
+      o.show[i] = read_show_list(sh, top.child("bodies").index(i).child("show"), s, i);
     }
   const YAML::Node ov = root["overlays"];
   if (!ov) return;

@@ -560,7 +560,12 @@ struct Renderer::Impl {
   size_t ov_inst_capacity[kOverlayShapes] = {};
   GLuint ov_ribbon_vao = 0, ov_ribbon_vbo = 0;
   size_t ov_ribbon_capacity = 0;
-  std::vector<float> ov_staging;  // 21 floats per instance: model (column-major), rgba, x-ray
+  // Per instance: model (column-major), rgba, x-ray, padded to 24 floats (96 bytes, a multiple of
+  // 16). With a 21-float stride, llvmpipe at a 128-bit vector width (LP_NATIVE_VECTOR_WIDTH=128)
+  // corrupted the heap in the instanced draw ("double free or corruption" inside glDrawElements-
+  // Instanced, every scene with an arrow, on Mesa 22.3.6); padded, it draws the same pixels.
+  static constexpr int kOverlayInstanceFloats = 24;
+  std::vector<float> ov_staging;
   bool ov_ready = false;
 
   static OverlayProgram overlay_program(bool ribbon) {
@@ -584,7 +589,7 @@ struct Renderer::Impl {
       glBindVertexArray(ov_mesh[k].vao);
       glGenBuffers(1, &ov_inst_vbo[k]);
       glBindBuffer(GL_ARRAY_BUFFER, ov_inst_vbo[k]);
-      const GLsizei stride = 21 * sizeof(float);
+      const GLsizei stride = kOverlayInstanceFloats * sizeof(float);
       for (int c = 0; c < 4; ++c) {
         glEnableVertexAttribArray(2 + c);
         glVertexAttribPointer(2 + c, 4, GL_FLOAT, GL_FALSE, stride, (void*)(4 * c * sizeof(float)));
@@ -648,13 +653,13 @@ struct Renderer::Impl {
       const auto& v = ov.instances[k];
       count[k] = v.size();
       if (v.empty()) continue;
-      ov_staging.resize(21 * v.size());
+      ov_staging.assign(kOverlayInstanceFloats * v.size(), 0.0f);
       float* d = ov_staging.data();
       for (const OverlayInstance& in : v) {
         std::copy(in.model.data(), in.model.data() + 16, d);
         std::copy(in.color.begin(), in.color.end(), d + 16);
         d[20] = in.xray;
-        d += 21;
+        d += kOverlayInstanceFloats;
         any_xray = any_xray || in.xray > 0;
         translucent = translucent || in.color[3] < 1;
       }

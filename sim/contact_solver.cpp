@@ -661,7 +661,15 @@ void ContactSolver::restitution(double threshold) {
     // closed) bounces with it, pushed or not: a flat face landing is stopped by any three of its
     // four corners, but all four leave the floor together.
     bool pushed = false;
-    for (int j = 0; j < k.count; ++j) pushed = pushed || (k.p[j].normal_impulse > 0 && !k.p[j].bounced);
+    for (int j = 0; j < k.count; ++j) {
+      ConstraintPoint& p = k.p[j];
+      // A point that bounced and has come apart again may bounce again in the same step: in a
+      // Newton's cradle with 1 mm gaps at 0.8 m/s, a ball is struck twice within 1/240 s, and
+      // a second impact without restitution was inelastic (two struck balls then lost 29% of
+      // the energy; measured).
+      if (p.bounced && k.n.dot(dp + RB * p.cB - RA * p.cA) + p.adjusted_separation > slop) p.bounced = false;
+      pushed = pushed || (p.normal_impulse > 0 && !p.bounced);
+    }
     for (int j = 0; j < k.count && pushed; ++j) {
       const ConstraintPoint& p = k.p[j];
       const double s = k.n.dot(dp + RB * p.cB - RA * p.cA) + p.adjusted_separation;
@@ -693,7 +701,14 @@ void ContactSolver::restitution(double threshold) {
         p.bounced = true;
       }
     }
-    for (int j = 0; j < k.count; ++j) k.p[j].vn_prev = normal_velocity(A, B, k.n, k.p[j]);
+  }
+  // The next substep's start velocities, once every manifold has bounced: a later manifold's bounce
+  // changes the velocity of a body this one shares (a row of balls), and a velocity taken before
+  // it read as an acceleration over the substep and predicted a false impact speed (a Newton's
+  // cradle then gained energy; measured).
+  for (ContactConstraint& k : cons_) {
+    if (k.restitution == 0) continue;
+    for (int j = 0; j < k.count; ++j) k.p[j].vn_prev = normal_velocity(sb_[k.a], sb_[k.b], k.n, k.p[j]);
   }
 }
 
