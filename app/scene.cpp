@@ -474,6 +474,31 @@ struct Loader {
         const std::string mkey =
             file + "|" + exact(scale.x()) + "," + exact(scale.y()) + "," + exact(scale.z());
         const std::string rkey = mkey + "|" + std::to_string((int)opt.mode) + "," + exact(opt.thickness);
+        if (type == BodyType::static_body) {
+          // A static body's mesh collides as its triangles, as given (open surfaces too: terrain, a
+          // bowl), and weighs nothing (sim/trimesh.hpp).
+          for (const char* k : {"mode", "thickness", "density", "mass"})
+            if (n[k])
+              c.child(k).fail(n[k], "a static body's mesh collides as its triangles and has no mass: '" +
+                                        std::string(k) + "' does not apply");
+          try {
+            if (!meshes.count(mkey)) {
+              meshes[mkey] = std::make_shared<const ImportedMesh>(import_mesh(file, scale));
+              for (const std::string& w : meshes[mkey]->notes) scene.notes.push_back(file + ": " + w);
+            }
+          } catch (const InputError& e) {
+            c.child("file").fail(n["file"], e.what());
+          }
+          col.mesh = std::shared_ptr<const TriangleMesh>(meshes[mkey], &meshes[mkey]->mesh);
+          if (!n["color"]) look.color = meshes[mkey]->color;
+          if (!meshes[mkey]->corner_normals.empty())
+            look.normals = std::shared_ptr<const std::vector<std::array<Eigen::Vector3f, 3>>>(
+                meshes[mkey], &meshes[mkey]->corner_normals);
+          col.props_C.mass = 0;
+          col.props_C.inertia = Mat3::Zero();
+          col.label = file;
+          return col;
+        }
         MeshReport rep;
         try {
           if (!meshes.count(mkey)) {
@@ -634,7 +659,9 @@ struct Loader {
       b.mass_override = mass_properties(n["mass_properties"], c.child("mass_properties"));
     // The body as a whole (colliders far apart: the parallel-axis terms can overflow).
     bool massive = false;
-    for (const Collider& col : b.colliders) massive = massive || col.shape != ShapeKind::plane;
+    for (const Collider& col : b.colliders)  // planes and a static body's meshes weigh nothing
+      massive = massive || !(col.shape == ShapeKind::plane ||
+                             (b.type == BodyType::static_body && col.shape == ShapeKind::mesh));
     if (massive && !b.mass_override) {
       const MassProperties& mp = b.mass_B();
       std::string bad;

@@ -149,10 +149,12 @@ World::World(const WorldConfig& config, std::vector<BodyDef> bodies)
     if (d.colliders.empty()) throw InputError(body_label(defs_, i) + " has no colliders");
     m.is_static = d.type == BodyType::static_body;
     m.is_kinematic = d.type == BodyType::kinematic;
-    // Planes have no mass; a static body made of planes only is massless (it never moves).
+    // Planes have no mass, nor have a static body's meshes (triangle meshes, sim/trimesh.hpp); a
+    // static body made of those only is massless (it never moves).
     std::vector<Collider> massive;
     for (const Collider& c : d.colliders)
-      if (c.shape != ShapeKind::plane) massive.push_back(c);
+      if (c.shape != ShapeKind::plane && !(m.is_static && c.shape == ShapeKind::mesh && c.props_C.mass == 0))
+        massive.push_back(c);
     if (massive.empty() && !m.is_static)
       throw InputError(body_label(defs_, i) + ": a plane collider needs a static body");
     const MassProperties mp = massive.empty()   ? MassProperties{}

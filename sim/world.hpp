@@ -179,7 +179,8 @@ class World {
 
   // ---- Contacts.
   const ShapeTable& shapes() const { return *shapes_; }
-  const std::vector<Contact>& contacts() const { return contacts_; }  ///< by (shape a, shape b)
+  /// By (shape a, shape b); a pair with a static triangle mesh may have several, consecutive.
+  const std::vector<Contact>& contacts() const { return contacts_; }
   const ContactStats& contact_stats() const { return contact_stats_; }
   bool has_contacts() const { return collide_enabled_; }  ///< false: contact stages always skipped
   int substeps() const { return substeps_; }              ///< contact solver substeps per step (resolved)
@@ -212,6 +213,9 @@ class World {
   void init_awake();     ///< awake_bodies_, shape_first_ (after init_contacts)
   void after_restore();  ///< caches of the broad phase and the islands
   void stage_collide();
+  // A pair with a static triangle mesh: appends its manifolds to contacts_next_, warm-started from
+  // last step's records of the pair (from contacts_[prev] on); returns the contact points.
+  int collide_mesh_pair(int a, int b, size_t prev);
   bool stage_solve_contacts();  ///< false if a non-finite value appeared
   void stage_kinematic();
   void init_sleep();

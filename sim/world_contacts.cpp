@@ -162,7 +162,20 @@ void World::stage_collide() {
     // A pair that cannot move (asleep, static or a kinematic body at rest on either side) keeps
     // its contact as it was when it fell asleep: neither body has moved since.
     if (sleeping_ > 0 && inert(A.body) && inert(B.body)) {
-      if (prev) contacts_next_.push_back(*prev);
+      for (size_t k = old; k < contacts_.size() && contacts_[k].key() == key; ++k)  // a mesh pair: several
+        contacts_next_.push_back(contacts_[k]);
+      continue;
+    }
+    // A static triangle mesh: several manifolds for one pair (world_trimesh.cpp).
+    if (A.geom.kind == CollideKind::mesh || B.geom.kind == CollideKind::mesh) {
+      const int n = collide_mesh_pair(a, b, old);
+      if (n > 0) {
+        points += n;
+        if (asleep_[A.body] >= 0) wake(A.body), woke = true;
+        if (asleep_[B.body] >= 0) wake(B.body), woke = true;
+        in_contact_[A.body] = in_contact_[A.body] || !model_[A.body].is_static;
+        in_contact_[B.body] = in_contact_[B.body] || !model_[B.body].is_static;
+      }
       continue;
     }
     const MotionState& sa = state_[A.body];

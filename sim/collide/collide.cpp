@@ -104,6 +104,11 @@
 //   with all but box and hull)      radius as a margin; when the cores overlap, EPA (van den
 //                                   Bergen 2001) from GJK's final simplex. 1 point.
 //
+//   static triangle mesh with     collide_mesh() (triangles.cpp), not this table: the mesh's tree
+//   any of the above              gives the triangles near the shape, each collided in closed form
+//                                 (sphere, capsule) or by GJK/EPA and face clipping, internal edges
+//                                 handled, grouped into up to four manifolds by normal.
+//
 // REDUCTION (more than 4 candidates): the deepest point, then the point furthest from it in the
 // contact plane, then the two points making the largest signed areas on either side of that
 // diagonal (the quadrilateral of largest area containing the deepest point); ties to the lowest
@@ -150,6 +155,8 @@ const char* to_string(CollideKind k) {
       return "box";
     case CollideKind::hull:
       return "hull";
+    case CollideKind::mesh:
+      return "mesh";
     default:
       return "?";
   }
@@ -232,8 +239,10 @@ struct Table {
   constexpr Table() {
     using C = CollideKind;
     auto set = [&](C a, C b, PairFn fn) { f[(int)a][(int)b] = fn; };
-    for (int a = 1; a < K; ++a)
-      for (int b = a; b < K; ++b) f[a][b] = convex_generic;
+    // Convex kinds only: a static mesh pairs through collide_mesh() (triangles.cpp).
+    constexpr int kConvex = (int)C::mesh;
+    for (int a = 1; a < kConvex; ++a)
+      for (int b = a; b < kConvex; ++b) f[a][b] = convex_generic;
     set(C::plane, C::sphere, plane_sphere);
     set(C::plane, C::capsule, plane_capsule);
     set(C::plane, C::cylinder, plane_cylinder);
