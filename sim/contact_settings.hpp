@@ -30,6 +30,10 @@ struct ContactSettings {
   double speculative_distance = 0.02;  ///< m, contacts are created this far before touching
   double linear_slop = 0.0001;         ///< m, overlap left uncorrected (keeps resting contacts quiet)
   double rolling_resistance = 0;       ///< dimensionless (lever per unit radius), 0 = off
+  // Continuous collision (sim/README.md "Continuous collision"): bodies moving more than half their
+  // smallest width in a step, and bodies flagged `bullet`, are swept and stopped before they pass
+  // through anything. Scene: simulation.contacts.continuous.
+  bool continuous = true;
   // Sleeping (sim/README.md "Sleeping"): a group of touching bodies whose every point has moved
   // slower than sleep_speed for sleep_time stops being stepped until something wakes it.
   bool sleep = true;          ///< scene: simulation.sleep
