@@ -222,7 +222,7 @@ class World {
   void init_continuous();
   void save_start_poses();
   bool stage_continuous();  ///< false: nothing was fast
-  bool fast_pair(int body_a, int body_b, double closing) const;
+  bool fast_pair(int a, int b, double closing) const;
   int collide_ahead(int a, int b, const Pose& xa, const Pose& xb, double speculative, double closing,
                     PairCache& cache, Manifold& m, Vec3 offset[4]);
   bool inert(int i) const;  ///< static, asleep, or kinematic at rest: neither moves nor wakes
@@ -316,8 +316,10 @@ class World {
   std::vector<double> min_size_;     ///< per body: m, smallest width of its shapes
   std::vector<double> body_reach_;   ///< per body: m, farthest shape point from the centre of mass
   std::vector<double> shape_reach_;  ///< per shape: m, the same for the shape alone
+  std::vector<double> shape_width_;  ///< per shape: m, its smallest width (min_width; planes: infinite)
+  std::vector<int> shape_begin_;     ///< per body: its first shape (shapes are in body order); +1: end
+  std::vector<char> shape_swept_;    ///< per shape: swept this step
   std::vector<char> bullet_;         ///< per body: dynamic and flagged `bullet`
-  std::vector<char> swept_;          ///< per body: swept this step
   std::vector<double> toi_;          ///< per body: earliest time of impact this step (fraction)
   std::vector<Sweep> sweeps_;        ///< per body, this step
   std::vector<int> fast_;            ///< swept bodies this step, ascending

@@ -176,9 +176,8 @@ void World::stage_collide() {
     const Pose xa = shape_moving_[a] ? poses_[a] : ShapeTable::world_pose(A, sa);
     const Pose xb = shape_moving_[b] ? poses_[b] : ShapeTable::world_pose(B, sb);
     // A fast pair's speculative manifold is taken where it will touch (sim/world_ccd.cpp).
-    const int n = fast_pair(A.body, B.body, closing)
-                      ? collide_ahead(a, b, xa, xb, spec, closing, c.cache, m, offset)
-                      : collide(A.geom, xa, B.geom, xb, spec + closing, c.cache, m);
+    const int n = fast_pair(a, b, closing) ? collide_ahead(a, b, xa, xb, spec, closing, c.cache, m, offset)
+                                           : collide(A.geom, xa, B.geom, xb, spec + closing, c.cache, m);
     c.normal_W = m.normal_W;
     c.count = n;
     for (int j = 0; j < n; ++j) {
