@@ -159,10 +159,6 @@ __attribute__((flatten)) void ContactSolver::prepare(const SolverInput& in, cons
     const Vec3 xA = in.state[c.body_a].x_W, xB = in.state[c.body_b].x_W;
     const double roundA = rounding_radius((*in.shapes)[c.shape_a].geom);
     const double roundB = rounding_radius((*in.shapes)[c.shape_b].geom);
-    // A round surface against a flat one: the gap is measured along the flat face's normal, which
-    // turns with its body (held fixed, a ball sliding 0.1 m across a plate spinning at 40 rad/s
-    // sank 2 cm into it per step).
-    k.follow = (roundA == 0 && roundB > 0) ? 1 : (roundB == 0 && roundA > 0) ? 2 : 0;
     // Each body's anchor is on its own surface (the manifold point is their midpoint, A's surface
     // at -s/2 n from it, B's at +s/2 n): a sphere resting 0.5 mm deep rolls without slipping at
     // its true radius, not at the midpoint's (which would brake it by 2/7 of depth / radius).
@@ -345,9 +341,8 @@ struct ManifoldSolve {
     const Mat3& RB = B.dR;
     // Separation now of each point: each surface's centre of curvature moved with its body since
     // the manifold was computed. Positions do not change within a solve, so once per call.
-    const Vec3 n = k.follow == 1 ? Vec3(RA * k.n) : (k.follow == 2 ? Vec3(RB * k.n) : k.n);
     for (int j = 0; j < k.count; ++j)
-      sep[j] = n.dot(dp + RB * k.p[j].cB - RA * k.p[j].cA) + k.p[j].adjusted_separation;
+      sep[j] = k.n.dot(dp + RB * k.p[j].cB - RA * k.p[j].cA) + k.p[j].adjusted_separation;
     const bool track_impact = q.use_bias && q.first_iteration && k.restitution > 0;
     // Non-penetration. One pass is Gauss-Seidel over the manifold's points; where one point's
     // impulse disturbs another (a box landing on a face: each corner's push turns the box) the
@@ -669,8 +664,7 @@ void ContactSolver::restitution(double threshold) {
     for (int j = 0; j < k.count; ++j) pushed = pushed || (k.p[j].normal_impulse > 0 && !k.p[j].bounced);
     for (int j = 0; j < k.count && pushed; ++j) {
       const ConstraintPoint& p = k.p[j];
-      const Vec3 n = k.follow == 1 ? Vec3(RA * k.n) : (k.follow == 2 ? Vec3(RB * k.n) : k.n);
-      const double s = n.dot(dp + RB * p.cB - RA * p.cA) + p.adjusted_separation;
+      const double s = k.n.dot(dp + RB * p.cB - RA * p.cA) + p.adjusted_separation;
       bounce[j] = !p.bounced && p.impact_velocity < -threshold && s <= slop;
       any = any || bounce[j];
     }

@@ -83,7 +83,6 @@ struct ContactConstraint {
   Vec3 rolling_impulse = Vec3::Zero();       ///< N m s
   Mat3 rolling_mass = Mat3::Zero();          ///< kg m^2
   int count = 0;
-  int follow = 0;  ///< the gap's normal turns with: 0 neither, 1 A, 2 B (the flat side against a round one)
   Softness soft;
   ConstraintPoint p[4];
 };
