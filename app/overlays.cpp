@@ -268,9 +268,12 @@ void SceneOverlays::add_trail(int body, const ShowItem& s, Source src, const Rgb
   t.p_B = Vec3::Zero();
   t.color = color;
   t.width_px = std::max(1.5, s.width * height / 720.0);  // px, at least 1.5 on small frames
-  // About 120 samples a second of simulated time, on whole steps.
-  t.every = std::max(1L, std::lround(1.0 / (120.0 * dt_)));
+  // About 120 samples a second of simulated time, on whole steps; sparser when the trail is long, so
+  // that no trail holds more than kMaxTrailPoints (a Poinsot trail over a 1e7-step run held 150 MB
+  // and drew every one of its points each frame).
   t.span = std::lround(std::min(s.length, duration_ + dt_) / dt_);  // the ring holds no more than the run
+  t.every =
+      std::max({1L, std::lround(1.0 / (120.0 * dt_)), (t.span + kMaxTrailPoints - 1) / kMaxTrailPoints});
   const size_t cap = (size_t)(t.span / t.every + 3);
   t.points.resize(cap);
   t.steps.resize(cap);

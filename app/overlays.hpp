@@ -28,6 +28,7 @@ inline constexpr double kForceReach = 3.0;  ///< an auto-scaled applied force's 
 inline constexpr double kContactReach =
     1.0;  ///< an auto-scaled contact force's typical length, in body radii
 inline constexpr double kContactQuantile = 0.9;  ///< ... is the contact forces' 90th percentile
+inline constexpr long kMaxTrailPoints = 16384;   ///< a trail's samples at most (long trails sample sparser)
 
 // The largest magnitudes over a run, per body.
 struct Magnitudes {
@@ -84,6 +85,9 @@ class SceneOverlays {
   ~SceneOverlays();
   bool empty() const { return items_.empty() && !has_screen_; }
   bool has_trails() const { return !trails_.empty(); }
+  // Samples trail k can hold (its ring's size), and the physics steps between its samples.
+  size_t trail_capacity(int k) const { return trails_[k].points.size(); }
+  long trail_every(int k) const { return trails_[k].every; }
 
   // FrameLoop::Hooks::step: records the trails.
   void record(const World& w);

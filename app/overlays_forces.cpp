@@ -128,15 +128,17 @@ void SceneOverlays::build_forces(const Item& it, const World& w, const CameraVie
     spring_points_.clear();
     spring_colors_.clear();
     spring_points_.push_back(pa);
-    spring_points_.push_back(pa + lead * u);
-    for (int k = 0; k < zigs; ++k)
-      spring_points_.push_back(pa + (lead + (k + 0.5) * (L - 2 * lead) / zigs) * u +
-                               ((k % 2) ? -amp : amp) * side);
-    spring_points_.push_back(pb - lead * u);
+    if (!s.spring_lines) {  // `springs: line` draws the straight line from end to end
+      spring_points_.push_back(pa + lead * u);
+      for (int k = 0; k < zigs; ++k)
+        spring_points_.push_back(pa + (lead + (k + 0.5) * (L - 2 * lead) / zigs) * u +
+                                 ((k % 2) ? -amp : amp) * side);
+      spring_points_.push_back(pb - lead * u);
+    }
     spring_points_.push_back(pb);
     const Rgba grey{0.06f, 0.06f, 0.07f, (float)s.opacity};
     spring_colors_.assign(2, grey);
-    const double width = std::max(1.5, 2.5 * s.width * height_ / 720.0) *
+    const double width = std::max(1.5, (s.spring_lines ? 1.5 : 2.5) * s.width * height_ / 720.0) *
                          pixel_size_at(cam, height_, std::max((mid - cam.eye).norm(), 1e-3));
     // Segment by segment: a ribbon through the sharp corners would narrow where it turns.
     for (size_t k = 0; k + 1 < spring_points_.size(); ++k)

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 
 #include "app/overlays.hpp"
 #include "render/camera.hpp"
@@ -45,6 +46,9 @@ Vec3 body_vector(const HudField& f, const World& w) {
   if (f.name == "L") return w.angular_momentum(i);
   if (f.name == "v") return w.linear_velocity(i);
   if (f.name == "position") return w.centroid(i);
+  // tilt: degrees between the body frame's z axis and the world's +z (a number, kept in x).
+  if (f.name == "tilt")
+    return Vec3(std::acos(std::clamp(w.rotation(i)(2, 2), -1.0, 1.0)) * 180 / std::numbers::pi, 0, 0);
   return Vec3::Zero();
 }
 

@@ -115,6 +115,7 @@ SceneFrames::SceneFrames(const Scene& scene, FrameLoop& main, const ViewOptions&
     pane->scene = pane->world ? variants_[pane->world - 1]->scene : scene;
     pane->scene.camera = pane_camera(scene.camera, ps.camera);
     pane->scene.overlays.title = ps.title;
+    for (const auto& [body, items] : ps.show) pane->scene.overlays.show[body] = items;
     pane->rect = rects[k];
     ViewOptions po = o;
     po.width = pane->rect.width;

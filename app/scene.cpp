@@ -533,11 +533,44 @@ struct Loader {
     return col;
   }
 
+  // `mass_properties: { mass, center_of_mass, inertia }`: stated, not drawn. The inertia is about
+  // the centre of mass in the body frame, a 3x3 list of rows or [3] for a diagonal tensor.
+  MassProperties mass_properties(const YAML::Node& n, const Ctx& c) {
+    if (!n.IsMap()) c.fail(n, "expected a mapping { mass, center_of_mass, inertia }, got " + show(n));
+    check_keys(n, c, {"mass", "center_of_mass", "inertia"});
+    for (const char* k : {"mass", "center_of_mass", "inertia"})
+      if (!n[k])
+        c.fail(n, std::string("needs '") + k + "' (mass, center_of_mass and inertia are all required)");
+    MassProperties mp;
+    mp.mass = positive(n["mass"], c.child("mass"));
+    mp.com = vec<3>(n["center_of_mass"], c.child("center_of_mass"));
+    const YAML::Node in = n["inertia"];
+    const Ctx ic = c.child("inertia");
+    if (in.IsSequence() && in.size() == 3 && in[0].IsSequence()) {
+      for (int r = 0; r < 3; ++r) mp.inertia.row(r) = vec<3>(in[r], ic.index(r)).transpose();
+    } else if (in.IsSequence() && in.size() == 3) {
+      mp.inertia = vec<3>(in, ic).asDiagonal();
+    } else {
+      ic.fail(in,
+              "expected a 3x3 tensor (three rows of three numbers, kg m^2) or [3] principal moments, got " +
+                  show(in));
+    }
+    const double scale = mp.inertia.cwiseAbs().maxCoeff();
+    if ((mp.inertia - mp.inertia.transpose()).cwiseAbs().maxCoeff() > 1e-12 * scale)
+      ic.fail(in, "the inertia tensor must be symmetric (row i, column j equal to row j, column i)");
+    if (const std::string bad = mass_problem(mp, 1e-9); !bad.empty()) {
+      const Vec3 m = principal_axes(mp.inertia).moments;
+      if (!(m[0] > 0)) ic.fail(in, bad + ": the inertia tensor must be positive definite");
+      ic.fail(in, bad + ": no rigid body has these (the largest moment is at most the sum of the other two)");
+    }
+    return mp;
+  }
+
   BodyDef body(const YAML::Node& n, const Ctx& c, size_t i, BodyLook& look) {
     check_keys(n, c,
                {"name", "position", "orientation", "euler", "axis_angle", "linear_velocity",
                 "angular_velocity", "angular_velocity_body", "type", "static", "color", "integrator",
-                "colliders", "show", "ghost", "bullet"});
+                "colliders", "show", "ghost", "mass_properties", "bullet"});
     BodyDef b;
     b.name = n["name"] ? text(n["name"], c.child("name")) : "body" + std::to_string(i);
     if (n["position"]) b.p_WB = vec<3>(n["position"], c.child("position"));
@@ -598,10 +631,12 @@ struct Loader {
       look.colliders.push_back(cl);
       b.append_collider(std::move(col));  // composed once, when the body is done
     }
+    if (n["mass_properties"])
+      b.mass_override = mass_properties(n["mass_properties"], c.child("mass_properties"));
     // The body as a whole (colliders far apart: the parallel-axis terms can overflow).
     bool massive = false;
     for (const Collider& col : b.colliders) massive = massive || col.shape != ShapeKind::plane;
-    if (massive) {
+    if (massive && !b.mass_override) {
       const MassProperties& mp = b.mass_B();
       std::string bad;
       if (!std::isfinite(mp.mass) || !(mp.mass > 0) || !all_finite(mp.com) || !mp.inertia.allFinite()) {
@@ -678,7 +713,7 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
       check_keys(k, kc,
                  {"substeps", "iterations", "contact_hertz", "damping_ratio", "max_push_out",
                   "restitution_threshold", "speculative_distance", "linear_slop", "rolling_resistance",
-                  "sleep_speed", "sleep_time", "continuous"});
+                  "slip_speed", "sleep_speed", "sleep_time", "continuous"});
       ContactSettings& cs = s.contacts;
       if (k["substeps"]) cs.substeps = whole(k["substeps"], kc.child("substeps"), 0, 1000);  // 0: automatic
       if (k["iterations"]) cs.iterations = whole(k["iterations"], kc.child("iterations"), 1, 1000);
@@ -693,6 +728,7 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
       if (k["linear_slop"]) cs.linear_slop = non_negative(k["linear_slop"], kc.child("linear_slop"));
       if (k["rolling_resistance"])
         cs.rolling_resistance = non_negative(k["rolling_resistance"], kc.child("rolling_resistance"));
+      if (k["slip_speed"]) cs.slip_speed = non_negative(k["slip_speed"], kc.child("slip_speed"));
       if (k["sleep_speed"]) cs.sleep_speed = non_negative(k["sleep_speed"], kc.child("sleep_speed"));
       if (k["sleep_time"]) cs.sleep_time = non_negative(k["sleep_time"], kc.child("sleep_time"));
       if (k["continuous"]) cs.continuous = boolean(k["continuous"], kc.child("continuous"));

@@ -163,7 +163,16 @@ ShowItem show_item(const YAML::Node& n, const Ctx& w, double duration) {
   if (opts["points"]) item.points = boolean(opts["points"], c.child("points"));
   if (opts["normals"]) item.normals = boolean(opts["normals"], c.child("normals"));
   if (opts["arrows"]) item.arrows = boolean(opts["arrows"], c.child("arrows"));
-  if (opts["springs"]) item.springs = boolean(opts["springs"], c.child("springs"));
+  if (const YAML::Node sp = opts["springs"]) {
+    // `line`: straight, for springs standing in for strings (a Newton's cradle); else a bool.
+    item.spring_lines = sp.IsScalar() && sp.Scalar() == "line";
+    if (!item.spring_lines) {
+      if (sp.IsScalar() && sp.Scalar() != "true" && sp.Scalar() != "false" && sp.Scalar() != "yes" &&
+          sp.Scalar() != "no" && sp.Scalar() != "on" && sp.Scalar() != "off")
+        c.child("springs").fail(sp, "expected true, false or line (straight lines), got " + show(sp));
+      item.springs = boolean(sp, c.child("springs"));
+    }
+  }
   return item;
 }
 
@@ -260,6 +269,7 @@ std::string default_plot_label(const HudField& f) {
   if (f.name == "omega_body") base = "\\omega", body_axes = true;
   if (f.name == "position") base = "x";
   if (f.name == "E_drift") return "E/E_0 - 1";
+  if (f.name == "tilt") return "\\theta";
   if (f.name == "L_drift") return "|L - L_0|/|L_0|";
   if (f.norm) return "|" + base + "|";
   if (f.component >= 0) {
@@ -481,7 +491,7 @@ HudField parse_quantity(const std::string& field_in, const Scene& s, int default
   if (!scalar && !vector) {
     std::string msg = "unknown quantity '" + f.name + "'";
     if (auto sug = nearest(f.name, all)) msg += "; did you mean '" + *sug + "'?";
-    msg += " (t, video_t, frame, E, E_drift, L_drift; per body omega, omega_body, L, v, position)";
+    msg += " (t, video_t, frame, E, E_drift, L_drift; per body omega, omega_body, L, v, position, tilt)";
     bad(msg);
   }
   if (scalar && (!body.empty() || f.component >= 0 || f.norm))
@@ -504,6 +514,10 @@ HudField parse_quantity(const std::string& field_in, const Scene& s, int default
       f.body = (int)(it - names.begin());
     }
     if (f.norm && f.component >= 0) bad("'{" + field + "}': a component or |...|, not both");
+    if (f.name == "tilt") {  // a number per body, carried as a vector's x
+      if (f.norm || f.component >= 0) bad("'tilt' is a number (degrees): no component or |...|");
+      f.component = 0;
+    }
   }
   return f;
 }
@@ -519,7 +533,7 @@ const std::vector<std::string>& hud_scalar_names() {
   return v;
 }
 const std::vector<std::string>& hud_body_names() {
-  static const std::vector<std::string> v = {"omega", "omega_body", "L", "v", "position"};
+  static const std::vector<std::string> v = {"omega", "omega_body", "L", "v", "position", "tilt"};
   return v;
 }
 
@@ -532,6 +546,16 @@ bool OverlaySpec::any() const {
   return false;
 }
 
+std::vector<ShowItem> read_show_list(const YAML::Node& sh, const scene_yaml::Ctx& w, const Scene& s,
+                                     size_t body) {
+  if (!sh.IsSequence()) w.fail(sh, "expected a list of items (axes, angular_velocity, ...), got " + show(sh));
+  if (s.bodies[body].type != BodyType::dynamic && sh.size() > 0)
+    w.fail(sh, "body '" + s.bodies[body].name + "' does not move: show items are for moving bodies");
+  std::vector<ShowItem> items;
+  for (size_t k = 0; k < sh.size(); ++k) items.push_back(show_item(sh[k], w.index(k), s.duration));
+  return items;
+}
+
 void load_overlays(const YAML::Node& root, const std::string& path, Scene& s) {
   OverlaySpec& o = s.overlays;
   o.show.assign(s.bodies.size(), {});
@@ -540,12 +564,7 @@ void load_overlays(const YAML::Node& root, const std::string& path, Scene& s) {
     for (size_t i = 0; i < bodies.size() && i < s.bodies.size(); ++i) {
       const YAML::Node sh = bodies[i].IsMap() ? bodies[i]["show"] : YAML::Node();
       if (!sh) continue;
-      const Ctx w = top.child("bodies").index(i).child("show");
-      if (!sh.IsSequence())
-        w.fail(sh, "expected a list of items (axes, angular_velocity, ...), got " + show(sh));
-      if (s.bodies[i].type != BodyType::dynamic)
-        w.fail(sh, "body '" + s.bodies[i].name + "' does not move: show items are for moving bodies");
-      for (size_t k = 0; k < sh.size(); ++k) o.show[i].push_back(show_item(sh[k], w.index(k), s.duration));
+      o.show[i] = read_show_list(sh, top.child("bodies").index(i).child("show"), s, i);
     }
   const YAML::Node ov = root["overlays"];
   if (!ov) return;

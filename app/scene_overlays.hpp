@@ -27,6 +27,9 @@ class Node;
 namespace simreel {
 
 struct Scene;
+namespace scene_yaml {
+class Ctx;
+}
 
 enum class ShowKind {
   axes,               ///< principal axes e1 e2 e3 at the centre of mass (red, green, blue)
@@ -63,10 +66,11 @@ struct ShowItem {
   bool gravity = false;  ///< forces: also draw the weight m g at the centre of mass
   bool at_tip =
       false;  ///< forces: the arrow ends at the point of action (`anchor: tip`) instead of starting there
-  bool points = true;   ///< contacts: a dot at each contact point
-  bool normals = true;  ///< contacts: the contact normal at each point
-  bool arrows = true;   ///< contacts: the contact force at each point (forces: the arrows)
-  bool springs = true;  ///< forces: springs drawn as zig-zag lines
+  bool points = true;         ///< contacts: a dot at each contact point
+  bool normals = true;        ///< contacts: the contact normal at each point
+  bool arrows = true;         ///< contacts: the contact force at each point (forces: the arrows)
+  bool springs = true;        ///< forces: springs drawn as zig-zag lines
+  bool spring_lines = false;  ///< forces: ... or as straight lines (`springs: line`: strings, cords)
 };
 
 // One field of a HUD line: {name}, {body.name}, {name.x}, {|name|}, each with an optional
@@ -138,6 +142,11 @@ struct OverlaySpec {
 // Reads every body's `show:` and the top-level `overlays:` into s.overlays; throws InputError
 // "FILE:LINE:COL: KEY: what" as load_scene does. Called by load_scene once the bodies are read.
 void load_overlays(const YAML::Node& root, const std::string& path, Scene& s);
+
+// One body's `show:` list (body: its index in s.bodies), checked as load_overlays checks it; an
+// empty list is allowed (a pane's `show:` uses it to hide a body's items).
+std::vector<ShowItem> read_show_list(const YAML::Node& list, const scene_yaml::Ctx& c, const Scene& s,
+                                     size_t body);
 
 // A quantity as a HUD field or plot names it: "[|][body.]name[.x|.y|.z][|]". `default_body`: the
 // body of per-body names without a prefix (-1: the first moving body). Throws InputError through

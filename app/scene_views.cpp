@@ -130,7 +130,7 @@ void load_views(const YAML::Node& root, const std::string& path, Scene& s) {
       const Ctx e = lc.index(k);
       const YAML::Node n = list[k];
       if (!n.IsMap()) e.fail(n, "expected { title: T, camera: {...}, variant: V }, got " + show(n));
-      check_keys(n, e, {"title", "camera", "variant"});
+      check_keys(n, e, {"title", "camera", "variant", "show"});
       PaneSpec pane;
       if (n["title"]) pane.title = text(n["title"], e.child("title"));
       if (n["variant"]) {
@@ -147,12 +147,25 @@ void load_views(const YAML::Node& root, const std::string& path, Scene& s) {
         }
       }
       if (n["camera"]) pane.camera = pane_camera(n["camera"], e.child("camera"), s);
+      if (const YAML::Node sh = n["show"]) {
+        const Ctx sc = e.child("show");
+        if (!sh.IsMap())
+          sc.fail(sh,
+                  "expected a mapping of body names to show lists ({ BODY: [axes, ...] }), got " + show(sh));
+        for (const auto& kv : sh) {
+          const std::string name = kv.first.as<std::string>();
+          check_body(s, name, kv.first, sc);
+          int b = 0;
+          while (s.bodies[b].name != name) ++b;
+          pane.show.emplace_back(b, read_show_list(kv.second, sc.child(name), s, (size_t)b));
+        }
+      }
       vs.panes.push_back(pane);
     }
   } else if (!vs.variants.empty()) {
     // Variants without panes: the scene and each variant side by side, the scene's camera.
-    vs.panes.push_back({variant_title(s, nullptr), "", {}});
-    for (const VariantSpec& v : vs.variants) vs.panes.push_back({variant_title(s, &v), v.name, {}});
+    vs.panes.push_back({variant_title(s, nullptr), "", {}, {}});
+    for (const VariantSpec& v : vs.variants) vs.panes.push_back({variant_title(s, &v), v.name, {}, {}});
   }
 }
 

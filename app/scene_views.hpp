@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "app/scene_overlays.hpp"
 #include "app/scene_yaml.hpp"
 #include "sim/integrators.hpp"
 #include "sim/types.hpp"
@@ -39,6 +40,9 @@ struct PaneSpec {
   std::string title;    ///< drawn at the pane's top centre ("" none)
   std::string variant;  ///< "" the scene as given, else a variant's name
   PaneCamera camera;
+  /// The pane's own show items of the bodies it names (body index, items; empty hides them);
+  /// other bodies show the scene's.
+  std::vector<std::pair<int, std::vector<ShowItem>>> show;
 };
 
 struct ViewsSpec {

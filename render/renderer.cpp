@@ -560,7 +560,9 @@ struct Renderer::Impl {
   size_t ov_inst_capacity[kOverlayShapes] = {};
   GLuint ov_ribbon_vao = 0, ov_ribbon_vbo = 0;
   size_t ov_ribbon_capacity = 0;
-  std::vector<float> ov_staging;  // 21 floats per instance: model (column-major), rgba, x-ray
+  // Per instance: model (column-major, x-ray strength in place of its bottom-left 0), rgba.
+  static constexpr int kOverlayInstanceFloats = 20;
+  std::vector<float> ov_staging;
   bool ov_ready = false;
 
   static OverlayProgram overlay_program(bool ribbon) {
@@ -584,7 +586,7 @@ struct Renderer::Impl {
       glBindVertexArray(ov_mesh[k].vao);
       glGenBuffers(1, &ov_inst_vbo[k]);
       glBindBuffer(GL_ARRAY_BUFFER, ov_inst_vbo[k]);
-      const GLsizei stride = 21 * sizeof(float);
+      const GLsizei stride = kOverlayInstanceFloats * sizeof(float);
       for (int c = 0; c < 4; ++c) {
         glEnableVertexAttribArray(2 + c);
         glVertexAttribPointer(2 + c, 4, GL_FLOAT, GL_FALSE, stride, (void*)(4 * c * sizeof(float)));
@@ -593,9 +595,6 @@ struct Renderer::Impl {
       glEnableVertexAttribArray(6);
       glVertexAttribPointer(6, 4, GL_FLOAT, GL_FALSE, stride, (void*)(16 * sizeof(float)));
       glVertexAttribDivisor(6, 1);
-      glEnableVertexAttribArray(7);
-      glVertexAttribPointer(7, 1, GL_FLOAT, GL_FALSE, stride, (void*)(20 * sizeof(float)));
-      glVertexAttribDivisor(7, 1);
     }
     glGenVertexArrays(1, &ov_ribbon_vao);
     glBindVertexArray(ov_ribbon_vao);
@@ -648,13 +647,13 @@ struct Renderer::Impl {
       const auto& v = ov.instances[k];
       count[k] = v.size();
       if (v.empty()) continue;
-      ov_staging.resize(21 * v.size());
+      ov_staging.resize(kOverlayInstanceFloats * v.size());
       float* d = ov_staging.data();
       for (const OverlayInstance& in : v) {
         std::copy(in.model.data(), in.model.data() + 16, d);
+        d[3] = in.xray;  // in place of the affine model's bottom-left 0 (the shader puts the 0 back)
         std::copy(in.color.begin(), in.color.end(), d + 16);
-        d[20] = in.xray;
-        d += 21;
+        d += kOverlayInstanceFloats;
         any_xray = any_xray || in.xray > 0;
         translucent = translucent || in.color[3] < 1;
       }

@@ -138,14 +138,15 @@ layout(location = 3) in vec4 i_m1;
 layout(location = 4) in vec4 i_m2;
 layout(location = 5) in vec4 i_m3;
 layout(location = 6) in vec4 i_color;
-layout(location = 7) in float i_xray;
 uniform mat4 u_viewproj;
 out vec3 v_pos;
 out vec3 v_nrm;
 flat out vec4 v_color;
 flat out float v_xray;
 void main() {
-  mat4 model = mat4(i_m0, i_m1, i_m2, i_m3);
+  // The model matrix is affine: its bottom row (0, 0, 0, 1) need not be sent, and the first
+  // column's w carries the x-ray strength instead.
+  mat4 model = mat4(vec4(i_m0.xyz, 0.0), i_m1, i_m2, i_m3);
   vec4 w = model * vec4(a_pos, 1.0);
   v_pos = w.xyz;
   // Instances have orthogonal columns (a rotation times a scaling): the inverse transpose is the
@@ -153,7 +154,7 @@ void main() {
   mat3 m = mat3(model);
   v_nrm = m * (a_nrm / vec3(dot(m[0], m[0]), dot(m[1], m[1]), dot(m[2], m[2])));
   v_color = i_color;
-  v_xray = i_xray;
+  v_xray = i_m0.w;
   gl_Position = u_viewproj * w;
 }
 )";

@@ -1,6 +1,9 @@
 #include "sim/body.hpp"
 
+#include <cmath>
+
 #include "sim/error.hpp"
+#include "sim/mass_properties.hpp"
 #include "sim/primitives.hpp"
 
 namespace simreel {
@@ -63,6 +66,12 @@ MassProperties compose(const std::vector<Collider>& colliders) {
   return acc.result();
 }
 
+std::string mass_problem(const MassProperties& mp, double rel_tol) {
+  if (!std::isfinite(mp.mass) || !(mp.mass > 0)) return "mass must be positive and finite";
+  if (!mp.com.allFinite()) return "centre of mass is not finite";
+  return inertia_problem(mp.inertia, rel_tol);
+}
+
 const MassProperties& BodyDef::add_collider(Collider c) {
   colliders.push_back(std::move(c));
   return mass_B();
@@ -73,6 +82,7 @@ void BodyDef::append_collider(Collider c) {
 }
 
 const MassProperties& BodyDef::mass_B() const {
+  if (mass_override) return *mass_override;
   if (composed_ != colliders.size()) {
     mass_B_ = compose(colliders);
     composed_ = colliders.size();

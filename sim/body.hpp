@@ -65,6 +65,10 @@ struct BodyDef {
   /// collision"; other bodies only when they move more than half their smallest width in a step).
   bool bullet = false;
   std::vector<Collider> colliders;
+  /// Mass properties stated rather than drawn (scene key `mass_properties`): mass, centre of mass
+  /// and inertia about it in the body frame B. When set, mass_B() and the World use it instead of
+  /// the colliders' composition (the colliders then only collide). Checked by mass_problem().
+  std::optional<MassProperties> mass_override;
 
   // The article's AddCollider: appends and returns the updated composite mass properties.
   const MassProperties& add_collider(Collider c);
@@ -72,7 +76,8 @@ struct BodyDef {
   // from n colliders costs O(n), not O(n^2) (16,000 colliders took 20 s when each addition
   // re-summed all earlier ones).
   void append_collider(Collider c);
-  // Composite mass, centroid (the article's m_localCentroid) and inertia about it, body frame.
+  // Composite mass, centroid (the article's m_localCentroid) and inertia about it, body frame; the
+  // override when one is set.
   const MassProperties& mass_B() const;
 
  private:
@@ -83,5 +88,10 @@ struct BodyDef {
 // The composition of a list of colliders (body frame): total mass, mass-weighted centroid,
 // inertia about it by the parallel axis theorem, each collider first rotated (R I R^T).
 MassProperties compose(const std::vector<Collider>& colliders);
+
+// Why stated mass properties are not physical: mass not positive and finite, centre not finite,
+// inertia not symmetric, not positive definite or breaking the triangle inequality of its principal
+// moments (inertia_problem with relative slack `rel_tol`). Empty when valid.
+std::string mass_problem(const MassProperties& mp, double rel_tol = 1e-9);
 
 }  // namespace simreel

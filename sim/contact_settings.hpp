@@ -30,6 +30,9 @@ struct ContactSettings {
   double speculative_distance = 0.02;  ///< m, contacts are created this far before touching
   double linear_slop = 0.0001;         ///< m, overlap left uncorrected (keeps resting contacts quiet)
   double rolling_resistance = 0;       ///< dimensionless (lever per unit radius), 0 = off
+  /// m/s: sliding friction below this slip speed is viscous, mu N v / slip_speed, instead of sticking
+  /// (the regularised Coulomb law of tippe-top models: a spinning contact patch never sticks); 0 = off
+  double slip_speed = 0;
   // Continuous collision (sim/README.md "Continuous collision"): bodies moving more than half their
   // smallest width in a step, and bodies flagged `bullet`, are swept and stopped before they pass
   // through anything. Scene: simulation.contacts.continuous.

@@ -156,11 +156,13 @@ World::World(const WorldConfig& config, std::vector<BodyDef> bodies)
       if (c.shape != ShapeKind::plane) massive.push_back(c);
     if (massive.empty() && !m.is_static)
       throw InputError(body_label(defs_, i) + ": a plane collider needs a static body");
-    const MassProperties mp = massive.empty() ? MassProperties{} : compose(massive);
+    const MassProperties mp = massive.empty()   ? MassProperties{}
+                              : d.mass_override ? *d.mass_override
+                                                : compose(massive);
     if (!massive.empty()) {
       if (!(mp.mass > 0) || !std::isfinite(mp.mass))
         throw InputError(body_label(defs_, i) + ": mass must be positive");
-      const std::string bad = inertia_problem(mp.inertia, 1e-7);
+      const std::string bad = d.mass_override ? mass_problem(mp, 1e-7) : inertia_problem(mp.inertia, 1e-7);
       if (!bad.empty()) throw InputError(body_label(defs_, i) + ": " + bad);
       const PrincipalAxes pa = principal_axes(mp.inertia);
       m.mass = mp.mass;

@@ -37,7 +37,7 @@ void World::init_contacts() {
   substeps_ = base_substeps_;
   if (!(cs.contact_hertz >= 0) || !(cs.damping_ratio >= 0) || !(cs.max_push_out >= 0) ||
       !(cs.restitution_threshold >= 0) || !(cs.speculative_distance >= 0) || !(cs.linear_slop >= 0) ||
-      !(cs.rolling_resistance >= 0))
+      !(cs.rolling_resistance >= 0) || !(cs.slip_speed >= 0))
     throw InputError("contacts: settings must be non-negative numbers");
   std::vector<std::string> notes;
   shapes_ = std::make_unique<ShapeTable>(defs_, model_, notes);

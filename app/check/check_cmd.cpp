@@ -162,6 +162,19 @@ int cmd_check(const std::vector<std::string>& args) {
   std::vector<JunitCase> junit;
   int bad_input = 0, differ = 0, missing = 0, frames_total = 0, passed_total = 0, written_total = 0;
   std::set<std::string> names;
+  // A scene that cannot be checked: said on stderr, and an error in the JUnit file and the report
+  // (a CI reporter shows it beside the frames that were checked).
+  auto scene_error = [&](const std::string& path, const std::string& message) {
+    std::fprintf(stderr, "error: %s\n", message.c_str());
+    junit.push_back({path, "scene", 0, "error", message, "bad input"});
+    ReportFrame rf;
+    rf.scene = path;
+    rf.frame = -1;
+    rf.status = "error";
+    rf.messages.push_back("could not be checked: " + message);
+    report.frames.push_back(std::move(rf));
+    ++bad_input;
+  };
 
   for (const std::string& path : o.scenes) {
     Scene scene;
@@ -169,20 +182,15 @@ int cmd_check(const std::vector<std::string>& args) {
       scene = load_scene(path);
       prepare_run(scene);
     } catch (const std::invalid_argument& e) {
-      std::fprintf(stderr, "error: %s: %s\n", path.c_str(), e.what());
-      junit.push_back({path, "load", 0, "error", e.what()});
-      ++bad_input;
+      scene_error(path, path + ": " + e.what());
       continue;
     } catch (const InputError& e) {
-      std::fprintf(stderr, "error: %s\n", e.what());
-      junit.push_back({path, "load", 0, "error", e.what()});
-      ++bad_input;
+      scene_error(path, e.what());
       continue;
     }
     if (!names.insert(scene.name).second) {
-      std::fprintf(stderr, "error: %s: another scene named '%s' uses the same golden folder %s/%s\n",
-                   path.c_str(), scene.name.c_str(), goldens.c_str(), scene.name.c_str());
-      ++bad_input;
+      scene_error(path, path + ": another scene named '" + scene.name + "' uses the same golden folder " +
+                            goldens + "/" + scene.name);
       continue;
     }
     fit_camera(scene, 1);  // camera: { auto: true }
@@ -192,8 +200,7 @@ int cmd_check(const std::vector<std::string>& args) {
     try {
       targets = parse_frame_spec(spec, loop.plan(), scene.video.fps, scene.timestep, scene.duration);
     } catch (const std::invalid_argument& e) {
-      std::fprintf(stderr, "error: %s: --frames / test.frames: %s\n", path.c_str(), e.what());
-      ++bad_input;
+      scene_error(path, path + ": --frames / test.frames: " + e.what());
       continue;
     }
     const std::string dir = (std::filesystem::path(goldens) / scene.name).string();
@@ -204,8 +211,7 @@ int cmd_check(const std::vector<std::string>& args) {
       try {
         manifest = read_manifest(manifest_path);
       } catch (const InputError& e) {
-        std::fprintf(stderr, "error: %s\n", e.what());
-        ++bad_input;
+        scene_error(path, e.what());
         continue;
       }
     }
@@ -282,13 +288,11 @@ int cmd_check(const std::vector<std::string>& args) {
         const bool same_renderer = same_pixels_expected(g->fingerprint, fp);
         const bool exact =
             tolerance == Tolerance::exact || (tolerance == Tolerance::automatic && same_renderer);
-        // Portable: the measured defaults when the same renderer drew both (llvmpipe's thread
+        // Portable: the measured defaults when the same rasterizer drew both (llvmpipe's thread
         // count, vector width and the GL backend measured byte-identical); across renderer or
         // Mesa versions the looser cross-renderer tolerance (app/regress/metrics.hpp: softpipe
         // against llvmpipe moved clusters of up to 55 px at 480x270).
-        const bool same_gl =
-            fingerprint_value(g->fingerprint, "gl_renderer") == fingerprint_value(fp, "gl_renderer") &&
-            fingerprint_value(g->fingerprint, "gl_version") == fingerprint_value(fp, "gl_version");
+        const bool same_gl = same_rasterizer(g->fingerprint, fp);
         const CompareOptions portable = same_gl ? CompareOptions{} : CompareOptions::cross_renderer();
         Image diff;
         const CompareResult r = compare_images(golden, c.image, portable, &diff);
@@ -303,11 +307,13 @@ int cmd_check(const std::vector<std::string>& args) {
           pixels_ok = identical(golden, c.image);
           if (pixel_hash(golden) != g->pixel_hash)
             rf.messages.push_back("note: " + g->file + " does not match the pixel hash in its manifest");
-          if (!pixels_ok)
-            rf.messages.push_back(
-                "rendering changed (exact): " + std::to_string(r.differing + r.antialiased) +
-                " pixels differ beyond the colour threshold, largest channel change " +
-                std::to_string((int)r.max_channel_delta) + " levels");
+          if (!pixels_ok) {
+            const long changed = compare_images(golden, c.image, CompareOptions::exact()).differing;
+            rf.messages.push_back("rendering changed (exact): " + std::to_string(changed) +
+                                  " pixels changed (" + std::to_string(r.differing + r.antialiased) +
+                                  " beyond the portable colour threshold), largest channel change " +
+                                  std::to_string((int)r.max_channel_delta) + " levels");
+          }
         } else {
           pixels_ok = r.pass;
           if (!pixels_ok)
@@ -391,7 +397,8 @@ int cmd_check(const std::vector<std::string>& args) {
                          std::string m;
                          for (const std::string& s : rf.messages) m += s + "\n";
                          return m;
-                       }()});
+                       }(),
+                       ""});
       report.frames.push_back(std::move(rf));
     }
     if (manifest_dirty) {
@@ -431,7 +438,8 @@ int cmd_check(const std::vector<std::string>& args) {
           << " rendering)";
   if (missing) summary << ", " << missing << " without a golden (--update missing writes them)";
   if (written_total) summary << ", " << written_total << " goldens written";
-  if (bad_input) summary << ", " << bad_input << " scenes could not be checked";
+  if (bad_input)
+    summary << ", " << bad_input << (bad_input == 1 ? " scene" : " scenes") << " could not be checked";
   report.summary = summary.str();
   std::printf("%s\n", report.summary.c_str());
   if (differ) std::printf("to accept the changes: %s\n", report.accept_command.c_str());

@@ -158,13 +158,44 @@ int cmd_diff(const std::vector<std::string>& args) {
 
   ReportInput report;
   report.title = "simreel diff";
+  report.expected_label = "A: " + o.inputs[0];
+  report.actual_label = "B: " + o.inputs[1];
   report.command = "simreel diff";
   for (const std::string& s : args) report.command += " " + s;
   std::vector<ReportFrame> frames;  // every frame's metrics (images only for the worst)
-  long compared = 0, differing = 0, only_a = 0, only_b = 0, size_mismatch = 0;
+  long compared = 0, differing = 0, only_a = 0, only_b = 0, size_mismatch = 0, measured = 0;
   double worst_psnr = INFINITY, worst_ssim = 1;
   std::map<double, size_t, std::greater<double>> worst;  // badness -> index into frames (kept <= 6)
   std::vector<std::optional<std::array<Image, 3>>> kept;
+
+  // Frames found on one side only, collapsed into runs (a clip of 10 frames against the full
+  // video of 151 prints two lines, not 141): printed and given one report card per run.
+  struct Run {
+    int side = 0;  // 1: A, 2: B
+    std::string first, last;
+    double time = 0;
+    long n = 0, index = 0;
+    int width = 0, height = 0;
+  } run;
+  auto flush = [&] {
+    if (run.n == 0) return;
+    const char* side = run.side == 1 ? "A" : "B";
+    const std::string what = run.n == 1 ? run.first : run.first + " .. " + run.last;
+    std::printf("%-24s only in %s%s\n", what.c_str(), side,
+                run.n == 1 ? "" : (" (" + std::to_string(run.n) + " frames)").c_str());
+    ReportFrame rf;
+    rf.scene = what;
+    rf.frame = (int)run.index;
+    rf.time = run.time;
+    rf.status = "fail";
+    rf.kind = "count";
+    rf.width = run.width;
+    rf.height = run.height;
+    rf.messages.push_back(std::string("only in ") + side + ": " + what +
+                          (run.n == 1 ? "" : " (" + std::to_string(run.n) + " frames)"));
+    frames.push_back(std::move(rf));
+    run = Run{};
+  };
 
   Image ia, ib;
   std::string na, nb;
@@ -182,27 +213,33 @@ int cmd_diff(const std::vector<std::string>& args) {
       take = ta < tb ? 1 : 2;
     else if (by_name && na != nb)
       take = na < nb ? 1 : 2;
-    ReportFrame rf;
-    rf.scene = take == 2 ? nb : na;
-    rf.frame = (int)index++;
-    rf.time = by_time ? (take == 2 ? tb : ta) : 0;
     if (take == 1 || take == 2) {
       (take == 1 ? only_a : only_b)++;
-      rf.status = "fail";
-      rf.kind = "size";
-      rf.messages.push_back(std::string("only in ") + (take == 1 ? "A" : "B") + ": " + rf.scene);
+      if (run.side != take) flush();
       const Image& im = take == 1 ? ia : ib;
-      rf.width = im.width;
-      rf.height = im.height;
-      std::printf("%-24s only in %s\n", rf.scene.c_str(), take == 1 ? "A" : "B");
-      frames.push_back(std::move(rf));
+      const std::string& name = take == 1 ? na : nb;
+      if (run.n++ == 0) {
+        run.side = take;
+        run.first = name;
+        run.time = by_time ? (take == 1 ? ta : tb) : 0;
+        run.index = index;
+        run.width = im.width;
+        run.height = im.height;
+      }
+      run.last = name;
+      ++index;
       if (take == 1)
         ha = A->next(ia, na, ta);
       else
         hb = B->next(ib, nb, tb);
       continue;
     }
+    flush();
     ++compared;
+    ReportFrame rf;
+    rf.scene = na;
+    rf.frame = (int)index++;
+    rf.time = by_time ? ta : 0;
     if (!by_time && !by_name && na != nb) rf.scene = na + " | " + nb;
     Image diff;
     const CompareResult r = compare_images(ia, ib, opt, &diff);
@@ -213,7 +250,7 @@ int cmd_diff(const std::vector<std::string>& args) {
       ++size_mismatch;
       rf.kind = "size";
     } else if (!r.pass) {
-      rf.kind = "rendering";
+      rf.kind = "pixels";
     }
     if (!r.pass) {
       ++differing;
@@ -221,14 +258,16 @@ int cmd_diff(const std::vector<std::string>& args) {
     }
     put_metrics(r, rf);
     if (r.same_size) {
+      ++measured;
       worst_psnr = std::min(worst_psnr, r.psnr);
       worst_ssim = std::min(worst_ssim, r.ssim);
     }
-    if (!quiet || !r.pass)
-      std::printf("%-24s %s  differing %ld (%.4f%%), largest cluster %d, PSNR %s dB, SSIM %.6f%s\n",
+    if (!r.same_size)  // nothing was measured: say why, not metrics of nothing
+      std::printf("%-24s DIFF  %s\n", rf.scene.c_str(), r.reason.c_str());
+    else if (!quiet || !r.pass)
+      std::printf("%-24s %s  differing %ld (%.4f%%), largest cluster %d, PSNR %s dB, SSIM %.6f\n",
                   rf.scene.c_str(), r.pass ? "same" : "DIFF", r.differing, 100 * r.diff_ratio,
-                  r.largest_cluster, std::isinf(r.psnr) ? "inf" : fmt("%.2f", r.psnr).c_str(), r.ssim,
-                  r.same_size ? "" : ("  (" + r.reason + ")").c_str());
+                  r.largest_cluster, std::isinf(r.psnr) ? "inf" : fmt("%.2f", r.psnr).c_str(), r.ssim);
     // Keep the images of the worst frames only: a long video never sits in memory.
     const double badness = r.same_size ? (r.pass ? 0.0 : 1.0) + r.diff_ratio + (1 - r.ssim) : 2.0;
     if (o.out && badness > 0 && (worst.size() < 6 || badness > worst.rbegin()->first)) {
@@ -244,13 +283,14 @@ int cmd_diff(const std::vector<std::string>& args) {
     ha = A->next(ia, na, ta);
     hb = B->next(ib, nb, tb);
   }
+  flush();
   if (only_a || only_b)
     mismatches.push_back("frame count: " + std::to_string(compared + only_a) + " in A, " +
                          std::to_string(compared + only_b) + " in B");
   if (size_mismatch) mismatches.push_back(std::to_string(size_mismatch) + " frames differ in size");
 
   std::string summary = std::to_string(differing) + " of " + std::to_string(compared) + " frames differ";
-  if (compared) {
+  if (measured) {
     summary += "; worst PSNR " + (std::isinf(worst_psnr) ? std::string("inf") : fmt("%.2f", worst_psnr)) +
                " dB, worst SSIM " + fmt("%.6f", worst_ssim);
   }

@@ -65,4 +65,13 @@ bool same_pixels_expected(const Fingerprint& a, const Fingerprint& b) {
   return true;
 }
 
+bool same_rasterizer(const Fingerprint& a, const Fingerprint& b) {
+  const std::regex width(",? *[0-9]+ bits");
+  auto renderer = [&](const Fingerprint& f) {
+    return std::regex_replace(fingerprint_value(f, "gl_renderer"), width, "");
+  };
+  return renderer(a) == renderer(b) &&
+         fingerprint_value(a, "gl_version") == fingerprint_value(b, "gl_version");
+}
+
 }  // namespace simreel

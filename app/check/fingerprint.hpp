@@ -18,4 +18,11 @@ Fingerprint fingerprint(const std::string& description);
 // renderer, GL version and CPU features (the backend and simreel's version do not matter).
 bool same_pixels_expected(const Fingerprint& a, const Fingerprint& b);
 
+// Whether the two fingerprints name the same rasterizer: the same GL renderer and version, the
+// llvmpipe vector width left out ("llvmpipe (LLVM 15.0.6, 256 bits)" and "..., 128 bits)" are
+// one). Frames of the same rasterizer differ at most by noise the default portable tolerance
+// passes (measured: 128 and 256 bits drew byte-identical frames, app/regress/metrics.hpp);
+// another rasterizer or Mesa version needs CompareOptions::cross_renderer().
+bool same_rasterizer(const Fingerprint& a, const Fingerprint& b);
+
 }  // namespace simreel

@@ -161,7 +161,7 @@ std::vector<std::string> compare_states(const std::vector<BodyState>& golden,
     }
     if (worst < 0) return;
     out.push_back("body '" + body + "' " + what + "." + names[worst] + ": " + fmt(n[worst]) + " (golden " +
-                  fmt(g[worst]) + ", by " + fmt(n[worst] - g[worst]) + " " + unit + ")");
+                  fmt(g[worst]) + ", by " + fmt(n[worst] - g[worst]) + (*unit ? " " : "") + unit + ")");
   };
   for (const BodyState& g : golden) {
     const BodyState* n = nullptr;

@@ -69,8 +69,10 @@ std::string junit_xml(const std::string& suite, const std::vector<JunitCase>& ca
     }
     const std::string first = c.message.substr(0, c.message.find('\n'));
     o << ">\n      <" << c.outcome << " message=\"" << xml(first) << "\" type=\""
-      << (c.outcome == "failure" ? "difference" : "missing") << "\">" << xml(c.message) << "</" << c.outcome
-      << ">\n    </testcase>\n";
+      << xml(!c.type.empty()          ? c.type
+             : c.outcome == "failure" ? "difference"
+                                      : "missing")
+      << "\">" << xml(c.message) << "</" << c.outcome << ">\n    </testcase>\n";
   }
   o << "  </testsuite>\n</testsuites>\n";
   return o.str();

@@ -12,6 +12,7 @@ struct JunitCase {
   double seconds = 0;
   std::string outcome;  ///< "" passed, "failure" (a difference) or "error" (missing golden, bad input)
   std::string message;  ///< why, one line per reason
+  std::string type;     ///< the failure / error element's type; "" gives "difference" / "missing"
 };
 
 std::string junit_xml(const std::string& suite, const std::vector<JunitCase>& cases);

@@ -69,7 +69,11 @@ VideoFrames::VideoFrames(const std::string& path) : p_(std::make_unique<Impl>())
   P.pkt = av_packet_alloc();
   P.frame = av_frame_alloc();
   P.time_base = av_q2d(st->time_base);
-  P.start = st->start_time == AV_NOPTS_VALUE ? 0.0 : (double)st->start_time * P.time_base;
+  // Timestamps are the stream's own, so a partial render (render --frames 40:49, whose first
+  // frame is stamped 40 / fps) lines up with the same frames of a full one. Only formats whose
+  // clock starts anywhere (MPEG-TS: AVFMT_TS_DISCONT) count from their first timestamp.
+  if ((P.fmt->iformat->flags & AVFMT_TS_DISCONT) && st->start_time != AV_NOPTS_VALUE)
+    P.start = (double)st->start_time * P.time_base;
 }
 
 VideoFrames::~VideoFrames() = default;
@@ -107,7 +111,10 @@ bool VideoFrames::next(Image& out, double& time) {
 }
 
 double VideoFrames::fps() const {
+  // The base rate first: a partial render with gaps (render --frames 40:49,100) averages 5.4
+  // frames per second over its span, but it is a 30 fps video.
   const AVStream* st = p_->fmt->streams[p_->stream];
+  if (st->r_frame_rate.den && st->r_frame_rate.num > 0) return av_q2d(st->r_frame_rate);
   return st->avg_frame_rate.den ? av_q2d(st->avg_frame_rate) : 0.0;
 }
 int VideoFrames::width() const {

@@ -13,10 +13,12 @@ class VideoFrames {
   // Throws InputError naming the file if it cannot be opened or holds no video stream.
   explicit VideoFrames(const std::string& path);
   ~VideoFrames();
-  // The next frame and its presentation time in seconds from the stream's start; false at the end.
+  // The next frame and its presentation time in seconds (the stream's own timestamps: a clip of
+  // frames 40-49 at 30 fps starts at 1.333 s; MPEG-TS, whose clock starts anywhere, counts from its
+  // first frame); false at the end.
   // Throws InputError if the data is corrupt beyond the decoder's recovery.
   bool next(Image& out, double& time);
-  double fps() const;  ///< the stream's average frame rate, 0 if unknown
+  double fps() const;  ///< the stream's base frame rate (else its average), 0 if unknown
   int width() const;
   int height() const;
 

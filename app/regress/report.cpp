@@ -163,7 +163,9 @@ std::string figure(const std::string& caption, const Image& im, const std::strin
   return s + "</figure>";
 }
 
-std::string viewer(const ReportFrame& f, const Image& exp, const Image& act, const Image& dif) {
+std::string viewer(const ReportFrame& f, const Image& exp, const Image& act, const Image& dif,
+                   const ReportInput& in) {
+  const std::string el = html_escape(in.expected_label), al = html_escape(in.actual_label);
   const int fw = std::max({exp.w, act.w, dif.w}), fh = std::max({exp.h, act.h, dif.h});
   std::string s = "<div class=\"viewer\" data-view=\"side\" data-flips=\"0\">";
   s += "<div class=\"tabs seg\" role=\"tablist\">";
@@ -178,15 +180,15 @@ std::string viewer(const ReportFrame& f, const Image& exp, const Image& act, con
 
   // 1: side by side. These three <img> carry the data: URIs.
   s += "<div class=\"view\" data-view=\"side\"><div class=\"sbs\">";
-  s += figure("Expected (golden)", exp, "expected", "No golden image", fw, fh);
-  s += figure("Actual", act, "actual", "No actual image", fw, fh);
+  s += figure(el, exp, "expected", "No image: " + el, fw, fh);
+  s += figure(al, act, "actual", "No image: " + al, fw, fh);
   s += figure("Difference", dif, "diff", "No difference image", fw, fh);
   s += "</div></div>";
 
   // 2: slider and 3: blink, the actual image over the expected one on a stage big enough for both.
   const bool both = exp.present() && act.present();
   const int sw = std::max(exp.w, act.w), sh = std::max(exp.h, act.h);
-  const std::string need_both = "Needs both the golden and the actual image";
+  const std::string need_both = "Needs both images: " + el + " and " + al;
   s += "<div class=\"view\" data-view=\"slider\" hidden>";
   if (both) {
     s += "<div class=\"stage slider-stage\"" + stage_style(sw, sh) + ">" + layer(exp, sw, "expected", false);
@@ -195,8 +197,8 @@ std::string viewer(const ReportFrame& f, const Image& exp, const Image& act, con
     s += "<input class=\"range\" type=\"range\" min=\"0\" max=\"100\" step=\"0.1\" value=\"50\""
          " aria-label=\"Divider position\"" +
          stage_style(sw, sh) + ">";
-    s += "<p class=\"caption\">Drag across the image or the bar: actual on the left of the divider, expected "
-         "on the right</p>";
+    s += "<p class=\"caption\">Drag across the image or the bar: " + al + " on the left of the divider, " +
+         el + " on the right</p>";
   } else {
     s += placeholder(need_both, fw, fh);
   }
@@ -206,7 +208,9 @@ std::string viewer(const ReportFrame& f, const Image& exp, const Image& act, con
   if (both) {
     s += "<div class=\"stage blink-stage show-expected\"" + stage_style(sw, sh) + ">" +
          layer(exp, sw, "expected", false) + layer(act, sw, "actual", false) + "</div>";
-    s += "<div class=\"caption\"><span class=\"blink-label\">Expected (golden)</span>"
+    s += "<div class=\"caption\"><span class=\"blink-label\" data-expected=\"" + el + "\" data-actual=\"" +
+         al + "\">" + el +
+         "</span>"
          "<button class=\"flip\">Flip</button>"
          "<label><input class=\"blink-auto\" type=\"checkbox\" checked> Alternate every 500 ms</label></div>";
   } else {
@@ -256,7 +260,9 @@ std::string metrics(const ReportFrame& f) {
   s += "<td>" + grouped(f.differing) + "</td><td>" + ratio + "</td>";
   s += "<td>" + std::to_string(f.clusters.size()) + "</td>";
   s += "<td>" + grouped(f.largest_cluster) + " px</td><td>" + grouped(f.antialiased) + " px</td>";
-  s += "<td>" + num(f.psnr, "%.2f", " dB") + "</td><td>" + num(f.ssim, "%.4f", "") + "</td></tr></table>";
+  // SSIM near 1 with six digits: a small change (0.999982) must not read as 1.0000.
+  s += "<td>" + num(f.psnr, "%.2f", " dB") + "</td><td>" +
+       num(f.ssim, f.ssim >= 0.9999 && f.ssim < 1 ? "%.6f" : "%.4f", "") + "</td></tr></table>";
   return s;
 }
 
@@ -271,7 +277,13 @@ std::string attribution(const ReportFrame& f) {
     why = "the simulation matches the golden run; only the pixels differ";
   } else if (f.kind == "size") {
     what = "Image size changed";
-    why = "the frame's dimensions differ from the golden image";
+    why = "the two images have different sizes";
+  } else if (f.kind == "pixels") {  // simreel diff: two renders, no physics to blame
+    what = "Pixels differ";
+    why = "A and B differ in this frame";
+  } else if (f.kind == "count") {
+    what = "Frame on one side only";
+    why = "A and B do not both have this frame";
   } else if (!f.kind.empty()) {
     what = "Changed";
   }
@@ -287,7 +299,7 @@ std::string attribution(const ReportFrame& f) {
   return s + "</div>";
 }
 
-std::string card(const ReportFrame& f, size_t index) {
+std::string card(const ReportFrame& f, size_t index, const ReportInput& in) {
   const std::string id = "f" + std::to_string(index);
   Image exp{&f.expected_png, id + "-e", "", "expected", f.width, f.height};
   Image act{&f.actual_png, id + "-a", "", "actual", f.width, f.height};
@@ -319,7 +331,7 @@ std::string card(const ReportFrame& f, size_t index) {
   s += attribution(f);
   if (!std::isnan(f.diff_ratio) || !std::isnan(f.psnr) || !std::isnan(f.ssim)) s += metrics(f);
   if (exp.present() || act.present() || dif.present()) {
-    s += viewer(f, exp, act, dif);
+    s += viewer(f, exp, act, dif, in);
   } else {
     s += "<p class=\"note\">No images for this frame.</p>";
   }
@@ -411,7 +423,7 @@ std::string report_html(const ReportInput& in) {
       const ReportFrame& f = in.frames[i];
       if (rank(f.status) > 1) break;
       s += "<a href=\"#f" + std::to_string(i) + "\">" + html_escape(f.scene) +
-           (f.frame >= 0 ? " #" + std::to_string(f.frame) : " t=" + fmt("%g", f.time) + "s") + "</a>";
+           (f.frame >= 0 ? " #" + std::to_string(f.frame) : " t=" + fmt("%g", f.time) + "s") + "</a> ";
     }
     s += "</div>";
   }
@@ -442,7 +454,7 @@ std::string report_html(const ReportInput& in) {
       s += fmt("<h2>%s <span class=\"n\">(%d)</span></h2>\n", headings[r], count[r]);
     }
     for (; k < order.size() && rank(in.frames[order[k]].status) == r; ++k)
-      s += card(in.frames[order[k]], order[k]) + "\n";
+      s += card(in.frames[order[k]], order[k], in) + "\n";
     if (r == 3) s += "</details>\n";
   }
   if (in.frames.empty()) s += "<p class=\"empty\">No frames were compared.</p>\n";

@@ -20,7 +20,9 @@ struct ReportFrame {
   double time = 0;    // s
   // "pass", "fail", "new" (golden written), "missing" (no golden, not written), "updated"
   std::string status;
-  std::string kind;                   // "" | "physics" | "rendering" | "size" : what changed
+  // What changed: "" | "physics" | "rendering" | "size" (check) | "pixels" | "count" (diff: a
+  // frame of only one side).
+  std::string kind;
   std::vector<std::string> messages;  // e.g. "physics changed: body 'ball' position x by 0.05 m (rel 3.2e-2)"
   // Metrics. The doubles are NaN when not computed (no golden to compare with); the page then shows
   // no metrics table. The counts are shown only when diff_ratio is computed.
@@ -46,6 +48,8 @@ struct ReportInput {
   std::vector<std::pair<std::string, std::string>> golden_fingerprint, actual_fingerprint;
   std::vector<ReportFrame> frames;
   std::string summary;  // one line, e.g. "3 of 15 frames differ (2 physics, 1 rendering)"
+  // What the two images are called on the cards (simreel diff: "A: old.mp4", "B: new.mp4").
+  std::string expected_label = "Expected (golden)", actual_label = "Actual";
 };
 
 // The whole page as a string (write_report writes this).

@@ -117,7 +117,8 @@ h2, .card { scroll-margin-top: 56px; }  /* anchors land below the sticky toolbar
 .attrib .why { color: var(--muted); font-size: 13px; margin-left: 6px; }
 .attrib.k-physics { background: #fff5e6; border-color: #f0d2a3; }
 .attrib.k-rendering { background: #eaf1fc; border-color: #bfd3f2; }
-.attrib.k-size { background: #f2edfb; border-color: #d5c7f0; }
+.attrib.k-size, .attrib.k-count { background: #f2edfb; border-color: #d5c7f0; }
+.attrib.k-pixels { background: #eaf1fc; border-color: #bfd3f2; }
 .attrib ul { margin: 4px 0 0; padding-left: 18px; }
 .attrib li { font-family: ui-monospace, SFMono-Regular, Menlo, Consolas, "DejaVu Sans Mono", monospace;
              font-size: 12.5px; overflow-wrap: anywhere; }
@@ -228,7 +229,8 @@ inline constexpr const char* kJs = R"js(
     var s = v.querySelector('.blink-stage');
     if (!s) return;
     s.classList.toggle('show-expected', expected);
-    v.querySelector('.blink-label').textContent = expected ? 'Expected (golden)' : 'Actual';
+    var l = v.querySelector('.blink-label');
+    l.textContent = l.getAttribute(expected ? 'data-expected' : 'data-actual');
     v.setAttribute('data-flips', String(+v.getAttribute('data-flips') + 1));
   }
   function flip(v) {

@@ -113,6 +113,110 @@ TEST(Check, GoldensWrittenThenCheckedCleanThenChangesCaught) {
   EXPECT_EQ(r.code, 0) << r.out;
 }
 
+// llvmpipe's vector width (128 or 256 bits: the CPU, or LP_NATIVE_VECTOR_WIDTH) changes the
+// fingerprint, so pixels are compared portably; but it is the same rasterizer, measured drawing
+// byte-identical frames, so the tight default tolerance applies, not the cross-renderer one that
+// misses small colour changes. A green +0.03 on the box is caught.
+TEST(Check, VectorWidthAloneKeepsTheTightPortableTolerance) {
+  const fs::path base = simreel::test::scratch_dir();
+  const std::string goldens = (base / "goldens").string();
+  const std::string scene = write_scene(base / "a", scene_text());
+  Result r = simreel::test::run("check " + scene + " --goldens " + goldens + " --update missing",
+                                "-u CI LP_NATIVE_VECTOR_WIDTH=128");
+  ASSERT_EQ(r.code, 0) << r.out;
+  ASSERT_NE(slurp(fs::path(goldens) / "drop" / "manifest.json").find("128 bits"), std::string::npos)
+      << "llvmpipe should report its vector width in GL_RENDERER";
+  r = simreel::test::run("check " + scene + " --goldens " + goldens + " --update none",
+                         "-u CI LP_NATIVE_VECTOR_WIDTH=256");
+  EXPECT_EQ(r.code, 0) << "the same scene under the other width passes\n" << r.out;
+  const std::string greener = write_scene(base / "g", scene_text("0.5", "[0.8, 0.33, 0.2]"));
+  r = simreel::test::run("check " + greener + " --goldens " + goldens + " --update none",
+                         "-u CI LP_NATIVE_VECTOR_WIDTH=256");
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_NE(r.out.find("rendering changed (portable)"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("across renderers"), std::string::npos) << r.out;
+}
+
+// Scenes that cannot be checked are errors in the JUnit file and cards in the report, beside the
+// frames that were checked; the exit code is 2.
+TEST(Check, UncheckableScenesAreReportedInJunitAndReport) {
+  const fs::path base = simreel::test::scratch_dir();
+  const std::string goldens = (base / "goldens").string();
+  const std::string scene = write_scene(base / "a", scene_text());
+  const std::string twin = write_scene(base / "b", scene_text());  // the same name: one golden folder
+  ASSERT_EQ(run("check " + scene + " --goldens " + goldens + " --update missing --quiet").code, 0);
+  const std::string junit = (base / "j.xml").string(), report = (base / "r").string();
+  const Result r = run("check " + scene + " " + twin + " --goldens " + goldens + " --update none --junit " +
+                       junit + " --report " + report);
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("1 scene could not be checked"), std::string::npos) << r.out;
+  const std::string xml = slurp(junit);
+  EXPECT_NE(xml.find("tests=\"6\""), std::string::npos) << xml;
+  EXPECT_NE(xml.find("errors=\"1\""), std::string::npos) << xml;
+  EXPECT_NE(xml.find("<error message=\"" + twin + ": another scene named &apos;drop&apos;"),
+            std::string::npos)
+      << xml;
+  EXPECT_NE(xml.find("type=\"bad input\""), std::string::npos) << xml;
+  const std::string page = slurp(fs::path(report) / "index.html");
+  EXPECT_NE(page.find("could not be checked: " + twin), std::string::npos);
+}
+
+// chromium for the browser test: $SIMREEL_CHROMIUM, else chromium or chromium-browser on PATH.
+std::string find_chromium() {
+  if (const char* e = std::getenv("SIMREEL_CHROMIUM"); e && *e) return e;
+  const char* path = std::getenv("PATH");
+  std::stringstream dirs(path ? path : "");
+  for (std::string dir; std::getline(dirs, dir, ':');)
+    for (const char* name : {"chromium", "chromium-browser"})
+      if (!dir.empty() && fs::exists(fs::path(dir) / name)) return (fs::path(dir) / name).string();
+  return "";
+}
+
+// The page's own self-test (app/regress/report_page.hpp: images decoded, views, slider, blink,
+// heat map boxes) run in headless chromium on a page written by check or diff; its result line.
+std::string browser_selftest(const fs::path& page, const fs::path& work) {
+  const std::string cmd = "timeout 90 '" + find_chromium() +
+                          "' --headless=new --no-sandbox --disable-gpu --no-first-run --disable-extensions "
+                          "--disable-dev-shm-usage --user-data-dir='" +
+                          (work / "profile").string() + "' --virtual-time-budget=5000 --dump-dom 'file://" +
+                          fs::absolute(page).string() + "#selftest' 2>/dev/null";
+  FILE* p = popen(cmd.c_str(), "r");
+  std::string dom;
+  char buf[65536];
+  for (size_t n; p && (n = fread(buf, 1, sizeof buf, p)) > 0;) dom.append(buf, n);
+  if (p) pclose(p);
+  const size_t b = dom.find("id=\"selftest-result\"");
+  if (b == std::string::npos) return "no #selftest-result in the DOM";
+  const size_t t = dom.find('>', b) + 1;
+  return dom.substr(t, dom.find('<', t) - t);
+}
+
+// The synthetic page is tested in tests/app/report_test.cpp; here the pages check and diff write
+// for a real failure (a colour change: expected, actual, diff image, clusters) pass the same test.
+TEST(Check, RealReportsPassTheBrowserSelfTest) {
+  if (find_chromium().empty()) GTEST_SKIP() << "chromium not found (.ci/setup installs it)";
+  const fs::path base = simreel::test::scratch_dir();
+  const std::string goldens = (base / "goldens").string();
+  const std::string scene = write_scene(base / "a", scene_text());
+  const std::string recolored = write_scene(base / "color", scene_text("0.5", "[0.2, 0.3, 0.8]"));
+  ASSERT_EQ(run("check " + scene + " --goldens " + goldens + " --update missing --quiet").code, 0);
+  const fs::path check_report = base / "check_report";
+  Result r = run("check " + recolored + " --goldens " + goldens + " --update none --quiet --report " +
+                 check_report.string());
+  ASSERT_EQ(r.code, 1) << r.out;
+  std::string result = browser_selftest(check_report / "index.html", base / "c");
+  EXPECT_EQ(result.rfind("SELFTEST PASS (", 0), 0u) << result;
+
+  const fs::path fa = base / "fa", fb = base / "fb", diff_report = base / "diff_report";
+  ASSERT_EQ(run("render " + scene + " --no-video --quiet --frames 0:4 --frames-dir " + fa.string()).code, 0);
+  ASSERT_EQ(run("render " + recolored + " --no-video --quiet --frames 2:6 --frames-dir " + fb.string()).code,
+            0);
+  r = run("diff " + fa.string() + " " + fb.string() + " --quiet --out " + diff_report.string());
+  ASSERT_EQ(r.code, 1) << r.out;
+  result = browser_selftest(diff_report / "index.html", base / "d");
+  EXPECT_EQ(result.rfind("SELFTEST PASS (", 0), 0u) << result;
+}
+
 TEST(Check, BadInputExitsWith2) {
   const fs::path base = simreel::test::scratch_dir();
   const std::string scene = write_scene(base / "a", scene_text());
@@ -172,6 +276,29 @@ TEST(Diff, PngsFoldersAndVideos) {
   EXPECT_NE(r.out.find("frame count: 51 in A, 26 in B"), std::string::npos) << r.out;
   // A video against its own PNG frames: lossy H.264 against the exact frames, within the portable tolerance?
   // Not asserted: H.264 at CRF 20 is not noise-free. Bad input is exit 2.
+  // A partial render is aligned by its timestamps: frames 10-14 of a lossless video (--crf 0)
+  // are frames 10-14 of the full one, exactly; the frames before and after are runs only in A,
+  // and the gap does not make a frame-rate mismatch.
+  const std::string lf = (base / "lf.mp4").string(), lp = (base / "lp.mp4").string();
+  ASSERT_EQ(run("render " + a + " --quiet --crf 0 -o " + lf).code, 0);
+  ASSERT_EQ(run("render " + a + " --quiet --crf 0 --frames 10:14,40 -o " + lp).code, 0);
+  r = run("diff " + lf + " " + lp + " --tolerance exact");
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_NE(r.out.find("0 of 6 frames differ"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("t=0.400s                 same"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("t=0.000s .. t=0.360s     only in A (10 frames)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("frame count: 51 in A, 6 in B"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("frame rate"), std::string::npos) << r.out;
+  // Frames of different sizes: said, with no metrics of pixels never compared.
+  const fs::path small = base / "small";
+  ASSERT_EQ(run("render " + a + " --no-video --quiet --width 200 --height 100 --frames 30 --frames-dir " +
+                small.string())
+                .code,
+            0);
+  r = run("diff " + (fa / "frame_00030.png").string() + " " + (small / "frame_00030.png").string());
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_NE(r.out.find("DIFF  size differs"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("PSNR"), std::string::npos) << r.out;
   EXPECT_EQ(run("diff " + va + " " + (base / "nothing.mp4").string()).code, 2);
   std::ofstream(base / "junk.mp4") << "not a video";
   EXPECT_EQ(run("diff " + va + " " + (base / "junk.mp4").string()).code, 2);

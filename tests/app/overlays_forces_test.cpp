@@ -179,5 +179,32 @@ TEST(OverlaysForces, SpringsRunFromEndToEndAndAreDrawnOnce) {
   EXPECT_LT((centre(2 * 17 * 6 - 4, 2 * 17 * 6 - 1) - Vec3(1, 0, 2)).norm(), 1e-5);
 }
 
+// `springs: line` draws each spring as one straight segment from end to end (strings).
+TEST(OverlaysForces, SpringsAsLinesAreOneSegmentFromEndToEnd) {
+  const std::string path =
+      write_scene("spring_lines.yaml",
+                  "simulation: { duration: 1, timestep: 0.005, gravity: [0, 0, 0] }\n"
+                  "video: { width: 64, height: 48 }\n"
+                  "bodies:\n"
+                  "  - { name: b, position: [1, 0, 0], colliders: [ { shape: sphere, radius: 0.1 } ], show: "
+                  "[ { forces: { springs: line, arrows: false } } ] }\n"
+                  "forces:\n"
+                  "  - { type: spring, body: b, anchor: [1, 0, 2], stiffness: 5 }\n");
+  Drawn d(path);
+  d.draw_frame(7);
+  const World& w = d.loop->world();
+  DrawList dl;
+  dl.camera = d.view->camera;
+  d.view->overlays->build(w, 7, dl);
+  const auto& v = dl.overlay.ribbons;
+  ASSERT_EQ(v.size(), 6u);  // one quad
+  auto centre = [&](size_t a, size_t b) {
+    return Vec3((v[a].pos[0] + v[b].pos[0]) / 2, (v[a].pos[1] + v[b].pos[1]) / 2,
+                (v[a].pos[2] + v[b].pos[2]) / 2);
+  };
+  EXPECT_LT((centre(0, 1) - w.centroid(0)).norm(), 1e-5);
+  EXPECT_LT((centre(2, 5) - Vec3(1, 0, 2)).norm(), 1e-5);
+}
+
 }  // namespace
 }  // namespace simreel

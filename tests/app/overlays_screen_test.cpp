@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 
 #include "app/overlays.hpp"
 #include "tests/app/overlay_fixtures.hpp"
@@ -158,6 +159,39 @@ TEST(OverlaysScreen, PlotsCarryTheRunsValues) {
   EXPECT_LT(p.layout().v0, 0.0);  // position.x from 0 ...
   EXPECT_GT(p.layout().v1, 5.0);  // ... to 5 m
   EXPECT_EQ(p.layout().labels, (std::vector<std::string>{"\\omega_3", "|L|", "x"}));
+}
+
+// `tilt`: a body's z axis from the world's +z, in degrees; a box turning about x at 1 rad/s has
+// tilted by t rad. A number: a component or |...| of it is an error.
+TEST(OverlaysScreen, TiltIsTheAngleOfTheBodyAxisFromTheVertical) {
+  Drawn d(write_scene("tilt.yaml",
+                      "simulation: { duration: 2, gravity: [0, 0, 0] }\n"
+                      "video: { width: 480, height: 270, fps: 10 }\n"
+                      "bodies:\n"
+                      "  - { name: b, angular_velocity: [1, 0, 0],\n"
+                      "      colliders: [ { shape: box, size: [0.5, 0.5, 0.5] } ] }\n"
+                      "overlays:\n"
+                      "  hud: ['{b.tilt:.4f}']\n"
+                      "  plots: [ { quantities: [tilt] } ]\n"));
+  const SceneOverlays& o = *d.view->overlays;
+  const std::vector<double>& t = o.plot_times(0);
+  ASSERT_GT(t.size(), 100u);
+  for (size_t k = 0; k < t.size(); k += 10)
+    EXPECT_NEAR(o.plot_values(0, 0)[k], t[k] * 180 / std::numbers::pi, 1e-3) << t[k];
+  EXPECT_EQ(o.plot(0).layout().labels, (std::vector<std::string>{"\\theta"}));
+  std::string line;
+  d.draw_frame(10);
+  format_hud_line(d.scene.overlays.hud[0], d.loop->world(), 10, 0, Vec3::Zero(), line, 10);
+  EXPECT_EQ(line, "57.2958");  // 1 s: 1 rad
+  try {
+    load_scene(write_scene("tilt_bad.yaml",
+                           "simulation: { duration: 2 }\nbodies:\n"
+                           "  - { name: b, colliders: [ { shape: sphere, radius: 1 } ] }\n"
+                           "overlays: { hud: ['{b.tilt.x}'] }\n"));
+    ADD_FAILURE() << "tilt.x was accepted";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("'tilt' is a number"), std::string::npos) << e.what();
+  }
 }
 
 TEST(OverlaysScreen, TheWholeLayerIsCrispAfterFxaa) {

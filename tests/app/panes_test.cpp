@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 
@@ -191,6 +192,32 @@ panes:
     EXPECT_LE(ride, area / 50) << "frame " << k << ": the riding pane's silhouette moved";
     EXPECT_GT(world, area0 / 5) << "frame " << k << ": the world pane should see it tumble";
   }
+}
+
+// A pane's own `show:`: the pane that hides the handle's arrows is, pixel for pixel, the pane of a
+// scene without them; the pane that keeps them is not (and a pane that adds axes differs from both).
+TEST(Panes, APaneShowsItsOwnItems) {
+  const std::string arrows = "    show: [angular_momentum, angular_velocity]\n";
+  const std::string panes = "panes:\n  - { title: a }\n  - { title: b, show: { handle: [] } }\n";
+  Frames with(std::string(kHandle) + arrows + panes);
+  Frames without(std::string(kHandle) + panes);
+  Frames axes(std::string(kHandle) +
+              "panes:\n  - { title: a }\n  - { title: b, show: { handle: [axes] } }\n");
+  const long k = 40;
+  const auto a = with.draw({k}).at(k), b = without.draw({k}).at(k), c = axes.draw({k}).at(k);
+  const int W = with.frames->width(), H = with.frames->height();
+  const std::vector<PaneRect> r = layout_panes(2, 0, W, H, 0);
+  auto differing = [&](const std::vector<uint8_t>& x, const std::vector<uint8_t>& y, int pane) {
+    long n = 0;
+    for (int yy = r[pane].y0; yy < r[pane].y0 + r[pane].height; ++yy)
+      for (int xx = r[pane].x0; xx < r[pane].x0 + r[pane].width; ++xx)
+        n += std::memcmp(&x[((size_t)yy * W + xx) * 4], &y[((size_t)yy * W + xx) * 4], 4) != 0;
+    return n;
+  };
+  EXPECT_EQ(differing(a, b, 1), 0) << "the pane hiding the arrows";
+  EXPECT_GT(differing(a, b, 0), 100) << "the pane keeping the scene's arrows";
+  EXPECT_GT(differing(c, b, 1), 100) << "the pane adding axes";
+  EXPECT_EQ(differing(c, b, 0), 0) << "the other pane is the scene's (no items)";
 }
 
 TEST(Panes, AVariantPaneShowsItsOwnRunAndGhostsShowTheDrift) {

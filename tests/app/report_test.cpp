@@ -343,9 +343,35 @@ TEST(ReportPage, CardsAttributeAndMeasure) {
   EXPECT_NE(pass.find("&infin; dB"), std::string::npos);
   EXPECT_NE(pass.find("badge st-pass"), std::string::npos);
   EXPECT_EQ(added.find("class=\"metrics\""), std::string::npos);  // NaN metrics: no table
-  EXPECT_NE(added.find("No golden image"), std::string::npos);
+  EXPECT_NE(added.find("No image: Expected (golden)"), std::string::npos);
   EXPECT_NE(updated.find("No images for this frame"), std::string::npos);
   EXPECT_EQ(updated.find("class=\"viewer\""), std::string::npos);
+}
+
+// simreel diff's kinds: two renders compared have no physics to blame, and a frame of one side
+// only is no size change; its images are A and B, not golden and actual. The jump links can wrap
+// (a space between them).
+TEST(ReportPage, DiffKindsAndJumpLinks) {
+  ReportInput in;
+  for (const char* kind : {"pixels", "count", "pixels"}) {
+    ReportFrame f;
+    f.scene = std::string("t=1.000s ") + kind;
+    f.status = "fail";
+    f.kind = kind;
+    in.frames.push_back(f);
+  }
+  in.frames[2].expected_png = in.frames[2].actual_png = encode_png(scene_image(16, 9, 4, 4));
+  in.expected_label = "A: old <1>.mp4";
+  in.actual_label = "B: new.mp4";
+  const std::string html = simreel::report_html(in);
+  EXPECT_NE(card(html, 2).find("<figcaption>A: old &lt;1&gt;.mp4</figcaption>"), std::string::npos);
+  EXPECT_NE(card(html, 2).find("data-actual=\"B: new.mp4\""), std::string::npos);
+  EXPECT_EQ(card(html, 2).find("golden"), std::string::npos);
+  EXPECT_NE(card(html, 0).find("Pixels differ"), std::string::npos);
+  EXPECT_EQ(card(html, 0).find("simulation"), std::string::npos);
+  EXPECT_NE(card(html, 1).find("Frame on one side only"), std::string::npos);
+  EXPECT_EQ(card(html, 1).find("size"), std::string::npos);
+  EXPECT_NE(html.find("#0</a> <a href=\"#f1\">"), std::string::npos);
 }
 
 TEST(ReportPage, FingerprintsSideBySide) {

@@ -165,6 +165,15 @@ TEST(SceneOverlays, ForcesContactsCaptionsLabelsLegendAndPlotsLoad) {
   EXPECT_TRUE(items[1].at_tip);
   EXPECT_EQ(*items[1].torque_scale, 0.2);
   EXPECT_FALSE(items[1].springs);
+  EXPECT_FALSE(items[1].spring_lines);
+  // `springs: line`: straight lines (strings); anything else but a bool is an error naming it.
+  const Scene lines = load_scene(
+      write_scene("lines.yaml", std::string(kHead) + "    show: [ { forces: { springs: line } } ]\n"));
+  EXPECT_TRUE(lines.overlays.show[0][0].springs);
+  EXPECT_TRUE(lines.overlays.show[0][0].spring_lines);
+  EXPECT_NE(error_of(std::string(kHead) + "    show: [ { forces: { springs: coils } } ]\n")
+                .find("springs: expected true, false or line"),
+            std::string::npos);
   EXPECT_EQ(items[2].kind, ShowKind::contacts);
   EXPECT_FALSE(items[2].normals);
   EXPECT_TRUE(items[2].points);

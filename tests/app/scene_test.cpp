@@ -405,7 +405,7 @@ TEST(Scene, ContactSettings) {
       "cs.yaml",
       "simulation:\n  contacts: { substeps: 8, iterations: 2, contact_hertz: 60, damping_ratio: 5,\n"
       "    max_push_out: 1, restitution_threshold: 0.5, speculative_distance: 0.01, linear_slop: 0.001,\n"
-      "    rolling_resistance: 0.02 }\nbodies:\n  - name: a\n" +
+      "    rolling_resistance: 0.02, slip_speed: 0.01 }\nbodies:\n  - name: a\n" +
           std::string(kBox)));
   EXPECT_EQ(s.contacts.substeps, 8);
   EXPECT_EQ(s.contacts.iterations, 2);
@@ -419,6 +419,7 @@ TEST(Scene, ContactSettings) {
   const WorldConfig wc = world_config(s, 1);
   EXPECT_EQ(wc.contacts.substeps, 8);
   EXPECT_EQ(wc.contacts.rolling_resistance, 0.02);
+  EXPECT_EQ(wc.contacts.slip_speed, 0.01);
   const Scene d = load_scene(write_scene("cs2.yaml", "bodies:\n  - name: a\n" + std::string(kBox)));
   EXPECT_EQ(d.contacts.substeps, ContactSettings{}.substeps);  // defaults untouched
 
@@ -433,6 +434,8 @@ TEST(Scene, ContactSettings) {
              "simulation.contacts.damping_ratio: must not be negative");
   EXPECT_HAS(error_of("simulation:\n  contacts: { speculative_distance: -0.1 }\n" + b),
              "simulation.contacts.speculative_distance: must not be negative");
+  EXPECT_HAS(error_of("simulation:\n  contacts: { slip_speed: -0.01 }\n" + b),
+             "simulation.contacts.slip_speed: must not be negative");
   EXPECT_HAS(error_of("simulation:\n  contacts: { substep: 4 }\n" + b),
              "simulation.contacts.substep: unknown key 'substep'; did you mean 'substeps'?");
 }

@@ -56,6 +56,28 @@ panes:
   EXPECT_DOUBLE_EQ(v.timestep, s.timestep);
 }
 
+TEST(SceneViews, APaneMayShowItsOwnItems) {
+  const Scene s = load(std::string("bodies:") + kHandle + R"(
+    show: [angular_momentum]
+panes:
+  - { title: "space" }
+  - { title: "body", show: { handle: [axes, { trail: { point: [0, 0, 0.5], length: 1 } }] } }
+  - { title: "bare", show: { handle: [] } }
+)");
+  ASSERT_EQ(s.views.panes.size(), 3u);
+  EXPECT_TRUE(s.views.panes[0].show.empty()) << "the scene's items";
+  ASSERT_EQ(s.views.panes[1].show.size(), 1u);
+  EXPECT_EQ(s.views.panes[1].show[0].first, 0);
+  ASSERT_EQ(s.views.panes[1].show[0].second.size(), 2u);
+  EXPECT_EQ(s.views.panes[1].show[0].second[0].kind, ShowKind::axes);
+  EXPECT_EQ(s.views.panes[1].show[0].second[1].kind, ShowKind::trail);
+  EXPECT_DOUBLE_EQ(s.views.panes[1].show[0].second[1].length, 1.0);
+  ASSERT_EQ(s.views.panes[2].show.size(), 1u);
+  EXPECT_TRUE(s.views.panes[2].show[0].second.empty());
+  ASSERT_EQ(s.overlays.show[0].size(), 1u);
+  EXPECT_EQ(s.overlays.show[0][0].kind, ShowKind::angular_momentum);
+}
+
 TEST(SceneViews, VariantsAloneMakeOnePaneEach) {
   const Scene s = load(std::string("bodies:") + kHandle + "variants: [{ name: seed, integrator: seed }]\n");
   ASSERT_EQ(s.views.panes.size(), 2u);
@@ -88,6 +110,11 @@ TEST(SceneViews, MistakesNameTheKey) {
            {b + "panes: []\n", "expected a list of panes"},
            {b + "panes: [{ titel: a }]\n", "did you mean 'title'"},
            {"camera: { frame: { body: nobody } }\n" + b, "camera.frame.body"},
+           {b + "panes: [{ show: { handel: [axes] } }]\n",
+            "panes[0].show: no body is named 'handel'; did you mean 'handle'?"},
+           {b + "panes: [{ show: [axes] }]\n", "panes[0].show: expected a mapping of body names"},
+           {b + "panes: [{ show: { handle: [axis] } }]\n", "panes[0].show.handle[0]: unknown item 'axis'"},
+           {b + "panes: [{ show: { handle: axes } }]\n", "panes[0].show.handle: expected a list of items"},
        }) {
     const std::string e = error_of(x.yaml);
     EXPECT_NE(e.find(x.says), std::string::npos) << "error: '" << e << "' for\n" << x.yaml;
