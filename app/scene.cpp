@@ -595,7 +595,7 @@ struct Loader {
     check_keys(n, c,
                {"name", "position", "orientation", "euler", "axis_angle", "linear_velocity",
                 "angular_velocity", "angular_velocity_body", "type", "static", "color", "integrator",
-                "colliders", "show", "ghost", "mass_properties"});
+                "colliders", "show", "ghost", "mass_properties", "bullet"});
     BodyDef b;
     b.name = n["name"] ? text(n["name"], c.child("name")) : "body" + std::to_string(i);
     if (n["position"]) b.p_WB = vec<3>(n["position"], c.child("position"));
@@ -642,6 +642,7 @@ struct Loader {
     }
     if (n["color"]) look.color = color(n["color"], c.child("color"));
     if (n["integrator"]) b.integrator = integrator(n["integrator"], c.child("integrator"));
+    if (n["bullet"]) b.bullet = boolean(n["bullet"], c.child("bullet"));  // swept every step (sim/README.md)
     if (n["ghost"]) look.ghost = parse_ghost(n["ghost"], c.child("ghost"));
     const YAML::Node cols = n["colliders"];
     if (!cols) c.fail(n, "body '" + b.name + "' needs 'colliders' (a list of shapes)");
@@ -739,7 +740,7 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
       check_keys(k, kc,
                  {"substeps", "iterations", "contact_hertz", "damping_ratio", "max_push_out",
                   "restitution_threshold", "speculative_distance", "linear_slop", "rolling_resistance",
-                  "slip_speed", "sleep_speed", "sleep_time"});
+                  "slip_speed", "sleep_speed", "sleep_time", "continuous"});
       ContactSettings& cs = s.contacts;
       if (k["substeps"]) cs.substeps = whole(k["substeps"], kc.child("substeps"), 0, 1000);  // 0: automatic
       if (k["iterations"]) cs.iterations = whole(k["iterations"], kc.child("iterations"), 1, 1000);
@@ -757,6 +758,7 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
       if (k["slip_speed"]) cs.slip_speed = non_negative(k["slip_speed"], kc.child("slip_speed"));
       if (k["sleep_speed"]) cs.sleep_speed = non_negative(k["sleep_speed"], kc.child("sleep_speed"));
       if (k["sleep_time"]) cs.sleep_time = non_negative(k["sleep_time"], kc.child("sleep_time"));
+      if (k["continuous"]) cs.continuous = boolean(k["continuous"], kc.child("continuous"));
     }
     if (sim["duration"]) s.duration = positive(sim["duration"], c.child("duration"));
     if (sim["timestep"]) s.timestep = positive(sim["timestep"], c.child("timestep"));

@@ -173,8 +173,8 @@ __attribute__((flatten)) void ContactSolver::prepare(const SolverInput& in, cons
     // rocking at 0.3 m/s, measured; Box3D uses the plain centre too.)
     Vec3 centreA = Vec3::Zero(), centreB = Vec3::Zero();
     for (int j = 0; j < c.count; ++j) {
-      centreA += c.points[j].p_W - (0.5 * c.points[j].separation) * k.n;
-      centreB += c.points[j].p_W + (0.5 * c.points[j].separation) * k.n;
+      centreA += c.points[j].p_W - (0.5 * c.points[j].separation) * k.n - 0.5 * c.points[j].offset_W;
+      centreB += c.points[j].p_W + (0.5 * c.points[j].separation) * k.n + 0.5 * c.points[j].offset_W;
     }
     centreA /= c.count;
     centreB /= c.count;
@@ -182,8 +182,8 @@ __attribute__((flatten)) void ContactSolver::prepare(const SolverInput& in, cons
     for (int j = 0; j < c.count; ++j) {
       const ContactPoint& cp = c.points[j];
       ConstraintPoint& p = k.p[j];
-      p.rA = cp.p_W - (0.5 * cp.separation) * k.n - xA;
-      p.rB = cp.p_W + (0.5 * cp.separation) * k.n - xB;
+      p.rA = cp.p_W - (0.5 * cp.separation) * k.n - 0.5 * cp.offset_W - xA;
+      p.rB = cp.p_W + (0.5 * cp.separation) * k.n + 0.5 * cp.offset_W - xB;
       p.rnA = p.rA.cross(k.n);
       p.rnB = p.rB.cross(k.n);
       p.IrnA = A.inv_I * p.rnA;

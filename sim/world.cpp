@@ -26,6 +26,7 @@ const char* to_string(Stage s) {
                                       "store_impulses",
                                       "integrate",
                                       "check",
+                                      "continuous",
                                       "sleep",
                                       "clear",
                                       "derived"};
@@ -207,6 +208,7 @@ World::World(const WorldConfig& config, std::vector<BodyDef> bodies)
   init_forces();  // before init_contacts: it takes bodies under forces out of groups_
   init_contacts();
   init_sleep();  // after init_contacts: needs the shapes
+  init_continuous();
   check_spin();
 }
 
@@ -229,6 +231,7 @@ void World::step() {
   }
   bool finite = true;
   bool solved = false;
+  if (ccd_enabled_) save_start_poses();  // the sweeps' start (sim/world_ccd.cpp)
   if (collide_enabled_) {
     {
       Timer t(profiling_, &sec[(int)Stage::update_broad_phase]);
@@ -259,6 +262,16 @@ void World::step() {
   runs[(int)Stage::integrate]++;
   runs[(int)Stage::check]++;
   if (!kinematic_.empty()) stage_kinematic();
+  if (ccd_enabled_ && finite) {
+    bool ran;
+    {
+      Timer t(profiling_, &sec[(int)Stage::continuous]);
+      ran = stage_continuous();
+    }
+    (ran ? runs : skipped)[(int)Stage::continuous]++;
+  } else {
+    skipped[(int)Stage::continuous]++;
+  }
   if (sleep_enabled_) {
     Timer t(profiling_, &sec[(int)Stage::sleep]);
     stage_sleep();

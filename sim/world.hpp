@@ -32,6 +32,7 @@
 
 #include "sim/body.hpp"
 #include "sim/broad_phase.hpp"
+#include "sim/ccd.hpp"
 #include "sim/contact.hpp"
 #include "sim/contact_settings.hpp"
 #include "sim/contact_solver.hpp"
@@ -74,6 +75,7 @@ enum class Stage {
   store_impulses,
   integrate,
   check,
+  continuous,
   sleep,
   clear,
   derived,
@@ -98,6 +100,9 @@ struct Profile {
   long contact_points = 0;    ///< manifold points, summed over steps
   long solver_bodies = 0;     ///< bodies stepped by the contact solver, summed over steps
   long impact_substeps = 0;   ///< substeps with an impact (one more sweep: kImpactSpeed)
+  long swept_bodies = 0;      ///< fast or bullet bodies swept by the continuous stage, summed over steps
+  long toi_pairs = 0;         ///< shape pairs whose time of impact was computed, summed over steps
+  long toi_hits = 0;          ///< swept bodies moved back to their time of impact, summed over steps
 };
 
 // What contact did over the run (simulate --json).
@@ -220,6 +225,12 @@ class World {
   void stage_kinematic();
   void init_sleep();
   void stage_sleep();
+  void init_continuous();
+  void save_start_poses();
+  bool stage_continuous();  ///< false: nothing was fast
+  bool fast_pair(int a, int b, double closing) const;
+  int collide_ahead(int a, int b, const Pose& xa, const Pose& xb, double speculative, double closing,
+                    PairCache& cache, Manifold& m, Vec3 offset[4]);
   bool inert(int i) const;  ///< static, asleep, or kinematic at rest: neither moves nor wakes
   void stage_clear();
   template <typename F>
@@ -308,6 +319,26 @@ class World {
   std::vector<int> kinematic_;
   ContactSolver solver_;
   ContactStats contact_stats_;
+
+  // ---- Continuous collision (sim/world_ccd.cpp, sim/ccd.hpp). Scratch only: nothing here
+  // outlives a step, so a saved state needs none of it.
+  bool ccd_enabled_ = false;
+  std::vector<int> ccd_movers_;      ///< dynamic and kinematic bodies, ascending
+  std::vector<Vec3> x0_;             ///< per body: centre of mass at the step's start
+  std::vector<Quat> q0_;             ///< per body: orientation at the step's start
+  std::vector<double> min_size_;     ///< per body: m, smallest width of its shapes
+  std::vector<double> body_reach_;   ///< per body: m, farthest shape point from the centre of mass
+  std::vector<double> shape_reach_;  ///< per shape: m, the same for the shape alone
+  std::vector<double> shape_width_;  ///< per shape: m, its smallest width (min_width; planes: infinite)
+  std::vector<int> shape_begin_;     ///< per body: its first shape (shapes are in body order); +1: end
+  std::vector<char> shape_swept_;    ///< per shape: swept this step
+  std::vector<char> bullet_;         ///< per body: dynamic and flagged `bullet`
+  std::vector<double> toi_;          ///< per body: earliest time of impact this step (fraction)
+  std::vector<Sweep> sweeps_;        ///< per body, this step
+  std::vector<int> fast_;            ///< swept bodies this step, ascending
+  std::vector<Aabb> swept_boxes_;    ///< per shape: its box over the whole step
+  std::vector<int> ccd_order_;       ///< sweep_shapes_ sorted by swept box lo.x
+  std::vector<uint64_t> ccd_pairs_;  ///< shape pairs (a << 32 | b) to sweep, this step
 };
 
 }  // namespace simreel

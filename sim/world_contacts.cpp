@@ -198,10 +198,13 @@ void World::stage_collide() {
     const double reach_b = (B.p_PC.norm() + B.geom.bounding_radius) * sb.w_P.norm();
     const double closing = ((sa.v_W - sb.v_W).norm() + reach_a + reach_b) * dt;
     Manifold m;
+    Vec3 offset[4] = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
     // World poses: the broad phase's for moving shapes (made from this same state).
     const Pose xa = shape_moving_[a] ? poses_[a] : ShapeTable::world_pose(A, sa);
     const Pose xb = shape_moving_[b] ? poses_[b] : ShapeTable::world_pose(B, sb);
-    const int n = collide(A.geom, xa, B.geom, xb, spec + closing, c.cache, m);
+    // A fast pair's speculative manifold is taken where it will touch (sim/world_ccd.cpp).
+    const int n = fast_pair(a, b, closing) ? collide_ahead(a, b, xa, xb, spec, closing, c.cache, m, offset)
+                                           : collide(A.geom, xa, B.geom, xb, spec + closing, c.cache, m);
     c.normal_W = m.normal_W;
     c.count = n;
     for (int j = 0; j < n; ++j) {
@@ -209,6 +212,7 @@ void World::stage_collide() {
       p.id = m.points[j].id;
       p.p_W = m.points[j].p_W;
       p.separation = m.points[j].separation;
+      p.offset_W = offset[j];
       if (prev) {
         for (int k = 0; k < prev->count; ++k)
           if (prev->points[k].id == p.id) {
