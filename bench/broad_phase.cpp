@@ -29,12 +29,6 @@ using namespace simreel;
 
 namespace {
 
-double cpu_s() {
-  timespec t;
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return t.tv_sec + 1e-9 * t.tv_nsec;
-}
-
 std::vector<BodyDef> resting_grid(int n) {
   const int side = (int)std::ceil(std::sqrt((double)n));
   std::vector<BodyDef> v;
@@ -91,9 +85,9 @@ void run(const char* label, const char* scene, int n) {
   const Profile p0 = w.profile();
   double wall = 0, cpu = 0;
   for (long k = 0; k < steps; ++k) {
-    const double t0 = bench::now_s(), c0 = cpu_s();
+    const double t0 = bench::now_s(), c0 = bench::thread_cpu_s();
     w.step();
-    cpu += cpu_s() - c0;
+    cpu += bench::thread_cpu_s() - c0;
     wall += bench::now_s() - t0;
   }
   const Profile& p = w.profile();

@@ -48,12 +48,6 @@ using namespace simreel;
 
 namespace {
 
-double cpu_s() {
-  timespec t;
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return t.tv_sec + 1e-9 * t.tv_nsec;
-}
-
 constexpr long kSteps = 2400;  // 10 s at 1/240
 
 struct Cube {
@@ -228,9 +222,9 @@ uint64_t simreel_run(const Scene& s, bool profile, Result* r, Profile* prof, dou
   Tracker tr{s, *r, {}};
   double sec = 0, cpu = 0;
   for (long k = 1; k <= s.steps; ++k) {
-    const double t0 = bench::now_s(), c0 = cpu_s();
+    const double t0 = bench::now_s(), c0 = bench::thread_cpu_s();
     w.step();
-    cpu += cpu_s() - c0;
+    cpu += bench::thread_cpu_s() - c0;
     sec += bench::now_s() - t0;
     if (!profile) {
       simreel_cubes(w, s.cubes(), cubes);
@@ -354,9 +348,9 @@ void bullet_run(const Scene& s, bool sleeping, Result& r, double phases[PhasedWo
   };
   int points = 0, points_max = 0;
   for (long k = 1; k <= s.steps; ++k) {
-    const double t0 = bench::now_s(), c0 = cpu_s();
+    const double t0 = bench::now_s(), c0 = bench::thread_cpu_s();
     world.stepSimulation(btScalar(s.dt), 0);  // maxSubSteps 0: exactly one internal step of dt
-    r.cpu_seconds += cpu_s() - c0;
+    r.cpu_seconds += bench::thread_cpu_s() - c0;
     r.seconds += bench::now_s() - t0;
     points = 0;
     for (int m = 0; m < disp.getNumManifolds(); ++m) {

@@ -221,7 +221,9 @@ class World {
   // A pair with a static triangle mesh: appends its manifolds to contacts_next_, warm-started from
   // last step's records of the pair (from contacts_[prev] on); returns the contact points.
   int collide_mesh_pair(int a, int b, size_t prev);
-  bool stage_solve_contacts();  ///< false if a non-finite value appeared
+  Contact& new_contact(int a, int b,
+                       const Contact* prev);  ///< a record in contacts_next_ (world_contacts.cpp)
+  bool stage_solve_contacts();                ///< false if a non-finite value appeared
   void stage_kinematic();
   void init_sleep();
   void stage_sleep();

@@ -180,19 +180,8 @@ void World::stage_collide() {
     }
     const MotionState& sa = state_[A.body];
     const MotionState& sb = state_[B.body];
-    Contact& c = contacts_next_.emplace_back();  // in place: the record is large
-    c.shape_a = a;
-    c.shape_b = b;
-    c.body_a = A.body;
-    c.body_b = B.body;
-    c.friction = std::sqrt(A.friction * B.friction);
-    c.restitution = std::max(A.restitution, B.restitution);
-    if (prev) {
-      c.cache = prev->cache;
-      c.friction_impulse_W = prev->friction_impulse_W;
-      c.twist_impulse = prev->twist_impulse;
-      c.rolling_impulse = prev->rolling_impulse;
-    }
+    Contact& c = new_contact(a, b, prev);
+    if (prev) c.cache = prev->cache;
     // How far the two can close this step, bounded: relative speed of their farthest points.
     const double reach_a = (A.p_PC.norm() + A.geom.bounding_radius) * sa.w_P.norm();
     const double reach_b = (B.p_PC.norm() + B.geom.bounding_radius) * sb.w_P.norm();
@@ -364,6 +353,27 @@ void World::stage_kinematic() {
     s.q_WP = (rotation_increment(w_W, h) * s.q_WP).normalized();
     s.w_P = s.q_WP.conjugate() * w_W;
   }
+}
+
+// A new record in contacts_next_ (in place: the record is large) for shapes a < b: the pair's
+// bodies, friction sqrt(f_a f_b) and restitution max(e_a, e_b), and the impulses warm-started from
+// `prev` (last step's record of the same manifold) when there is one.
+Contact& World::new_contact(int a, int b, const Contact* prev) {
+  const ShapeRecord& A = (*shapes_)[a];
+  const ShapeRecord& B = (*shapes_)[b];
+  Contact& c = contacts_next_.emplace_back();
+  c.shape_a = a;
+  c.shape_b = b;
+  c.body_a = A.body;
+  c.body_b = B.body;
+  c.friction = std::sqrt(A.friction * B.friction);
+  c.restitution = std::max(A.restitution, B.restitution);
+  if (prev) {
+    c.friction_impulse_W = prev->friction_impulse_W;
+    c.twist_impulse = prev->twist_impulse;
+    c.rolling_impulse = prev->rolling_impulse;
+  }
+  return c;
 }
 
 }  // namespace simreel

@@ -48,18 +48,7 @@ int World::collide_mesh_pair(int a, int b, size_t old) {
       if (!used[k - old] && d > best) best = d, prev = &contacts_[k];
     }
     if (prev) used[prev - &contacts_[old]] = true;
-    Contact& c = contacts_next_.emplace_back();
-    c.shape_a = a;
-    c.shape_b = b;
-    c.body_a = A.body;
-    c.body_b = B.body;
-    c.friction = std::sqrt(A.friction * B.friction);
-    c.restitution = std::max(A.restitution, B.restitution);
-    if (prev) {
-      c.friction_impulse_W = prev->friction_impulse_W;
-      c.twist_impulse = prev->twist_impulse;
-      c.rolling_impulse = prev->rolling_impulse;
-    }
+    Contact& c = new_contact(a, b, prev);
     c.normal_W = n_AB;
     c.count = m[i].count;
     for (int j = 0; j < c.count; ++j) {
