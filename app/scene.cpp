@@ -474,6 +474,21 @@ struct Loader {
         const std::string mkey =
             file + "|" + exact(scale.x()) + "," + exact(scale.y()) + "," + exact(scale.z());
         const std::string rkey = mkey + "|" + std::to_string((int)opt.mode) + "," + exact(opt.thickness);
+        // The file read once per scale for the whole scene (its notes once), and this collider's
+        // share of it: the surface (aliasing constructor: one allocation, one owner), the file's
+        // colour unless the scene gives one, its shading normals.
+        auto import_once = [&] {
+          if (meshes.count(mkey)) return;
+          meshes[mkey] = std::make_shared<const ImportedMesh>(import_mesh(file, scale));
+          for (const std::string& w : meshes[mkey]->notes) scene.notes.push_back(file + ": " + w);
+        };
+        auto use_mesh = [&] {
+          col.mesh = std::shared_ptr<const TriangleMesh>(meshes[mkey], &meshes[mkey]->mesh);
+          if (!n["color"]) look.color = meshes[mkey]->color;
+          if (!meshes[mkey]->corner_normals.empty())
+            look.normals = std::shared_ptr<const std::vector<std::array<Eigen::Vector3f, 3>>>(
+                meshes[mkey], &meshes[mkey]->corner_normals);
+        };
         if (type == BodyType::static_body) {
           // A static body's mesh collides as its triangles, as given (open surfaces too: terrain, a
           // bowl), and weighs nothing (sim/trimesh.hpp).
@@ -482,18 +497,11 @@ struct Loader {
               c.child(k).fail(n[k], "a static body's mesh collides as its triangles and has no mass: '" +
                                         std::string(k) + "' does not apply");
           try {
-            if (!meshes.count(mkey)) {
-              meshes[mkey] = std::make_shared<const ImportedMesh>(import_mesh(file, scale));
-              for (const std::string& w : meshes[mkey]->notes) scene.notes.push_back(file + ": " + w);
-            }
+            import_once();
           } catch (const InputError& e) {
             c.child("file").fail(n["file"], e.what());
           }
-          col.mesh = std::shared_ptr<const TriangleMesh>(meshes[mkey], &meshes[mkey]->mesh);
-          if (!n["color"]) look.color = meshes[mkey]->color;
-          if (!meshes[mkey]->corner_normals.empty())
-            look.normals = std::shared_ptr<const std::vector<std::array<Eigen::Vector3f, 3>>>(
-                meshes[mkey], &meshes[mkey]->corner_normals);
+          use_mesh();
           col.props_C.mass = 0;
           col.props_C.inertia = Mat3::Zero();
           col.label = file;
@@ -501,21 +509,13 @@ struct Loader {
         }
         MeshReport rep;
         try {
-          if (!meshes.count(mkey)) {
-            meshes[mkey] = std::make_shared<const ImportedMesh>(import_mesh(file, scale));
-            for (const std::string& w : meshes[mkey]->notes) scene.notes.push_back(file + ": " + w);
-          }
+          import_once();
           if (!reports.count(rkey)) reports[rkey] = analyze_mesh(meshes[mkey]->mesh, opt);
           rep = reports[rkey];
         } catch (const InputError& e) {
           c.child("file").fail(n["file"], e.what());
         }
-        // The collider shares the imported mesh (aliasing constructor: one allocation, one owner).
-        col.mesh = std::shared_ptr<const TriangleMesh>(meshes[mkey], &meshes[mkey]->mesh);
-        if (!n["color"]) look.color = meshes[mkey]->color;
-        if (!meshes[mkey]->corner_normals.empty())
-          look.normals = std::shared_ptr<const std::vector<std::array<Eigen::Vector3f, 3>>>(
-              meshes[mkey], &meshes[mkey]->corner_normals);
+        use_mesh();
         for (const std::string& w : rep.warnings)
           scene.notes.push_back(c.file() + ": body '" + body + "', " + c.key() + " (" + file + "): " + w);
         // Mass properties at density 1, then scaled: by the density, or to the requested mass.

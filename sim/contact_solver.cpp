@@ -184,12 +184,7 @@ __attribute__((flatten)) void ContactSolver::prepare(const SolverInput& in, cons
       ConstraintPoint& p = k.p[j];
       p.rA = cp.p_W - (0.5 * cp.separation) * k.n - 0.5 * cp.offset_W - xA;
       p.rB = cp.p_W + (0.5 * cp.separation) * k.n + 0.5 * cp.offset_W - xB;
-      p.rnA = p.rA.cross(k.n);
-      p.rnB = p.rB.cross(k.n);
-      p.IrnA = A.inv_I * p.rnA;
-      p.IrnB = B.inv_I * p.rnB;
-      const double kn = A.inv_mass + B.inv_mass + p.rnA.dot(p.IrnA) + p.rnB.dot(p.IrnB);
-      p.normal_mass = kn > 0 ? 1.0 / kn : 0.0;
+      normal_terms(p, k.n, A, B);
       p.cA = p.rA - roundA * k.n;
       p.cB = p.rB + roundB * k.n;
       p.adjusted_separation = cp.separation - k.n.dot(p.cB - p.cA);
@@ -259,6 +254,18 @@ __attribute__((flatten)) void ContactSolver::prepare(const SolverInput& in, cons
   schedule();
 }
 
+// A point's lever arms across the normal n, their I^-1 images, and its effective normal mass
+// 1 / (1/m_A + 1/m_B + (r_A x n) I_A^-1 (r_A x n) + (r_B x n) I_B^-1 (r_B x n)) (Catto 2005).
+void ContactSolver::normal_terms(ConstraintPoint& p, const Vec3& n, const SolverBody& A,
+                                 const SolverBody& B) {
+  p.rnA = p.rA.cross(n);
+  p.rnB = p.rB.cross(n);
+  p.IrnA = A.inv_I * p.rnA;
+  p.IrnB = B.inv_I * p.rnB;
+  const double kn = A.inv_mass + B.inv_mass + p.rnA.dot(p.IrnA) + p.rnB.dot(p.IrnB);
+  p.normal_mass = kn > 0 ? 1.0 / kn : 0.0;
+}
+
 // Friction at the centre fA, fB: K_jk = (1/mA + 1/mB) d_jk + (fA x t_j).IA(fA x t_k) + (fB x t_j).IB(fB x
 // t_k) and its inverse, the angular terms made once (an impulse's angular effect is linear in them).
 void ContactSolver::friction_terms(ContactConstraint& k, const SolverBody& A, const SolverBody& B) {
@@ -324,12 +331,7 @@ void ContactSolver::refresh_rim(ContactConstraint& k) {
     p.cA = X.dR.transpose() * r;
     p.rB = o;
   }
-  p.rnA = p.rA.cross(k.n);
-  p.rnB = p.rB.cross(k.n);
-  p.IrnA = A.inv_I * p.rnA;
-  p.IrnB = B.inv_I * p.rnB;
-  const double kn = A.inv_mass + B.inv_mass + p.rnA.dot(p.IrnA) + p.rnB.dot(p.IrnB);
-  p.normal_mass = kn > 0 ? 1.0 / kn : 0.0;
+  normal_terms(p, k.n, A, B);
   k.fA = p.rA;
   k.fB = p.rB;
   friction_terms(k, A, B);

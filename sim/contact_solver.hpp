@@ -143,6 +143,7 @@ class ContactSolver {
   std::vector<int> rim_bodies_;  ///< their cylinders' solver bodies, ascending
   Softness soft_, static_soft_;
 
+  static void normal_terms(ConstraintPoint& p, const Vec3& n, const SolverBody& A, const SolverBody& B);
   static void friction_terms(ContactConstraint& k, const SolverBody& A, const SolverBody& B);
   void refresh_rim(ContactConstraint& k);  ///< a rim contact after a substep's move
   void schedule();                         ///< slots_ from cons_ (see solve)

@@ -153,6 +153,16 @@ void World::stage_collide() {
   int points = 0;
   std::fill(in_contact_.begin(), in_contact_.end(), 0);
   bool woke = false;
+  // A pair with n > 0 points: counted; something awake within reach of a sleeping body wakes its
+  // island; both bodies are in contact.
+  auto touched = [&](int n, int body_a, int body_b) {
+    if (n <= 0) return;
+    points += n;
+    if (asleep_[body_a] >= 0) wake(body_a), woke = true;
+    if (asleep_[body_b] >= 0) wake(body_b), woke = true;
+    in_contact_[body_a] = in_contact_[body_a] || !model_[body_a].is_static;
+    in_contact_[body_b] = in_contact_[body_b] || !model_[body_b].is_static;
+  };
   for (uint64_t key : pairs_) {
     const int a = (int)(key >> 32), b = (int)(key & 0xFFFFFFFFu);
     while (old < contacts_.size() && contacts_[old].key() < key) ++old;
@@ -168,14 +178,7 @@ void World::stage_collide() {
     }
     // A static triangle mesh: several manifolds for one pair (world_trimesh.cpp).
     if (A.geom.kind == CollideKind::mesh || B.geom.kind == CollideKind::mesh) {
-      const int n = collide_mesh_pair(a, b, old);
-      if (n > 0) {
-        points += n;
-        if (asleep_[A.body] >= 0) wake(A.body), woke = true;
-        if (asleep_[B.body] >= 0) wake(B.body), woke = true;
-        in_contact_[A.body] = in_contact_[A.body] || !model_[A.body].is_static;
-        in_contact_[B.body] = in_contact_[B.body] || !model_[B.body].is_static;
-      }
+      touched(collide_mesh_pair(a, b, old), A.body, B.body);
       continue;
     }
     const MotionState& sa = state_[A.body];
@@ -211,14 +214,7 @@ void World::stage_collide() {
       }
       contact_stats_.max_penetration = std::max(contact_stats_.max_penetration, -p.separation);
     }
-    if (n > 0) {
-      points += n;
-      // Something awake comes within reach of a sleeping body: its island wakes.
-      if (asleep_[A.body] >= 0) wake(A.body), woke = true;
-      if (asleep_[B.body] >= 0) wake(B.body), woke = true;
-      in_contact_[A.body] = in_contact_[A.body] || !model_[A.body].is_static;
-      in_contact_[B.body] = in_contact_[B.body] || !model_[B.body].is_static;
-    }
+    touched(n, A.body, B.body);
   }
   contacts_.swap(contacts_next_);
   if (woke) {

@@ -196,7 +196,8 @@ void closest_segments(const Vec3& p1, const Vec3& q1, const Vec3& p2, const Vec3
   c2 = p2 + t * d2;
 }
 
-void reduce_to_manifold(const Candidate* c, int n, const Vec3& normal, Manifold& out) {
+void reduce_to_manifold(const Candidate* c, int n, const Vec3& normal, Manifold& out, double tie_depth,
+                        double tie_rel) {
   out.normal_W = normal;
   out.count = 0;
   if (n <= 0) return;
@@ -207,7 +208,7 @@ void reduce_to_manifold(const Candidate* c, int n, const Vec3& normal, Manifold&
   // 1: deepest.
   int i1 = 0;
   for (int i = 1; i < n; ++i)
-    if (c[i].s < c[i1].s) i1 = i;
+    if (c[i].s < c[i1].s - tie_depth) i1 = i;
   // 2: furthest from it in the contact plane.
   auto planar = [&](const Vec3& d) { return Vec3(d - normal.dot(d) * normal); };
   int i2 = -1;
@@ -215,17 +216,18 @@ void reduce_to_manifold(const Candidate* c, int n, const Vec3& normal, Manifold&
   for (int i = 0; i < n; ++i) {
     if (i == i1) continue;
     const double d2 = planar(c[i].p_W - c[i1].p_W).squaredNorm();
-    if (d2 > best) best = d2, i2 = i;
+    if (d2 > best + tie_rel * std::max(best, 0.0)) best = d2, i2 = i;
   }
   // 3 and 4: largest signed area on each side of the diagonal 1-2.
   const Vec3 e = c[i2].p_W - c[i1].p_W;
+  const double atol = tie_rel * best;
   int i3 = -1, i4 = -1;
   double amax = 0, amin = 0;
   for (int i = 0; i < n; ++i) {
     if (i == i1 || i == i2) continue;
     const double a = e.cross(c[i].p_W - c[i1].p_W).dot(normal);
-    if (a > amax) amax = a, i3 = i;
-    if (a < amin) amin = a, i4 = i;
+    if (a > amax + atol) amax = a, i3 = i;
+    if (a < amin - atol) amin = a, i4 = i;
   }
   const int keep[4] = {i1, i2, i3, i4};
   for (int k : keep)

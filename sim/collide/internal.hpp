@@ -34,8 +34,12 @@ struct Candidate {
 
 // Writes at most four of the n candidates (s <= speculative already) into out: the deepest
 // first, then the one furthest from it, then the two that maximise the quadrilateral's area on
-// either side of that diagonal (projected on the plane normal to n). Ties go to the lowest index.
-void reduce_to_manifold(const Candidate* c, int n, const Vec3& normal, Manifold& out);
+// either side of that diagonal (projected on the plane normal to n). Ties go to the lowest index;
+// with tie_depth (m) and tie_rel > 0 near-ties too: a later candidate displaces the one kept only
+// when deeper by more than tie_depth, or farther or larger in area by more than tie_rel of the
+// largest (triangles.cpp: clipped points equal to the shape's own to rounding stay behind them).
+void reduce_to_manifold(const Candidate* c, int n, const Vec3& normal, Manifold& out, double tie_depth = 0,
+                        double tie_rel = 0);
 
 // Closest point to p on segment [a, b]; t in [0, 1] its parameter.
 inline Vec3 closest_on_segment(const Vec3& p, const Vec3& a, const Vec3& b, double& t) {

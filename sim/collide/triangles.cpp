@@ -133,44 +133,13 @@ bool shape_feature(uint32_t id) {
   return (id & 0xC0000000u) == 0;
 }
 
-// collide.cpp's reduction (deepest, furthest from it, largest areas on either side), with the
-// shape's own points first and winning ties within a tolerance: on a flat patch the points made
-// by clipping at inner edges lie at the depth of the shape's points to rounding, between them,
-// and must not displace them (a capsule lying flat would otherwise keep a middle point and one
-// end, and tip).
+// collide.cpp's reduction with the shape's own points first and winning near-ties: on a flat
+// patch the points made by clipping at inner edges lie at the depth of the shape's points to
+// rounding, between them, and must not displace them (a capsule lying flat would otherwise keep a
+// middle point and one end, and tip).
 void reduce_mesh(Candidate* c, int n, const Vec3& normal, Manifold& out) {
   std::stable_partition(c, c + n, [](const Candidate& q) { return shape_feature(q.id); });
-  out.normal_W = normal;
-  out.count = 0;
-  if (n <= 4) {
-    for (int i = 0; i < n; ++i) out.points[out.count++] = {c[i].p_W, c[i].s, c[i].id};
-    return;
-  }
-  constexpr double kTolS = 1e-10, kRel = 1e-9;
-  int i1 = 0;
-  for (int i = 1; i < n; ++i)
-    if (c[i].s < c[i1].s - kTolS) i1 = i;
-  auto planar = [&](const Vec3& d) { return Vec3(d - normal.dot(d) * normal); };
-  int i2 = -1;
-  double best = -1;
-  for (int i = 0; i < n; ++i) {
-    if (i == i1) continue;
-    const double d2 = planar(c[i].p_W - c[i1].p_W).squaredNorm();
-    if (d2 > best * (1 + kRel) + 1e-300) best = d2, i2 = i;
-  }
-  const Vec3 e = c[i2].p_W - c[i1].p_W;
-  int i3 = -1, i4 = -1;
-  double amax = 0, amin = 0;
-  const double atol = kRel * best;
-  for (int i = 0; i < n; ++i) {
-    if (i == i1 || i == i2) continue;
-    const double a = e.cross(c[i].p_W - c[i1].p_W).dot(normal);
-    if (a > amax + atol) amax = a, i3 = i;
-    if (a < amin - atol) amin = a, i4 = i;
-  }
-  const int keep[4] = {i1, i2, i3, i4};
-  for (int k : keep)
-    if (k >= 0) out.points[out.count++] = {c[k].p_W, c[k].s, c[k].id};
+  reduce_to_manifold(c, n, normal, out, 1e-10, 1e-9);
 }
 
 uint32_t clip_id(uint32_t tri, int side, int edge) {
