@@ -262,6 +262,9 @@ int cmd_check(const std::vector<std::string>& args) {
       rf.scene = scene.name;
       rf.frame = (int)c.target.index;
       rf.time = c.target.time;
+      // Named as its golden is (a moment of simulated time), not by plan frame: "t=1.25s".
+      rf.label = golden_file_name(c.target.time).substr(1);
+      rf.label = "t=" + rf.label.substr(0, rf.label.size() - 4);
       rf.width = c.image.width;
       rf.height = c.image.height;
       const std::string file = golden_file_name(c.target.time);
