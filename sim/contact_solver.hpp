@@ -88,6 +88,19 @@ struct ContactConstraint {
   int count = 0;
   Softness soft;
   ConstraintPoint p[4];
+  // A cylinder touching a flat surface with one point of its rim (sim/README.md "Rolling on a
+  // rim"): the point runs round the rim as the body turns, so after each substep's move it is
+  // found again, the rim's support point along the normal, and the point's anchors, gap and
+  // effective masses follow it. 0: not such a contact; 1: B's rim; -1: A's rim.
+  int rim = 0;
+  Vec3 rim_c =
+      Vec3::Zero();  ///< m, centre of the touching end disk from the body's centre of mass, world, step start
+  Vec3 rim_u = Vec3::Zero();   ///< the cylinder's axis, world, step start
+  Vec3 rim_x0 = Vec3::Zero();  ///< m, the rim point from the cylinder's centre of mass at the step's start
+  Vec3 rim_o0 = Vec3::Zero();  ///< m, the other body's anchor at the step's start
+  double rim_radius = 0;       ///< m
+  Vec3 rim_e = Vec3::Zero();   ///< the rim's unit radius at the contact, world, now
+  Vec3 rim_t = Vec3::Zero();   ///< the rim's unit tangent there, axis x rim_e
 };
 
 // What the solver needs of the world for one step (arrays owned by World, indexed by body).
@@ -143,6 +156,10 @@ class ContactSolver {
   std::vector<Vec3> accel_;              ///< m/s^2, g + f/m
   std::vector<Vec3> ang_accel_;          ///< rad/s^2, I^-1 tau
   std::vector<ContactConstraint> cons_;  ///< in solve order: colour by colour (graph_.slot)
+  std::vector<int> rims_;  ///< slots of the constraints with a rim contact (ContactConstraint::rim)
+  std::vector<int>
+      rim_candidates_;  ///< constraints (contact order) that may be rim contacts: one point, a cylinder
+  std::vector<char> rim_body_;  ///< per solver body: a cylinder of a rim contact (its inertia follows it)
   Softness soft_, static_soft_;
   bool any_restitution_ = false;  ///< some constraint has restitution > 0 (else the stage is empty)
 
@@ -165,6 +182,9 @@ class ContactSolver {
   void by_colour(int w, int nw, F&& f);
   void make_constraint(ContactConstraint& k, int ci, const Contact& c, const std::vector<int>& solver_index);
   void integrate_velocity(int k, double h);
+  static void normal_terms(ConstraintPoint& p, const Vec3& n, const SolverBody& A, const SolverBody& B);
+  static void friction_terms(ContactConstraint& k, const SolverBody& A, const SolverBody& B);
+  void refresh_rim(ContactConstraint& k) const;  ///< a rim contact after a substep's move
   void restitution_one(ContactConstraint& k, double threshold);
   // Fewer constraints than this are solved on the calling thread alone.
   static constexpr int kMinParallelConstraints = 128;
