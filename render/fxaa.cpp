@@ -5,6 +5,8 @@
 #include <cstddef>
 #include <cstring>
 
+#include <immintrin.h>
+
 namespace simreel {
 namespace {
 
@@ -19,14 +21,80 @@ constexpr int kThresholdMin = 21;
 constexpr int kThresholdRel = 43;  // 0.166 in 1/256
 constexpr float kSubpix = 0.75f;
 constexpr int kSteps[] = {1, 1, 2, 2, 2, 2, 4, 8};  // FXAA 3.11 preset 12's spacing, whole pixels
-}  // namespace
 
-// Cloned for AVX2 (the contrast pass runs 32 pixels to a vector); the clones give identical
-// output, as nothing here can be contracted into fused multiply-adds.
-__attribute__((target_clones("avx2", "default"))) void fxaa(uint8_t* img, int w, int h, FxaaBuffers& buf) {
+// Step 5's edge search, from r0 (the pixel's luma) and r1 (its neighbour's across the edge) in
+// steps of `along`: on each side the first position, of the steps' running sums 1, 2, 4, ... 22
+// (each at most the reach to the image border), where the pair's luma differs from the edge's
+// average by the limit, or the border, or the last. e: 2 (pair sum - pair0) there.
+struct Walk {
+  int d_neg, d_pos, e_neg, e_pos;
+};
+
+// One step at a time, stopping each side at its end (the reference version).
+struct ScalarWalk {
+  static Walk walk(const uint8_t* r0, const uint8_t* r1, std::ptrdiff_t along, int pair0, int limit,
+                   int reach_neg, int reach_pos) {
+    auto end_at = [&](int t) { return 2 * (r0[t * along] + r1[t * along] - pair0); };
+    Walk o{0, 0, 0, 0};
+    bool done_neg = false, done_pos = false;
+    for (int s : kSteps) {
+      if (!done_neg) {
+        o.d_neg = std::min(o.d_neg + s, reach_neg);
+        o.e_neg = end_at(-o.d_neg);
+        done_neg = std::abs(o.e_neg) >= limit || o.d_neg == reach_neg;
+      }
+      if (!done_pos) {
+        o.d_pos = std::min(o.d_pos + s, reach_pos);
+        o.e_pos = end_at(o.d_pos);
+        done_pos = std::abs(o.e_pos) >= limit || o.d_pos == reach_pos;
+      }
+      if (done_neg && done_pos) break;
+    }
+    return o;
+  }
+};
+
+// All eight positions of a side at once (AVX2 gathers), the first that ends the search picked
+// from a bit mask: the same positions and values as ScalarWalk without its unpredictable
+// branches (the search was a third of FXAA's time). The gathers read 4 bytes at each position:
+// the luma buffer has 4 bytes to spare at its end.
+#pragma GCC push_options
+#pragma GCC target("avx2")
+struct GatherWalk {
+  static inline void side(const uint8_t* r0, const uint8_t* r1, int step, int pair0, int limit, int reach,
+                          int& d, int& e) {
+    const __m256i pos =
+        _mm256_min_epi32(_mm256_setr_epi32(1, 2, 4, 6, 8, 10, 14, 22), _mm256_set1_epi32(reach));
+    const __m256i off = _mm256_mullo_epi32(pos, _mm256_set1_epi32(step));
+    const __m256i byte = _mm256_set1_epi32(0xff);
+    const __m256i sum =
+        _mm256_add_epi32(_mm256_and_si256(_mm256_i32gather_epi32((const int*)r0, off, 1), byte),
+                         _mm256_and_si256(_mm256_i32gather_epi32((const int*)r1, off, 1), byte));
+    const __m256i ends = _mm256_slli_epi32(_mm256_sub_epi32(sum, _mm256_set1_epi32(pair0)), 1);
+    const __m256i stop =
+        _mm256_or_si256(_mm256_cmpgt_epi32(_mm256_abs_epi32(ends), _mm256_set1_epi32(limit - 1)),
+                        _mm256_cmpeq_epi32(pos, _mm256_set1_epi32(reach)));
+    const int k = __builtin_ctz((unsigned)_mm256_movemask_ps(_mm256_castsi256_ps(stop)) | 0x80u);
+    alignas(32) int p[8], v[8];
+    _mm256_store_si256((__m256i*)p, pos);
+    _mm256_store_si256((__m256i*)v, ends);
+    d = p[k], e = v[k];
+  }
+  static Walk walk(const uint8_t* r0, const uint8_t* r1, std::ptrdiff_t along, int pair0, int limit,
+                   int reach_neg, int reach_pos) {
+    Walk o;
+    side(r0, r1, (int)-along, pair0, limit, reach_neg, o.d_neg, o.e_neg);
+    side(r0, r1, (int)along, pair0, limit, reach_pos, o.d_pos, o.e_pos);
+    return o;
+  }
+};
+#pragma GCC pop_options
+
+template <class Search>
+__attribute__((always_inline)) inline void fxaa_with(uint8_t* img, int w, int h, FxaaBuffers& buf) {
   const uint8_t* in = img;
   const size_t n = (size_t)w * h;
-  buf.luma.resize(n);
+  buf.luma.resize(n + 4);  // + 4: GatherWalk reads 4 bytes at a position
   uint8_t* L = buf.luma.data();
   // Luma of the gamma-encoded colour (Rec. 601 weights, as FXAA uses), in 8 bits.
   for (size_t i = 0; i < n; ++i)
@@ -85,22 +153,8 @@ __attribute__((target_clones("avx2", "default"))) void fxaa(uint8_t* img, int w,
       const uint8_t* r1 = horizontal ? r0 + (std::ptrdiff_t)across * w : r0 + across;
       const std::ptrdiff_t along = horizontal ? 1 : w;
       const int reach_neg = horizontal ? x : y, reach_pos = (horizontal ? w - 1 - x : h - 1 - y);
-      auto end_at = [&](int t) { return 2 * (r0[t * along] + r1[t * along] - pair0); };
-      int d_neg = 0, d_pos = 0, e_neg = 0, e_pos = 0;
-      bool done_neg = false, done_pos = false;
-      for (int s : kSteps) {
-        if (!done_neg) {
-          d_neg = std::min(d_neg + s, reach_neg);
-          e_neg = end_at(-d_neg);
-          done_neg = std::abs(e_neg) >= limit || d_neg == reach_neg;
-        }
-        if (!done_pos) {
-          d_pos = std::min(d_pos + s, reach_pos);
-          e_pos = end_at(d_pos);
-          done_pos = std::abs(e_pos) >= limit || d_pos == reach_pos;
-        }
-        if (done_neg && done_pos) break;
-      }
+      const Walk wk = Search::walk(r0, r1, along, pair0, limit, reach_neg, reach_pos);
+      const int d_neg = wk.d_neg, d_pos = wk.d_pos, e_neg = wk.e_neg, e_pos = wk.e_pos;
       // 6. Where along the span the pixel sits: next to the nearer end the edge crosses the pixel
       // at up to half a pixel; in the middle of a long span, not at all. Only blend if the luma
       // at the nearer end moves away from the pixel's (the edge really ends there).
@@ -123,6 +177,27 @@ __attribute__((target_clones("avx2", "default"))) void fxaa(uint8_t* img, int w,
     }
   }
   for (const FxaaBuffers::Change& ch : buf.changes) std::memcpy(img + 4 * (size_t)ch.index, ch.rgb, 3);
+}
+
+__attribute__((target("avx2"))) void fxaa_avx2(uint8_t* img, int w, int h, FxaaBuffers& buf) {
+  fxaa_with<GatherWalk>(img, w, h, buf);
+}
+
+}  // namespace
+
+void fxaa_portable(uint8_t* img, int w, int h, FxaaBuffers& buf) {
+  fxaa_with<ScalarWalk>(img, w, h, buf);
+}
+
+// With AVX2 (picked once): the contrast pass 32 pixels to a vector and the edge search by
+// gathers; both versions give the same bytes, as nothing here can be contracted into fused
+// multiply-adds.
+void fxaa(uint8_t* img, int w, int h, FxaaBuffers& buf) {
+  static const bool avx2 = __builtin_cpu_supports("avx2");
+  if (avx2)
+    fxaa_avx2(img, w, h, buf);
+  else
+    fxaa_portable(img, w, h, buf);
 }
 
 }  // namespace simreel
