@@ -32,6 +32,11 @@ struct Walk {
 
 // One step at a time, stopping each side at its end (the reference version).
 struct ScalarWalk {
+  static size_t luma(const uint8_t*, uint8_t*, size_t) { return 0; }  // all by fxaa_with's loop
+  // Step 7's blend of pixel p towards q by t, rounded.
+  static void blend(const uint8_t* p, const uint8_t* q, float t, uint8_t* rgb) {
+    for (int c = 0; c < 3; ++c) rgb[c] = (uint8_t)(p[c] + t * ((float)q[c] - p[c]) + 0.5f);  // in [0, 255.5]
+  }
   static Walk walk(const uint8_t* r0, const uint8_t* r1, std::ptrdiff_t along, int pair0, int limit,
                    int reach_neg, int reach_pos) {
     auto end_at = [&](int t) { return 2 * (r0[t * along] + r1[t * along] - pair0); };
@@ -61,6 +66,41 @@ struct ScalarWalk {
 #pragma GCC push_options
 #pragma GCC target("avx2")
 struct GatherWalk {
+  // Luma of 32 pixels a step (widened to 16 bits, vpmaddwd, vphaddd; integer: the same bytes as
+  // the scalar loop), the rest one at a time. Returns the first pixel left.
+  static size_t luma(const uint8_t* in, uint8_t* L, size_t n) {
+    const __m256i c = _mm256_setr_epi16(77, 150, 29, 0, 77, 150, 29, 0, 77, 150, 29, 0, 77, 150, 29, 0);
+    const __m256i zero = _mm256_setzero_si256(), half = _mm256_set1_epi32(128);
+    auto eight = [&](const uint8_t* p) {  // pixels 0-3 | 4-7
+      const __m256i px = _mm256_loadu_si256((const __m256i*)p);
+      const __m256i s = _mm256_hadd_epi32(_mm256_madd_epi16(_mm256_unpacklo_epi8(px, zero), c),
+                                          _mm256_madd_epi16(_mm256_unpackhi_epi8(px, zero), c));
+      return _mm256_srli_epi32(_mm256_add_epi32(s, half), 8);
+    };
+    size_t i = 0;
+    for (; i + 32 <= n; i += 32) {
+      const __m256i ab = _mm256_packs_epi32(eight(in + 4 * i), eight(in + 4 * i + 32));
+      const __m256i cd = _mm256_packs_epi32(eight(in + 4 * i + 64), eight(in + 4 * i + 96));
+      const __m256i bytes =
+          _mm256_permutevar8x32_epi32(_mm256_packus_epi16(ab, cd), _mm256_setr_epi32(0, 4, 1, 5, 2, 6, 3, 7));
+      _mm256_storeu_si256((__m256i*)(L + i), bytes);
+    }
+    return i;
+  }
+  // The same four channels at once: the same single-precision operations in the same order
+  // (no fused multiply-add), truncated the same way.
+  static void blend(const uint8_t* p, const uint8_t* q, float t, uint8_t* rgb) {
+    int pi, qi;
+    std::memcpy(&pi, p, 4);
+    std::memcpy(&qi, q, 4);
+    const __m128 P = _mm_cvtepi32_ps(_mm_cvtepu8_epi32(_mm_cvtsi32_si128(pi)));
+    const __m128 Q = _mm_cvtepi32_ps(_mm_cvtepu8_epi32(_mm_cvtsi32_si128(qi)));
+    const __m128 r =
+        _mm_add_ps(_mm_add_ps(P, _mm_mul_ps(_mm_set1_ps(t), _mm_sub_ps(Q, P))), _mm_set1_ps(0.5f));
+    const __m128i b = _mm_cvttps_epi32(r);
+    const int out = _mm_cvtsi128_si32(_mm_packus_epi16(_mm_packus_epi32(b, b), _mm_setzero_si128()));
+    std::memcpy(rgb, &out, 3);
+  }
   static inline void side(const uint8_t* r0, const uint8_t* r1, int step, int pair0, int limit, int reach,
                           int& d, int& e) {
     const __m256i pos =
@@ -97,7 +137,7 @@ __attribute__((always_inline)) inline void fxaa_with(uint8_t* img, int w, int h,
   buf.luma.resize(n + 4);  // + 4: GatherWalk reads 4 bytes at a position
   uint8_t* L = buf.luma.data();
   // Luma of the gamma-encoded colour (Rec. 601 weights, as FXAA uses), in 8 bits.
-  for (size_t i = 0; i < n; ++i)
+  for (size_t i = Search::luma(in, L, n); i < n; ++i)
     L[i] = (uint8_t)((77 * in[4 * i] + 150 * in[4 * i + 1] + 29 * in[4 * i + 2] + 128) >> 8);
   buf.changes.clear();
   if (w < 3 || h < 3) return;
@@ -171,8 +211,7 @@ __attribute__((always_inline)) inline void fxaa_with(uint8_t* img, int w, int h,
       const uint8_t* q = in + ((size_t)ny * w + nx) * 4;
       FxaaBuffers::Change ch;
       ch.index = (uint32_t)((size_t)y * w + x);
-      for (int c = 0; c < 3; ++c)
-        ch.rgb[c] = (uint8_t)(p[c] + t * ((float)q[c] - p[c]) + 0.5f);  // in [0, 255.5]
+      Search::blend(p, q, t, ch.rgb);
       buf.changes.push_back(ch);
     }
   }
