@@ -16,7 +16,9 @@ namespace {
 // benchmark frame the "high quality" thresholds (0.125, 0.0312) flagged 12.7% of the pixels and
 // cost 6.8 ms; these flag 4.4% and cost 3.5 ms, with the same look on body edges. Since then:
 // flags skipped eight at a time, integer luma arithmetic up to the blend weights, and an AVX2
-// clone picked at load time (same output: no FMA, the integer passes vectorise): 2.5 ms.
+// clone picked at load time (same output: no FMA, the integer passes vectorise): 2.5 ms. Session 9:
+// the edge search by gathers, the luma pass and the blend by AVX2 intrinsics (Avx2Ops): 3.35 ->
+// 2.9 ms on a slower day.
 constexpr int kThresholdMin = 21;
 constexpr int kThresholdRel = 43;  // 0.166 in 1/256
 constexpr float kSubpix = 0.75f;
@@ -30,8 +32,9 @@ struct Walk {
   int d_neg, d_pos, e_neg, e_pos;
 };
 
-// One step at a time, stopping each side at its end (the reference version).
-struct ScalarWalk {
+// The per-pixel operations of fxaa_with() in portable code; the edge search one step at a time,
+// stopping each side at its end (the reference version).
+struct PortableOps {
   static size_t luma(const uint8_t*, uint8_t*, size_t) { return 0; }  // all by fxaa_with's loop
   // Step 7's blend of pixel p towards q by t, rounded.
   static void blend(const uint8_t* p, const uint8_t* q, float t, uint8_t* rgb) {
@@ -59,13 +62,13 @@ struct ScalarWalk {
   }
 };
 
-// All eight positions of a side at once (AVX2 gathers), the first that ends the search picked
-// from a bit mask: the same positions and values as ScalarWalk without its unpredictable
-// branches (the search was a third of FXAA's time). The gathers read 4 bytes at each position:
-// the luma buffer has 4 bytes to spare at its end.
+// The same with AVX2, the same bytes. The edge search reads all eight positions of a side at once
+// (gathers) and picks the first that ends it from a bit mask: PortableOps' positions and values
+// without its unpredictable branches (the search was a third of FXAA's time). The gathers read 4
+// bytes at each position: the luma buffer has 4 bytes to spare at its end.
 #pragma GCC push_options
 #pragma GCC target("avx2")
-struct GatherWalk {
+struct Avx2Ops {
   // Luma of 32 pixels a step (widened to 16 bits, vpmaddwd, vphaddd; integer: the same bytes as
   // the scalar loop), the rest one at a time. Returns the first pixel left.
   static size_t luma(const uint8_t* in, uint8_t* L, size_t n) {
@@ -130,14 +133,14 @@ struct GatherWalk {
 };
 #pragma GCC pop_options
 
-template <class Search>
+template <class Ops>
 __attribute__((always_inline)) inline void fxaa_with(uint8_t* img, int w, int h, FxaaBuffers& buf) {
   const uint8_t* in = img;
   const size_t n = (size_t)w * h;
-  buf.luma.resize(n + 4);  // + 4: GatherWalk reads 4 bytes at a position
+  buf.luma.resize(n + 4);  // + 4: Avx2Ops reads 4 bytes at a position
   uint8_t* L = buf.luma.data();
   // Luma of the gamma-encoded colour (Rec. 601 weights, as FXAA uses), in 8 bits.
-  for (size_t i = Search::luma(in, L, n); i < n; ++i)
+  for (size_t i = Ops::luma(in, L, n); i < n; ++i)
     L[i] = (uint8_t)((77 * in[4 * i] + 150 * in[4 * i + 1] + 29 * in[4 * i + 2] + 128) >> 8);
   buf.changes.clear();
   if (w < 3 || h < 3) return;
@@ -193,7 +196,7 @@ __attribute__((always_inline)) inline void fxaa_with(uint8_t* img, int w, int h,
       const uint8_t* r1 = horizontal ? r0 + (std::ptrdiff_t)across * w : r0 + across;
       const std::ptrdiff_t along = horizontal ? 1 : w;
       const int reach_neg = horizontal ? x : y, reach_pos = (horizontal ? w - 1 - x : h - 1 - y);
-      const Walk wk = Search::walk(r0, r1, along, pair0, limit, reach_neg, reach_pos);
+      const Walk wk = Ops::walk(r0, r1, along, pair0, limit, reach_neg, reach_pos);
       const int d_neg = wk.d_neg, d_pos = wk.d_pos, e_neg = wk.e_neg, e_pos = wk.e_pos;
       // 6. Where along the span the pixel sits: next to the nearer end the edge crosses the pixel
       // at up to half a pixel; in the middle of a long span, not at all. Only blend if the luma
@@ -211,7 +214,7 @@ __attribute__((always_inline)) inline void fxaa_with(uint8_t* img, int w, int h,
       const uint8_t* q = in + ((size_t)ny * w + nx) * 4;
       FxaaBuffers::Change ch;
       ch.index = (uint32_t)((size_t)y * w + x);
-      Search::blend(p, q, t, ch.rgb);
+      Ops::blend(p, q, t, ch.rgb);
       buf.changes.push_back(ch);
     }
   }
@@ -219,18 +222,18 @@ __attribute__((always_inline)) inline void fxaa_with(uint8_t* img, int w, int h,
 }
 
 __attribute__((target("avx2"))) void fxaa_avx2(uint8_t* img, int w, int h, FxaaBuffers& buf) {
-  fxaa_with<GatherWalk>(img, w, h, buf);
+  fxaa_with<Avx2Ops>(img, w, h, buf);
 }
 
 }  // namespace
 
 void fxaa_portable(uint8_t* img, int w, int h, FxaaBuffers& buf) {
-  fxaa_with<ScalarWalk>(img, w, h, buf);
+  fxaa_with<PortableOps>(img, w, h, buf);
 }
 
-// With AVX2 (picked once): the contrast pass 32 pixels to a vector and the edge search by
-// gathers; both versions give the same bytes, as nothing here can be contracted into fused
-// multiply-adds.
+// With AVX2 (picked once): the contrast pass 32 pixels to a vector, and the luma pass, the edge
+// search and the blend by Avx2Ops; both versions give the same bytes, as nothing here can be
+// contracted into fused multiply-adds.
 void fxaa(uint8_t* img, int w, int h, FxaaBuffers& buf) {
   static const bool avx2 = __builtin_cpu_supports("avx2");
   if (avx2)
