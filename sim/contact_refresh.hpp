@@ -25,8 +25,8 @@ struct ConstraintPoint;
 struct Contact;
 
 struct TrackedContact {
-  int con = -1;  ///< the constraint's index in the solver's list
-  int side = 0;  ///< +1: the point runs over B's surface; -1: over A's
+  int con = -1;                            ///< the constraint's index in the solver's list
+  int side = 0;                            ///< +1: the point runs over B's surface; -1: over A's
   CollideKind kind = CollideKind::sphere;  ///< sphere, capsule, cylinder (its rim) or ellipsoid
   double radius = 0, half_length = 0;      ///< m (sphere, capsule, cylinder)
   Vec3 radii = Vec3::Zero();               ///< m (ellipsoid)

@@ -126,19 +126,22 @@ class ContactSolver {
   std::vector<int> bodies_;      ///< body index of solver body k + 1
   std::vector<SolverBody> sb_;   ///< [0] is the static body: never written (zero mass and inertia)
   std::vector<Mat3> I_W_;        ///< world inertia of each solver body (gyroscopic term)
-  std::vector<char> gyro_;       ///< needs the gyroscopic term
+  std::vector<char> gyro_;       ///< needs the gyroscopic term (2: a tracked body's, after the warm start)
+  std::vector<Vec3> gyro_w0_;    ///< rad/s, a tracked body's w before the warm start (gyro_ 2)
+  double h_ = 0;                 ///< s, this substep's
   std::vector<Vec3> accel_;      ///< m/s^2, g + f/m
   std::vector<Vec3> ang_accel_;  ///< rad/s^2, I^-1 tau
   std::vector<ContactConstraint> cons_;
-  std::vector<TrackedContact> tracked_;  ///< contacts whose point runs over a surface (ContactConstraint::track)
-  std::vector<int> tracked_bodies_;      ///< their tracked bodies' solver bodies, ascending
-  bool track_due_ = false;               ///< moved since the tracked points were last found
+  std::vector<TrackedContact>
+      tracked_;                      ///< contacts whose point runs over a surface (ContactConstraint::track)
+  std::vector<int> tracked_bodies_;  ///< their tracked bodies' solver bodies, ascending
+  bool track_due_ = false;           ///< moved since the tracked points were last found
   Softness soft_, static_soft_;
 
   static void normal_terms(ConstraintPoint& p, const Vec3& n, const SolverBody& A, const SolverBody& B);
   static void friction_terms(ContactConstraint& k, const SolverBody& A, const SolverBody& B);
   void refresh_tracked();  ///< the tracked points and their bodies' inertia, after a substep's move and relax
-  void schedule();                         ///< slots_ from cons_ (see solve)
+  void schedule();         ///< slots_ from cons_ (see solve)
   std::vector<std::array<int, 2>> slots_;  ///< constraints solved together (second -1: alone)
   std::vector<char> scheduled_;
   std::vector<int> mark_;
