@@ -220,6 +220,7 @@ __attribute__((flatten)) void ContactSolver::prepare(const SolverInput& in, cons
     k.track = -1;
     for (int side = 1; side >= -1 && c.count == 1 && k.track < 0; side -= 2) {
       TrackedContact t;
+      if ((side > 0 ? k.b : k.a) == 0) continue;  // a static body's surface does not move
       if (!track_begin(t, k, c, *in.shapes, in.state, side)) continue;
       t.con = (int)next - 1;
       k.track = (int)tracked_.size();
