@@ -354,11 +354,13 @@ void ContactSolver::warm_start() {
   // impulses (integrate_velocities), m misses I^-1 (r x P) / 2, and the term is off by
   // h/2 ((I^-1 tau) x I w + w x tau) relatively to first order in h; the warm start's impulses are
   // the last substep's, this one's to O(h), so the term taken after them is right to O(h^2).
-  // Measured: the rattleback at substeps of 1/960 s reversed 17.5% late (+7.8% at 1/1920 s, +3.6% at
-  // 1/3840: first order) and reverses within 0.1% at all three now; a tippe top at 1/2400 s kept
-  // Jellett's quantity to 1.1e-2 and now to 1.9e-4; a heavy top on a 1 um tip precessed 0.3% slow
-  // and is within 6e-5 of the slow root. (Bodies that are not tracked keep the term before the
-  // impulses: their contact does not run over them, and their demos keep their motion.)
+  // Measured: the rattleback spun +5 rad/s reversed 17.5% late at substeps of 1/960 s (+7.8% at
+  // 1/1920 s, +3.6% at 1/3840: first order) and reverses within 0.1% of the reference at all three
+  // now (the one spun -5: -4.3% before, -3.0% to -2.6% now); a tippe top at 1/2400 s kept Jellett's
+  // quantity to 1.1e-2 and now to 1.9e-4; a rolling coin's lean drifted 15 -> 21 degrees in 5 s and
+  // holds now; a heavy top on a 1 um tip precessed 0.3% slow and is within 6e-5 of the slow root.
+  // (Bodies that are not tracked keep the term before the impulses: their contact point does not
+  // run over them, and the other demos keep their motion.)
   for (int k : tracked_bodies_) {
     if (gyro_[k] != 2) continue;
     SolverBody& b = sb_[k];
