@@ -24,6 +24,7 @@
 
 #include "sim/constraint_graph.hpp"
 #include "sim/contact.hpp"
+#include "sim/contact_refresh.hpp"
 #include "sim/contact_settings.hpp"
 #include "sim/shapes.hpp"
 #include "sim/state.hpp"
@@ -88,19 +89,9 @@ struct ContactConstraint {
   int count = 0;
   Softness soft;
   ConstraintPoint p[4];
-  // A cylinder touching a flat surface with one point of its rim (sim/README.md "Rolling on a
-  // rim"): the point runs round the rim as the body turns, so after each substep's move it is
-  // found again, the rim's support point along the normal, and the point's anchors, gap and
-  // effective masses follow it. 0: not such a contact; 1: B's rim; -1: A's rim.
-  int rim = 0;
-  Vec3 rim_c =
-      Vec3::Zero();  ///< m, centre of the touching end disk from the body's centre of mass, world, step start
-  Vec3 rim_u = Vec3::Zero();   ///< the cylinder's axis, world, step start
-  Vec3 rim_x0 = Vec3::Zero();  ///< m, the rim point from the cylinder's centre of mass at the step's start
-  Vec3 rim_o0 = Vec3::Zero();  ///< m, the other body's anchor at the step's start
-  double rim_radius = 0;       ///< m
-  Vec3 rim_e = Vec3::Zero();   ///< the rim's unit radius at the contact, world, now
-  Vec3 rim_t = Vec3::Zero();   ///< the rim's unit tangent there, axis x rim_e
+  // A contact whose point runs over a smooth surface (a rim, an ellipsoid, ...: sim/contact_refresh.hpp):
+  // its index in the solver's tracked list, or -1.
+  int track = -1;
 };
 
 // What the solver needs of the world for one step (arrays owned by World, indexed by body).
@@ -149,17 +140,23 @@ class ContactSolver {
 
  private:
   SolverInput in_;
-  std::vector<int> bodies_;              ///< body index of solver body k + 1
-  std::vector<SolverBody> sb_;           ///< [0] is the static body: never written (zero mass and inertia)
-  std::vector<Mat3> I_W_;                ///< world inertia of each solver body (gyroscopic term)
-  std::vector<char> gyro_;               ///< needs the gyroscopic term
-  std::vector<Vec3> accel_;              ///< m/s^2, g + f/m
-  std::vector<Vec3> ang_accel_;          ///< rad/s^2, I^-1 tau
+  std::vector<int> bodies_;      ///< body index of solver body k + 1
+  std::vector<SolverBody> sb_;   ///< [0] is the static body: never written (zero mass and inertia)
+  std::vector<Mat3> I_W_;        ///< world inertia of each solver body (gyroscopic term)
+  std::vector<char> gyro_;       ///< needs the gyroscopic term (2: a tracked body's, after the warm start)
+  std::vector<Vec3> gyro_w0_;    ///< rad/s, a tracked body's w before the warm start (gyro_ 2)
+  double h_ = 0;                 ///< s, this substep's
+  std::vector<Vec3> accel_;      ///< m/s^2, g + f/m
+  std::vector<Vec3> ang_accel_;  ///< rad/s^2, I^-1 tau
   std::vector<ContactConstraint> cons_;  ///< in solve order: colour by colour (graph_.slot)
-  std::vector<int> rims_;  ///< slots of the constraints with a rim contact (ContactConstraint::rim)
-  std::vector<int>
-      rim_candidates_;  ///< constraints (contact order) that may be rim contacts: one point, a cylinder
-  std::vector<char> rim_body_;  ///< per solver body: a cylinder of a rim contact (its inertia follows it)
+  std::vector<TrackedContact>
+      tracked_;  ///< contacts whose point runs over a surface (ContactConstraint::track), in contact order
+  std::vector<int> tracked_bodies_;  ///< their tracked bodies' solver bodies, ascending
+  bool track_due_ = false;           ///< moved since the tracked points were last found
+  // Constraints that may be tracked (one point, a round shape on either side), in contact order:
+  // make_constraint makes their records here (con -1: not tracked after all).
+  std::vector<TrackedContact> track_scratch_;
+  std::vector<int> track_candidate_of_;  ///< per constraint (contact order): its index there, or -1
   Softness soft_, static_soft_;
   bool any_restitution_ = false;  ///< some constraint has restitution > 0 (else the stage is empty)
 
@@ -180,11 +177,12 @@ class ContactSolver {
   // a barrier between colours, then the overflow set on worker 0.
   template <typename F>
   void by_colour(int w, int nw, F&& f);
-  void make_constraint(ContactConstraint& k, int ci, const Contact& c, const std::vector<int>& solver_index);
+  void make_constraint(ContactConstraint& k, int slot, int cand, int ci, const Contact& c,
+                       const std::vector<int>& solver_index);
   void integrate_velocity(int k, double h);
   static void normal_terms(ConstraintPoint& p, const Vec3& n, const SolverBody& A, const SolverBody& B);
   static void friction_terms(ContactConstraint& k, const SolverBody& A, const SolverBody& B);
-  void refresh_rim(ContactConstraint& k) const;  ///< a rim contact after a substep's move
+  void refresh_tracked(int w, int nw);  ///< the tracked points and their bodies' inertia (inside on_workers)
   void restitution_one(ContactConstraint& k, double threshold);
   // Fewer constraints than this are solved on the calling thread alone.
   static constexpr int kMinParallelConstraints = 128;
