@@ -137,9 +137,19 @@ bool shape_feature(uint32_t id) {
 // collide.cpp's reduction with the shape's own points first and winning near-ties: on a flat
 // patch the points made by clipping at inner edges lie at the depth of the shape's points to
 // rounding, between them, and must not displace them (a capsule lying flat would otherwise keep a
-// middle point and one end, and tip).
+// middle point and one end, and tip). The stable partition is written out over a fixed buffer:
+// std::stable_partition takes a temporary buffer from the heap (found by AddressSanitizer as an
+// operator new(nothrow) the allocation count did not see), and a step must not allocate.
 void reduce_mesh(Candidate* c, int n, const Vec3& normal, Manifold& out) {
-  std::stable_partition(c, c + n, [](const Candidate& q) { return shape_feature(q.id); });
+  Candidate rest[kClusterCap];
+  int kept = 0, moved = 0;
+  for (int i = 0; i < n; ++i) {
+    if (shape_feature(c[i].id))
+      c[kept++] = c[i];
+    else
+      rest[moved++] = c[i];
+  }
+  std::copy(rest, rest + moved, c + kept);
   reduce_to_manifold(c, n, normal, out, 1e-10, 1e-9);
 }
 
