@@ -28,10 +28,6 @@ Vec3 perpendicular(const Vec3& n) {
   return n.cross(e).normalized();
 }
 
-// Below this sine between the normal and a cylinder's end face the cylinder stands on the face
-// (the narrow phase's cap test, collide/internal.hpp kSinTol): such a contact is not a rim's.
-constexpr double kRimMinSine = 0.04471;
-
 inline Vec3 relative_velocity(const SolverBody& A, const SolverBody& B, const Vec3& rA, const Vec3& rB) {
   return B.v + B.w.cross(rB) - A.v - A.w.cross(rA);
 }
@@ -101,6 +97,7 @@ __attribute__((flatten)) void ContactSolver::prepare(const SolverInput& in, cons
   sb_.assign(nb, SolverBody{});
   I_W_.assign(nb, Mat3::Zero());
   gyro_.assign(nb, 0);
+  gyro_w0_.resize(nb);
   accel_.assign(nb, Vec3::Zero());
   ang_accel_.assign(nb, Vec3::Zero());
   for (int k = 1; k < nb; ++k) {
@@ -141,8 +138,9 @@ __attribute__((flatten)) void ContactSolver::prepare(const SolverInput& in, cons
   if (cons_.size() > ncons) cons_.erase(cons_.begin() + ncons, cons_.end());
   cons_.resize(ncons);
   size_t next = 0;
-  rims_.clear();
-  rim_bodies_.clear();
+  tracked_.clear();
+  tracked_bodies_.clear();
+  track_due_ = false;
   for (int ci = 0; ci < (int)contacts.size(); ++ci) {
     const Contact& c = contacts[ci];
     if (!wanted(c)) continue;
@@ -217,40 +215,27 @@ __attribute__((flatten)) void ContactSolver::prepare(const SolverInput& in, cons
       k.rolling_lever = 0;
       k.rolling_impulse.setZero();
     }
-    // A cylinder touching with one point of its rim (B's tried first): the point is tracked
-    // exactly (refresh_rim), so the gap follows it, not a centre of curvature: cX = rX, and
-    // adjusted_separation = s - n.(cB - cA) stays right all step.
-    k.rim = 0;
-    for (int side = 1; side >= -1 && c.count == 1 && k.rim == 0; side -= 2) {
-      const ShapeRecord& S = (*in.shapes)[side > 0 ? c.shape_b : c.shape_a];
-      if (S.geom.kind != CollideKind::cylinder) continue;
-      const int body = side > 0 ? c.body_b : c.body_a;
-      const Pose x = ShapeTable::world_pose(S, in.state[body]);
-      const Vec3 u = x.R.col(2);
-      const Vec3 m = side > 0 ? Vec3(-k.n) : k.n;              // from the cylinder towards the other body
-      if ((m - m.dot(u) * u).norm() <= kRimMinSine) continue;  // on its end face
-      ConstraintPoint& p = k.p[0];
-      k.rim = side;
-      k.rim_u = u;
-      k.rim_c = x.p + (m.dot(u) >= 0 ? S.geom.half_length : -S.geom.half_length) * u - in.state[body].x_W;
-      k.rim_radius = S.geom.radius;
-      if (side > 0) {
-        p.cB = p.rB;
-        k.rim_x0 = p.rB;
-        k.rim_o0 = p.rA;
-      } else {
-        p.cA = p.rA;
-        k.rim_x0 = p.rA;
-        k.rim_o0 = p.rB;
+    // A contact whose point runs over a smooth surface (B's tried first): tracked per substep
+    // (sim/contact_refresh.hpp); its gap follows the tracked point, not a centre of curvature.
+    k.track = -1;
+    for (int side = 1; side >= -1 && c.count == 1 && k.track < 0; side -= 2) {
+      TrackedContact t;
+      if ((side > 0 ? k.b : k.a) == 0) continue;  // a static body's surface does not move
+      if (!track_begin(t, k, c, *in.shapes, in.state, side)) continue;
+      t.con = (int)next - 1;
+      k.track = (int)tracked_.size();
+      tracked_.push_back(t);
+      tracked_bodies_.push_back(side > 0 ? k.b : k.a);
+      if (track_point(tracked_.back(), k, A, B)) {
+        normal_terms(k.p[0], k.n, A, B);
+        friction_terms(k, A, B);
       }
-      p.adjusted_separation = c.points[0].separation - k.n.dot(p.cB - p.cA);
-      rims_.push_back((int)next - 1);
-      rim_bodies_.push_back(side > 0 ? k.b : k.a);
-      refresh_rim(k);
     }
   }
-  std::sort(rim_bodies_.begin(), rim_bodies_.end());
-  rim_bodies_.erase(std::unique(rim_bodies_.begin(), rim_bodies_.end()), rim_bodies_.end());
+  std::sort(tracked_bodies_.begin(), tracked_bodies_.end());
+  tracked_bodies_.erase(std::unique(tracked_bodies_.begin(), tracked_bodies_.end()), tracked_bodies_.end());
+  for (int k : tracked_bodies_)
+    if (gyro_[k]) gyro_[k] = 2;  // the gyroscopic term after the warm start (warm_start)
   schedule();
 }
 
@@ -296,71 +281,41 @@ void ContactSolver::friction_terms(ContactConstraint& k, const SolverBody& A, co
   }
 }
 
-// A rim contact after a substep's move: the rim's support point along the normal, from the turned
-// axis and end disk, becomes the point's anchor and gap pivot (the gap is then exact), the other
-// body's anchor the same world point, and the effective masses and friction terms are made there
-// with the bodies' current inverse inertia (integrate_positions).
-void ContactSolver::refresh_rim(ContactConstraint& k) {
-  const SolverBody& A = sb_[k.a];
-  const SolverBody& B = sb_[k.b];
-  const SolverBody& X = k.rim > 0 ? B : A;  // the cylinder
-  const SolverBody& O = k.rim > 0 ? A : B;
-  const Vec3 m = k.rim > 0 ? Vec3(-k.n) : k.n;  // from the cylinder towards the other body
-  // The rim point from the cylinder's centre of mass at rotation R (so far this step); false when
-  // the end face is square to the normal (no single rim point).
-  auto rim_point = [&](const Mat3& R, Vec3& r, Vec3& e, Vec3& t) {
-    const Vec3 u = R * k.rim_u;
-    const Vec3 mp = m - m.dot(u) * u;
-    const double len = mp.norm();
-    if (len <= kRimMinSine) return false;
-    e = mp / len;
-    t = u.cross(e);
-    r = R * k.rim_c + k.rim_radius * e;
-    return true;
-  };
-  Vec3 r;
-  if (!rim_point(X.dR, r, k.rim_e, k.rim_t)) return;  // turned onto its end face: keep the last point
-  const Vec3 o = k.rim_o0 + (X.dp + r - k.rim_x0) - O.dp;
-  ConstraintPoint& p = k.p[0];
-  if (k.rim > 0) {
-    p.rB = r;
-    p.cB = X.dR.transpose() * r;
-    p.rA = o;
-  } else {
-    p.rA = r;
-    p.cA = X.dR.transpose() * r;
-    p.rB = o;
+namespace {
+
+// Gyroscopic term by the implicit midpoint rule: I (w' - ws) + h m x I m = 0, m = (w0 + w')/2, ws the
+// angular velocity the term is added to and w0 the substep's start (ws = w0 but for tracked bodies,
+// whose contact impulse of the substep is in ws: see warm_start), solved by Newton from w' = ws
+// (Jacobian I + h/2 (skew(m) I - skew(I m))). Second order, and it keeps the kinetic energy and |L| of
+// torque-free rotation: a spinning top in contact precesses at the right rate (Catto's one-step
+// implicit Euler, GDC 2015, damps it: 4.7% slow at 240 Hz for a top spinning at 54 rad/s, measured).
+// Newton converges quadratically; three iterations reach rounding for h |w| up to about 1.
+Vec3 midpoint_gyro(const Mat3& I, const Vec3& w0, const Vec3& ws, double h) {
+  Vec3 w1 = ws;
+  for (int it = 0; it < 3; ++it) {
+    const Vec3 m = 0.5 * (w0 + w1);
+    const Vec3 Im = I * m;
+    const Vec3 f = I * (w1 - ws) + h * m.cross(Im);
+    const Mat3 J = I + (0.5 * h) * (skew(m) * I - skew(Im));
+    w1 -= J.inverse() * f;
   }
-  normal_terms(p, k.n, A, B);
-  k.fA = p.rA;
-  k.fB = p.rB;
-  friction_terms(k, A, B);
+  return w1;
 }
 
+}  // namespace
+
 void ContactSolver::integrate_velocities(double h) {
+  if (track_due_) refresh_tracked();
+  h_ = h;
   for (int k = 1; k < (int)sb_.size(); ++k) {
     SolverBody& b = sb_[k];
     if (b.inv_mass == 0) continue;  // kinematic: keeps its velocity
     b.v += h * accel_[k];
     b.w += h * ang_accel_[k];
-    if (gyro_[k]) {
-      // Gyroscopic term by the implicit midpoint rule: I (w' - w) + h m x I m = 0, m = (w + w')/2,
-      // solved by Newton from w' = w (Jacobian I + h/2 (skew(m) I - skew(I m))). Second order,
-      // and it keeps the kinetic energy and |L| of torque-free rotation: a spinning top in
-      // contact precesses at the right rate (Catto's one-step implicit Euler, GDC 2015, damps
-      // it: 4.7% slow at 240 Hz for a top spinning at 54 rad/s, measured). Newton converges
-      // quadratically; three iterations reach rounding for h |w| up to about 1.
-      const Mat3& I = I_W_[k];
-      const Vec3 w0 = b.w;
-      Vec3 w1 = w0;
-      for (int it = 0; it < 3; ++it) {
-        const Vec3 m = 0.5 * (w0 + w1);
-        const Vec3 Im = I * m;
-        const Vec3 f = I * (w1 - w0) + h * m.cross(Im);
-        const Mat3 J = I + (0.5 * h) * (skew(m) * I - skew(Im));
-        w1 -= J.inverse() * f;
-      }
-      b.w = w1;
+    if (gyro_[k] == 1) {
+      b.w = midpoint_gyro(I_W_[k], b.w, b.w, h);
+    } else if (gyro_[k] == 2) {
+      gyro_w0_[k] = b.w;  // a tracked body's: after the warm start (see there)
     }
   }
 }
@@ -393,6 +348,24 @@ void ContactSolver::warm_start() {
     else
       warm_start_constraint<kNoneStatic>(k, sb_[k.a], sb_[k.b]);
   }
+  // A tracked body's gyroscopic term, with the substep's contact impulse in its midpoint: m = (w0 +
+  // w')/2 must hold the whole substep's change of w, and the contact's, I^-1 (r x P), is of the
+  // same order as the term's own (the contact's torque is what turns L). Taken before the
+  // impulses (integrate_velocities), m misses I^-1 (r x P) / 2, and the term is off by
+  // h/2 ((I^-1 tau) x I w + w x tau) relatively to first order in h; the warm start's impulses are
+  // the last substep's, this one's to O(h), so the term taken after them is right to O(h^2).
+  // Measured: the rattleback spun +5 rad/s reversed 17.5% late at substeps of 1/960 s (+7.8% at
+  // 1/1920 s, +3.6% at 1/3840: first order) and reverses within 0.1% of the reference at all three
+  // now (the one spun -5: -4.3% before, -3.0% to -2.6% now); a tippe top at 1/2400 s kept Jellett's
+  // quantity to 1.1e-2 and now to 1.9e-4; a rolling coin's lean drifted 15 -> 21 degrees in 5 s and
+  // holds now; a heavy top on a 1 um tip precessed 0.3% slow and is within 6e-5 of the slow root.
+  // (Bodies that are not tracked keep the term before the impulses: their contact point does not
+  // run over them, and the other demos keep their motion.)
+  for (int k : tracked_bodies_) {
+    if (gyro_[k] != 2) continue;
+    SolverBody& b = sb_[k];
+    b.w = midpoint_gyro(I_W_[k], gyro_w0_[k], b.w, h_);
+  }
 }
 
 namespace {
@@ -401,30 +374,8 @@ struct SolveParams {
   double inv_h, max_push, slop, apart, slip_speed;
   bool use_bias, first_iteration;
   double h;
+  const TrackedContact* tracked;  ///< ContactSolver::tracked_ (ContactConstraint::track indexes it)
 };
-
-// A rim contact's velocity terms J v = d.(vX + wX x r + ...) at the contact, d the normal or a
-// tangent, hold at the substep's start; over the substep the contact runs round the rim, r
-// changes at r' = w x r + a phi' t (the material point's turn plus the contact's slide along
-// the rim, a phi' = a m.(w x t) / m.e by the envelope theorem over the rim's angle; m from the
-// cylinder towards the other body, e the rim's unit radius at the contact, t = u x e its
-// tangent) and J v at d.(w x r') h per substep. Solving for J v = -d.(w x r') h / 2 instead of
-// 0 makes both the gap after the move right to the third order in h and the contact's impulses
-// workless on a rolling rim. (Solving for 0 stopped the contact's new material point at each
-// substep like an inelastic collision and let the gap fall by h^2/2 m.(w x r') each substep, for
-// the soft contact to push back: a disk in steady rolling on its rim lost or gained energy and
-// lean at the first order in h, Omega^2 sin(alpha) off by 17-24% after 1 s at h = 1/960 s,
-// measured.) Returns sign (w x r') h / 2, sign + for B's rim, - for A's.
-inline Vec3 rim_turn(const ContactConstraint& k, const ConstraintPoint& p, const Vec3& wA, const Vec3& wB,
-                     double h) {
-  const bool onB = k.rim > 0;
-  const Vec3 w = onB ? Vec3(wB - wA) : Vec3(wA - wB);
-  const Vec3 m = onB ? Vec3(-k.n) : k.n;
-  const Vec3& r = onB ? p.rB : p.rA;
-  const double slide = k.rim_radius * m.dot(w.cross(k.rim_t)) / m.dot(k.rim_e);
-  const Vec3 turn = w.cross(w.cross(r) + slide * k.rim_t);
-  return (onB ? 0.5 * h : -0.5 * h) * turn;
-}
 
 // Which side of a constraint is the static body (see apply_normal).
 inline int static_side(const ContactConstraint& k) {
@@ -508,7 +459,8 @@ struct ManifoldSolve {
     // The new accumulated impulse, lambda_acc + lambda with lambda = c (vn + bias) - impulse_scale
     // lambda_acc, c = -m_eff mass_scale, is (lambda_acc - impulse_scale lambda_acc + c bias) + c vn:
     // all but c vn is made off Gauss-Seidel's chain (vn -> impulse -> velocities -> next vn).
-    if (k.rim != 0) bias += k.n.dot(rim_turn(k, p, A.w, B.w, q.h));
+    // A tracked point's workless target (sim/contact_refresh.cpp, track_turn).
+    if (k.track >= 0) bias += k.n.dot(track_turn(q.tracked[k.track], p, A.w, B.w, q.h));
     const double c = -p.normal_mass * mass_scale;
     const double base = (p.normal_impulse - impulse_scale * p.normal_impulse) + c * bias;
     // vn = n.(vB - vA) + wB.(rB x n) - wA.(rA x n), each body's part summed on its own.
@@ -560,8 +512,8 @@ struct ManifoldSolve {
       const Vec3 dv = B.v - A.v;
       Eigen::Vector2d vt(k.t[0].dot(dv) + B.w.dot(k.fBt[0]) - A.w.dot(k.fAt[0]),
                          k.t[1].dot(dv) + B.w.dot(k.fBt[1]) - A.w.dot(k.fAt[1]));
-      if (k.rim != 0) {
-        const Vec3 turn = rim_turn(k, k.p[0], A.w, B.w, q.h);
+      if (k.track >= 0) {
+        const Vec3 turn = track_turn(q.tracked[k.track], k.p[0], A.w, B.w, q.h);
         vt += Eigen::Vector2d(k.t[0].dot(turn), k.t[1].dot(turn));
       }
       const Eigen::Vector2d old(k.tangent_impulse[0], k.tangent_impulse[1]);
@@ -731,7 +683,8 @@ bool ContactSolver::solve(double h, bool use_bias, bool first_iteration) {
                       in_.settings.slip_speed,
                       use_bias,
                       first_iteration,
-                      h};
+                      h,
+                      tracked_.data()};
   bool struck = false;
   for (const auto& [i, j] : slots_) {
     ContactConstraint& k0 = cons_[i];
@@ -771,11 +724,29 @@ void ContactSolver::integrate_positions(double h) {
     b.dq = rotation_increment(b.w, h) * b.dq;
     b.dR = b.dq.toRotationMatrix();
   }
-  // A body rolling on a rim turns a good part of a radian per step about a tilted axis (Euler's
-  // disk near its end): its world inertia, fixed for the step elsewhere, follows its orientation
-  // here, or the step's stale inertia makes an error of the first order in dt in its motion (a disk
-  // in steady rolling drifted off it, 36% in Omega^2 sin(alpha) after 1 s at 1/240 s, measured).
-  for (int k : rim_bodies_) {
+  track_due_ = !tracked_.empty();
+}
+
+// The tracked points (sim/contact_refresh.hpp) found again after a substep's move, and made the
+// constraints' anchors, with their bodies' world inertia of that orientation. Called before the
+// next substep's velocity update, not at the move: the relax after the move then acts through the
+// same constraint (anchors, inertia) as the solve before it, and only takes back the push-out.
+// Done at the move (before the relax), it solved the new point's velocity jump, d.(w x r') h
+// (track_turn), at once in the relax, the accumulated impulses carried it into the next
+// substep's warm start, and that substep's solve took most of it back out: for Euler's disk at
+// 20 degrees (n.(w x r') = 35 m/s^2 against g), the relax pushed 0.8 m g h and the solve was left
+// with 0.2 m g h of accumulated normal impulse while its friction needed 0.26 m g h, and the
+// Coulomb clamp (mu = 0.6 of the accumulated normal impulse) cut it. A clamped friction impulse
+// lets the point slip at O(h) for the substep: O(h^2) per substep, O(h) over the run; the disk
+// drifted off its steady motion by 9% in 5 s at h = 1/3840 s with friction (0.8% without), and
+// is within 0.5% of it now (measured; tests/sim/disks_test.cpp).
+// A tracked body turns its contact point a good part of a radian per step (Euler's disk near its
+// end, a tippe top): its world inertia, fixed for the step elsewhere, follows its orientation here,
+// or the step's stale inertia makes an error of the first order in dt in its motion (a disk in
+// steady rolling drifted off it, 36% in Omega^2 sin(alpha) after 1 s at 1/240 s, measured).
+void ContactSolver::refresh_tracked() {
+  track_due_ = false;
+  for (int k : tracked_bodies_) {
     SolverBody& b = sb_[k];
     const int i = bodies_[k - 1];
     const BodyModel& m = in_.model[i];
@@ -783,7 +754,14 @@ void ContactSolver::integrate_positions(double h) {
     b.inv_I = R * m.inv_I_P.asDiagonal() * R.transpose();
     if (gyro_[k]) I_W_[k] = R * m.I_P.asDiagonal() * R.transpose();
   }
-  for (int i : rims_) refresh_rim(cons_[i]);
+  for (TrackedContact& t : tracked_) {
+    ContactConstraint& k = cons_[t.con];
+    const SolverBody& A = sb_[k.a];
+    const SolverBody& B = sb_[k.b];
+    if (!track_point(t, k, A, B)) continue;  // turned onto a face: keep the last point
+    normal_terms(k.p[0], k.n, A, B);
+    friction_terms(k, A, B);
+  }
 }
 
 // Restitution at the end of the substep in which the impact happens (Box3D applies it once after

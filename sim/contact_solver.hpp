@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "sim/contact.hpp"
+#include "sim/contact_refresh.hpp"
 #include "sim/contact_settings.hpp"
 #include "sim/shapes.hpp"
 #include "sim/state.hpp"
@@ -85,19 +86,9 @@ struct ContactConstraint {
   int count = 0;
   Softness soft;
   ConstraintPoint p[4];
-  // A cylinder touching a flat surface with one point of its rim (sim/README.md "Rolling on a
-  // rim"): the point runs round the rim as the body turns, so after each substep's move it is
-  // found again, the rim's support point along the normal, and the point's anchors, gap and
-  // effective masses follow it. 0: not such a contact; 1: B's rim; -1: A's rim.
-  int rim = 0;
-  Vec3 rim_c =
-      Vec3::Zero();  ///< m, centre of the touching end disk from the body's centre of mass, world, step start
-  Vec3 rim_u = Vec3::Zero();   ///< the cylinder's axis, world, step start
-  Vec3 rim_x0 = Vec3::Zero();  ///< m, the rim point from the cylinder's centre of mass at the step's start
-  Vec3 rim_o0 = Vec3::Zero();  ///< m, the other body's anchor at the step's start
-  double rim_radius = 0;       ///< m
-  Vec3 rim_e = Vec3::Zero();   ///< the rim's unit radius at the contact, world, now
-  Vec3 rim_t = Vec3::Zero();   ///< the rim's unit tangent there, axis x rim_e
+  // A contact whose point runs over a smooth surface (a rim, an ellipsoid, ...: sim/contact_refresh.hpp):
+  // its index in the solver's tracked list, or -1.
+  int track = -1;
 };
 
 // What the solver needs of the world for one step (arrays owned by World, indexed by body).
@@ -135,18 +126,22 @@ class ContactSolver {
   std::vector<int> bodies_;      ///< body index of solver body k + 1
   std::vector<SolverBody> sb_;   ///< [0] is the static body: never written (zero mass and inertia)
   std::vector<Mat3> I_W_;        ///< world inertia of each solver body (gyroscopic term)
-  std::vector<char> gyro_;       ///< needs the gyroscopic term
+  std::vector<char> gyro_;       ///< needs the gyroscopic term (2: a tracked body's, after the warm start)
+  std::vector<Vec3> gyro_w0_;    ///< rad/s, a tracked body's w before the warm start (gyro_ 2)
+  double h_ = 0;                 ///< s, this substep's
   std::vector<Vec3> accel_;      ///< m/s^2, g + f/m
   std::vector<Vec3> ang_accel_;  ///< rad/s^2, I^-1 tau
   std::vector<ContactConstraint> cons_;
-  std::vector<int> rims_;        ///< constraints with a rim contact (ContactConstraint::rim)
-  std::vector<int> rim_bodies_;  ///< their cylinders' solver bodies, ascending
+  std::vector<TrackedContact>
+      tracked_;                      ///< contacts whose point runs over a surface (ContactConstraint::track)
+  std::vector<int> tracked_bodies_;  ///< their tracked bodies' solver bodies, ascending
+  bool track_due_ = false;           ///< moved since the tracked points were last found
   Softness soft_, static_soft_;
 
   static void normal_terms(ConstraintPoint& p, const Vec3& n, const SolverBody& A, const SolverBody& B);
   static void friction_terms(ContactConstraint& k, const SolverBody& A, const SolverBody& B);
-  void refresh_rim(ContactConstraint& k);  ///< a rim contact after a substep's move
-  void schedule();                         ///< slots_ from cons_ (see solve)
+  void refresh_tracked();  ///< the tracked points and their bodies' inertia, after a substep's move and relax
+  void schedule();         ///< slots_ from cons_ (see solve)
   std::vector<std::array<int, 2>> slots_;  ///< constraints solved together (second -1: alone)
   std::vector<char> scheduled_;
   std::vector<int> mark_;
