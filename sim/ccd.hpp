@@ -63,6 +63,9 @@ struct ToiInput {
   double reach_b = 0;
   double target = 1e-4;       ///< m, the gap to stop at
   double tolerance = 2.5e-5;  ///< m, how close to target counts as arrived
+  /// B is instead this still triangle (three world points, counter-clockwise about its front
+  /// normal: a static mesh's triangle); b, R_PB, p_PB and reach_b are then unused, sb may be null.
+  const Vec3* tri_b = nullptr;
 };
 
 struct ToiOutput {
@@ -75,5 +78,32 @@ struct ToiOutput {
 constexpr int kToiMaxIterations = 40;
 
 ToiOutput time_of_impact(const ToiInput& in);
+
+// m, distance between shape a at pose xa and the triangle tri (three world points), and the unit
+// direction n from a's closest point to the triangle's (a sphere in closed form, Ericson 5.1.5; the
+// others by GJK against the triangle). Zero or negative when they touch.
+double triangle_distance(const CollideShape& a, const Pose& xa, const Vec3 tri[3], Vec3& n);
+
+// time_of_impact with the fallback for a pair touching at the start, for the sides flagged in
+// `core` (bit 0: A, bit 1: B; a side that is swept): such a side sweeps instead its core, a
+// sphere of a quarter of its smallest width about its centre, against the other shape whole, so
+// that a body already touching a thin wall or plate still cannot pass through it (a core arrives
+// at most a quarter of the shape's width deep); and if the core touches too, its centre, which may
+// approach the other shape by half its distance at the start but never cross it. Never returns
+// `touching`: a pair touching at the start that no fallback stops is `separated` (the solver
+// handles it). Against a triangle (tri_b) only A falls back, and only while its centre is in
+// front of the triangle's plane (one-sided, as the narrow phase: sim/collide/triangles.cpp).
+ToiOutput time_of_impact_guarded(const ToiInput& in, int core);
+
+// The earliest time of impact of the swept convex shape in.a (on sweep in.sa; in.b and in.sb
+// unused) with the triangles of the static triangle mesh `mesh` (CollideKind::mesh) at pose xm,
+// among those whose boxes meet the world box [lo_W, hi_W] (the shape's box over its sweep),
+// in the tree's fixed order. One-sided, as the narrow phase: a triangle the shape starts wholly
+// behind is passed through. guarded: each triangle by time_of_impact_guarded (the continuous
+// stage); else a triangle within target at the start makes the answer `touching` (the
+// speculative manifold taken ahead then falls back to the usual one). `triangle`: the hit
+// triangle's index in the mesh, or -1. Deterministic; allocates nothing.
+ToiOutput mesh_time_of_impact(const ToiInput& in, const CollideShape& mesh, const Pose& xm, const Vec3& lo_W,
+                              const Vec3& hi_W, bool guarded, int* triangle = nullptr);
 
 }  // namespace simreel

@@ -259,6 +259,11 @@ class World {
   bool fast_pair(int a, int b, double closing) const;
   int collide_ahead(int a, int b, const Pose& xa, const Pose& xb, double speculative, double closing,
                     PairCache& cache, Manifold& m, Vec3 offset[4]) const;
+  double mesh_toi(int c, int m, const Sweep& s, const Aabb& box, double target, double tolerance,
+                  bool guarded,
+                  int* triangle = nullptr) const;  ///< world_ccd.cpp
+  int collide_mesh_ahead(int c, int m, double speculative, Manifold out[],
+                         Vec3 offset[][4]) const;  ///< world_trimesh.cpp
   bool inert(int i) const;  ///< static, asleep, or kinematic at rest: neither moves nor wakes
   void stage_clear();
   template <typename F>

@@ -41,7 +41,9 @@ void World::init_continuous() {
   for (int i = n - 1; i >= 0; --i) shape_begin_[i] = std::min(shape_begin_[i], shape_begin_[i + 1]);
   for (int k = 0; k < st.size(); ++k) {
     const ShapeRecord& r = st[k];
-    if (r.geom.kind == CollideKind::plane || r.group == 0 || r.mask == 0) continue;
+    // Planes and static meshes (never swept; their width is unbounded), shapes that touch nothing.
+    if (r.geom.kind == CollideKind::plane || r.geom.kind == CollideKind::mesh || r.group == 0 || r.mask == 0)
+      continue;
     shape_reach_[k] = r.p_PC.norm() + r.geom.bounding_radius;
     shape_width_[k] = min_width(r.geom);
     body_reach_[r.body] = std::max(body_reach_[r.body], shape_reach_[k]);
@@ -158,6 +160,30 @@ int World::collide_ahead(int a, int b, const Pose& xa, const Pose& xb, double sp
   return n;
 }
 
+// The earliest time of impact (fraction of the step; 1: none) of convex shape c on sweep s with the
+// triangles of static mesh shape m whose boxes meet c's box over the sweep, `box`, grown by the
+// target gap. guarded: stage_continuous's fallbacks for triangles touched at the start; else a
+// triangle touched at the start gives -1 (collide_mesh_pair then collides as usual).
+double World::mesh_toi(int c, int m, const Sweep& s, const Aabb& box, double target, double tolerance,
+                       bool guarded, int* triangle) const {
+  const ShapeTable& st = *shapes_;
+  const ShapeRecord& C = st[c];
+  const ShapeRecord& M = st[m];
+  ToiInput in;
+  in.a = &C.geom;
+  in.R_PA = C.R_PC;
+  in.p_PA = C.p_PC;
+  in.sa = &s;
+  in.reach_a = shape_reach_[c];
+  in.target = target;
+  in.tolerance = tolerance;
+  const Vec3 grow = Vec3::Constant(target + tolerance);
+  const ToiOutput out = mesh_time_of_impact(in, M.geom, ShapeTable::world_pose(M, state_[M.body]),
+                                            box.lo - grow, box.hi + grow, guarded, triangle);
+  if (out.state == ToiOutput::touching) return -1;
+  return out.state == ToiOutput::hit ? out.t : 1.0;
+}
+
 void World::save_start_poses() {
   for (int i : ccd_movers_) {
     x0_[i] = state_[i].x_W;
@@ -252,6 +278,15 @@ bool World::stage_continuous() {
     const int a = (int)(key >> 32), b = (int)(key & 0xFFFFFFFFu);
     const ShapeRecord& A = st[a];
     const ShapeRecord& B = st[b];
+    if (A.geom.kind == CollideKind::mesh || B.geom.kind == CollideKind::mesh) {
+      // A static triangle mesh: its triangles within the swept shape's box (the mesh is never the
+      // swept side: it is static).
+      const int c = A.geom.kind == CollideKind::mesh ? b : a;
+      const double t =
+          mesh_toi(c, a == c ? b : a, sweeps_[st[c].body], swept_boxes_[c], target, tolerance, true);
+      if (t < 1 && t > 0) toi_[st[c].body] = std::min(toi_[st[c].body], t);
+      continue;
+    }
     ToiInput in;
     in.a = &A.geom;
     in.R_PA = A.R_PC;
@@ -265,60 +300,9 @@ bool World::stage_continuous() {
     in.reach_b = shape_reach_[b];
     in.target = target;
     in.tolerance = tolerance;
-    ToiOutput out = time_of_impact(in);
-    if (out.state == ToiOutput::touching) {
-      // Touching at the start (a resting or sliding contact, which the solver handles): sweep
-      // instead the core of each swept shape, a sphere of a quarter of its smallest width about its
-      // centre (Box2D's fallback), against the other shape whole, so that a body already touching
-      // a thin wall or plate still cannot pass through it. A core arrives at most a quarter of the
-      // shape's width deep.
-      out.state = ToiOutput::separated;
-      for (int side = 0; side < 2; ++side) {
-        const ShapeRecord& C = side == 0 ? A : B;
-        if (!shape_swept_[side == 0 ? a : b] || C.geom.kind == CollideKind::plane) continue;
-        CollideShape core;
-        core.kind = CollideKind::sphere;
-        core.radius = 0.25 * min_width(C.geom);
-        core.bounding_radius = core.radius;
-        const Vec3 centre_C =
-            C.geom.kind == CollideKind::hull && C.geom.hull ? C.geom.hull->centroid : Vec3::Zero();
-        const Vec3 p = C.p_PC + C.R_PC * centre_C;
-        ToiInput ci = in;
-        if (side == 0) {
-          ci.a = &core;
-          ci.R_PA = Mat3::Identity();
-          ci.p_PA = p;
-          ci.reach_a = p.norm() + core.radius;
-        } else {
-          ci.b = &core;
-          ci.R_PB = Mat3::Identity();
-          ci.p_PB = p;
-          ci.reach_b = p.norm() + core.radius;
-        }
-        ToiOutput co = time_of_impact(ci);
-        if (co.state == ToiOutput::touching) {
-          // The core touches too (a body already sunk a quarter of its width into the other, as a
-          // ball sliding fast across a spinning plate does; the solver's anchors are fixed within a
-          // step): the last defence is the centre itself, which may approach the surface by half
-          // its distance per step but never cross it.
-          core.radius = 0;
-          const Sweep& sc = side == 0 ? *in.sa : *in.sb;
-          const Sweep& so = side == 0 ? *in.sb : *in.sa;
-          const ShapeRecord& O = side == 0 ? B : A;
-          Pose pc;
-          pc.R = Mat3::Identity();
-          pc.p = sc.x0 + sc.q0.toRotationMatrix() * p;
-          Vec3 n0;
-          const double d0 = shape_distance(core, pc, O.geom, shape_pose(O, so.x0, so.q0), n0);
-          if (d0 > 0) {
-            ci.target = std::min(ci.target, 0.5 * d0);
-            ci.tolerance = std::min(ci.tolerance, 0.25 * ci.target);
-            co = time_of_impact(ci);
-          }
-        }
-        if (co.state == ToiOutput::hit && (out.state != ToiOutput::hit || co.t < out.t)) out = co;
-      }
-    }
+    // Touching at the start (a resting or sliding contact, which the solver handles): the swept
+    // sides' cores instead, then their centres (ccd.hpp, time_of_impact_guarded).
+    const ToiOutput out = time_of_impact_guarded(in, (shape_swept_[a] ? 1 : 0) | (shape_swept_[b] ? 2 : 0));
     if (out.state != ToiOutput::hit || !(out.t > 0)) continue;
     if (shape_swept_[a]) toi_[A.body] = std::min(toi_[A.body], out.t);
     if (shape_swept_[b]) toi_[B.body] = std::min(toi_[B.body], out.t);

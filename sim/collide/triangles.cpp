@@ -49,6 +49,29 @@
 namespace simreel {
 
 namespace collide_detail {
+
+// (internal.hpp)
+Vec3 closest_on_triangle(const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c, int& f) {
+  const Vec3 ab = b - a, ac = c - a, ap = q - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) return f = 4, a;
+  const Vec3 bp = q - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return f = 5, b;
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return f = 1, Vec3(a + (d1 / (d1 - d3)) * ab);
+  const Vec3 cp = q - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return f = 6, c;
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return f = 3, Vec3(a + (d2 / (d2 - d6)) * ac);
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
+    return f = 2, Vec3(b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b));
+  const double den = 1.0 / (va + vb + vc);
+  return f = 0, Vec3(a + ab * (vb * den) + ac * (vc * den));
+}
+
 namespace {
 
 constexpr int kClusterCap = 32;
@@ -78,28 +101,6 @@ Action edge_rule(const WorldTri& t, int f, const Vec3& nu) {
   const int k = f - 4;
   if (!((t.active >> (3 + k)) & 1)) return kFace;
   return (nu.dot(t.out_nb[k]) < -1e-9 || nu.dot(t.out_nb[(k + 2) % 3]) < -1e-9) ? kDrop : kKeep;
-}
-
-// Closest point of the triangle to q, and its feature (Ericson 5.1.5).
-Vec3 closest_on_triangle(const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c, int& f) {
-  const Vec3 ab = b - a, ac = c - a, ap = q - a;
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0 && d2 <= 0) return f = 4, a;
-  const Vec3 bp = q - b;
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0 && d4 <= d3) return f = 5, b;
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return f = 1, Vec3(a + (d1 / (d1 - d3)) * ab);
-  const Vec3 cp = q - c;
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0 && d5 <= d6) return f = 6, c;
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return f = 3, Vec3(a + (d2 / (d2 - d6)) * ac);
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
-    return f = 2, Vec3(b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b));
-  const double den = 1.0 / (va + vb + vc);
-  return f = 0, Vec3(a + ab * (vb * den) + ac * (vc * den));
 }
 
 // The feature of the triangle a point on it lies on (barycentric weights below 1e-7 count as 0).
@@ -136,9 +137,19 @@ bool shape_feature(uint32_t id) {
 // collide.cpp's reduction with the shape's own points first and winning near-ties: on a flat
 // patch the points made by clipping at inner edges lie at the depth of the shape's points to
 // rounding, between them, and must not displace them (a capsule lying flat would otherwise keep a
-// middle point and one end, and tip).
+// middle point and one end, and tip). The stable partition is written out over a fixed buffer:
+// std::stable_partition takes a temporary buffer from the heap (found by AddressSanitizer as an
+// operator new(nothrow) the allocation count did not see), and a step must not allocate.
 void reduce_mesh(Candidate* c, int n, const Vec3& normal, Manifold& out) {
-  std::stable_partition(c, c + n, [](const Candidate& q) { return shape_feature(q.id); });
+  Candidate rest[kClusterCap];
+  int kept = 0, moved = 0;
+  for (int i = 0; i < n; ++i) {
+    if (shape_feature(c[i].id))
+      c[kept++] = c[i];
+    else
+      rest[moved++] = c[i];
+  }
+  std::copy(rest, rest + moved, c + kept);
   reduce_to_manifold(c, n, normal, out, 1e-10, 1e-9);
 }
 

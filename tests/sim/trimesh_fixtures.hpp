@@ -1,9 +1,10 @@
 // Triangle meshes for the static-mesh tests and benchmark: grids (flat, or any height field)
-// triangulated with alternating diagonals, and a bowl.
+// triangulated with alternating diagonals, a bowl, and a closed cuboid.
 #pragma once
 #include <cmath>
 #include <functional>
 #include <memory>
+#include <vector>
 
 #include "sim/body.hpp"
 #include "sim/mesh_mass.hpp"
@@ -81,6 +82,46 @@ inline std::shared_ptr<TriangleMesh> bowl(double R, int n_theta, int n_phi) {
       // Inward front: (theta, phi) increasing is counter-clockwise seen from inside.
       m->triangles.push_back({a, b, c});
       if (i > 0) m->triangles.push_back({a, c, d});
+    }
+  return m;
+}
+
+}  // namespace simreel::trimesh_test
+
+namespace simreel::trimesh_test {
+
+// A closed cuboid of half extents h centred at the origin, each face a grid of cells (n[axis]
+// cells along each axis), counter-clockwise about the outward normal. Every coordinate along an
+// axis comes from one table, so the faces' shared vertices weld exactly.
+inline std::shared_ptr<TriangleMesh> cuboid(const Vec3& h, const int n[3]) {
+  auto m = std::make_shared<TriangleMesh>();
+  std::vector<double> coord[3];
+  for (int a = 0; a < 3; ++a)
+    for (int i = 0; i <= n[a]; ++i) coord[a].push_back(i == n[a] ? h[a] : -h[a] + 2.0 * h[a] * i / n[a]);
+  for (int a = 0; a < 3; ++a)
+    for (int s = 0; s < 2; ++s) {
+      const int u = (a + 1) % 3, v = (a + 2) % 3;  // e_u x e_v = e_a
+      const int base = (int)m->vertices.size();
+      for (int j = 0; j <= n[v]; ++j)
+        for (int i = 0; i <= n[u]; ++i) {
+          Vec3 p;
+          p[a] = s == 0 ? -h[a] : h[a];
+          p[u] = coord[u][i];
+          p[v] = coord[v][j];
+          m->vertices.push_back(p);
+        }
+      auto at = [&](int i, int j) { return base + j * (n[u] + 1) + i; };
+      for (int j = 0; j < n[v]; ++j)
+        for (int i = 0; i < n[u]; ++i) {
+          const int p0 = at(i, j), p1 = at(i + 1, j), p2 = at(i + 1, j + 1), p3 = at(i, j + 1);
+          if (s == 1) {  // +e_a outward: counter-clockwise in (u, v)
+            m->triangles.push_back({p0, p1, p2});
+            m->triangles.push_back({p0, p2, p3});
+          } else {
+            m->triangles.push_back({p0, p2, p1});
+            m->triangles.push_back({p0, p3, p2});
+          }
+        }
     }
   return m;
 }
