@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "sim/integrators.hpp"
+#include "sim/task_pool.hpp"
 
 namespace simreel {
 
@@ -87,6 +88,29 @@ inline void apply_tangent(Body& A, Body& B, const ContactConstraint& k, double d
 
 }  // namespace
 
+template <typename F>
+void ContactSolver::on_workers(F&& f) const {
+  if (pool_)
+    pool_->run(f);
+  else
+    f(0, 1);
+}
+
+template <typename F>
+void ContactSolver::by_colour(int w, int nw, F&& f) {
+  const std::vector<int>& used = graph_.used();
+  const bool overflow = graph_.overflow_count() > 0;
+  for (size_t u = 0; u < used.size(); ++u) {
+    const int c = used[u];
+    int b, e;
+    share(graph_.end(c) - graph_.begin(c), w, nw, b, e);
+    f(graph_.begin(c) + b, graph_.begin(c) + e);
+    // No barrier after the last: the end of the pool's run waits for everyone.
+    if (nw > 1 && (u + 1 < used.size() || overflow)) pool_->barrier();
+  }
+  if (overflow && w == 0) f(graph_.begin(ConstraintGraph::kOverflow), graph_.end(ConstraintGraph::kOverflow));
+}
+
 // Flattened for the same reason as solve_one (Eigen's 3x3 products called, not inlined).
 __attribute__((flatten)) void ContactSolver::prepare(const SolverInput& in, const std::vector<int>& bodies,
                                                      const std::vector<Contact>& contacts,
@@ -94,33 +118,13 @@ __attribute__((flatten)) void ContactSolver::prepare(const SolverInput& in, cons
   in_ = in;
   bodies_ = bodies;
   const int nb = (int)bodies.size() + 1;
-  sb_.assign(nb, SolverBody{});
-  I_W_.assign(nb, Mat3::Zero());
-  gyro_.assign(nb, 0);
+  sb_.resize(nb);
+  I_W_.resize(nb);
+  gyro_.resize(nb);
   gyro_w0_.resize(nb);
-  accel_.assign(nb, Vec3::Zero());
-  ang_accel_.assign(nb, Vec3::Zero());
-  for (int k = 1; k < nb; ++k) {
-    const int i = bodies[k - 1];
-    solver_index[i] = k;
-    const BodyModel& m = in.model[i];
-    const MotionState& s = in.state[i];
-    const Mat3 R = s.q_WP.toRotationMatrix();
-    SolverBody& b = sb_[k];
-    b.v = s.v_W;
-    b.w = R * s.w_P;
-    b.inv_mass = m.inv_mass;
-    b.inv_I = R * m.inv_I_P.asDiagonal() * R.transpose();
-    if (m.inv_mass > 0) {
-      gyro_[k] = !m.isotropic;
-      if (gyro_[k]) I_W_[k] = R * m.I_P.asDiagonal() * R.transpose();  // read for the gyroscopic term only
-      accel_[k] = in.gravity;
-      if (in.wrench) {
-        accel_[k] += m.inv_mass * in.wrench[i].f_W;
-        ang_accel_[k] = b.inv_I * in.wrench[i].tau_W;
-      }
-    }
-  }
+  accel_.resize(nb);
+  ang_accel_.resize(nb);
+  for (int k = 1; k < nb; ++k) solver_index[bodies[k - 1]] = k;
   const ContactSettings& cs = in.settings;
   const double h = in.dt / in.substeps;
   // Stiffer than the substep can resolve is pointless and rings: at most a quarter of its rate.
@@ -128,115 +132,189 @@ __attribute__((flatten)) void ContactSolver::prepare(const SolverInput& in, cons
   soft_ = make_softness(hertz, cs.damping_ratio, h);
   static_soft_ = make_softness(2.0 * hertz, cs.damping_ratio, h);
 
-  // One constraint per touching manifold whose pair moves under impulses. The records (large)
-  // are reused from the last step: every field read later is written below.
-  auto wanted = [&](const Contact& c) {
-    return c.count > 0 && (solver_index[c.body_a] != 0 || solver_index[c.body_b] != 0);
-  };
-  size_t ncons = 0;
-  for (const Contact& c : contacts) ncons += wanted(c);
-  if (cons_.size() > ncons) cons_.erase(cons_.begin() + ncons, cons_.end());
+  // One constraint per touching manifold whose pair moves under impulses, coloured (in contact
+  // order) and stored in solve order. The records (large) are reused from the last step: every
+  // field read later is written by make_constraint.
+  wanted_.clear();
+  edge_a_.clear();
+  edge_b_.clear();
+  track_candidate_of_.clear();
+  int ncand = 0;
+  any_restitution_ = false;
+  for (int ci = 0; ci < (int)contacts.size(); ++ci) {
+    const Contact& c = contacts[ci];
+    if (c.count == 0 || (solver_index[c.body_a] == 0 && solver_index[c.body_b] == 0)) continue;
+    // Maybe a tracked contact (make_constraint decides): one point, a round shape on either side.
+    auto round = [](CollideKind kind) {
+      return kind == CollideKind::cylinder || kind == CollideKind::sphere || kind == CollideKind::capsule ||
+             kind == CollideKind::ellipsoid;
+    };
+    const bool candidate = c.count == 1 && (round((*in.shapes)[c.shape_a].geom.kind) ||
+                                            round((*in.shapes)[c.shape_b].geom.kind));
+    track_candidate_of_.push_back(candidate ? ncand++ : -1);
+    wanted_.push_back(ci);
+    edge_a_.push_back(solver_index[c.body_a]);
+    edge_b_.push_back(solver_index[c.body_b]);
+    any_restitution_ = any_restitution_ || c.restitution > 0;
+  }
+  const int ncons = (int)wanted_.size();
+  graph_.build(nb, ncons, edge_a_.data(), edge_b_.data());
   cons_.resize(ncons);
-  size_t next = 0;
+  track_scratch_.resize(ncand);
+  // Threads only where there is enough to split (a pool run and a barrier per colour cost a few
+  // microseconds); the result is the same either way.
+  pool_ = (in.pool && ncons >= kMinParallelConstraints) ? in.pool : nullptr;
+  workers_ = pool_ ? pool_->size() : 1;
+  struck_.resize(workers_);
+
+  on_workers([&](int w, int nw) {
+    int b, e;
+    share(nb, w, nw, b, e);
+    for (int k = b; k < e; ++k) {
+      SolverBody& sb = sb_[k];
+      sb = SolverBody{};
+      I_W_[k].setZero();
+      gyro_[k] = 0;
+      accel_[k].setZero();
+      ang_accel_[k].setZero();
+      if (k == 0) continue;  // the static body: zero mass and inertia
+      const int i = bodies[k - 1];
+      const BodyModel& m = in.model[i];
+      const MotionState& s = in.state[i];
+      const Mat3 R = s.q_WP.toRotationMatrix();
+      sb.v = s.v_W;
+      sb.w = R * s.w_P;
+      sb.inv_mass = m.inv_mass;
+      sb.inv_I = R * m.inv_I_P.asDiagonal() * R.transpose();
+      if (m.inv_mass > 0) {
+        gyro_[k] = !m.isotropic;
+        if (gyro_[k]) I_W_[k] = R * m.I_P.asDiagonal() * R.transpose();  // read for the gyroscopic term only
+        accel_[k] = in.gravity;
+        if (in.wrench) {
+          accel_[k] += m.inv_mass * in.wrench[i].f_W;
+          ang_accel_[k] = sb.inv_I * in.wrench[i].tau_W;
+        }
+      }
+    }
+    if (nw > 1) pool_->barrier();  // the constraints read the solver bodies
+    share(ncons, w, nw, b, e);
+    for (int j = b; j < e; ++j)
+      make_constraint(cons_[graph_.slot(j)], graph_.slot(j), track_candidate_of_[j], wanted_[j],
+                      contacts[wanted_[j]], solver_index);
+  });
+  // The tracked contacts, in contact order (their records made in make_constraint), and their
+  // tracked bodies, whose inertia follows them and whose gyroscopic term comes after the warm start.
   tracked_.clear();
   tracked_bodies_.clear();
   track_due_ = false;
-  for (int ci = 0; ci < (int)contacts.size(); ++ci) {
-    const Contact& c = contacts[ci];
-    if (!wanted(c)) continue;
-    ContactConstraint& k = cons_[next++];
-    k.a = solver_index[c.body_a];
-    k.b = solver_index[c.body_b];
-    k.contact = ci;
-    k.n = c.normal_W;
-    k.t[0] = perpendicular(k.n);
-    k.t[1] = k.n.cross(k.t[0]);
-    k.friction = c.friction;
-    k.restitution = c.restitution;
-    k.rolling = cs.rolling_resistance;
-    k.count = c.count;
-    const SolverBody& A = sb_[k.a];
-    const SolverBody& B = sb_[k.b];
-    k.soft = (A.inv_mass == 0 || B.inv_mass == 0) ? static_soft_ : soft_;
-    k.nA = A.inv_mass * k.n;
-    k.nB = B.inv_mass * k.n;
-    const Vec3 xA = in.state[c.body_a].x_W, xB = in.state[c.body_b].x_W;
-    const double roundA = rounding_radius((*in.shapes)[c.shape_a].geom);
-    const double roundB = rounding_radius((*in.shapes)[c.shape_b].geom);
-    // Each body's anchor is on its own surface (the manifold point is their midpoint, A's surface
-    // at -s/2 n from it, B's at +s/2 n): a sphere resting 0.5 mm deep rolls without slipping at
-    // its true radius, not at the midpoint's (which would brake it by 2/7 of depth / radius).
-    // Friction acts at the centre of the points. (Weighting them by last step's normal impulses,
-    // a lagged centre of pressure, fed back into the impulses and set a stack of ten boxes
-    // rocking at 0.3 m/s, measured; Box3D uses the plain centre too.)
-    Vec3 centreA = Vec3::Zero(), centreB = Vec3::Zero();
-    for (int j = 0; j < c.count; ++j) {
-      centreA += c.points[j].p_W - (0.5 * c.points[j].separation) * k.n - 0.5 * c.points[j].offset_W;
-      centreB += c.points[j].p_W + (0.5 * c.points[j].separation) * k.n + 0.5 * c.points[j].offset_W;
-    }
-    centreA /= c.count;
-    centreB /= c.count;
-    const Vec3 centre = 0.5 * (centreA + centreB);
-    for (int j = 0; j < c.count; ++j) {
-      const ContactPoint& cp = c.points[j];
-      ConstraintPoint& p = k.p[j];
-      p.rA = cp.p_W - (0.5 * cp.separation) * k.n - 0.5 * cp.offset_W - xA;
-      p.rB = cp.p_W + (0.5 * cp.separation) * k.n + 0.5 * cp.offset_W - xB;
-      normal_terms(p, k.n, A, B);
-      p.cA = p.rA - roundA * k.n;
-      p.cB = p.rB + roundB * k.n;
-      p.adjusted_separation = cp.separation - k.n.dot(p.cB - p.cA);
-      p.normal_impulse = cp.normal_impulse;
-      p.max_normal_impulse = 0;
-      p.vn_prev = normal_velocity(A, B, k.n, p);
-      p.impact_velocity = 0;
-      p.lever = (cp.p_W - centre).norm();
-      p.bounced = false;
-    }
-    k.fA = centreA - xA;
-    k.fB = centreB - xB;
-    friction_terms(k, A, B);
-    // Warm start: last step's friction impulse re-expressed in this step's tangent basis.
-    k.tangent_impulse[0] = k.t[0].dot(c.friction_impulse_W);
-    k.tangent_impulse[1] = k.t[1].dot(c.friction_impulse_W);
-    k.InA = A.inv_I * k.n;
-    k.InB = B.inv_I * k.n;
-    const double kt = k.n.dot((A.inv_I + B.inv_I) * k.n);
-    k.twist_mass = kt > 0 ? 1.0 / kt : 0.0;
-    k.twist_impulse = c.twist_impulse;
-    if (k.rolling > 0) {
-      const Mat3 Kr = A.inv_I + B.inv_I;
-      k.rolling_mass = std::fabs(Kr.determinant()) > 0 ? Mat3(Kr.inverse()) : Mat3::Zero();
-      // Lever of the rolling resistance: the rounding radius of the rolling shape.
-      k.rolling_lever = std::max(roundA, roundB);
-      k.rolling_impulse = c.rolling_impulse;
-    } else {
-      k.rolling_mass.setZero();
-      k.rolling_lever = 0;
-      k.rolling_impulse.setZero();
-    }
-    // A contact whose point runs over a smooth surface (B's tried first): tracked per substep
-    // (sim/contact_refresh.hpp); its gap follows the tracked point, not a centre of curvature.
-    k.track = -1;
-    for (int side = 1; side >= -1 && c.count == 1 && k.track < 0; side -= 2) {
-      TrackedContact t;
-      if ((side > 0 ? k.b : k.a) == 0) continue;  // a static body's surface does not move
-      if (!track_begin(t, k, c, *in.shapes, in.state, side)) continue;
-      t.con = (int)next - 1;
-      k.track = (int)tracked_.size();
-      tracked_.push_back(t);
-      tracked_bodies_.push_back(side > 0 ? k.b : k.a);
-      if (track_point(tracked_.back(), k, A, B)) {
-        normal_terms(k.p[0], k.n, A, B);
-        friction_terms(k, A, B);
-      }
-    }
+  for (const TrackedContact& t : track_scratch_) {
+    if (t.con < 0) continue;
+    ContactConstraint& k = cons_[t.con];
+    k.track = (int)tracked_.size();
+    tracked_.push_back(t);
+    tracked_bodies_.push_back(t.side > 0 ? k.b : k.a);
   }
   std::sort(tracked_bodies_.begin(), tracked_bodies_.end());
   tracked_bodies_.erase(std::unique(tracked_bodies_.begin(), tracked_bodies_.end()), tracked_bodies_.end());
   for (int k : tracked_bodies_)
     if (gyro_[k]) gyro_[k] = 2;  // the gyroscopic term after the warm start (warm_start)
-  schedule();
+}
+
+// One constraint from contact ci (c), at `slot`; `cand` its index in track_scratch_ or -1. Flattened as
+// prepare.
+__attribute__((flatten)) void ContactSolver::make_constraint(ContactConstraint& k, int slot, int cand, int ci,
+                                                             const Contact& c,
+                                                             const std::vector<int>& solver_index) {
+  const ContactSettings& cs = in_.settings;
+  k.a = solver_index[c.body_a];
+  k.b = solver_index[c.body_b];
+  k.contact = ci;
+  k.n = c.normal_W;
+  k.t[0] = perpendicular(k.n);
+  k.t[1] = k.n.cross(k.t[0]);
+  k.friction = c.friction;
+  k.restitution = c.restitution;
+  k.rolling = cs.rolling_resistance;
+  k.count = c.count;
+  const SolverBody& A = sb_[k.a];
+  const SolverBody& B = sb_[k.b];
+  k.soft = (A.inv_mass == 0 || B.inv_mass == 0) ? static_soft_ : soft_;
+  k.nA = A.inv_mass * k.n;
+  k.nB = B.inv_mass * k.n;
+  const Vec3 xA = in_.state[c.body_a].x_W, xB = in_.state[c.body_b].x_W;
+  const double roundA = rounding_radius((*in_.shapes)[c.shape_a].geom);
+  const double roundB = rounding_radius((*in_.shapes)[c.shape_b].geom);
+  // Each body's anchor is on its own surface (the manifold point is their midpoint, A's surface
+  // at -s/2 n from it, B's at +s/2 n): a sphere resting 0.5 mm deep rolls without slipping at
+  // its true radius, not at the midpoint's (which would brake it by 2/7 of depth / radius).
+  // Friction acts at the centre of the points. (Weighting them by last step's normal impulses,
+  // a lagged centre of pressure, fed back into the impulses and set a stack of ten boxes
+  // rocking at 0.3 m/s, measured; Box3D uses the plain centre too.)
+  Vec3 centreA = Vec3::Zero(), centreB = Vec3::Zero();
+  for (int j = 0; j < c.count; ++j) {
+    centreA += c.points[j].p_W - (0.5 * c.points[j].separation) * k.n - 0.5 * c.points[j].offset_W;
+    centreB += c.points[j].p_W + (0.5 * c.points[j].separation) * k.n + 0.5 * c.points[j].offset_W;
+  }
+  centreA /= c.count;
+  centreB /= c.count;
+  const Vec3 centre = 0.5 * (centreA + centreB);
+  for (int j = 0; j < c.count; ++j) {
+    const ContactPoint& cp = c.points[j];
+    ConstraintPoint& p = k.p[j];
+    p.rA = cp.p_W - (0.5 * cp.separation) * k.n - 0.5 * cp.offset_W - xA;
+    p.rB = cp.p_W + (0.5 * cp.separation) * k.n + 0.5 * cp.offset_W - xB;
+    normal_terms(p, k.n, A, B);
+    p.cA = p.rA - roundA * k.n;
+    p.cB = p.rB + roundB * k.n;
+    p.adjusted_separation = cp.separation - k.n.dot(p.cB - p.cA);
+    p.normal_impulse = cp.normal_impulse;
+    p.max_normal_impulse = 0;
+    p.vn_prev = normal_velocity(A, B, k.n, p);
+    p.impact_velocity = 0;
+    p.lever = (cp.p_W - centre).norm();
+    p.bounced = false;
+  }
+  k.fA = centreA - xA;
+  k.fB = centreB - xB;
+  friction_terms(k, A, B);
+  // Warm start: last step's friction impulse re-expressed in this step's tangent basis.
+  k.tangent_impulse[0] = k.t[0].dot(c.friction_impulse_W);
+  k.tangent_impulse[1] = k.t[1].dot(c.friction_impulse_W);
+  k.InA = A.inv_I * k.n;
+  k.InB = B.inv_I * k.n;
+  const double kt = k.n.dot((A.inv_I + B.inv_I) * k.n);
+  k.twist_mass = kt > 0 ? 1.0 / kt : 0.0;
+  k.twist_impulse = c.twist_impulse;
+  if (k.rolling > 0) {
+    const Mat3 Kr = A.inv_I + B.inv_I;
+    k.rolling_mass = std::fabs(Kr.determinant()) > 0 ? Mat3(Kr.inverse()) : Mat3::Zero();
+    // Lever of the rolling resistance: the rounding radius of the rolling shape.
+    k.rolling_lever = std::max(roundA, roundB);
+    k.rolling_impulse = c.rolling_impulse;
+  } else {
+    k.rolling_mass.setZero();
+    k.rolling_lever = 0;
+    k.rolling_impulse.setZero();
+  }
+  // A contact whose point runs over a smooth surface (B's tried first): tracked per substep
+  // (sim/contact_refresh.hpp); its gap follows the tracked point, not a centre of curvature. Its
+  // record goes to the candidate's scratch slot (con: this constraint's slot, or -1 if not
+  // tracked); prepare lists the records in contact order and sets k.track.
+  k.track = -1;
+  if (cand < 0) return;
+  TrackedContact& t = track_scratch_[cand];
+  t.con = -1;
+  for (int side = 1; side >= -1 && c.count == 1; side -= 2) {
+    if ((side > 0 ? k.b : k.a) == 0) continue;  // a static body's surface does not move
+    t = TrackedContact{};
+    if (!track_begin(t, k, c, *in_.shapes, in_.state, side)) continue;
+    t.con = slot;
+    if (track_point(t, k, A, B)) {
+      normal_terms(k.p[0], k.n, A, B);
+      friction_terms(k, A, B);
+    }
+    break;
+  }
 }
 
 // A point's lever arms across the normal n, their I^-1 images, and its effective normal mass
@@ -304,19 +382,31 @@ Vec3 midpoint_gyro(const Mat3& I, const Vec3& w0, const Vec3& ws, double h) {
 
 }  // namespace
 
+// First, after a move, the tracked points found again (refresh_tracked), then each body's velocity.
+// The refresh writes the tracked bodies' inertia (then a barrier) and each tracked constraint's own
+// anchors and masses; the velocity update reads a body's world inertia and writes its v, w, which
+// the refresh does not read: no barrier between them.
 void ContactSolver::integrate_velocities(double h) {
-  if (track_due_) refresh_tracked();
+  const bool refresh = track_due_;
+  track_due_ = false;
   h_ = h;
-  for (int k = 1; k < (int)sb_.size(); ++k) {
-    SolverBody& b = sb_[k];
-    if (b.inv_mass == 0) continue;  // kinematic: keeps its velocity
-    b.v += h * accel_[k];
-    b.w += h * ang_accel_[k];
-    if (gyro_[k] == 1) {
-      b.w = midpoint_gyro(I_W_[k], b.w, b.w, h);
-    } else if (gyro_[k] == 2) {
-      gyro_w0_[k] = b.w;  // a tracked body's: after the warm start (see there)
-    }
+  on_workers([&](int w, int nw) {
+    if (refresh) refresh_tracked(w, nw);
+    int begin, end;
+    share((int)sb_.size() - 1, w, nw, begin, end);
+    for (int k = begin + 1; k < end + 1; ++k) integrate_velocity(k, h);
+  });
+}
+
+void ContactSolver::integrate_velocity(int k, double h) {
+  SolverBody& b = sb_[k];
+  if (b.inv_mass == 0) return;  // kinematic: keeps its velocity
+  b.v += h * accel_[k];
+  b.w += h * ang_accel_[k];
+  if (gyro_[k] == 1) {
+    b.w = midpoint_gyro(I_W_[k], b.w, b.w, h);
+  } else if (gyro_[k] == 2) {
+    gyro_w0_[k] = b.w;  // a tracked body's: after the warm start (see there)
   }
 }
 
@@ -340,32 +430,43 @@ __attribute__((flatten)) inline void warm_start_constraint(const ContactConstrai
 }  // namespace
 
 void ContactSolver::warm_start() {
-  for (const ContactConstraint& k : cons_) {
-    if (k.a == 0)
-      warm_start_constraint<kStaticA>(k, sb_[0], sb_[k.b]);
-    else if (k.b == 0)
-      warm_start_constraint<kStaticB>(k, sb_[k.a], sb_[0]);
-    else
-      warm_start_constraint<kNoneStatic>(k, sb_[k.a], sb_[k.b]);
-  }
-  // A tracked body's gyroscopic term, with the substep's contact impulse in its midpoint: m = (w0 +
-  // w')/2 must hold the whole substep's change of w, and the contact's, I^-1 (r x P), is of the
-  // same order as the term's own (the contact's torque is what turns L). Taken before the
-  // impulses (integrate_velocities), m misses I^-1 (r x P) / 2, and the term is off by
-  // h/2 ((I^-1 tau) x I w + w x tau) relatively to first order in h; the warm start's impulses are
-  // the last substep's, this one's to O(h), so the term taken after them is right to O(h^2).
-  // Measured: the rattleback spun +5 rad/s reversed 17.5% late at substeps of 1/960 s (+7.8% at
-  // 1/1920 s, +3.6% at 1/3840: first order) and reverses within 0.1% of the reference at all three
-  // now (the one spun -5: -4.3% before, -3.0% to -2.6% now); a tippe top at 1/2400 s kept Jellett's
-  // quantity to 1.1e-2 and now to 1.9e-4; a rolling coin's lean drifted 15 -> 21 degrees in 5 s and
-  // holds now; a heavy top on a 1 um tip precessed 0.3% slow and is within 6e-5 of the slow root.
-  // (Bodies that are not tracked keep the term before the impulses: their contact point does not
-  // run over them, and the other demos keep their motion.)
-  for (int k : tracked_bodies_) {
-    if (gyro_[k] != 2) continue;
-    SolverBody& b = sb_[k];
-    b.w = midpoint_gyro(I_W_[k], gyro_w0_[k], b.w, h_);
-  }
+  on_workers([&](int w, int nw) {
+    by_colour(w, nw, [&](int begin, int end) {
+      for (int i = begin; i < end; ++i) {
+        const ContactConstraint& k = cons_[i];
+        if (k.a == 0)
+          warm_start_constraint<kStaticA>(k, sb_[0], sb_[k.b]);
+        else if (k.b == 0)
+          warm_start_constraint<kStaticB>(k, sb_[k.a], sb_[0]);
+        else
+          warm_start_constraint<kNoneStatic>(k, sb_[k.a], sb_[k.b]);
+      }
+    });
+    // A tracked body's gyroscopic term, with the substep's contact impulse in its midpoint: m = (w0 +
+    // w')/2 must hold the whole substep's change of w, and the contact's, I^-1 (r x P), is of the
+    // same order as the term's own (the contact's torque is what turns L). Taken before the
+    // impulses (integrate_velocities), m misses I^-1 (r x P) / 2, and the term is off by
+    // h/2 ((I^-1 tau) x I w + w x tau) relatively to first order in h; the warm start's impulses are
+    // the last substep's, this one's to O(h), so the term taken after them is right to O(h^2).
+    // Measured: the rattleback spun +5 rad/s reversed 17.5% late at substeps of 1/960 s (+7.8% at
+    // 1/1920 s, +3.6% at 1/3840: first order) and reverses within 0.1% of the reference at all three
+    // now (the one spun -5: -4.3% before, -3.0% to -2.6% now); a tippe top at 1/2400 s kept Jellett's
+    // quantity to 1.1e-2 and now to 1.9e-4; a rolling coin's lean drifted 15 -> 21 degrees in 5 s and
+    // holds now; a heavy top on a 1 um tip precessed 0.3% slow and is within 6e-5 of the slow root.
+    // (Bodies that are not tracked keep the term before the impulses: their contact point does not
+    // run over them, and the other demos keep their motion.) Per body in fixed shares, once every
+    // colour is warm-started (a barrier).
+    if (tracked_bodies_.empty()) return;
+    if (nw > 1) pool_->barrier();
+    int begin, end;
+    share((int)tracked_bodies_.size(), w, nw, begin, end);
+    for (int i = begin; i < end; ++i) {
+      const int k = tracked_bodies_[i];
+      if (gyro_[k] != 2) continue;
+      SolverBody& b = sb_[k];
+      b.w = midpoint_gyro(I_W_[k], gyro_w0_[k], b.w, h_);
+    }
+  });
 }
 
 namespace {
@@ -637,44 +738,35 @@ bool solve_two_dispatch(ContactConstraint& k0, ContactConstraint& k1, const Solv
 
 }  // namespace
 
-// The schedule of solve: the constraints in their order, except that a later constraint j is
-// paired with the first unscheduled one i (and solved interleaved with it) when j shares no
-// non-static body with i or with any still unscheduled constraint between them. Each body then
-// sees the same impulses in the same order as in the plain sequence, so the results are
-// identical; only independent work runs side by side. A short look-ahead window keeps it linear.
-void ContactSolver::schedule() {
-  const int n = (int)cons_.size();
-  slots_.clear();
-  scheduled_.assign(n, 0);
-  mark_.assign(sb_.size(), -1);
-  constexpr int kWindow = 8;
-  for (int i = 0; i < n; ++i) {
-    if (scheduled_[i]) continue;
-    scheduled_[i] = 1;
-    // Bodies of i and of the unscheduled constraints passed over, marked with i.
-    auto mark = [&](const ContactConstraint& k) {
-      if (k.a != 0) mark_[k.a] = i;
-      if (k.b != 0) mark_[k.b] = i;
-    };
-    auto marked = [&](const ContactConstraint& k) {
-      return (k.a != 0 && mark_[k.a] == i) || (k.b != 0 && mark_[k.b] == i);
-    };
-    mark(cons_[i]);
-    int partner = -1;
-    for (int j = i + 1, seen = 0; j < n && seen < kWindow; ++j) {
-      if (scheduled_[j]) continue;
-      ++seen;
-      if (!marked(cons_[j])) {
-        partner = j;
-        break;
-      }
-      mark(cons_[j]);
-    }
-    if (partner >= 0) scheduled_[partner] = 1;
-    slots_.push_back({i, partner});
+namespace {
+
+bool solve_single(ContactConstraint& k, const SolveParams& q, std::vector<SolverBody>& sb) {
+  switch (static_side(k)) {
+    case kStaticA:
+      return solve_one<kStaticA>(k, q, sb);
+    case kStaticB:
+      return solve_one<kStaticB>(k, q, sb);
+    default:
+      return solve_one<kNoneStatic>(k, q, sb);
   }
 }
 
+bool solve_pair(ContactConstraint& k0, ContactConstraint& k1, const SolveParams& q,
+                std::vector<SolverBody>& sb) {
+  switch (static_side(k0)) {
+    case kStaticA:
+      return solve_two_dispatch<kStaticA>(k0, k1, q, sb);
+    case kStaticB:
+      return solve_two_dispatch<kStaticB>(k0, k1, q, sb);
+    default:
+      return solve_two_dispatch<kNoneStatic>(k0, k1, q, sb);
+  }
+}
+
+}  // namespace
+
+// Colour by colour; within a worker's share of a colour, two constraints at a time, interleaved
+// (solve_two: they share no moving body, so this is exactly solving one after the other).
 bool ContactSolver::solve(double h, bool use_bias, bool first_iteration) {
   const SolveParams q{1.0 / h,
                       in_.settings.max_push_out,
@@ -685,45 +777,33 @@ bool ContactSolver::solve(double h, bool use_bias, bool first_iteration) {
                       first_iteration,
                       h,
                       tracked_.data()};
+  for (Flag& f : struck_) f.value = false;  // the pool may run everything as worker 0 of 1
+  on_workers([&](int w, int nw) {
+    bool struck = false;
+    by_colour(w, nw, [&](int begin, int end) {
+      int i = begin;
+      for (; i + 1 < end; i += 2) struck |= solve_pair(cons_[i], cons_[i + 1], q, sb_);
+      if (i < end) struck |= solve_single(cons_[i], q, sb_);
+    });
+    struck_[w].value = struck;
+  });
   bool struck = false;
-  for (const auto& [i, j] : slots_) {
-    ContactConstraint& k0 = cons_[i];
-    if (j < 0) {
-      switch (static_side(k0)) {
-        case kStaticA:
-          struck |= solve_one<kStaticA>(k0, q, sb_);
-          break;
-        case kStaticB:
-          struck |= solve_one<kStaticB>(k0, q, sb_);
-          break;
-        default:
-          struck |= solve_one<kNoneStatic>(k0, q, sb_);
-      }
-      continue;
-    }
-    ContactConstraint& k1 = cons_[j];
-    switch (static_side(k0)) {
-      case kStaticA:
-        struck |= solve_two_dispatch<kStaticA>(k0, k1, q, sb_);
-        break;
-      case kStaticB:
-        struck |= solve_two_dispatch<kStaticB>(k0, k1, q, sb_);
-        break;
-      default:
-        struck |= solve_two_dispatch<kNoneStatic>(k0, k1, q, sb_);
-    }
-  }
+  for (int w = 0; w < workers_; ++w) struck = struck || struck_[w].value;
   return struck;
 }
 
 void ContactSolver::integrate_positions(double h) {
-  for (int k = 1; k < (int)sb_.size(); ++k) {
-    SolverBody& b = sb_[k];
-    b.dp += h * b.v;
-    // World angular velocity: the rotation exp(h w / 2) multiplies from the left.
-    b.dq = rotation_increment(b.w, h) * b.dq;
-    b.dR = b.dq.toRotationMatrix();
-  }
+  on_workers([&](int w, int nw) {
+    int begin, end;
+    share((int)sb_.size() - 1, w, nw, begin, end);
+    for (int k = begin + 1; k < end + 1; ++k) {
+      SolverBody& b = sb_[k];
+      b.dp += h * b.v;
+      // World angular velocity: the rotation exp(h w / 2) multiplies from the left.
+      b.dq = rotation_increment(b.w, h) * b.dq;
+      b.dR = b.dq.toRotationMatrix();
+    }
+  });
   track_due_ = !tracked_.empty();
 }
 
@@ -744,9 +824,13 @@ void ContactSolver::integrate_positions(double h) {
 // end, a tippe top): its world inertia, fixed for the step elsewhere, follows its orientation here,
 // or the step's stale inertia makes an error of the first order in dt in its motion (a disk in
 // steady rolling drifted off it, 36% in Omega^2 sin(alpha) after 1 s at 1/240 s, measured).
-void ContactSolver::refresh_tracked() {
-  track_due_ = false;
-  for (int k : tracked_bodies_) {
+// Inside on_workers: the bodies' inertia in fixed shares, a barrier, then the points in fixed
+// shares (each writes its own record and constraint, and reads its two bodies).
+void ContactSolver::refresh_tracked(int w, int nw) {
+  int begin, end;
+  share((int)tracked_bodies_.size(), w, nw, begin, end);
+  for (int j = begin; j < end; ++j) {
+    const int k = tracked_bodies_[j];
     SolverBody& b = sb_[k];
     const int i = bodies_[k - 1];
     const BodyModel& m = in_.model[i];
@@ -754,7 +838,10 @@ void ContactSolver::refresh_tracked() {
     b.inv_I = R * m.inv_I_P.asDiagonal() * R.transpose();
     if (gyro_[k]) I_W_[k] = R * m.I_P.asDiagonal() * R.transpose();
   }
-  for (TrackedContact& t : tracked_) {
+  if (nw > 1) pool_->barrier();
+  share((int)tracked_.size(), w, nw, begin, end);
+  for (int j = begin; j < end; ++j) {
+    TrackedContact& t = tracked_[j];
     ContactConstraint& k = cons_[t.con];
     const SolverBody& A = sb_[k.a];
     const SolverBody& B = sb_[k.b];
@@ -773,82 +860,100 @@ void ContactSolver::refresh_tracked() {
 // that later substeps treat the separating points as fresh contacts instead of pulling the bounce
 // back through the accumulated-impulse clamp.
 void ContactSolver::restitution(double threshold) {
+  if (!any_restitution_) return;
+  on_workers([&](int w, int nw) {
+    by_colour(w, nw, [&](int begin, int end) {
+      for (int i = begin; i < end; ++i)
+        if (cons_[i].restitution > 0) restitution_one(cons_[i], threshold);
+    });
+    if (nw > 1) pool_->barrier();  // every manifold has bounced
+    // The next substep's start velocities, once every manifold has bounced: a later manifold's
+    // bounce changes the velocity of a body this one shares (a row of balls), and a velocity taken
+    // before it read as an acceleration over the substep and predicted a false impact speed (a
+    // Newton's cradle then gained energy; measured).
+    int begin, end;
+    share((int)cons_.size(), w, nw, begin, end);
+    for (int i = begin; i < end; ++i) {
+      ContactConstraint& k = cons_[i];
+      if (k.restitution == 0) continue;
+      for (int j = 0; j < k.count; ++j) k.p[j].vn_prev = normal_velocity(sb_[k.a], sb_[k.b], k.n, k.p[j]);
+    }
+  });
+}
+
+void ContactSolver::restitution_one(ContactConstraint& k, double threshold) {
   const double slop = in_.settings.linear_slop + 1e-9;
-  for (ContactConstraint& k : cons_) {
-    if (k.restitution == 0) continue;
-    SolverBody& A = sb_[k.a];
-    SolverBody& B = sb_[k.b];
-    double acc[4] = {0, 0, 0, 0};
-    bool bounce[4] = {false, false, false, false};
-    bool any = false;
-    const Vec3 dp = B.dp - A.dp;
-    const Mat3& RA = A.dR;
-    const Mat3& RB = B.dR;
-    // A manifold bounces when it pushed this substep; each of its points that touches now (gap
-    // closed) bounces with it, pushed or not: a flat face landing is stopped by any three of its
-    // four corners, but all four leave the floor together.
-    bool pushed = false;
+  // Worked on in copies, written back for the moving sides only: the static body, shared by
+  // every ground contact and read by other threads, is never written.
+  SolverBody A = sb_[k.a];
+  SolverBody B = sb_[k.b];
+  double acc[4] = {0, 0, 0, 0};
+  bool bounce[4] = {false, false, false, false};
+  bool any = false;
+  const Vec3 dp = B.dp - A.dp;
+  const Mat3& RA = A.dR;
+  const Mat3& RB = B.dR;
+  // A manifold bounces when it pushed this substep; each of its points that touches now (gap
+  // closed) bounces with it, pushed or not: a flat face landing is stopped by any three of its
+  // four corners, but all four leave the floor together.
+  bool pushed = false;
+  for (int j = 0; j < k.count; ++j) {
+    ConstraintPoint& p = k.p[j];
+    // A point that bounced and has come apart again may bounce again in the same step: in a
+    // Newton's cradle with 1 mm gaps at 0.8 m/s, a ball is struck twice within 1/240 s, and
+    // a second impact without restitution was inelastic (two struck balls then lost 29% of
+    // the energy; measured).
+    if (p.bounced && k.n.dot(dp + RB * p.cB - RA * p.cA) + p.adjusted_separation > slop) p.bounced = false;
+    pushed = pushed || (p.normal_impulse > 0 && !p.bounced);
+  }
+  for (int j = 0; j < k.count && pushed; ++j) {
+    const ConstraintPoint& p = k.p[j];
+    const double s = k.n.dot(dp + RB * p.cB - RA * p.cA) + p.adjusted_separation;
+    bounce[j] = !p.bounced && p.impact_velocity < -threshold && s <= slop;
+    any = any || bounce[j];
+  }
+  if (!any) return;
+  constexpr int kMaxIterations = 32;
+  for (int it = 0; it < kMaxIterations; ++it) {
+    double change = 0, scale = 0;
     for (int j = 0; j < k.count; ++j) {
-      ConstraintPoint& p = k.p[j];
-      // A point that bounced and has come apart again may bounce again in the same step: in a
-      // Newton's cradle with 1 mm gaps at 0.8 m/s, a ball is struck twice within 1/240 s, and
-      // a second impact without restitution was inelastic (two struck balls then lost 29% of
-      // the energy; measured).
-      if (p.bounced && k.n.dot(dp + RB * p.cB - RA * p.cA) + p.adjusted_separation > slop) p.bounced = false;
-      pushed = pushed || (p.normal_impulse > 0 && !p.bounced);
-    }
-    for (int j = 0; j < k.count && pushed; ++j) {
+      if (!bounce[j]) continue;
       const ConstraintPoint& p = k.p[j];
-      const double s = k.n.dot(dp + RB * p.cB - RA * p.cA) + p.adjusted_separation;
-      bounce[j] = !p.bounced && p.impact_velocity < -threshold && s <= slop;
-      any = any || bounce[j];
+      const double vn = normal_velocity(A, B, k.n, p);
+      const double total = std::max(acc[j] - p.normal_mass * (vn + k.restitution * p.impact_velocity), 0.0);
+      apply_normal(A, B, k, p, total - acc[j]);
+      change = std::max(change, std::fabs(total - acc[j]));
+      scale = std::max(scale, total);
+      acc[j] = total;
     }
-    if (any) {
-      constexpr int kMaxIterations = 32;
-      for (int it = 0; it < kMaxIterations; ++it) {
-        double change = 0, scale = 0;
-        for (int j = 0; j < k.count; ++j) {
-          if (!bounce[j]) continue;
-          const ConstraintPoint& p = k.p[j];
-          const double vn = normal_velocity(A, B, k.n, p);
-          const double total =
-              std::max(acc[j] - p.normal_mass * (vn + k.restitution * p.impact_velocity), 0.0);
-          apply_normal(A, B, k, p, total - acc[j]);
-          change = std::max(change, std::fabs(total - acc[j]));
-          scale = std::max(scale, total);
-          acc[j] = total;
-        }
-        if (change <= 1e-12 * scale) break;
-      }
-      for (int j = 0; j < k.count; ++j) {
-        if (!bounce[j]) continue;
-        ConstraintPoint& p = k.p[j];
-        p.max_normal_impulse = std::max(p.max_normal_impulse, p.normal_impulse + acc[j]);
-        p.normal_impulse = 0;
-        p.bounced = true;
-      }
-    }
+    if (change <= 1e-12 * scale) break;
   }
-  // The next substep's start velocities, once every manifold has bounced: a later manifold's bounce
-  // changes the velocity of a body this one shares (a row of balls), and a velocity taken before
-  // it read as an acceleration over the substep and predicted a false impact speed (a Newton's
-  // cradle then gained energy; measured).
-  for (ContactConstraint& k : cons_) {
-    if (k.restitution == 0) continue;
-    for (int j = 0; j < k.count; ++j) k.p[j].vn_prev = normal_velocity(sb_[k.a], sb_[k.b], k.n, k.p[j]);
+  for (int j = 0; j < k.count; ++j) {
+    if (!bounce[j]) continue;
+    ConstraintPoint& p = k.p[j];
+    p.max_normal_impulse = std::max(p.max_normal_impulse, p.normal_impulse + acc[j]);
+    p.normal_impulse = 0;
+    p.bounced = true;
   }
+  if (k.a != 0) sb_[k.a].v = A.v, sb_[k.a].w = A.w;
+  if (k.b != 0) sb_[k.b].v = B.v, sb_[k.b].w = B.w;
 }
 
 void ContactSolver::store_impulses(std::vector<Contact>& contacts) const {
-  for (const ContactConstraint& k : cons_) {
-    Contact& c = contacts[k.contact];
-    for (int j = 0; j < k.count; ++j) {
-      c.points[j].normal_impulse = k.p[j].normal_impulse;
+  on_workers([&](int w, int nw) {
+    int begin, end;
+    share((int)cons_.size(), w, nw, begin, end);
+    for (int i = begin; i < end; ++i) {
+      const ContactConstraint& k = cons_[i];
+      Contact& c = contacts[k.contact];
+      for (int j = 0; j < k.count; ++j) {
+        c.points[j].normal_impulse = k.p[j].normal_impulse;
+      }
+      c.friction_impulse_W = k.tangent_impulse[0] * k.t[0] + k.tangent_impulse[1] * k.t[1];
+      c.twist_impulse = k.twist_impulse;
+      c.rolling_impulse = k.rolling_impulse;
     }
-    c.friction_impulse_W = k.tangent_impulse[0] * k.t[0] + k.tangent_impulse[1] * k.t[1];
-    c.twist_impulse = k.twist_impulse;
-    c.rolling_impulse = k.rolling_impulse;
-  }
+  });
 }
 
 void ContactSolver::finish(const BodyModel* model, MotionState* state,

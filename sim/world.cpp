@@ -1,14 +1,13 @@
 #include "sim/world.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <sstream>
-#include <thread>
 
 #include "sim/error.hpp"
 #include "sim/mass_properties.hpp"
+#include "sim/task_pool.hpp"
 
 namespace simreel {
 
@@ -33,79 +32,6 @@ const char* to_string(Stage s) {
   static_assert(sizeof(names) / sizeof(names[0]) == (size_t)Stage::count);
   return (int)s >= 0 && s < Stage::count ? names[(int)s] : "?";
 }
-
-// Persistent workers released by a generation counter each step; the caller runs chunk 0 itself.
-// Workers spin briefly (a step's work arrives within microseconds while stepping) and then block
-// in atomic::wait, so an idle pool costs nothing. std::barrier's futex hand-off cost more than the
-// work it split at N = 1000..10000 on this machine (2 threads were slower than 1). Work is a plain
-// function pointer and context, so dispatch allocates nothing.
-class WorkerPool {
- public:
-  using Fn = void (*)(void* ctx, int chunk, int chunks);
-  explicit WorkerPool(int threads) : n_(threads) {
-    for (int c = 1; c < n_; ++c)
-      workers_.emplace_back([this, c] {
-        unsigned seen = 0;
-        for (;;) {
-          seen = await_change<unsigned>(gen_, seen);
-          if (quit_.load(std::memory_order_acquire)) return;
-          fn_(ctx_, c, n_);
-          if (done_.fetch_add(1, std::memory_order_acq_rel) + 1 == n_ - 1) done_.notify_one();
-        }
-      });
-  }
-  ~WorkerPool() {
-    quit_.store(true, std::memory_order_release);
-    gen_.fetch_add(1, std::memory_order_acq_rel);
-    gen_.notify_all();
-    for (auto& t : workers_) t.join();
-  }
-  void run(Fn fn, void* ctx) {
-    fn_ = fn;
-    ctx_ = ctx;
-    done_.store(0, std::memory_order_relaxed);
-    gen_.fetch_add(1, std::memory_order_acq_rel);
-    gen_.notify_all();
-    fn_(ctx_, 0, n_);
-    for (int d = done_.load(std::memory_order_acquire); d != n_ - 1;
-         d = done_.load(std::memory_order_acquire))
-      await_change(done_, d);
-  }
-
- private:
-  // Tells an SMT sibling that this thread is only waiting (x86 pause), so it keeps the core's
-  // issue slots for the thread doing the work.
-  static void cpu_relax() {
-#if defined(__x86_64__) || defined(__i386__)
-    __builtin_ia32_pause();
-#endif
-  }
-  // Spins for up to kSpin before sleeping in atomic::wait. Waking a sleeping thread took ~0.3 ms
-  // on this machine's VM (futex wake + hypervisor scheduling), longer than half a step of 10000
-  // bodies: with a 4000-pause spin (~0.1 ms) the worker fell asleep every step and 2 threads ran
-  // at 0.7x one thread. Spinning through a step's length keeps it awake while the world steps.
-  static constexpr std::chrono::microseconds kSpin{2000};
-  template <typename T>
-  static T await_change(std::atomic<T>& a, T seen) {
-    const auto t0 = std::chrono::steady_clock::now();
-    for (int spins = 1;; ++spins) {
-      const T v = a.load(std::memory_order_acquire);
-      if (v != seen) return v;
-      cpu_relax();
-      if (spins % 256 == 0 && std::chrono::steady_clock::now() - t0 > kSpin) {
-        a.wait(seen, std::memory_order_acquire);
-        return a.load(std::memory_order_acquire);
-      }
-    }
-  }
-  int n_;
-  std::atomic<unsigned> gen_{0};
-  std::atomic<int> done_{0};
-  std::atomic<bool> quit_{false};
-  Fn fn_ = nullptr;
-  void* ctx_ = nullptr;
-  std::vector<std::thread> workers_;
-};
 
 namespace {
 
@@ -201,7 +127,7 @@ World::World(const WorldConfig& config, std::vector<BodyDef> bodies)
       g->bodies.push_back(i);
     }
   }
-  if (cfg_.threads > 1) pool_ = std::make_unique<WorkerPool>(cfg_.threads);
+  if (cfg_.threads > 1) pool_ = std::make_unique<WorkerPool>(cfg_.threads, cfg_.thread_backoff);
   chunk_sum_.resize(cfg_.threads);
   asleep_.assign(defs_.size(), -1);  // everyone awake (init_contacts collides once)
   still_time_.assign(defs_.size(), 0.0);
@@ -367,6 +293,7 @@ bool World::stage_integrate_and_check() {
     }
     chunk_sum_[c].value = sum;
   };
+  for (ChunkSum& s : chunk_sum_) s.value = 0;  // the pool may run it as one chunk (sim/task_pool.hpp)
   for_each_chunk(work);
   if (profiling_) {
     const clock::time_point t1 = clock::now();

@@ -22,7 +22,9 @@
 //   derived              world inverse inertia for consumers that need it every step
 // A scene without colliding shapes skips every contact stage and pays nothing for them.
 // Thread count never changes results: free-flight bodies are split into fixed contiguous chunks
-// and each body is advanced independently; the contact stages run in one fixed order.
+// and each body is advanced independently; the narrow phase writes each pair into its own slot;
+// the contact solver goes colour by colour through a colouring of its constraints that depends on
+// the contact list alone (sim/constraint_graph.hpp, sim/README.md "Threads").
 #pragma once
 #include <iosfwd>
 #include <memory>
@@ -48,6 +50,10 @@ struct WorldConfig {
   Vec3 gravity = Vec3(0.0, 0.0, -9.81);  ///< m/s^2
   Integrator integrator = Integrator::automatic;
   int threads = 1;  ///< worker threads for integration (results identical)
+  /// Whether the worker pool may run stages on the calling thread alone while the machine is too
+  /// busy for its barriers (sim/task_pool.hpp "Back-off": timing only, never results). Off in the
+  /// thread-count tests, so that their runs are split among the threads whatever the load.
+  bool thread_backoff = true;
   ContactSettings contacts;
   /// Pairs of body indices that never collide with each other (scene: simulation.ignore_pairs).
   std::vector<std::pair<int, int>> ignore_pairs;
@@ -100,6 +106,8 @@ struct Profile {
   long contact_points = 0;    ///< manifold points, summed over steps
   long solver_bodies = 0;     ///< bodies stepped by the contact solver, summed over steps
   long impact_substeps = 0;   ///< substeps with an impact (one more sweep: kImpactSpeed)
+  long pool_runs = 0;         ///< parallel stage runs handed to the worker pool (threads > 1)
+  long pool_alone_runs = 0;   ///< of which run on the calling thread alone (sim/task_pool.hpp back-off)
   long swept_bodies = 0;      ///< fast or bullet bodies swept by the continuous stage, summed over steps
   long toi_pairs = 0;         ///< shape pairs whose time of impact was computed, summed over steps
   long toi_hits = 0;          ///< swept bodies moved back to their time of impact, summed over steps
@@ -218,12 +226,30 @@ class World {
   void init_awake();     ///< awake_bodies_, shape_first_ (after init_contacts)
   void after_restore();  ///< caches of the broad phase and the islands
   void stage_collide();
-  // A pair with a static triangle mesh: appends its manifolds to contacts_next_, warm-started from
-  // last step's records of the pair (from contacts_[prev] on); returns the contact points.
-  int collide_mesh_pair(int a, int b, size_t prev);
-  Contact& new_contact(int a, int b,
-                       const Contact* prev);  ///< a record in contacts_next_ (world_contacts.cpp)
-  bool stage_solve_contacts();                ///< false if a non-finite value appeared
+  // One candidate pair of stage_collide: its records go to contacts_next_[slot, slot + count).
+  struct CollideJob {
+    uint64_t key;    ///< the shape pair
+    int prev;        ///< its first record in last step's contact list, or -1
+    int prev_count;  ///< its records there (a pair with a static triangle mesh may have several)
+    int slot;        ///< its first slot in contacts_next_
+    int cap;         ///< slots reserved: 1, or kMaxMeshManifolds for a pair with a mesh
+    int count;       ///< records written
+    int points;      ///< contact points in them (0 for records kept as they were)
+    bool keep;       ///< both sides inert: last step's records are kept as they are
+    bool mesh;       ///< one side is a static triangle mesh (world_trimesh.cpp)
+  };
+  // A pair's narrow phase into its slots (records, points, deepest overlap in m); reads only the
+  // state, the shapes, this step's poses and boxes, and last step's contact list: pairs run in
+  // parallel.
+  double collide_job(CollideJob& job);
+  double collide_pair(const CollideJob& job, Contact& c) const;
+  // A pair with a static triangle mesh: its manifolds into out[0, kMaxMeshManifolds), each
+  // warm-started from last step's records of the pair; returns how many (world_trimesh.cpp).
+  int collide_mesh_pair(const CollideJob& job, Contact* out, int& points, double& deepest) const;
+  // A fresh record in c for shapes a < b: bodies, mixed friction and restitution, and the impulses
+  // warm-started from `prev` (last step's record of the same manifold) when there is one.
+  void new_contact(Contact& c, int a, int b, const Contact* prev) const;
+  bool stage_solve_contacts();  ///< false if a non-finite value appeared
   void stage_kinematic();
   void init_sleep();
   void stage_sleep();
@@ -232,12 +258,12 @@ class World {
   bool stage_continuous();  ///< false: nothing was fast
   bool fast_pair(int a, int b, double closing) const;
   int collide_ahead(int a, int b, const Pose& xa, const Pose& xb, double speculative, double closing,
-                    PairCache& cache, Manifold& m, Vec3 offset[4]);
+                    PairCache& cache, Manifold& m, Vec3 offset[4]) const;
   double mesh_toi(int c, int m, const Sweep& s, const Aabb& box, double target, double tolerance,
                   bool guarded,
                   int* triangle = nullptr) const;  ///< world_ccd.cpp
   int collide_mesh_ahead(int c, int m, double speculative, Manifold out[],
-                         Vec3 offset[][4]);  ///< world_trimesh.cpp
+                         Vec3 offset[][4]) const;  ///< world_trimesh.cpp
   bool inert(int i) const;  ///< static, asleep, or kinematic at rest: neither moves nor wakes
   void stage_clear();
   template <typename F>
@@ -316,13 +342,15 @@ class World {
   std::vector<double> island_min_;  ///< per island root: least still_time_ (scratch)
   std::vector<uint64_t> pairs_;
   std::vector<Contact> contacts_, contacts_next_;
-  std::vector<char> in_contact_;        ///< per body, this step
-  std::vector<int> contact_bodies_;     ///< dynamic and kinematic bodies in contact, ascending
-  std::vector<int> solver_index_;       ///< per body, this step (0: not in the solver)
-  std::vector<char> touched_none_;      ///< per solver body: received no impulse this step
-  int substeps_ = 1;                    ///< contact solver substeps this step
-  int base_substeps_ = 1;               ///< the least (settings, or 1/240 s substeps)
-  std::vector<std::vector<int>> free_;  ///< per group: its bodies not in contact this step
+  std::vector<CollideJob> collide_jobs_;  ///< this step's pairs, in key order (stage_collide)
+  std::vector<ChunkSum> collide_sums_;    ///< per thread: deepest overlap (stage_collide)
+  std::vector<char> in_contact_;          ///< per body, this step
+  std::vector<int> contact_bodies_;       ///< dynamic and kinematic bodies in contact, ascending
+  std::vector<int> solver_index_;         ///< per body, this step (0: not in the solver)
+  std::vector<char> touched_none_;        ///< per solver body: received no impulse this step
+  int substeps_ = 1;                      ///< contact solver substeps this step
+  int base_substeps_ = 1;                 ///< the least (settings, or 1/240 s substeps)
+  std::vector<std::vector<int>> free_;    ///< per group: its bodies not in contact this step
   std::vector<int> kinematic_;
   ContactSolver solver_;
   ContactStats contact_stats_;

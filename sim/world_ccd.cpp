@@ -109,7 +109,7 @@ bool World::fast_pair(int a, int b, double closing) const {
 // comes that close in the prediction has no points (the continuous stage after the solve catches
 // what the prediction missed); a pair touching already is collided as usual.
 int World::collide_ahead(int a, int b, const Pose& xa, const Pose& xb, double speculative, double closing,
-                         PairCache& cache, Manifold& m, Vec3 offset[4]) {
+                         PairCache& cache, Manifold& m, Vec3 offset[4]) const {
   const ShapeTable& st = *shapes_;
   const ShapeRecord& A = st[a];
   const ShapeRecord& B = st[b];

@@ -1,11 +1,14 @@
 // World's contact stages (the pipeline is in world.cpp): broad phase, collide, the solver's
 // substeps, and kinematic bodies.
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <sstream>
 
+#include "sim/collide/mesh.hpp"
 #include "sim/error.hpp"
+#include "sim/task_pool.hpp"
 #include "sim/world.hpp"
 
 namespace simreel {
@@ -143,82 +146,112 @@ __attribute__((flatten)) void World::stage_broad_phase() {
   profile_.pairs += (long)pairs_.size();
 }
 
-// Narrow phase on each candidate pair, in key order; last step's contact for the same pair
-// (found by a merge of the two sorted lists) gives its cache and its points' impulses by id.
+// Narrow phase on each candidate pair; last step's records of the same pair (found by a merge of
+// the two sorted lists) give its cache and its points' impulses by id. In three passes, so that
+// the narrow phase, nearly all of the work, runs on every thread, with the results of one
+// sequential pass in key order:
+//   1. (serial) the merge: each pair's slots in the new list (one, or kMaxMeshManifolds for a pair
+//      with a static triangle mesh), its last-step records, and whether they are kept as they
+//      were (both sides inert: asleep, static or a resting kinematic);
+//   2. (threads) each pair not kept collided into its own slots (collide_job): pairs are
+//      independent; kept records copied;
+//   3. (serial, in key order) the touches: a pair with points wakes the islands of its sleeping
+//      bodies and puts its bodies in contact. A pair kept in pass 1 whose body was woken by a pair
+//      before it in key order is collided here, where the sequential pass would have collided it
+//      (a pair after the one that woke it; one before it keeps its records, as there). Then the
+//      records are packed (a mesh pair leaves unused slots).
 void World::stage_collide() {
   const ShapeTable& st = *shapes_;
-  const double spec = cfg_.contacts.speculative_distance, dt = cfg_.dt;
-  contacts_next_.clear();
+  collide_jobs_.clear();
   size_t old = 0;
-  int points = 0;
+  int slots = 0;
+  bool packed = true;  // every job fills its slots exactly
+  for (uint64_t key : pairs_) {
+    while (old < contacts_.size() && contacts_[old].key() < key) ++old;
+    size_t old_end = old;
+    while (old_end < contacts_.size() && contacts_[old_end].key() == key) ++old_end;
+    const int a = (int)(key >> 32), b = (int)(key & 0xFFFFFFFFu);
+    CollideJob job;
+    job.key = key;
+    job.prev = old_end > old ? (int)old : -1;
+    job.prev_count = (int)(old_end - old);
+    // A pair that cannot move keeps its records as they were when it fell asleep: neither body
+    // has moved since.
+    job.keep = sleeping_ > 0 && inert(st[a].body) && inert(st[b].body);
+    job.mesh = st[a].geom.kind == CollideKind::mesh || st[b].geom.kind == CollideKind::mesh;
+    job.cap = std::max(job.mesh ? kMaxMeshManifolds : 1, job.prev_count);
+    job.slot = slots;
+    job.count = job.points = 0;
+    slots += job.cap;
+    packed = packed && !job.mesh && !(job.keep && job.prev_count != 1);
+    collide_jobs_.push_back(job);
+  }
+  const int n = (int)collide_jobs_.size();
+  contacts_next_.resize(slots);
+  collide_sums_.resize(cfg_.threads);
+  // Blocks of pairs claimed from a shared counter (pairs cost from a sphere-plane formula to a
+  // hull-hull clipping, so fixed shares would leave one thread waiting): which thread collides a
+  // pair changes nothing, as each writes its own slots and the deepest overlap is a maximum.
+  constexpr int kBlock = 32;
+  std::atomic<int> next_block{0};
+  auto work = [&](int w, int) {
+    double deepest = 0;
+    for (int begin; (begin = kBlock * next_block.fetch_add(1, std::memory_order_relaxed)) < n;) {
+      const int end = std::min(n, begin + kBlock);
+      for (int j = begin; j < end; ++j) {
+        CollideJob& job = collide_jobs_[j];
+        if (job.keep) {
+          for (int k = 0; k < job.prev_count; ++k) contacts_next_[job.slot + k] = contacts_[job.prev + k];
+          job.count = job.prev_count;
+        } else {
+          deepest = std::max(deepest, collide_job(job));
+        }
+      }
+    }
+    collide_sums_[w].value = deepest;
+  };
+  // Threads only for enough pairs to be worth a pool run (the result is the same either way).
+  // (The pool may also run it as worker 0 of 1: sim/task_pool.hpp.)
+  constexpr int kMinParallelPairs = 64;
+  for (ChunkSum& d : collide_sums_) d.value = 0;
+  if (pool_ && n >= kMinParallelPairs)
+    pool_->run(work);
+  else
+    work(0, 1);
+  for (const ChunkSum& d : collide_sums_)
+    contact_stats_.max_penetration = std::max(contact_stats_.max_penetration, d.value);
+
   std::fill(in_contact_.begin(), in_contact_.end(), 0);
+  int points = 0;
   bool woke = false;
-  // A pair with n > 0 points: counted; something awake within reach of a sleeping body wakes its
-  // island; both bodies are in contact.
-  auto touched = [&](int n, int body_a, int body_b) {
-    if (n <= 0) return;
-    points += n;
+  for (CollideJob& job : collide_jobs_) {
+    const int body_a = st[(int)(job.key >> 32)].body, body_b = st[(int)(job.key & 0xFFFFFFFFu)].body;
+    if (job.keep) {
+      if (inert(body_a) && inert(body_b)) continue;
+      // Woken by a pair before this one: collided now, as the sequential pass would.
+      job.keep = false;
+      contact_stats_.max_penetration = std::max(contact_stats_.max_penetration, collide_job(job));
+      packed = packed && job.count == job.cap;
+    }
+    if (job.points <= 0) continue;
+    points += job.points;
+    // Something awake comes within reach of a sleeping body: its island wakes.
     if (asleep_[body_a] >= 0) wake(body_a), woke = true;
     if (asleep_[body_b] >= 0) wake(body_b), woke = true;
     in_contact_[body_a] = in_contact_[body_a] || !model_[body_a].is_static;
     in_contact_[body_b] = in_contact_[body_b] || !model_[body_b].is_static;
-  };
-  for (uint64_t key : pairs_) {
-    const int a = (int)(key >> 32), b = (int)(key & 0xFFFFFFFFu);
-    while (old < contacts_.size() && contacts_[old].key() < key) ++old;
-    const Contact* prev = (old < contacts_.size() && contacts_[old].key() == key) ? &contacts_[old] : nullptr;
-    const ShapeRecord& A = st[a];
-    const ShapeRecord& B = st[b];
-    // A pair that cannot move (asleep, static or a kinematic body at rest on either side) keeps
-    // its contact as it was when it fell asleep: neither body has moved since.
-    if (sleeping_ > 0 && inert(A.body) && inert(B.body)) {
-      for (size_t k = old; k < contacts_.size() && contacts_[k].key() == key; ++k)  // a mesh pair: several
-        contacts_next_.push_back(contacts_[k]);
-      continue;
-    }
-    // A static triangle mesh: several manifolds for one pair (world_trimesh.cpp).
-    if (A.geom.kind == CollideKind::mesh || B.geom.kind == CollideKind::mesh) {
-      touched(collide_mesh_pair(a, b, old), A.body, B.body);
-      continue;
-    }
-    const MotionState& sa = state_[A.body];
-    const MotionState& sb = state_[B.body];
-    Contact& c = new_contact(a, b, prev);
-    if (prev) c.cache = prev->cache;
-    // How far the two can close this step, bounded: relative speed of their farthest points.
-    const double reach_a = (A.p_PC.norm() + A.geom.bounding_radius) * sa.w_P.norm();
-    const double reach_b = (B.p_PC.norm() + B.geom.bounding_radius) * sb.w_P.norm();
-    const double closing = ((sa.v_W - sb.v_W).norm() + reach_a + reach_b) * dt;
-    Manifold m;
-    Vec3 offset[4] = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
-    // World poses: the broad phase's for moving shapes (made from this same state).
-    const Pose xa = shape_moving_[a] ? poses_[a] : ShapeTable::world_pose(A, sa);
-    const Pose xb = shape_moving_[b] ? poses_[b] : ShapeTable::world_pose(B, sb);
-    // A fast pair's speculative manifold is taken where it will touch (sim/world_ccd.cpp).
-    const int n = fast_pair(a, b, closing) ? collide_ahead(a, b, xa, xb, spec, closing, c.cache, m, offset)
-                                           : collide(A.geom, xa, B.geom, xb, spec + closing, c.cache, m);
-    c.normal_W = m.normal_W;
-    c.count = n;
-    for (int j = 0; j < n; ++j) {
-      ContactPoint& p = c.points[j];
-      p.id = m.points[j].id;
-      p.p_W = m.points[j].p_W;
-      p.separation = m.points[j].separation;
-      p.offset_W = offset[j];
-      if (prev) {
-        for (int k = 0; k < prev->count; ++k)
-          if (prev->points[k].id == p.id) {
-            p.normal_impulse = prev->points[k].normal_impulse;
-            break;
-          }
-      }
-      contact_stats_.max_penetration = std::max(contact_stats_.max_penetration, -p.separation);
-    }
-    touched(n, A.body, B.body);
+  }
+  if (!packed) {
+    // Records after a job's unused slots move up, in order.
+    int to = 0;
+    for (const CollideJob& job : collide_jobs_)
+      for (int k = 0; k < job.count; ++k, ++to)
+        if (to != job.slot + k) contacts_next_[to] = contacts_next_[job.slot + k];
+    contacts_next_.resize(to);
   }
   contacts_.swap(contacts_next_);
   if (woke) {
-    // Contacts kept for bodies that slept until now (earlier in the loop) are theirs again.
+    // Contacts kept for bodies that slept until now (earlier in key order) are theirs again.
     for (const Contact& c : contacts_) {
       if (c.count == 0) continue;
       if (asleep_[c.body_a] < 0 && !model_[c.body_a].is_static) in_contact_[c.body_a] = 1;
@@ -230,6 +263,64 @@ void World::stage_collide() {
   contact_bodies_.clear();
   for (int i = 0; i < (int)in_contact_.size(); ++i)
     if (in_contact_[i]) contact_bodies_.push_back(i);
+}
+
+double World::collide_job(CollideJob& job) {
+  Contact* out = &contacts_next_[job.slot];
+  double deepest = 0;
+  if (job.mesh) {
+    job.count = collide_mesh_pair(job, out, job.points, deepest);
+  } else {
+    deepest = collide_pair(job, *out);
+    job.count = 1;
+    job.points = out->count;
+  }
+  return deepest;
+}
+
+// One convex pair's narrow phase into c (overwritten); returns its deepest overlap (m, >= 0).
+double World::collide_pair(const CollideJob& job, Contact& c) const {
+  const ShapeTable& st = *shapes_;
+  const double spec = cfg_.contacts.speculative_distance, dt = cfg_.dt;
+  const int a = (int)(job.key >> 32), b = (int)(job.key & 0xFFFFFFFFu);
+  const Contact* prev = job.prev >= 0 ? &contacts_[job.prev] : nullptr;
+  const ShapeRecord& A = st[a];
+  const ShapeRecord& B = st[b];
+  const MotionState& sa = state_[A.body];
+  const MotionState& sb = state_[B.body];
+  new_contact(c, a, b, prev);
+  if (prev) c.cache = prev->cache;
+  // How far the two can close this step, bounded: relative speed of their farthest points.
+  const double reach_a = (A.p_PC.norm() + A.geom.bounding_radius) * sa.w_P.norm();
+  const double reach_b = (B.p_PC.norm() + B.geom.bounding_radius) * sb.w_P.norm();
+  const double closing = ((sa.v_W - sb.v_W).norm() + reach_a + reach_b) * dt;
+  Manifold m;
+  Vec3 offset[4] = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
+  // World poses: the broad phase's for moving shapes (made from this same state).
+  const Pose xa = shape_moving_[a] ? poses_[a] : ShapeTable::world_pose(A, sa);
+  const Pose xb = shape_moving_[b] ? poses_[b] : ShapeTable::world_pose(B, sb);
+  // A fast pair's speculative manifold is taken where it will touch (sim/world_ccd.cpp).
+  const int n = fast_pair(a, b, closing) ? collide_ahead(a, b, xa, xb, spec, closing, c.cache, m, offset)
+                                         : collide(A.geom, xa, B.geom, xb, spec + closing, c.cache, m);
+  c.normal_W = m.normal_W;
+  c.count = n;
+  double deepest = 0;
+  for (int j = 0; j < n; ++j) {
+    ContactPoint& p = c.points[j];
+    p.id = m.points[j].id;
+    p.p_W = m.points[j].p_W;
+    p.separation = m.points[j].separation;
+    p.offset_W = offset[j];
+    if (prev) {
+      for (int k = 0; k < prev->count; ++k)
+        if (prev->points[k].id == p.id) {
+          p.normal_impulse = prev->points[k].normal_impulse;
+          break;
+        }
+    }
+    deepest = std::max(deepest, -p.separation);
+  }
+  return deepest;
 }
 
 // The soft step over the bodies in contact (sim/contact_solver.hpp), then their new state.
@@ -261,6 +352,7 @@ bool World::stage_solve_contacts() {
     in.substeps = substeps_;
     in.shapes = shapes_.get();
     in.settings = cs;
+    in.pool = pool_.get();
     solver_.prepare(in, contact_bodies_, contacts_, solver_index_);
   }
   runs[(int)Stage::prepare_contacts]++;
@@ -333,6 +425,7 @@ bool World::stage_solve_contacts() {
         if (!in_contact_[i] && asleep_[i] < 0) free_[g].push_back(i);
     }
     profile_.solver_bodies += solved;
+    if (pool_) profile_.pool_runs = pool_->runs(), profile_.pool_alone_runs = pool_->alone_runs();
   }
   runs[(int)Stage::store_impulses]++;
   return finite;
@@ -351,13 +444,11 @@ void World::stage_kinematic() {
   }
 }
 
-// A new record in contacts_next_ (in place: the record is large) for shapes a < b: the pair's
-// bodies, friction sqrt(f_a f_b) and restitution max(e_a, e_b), and the impulses warm-started from
-// `prev` (last step's record of the same manifold) when there is one.
-Contact& World::new_contact(int a, int b, const Contact* prev) {
+// (Assigned whole: the slots are reused from step to step.)
+void World::new_contact(Contact& c, int a, int b, const Contact* prev) const {
   const ShapeRecord& A = (*shapes_)[a];
   const ShapeRecord& B = (*shapes_)[b];
-  Contact& c = contacts_next_.emplace_back();
+  c = Contact{};
   c.shape_a = a;
   c.shape_b = b;
   c.body_a = A.body;
@@ -369,7 +460,6 @@ Contact& World::new_contact(int a, int b, const Contact* prev) {
     c.twist_impulse = prev->twist_impulse;
     c.rolling_impulse = prev->rolling_impulse;
   }
-  return c;
 }
 
 }  // namespace simreel

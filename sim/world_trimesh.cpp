@@ -15,8 +15,9 @@ namespace {
 constexpr double kMatchCos = 0.9;  // ~26 degrees
 }
 
-int World::collide_mesh_pair(int a, int b, size_t old) {
+int World::collide_mesh_pair(const CollideJob& job, Contact* out, int& points, double& deepest) const {
   const ShapeTable& st = *shapes_;
+  const int a = (int)(job.key >> 32), b = (int)(job.key & 0xFFFFFFFFu);
   const ShapeRecord& A = st[a];
   const ShapeRecord& B = st[b];
   const MotionState& sa = state_[A.body];
@@ -45,21 +46,22 @@ int World::collide_mesh_pair(int a, int b, size_t old) {
     for (int i = 0; i < nm; ++i)
       for (int j = 0; j < 4; ++j) offset[i][j].setZero();
   }
-  const uint64_t key = ((uint64_t)(uint32_t)a << 32) | (uint32_t)b;
-  size_t old_end = old;
-  while (old_end < contacts_.size() && contacts_[old_end].key() == key) ++old_end;
+  const Contact* old = job.prev >= 0 ? &contacts_[job.prev] : nullptr;
+  const int old_count = job.prev_count;
   bool used[kMaxMeshManifolds * 4] = {};
-  int points = 0;
+  points = 0;
+  deepest = 0;
   for (int i = 0; i < nm; ++i) {
     const Vec3 n_AB = mesh_is_a ? m[i].normal_W : Vec3(-m[i].normal_W);
     const Contact* prev = nullptr;
     double best = kMatchCos;
-    for (size_t k = old; k < old_end && k - old < sizeof used; ++k) {
-      const double d = contacts_[k].normal_W.dot(n_AB);
-      if (!used[k - old] && d > best) best = d, prev = &contacts_[k];
+    for (int k = 0; k < old_count && k < (int)sizeof used; ++k) {
+      const double d = old[k].normal_W.dot(n_AB);
+      if (!used[k] && d > best) best = d, prev = &old[k];
     }
-    if (prev) used[prev - &contacts_[old]] = true;
-    Contact& c = new_contact(a, b, prev);
+    if (prev) used[prev - old] = true;
+    Contact& c = out[i];
+    new_contact(c, a, b, prev);
     c.normal_W = n_AB;
     c.count = m[i].count;
     for (int j = 0; j < c.count; ++j) {
@@ -74,11 +76,11 @@ int World::collide_mesh_pair(int a, int b, size_t old) {
             p.normal_impulse = prev->points[k].normal_impulse;
             break;
           }
-      contact_stats_.max_penetration = std::max(contact_stats_.max_penetration, -p.separation);
+      deepest = std::max(deepest, -p.separation);
     }
     points += c.count;
   }
-  return points;
+  return nm;
 }
 
 // A fast pair's speculative manifolds, taken where it will touch (as collide_ahead does for two
@@ -90,7 +92,7 @@ int World::collide_mesh_pair(int a, int b, size_t old) {
 // the mesh's across the normal (the sliding until the impact). Returns the manifolds, 0 if the
 // prediction comes nowhere near the mesh, -1 if a triangle is that close already (then collide as
 // usual).
-int World::collide_mesh_ahead(int c, int mi, double speculative, Manifold out[], Vec3 offset[][4]) {
+int World::collide_mesh_ahead(int c, int mi, double speculative, Manifold out[], Vec3 offset[][4]) const {
   if (!(speculative > 0)) return -1;
   const ShapeTable& st = *shapes_;
   const ShapeRecord& C = st[c];
