@@ -182,24 +182,9 @@ double triangle_distance(const CollideShape& a, const Pose& xa, const Vec3 tri[3
     n = v / L;
     return L - a.radius;
   }
-  // GJK against the triangle as a three-vertex hull about its centroid (as sim/collide/triangles.cpp
-  // does; one per thread, so nothing is allocated after the first call).
-  thread_local ConvexPolyhedron hull = [] {
-    ConvexPolyhedron p;
-    p.vertices.resize(3);
-    return p;
-  }();
-  CollideShape ts;
-  ts.kind = CollideKind::hull;
-  ts.hull = &hull;
+  // GJK against the triangle as a three-vertex hull about its centroid.
   Pose tp;
-  tp.p = (tri[0] + tri[1] + tri[2]) / 3.0;
-  double rad = 0;
-  for (int k = 0; k < 3; ++k) {
-    hull.vertices[k] = tri[k] - tp.p;
-    rad = std::max(rad, hull.vertices[k].norm());
-  }
-  ts.bounding_radius = rad;
+  const CollideShape ts = collide_detail::triangle_hull(tri, tp);
   const Support A(a, xa), B(ts, tp);
   bool overlap = false;
   const collide_detail::CoreDistance d = collide_detail::gjk_distance(A, B, overlap);

@@ -53,6 +53,11 @@ inline Vec3 closest_on_segment(const Vec3& p, const Vec3& a, const Vec3& b, doub
 // feature it lies on: f = 0 the face, 1 + k edge k (vertex k to k + 1), 4 + k vertex k.
 Vec3 closest_on_triangle(const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c, int& f);
 
+// Triangle tri as a three-vertex hull about its centroid (pose: the centroid, no rotation), for
+// GJK/EPA against a triangle of a mesh. The hull is one per thread and reused, so nothing is
+// allocated after a thread's first call; the shape is valid until that thread's next call.
+CollideShape triangle_hull(const Vec3 tri[3], Pose& pose);
+
 // Closest points c1 = p1 + s (q1 - p1), c2 = p2 + t (q2 - p2) of two segments (Ericson, Real-Time
 // Collision Detection, 5.1.9), with the parallel case resolved to s = 0 (or its clamp).
 void closest_segments(const Vec3& p1, const Vec3& q1, const Vec3& p2, const Vec3& q2, double& s, double& t,

@@ -414,22 +414,8 @@ void convex_triangle(const WorldTri& t, const CollideShape& b, const Pose& xb, d
   const bool polyhedral = b.kind == CollideKind::box || b.kind == CollideKind::hull;
   if (t.active != 0 || !polyhedral) {
     // GJK/EPA against the triangle as a three-vertex hull centred on its centroid.
-    thread_local ConvexPolyhedron tri = [] {
-      ConvexPolyhedron p;
-      p.vertices.resize(3);
-      return p;
-    }();
-    CollideShape ts;
-    ts.kind = CollideKind::hull;
-    ts.hull = &tri;
     Pose tp;
-    tp.p = (t.p[0] + t.p[1] + t.p[2]) / 3.0;
-    double rad = 0;
-    for (int k = 0; k < 3; ++k) {
-      tri.vertices[k] = t.p[k] - tp.p;
-      rad = std::max(rad, tri.vertices[k].norm());
-    }
-    ts.bounding_radius = rad;
+    const CollideShape ts = triangle_hull(t.p, tp);
     const Support A(ts, tp);
     const CoreDistance d = core_distance(A, B);
     if (d.separation > spec) return;
@@ -460,6 +446,27 @@ void convex_triangle(const WorldTri& t, const CollideShape& b, const Pose& xb, d
 }
 
 }  // namespace
+
+CollideShape triangle_hull(const Vec3 tri[3], Pose& pose) {
+  thread_local ConvexPolyhedron hull = [] {
+    ConvexPolyhedron p;
+    p.vertices.resize(3);
+    return p;
+  }();
+  CollideShape s;
+  s.kind = CollideKind::hull;
+  s.hull = &hull;
+  pose = Pose();
+  pose.p = (tri[0] + tri[1] + tri[2]) / 3.0;
+  double rad = 0;
+  for (int k = 0; k < 3; ++k) {
+    hull.vertices[k] = tri[k] - pose.p;
+    rad = std::max(rad, hull.vertices[k].norm());
+  }
+  s.bounding_radius = rad;
+  return s;
+}
+
 }  // namespace collide_detail
 
 int collide_mesh(const CollideShape& mesh, const Pose& xm, const CollideShape& b, const Pose& xb,

@@ -17,12 +17,15 @@
 #include "sim/ccd.hpp"
 #include "sim/scene_builders.hpp"
 #include "sim/trimesh.hpp"
+#include "tests/sim/ccd_fixtures.hpp"
 #include "tests/sim/contact_fixtures.hpp"
 #include "tests/sim/trimesh_fixtures.hpp"
 
 namespace simreel {
 namespace {
 
+using ccd_test::crossed;
+using ccd_test::shot_config;
 using contact_test::box;
 using contact_test::deg;
 using contact_test::kPi;
@@ -72,23 +75,6 @@ Shot random_shot(SplitMix64& rng, double face_x, double max_theta = deg(70)) {
   s.lead = rng.uniform(0.02, 0.6);
   s.aim = Vec3(face_x, rng.uniform(-0.15, 0.15), rng.uniform(-0.15, 0.15));
   return s;
-}
-
-// Whether a centre moving from a to b crossed the plane x = 0 within |y|, |z| <= half.
-bool crossed(const Vec3& a, const Vec3& b, double half) {
-  if (!(a.x() <= 0 && b.x() > 0)) return false;
-  const double f = -a.x() / (b.x() - a.x());
-  const Vec3 c = a + f * (b - a);
-  return std::fabs(c.y()) <= half && std::fabs(c.z()) <= half;
-}
-
-WorldConfig shot_config(bool continuous = true) {
-  WorldConfig cfg;
-  cfg.dt = kDt;
-  cfg.gravity = Vec3::Zero();
-  cfg.contacts.continuous = continuous;
-  cfg.contacts.sleep = false;
-  return cfg;
 }
 
 struct Outcome {

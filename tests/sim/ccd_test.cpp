@@ -13,11 +13,14 @@
 
 #include "sim/ccd.hpp"
 #include "sim/scene_builders.hpp"
+#include "tests/sim/ccd_fixtures.hpp"
 #include "tests/sim/contact_fixtures.hpp"
 
 namespace simreel {
 namespace {
 
+using ccd_test::crossed;
+using ccd_test::shot_config;
 using contact_test::box;
 using contact_test::deg;
 using contact_test::kPi;
@@ -58,25 +61,6 @@ struct Outcome {
   Vec3 p0 = Vec3::Zero(), p1 = Vec3::Zero();  // total momentum before and after
   long hits = 0;                              // continuous-stage moves back
 };
-
-// Whether a centre moving from `a` to `b` (in the target's frame, thin axis x) crossed the
-// target's mid-plane x = 0 within its face, |y| and |z| at most `half`: through the target, not
-// past its edge (a sphere sliding off a spinning plate's edge ends behind it legitimately).
-bool crossed(const Vec3& a, const Vec3& b, double half) {
-  if (!(a.x() <= 0 && b.x() > 0)) return false;
-  const double f = -a.x() / (b.x() - a.x());
-  const Vec3 c = a + f * (b - a);
-  return std::fabs(c.y()) <= half && std::fabs(c.z()) <= half;
-}
-
-WorldConfig shot_config(bool continuous = true) {
-  WorldConfig cfg;
-  cfg.dt = kDt;
-  cfg.gravity = Vec3::Zero();
-  cfg.contacts.continuous = continuous;
-  cfg.contacts.sleep = false;
-  return cfg;
-}
 
 // Target: body 0 (a 1 cm x 50 cm x 50 cm plate, static or dynamic, centred at the origin, its thin
 // axis along x); the sphere is body 1.
