@@ -24,6 +24,7 @@
 
 #include "bench/bench_util.hpp"
 #include "sim/scene_builders.hpp"
+#include "sim/state_hash.hpp"
 
 using namespace simreel;
 
@@ -54,19 +55,6 @@ std::vector<BodyDef> gas(int n) {
     v.push_back(std::move(b));
   }
   return v;
-}
-
-uint64_t state_hash(const World& w) {
-  uint64_t h = 0xcbf29ce484222325ull;
-  for (int i = 0; i < w.body_count(); ++i) {
-    const MotionState& s = w.state(i);
-    const unsigned char* c = reinterpret_cast<const unsigned char*>(&s);
-    for (size_t j = 0; j < sizeof s; ++j) {
-      h ^= c[j];
-      h *= 0x100000001b3ull;
-    }
-  }
-  return h;
 }
 
 void run(const char* label, const char* scene, int n) {

@@ -23,6 +23,7 @@
 #include "bench/bench_util.hpp"
 #include "sim/primitives.hpp"
 #include "sim/scene_builders.hpp"
+#include "sim/state_hash.hpp"
 #include "tests/sim/trimesh_fixtures.hpp"
 
 using namespace simreel;
@@ -85,21 +86,6 @@ std::vector<BodyDef> bullets_scene(bool meshes = false) {
   return bodies;
 }
 
-uint64_t hash_state(const World& w) {
-  uint64_t h = 1469598103934665603ull;
-  for (int i = 0; i < w.body_count(); ++i) {
-    const MotionState& s = w.state(i);
-    const double v[13] = {s.q_WP.w(), s.q_WP.x(), s.q_WP.y(), s.q_WP.z(), s.x_W.x(), s.x_W.y(), s.x_W.z(),
-                          s.v_W.x(),  s.v_W.y(),  s.v_W.z(),  s.w_P.x(),  s.w_P.y(), s.w_P.z()};
-    for (double x : v) {
-      uint64_t b;
-      std::memcpy(&b, &x, sizeof b);
-      h = (h ^ b) * 1099511628211ull;
-    }
-  }
-  return h;
-}
-
 struct Run {
   double seconds = std::numeric_limits<double>::infinity();
   long steps = 0, swept = 0, pairs = 0, hits = 0;
@@ -137,7 +123,7 @@ Run run(const std::vector<BodyDef>& bodies, double dt, long steps, bool continuo
   r.swept = w.profile().swept_bodies;
   r.pairs = w.profile().toi_pairs;
   r.hits = w.profile().toi_hits;
-  r.hash = hash_state(w);
+  r.hash = state_hash(w);
   return r;
 }
 

@@ -39,6 +39,7 @@
 
 #include "bench/bench_util.hpp"
 #include "sim/scene_builders.hpp"
+#include "sim/state_hash.hpp"
 
 #ifdef SIMREEL_BENCH_BULLET
 #include <btBulletDynamicsCommon.h>
@@ -181,26 +182,6 @@ void print_row(const char* engine, const Scene& s, const char* setting, const Re
       runs.c_str(), r.max_speed, r.moving, r.pen_engine, r.final_pen_engine, r.pen_ground, r.pen_cube,
       r.final_pen_ground, r.top_drift, r.top_sink, r.drift_late, r.drift_total, r.nan, r.notes.c_str());
   std::fflush(stdout);
-}
-
-// ---------------------------------------------------------------------------------------- simreel
-uint64_t state_hash(const World& w) {
-  uint64_t h = 0xcbf29ce484222325ull;
-  auto bytes = [&](const double* p, int n) {
-    const unsigned char* c = reinterpret_cast<const unsigned char*>(p);
-    for (size_t i = 0; i < n * sizeof(double); ++i) {
-      h ^= c[i];
-      h *= 0x100000001b3ull;
-    }
-  };
-  for (int i = 0; i < w.body_count(); ++i) {
-    const MotionState& s = w.state(i);
-    bytes(s.x_W.data(), 3);
-    bytes(s.q_WP.coeffs().data(), 4);
-    bytes(s.v_W.data(), 3);
-    bytes(s.w_P.data(), 3);
-  }
-  return h;
 }
 
 void simreel_cubes(const World& w, int n, std::vector<Cube>& out) {

@@ -22,30 +22,11 @@
 
 #include "bench/bench_util.hpp"
 #include "sim/scene_builders.hpp"
+#include "sim/state_hash.hpp"
 
 using namespace simreel;
 
 namespace {
-
-uint64_t state_hash(const World& w) {
-  uint64_t h = 1469598103934665603ull;
-  auto mix = [&h](double x) {
-    unsigned char b[sizeof(double)];
-    std::memcpy(b, &x, sizeof x);
-    for (unsigned char c : b) {
-      h ^= c;
-      h *= 1099511628211ull;
-    }
-  };
-  for (int i = 0; i < w.body_count(); ++i) {
-    const MotionState& s = w.state(i);
-    for (double x : {s.q_WP.w(), s.q_WP.x(), s.q_WP.y(), s.q_WP.z()}) mix(x);
-    for (int k = 0; k < 3; ++k) mix(s.x_W[k]);
-    for (int k = 0; k < 3; ++k) mix(s.v_W[k]);
-    for (int k = 0; k < 3; ++k) mix(s.w_P[k]);
-  }
-  return h;
-}
 
 struct Scene {
   std::string name;
