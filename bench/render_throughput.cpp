@@ -8,10 +8,11 @@
 // one 100,000-triangle mesh (N = 1, 10, 100, 1000), or N boxes, spheres of one size or of N
 // sizes, and draws one frame of them; each case in a child process of its own (rows `memory_*`).
 // CSV on stdout. Usage:
-//   bench_render_throughput [FRAMES [overlays|teaching|memory|pairs|post|render [NAME,...]]]
+//   bench_render_throughput [FRAMES [overlays|teaching|memory|pairs|post|render [NAME,...]|png K PATH]]
 // (FRAMES default 300; `memory`: only the memory rows; `pairs`: only the end-to-end / ceiling
 // pairs; `post`: only the writer thread's CPU stages; `render`: only the render-only rows, of the
-// settings named if given. ffmpeg must be on PATH for the ceiling row; the raw frames need FRAMES
+// settings named if given; `png`: frame K of the clip as drawn by default, FXAA included, written to
+// PATH, to look at). ffmpeg must be on PATH for the ceiling row; the raw frames need FRAMES
 // x 3.7 MB in the temp folder). The number of end-to-end / ceiling pairs is SIMREEL_BENCH_PAIRS
 // (default 7).
 #include <stdlib.h>
@@ -33,6 +34,7 @@
 #include "bench/bench_util.hpp"
 #include "render/draw_list.hpp"
 #include "render/fxaa.hpp"
+#include "render/png_writer.hpp"
 #include "render/renderer.hpp"
 #include "render/video_writer.hpp"
 #include "render/yuv.hpp"
@@ -507,6 +509,19 @@ int main(int argc, char** argv) {
   std::printf("case,frames,width,height,seconds,fps,note\n");
   if (argc > 2 && std::string(argv[2]) == "memory") {
     memory_rows();
+    return 0;
+  }
+  if (argc > 4 && std::string(argv[2]) == "png") {
+    const long want = std::atol(argv[3]);
+    Setup s(bodies, frames);
+    Renderer r(settings("fxaa"), s.meshes);
+    DrawList dl;
+    long k = 0;
+    s.run([&](const World& w) {
+      if (k++ != want) return;
+      build_draw_list(w, s.meshes, s.cam, -1, dl);
+      write_png(argv[4], r.render(dl), W, H);
+    });
     return 0;
   }
   if (argc > 2 && std::string(argv[2]) == "post") {

@@ -12,7 +12,6 @@
 #include <vector>
 
 #include "render/camera.hpp"
-#include "render/footprint.hpp"
 #include "render/fxaa.hpp"
 #include "render/gl_context.hpp"
 #include "render/screen.hpp"
@@ -113,6 +112,11 @@ struct Renderer::Impl {
   std::vector<int> group_size, group_base, group_next;  // per mesh: this frame's items, first slot
   std::vector<int> groups, seen;                        // meshes drawn this frame, in draw order
   GLint d_batched = -1, d_items = -1;
+  // Shadows on the ground: the bodies flattened onto it along the light (ground_shadows).
+  struct GroundShadowProgram {
+    GLuint id = 0;
+    GLint viewproj = -1, light_dir = -1, ground_z = -1, half = -1, tile = -1, shade = -1, items = -1;
+  } gs;
   GLuint msaa_fbo = 0, msaa_color = 0, msaa_depth = 0;
   GLuint frame_fbo = 0, frame_color = 0, frame_depth = 0;  // single-sample, read back
   // The ground and sky without shadows, drawn once per camera and ground placement, copied into
@@ -120,10 +124,6 @@ struct Renderer::Impl {
   GLuint cache_fbo = 0, cache_color = 0, cache_depth = 0;
   bool cache_valid = false;
   M4 cache_vp = M4::Zero(), cache_ground = M4::Zero();
-  // Per-frame ground quads under each body's shadow: one dynamic buffer, reused.
-  GLuint foot_vao = 0, foot_vbo = 0;
-  std::vector<float> foot_vertices;
-  size_t foot_capacity = 0;
   std::vector<uint8_t> frame;  // RGBA8, top row first
   FxaaBuffers fxaa_buffers;
   GLuint shadow_fbo = 0, shadow_tex = 0;
@@ -161,15 +161,6 @@ struct Renderer::Impl {
     if (msaa > 1) make_target(msaa_fbo, msaa_color, msaa_depth, msaa, true);
     if (s.ground && s.cache_ground) {
       make_target(cache_fbo, cache_color, cache_depth, msaa > 1 ? msaa : 0, true);
-      glGenVertexArrays(1, &foot_vao);
-      glBindVertexArray(foot_vao);
-      glGenBuffers(1, &foot_vbo);
-      glBindBuffer(GL_ARRAY_BUFFER, foot_vbo);
-      glEnableVertexAttribArray(0);
-      glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), (void*)0);
-      glEnableVertexAttribArray(1);
-      glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), (void*)(3 * sizeof(float)));
-      glBindVertexArray(0);
     }
     frame.resize((size_t)s.width * s.height * 4);
     if (s.shadows) {
@@ -199,20 +190,15 @@ struct Renderer::Impl {
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
   }
 
-  // Orthographic light frustum around the bodies' bounding sphere, deep enough to reach the
-  // ground below them. Everything a body shades lies inside the sphere's light-space disk.
+  // Orthographic light frustum around the bodies' bounding sphere: only bodies receive shadows
+  // from the map (the ground's are the bodies projected onto it, ground_shadows).
   static float light_radius(const DrawList& dl) { return (float)dl.bounds_radius * 1.02f; }  ///< m
   M4 light_viewproj(const DrawList& dl) const {
     const V3f c = dl.bounds_center.cast<float>();
     const float r = light_radius(dl);
     const V3f eye = c + light_dir * (r + 1.0f);
     V3f up = std::fabs(light_dir.z()) > 0.99f ? V3f::UnitY() : V3f::UnitZ();
-    float far = 2 * r + 1.0f;
-    if (s.ground) {
-      const float below = std::max(0.0f, c.z() - (float)s.ground_height);
-      far += below / std::max(light_dir.z(), 0.05f);
-    }
-    return ortho(r, 0.0f, far) * look_at(eye, c, up);
+    return ortho(r, 0.0f, 2 * r + 1.0f) * look_at(eye, c, up);
   }
 
   bool poses_unchanged(const DrawList& dl, const M4& lvp) const {
@@ -337,74 +323,54 @@ struct Renderer::Impl {
     glUniform1i(batched_loc, 0);
   }
 
-  // Ground rectangles that hold every shadow a body can cast on the ground this frame: the 8
-  // corners of its mesh's bounding box, projected along the light onto the plane (x - L (x_z -
-  // z_g) / L_z), bound it; the smallest rectangle of any orientation around them, widened by three
-  // shadow-map texels for the soft edge. Bodies wholly below the ground cast nothing on it.
-  // Measured on the 100-box benchmark (llvmpipe CPU a 720p frame): the least-area rectangle costs
-  // 0.6 ms less than the axis-aligned one. Convex hulls (fans of ~10 triangles) shade 27% fewer
-  // pixels than axis-aligned rectangles but cost the same: each triangle edge adds 4x4-pixel blocks
-  // that llvmpipe shades once per triangle. Cell-aligned screen rectangles (no partial blocks,
-  // no overlap) cost 1.7 ms more: the 8-pixel cells added a third to the area.
-  void draw_shadow_footprints(const DrawList& dl, bool over_ground_depth) {
-    const float zg = (float)s.ground_height, lz = std::max(light_dir.z(), 0.05f);
-    // The shadow map spans 2 r over shadow_size texels; the PCF taps reach 1.5 texels: take 3.
-    const float margin = 3 * 2 * light_radius(dl) / (float)s.shadow_size;  // m
-    foot_vertices.clear();
-    for (const DrawItem& it : dl.items) {
-      const GpuMesh& g = meshes[it.mesh];
-      float ztop = -INFINITY;
-      Eigen::Vector2f shadow[8], mid = Eigen::Vector2f::Zero();
-      for (int k = 0; k < 8; ++k) {
-        const V3f corner((k & 1) ? g.hi.x() : g.lo.x(), (k & 2) ? g.hi.y() : g.lo.y(),
-                         (k & 4) ? g.hi.z() : g.lo.z());
-        const V3f w = it.model.block<3, 3>(0, 0) * corner + it.model.block<3, 1>(0, 3);
-        const V3f p = w - light_dir * ((w.z() - zg) / lz);
-        shadow[k] = p.head<2>();
-        mid += shadow[k] / 8;
-        ztop = std::max(ztop, w.z());
-      }
-      if (ztop < zg) continue;
-      // With multisampling a pixel on the footprint's edge can be partly outside it while its
-      // centre, where the ground is shaded for all its samples, is in the shadow's soft edge:
-      // widen by the size of a pixel on the ground there, d 2 tan(fov/2) / height / sin(elevation).
-      float m = margin;
-      if (msaa > 1) {
-        const V3f c(mid.x(), mid.y(), zg);
-        const V3f eye = dl.camera.eye.cast<float>();
-        const float d = (eye - c).norm();
-        const float sin_el = std::max(std::fabs(eye.z() - zg) / std::max(d, 1e-6f), 0.05f);
-        m += 1.5f * d * 2 * std::tan((float)(dl.camera.fov_deg * M_PI / 360.0)) / (float)s.height / sin_el;
-      }
-      Eigen::Vector2f c[4];
-      min_area_rectangle(shadow, 8, m, c);
-      for (int k : {0, 1, 2, 0, 2, 3})
-        for (float v : {c[k].x(), c[k].y(), zg, 0.0f, 0.0f, 1.0f}) foot_vertices.push_back(v);
-    }
-    if (foot_vertices.empty()) return;
-    glBindVertexArray(foot_vao);
-    glBindBuffer(GL_ARRAY_BUFFER, foot_vbo);
-    const size_t bytes = foot_vertices.size() * sizeof(float);
-    if (bytes > foot_capacity) {
-      foot_capacity = 2 * bytes;
-      glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)foot_capacity, nullptr, GL_STREAM_DRAW);
-    }
-    glBufferSubData(GL_ARRAY_BUFFER, 0, (GLsizeiptr)bytes, foot_vertices.data());
-    const M4 identity = M4::Identity();
-    glUseProgram(ground_prog.id);
-    glUniformMatrix4fv(ground_prog.model, 1, GL_FALSE, identity.data());
-    glUniform3f(ground_prog.color, s.ground_color[0], s.ground_color[1], s.ground_color[2]);
-    // Over the cached ground's depth: in front of it by a hair, and not written.
+  void setup_ground_shadows() {
+    gs.id = link_program(ground_shadow_vertex_shader(), ground_shadow_fragment_shader());
+    for (auto [loc, name] : {std::pair{&gs.viewproj, "u_viewproj"},
+                             {&gs.light_dir, "u_light_dir"},
+                             {&gs.ground_z, "u_ground_z"},
+                             {&gs.half, "u_half"},
+                             {&gs.tile, "u_tile"},
+                             {&gs.shade, "u_shade"},
+                             {&gs.items, "u_items"}})
+      *loc = glGetUniformLocation(gs.id, name);
+    glUseProgram(gs.id);
+    glUniform1i(gs.items, 1);  // texture unit 1
+    glUniform3f(gs.light_dir, light_dir.x(), light_dir.y(), light_dir.z());
+    glUniform1f(gs.ground_z, (float)s.ground_height);
+    glUniform1f(gs.half, (float)(s.ground_size / 2));
+    glUniform1f(gs.tile, (float)s.ground_tile);
+    const std::array<float, 3> even = ground_shadow_color(s.ground_color, false),
+                               odd = ground_shadow_color(s.ground_color, true);
+    const float shade[6] = {even[0], even[1], even[2], odd[0], odd[1], odd[2]};
+    glUniform3fv(gs.shade, 2, shade);
+    glUseProgram(0);
+  }
+
+  // Shadows on the ground: every body drawn once more, flattened onto the ground plane along the
+  // light, in the ground's shadowed colour (render/shaders.cpp, kGroundShadowVS: exact for any
+  // mesh, hard-edged; FXAA or MSAA smooth the edges like any other). Closed meshes (the one-sided
+  // primitives) only need their triangles facing the light: a ray from a ground point towards the
+  // light that meets the body enters it through one, unless it starts inside the body, where the
+  // body itself hides that point from a camera above the ground. Those triangles land on the plane
+  // facing up, i.e. front-facing from above, and back-face culling keeps them. Two-sided meshes
+  // (mesh files, planes) draw every triangle. Overlaps write the same colour again: no stencil.
+  // Over the ground's depth: in front of it by a hair; no depth is written either way. Measured on
+  // the 100-box benchmark (llvmpipe CPU for 300 frames at 720p): 1.16 s for the footprints this
+  // replaced (the least-area rectangle around each body's projected bounding box, shaded with two
+  // shadow-map taps a pixel), see bench/README.md.
+  void ground_shadows(const M4& vp, bool over_ground_depth) {
+    glUseProgram(gs.id);
+    glUniformMatrix4fv(gs.viewproj, 1, GL_FALSE, vp.data());
+    for (int k = 0; k < 5; ++k) glEnable(GL_CLIP_DISTANCE0 + k);
     if (over_ground_depth) {
       glEnable(GL_POLYGON_OFFSET_FILL);
       glPolygonOffset(-1.0f, -4.0f);
-      glDepthMask(GL_FALSE);
     }
-    glDisable(GL_CULL_FACE);
-    glDrawArrays(GL_TRIANGLES, 0, (GLsizei)(foot_vertices.size() / 6));
-    glEnable(GL_CULL_FACE);
-    glDisable(GL_POLYGON_OFFSET_FILL);
+    glDepthMask(GL_FALSE);
+    draw_bodies(-1);
     glDepthMask(GL_TRUE);
+    glDisable(GL_POLYGON_OFFSET_FILL);
+    for (int k = 0; k < 5; ++k) glDisable(GL_CLIP_DISTANCE0 + k);
   }
 
   // One mesh with whatever program and uniforms are set; two-sided meshes without culling.
@@ -481,8 +447,8 @@ struct Renderer::Impl {
     // on the CPU (7.4 ms a 720p frame for the ground alone, before the shader was trimmed; with a
     // constant-colour shader the whole frame's llvmpipe work fell from 12 to 4.3 ms). Unshadowed, it
     // depends only on the camera and its placement: draw it once into a cache, copy the cache into
-    // each frame (a copy-speed blit, ~1 ms with depth), and shade with shadows only the ground
-    // under each body's shadow footprint.
+    // each frame (a copy-speed blit, ~1 ms with depth), and draw the shadows over it
+    // (ground_shadows).
     // A camera that follows a body would redraw the cache every frame for nothing: the caller says
     // so up front (RenderSettings::cache_ground false), and the ground is drawn directly then. The
     // choice is a setting, never a guess from earlier frames, so every frame is drawn the same way
@@ -492,10 +458,7 @@ struct Renderer::Impl {
       if (!cache_valid || vp != cache_vp || ground != cache_ground) {
         glBindFramebuffer(GL_FRAMEBUFFER, cache_fbo);
         glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-        glUseProgram(ground_prog.id);
-        glUniform1i(ground_prog.shadows, 0);
         draw(ground_prog, this->ground, ground, s.ground_color);
-        glUniform1i(ground_prog.shadows, s.shadows ? 1 : 0);
         cache_vp = vp;
         cache_ground = ground;
         cache_valid = true;
@@ -506,7 +469,7 @@ struct Renderer::Impl {
     }
     // The ground's depth matters only if the ground can hide part of a body: the camera below the
     // plane, or a body reaching under it. Otherwise (the usual case) the cache's colour is enough,
-    // and the footprints need no depth offset against the ground's own depth (on llvmpipe the
+    // and the shadows need no depth offset against the ground's own depth (on llvmpipe the
     // polygon offset and the depth copy cost ~1.5 ms a 720p frame).
     bool ground_depth = !cached || eye.z() <= (float)s.ground_height;
     for (size_t i = 0; i < dl.items.size() && !ground_depth; ++i)
@@ -518,21 +481,21 @@ struct Renderer::Impl {
                         GL_COLOR_BUFFER_BIT | (ground_depth ? GL_DEPTH_BUFFER_BIT : 0), GL_NEAREST);
     }
     glBindFramebuffer(GL_FRAMEBUFFER, target);
-    if (!cached)
+    if (!cached) {
       glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    else if (!ground_depth)
+      if (s.ground) draw(ground_prog, this->ground, ground, s.ground_color);
+    } else if (!ground_depth) {
       glClear(GL_DEPTH_BUFFER_BIT);
-    // Footprints over the ground's depth go first and write no depth, so the bodies then meet the
-    // ground's own depth exactly as when the whole ground is drawn; without it they go last, where
-    // the bodies hide part of them.
-    if (cached && s.shadows && ground_depth) draw_shadow_footprints(dl, true);
+    }
+    // Shadows on the ground, unless the camera is below it: its underside faces away from the
+    // light (no key light, no specular), so a shadow there changes nothing. Over the ground's depth
+    // they go first and write no depth, so the bodies then meet the ground's own depth exactly as
+    // without shadows; without it they go last, where the bodies hide part of them.
+    const bool shadows_on_ground = s.ground && s.shadows && eye.z() > (float)s.ground_height;
+    if (shadows_on_ground && ground_depth) ground_shadows(vp, true);
     glUseProgram(body_prog.id);
     draw_bodies(body_prog.batched);
-    if (cached) {
-      if (s.shadows && !ground_depth) draw_shadow_footprints(dl, false);
-    } else if (s.ground) {
-      draw(ground_prog, this->ground, ground, s.ground_color);
-    }
+    if (shadows_on_ground && !ground_depth) ground_shadows(vp, false);
   }
 
   // The frame's target resolved (MSAA) and read back into img (RGBA8, top row first).
@@ -745,6 +708,7 @@ Renderer::Renderer(const RenderSettings& s, const SceneMeshes& sm) : p_(std::mak
     P.stats.mesh_bytes += m.bytes();
   }
   if (s.ground) P.ground = upload(tessellate_plane(s.ground_size));
+  if (s.ground && s.shadows) P.setup_ground_shadows();
   P.setup_targets();
   glEnable(GL_DEPTH_TEST);
   glEnable(GL_CULL_FACE);

@@ -2,7 +2,8 @@
 //   1. shadow: depth from the key light (orthographic frustum fitted to the bodies, skipped while
 //      nothing moved);
 //   2. bodies: the lit pass (Blinn-Phong key light with 2 bilinear PCF taps, hemisphere fill,
-//      checker ground, gamma 2.2) into an FBO, multisampled if MSAA is on;
+//      checker ground, gamma 2.2) into an FBO, multisampled if MSAA is on; the ground's shadows are
+//      the bodies drawn once more flattened onto it along the light (planar projected shadows);
 //   3. overlay: unlit 3D geometry (arrows, axes, trails; render/overlay.hpp), depth-tested against
 //      the bodies, hidden parts optionally drawn faded (x-ray);
 //   then the MSAA resolve and the readback, and on the CPU

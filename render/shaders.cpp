@@ -20,7 +20,7 @@ namespace {
 // Bodies are drawn instanced, one draw per distinct mesh: each frame the items' model matrices
 // and colours go into a buffer texture (5 RGBA32F texels per item) and a_item, a per-instance
 // attribute, is the item's slot there (render/renderer.cpp, group_items). With u_batched == 0 a
-// single mesh is drawn with the u_model and u_color uniforms (the ground, footprints).
+// single mesh is drawn with the u_model and u_color uniforms (the ground).
 const char* kLitVS = R"(#version 330 core
 layout(location = 0) in vec3 a_pos;
 layout(location = 1) in vec3 a_nrm;
@@ -45,9 +45,7 @@ void main() {
   vec4 w = model * vec4(a_pos, 1.0);
   v_pos = w.xyz;
   v_nrm = mat3(model) * a_nrm;
-  // Light clip coordinates; the fragment shader divides and maps them to [0, 1]. Doing that here
-  // (exact for the orthographic light) made the footprints disagree with the whole ground at a
-  // few shadow-edge pixels (render/shaders.hpp).
+  // Light clip coordinates; the fragment shader divides and maps them to [0, 1].
   v_lpos = u_lightvp * w;
   gl_Position = u_viewproj * w;
 }
@@ -67,6 +65,9 @@ uniform float u_tile, u_bias, u_texel;
 uniform sampler2DShadow u_shadow_map;
 out vec4 o_color;
 float lit_fraction() {
+#if GROUND
+  return 1.0;  // the ground's shadows are the bodies projected onto it (kGroundShadowVS)
+#else
   vec3 p = v_lpos.xyz / v_lpos.w * 0.5 + 0.5;
   if (u_shadows == 0 || p.z > 1.0) return 1.0;
   // Two bilinear comparison taps half a texel apart along the diagonal: 8 depth tests, soft
@@ -76,6 +77,7 @@ float lit_fraction() {
   float s = texture(u_shadow_map, vec3(p.xy + d, z));
   s += texture(u_shadow_map, vec3(p.xy - d, z));
   return 0.5 * s;
+#endif
 }
 vec3 gamma_encode(vec3 x) {  // x^(1/2.2), see render/shaders.hpp
   vec3 c = clamp(x, 0.0, 1.0), s = sqrt(c), q = sqrt(s);
@@ -86,7 +88,7 @@ void main() {
 #if GROUND
   vec3 n = vec3(0.0, 0.0, gl_FrontFacing ? 1.0 : -1.0);
   ivec2 c = ivec2(floor(v_pos.xy / u_tile));
-  if (((c.x + c.y) & 1) == 1) base *= 0.72;
+  if (((c.x + c.y) & 1) == 1) base *= kChecker;
 #else
   vec3 n = normalize(v_nrm);
   if (!gl_FrontFacing) n = -n;
@@ -98,9 +100,53 @@ void main() {
   float c1 = max(dot(n, h), 0.0), c2 = c1 * c1, c4 = c2 * c2, c8 = c4 * c4, c16 = c8 * c8;
   float spec = ndl > 0.0 ? 0.22 * (c16 * c16 * c16) : 0.0;
   float sh = lit_fraction();
-  vec3 fill = mix(vec3(0.16, 0.15, 0.14), vec3(0.30, 0.34, 0.42), 0.5 + 0.5 * n.z);
+  vec3 fill = mix(vec3(0.16, 0.15, 0.14), kSky, 0.5 + 0.5 * n.z);
   vec3 lin = base * (fill + 1.15 * ndl * sh * vec3(1.0, 0.97, 0.92)) + spec * sh;
   o_color = vec4(gamma_encode(lin), 1.0);
+}
+)";
+
+// Shadows on the ground (Blinn 1988, "Me and my (fake) shadow"): the ground is a plane and the key
+// light directional, so the shadow a body casts on the ground is exactly its triangles projected
+// along the light onto the plane, p - L (p_z - z_g) / L_z. Each body is drawn once more, flattened,
+// with a constant shader writing the ground's colour in shadow (ambient only, computed on the CPU:
+// u_shade, one per checker colour), never a blend, so overlapping triangles give the same pixel.
+// Clip distances keep only what lies above the plane (a part below it casts nothing on the
+// ground's top: the plane cuts the triangles exactly, the flattening being affine) and only what
+// falls on the ground's square.
+const char* kGroundShadowVS = R"(#version 330 core
+layout(location = 0) in vec3 a_pos;
+layout(location = 2) in uint a_item;
+uniform mat4 u_viewproj;
+uniform vec3 u_light_dir;
+uniform float u_ground_z, u_half;
+uniform samplerBuffer u_items;
+out vec2 v_xy;
+out float gl_ClipDistance[5];
+void main() {
+  int b = int(a_item) * 5;
+  mat4 model = mat4(texelFetch(u_items, b), texelFetch(u_items, b + 1), texelFetch(u_items, b + 2),
+                    texelFetch(u_items, b + 3));
+  vec3 w = (model * vec4(a_pos, 1.0)).xyz;
+  float h = w.z - u_ground_z;
+  vec2 p = w.xy - u_light_dir.xy * (h / u_light_dir.z);
+  gl_ClipDistance[0] = h;
+  gl_ClipDistance[1] = u_half - p.x;
+  gl_ClipDistance[2] = u_half + p.x;
+  gl_ClipDistance[3] = u_half - p.y;
+  gl_ClipDistance[4] = u_half + p.y;
+  v_xy = p;
+  gl_Position = u_viewproj * vec4(p, u_ground_z, 1.0);
+}
+)";
+const char* kGroundShadowFS = R"(#version 330 core
+in vec2 v_xy;
+uniform float u_tile;
+uniform vec3 u_shade[2];
+out vec4 o_color;
+void main() {
+  ivec2 c = ivec2(floor(v_xy / u_tile));
+  o_color = vec4(u_shade[(c.x + c.y) & 1], 1.0);
 }
 )";
 
@@ -236,6 +282,12 @@ const char* depth_vertex_shader() {
 const char* depth_fragment_shader() {
   return kDepthFS;
 }
+const char* ground_shadow_vertex_shader() {
+  return kGroundShadowVS;
+}
+const char* ground_shadow_fragment_shader() {
+  return kGroundShadowFS;
+}
 
 const char* overlay_vertex_shader(bool ribbon) {
   return ribbon ? kOverlayRibbonVS : kOverlaySolidVS;
@@ -251,13 +303,22 @@ std::string overlay_fragment_shader(bool ribbon) {
 }
 
 std::string lit_fragment_shader(LitKind kind) {
-  char head[256];
+  char head[512];
   // %.9g prints each float so that it reads back as the same float.
   std::snprintf(head, sizeof head,
-                "#version 330 core\n#define GROUND %d\nconst vec4 kGamma = vec4(%.9g, %.9g, %.9g, %.9g);\n",
+                "#version 330 core\n#define GROUND %d\nconst vec4 kGamma = vec4(%.9g, %.9g, %.9g, %.9g);\n"
+                "const float kChecker = %.9g;\nconst vec3 kSky = vec3(%.9g, %.9g, %.9g);\n",
                 kind == LitKind::ground ? 1 : 0, (double)kGammaFit[0], (double)kGammaFit[1],
-                (double)kGammaFit[2], (double)kGammaFit[3]);
+                (double)kGammaFit[2], (double)kGammaFit[3], (double)kCheckerDark, (double)kFillSky[0],
+                (double)kFillSky[1], (double)kFillSky[2]);
   return head + std::string(kLitFS);
+}
+
+std::array<float, 3> ground_shadow_color(const std::array<float, 3>& ground, bool odd_tile) {
+  std::array<float, 3> c;
+  for (int k = 0; k < 3; ++k)
+    c[k] = gamma_encode((odd_tile ? ground[k] * kCheckerDark : ground[k]) * kFillSky[k]);
+  return c;
 }
 
 unsigned link_program(const char* vs, const char* fs) {

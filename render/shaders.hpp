@@ -5,10 +5,10 @@
 // - two specialisations: the ground (constant normal, checker) and bodies (no checker);
 // - the specular power x^48 by repeated squaring instead of pow() (exp2/log2): 0.6 ms;
 // - gamma encoding x^(1/2.2) by a fitted sum of roots (gamma_encode) instead of pow(): 1.1 ms.
-// Light-space coordinates stay divided per fragment: interpolating them already divided (exact
-// for the orthographic light) made the cached ground's footprints differ from the full ground by
-// up to 8 levels at a few shadow-edge pixels (tests/render: CachedGroundLooksLikeTheFullGround).
+// The ground samples no shadow map: its shadows are the bodies projected onto it along the light
+// (ground_shadow_*_shader), a flat colour, exact, with hard edges.
 #pragma once
+#include <array>
 #include <string>
 
 namespace simreel {
@@ -21,6 +21,17 @@ namespace simreel {
 inline constexpr float kGammaFit[4] = {1.103299715f, 0.047538824f, -0.351024566f, 0.201012415f};
 float gamma_encode(float x);
 
+// The lit shader's ground checker (its odd tiles are kCheckerDark times the ground colour) and the
+// sky end of its hemisphere fill, the whole fill of a surface facing straight up.
+inline constexpr float kCheckerDark = 0.72f;
+inline constexpr float kFillSky[3] = {0.30f, 0.34f, 0.42f};
+
+// The ground's colour in the key light's shadow, gamma-encoded: what the lit ground shader gives
+// seen from above with the light blocked (ambient only, no specular), gamma_encode(base kFillSky),
+// base the ground colour or, on odd checker tiles, kCheckerDark of it. The ground shadow pass
+// (ground_shadow_*_shader) writes it.
+std::array<float, 3> ground_shadow_color(const std::array<float, 3>& ground, bool odd_tile);
+
 enum class LitKind { body, ground };
 
 const char* lit_vertex_shader();
@@ -30,6 +41,10 @@ const char* depth_vertex_shader();
 const char* overlay_vertex_shader(bool ribbon);
 std::string overlay_fragment_shader(bool ribbon);
 const char* depth_fragment_shader();
+// Shadows on the ground: the bodies projected along the light onto the ground plane, drawn in the
+// ground's shadowed colour (render/renderer.cpp, ground_shadows).
+const char* ground_shadow_vertex_shader();
+const char* ground_shadow_fragment_shader();
 
 // Compiles and links; throws std::runtime_error with the driver's log on failure. Needs a
 // current GL context.

@@ -8,7 +8,9 @@
 #include <vector>
 
 #include "render/draw_list.hpp"
+#include "render/png_writer.hpp"
 #include "render/renderer.hpp"
+#include "render/shaders.hpp"
 #include "render/video_writer.hpp"
 #include "sim/mesh_mass.hpp"
 #include "sim/primitives.hpp"
@@ -142,6 +144,187 @@ TEST(Render, ShadowedGroundIsDarkerThanLitGround) {
   Fixture n({colored(box_body("b", Vec3(0.5, 0.5, 0.5), 1), {0.8f, 0.8f, 0.8f}, Vec3(0, 0, 2))}, top_down(),
             true, false);
   EXPECT_GT(at(n.render(), 98, 48).sum(), shadow + 100);
+}
+
+// Shadows on the ground against geometry: a ground point is in shadow exactly when the ray from it
+// towards the key light meets a body, found here by casting that ray at the body's triangles
+// (independent of how the renderer draws shadows). Seen from straight above, every ground pixel
+// away from a shadow's edge (2.5 px, beyond FXAA's reach) and from the checker's lines must be the
+// ground's colour in shadow, ambient only, gamma 2.2 (std::pow here), within 2 levels, or, in the
+// light, much brighter. Three bodies: a box tilted both ways in the air; a tall box sunk halfway
+// into the ground, whose part below the plane casts nothing on it (its projection would darken
+// ground on the light's side of the box); a square ring (a mesh: non-convex, two-sided), whose
+// hole lets the light through.
+struct Tri {
+  Vec3 a, b, c;
+};
+// Möller-Trumbore: does the ray o + t d, t > 1e-9, meet triangle q?
+bool meets(const Tri& q, const Vec3& o, const Vec3& d, double t_max = INFINITY) {
+  const Vec3 e1 = q.b - q.a, e2 = q.c - q.a, p = d.cross(e2);
+  const double det = e1.dot(p);
+  if (std::fabs(det) < 1e-14) return false;
+  const Vec3 s = o - q.a;
+  const double u = s.dot(p) / det;
+  if (u < 0 || u > 1) return false;
+  const Vec3 qv = s.cross(e1);
+  const double v = d.dot(qv) / det;
+  if (v < 0 || u + v > 1) return false;
+  const double t = e2.dot(qv) / det;
+  return t > 1e-9 && t < t_max;
+}
+bool meets_any(const std::vector<Tri>& tris, const Vec3& o, const Vec3& d, double t_max = INFINITY) {
+  for (const Tri& q : tris)
+    if (meets(q, o, d, t_max)) return true;
+  return false;
+}
+// A closed mesh from quads (each split in two; corners within 1e-9 m are one vertex), wound
+// outward: `out` points away from the solid.
+void add_quad(TriangleMesh& m, Vec3 a, Vec3 b, Vec3 c, Vec3 d, const Vec3& out) {
+  if ((b - a).cross(c - a).dot(out) < 0) std::swap(b, d);
+  auto index = [&](const Vec3& p) {
+    for (size_t i = 0; i < m.vertices.size(); ++i)
+      if ((m.vertices[i] - p).norm() < 1e-9) return (int)i;
+    m.vertices.push_back(p);
+    return (int)m.vertices.size() - 1;
+  };
+  const int ia = index(a), ib = index(b), ic = index(c), id = index(d);
+  m.triangles.push_back({ia, ib, ic});
+  m.triangles.push_back({ia, ic, id});
+}
+// The box [-h, h] in the body frame as 12 triangles.
+TriangleMesh box_mesh(const Vec3& h) {
+  TriangleMesh m;
+  for (int axis = 0; axis < 3; ++axis)
+    for (double side : {-1.0, 1.0}) {
+      const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+      Vec3 c[4];
+      for (int k = 0; k < 4; ++k) {
+        c[k] = Vec3::Zero();
+        c[k][axis] = side * h[axis];
+        c[k][u] = (k == 1 || k == 2 ? 1 : -1) * h[u];
+        c[k][v] = (k >= 2 ? 1 : -1) * h[v];
+      }
+      add_quad(m, c[0], c[1], c[2], c[3], side * Vec3::Unit(axis));
+    }
+  return m;
+}
+// A flat square ring: outer half-width 1 m, inner 0.5 m, 0.2 m thick.
+TriangleMesh ring_mesh() {
+  TriangleMesh m;
+  const double ro = 1, ri = 0.5, hz = 0.1;
+  for (int side = 0; side < 4; ++side) {
+    const double a = side * M_PI / 2;
+    const Vec3 e(std::cos(a), std::sin(a), 0), f(-std::sin(a), std::cos(a), 0);
+    auto at = [&](double r, double s, double z) -> Vec3 { return r * e + s * r * f + Vec3(0, 0, z); };
+    for (double z : {-hz, hz})  // top and bottom: a trapezoid
+      add_quad(m, at(ri, -1, z), at(ro, -1, z), at(ro, 1, z), at(ri, 1, z), Vec3(0, 0, z));
+    add_quad(m, at(ro, -1, -hz), at(ro, 1, -hz), at(ro, 1, hz), at(ro, -1, hz), e);   // outer wall
+    add_quad(m, at(ri, -1, -hz), at(ri, 1, -hz), at(ri, 1, hz), at(ri, -1, hz), -e);  // inner wall
+  }
+  return m;
+}
+
+TEST(Render, GroundShadowsAreTheBodiesCastAlongTheLight) {
+  const Vec3 L = Vec3(-0.45, -0.30, 0.84).normalized();  // towards the key light (render/renderer.cpp)
+  const Quat tilt(Eigen::AngleAxisd(0.5, Vec3(1, 2, 0.5).normalized()));
+  struct Case {
+    const char* name;
+    TriangleMesh shape;  // in the body frame
+    bool mesh;           // a mesh collider, else a box
+    Vec3 half, at;
+    Quat q;
+    long min_shadow;  // shadow pixels checked (away from edges): a sunk box hides most of its own
+  };
+  const std::vector<Case> cases = {
+      {"tilted box in the air", box_mesh(Vec3(0.8, 0.5, 0.3)), false, Vec3(0.8, 0.5, 0.3),
+       Vec3(-1.4, -1.0, 3.0), tilt, 100},
+      {"tall box sunk halfway", box_mesh(Vec3(0.5, 0.5, 1.0)), false, Vec3(0.5, 0.5, 1.0),
+       Vec3(-0.9, -0.6, 0.0), Quat(Eigen::AngleAxisd(0.35, Vec3::UnitZ())), 20},
+      {"square ring (mesh)", ring_mesh(), true, Vec3::Zero(), Vec3(-1.2, -0.8, 2.5),
+       Quat(Eigen::AngleAxisd(0.25, Vec3(1, 1, 0).normalized())), 100}};
+  for (const Case& c : cases) {
+    BodyDef b;
+    if (c.mesh) {
+      Collider col;
+      col.shape = ShapeKind::mesh;
+      col.mesh = std::make_shared<const TriangleMesh>(c.shape);
+      col.props_C = analyze_mesh(c.shape, MeshMassOptions{}).props;
+      b.name = "ring";
+      b.colliders = {col};
+    } else {
+      b = box_body("box", 2 * c.half, 1);
+    }
+    b.p_WB = c.at;
+    b.q_WB = c.q;
+    std::vector<Tri> tris;
+    for (const auto& t : c.shape.triangles) {
+      Vec3 p[3];
+      for (int k = 0; k < 3; ++k) p[k] = c.at + c.q * c.shape.vertices[t[k]];
+      tris.push_back({p[0], p[1], p[2]});
+    }
+    auto checker = [](RenderSettings& rs) { rs.ground_tile = 2; };
+    Fixture s({colored(b, {0.8f, 0.8f, 0.8f}, c.at)}, top_down(), true, true, checker);
+    const uint8_t* img = s.render();
+    if (const char* dir = std::getenv("SIMREEL_TEST_PNG_DIR"))  // to look at
+      write_png(std::string(dir) + "/ground_shadow_" + std::to_string(&c - cases.data()) + ".png", img, W, H);
+    // Straight down from 10 m: pixel centre (i + 0.5, j + 0.5) sees the ground point below.
+    const double f = (H / 2.0) / std::tan(20 * M_PI / 180), m_per_px = 10 / f, tile = 2;
+    const Vec3 eye(0, 0, 10);
+    auto shadowed = [&](const Vec3& g) { return meets_any(tris, g, L); };
+    auto hidden = [&](const Vec3& g) { return meets_any(tris, eye, g - eye, 1 - 1e-9); };
+    // Where what lies below the ground would cast if it were not cut off (the ray away from the
+    // light meets the body), and the ring's hole: both must be seen lit somewhere.
+    auto below = [&](const Vec3& g) { return meets_any(tris, g, -L); };
+    long in_shadow = 0, in_light = 0, lit_below = 0;
+    for (int j = 0; j < H; ++j)
+      for (int i = 0; i < W; ++i) {
+        const Vec3 g((i + 0.5 - W / 2.0) * m_per_px, -(j + 0.5 - H / 2.0) * m_per_px, 0);
+        const double r = 2.5 * m_per_px;
+        if (std::fabs(std::remainder(g.x(), tile)) < r || std::fabs(std::remainder(g.y(), tile)) < r)
+          continue;
+        const bool sh = shadowed(g);
+        bool edge = false;
+        for (int k = 0; k < 16 && !edge; ++k) {
+          const double a = k * M_PI / 8;
+          const Vec3 n = g + r * Vec3(std::cos(a), std::sin(a), 0);
+          edge = shadowed(n) != sh || hidden(n);
+        }
+        if (edge || hidden(g)) continue;
+        const bool odd = ((int)std::floor(g.x() / tile) + (int)std::floor(g.y() / tile)) & 1;
+        const Px p = at(img, i, j);
+        int want[3];
+        for (int k = 0; k < 3; ++k) {
+          const double base = RenderSettings{}.ground_color[k] * (odd ? kCheckerDark : 1.0f);
+          want[k] = (int)std::lround(255 * std::pow(base * kFillSky[k], 1 / 2.2));
+        }
+        if (sh) {
+          ++in_shadow;
+          ASSERT_NEAR(p.r, want[0], 2) << c.name << ": shadow at pixel " << i << ", " << j;
+          ASSERT_NEAR(p.g, want[1], 2) << c.name << ": shadow at pixel " << i << ", " << j;
+          ASSERT_NEAR(p.b, want[2], 2) << c.name << ": shadow at pixel " << i << ", " << j;
+        } else {
+          ++in_light;
+          lit_below += below(g);
+          ASSERT_GT(p.sum(), want[0] + want[1] + want[2] + 150)
+              << c.name << ": lit at pixel " << i << ", " << j;
+        }
+      }
+    EXPECT_GT(in_shadow, c.min_shadow) << c.name;
+    EXPECT_GT(in_light, 5000) << c.name;
+    if (c.at.z() - c.half.z() < 0) {
+      EXPECT_GT(lit_below, 30) << c.name;
+    }
+    if (c.mesh) {  // lit pixels in the hole's shadow: the light through the ring
+      const Vec3 hole = c.at - L * (c.at.z() / L.z());
+      long lit_hole = 0;
+      for (int j = 0; j < H; ++j)
+        for (int i = 0; i < W; ++i) {
+          const Vec3 g((i + 0.5 - W / 2.0) * m_per_px, -(j + 0.5 - H / 2.0) * m_per_px, 0);
+          lit_hole += (g - hole).norm() < 0.2 && !shadowed(g) && at(img, i, j).sum() > 400;
+        }
+      EXPECT_GT(lit_hole, 20) << c.name;
+    }
+  }
 }
 
 TEST(Render, BodyHighInTheSceneIsInTheUpperHalf) {
