@@ -66,7 +66,7 @@ GpuMesh upload(const RenderMesh& m) {
 struct LitProgram {
   GLuint id = 0;
   GLint model = -1, viewproj = -1, lightvp = -1, color = -1, light_dir = -1, eye = -1, shadows = -1,
-        tile = -1, bias = -1, texel = -1, map = -1, batched = -1, items = -1;
+        tile = -1, bias = -1, map = -1, batched = -1, items = -1;
 
   void create(LitKind kind) {
     id = link_program(lit_vertex_shader(), lit_fragment_shader(kind).c_str());
@@ -79,7 +79,6 @@ struct LitProgram {
     shadows = glGetUniformLocation(id, "u_shadows");
     tile = glGetUniformLocation(id, "u_tile");
     bias = glGetUniformLocation(id, "u_bias");
-    texel = glGetUniformLocation(id, "u_texel");
     map = glGetUniformLocation(id, "u_shadow_map");
     batched = glGetUniformLocation(id, "u_batched");
     items = glGetUniformLocation(id, "u_items");
@@ -437,7 +436,6 @@ struct Renderer::Impl {
       glUniform1f(lp->tile, (float)s.ground_tile);
       // Depth bias: about two shadow-map texels of depth, relative to the frustum depth.
       glUniform1f(lp->bias, 0.0015f);
-      glUniform1f(lp->texel, 1.0f / (float)s.shadow_size);
       glUniform1i(lp->shadows, s.shadows ? 1 : 0);
     }
     glActiveTexture(GL_TEXTURE0);
