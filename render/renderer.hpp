@@ -1,6 +1,7 @@
 // The frame in passes over a draw list (render/draw_list.hpp):
 //   1. shadow: depth from the key light (orthographic frustum fitted to the bodies, skipped while
-//      nothing moved);
+//      nothing moved) of the bodies that can shadow another (convex ones facing the light cast no
+//      shadow on themselves), looked up only on the bodies another can shadow;
 //   2. bodies: the lit pass (Blinn-Phong key light with a bilinear PCF tap, hemisphere fill,
 //      checker ground, gamma 2.2) into an FBO, multisampled if MSAA is on; the ground's shadows are
 //      the bodies drawn once more flattened onto it along the light (planar projected shadows);

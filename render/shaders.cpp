@@ -54,7 +54,7 @@ void main() {
 
 // Key light: Blinn-Phong, shadowed with one bilinear depth-compare tap (edges soft over a texel); fill: a
 // hemisphere ambient from ground bounce to sky. Lighting is done in linear RGB, then gamma 2.2.
-// GROUND (1 or 0) and kGamma are defined above this text by lit_fragment_shader().
+// GROUND, SHADOWED (1 or 0) and kGamma are defined above this text by lit_fragment_shader().
 const char* kLitFS = R"(
 in vec3 v_pos;
 in vec3 v_nrm;
@@ -66,8 +66,10 @@ uniform float u_tile, u_bias;
 uniform sampler2DShadow u_shadow_map;
 out vec4 o_color;
 float lit_fraction() {
-#if GROUND
-  return 1.0;  // the ground's shadows are the bodies projected onto it (kGroundShadowVS)
+#if GROUND || !SHADOWED
+  // The ground's shadows are the bodies projected onto it (kGroundShadowVS); a convex body no other
+  // body can shadow is never in shadow where it faces the light.
+  return 1.0;
 #else
   if (u_shadows == 0 || v_lpos.z > 1.0) return 1.0;
   // One bilinear comparison tap: 4 depth tests, weighted. Two taps half a texel apart along the
@@ -303,11 +305,12 @@ std::string lit_fragment_shader(LitKind kind) {
   char head[512];
   // %.9g prints each float so that it reads back as the same float.
   std::snprintf(head, sizeof head,
-                "#version 330 core\n#define GROUND %d\nconst vec4 kGamma = vec4(%.9g, %.9g, %.9g, %.9g);\n"
+                "#version 330 core\n#define GROUND %d\n#define SHADOWED %d\nconst vec4 kGamma = vec4(%.9g, "
+                "%.9g, %.9g, %.9g);\n"
                 "const float kChecker = %.9g;\nconst vec3 kSky = vec3(%.9g, %.9g, %.9g);\n",
-                kind == LitKind::ground ? 1 : 0, (double)kGammaFit[0], (double)kGammaFit[1],
-                (double)kGammaFit[2], (double)kGammaFit[3], (double)kCheckerDark, (double)kFillSky[0],
-                (double)kFillSky[1], (double)kFillSky[2]);
+                kind == LitKind::ground ? 1 : 0, kind == LitKind::body ? 1 : 0, (double)kGammaFit[0],
+                (double)kGammaFit[1], (double)kGammaFit[2], (double)kGammaFit[3], (double)kCheckerDark,
+                (double)kFillSky[0], (double)kFillSky[1], (double)kFillSky[2]);
   return head + std::string(kLitFS);
 }
 

@@ -32,7 +32,9 @@ inline constexpr float kFillSky[3] = {0.30f, 0.34f, 0.42f};
 // (ground_shadow_*_shader) writes it.
 std::array<float, 3> ground_shadow_color(const std::array<float, 3>& ground, bool odd_tile);
 
-enum class LitKind { body, ground };
+// body: lit and shadowed by the shadow map; body_unshadowed: the same without the map (for bodies
+// no other body can shadow, render/renderer.cpp: classify_shadows); ground: the checker, no map.
+enum class LitKind { body, body_unshadowed, ground };
 
 const char* lit_vertex_shader();
 std::string lit_fragment_shader(LitKind kind);  ///< kGammaFit written into the source

@@ -188,19 +188,23 @@ RenderMesh tessellate_mesh(const TriangleMesh& tm, const CornerNormals* normals,
 }
 
 RenderMesh tessellate_collider(const Collider& c, double plane_size, const CornerNormals* normals) {
+  auto solid = [](RenderMesh m) {
+    m.convex = true;
+    return m;
+  };
   switch (c.shape) {
     case ShapeKind::box:
-      return tessellate_box(c.size);
+      return solid(tessellate_box(c.size));
     case ShapeKind::sphere:
-      return tessellate_sphere(c.radius);
+      return solid(tessellate_sphere(c.radius));
     case ShapeKind::cylinder:
-      return tessellate_cylinder(c.radius, c.height);
+      return solid(tessellate_cylinder(c.radius, c.height));
     case ShapeKind::capsule:
-      return tessellate_capsule(c.radius, c.height);
+      return solid(tessellate_capsule(c.radius, c.height));
     case ShapeKind::mesh:
       return tessellate_mesh(*c.mesh, normals);
     case ShapeKind::ellipsoid:
-      return tessellate_ellipsoid(c.radii);
+      return solid(tessellate_ellipsoid(c.radii));
     case ShapeKind::plane:
       return tessellate_plane_collider(plane_size);
   }

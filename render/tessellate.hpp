@@ -16,6 +16,10 @@ struct RenderMesh {
   // Drawn without back-face culling, lit on the side seen. Set for meshes from files, whose winding
   // may be inside-out or open (shells): they must look the same as the repaired solid was weighed.
   bool two_sided = false;
+  // A convex solid (the primitives: box, sphere, cylinder, capsule, ellipsoid): it casts no shadow
+  // on itself where it faces the light, so the renderer leaves it out of the shadow map unless it
+  // can shadow another body (render/renderer.cpp, classify_shadows).
+  bool convex = false;
 
   size_t bytes() const { return (vertices.size() + indices.size()) * 4; }  ///< vertex and index data
 };

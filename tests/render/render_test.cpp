@@ -327,6 +327,52 @@ TEST(Render, GroundShadowsAreTheBodiesCastAlongTheLight) {
   }
 }
 
+// Shadows on bodies against geometry: a tilted box over a wide slab (both convex primitives, so
+// the renderer draws only the bodies that can shadow another into its shadow map and looks up only
+// on those another can shadow). Seen from straight above, each point of the slab's top is in shadow
+// exactly when the ray from it towards the light meets the box: away from the shadow's edge
+// (2.5 px) such pixels must be much darker than the slab's lit top, and the others as bright.
+TEST(Render, BodyShadowsOnBodiesAreWhereTheLightIsBlocked) {
+  const Vec3 L = Vec3(-0.45, -0.30, 0.84).normalized();
+  const Vec3 half(0.7, 0.4, 0.25), pos(-0.9, -0.6, 2.4);
+  const Quat q(Eigen::AngleAxisd(0.5, Vec3(1, 2, 0.5).normalized()));
+  BodyDef box = box_body("box", 2 * half, 1), slab = box_body("slab", Vec3(7, 5, 0.2), 1);
+  box.q_WB = q;
+  const double top = 0.6;  // the slab's top: centre 0.5, 0.2 thick
+  std::vector<Tri> tris;
+  const TriangleMesh m = box_mesh(half);
+  for (const auto& t : m.triangles)
+    tris.push_back({pos + q * m.vertices[t[0]], pos + q * m.vertices[t[1]], pos + q * m.vertices[t[2]]});
+  Fixture s({colored(box, {0.8f, 0.8f, 0.8f}, pos), colored(slab, {0.8f, 0.8f, 0.8f}, Vec3(0, 0, top - 0.1))},
+            top_down(), false);
+  const uint8_t* img = s.render();
+  const double f = (H / 2.0) / std::tan(20 * M_PI / 180), m_per_px = (10 - top) / f;
+  const Vec3 eye(0, 0, 10);
+  auto shadowed = [&](const Vec3& g) { return meets_any(tris, g, L); };
+  auto hidden = [&](const Vec3& g) { return meets_any(tris, eye, g - eye, 1 - 1e-9); };
+  std::vector<int> lit, dark;
+  for (int j = 0; j < H; ++j)
+    for (int i = 0; i < W; ++i) {
+      const Vec3 g((i + 0.5 - W / 2.0) * m_per_px, -(j + 0.5 - H / 2.0) * m_per_px, top);
+      const double r = 2.5 * m_per_px;
+      if (std::fabs(g.x()) > 3.5 - r || std::fabs(g.y()) > 2.5 - r) continue;  // off the slab's top
+      const bool sh = shadowed(g);
+      bool edge = hidden(g);
+      for (int k = 0; k < 16 && !edge; ++k) {
+        const double a = k * M_PI / 8;
+        const Vec3 n = g + r * Vec3(std::cos(a), std::sin(a), 0);
+        edge = shadowed(n) != sh || hidden(n);
+      }
+      if (!edge) (sh ? dark : lit).push_back(at(img, i, j).sum());
+    }
+  ASSERT_GT(dark.size(), 100u);
+  ASSERT_GT(lit.size(), 3000u);
+  const auto [lit_lo, lit_hi] = std::minmax_element(lit.begin(), lit.end());
+  const int dark_hi = *std::max_element(dark.begin(), dark.end());
+  EXPECT_LE(*lit_hi - *lit_lo, 6) << "the slab's lit top is one colour";
+  EXPECT_LT(dark_hi, *lit_lo - 150) << "shadow on the slab";
+}
+
 TEST(Render, BodyHighInTheSceneIsInTheUpperHalf) {
   // GL rows run bottom-up; the frame must come out upright.
   CameraView side;
