@@ -145,8 +145,12 @@ void World::save_state(std::ostream& os) const {
   }
   o.i32(contact_stats_.contacts_max);
   o.f64(contact_stats_.max_penetration);
-  o.u32((uint32_t)contacts_.size());
-  for (const Contact& c : contacts_) {
+  // contacts_ and resting_ merged in key order: the one list stage_collide keeps.
+  o.u32((uint32_t)(contacts_.size() + resting_.size()));
+  for (size_t i = 0, r = 0; i < contacts_.size() || r < resting_.size();) {
+    const bool live =
+        r == resting_.size() || (i < contacts_.size() && contacts_[i].key() < resting_[r].key());
+    const Contact& c = live ? contacts_[i++] : resting_[r++];
     o.i32(c.shape_a);
     o.i32(c.shape_b);
     o.i32(c.body_a);
@@ -285,6 +289,8 @@ void World::restore_state(std::istream& is) {
   steps_ = steps;
   contact_stats_ = stats;
   contacts_ = std::move(contacts);
+  resting_.clear();  // the resting records move there again in the next collide
+  resting_keys_.clear();
   after_restore();
 }
 
