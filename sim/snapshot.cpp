@@ -147,10 +147,7 @@ void World::save_state(std::ostream& os) const {
   o.f64(contact_stats_.max_penetration);
   // contacts_ and resting_ merged in key order: the one list stage_collide keeps.
   o.u32((uint32_t)(contacts_.size() + resting_.size()));
-  for (size_t i = 0, r = 0; i < contacts_.size() || r < resting_.size();) {
-    const bool live =
-        r == resting_.size() || (i < contacts_.size() && contacts_[i].key() < resting_[r].key());
-    const Contact& c = live ? contacts_[i++] : resting_[r++];
+  for_each_contact([&o](const Contact& c) {
     o.i32(c.shape_a);
     o.i32(c.shape_b);
     o.i32(c.body_a);
@@ -172,7 +169,7 @@ void World::save_state(std::ostream& os) const {
     o.i32(c.cache.b);
     o.f64(c.friction);
     o.f64(c.restitution);
-  }
+  });
   o.u32((uint32_t)fired_.size());
   for (char f : fired_) o.u8((uint8_t)f);
   o.i32(settle_substeps_);

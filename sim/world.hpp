@@ -198,6 +198,15 @@ class World {
   /// The records of pairs whose two sides are asleep or static, by (shape a, shape b): kept as
   /// they were when the pair fell asleep, untouched until a side wakes (stage_collide).
   const std::vector<Contact>& resting_contacts() const { return resting_; }
+  /// f(const Contact&) for the records of both lists, merged in key order (the one list the
+  /// sequential pass keeps; what a saved state holds).
+  template <class F>
+  void for_each_contact(F&& f) const {
+    for (size_t i = 0, r = 0; i < contacts_.size() || r < resting_.size();)
+      f(r == resting_.size() || (i < contacts_.size() && contacts_[i].key() < resting_[r].key())
+            ? contacts_[i++]
+            : resting_[r++]);
+  }
   const ContactStats& contact_stats() const { return contact_stats_; }
   bool has_contacts() const { return collide_enabled_; }  ///< false: contact stages always skipped
   int substeps() const { return substeps_; }              ///< contact solver substeps per step (resolved)
