@@ -106,7 +106,8 @@ void World::after_restore() {
   }
 }
 
-// Visits the awake bodies and the contacts only: a world asleep costs one pass over its contacts.
+// Visits the awake bodies and the step's contacts only (a sleeping pair's records are in resting_,
+// which nothing here needs: both its sides are asleep or static): a world asleep costs nothing.
 void World::stage_sleep() {
   const double dt = cfg_.dt, speed = cfg_.contacts.sleep_speed;
   if (!awake_sorted_) {
