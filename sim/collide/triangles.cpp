@@ -254,7 +254,7 @@ bool vertex_is_nearest(const WorldTri& t, int k, const Vec3& nu) {
       if (T.v[j] != vi) continue;
       for (int o : {T.v[(j + 1) % 3], T.v[(j + 2) % 3]}) {
         const Vec3 e = M.vertices[o] - v;
-        if (nu_M.dot(e) > 1e-9 * e.norm()) nearest = false;
+        if (nu_M.dot(e) > 1e-6 * e.norm()) nearest = false;  // (1e-6: room for GJK's normals)
       }
     }
   });
