@@ -39,6 +39,14 @@ inline double normal_velocity(const SolverBody& A, const SolverBody& B, const Ve
   return n.dot(B.v - A.v) + B.w.dot(p.rnB) - A.w.dot(p.rnA);
 }
 
+// Asks for a constraint's memory ahead of its solve: a sweep streams the constraints (1.7 KB each,
+// 25 MB for the large pyramid) from memory, and the first loads of each stalled the solve (a third
+// of its time in the pyramid, sampled). Changes no result.
+inline void prefetch(const ContactConstraint& k) {
+  const char* p = reinterpret_cast<const char*>(&k);
+  for (size_t off = 0; off < sizeof(ContactConstraint); off += 64) __builtin_prefetch(p + off);
+}
+
 // Which side of a constraint is the static body (solver body 0): it would receive zeros, so it is
 // not written at all, which also spares the solver a chain of read-modify-writes through one body
 // shared by every ground contact.
@@ -355,6 +363,7 @@ void ContactSolver::warm_start() {
     by_colour(w, nw, [&](int begin, int end) {
       for (int i = begin; i < end; ++i) {
         const ContactConstraint& k = cons_[i];
+        if (i + 2 < end) prefetch(cons_[i + 2]);
         if (k.a == 0)
           warm_start_constraint<kStaticA>(k, sb_[0], sb_[k.b]);
         else if (k.b == 0)
@@ -674,7 +683,10 @@ bool ContactSolver::solve(double h, bool use_bias, bool first_iteration) {
     bool struck = false;
     by_colour(w, nw, [&](int begin, int end) {
       int i = begin;
-      for (; i + 1 < end; i += 2) struck |= solve_pair(cons_[i], cons_[i + 1], q, sb_);
+      for (; i + 1 < end; i += 2) {
+        if (i + 3 < end) prefetch(cons_[i + 2]), prefetch(cons_[i + 3]);
+        struck |= solve_pair(cons_[i], cons_[i + 1], q, sb_);
+      }
       if (i < end) struck |= solve_single(cons_[i], q, sb_);
     });
     struck_[w].value = struck;
