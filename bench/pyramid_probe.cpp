@@ -3,7 +3,8 @@
 // and its end (the "settled" criterion: < 1 cm), the top cube's sink, the fastest cube at the end,
 // the deepest contact, the substeps taken and the solver's per-stage seconds.
 //   bench_pyramid_probe [--base N] [--steps N] [--substeps N] [--hertz H] [--damping Z]
-//                       [--iterations N] [--passes N] [--push V] [--profile]
+//                       [--iterations N] [--passes N] [--push V] [--profile] [--impacts]
+// (--impacts: the steps with impact substeps, on stderr)
 // One CSV row on stdout: base,steps,substeps,hertz,damping,iterations,passes,cpu_s,drift_late_m,
 // top_sink_m,max_speed_m_s,moving_gt_1cm_s,max_pen_m,notes
 #include <ctime>
@@ -33,7 +34,7 @@ double cpu_s() {
 int main(int argc, char** argv) {
   int base = 100;
   long steps = kPyramidSteps;
-  bool profile = false;
+  bool profile = false, impacts = false;
   WorldConfig cfg;
   cfg.dt = kPyramidDt;
   cfg.threads = 1;
@@ -65,6 +66,8 @@ int main(int argc, char** argv) {
       cfg.contacts.max_push_out = std::atof(next());
     else if (a == "--profile")
       profile = true;
+    else if (a == "--impacts")
+      impacts = true;
     else {
       std::fprintf(stderr, "unknown option %s\n", a.c_str());
       return 2;
@@ -77,11 +80,17 @@ int main(int argc, char** argv) {
   std::vector<Vec3> mid(n);
   double cpu = 0;
   int substeps_max = 0;
+  long last_impacts = 0;
   for (long k = 0; k < steps; ++k) {
     const double t0 = cpu_s();
     w.step();
     cpu += cpu_s() - t0;
     substeps_max = std::max(substeps_max, w.substeps());
+    if (impacts && w.profile().impact_substeps != last_impacts) {
+      std::fprintf(stderr, "  step %ld: impact substeps %ld\n", k,
+                   w.profile().impact_substeps - last_impacts);
+      last_impacts = w.profile().impact_substeps;
+    }
     if (k + 1 == steps / 2)
       for (int i = 0; i < n; ++i) mid[i] = w.state(i).x_W;
   }
