@@ -17,6 +17,9 @@ namespace simreel {
 
 constexpr int kExitOk = 0, kExitFailure = 1, kExitBadInput = 2;
 constexpr const char* kVersion = "0.1.0";
+// How the user invoked simreel (argv[0], e.g. "build/simreel"), for commands it prints back
+// (check's accept command); "simreel" until main sets it.
+inline std::string g_invoked_as = "simreel";
 
 class UsageError : public std::runtime_error {
  public:

@@ -337,6 +337,7 @@ int cmd_inspect(const std::vector<std::string>& args) {
 int main(int argc, char** argv) {
   using namespace simreel;
   std::vector<std::string> args(argv + 1, argv + argc);
+  if (argc > 0 && argv[0] && std::strchr(argv[0], '/')) g_invoked_as = argv[0];  // else on the PATH
   if (args.empty() || args[0] == "--help" || args[0] == "-h" || args[0] == "help") {
     std::fputs(top_help().c_str(), args.empty() ? stderr : stdout);
     return args.empty() ? kExitBadInput : kExitOk;

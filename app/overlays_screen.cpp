@@ -46,10 +46,24 @@ Vec3 body_vector(const HudField& f, const World& w) {
   if (f.name == "L") return w.angular_momentum(i);
   if (f.name == "v") return w.linear_velocity(i);
   if (f.name == "position") return w.centroid(i);
-  // tilt: degrees between the body frame's z axis and the world's +z (a number, kept in x).
-  if (f.name == "tilt")
-    return Vec3(std::acos(std::clamp(w.rotation(i)(2, 2), -1.0, 1.0)) * 180 / std::numbers::pi, 0, 0);
   return Vec3::Zero();
+}
+
+// A per-body number: `tilt`, the angle of the body's z axis from the world's vertical (deg; for a
+// disk or coin with its axis along z, the angle between the disk and a level floor), or
+// `precession`, the rate at which that axis turns about the vertical (rad/s, counter-clockwise
+// seen from above; the line of nodes' rate, Omega of Euler's disk).
+bool body_scalar(const HudField& f, const World& w, double& out) {
+  if (f.name != "tilt" && f.name != "precession") return false;
+  const Vec3 a = w.local_to_world_vec(f.body, Vec3::UnitZ());
+  if (f.name == "tilt") {
+    out = std::acos(std::clamp(a.z(), -1.0, 1.0)) * 180.0 / std::numbers::pi;
+  } else {
+    const Vec3 da = w.angular_velocity(f.body).cross(a);
+    const double h2 = a.x() * a.x() + a.y() * a.y();
+    out = h2 > 1e-24 ? (a.x() * da.y() - a.y() * da.x()) / h2 : 0.0;
+  }
+  return true;
 }
 
 }  // namespace
@@ -69,6 +83,8 @@ double quantity_value(const HudField& f, const World& w, long frame, double E0, 
     }
     return 0;
   }
+  double x;
+  if (body_scalar(f, w, x)) return x;
   const Vec3 v = body_vector(f, w);
   return f.norm ? v.norm() : f.component >= 0 ? v[f.component] : 0.0;
 }
@@ -86,7 +102,7 @@ void format_hud_line(const HudLine& line, const World& w, long frame, double E0,
       out += buf;
       continue;
     }
-    if (f.body < 0 || f.norm || f.component >= 0) {
+    if (f.body < 0 || f.norm || f.component >= 0 || f.name == "tilt" || f.name == "precession") {
       std::snprintf(buf, sizeof buf, fmt, quantity_value(f, w, frame, E0, L0, fps));
       out += buf;
       continue;

@@ -474,23 +474,48 @@ struct Loader {
         const std::string mkey =
             file + "|" + exact(scale.x()) + "," + exact(scale.y()) + "," + exact(scale.z());
         const std::string rkey = mkey + "|" + std::to_string((int)opt.mode) + "," + exact(opt.thickness);
+        // The file read once per scale for the whole scene (its notes once), and this collider's
+        // share of it: the surface (aliasing constructor: one allocation, one owner), the file's
+        // colour unless the scene gives one, its shading normals.
+        auto import_once = [&] {
+          if (meshes.count(mkey)) return;
+          meshes[mkey] = std::make_shared<const ImportedMesh>(import_mesh(file, scale));
+          for (const std::string& w : meshes[mkey]->notes) scene.notes.push_back(file + ": " + w);
+        };
+        auto use_mesh = [&] {
+          col.mesh = std::shared_ptr<const TriangleMesh>(meshes[mkey], &meshes[mkey]->mesh);
+          if (!n["color"]) look.color = meshes[mkey]->color;
+          if (!meshes[mkey]->corner_normals.empty())
+            look.normals = std::shared_ptr<const std::vector<std::array<Eigen::Vector3f, 3>>>(
+                meshes[mkey], &meshes[mkey]->corner_normals);
+        };
+        if (type == BodyType::static_body) {
+          // A static body's mesh collides as its triangles, as given (open surfaces too: terrain, a
+          // bowl), and weighs nothing (sim/trimesh.hpp).
+          for (const char* k : {"mode", "thickness", "density", "mass"})
+            if (n[k])
+              c.child(k).fail(n[k], "a static body's mesh collides as its triangles and has no mass: '" +
+                                        std::string(k) + "' does not apply");
+          try {
+            import_once();
+          } catch (const InputError& e) {
+            c.child("file").fail(n["file"], e.what());
+          }
+          use_mesh();
+          col.props_C.mass = 0;
+          col.props_C.inertia = Mat3::Zero();
+          col.label = file;
+          return col;
+        }
         MeshReport rep;
         try {
-          if (!meshes.count(mkey)) {
-            meshes[mkey] = std::make_shared<const ImportedMesh>(import_mesh(file, scale));
-            for (const std::string& w : meshes[mkey]->notes) scene.notes.push_back(file + ": " + w);
-          }
+          import_once();
           if (!reports.count(rkey)) reports[rkey] = analyze_mesh(meshes[mkey]->mesh, opt);
           rep = reports[rkey];
         } catch (const InputError& e) {
           c.child("file").fail(n["file"], e.what());
         }
-        // The collider shares the imported mesh (aliasing constructor: one allocation, one owner).
-        col.mesh = std::shared_ptr<const TriangleMesh>(meshes[mkey], &meshes[mkey]->mesh);
-        if (!n["color"]) look.color = meshes[mkey]->color;
-        if (!meshes[mkey]->corner_normals.empty())
-          look.normals = std::shared_ptr<const std::vector<std::array<Eigen::Vector3f, 3>>>(
-              meshes[mkey], &meshes[mkey]->corner_normals);
+        use_mesh();
         for (const std::string& w : rep.warnings)
           scene.notes.push_back(c.file() + ": body '" + body + "', " + c.key() + " (" + file + "): " + w);
         // Mass properties at density 1, then scaled: by the density, or to the requested mass.
@@ -570,7 +595,7 @@ struct Loader {
     check_keys(n, c,
                {"name", "position", "orientation", "euler", "axis_angle", "linear_velocity",
                 "angular_velocity", "angular_velocity_body", "type", "static", "color", "integrator",
-                "colliders", "show", "ghost", "mass_properties"});
+                "colliders", "show", "ghost", "mass_properties", "bullet"});
     BodyDef b;
     b.name = n["name"] ? text(n["name"], c.child("name")) : "body" + std::to_string(i);
     if (n["position"]) b.p_WB = vec<3>(n["position"], c.child("position"));
@@ -617,6 +642,7 @@ struct Loader {
     }
     if (n["color"]) look.color = color(n["color"], c.child("color"));
     if (n["integrator"]) b.integrator = integrator(n["integrator"], c.child("integrator"));
+    if (n["bullet"]) b.bullet = boolean(n["bullet"], c.child("bullet"));  // swept every step (sim/README.md)
     if (n["ghost"]) look.ghost = parse_ghost(n["ghost"], c.child("ghost"));
     const YAML::Node cols = n["colliders"];
     if (!cols) c.fail(n, "body '" + b.name + "' needs 'colliders' (a list of shapes)");
@@ -634,7 +660,9 @@ struct Loader {
       b.mass_override = mass_properties(n["mass_properties"], c.child("mass_properties"));
     // The body as a whole (colliders far apart: the parallel-axis terms can overflow).
     bool massive = false;
-    for (const Collider& col : b.colliders) massive = massive || col.shape != ShapeKind::plane;
+    for (const Collider& col : b.colliders)  // planes and a static body's meshes weigh nothing
+      massive = massive || !(col.shape == ShapeKind::plane ||
+                             (b.type == BodyType::static_body && col.shape == ShapeKind::mesh));
     if (massive && !b.mass_override) {
       const MassProperties& mp = b.mass_B();
       std::string bad;
@@ -712,7 +740,7 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
       check_keys(k, kc,
                  {"substeps", "iterations", "passes", "contact_hertz", "damping_ratio", "max_push_out",
                   "restitution_threshold", "speculative_distance", "linear_slop", "rolling_resistance",
-                  "slip_speed", "sleep_speed", "sleep_time"});
+                  "slip_speed", "sleep_speed", "sleep_time", "continuous"});
       ContactSettings& cs = s.contacts;
       if (k["substeps"]) cs.substeps = whole(k["substeps"], kc.child("substeps"), 0, 1000);  // 0: automatic
       if (k["iterations"]) cs.iterations = whole(k["iterations"], kc.child("iterations"), 1, 1000);
@@ -731,6 +759,7 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
       if (k["slip_speed"]) cs.slip_speed = non_negative(k["slip_speed"], kc.child("slip_speed"));
       if (k["sleep_speed"]) cs.sleep_speed = non_negative(k["sleep_speed"], kc.child("sleep_speed"));
       if (k["sleep_time"]) cs.sleep_time = non_negative(k["sleep_time"], kc.child("sleep_time"));
+      if (k["continuous"]) cs.continuous = boolean(k["continuous"], kc.child("continuous"));
     }
     if (sim["duration"]) s.duration = positive(sim["duration"], c.child("duration"));
     if (sim["timestep"]) s.timestep = positive(sim["timestep"], c.child("timestep"));

@@ -270,6 +270,7 @@ std::string default_plot_label(const HudField& f) {
   if (f.name == "position") base = "x";
   if (f.name == "E_drift") return "E/E_0 - 1";
   if (f.name == "tilt") return "\\theta";
+  if (f.name == "precession") return "\\Omega";
   if (f.name == "L_drift") return "|L - L_0|/|L_0|";
   if (f.norm) return "|" + base + "|";
   if (f.component >= 0) {
@@ -411,7 +412,9 @@ void load_plots(const YAML::Node& n, const Ctx& w, Scene& s) {
       HudField f = parse_quantity(name, s, body, bad);
       if (f.name == "frame" || f.name == "t" || f.name == "video_t")
         bad("plots are against time already: plot another quantity");
-      if (f.body >= 0 && !f.norm && f.component < 0)
+      const auto& angles = hud_body_scalar_names();
+      if (f.body >= 0 && !f.norm && f.component < 0 &&
+          std::find(angles.begin(), angles.end(), f.name) == angles.end())
         bad("a vector: plot a component (" + name + ".x) or its magnitude (|" + name + "|)");
       f.printf = "%.6g";
       p.quantities.push_back(f);
@@ -477,8 +480,10 @@ HudField parse_quantity(const std::string& field_in, const Scene& s, int default
   }
   const auto& scalars = hud_scalar_names();
   const auto& vectors = hud_body_names();
+  const auto& angles = hud_body_scalar_names();
   std::vector<std::string> all = scalars;
   all.insert(all.end(), vectors.begin(), vectors.end());
+  all.insert(all.end(), angles.begin(), angles.end());
   std::string body;
   if (parts.size() == 2)
     body = parts[0], f.name = parts[1];
@@ -487,15 +492,19 @@ HudField parse_quantity(const std::string& field_in, const Scene& s, int default
   else
     bad("'{" + field + "}' is not a quantity ([body.]name[.x|.y|.z])");
   const bool scalar = std::find(scalars.begin(), scalars.end(), f.name) != scalars.end();
-  const bool vector = std::find(vectors.begin(), vectors.end(), f.name) != vectors.end();
+  const bool body_scalar = std::find(angles.begin(), angles.end(), f.name) != angles.end();
+  const bool vector = body_scalar || std::find(vectors.begin(), vectors.end(), f.name) != vectors.end();
   if (!scalar && !vector) {
     std::string msg = "unknown quantity '" + f.name + "'";
     if (auto sug = nearest(f.name, all)) msg += "; did you mean '" + *sug + "'?";
-    msg += " (t, video_t, frame, E, E_drift, L_drift; per body omega, omega_body, L, v, position, tilt)";
+    msg +=
+        " (t, video_t, frame, E, E_drift, L_drift; per body omega, omega_body, L, v, position, tilt, "
+        "precession)";
     bad(msg);
   }
   if (scalar && (!body.empty() || f.component >= 0 || f.norm))
     bad("'" + f.name + "' is a number of the whole scene: no body, component or |...|");
+  if (body_scalar && (f.component >= 0 || f.norm)) bad("'" + f.name + "' is a number: no component or |...|");
   if (vector) {
     if (body.empty()) {
       f.body = default_body;
@@ -514,10 +523,6 @@ HudField parse_quantity(const std::string& field_in, const Scene& s, int default
       f.body = (int)(it - names.begin());
     }
     if (f.norm && f.component >= 0) bad("'{" + field + "}': a component or |...|, not both");
-    if (f.name == "tilt") {  // a number per body, carried as a vector's x
-      if (f.norm || f.component >= 0) bad("'tilt' is a number (degrees): no component or |...|");
-      f.component = 0;
-    }
   }
   return f;
 }
@@ -533,7 +538,11 @@ const std::vector<std::string>& hud_scalar_names() {
   return v;
 }
 const std::vector<std::string>& hud_body_names() {
-  static const std::vector<std::string> v = {"omega", "omega_body", "L", "v", "position", "tilt"};
+  static const std::vector<std::string> v = {"omega", "omega_body", "L", "v", "position"};
+  return v;
+}
+const std::vector<std::string>& hud_body_scalar_names() {
+  static const std::vector<std::string> v = {"tilt", "precession"};
   return v;
 }
 

@@ -157,5 +157,6 @@ HudField parse_quantity(const std::string& field, const Scene& s, int default_bo
 // The scalar names and the per-body vector names a HUD field may use.
 const std::vector<std::string>& hud_scalar_names();
 const std::vector<std::string>& hud_body_names();
+const std::vector<std::string>& hud_body_scalar_names();  ///< tilt, precession: a number per body
 
 }  // namespace simreel

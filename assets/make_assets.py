@@ -6,6 +6,9 @@ deterministic, so re-running it reproduces the committed files byte for byte.
   l_bracket.stl    binary STL, L-shaped prism 0.4 x 0.4 x 0.1 m (legs 0.1 m thick)
   tetra.off        tetrahedron (0,0,0),(0.3,0,0),(0,0.3,0),(0,0,0.3)
   open_box.obj     unit cube with one face missing (for error messages: it is not a solid)
+  halfpipe.obj     open surface: the lower half of a cylinder (radius 1.2 m, 2.4 m long along y,
+                   axis at z = 1.2 m) with 0.4 m flat decks at both lips, inside facing up; a
+                   static triangle-mesh collider (scenes/halfpipe.yaml)
 """
 import math
 import os
@@ -38,6 +41,31 @@ def prism(poly, h):
     for i in range(n):
         j = (i + 1) % n
         f += [(i, j, n + j), (i, n + j, n + i)]
+    return v, f
+
+
+def halfpipe(R=1.2, length=2.4, deck=0.4, n_arc=32, n_len=12):
+    # Cross-section in x-z from the left deck's outer edge to the right one's: the deck, the arc
+    # (angle from -90 to +90 degrees, measured from straight down), the other deck.
+    xs = [(-R - deck, R)]
+    for i in range(n_arc + 1):
+        a = -math.pi / 2 + math.pi * i / n_arc
+        xs.append((R * math.sin(a), R - R * math.cos(a)))
+    xs.append((R + deck, R))
+    v, f = [], []
+    for j in range(n_len + 1):
+        y = -length / 2 + length * j / n_len
+        for x, z in xs:
+            v.append((round(x, 12) + 0.0, y, round(z, 12) + 0.0))
+    m = len(xs)
+    for j in range(n_len):
+        for i in range(m - 1):
+            a, b, c, d = j * m + i, j * m + i + 1, (j + 1) * m + i + 1, (j + 1) * m + i
+            # Inside (up) is the front: counter-clockwise seen from above the surface.
+            if (i + j) % 2 == 0:
+                f += [(a, b, c), (a, c, d)]
+            else:
+                f += [(a, b, d), (b, c, d)]
     return v, f
 
 
@@ -86,3 +114,4 @@ if __name__ == "__main__":
               [(0, 2, 1), (0, 1, 3), (0, 3, 2), (1, 2, 3)])
     cv, cf = cube()
     write_obj("open_box.obj", cv, cf[:-2], "unit cube with its x = 1 face missing: open, not a solid")
+    write_obj("halfpipe.obj", *halfpipe(), "half-pipe: half cylinder R = 1.2 m, 2.4 m long, 0.4 m decks; open surface")

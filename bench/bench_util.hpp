@@ -1,6 +1,8 @@
 // Timing helpers for bench/: warm-up run, then the minimum and median of N timed runs.
 #pragma once
+#include <time.h>
 #include <algorithm>
+
 #include <chrono>
 #include <vector>
 
@@ -8,6 +10,13 @@ namespace simreel::bench {
 
 inline double now_s() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+// CPU seconds of the calling thread so far: steadier than wall time on a machine shared with other
+// work (the benches that step on the calling thread quote it beside the wall time).
+inline double thread_cpu_s() {
+  timespec t;
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 struct Timing {
   double min = 0, median = 0;

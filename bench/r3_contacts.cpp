@@ -24,6 +24,8 @@
 //   top_drift/sink   tower: top cube's horizontal distance from its start and its initial minus
 //                    final centre height at 10 s, m
 //   notes            simreel: FNV-1a hash of every body's x_W, q_WP, v_W, w_P bytes at the end.
+#include <time.h>
+
 #include <algorithm>
 #include <cinttypes>
 #include <cmath>
@@ -37,6 +39,7 @@
 
 #include "bench/bench_util.hpp"
 #include "sim/scene_builders.hpp"
+#include "sim/state_hash.hpp"
 
 #ifdef SIMREEL_BENCH_BULLET
 #include <btBulletDynamicsCommon.h>
@@ -46,8 +49,7 @@ using namespace simreel;
 
 namespace {
 
-constexpr long kSteps = 2400;         // 10 s at 1/240
-constexpr int kCubeSampleEvery = 24;  // cube-cube overlap check every 0.1 s
+constexpr long kSteps = 2400;  // 10 s at 1/240
 
 struct Cube {
   Vec3 x, v;
@@ -105,17 +107,27 @@ struct Scene {
   const char* name;
   std::vector<BodyDef> defs;  // cubes first, ground last
   bool tower;
+  double dt = kR3Dt;              // s
+  long steps = kSteps;            // steps in a run
+  double friction = kR3Friction;  // of every cube and the ground
+  bool sleeping_rows = true;      // also the sleeping-on rows (simreel and Bullet)
+  int alt_substeps = 0;           // > 0: also a simreel row with this many substeps (sleeping off)
   int cubes() const { return (int)defs.size() - 1; }
+  // Cube-cube overlap checked every 0.1 s of simulated time.
+  long sample_every() const { return std::max(1L, std::lround(0.1 / dt)); }
 };
 
 struct Result {
   double seconds = 0;
+  double cpu_seconds = 0;  // thread CPU time of the same stepping calls
   long steps = 0;
   double max_speed = 0;
   int moving = 0;
   double pen_engine = 0, final_pen_engine = 0, pen_ground = 0, pen_cube = 0, final_pen_ground = 0;
   std::vector<double> all_seconds;  // every timed run, in order
   double top_drift = NAN, top_sink = NAN;
+  double drift_late = NAN;   // largest cube displacement between the run's middle and its end, m
+  double drift_total = NAN;  // largest cube displacement between the start and the end, m
   int nan = 0;
   std::string notes;
 };
@@ -124,10 +136,15 @@ struct Result {
 struct Tracker {
   const Scene& scene;
   Result& r;
+  std::vector<Vec3> mid;  // cube centres at the run's middle step
   void sample(long step, const std::vector<Cube>& cubes) {
     r.pen_ground = std::max(r.pen_ground, max_ground_penetration(cubes));
-    if (step % kCubeSampleEvery == 0 || step == kSteps)
+    if (step % scene.sample_every() == 0 || step == scene.steps)
       r.pen_cube = std::max(r.pen_cube, max_cube_penetration(cubes));
+    if (step == scene.steps / 2) {
+      mid.resize(cubes.size());
+      for (size_t i = 0; i < cubes.size(); ++i) mid[i] = cubes[i].x;
+    }
   }
   void finish(const std::vector<Cube>& cubes) {
     for (const Cube& c : cubes) {
@@ -137,6 +154,13 @@ struct Tracker {
       if (s > 0.01) r.moving++;
     }
     r.final_pen_ground = max_ground_penetration(cubes);
+    if (mid.size() == cubes.size()) {
+      r.drift_late = r.drift_total = 0;
+      for (size_t i = 0; i < cubes.size(); ++i) {
+        r.drift_late = std::max(r.drift_late, (cubes[i].x - mid[i]).norm());
+        r.drift_total = std::max(r.drift_total, (cubes[i].x - scene.defs[i].p_WB).norm());
+      }
+    }
     if (scene.tower) {
       const Vec3 p0 = scene.defs[scene.cubes() - 1].p_WB, p = cubes.back().x;
       r.top_drift = (p - p0).head<2>().norm();
@@ -152,31 +176,12 @@ void print_row(const char* engine, const Scene& s, const char* setting, const Re
     std::snprintf(b, sizeof b, "%s%.3f", runs.empty() ? "" : " ", t);
     runs += b;
   }
-  std::printf("%s,%s,%s,%d,%ld,%.4f,%.1f,%s,%.4e,%d,%.4e,%.4e,%.4e,%.4e,%.4e,%.4e,%.4e,%d,%s\n", engine,
-              s.name, setting, s.cubes(), r.steps, r.seconds, r.steps / r.seconds, runs.c_str(), r.max_speed,
-              r.moving, r.pen_engine, r.final_pen_engine, r.pen_ground, r.pen_cube, r.final_pen_ground,
-              r.top_drift, r.top_sink, r.nan, r.notes.c_str());
+  std::printf(
+      "%s,%s,%s,%d,%ld,%.4g,%.4f,%.4f,%.1f,%s,%.4e,%d,%.4e,%.4e,%.4e,%.4e,%.4e,%.4e,%.4e,%.4e,%.4e,%d,%s\n",
+      engine, s.name, setting, s.cubes(), r.steps, s.dt, r.seconds, r.cpu_seconds, r.steps / r.seconds,
+      runs.c_str(), r.max_speed, r.moving, r.pen_engine, r.final_pen_engine, r.pen_ground, r.pen_cube,
+      r.final_pen_ground, r.top_drift, r.top_sink, r.drift_late, r.drift_total, r.nan, r.notes.c_str());
   std::fflush(stdout);
-}
-
-// ---------------------------------------------------------------------------------------- simreel
-uint64_t state_hash(const World& w) {
-  uint64_t h = 0xcbf29ce484222325ull;
-  auto bytes = [&](const double* p, int n) {
-    const unsigned char* c = reinterpret_cast<const unsigned char*>(p);
-    for (size_t i = 0; i < n * sizeof(double); ++i) {
-      h ^= c[i];
-      h *= 0x100000001b3ull;
-    }
-  };
-  for (int i = 0; i < w.body_count(); ++i) {
-    const MotionState& s = w.state(i);
-    bytes(s.x_W.data(), 3);
-    bytes(s.q_WP.coeffs().data(), 4);
-    bytes(s.v_W.data(), 3);
-    bytes(s.w_P.data(), 3);
-  }
-  return h;
 }
 
 void simreel_cubes(const World& w, int n, std::vector<Cube>& out) {
@@ -186,19 +191,21 @@ void simreel_cubes(const World& w, int n, std::vector<Cube>& out) {
 
 // Returns the final state hash; with `profile`, the run is profiled and not tracked.
 uint64_t simreel_run(const Scene& s, bool profile, Result* r, Profile* prof, double* wall = nullptr,
-                     bool sleep = false) {
+                     bool sleep = false, int substeps = 0) {
   WorldConfig c;
-  c.dt = kR3Dt;
+  c.dt = s.dt;
+  c.contacts.substeps = substeps;
   c.threads = 1;
   c.contacts.sleep = sleep;
   World w(c, s.defs);
   w.set_profiling(profile);
   std::vector<Cube> cubes;
-  Tracker tr{s, *r};
-  double sec = 0;
-  for (long k = 1; k <= kSteps; ++k) {
-    const double t0 = bench::now_s();
+  Tracker tr{s, *r, {}};
+  double sec = 0, cpu = 0;
+  for (long k = 1; k <= s.steps; ++k) {
+    const double t0 = bench::now_s(), c0 = bench::thread_cpu_s();
     w.step();
+    cpu += bench::thread_cpu_s() - c0;
     sec += bench::now_s() - t0;
     if (!profile) {
       simreel_cubes(w, s.cubes(), cubes);
@@ -213,6 +220,7 @@ uint64_t simreel_run(const Scene& s, bool profile, Result* r, Profile* prof, dou
   simreel_cubes(w, s.cubes(), cubes);
   tr.finish(cubes);
   r->seconds = sec;
+  r->cpu_seconds = cpu;
   r->steps = w.steps();
   r->pen_engine = w.contact_stats().max_penetration;
   for (const Contact& c : w.contacts())
@@ -220,8 +228,8 @@ uint64_t simreel_run(const Scene& s, bool profile, Result* r, Profile* prof, dou
       r->final_pen_engine = std::max(r->final_pen_engine, -c.points[j].separation);
   const uint64_t h = state_hash(w);
   char buf[160];
-  std::snprintf(buf, sizeof buf, "state hash %016" PRIx64 "; contacts_max %d; asleep at end %d", h,
-                w.contact_stats().contacts_max, w.sleeping_count());
+  std::snprintf(buf, sizeof buf, "state hash %016" PRIx64 "; substeps %d; contacts_max %d; asleep at end %d",
+                h, w.substeps(), w.contact_stats().contacts_max, w.sleeping_count());
   r->notes = buf;
   return h;
 }
@@ -288,7 +296,7 @@ void bullet_run(const Scene& s, bool sleeping, Result& r, double phases[PhasedWo
   world.setGravity(btVector3(0, 0, -9.81));
   // Bullet combines frictions as the product f_a f_b (simreel: sqrt(f_a f_b)): sqrt(0.5) on every
   // body gives each pair 0.5, as the anchors set it. Restitution 0 on all.
-  const double mu = std::sqrt(kR3Friction);
+  const double mu = std::sqrt(s.friction);
   btStaticPlaneShape plane(btVector3(0, 0, 1), 0);
   btBoxShape cube(btVector3(0.5, 0.5, 0.5));  // default margin 0.04, inside the box
   std::vector<std::unique_ptr<btRigidBody>> bodies;
@@ -306,7 +314,7 @@ void bullet_run(const Scene& s, bool sleeping, Result& r, double phases[PhasedWo
   for (int i = 0; i < s.cubes(); ++i) add(&cube, 1.0, 1.0 / 6.0, s.defs[i].p_WB);
 
   r = Result{};
-  Tracker tr{s, r};
+  Tracker tr{s, r, {}};
   std::vector<Cube> cubes(s.cubes());
   auto read = [&] {
     for (int i = 0; i < s.cubes(); ++i) {
@@ -320,9 +328,10 @@ void bullet_run(const Scene& s, bool sleeping, Result& r, double phases[PhasedWo
     }
   };
   int points = 0, points_max = 0;
-  for (long k = 1; k <= kSteps; ++k) {
-    const double t0 = bench::now_s();
-    world.stepSimulation(btScalar(kR3Dt), 0);  // maxSubSteps 0: exactly one internal step of dt
+  for (long k = 1; k <= s.steps; ++k) {
+    const double t0 = bench::now_s(), c0 = bench::thread_cpu_s();
+    world.stepSimulation(btScalar(s.dt), 0);  // maxSubSteps 0: exactly one internal step of dt
+    r.cpu_seconds += bench::thread_cpu_s() - c0;
     r.seconds += bench::now_s() - t0;
     points = 0;
     for (int m = 0; m < disp.getNumManifolds(); ++m) {
@@ -332,7 +341,7 @@ void bullet_run(const Scene& s, bool sleeping, Result& r, double phases[PhasedWo
       points += pm->getNumContacts();
     }
     points_max = std::max(points_max, points);
-    if (k == kSteps) {
+    if (k == s.steps) {
       for (int m = 0; m < disp.getNumManifolds(); ++m) {
         const btPersistentManifold* pm = disp.getManifoldByIndexInternal(m);
         for (int j = 0; j < pm->getNumContacts(); ++j)
@@ -342,7 +351,7 @@ void bullet_run(const Scene& s, bool sleeping, Result& r, double phases[PhasedWo
     read();
     tr.sample(k, cubes);
   }
-  r.steps = kSteps;
+  r.steps = s.steps;
   tr.finish(cubes);
   int asleep = 0;
   for (int i = 0; i < s.cubes(); ++i) asleep += bodies[i + 1]->getActivationState() == ISLAND_SLEEPING;
@@ -362,7 +371,7 @@ void print_bullet_phases(const Scene& s, const char* setting, const double* t) {
   for (int i = 0; i < PhasedWorld::n; ++i) total += t[i];
   for (int i = 0; i < PhasedWorld::n; ++i)
     std::fprintf(stderr, "bullet_f64_%s,%s,%s,%.4f,%.3f,%ld,0\n", setting, s.name, phase[i], t[i],
-                 total > 0 ? t[i] / total : 0.0, kSteps);
+                 total > 0 ? t[i] / total : 0.0, s.steps);
   std::fflush(stderr);
 }
 #endif
@@ -376,12 +385,14 @@ void merge(Result& best, const Result& r, int rep) {
   }
   best.all_seconds.push_back(r.seconds);
   best.seconds = std::min(best.seconds, r.seconds);
+  best.cpu_seconds = std::min(best.cpu_seconds, r.cpu_seconds);
 }
 
 // Runs interleave (simreel, Bullet sleeping off, Bullet sleeping on) `repeats` times, so that the
 // machine's load drifts over all engines alike; each row reports the least stepping time.
 void run_scene(const Scene& s, int repeats) {
-  Result sim, slept;
+  Result sim, slept, alt;
+  uint64_t alt_hash = 0;
   uint64_t hash = 0, slept_hash = 0;
   bool same = true, slept_same = true;
 #ifdef SIMREEL_BENCH_BULLET
@@ -394,13 +405,22 @@ void run_scene(const Scene& s, int repeats) {
     if (rep == 0) hash = h;
     same = same && h == hash;
     merge(sim, r, rep);
-    Result rs;
-    const uint64_t hs = simreel_run(s, false, &rs, nullptr, nullptr, true);
-    if (rep == 0) slept_hash = hs;
-    slept_same = slept_same && hs == slept_hash;
-    merge(slept, rs, rep);
+    if (s.alt_substeps > 0) {
+      Result ra;
+      const uint64_t ha = simreel_run(s, false, &ra, nullptr, nullptr, false, s.alt_substeps);
+      if (rep == 0) alt_hash = ha;
+      if (ha != alt_hash) ra.notes += "; HASH DIFFERS BETWEEN RUNS";
+      merge(alt, ra, rep);
+    }
+    if (s.sleeping_rows) {
+      Result rs;
+      const uint64_t hs = simreel_run(s, false, &rs, nullptr, nullptr, true);
+      if (rep == 0) slept_hash = hs;
+      slept_same = slept_same && hs == slept_hash;
+      merge(slept, rs, rep);
+    }
 #ifdef SIMREEL_BENCH_BULLET
-    for (int sl = 0; sl < 2; ++sl) {
+    for (int sl = 0; sl < (s.sleeping_rows ? 2 : 1); ++sl) {
       Result b;
       double t[PhasedWorld::n];
       bullet_run(s, sl == 1, b, t);
@@ -416,19 +436,24 @@ void run_scene(const Scene& s, int repeats) {
   if (sim.pen_cube > 0.1) sim.notes += "; CUBES PASS THROUGH EACH OTHER (no box-box contact)";
   simreel_profile(s, sim, hash);
   print_row("simreel", s, "sleeping_off_1thread", sim);
-  print_row("simreel", s, "sleeping_on_1thread", slept);
+  if (s.sleeping_rows) print_row("simreel", s, "sleeping_on_1thread", slept);
+  if (s.alt_substeps > 0) {
+    char setting[64];
+    std::snprintf(setting, sizeof setting, "sleeping_off_1thread_%d_substeps", s.alt_substeps);
+    print_row("simreel", s, setting, alt);
+  }
 #ifdef SIMREEL_BENCH_BULLET
   print_row("bullet_f64", s, "sleeping_off", bul[0]);
-  print_row("bullet_f64", s, "sleeping_on", bul[1]);
+  if (s.sleeping_rows) print_row("bullet_f64", s, "sleeping_on", bul[1]);
   print_bullet_phases(s, "sleeping_off", phases[0]);
-  print_bullet_phases(s, "sleeping_on", phases[1]);
+  if (s.sleeping_rows) print_bullet_phases(s, "sleeping_on", phases[1]);
 #endif
 }
 
 }  // namespace
 
 // usage: bench_r3_contacts [--repeats N] [scene...]
-//   scenes: drop100 tower20 pile1000 (default: all three); N timed runs of each engine (default 3)
+//   scenes: drop100 tower20 pile1000 pyramid100 (default: all four); N timed runs of each engine (default 3)
 int main(int argc, char** argv) {
   std::vector<Scene> scenes;
   int repeats = 3;
@@ -445,10 +470,18 @@ int main(int argc, char** argv) {
   if (want("drop100")) scenes.push_back({"drop100", r3_cube_grid_drop(), false});
   if (want("tower20")) scenes.push_back({"tower20", r3_tower(20), true});
   if (want("pile1000")) scenes.push_back({"pile1000", r3_pile(), false});
+  if (want("pyramid100")) {
+    // Box3D's large pyramid: 200 steps of 1/60 s (automatic substeps), sleeping off. "Tower" rows:
+    // the top cube's drift and sink.
+    Scene p{"pyramid100", r3_pyramid(100), true, kPyramidDt, kPyramidSteps, kPyramidFriction, false, 4};
+    scenes.push_back(std::move(p));
+  }
   std::printf(
-      "engine,scene,setting,cubes,steps,seconds,steps_per_s,seconds_each_run,max_speed_m_s,moving_gt_1cm_s,"
+      "engine,scene,setting,cubes,steps,dt_s,seconds,cpu_seconds,steps_per_s,seconds_each_run,max_speed_m_s,"
+      "moving_gt_"
+      "1cm_s,"
       "max_pen_engine_m,final_pen_engine_m,max_pen_ground_geom_m,max_pen_cube_geom_m,final_pen_ground_geom_m,"
-      "top_drift_m,top_sink_m,nan,notes\n");
+      "top_drift_m,top_sink_m,drift_late_max_m,drift_total_max_m,nan,notes\n");
   std::fprintf(stderr, "engine,scene,stage,seconds,fraction,runs,skipped\n");
   for (const Scene& s : scenes) run_scene(s, repeats);
 }

@@ -7,9 +7,14 @@
 // And memory per body (issue 16): the peak resident memory of a process that loads N copies of
 // one 100,000-triangle mesh (N = 1, 10, 100, 1000), or N boxes, spheres of one size or of N
 // sizes, and draws one frame of them; each case in a child process of its own (rows `memory_*`).
-// CSV on stdout. Usage: bench_render_throughput [FRAMES [overlays|teaching|memory]]   (default 300;
-// `memory`: only the memory rows; ffmpeg must be on PATH for the ceiling row; the raw frames need
-// FRAMES x 3.7 MB in the temp folder).
+// CSV on stdout. Usage:
+//   bench_render_throughput [FRAMES [overlays|teaching|memory|pairs|post|render [NAME,...]]]
+// (FRAMES default 300; `memory`: only the memory rows; `pairs`: only the end-to-end / ceiling
+// pairs; `post`: only the writer thread's CPU stages; `render`: only the render-only rows, of the
+// settings named if given. ffmpeg must be on PATH for the ceiling row; the raw frames need FRAMES
+// x 3.7 MB in the temp folder). The number of end-to-end / ceiling pairs is SIMREEL_BENCH_PAIRS
+// (default 7).
+#include <stdlib.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -27,8 +32,10 @@
 #include "app/overlays.hpp"
 #include "bench/bench_util.hpp"
 #include "render/draw_list.hpp"
+#include "render/fxaa.hpp"
 #include "render/renderer.hpp"
 #include "render/video_writer.hpp"
+#include "render/yuv.hpp"
 #include "sim/scene_builders.hpp"
 #include "sim/world.hpp"
 
@@ -392,6 +399,94 @@ void teaching_overlay_rows(const Boxes& bodies, int frames, const std::filesyste
   std::fflush(stdout);
 }
 
+// Runs `argv` (searched on PATH) as a child process and waits for it: its wall seconds, or -1 if it
+// could not run or failed; `cpu` gets the CPU seconds of the child's threads (user + system, from
+// wait4's rusage).
+double ffmpeg_child(const std::vector<std::string>& argv, double& cpu) {
+  std::vector<char*> args;
+  for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+  args.push_back(nullptr);
+  const double t0 = bench::now_s();
+  const pid_t pid = fork();
+  if (pid < 0) return -1;
+  if (pid == 0) {
+    execvp(args[0], args.data());
+    _exit(127);
+  }
+  int st = 0;
+  rusage u{};
+  if (wait4(pid, &st, 0, &u) != pid) return -1;
+  const double wall = bench::now_s() - t0;
+  cpu = (double)(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
+        1e-6 * (double)(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+  return WIFEXITED(st) && WEXITSTATUS(st) == 0 ? wall : -1;
+}
+
+// The 1-minute load average, for the notes (how busy the machine was).
+double load1() {
+  double l[1] = {-1};
+  return getloadavg(l, 1) == 1 ? l[0] : -1;
+}
+
+// Median of v (the upper one of an even count) and v sorted as text, for the notes.
+std::pair<double, std::string> median_and_list(std::vector<double> v, int digits = 3) {
+  std::sort(v.begin(), v.end());
+  std::string s;
+  char b[32];
+  for (double q : v) {
+    std::snprintf(b, sizeof b, "%.*f", digits, q);
+    s += (s.empty() ? "" : " ") + std::string(b);
+  }
+  return {v.empty() ? 0.0 : v[v.size() / 2], s};
+}
+
+// The writer thread's CPU work per frame (`bench_render_throughput N post`): every 10th frame of
+// the clip, rendered without anti-aliasing and kept, then FXAA and RGBA to YUV 4:2:0, each timed
+// over all the kept frames in turn (five rounds, the median), in CPU seconds of this thread, scaled
+// to `frames` frames.
+void post_rows(const Boxes& bodies, int frames) {
+  Setup s(bodies, frames);
+  RenderSettings rs = settings("fxaa");
+  rs.post = PostStage::caller;
+  Renderer r(rs, s.meshes);
+  DrawList dl;
+  std::vector<std::vector<uint8_t>> kept;
+  long k = 0;
+  s.run([&](const World& w) {
+    build_draw_list(w, s.meshes, s.cam, -1, dl);
+    const uint8_t* img = r.render(dl);
+    if (k++ % 10 == 0) kept.emplace_back(img, img + (size_t)W * H * 4);
+  });
+  std::vector<uint8_t> work((size_t)W * H * 4), yuv((size_t)W * H * 3 / 2);
+  FxaaBuffers fb;
+  double changes = 0;
+  for (int what = 0; what < 2; ++what) {
+    std::vector<double> runs;
+    for (int round = 0; round < 5; ++round) {
+      double c = 0;
+      for (const auto& f : kept) {
+        work = f;
+        const double c0 = bench::thread_cpu_s();
+        if (what == 0) fxaa(work.data(), W, H, fb);
+        if (what == 1)
+          rgba_to_yuv420_bt709(work.data(), W, H, yuv.data(), W, yuv.data() + W * H, W / 2,
+                               yuv.data() + W * H * 5 / 4, W / 2);
+        c += bench::thread_cpu_s() - c0;
+        if (what == 0 && round == 0) changes += (double)fb.changes.size() / kept.size();
+      }
+      runs.push_back(c * frames / kept.size());
+    }
+    const auto [m, all] = median_and_list(runs);
+    std::printf(
+        "%s,%d,%d,%d,%.3f,%.1f,\"CPU seconds of the writer's thread for %d frames (%zu frames timed, 5 "
+        "rounds: %s)%s\"\n",
+        what == 0 ? "post_fxaa" : "post_yuv420", frames, W, H, m, frames / m, frames, kept.size(),
+        all.c_str(),
+        what == 0 ? ("; " + std::to_string((long)changes) + " pixels blended a frame").c_str() : "");
+    std::fflush(stdout);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -400,10 +495,22 @@ int main(int argc, char** argv) {
   const bool only_overlays = argc > 2 && std::string(argv[2]) == "overlays";
   // `teaching`: only issue 12's end-to-end row (HUD, inset plot, 100 arrows against the plain clip).
   const bool only_teaching = argc > 2 && std::string(argv[2]) == "teaching";
+  // `pairs`: only the end-to-end / ceiling pairs (after one untimed-for-the-target render-only run
+  // of the defaults, which writes the ceiling's raw frames).
+  const bool only_pairs = argc > 2 && std::string(argv[2]) == "pairs";
+  // `render [NAME,NAME...]`: only the render-only rows (of the settings named, default all).
+  const bool only_render = argc > 2 && std::string(argv[2]) == "render";
+  const std::string pick = only_render && argc > 3 ? argv[3] : "";
+  const char* pairs_env = std::getenv("SIMREEL_BENCH_PAIRS");
+  const int pairs = std::max(1, pairs_env ? std::atoi(pairs_env) : 7);
   const auto bodies = hundred_boxes();
   std::printf("case,frames,width,height,seconds,fps,note\n");
   if (argc > 2 && std::string(argv[2]) == "memory") {
     memory_rows();
+    return 0;
+  }
+  if (argc > 2 && std::string(argv[2]) == "post") {
+    post_rows(bodies, frames);
     return 0;
   }
   // The note is quoted (RFC 4180): renderer strings hold commas.
@@ -441,11 +548,16 @@ int main(int argc, char** argv) {
         Mode{"fxaa_shadow1024_overlays", "fxaa", true, 1024, default_gl_backend(), 3},
         Mode{"fxaa_shadow1024_arrows", "fxaa", true, 1024, default_gl_backend(), 1},
         Mode{"fxaa_shadow1024_hud", "fxaa", true, 1024, default_gl_backend(), 2}})
-    if (gl_backend_built(m.gl) && (!only_overlays || m.overlays || std::string(m.name) == "fxaa_shadow1024"))
+    if (gl_backend_built(m.gl) &&
+        (!only_overlays || m.overlays || std::string(m.name) == "fxaa_shadow1024") &&
+        (!only_pairs || std::string(m.name) == "fxaa_shadow1024") &&
+        (!only_render || pick.empty() ||
+         ("," + pick + ",").find(std::string(",") + m.name + ",") != std::string::npos))
       modes.push_back(m);
   std::vector<std::vector<double>> seconds(modes.size()), cpu(modes.size());
   std::vector<std::string> described(modes.size());
-  for (int round = 0; round < 3; ++round)
+  const int rounds = only_pairs ? 1 : 3;
+  for (int round = 0; round < rounds; ++round)
     for (size_t i = 0; i < modes.size(); ++i) {
       const Mode& m = modes[i];
       Setup s(bodies, frames);
@@ -464,8 +576,8 @@ int main(int argc, char** argv) {
       build_draw_list(s.loop.world(), s.meshes, s.cam, -1, dl);
       if (ov) ov->build(s.loop.world(), 0, dl);
       r.render(dl);  // first frame compiles shaders: not timed
-      FILE* out =
-          round == 0 && i == 0 && !only_overlays ? std::fopen(raw.c_str(), "wb") : nullptr;  // the defaults
+      FILE* out = round == 0 && i == 0 && !only_overlays && !only_render ? std::fopen(raw.c_str(), "wb")
+                                                                         : nullptr;  // the defaults
       double t = 0, c = 0;
       long k = 0;
       s.run([&](const World& w) {
@@ -487,13 +599,13 @@ int main(int argc, char** argv) {
     std::sort(v.begin(), v.end());
     std::vector<double> c = cpu[i];
     std::sort(c.begin(), c.end());
-    char runs[160];
-    std::snprintf(runs, sizeof runs, "runs %.3f %.3f %.3f s, the median reported; CPU median %.3f s; ",
-                  seconds[i][0], seconds[i][1], seconds[i][2], c[1]);
-    row((std::string("render_only_") + modes[i].name).c_str(), v[1],
+    std::string runs = "runs";
+    for (double q : seconds[i]) runs += " " + std::to_string(q).substr(0, 5);
+    runs += " s, the median reported; CPU median " + std::to_string(c[c.size() / 2]).substr(0, 5) + " s; ";
+    row((std::string("render_only_") + modes[i].name).c_str(), v[v.size() / 2],
         std::string("draw list + GL passes + readback (+ FXAA); ") + runs + described[i]);
   }
-  if (only_overlays) return 0;
+  if (only_overlays || only_render) return 0;
 
   // End to end, in process: what `simreel render` does (FXAA on the writer's thread).
   double last_cpu = 0;  // CPU seconds of the last end_to_end run
@@ -510,34 +622,60 @@ int main(int argc, char** argv) {
     return e.wall;
   };
   // The ceiling: encoding alone, by the ffmpeg CLI, with VideoWriter's settings (veryfast, CRF 20, a keyframe
-  // every 2 s). Negative if ffmpeg fails.
-  const std::string cmd = "ffmpeg -loglevel error -y -f rawvideo -pix_fmt rgba -s " + std::to_string(W) +
-                          "x" + std::to_string(H) + " -r " + std::to_string(kFps) + " -i " + raw +
-                          " -c:v libx264 -preset veryfast -crf 20 -g " + std::to_string(2 * kFps) +
-                          " -pix_fmt yuv420p -movflags +faststart " + (dir / "ceiling.mp4").string();
-  auto ceiling = [&] {
-    const double t0 = bench::now_s();
-    const int rc = std::system(cmd.c_str());
-    return rc == 0 ? bench::now_s() - t0 : -1.0;
-  };
-
+  // every 2 s), run as a child process whose CPU seconds (all its threads) come back from wait4.
+  const std::vector<std::string> cmd = {"ffmpeg",
+                                        "-loglevel",
+                                        "error",
+                                        "-y",
+                                        "-f",
+                                        "rawvideo",
+                                        "-pix_fmt",
+                                        "rgba",
+                                        "-s",
+                                        std::to_string(W) + "x" + std::to_string(H),
+                                        "-r",
+                                        std::to_string(kFps),
+                                        "-i",
+                                        raw,
+                                        "-c:v",
+                                        "libx264",
+                                        "-preset",
+                                        "veryfast",
+                                        "-crf",
+                                        "20",
+                                        "-g",
+                                        std::to_string(2 * kFps),
+                                        "-pix_fmt",
+                                        "yuv420p",
+                                        "-movflags",
+                                        "+faststart",
+                                        (dir / "ceiling.mp4").string()};
+  double ceiling_cpu = 0;  // CPU seconds of the last ceiling run
+  auto ceiling = [&] { return ffmpeg_child(cmd, ceiling_cpu); };
   // The target compares end to end with the ceiling; this machine's speed drifts by up to 30%
-  // over minutes, so they run in alternation, three pairs, and the ratio is the median of the
-  // pairs' ratios.
-  // Each pair also runs the clip with overlays (an arrow per box and a HUD) right after the plain
-  // one: their ratio is the overlays' cost (target: at most 1.15).
-  std::vector<double> ratios, overlay_ratios, overlay_cpu_ratios;
-  for (int pair = 1; pair <= 3; ++pair) {
+  // over minutes, so they run in alternation, `pairs` pairs (SIMREEL_BENCH_PAIRS, default 7), and
+  // the ratio is the median of the pairs' ratios. Beside the wall-clock ratio (the target), the
+  // ratio of CPU seconds: ours of all the process's threads, ffmpeg's of all its threads (wait4),
+  // which other work on the machine disturbs much less.
+  // Each pair of a full run also runs the clip with overlays (an arrow per box and a HUD) right
+  // after the plain one: their ratio is the overlays' cost (target: at most 1.15).
+  std::vector<double> ratios, cpu_ratios, overlay_ratios, overlay_cpu_ratios;
+  const double load_before = load1();
+  for (int pair = 1; pair <= pairs; ++pair) {
     std::string note;
     const double e2e = end_to_end("fxaa", note);
     const double plain_cpu = last_cpu;
-    row("end_to_end_fxaa", e2e, note + "; pair " + std::to_string(pair));
-    const double e2e_ov = end_to_end("fxaa", note, true);
-    row("end_to_end_fxaa_overlays", e2e_ov,
-        "100 angular velocity arrows (auto-scaled: one more simulation first) and a title and 3-line HUD; " +
-            note + "; pair " + std::to_string(pair));
-    overlay_ratios.push_back(e2e_ov / e2e);
-    overlay_cpu_ratios.push_back(last_cpu / plain_cpu);
+    row("end_to_end_fxaa", e2e,
+        note + "; load " + std::to_string(load1()).substr(0, 4) + "; pair " + std::to_string(pair));
+    if (!only_pairs) {
+      const double e2e_ov = end_to_end("fxaa", note, true);
+      row("end_to_end_fxaa_overlays", e2e_ov,
+          "100 angular velocity arrows (auto-scaled: one more simulation first) and a title and 3-line "
+          "HUD; " +
+              note + "; pair " + std::to_string(pair));
+      overlay_ratios.push_back(e2e_ov / e2e);
+      overlay_cpu_ratios.push_back(last_cpu / plain_cpu);
+    }
     const double c = ceiling();
     if (c < 0) {
       std::printf(
@@ -546,15 +684,28 @@ int main(int argc, char** argv) {
       continue;
     }
     row("ffmpeg_cli_encode_only", c,
-        "the ceiling: raw RGBA from a file -> libx264 veryfast crf20; pair " + std::to_string(pair));
+        "the ceiling: raw RGBA from a file -> libx264 veryfast crf20; CPU " +
+            std::to_string(ceiling_cpu).substr(0, 6) + " s (all its threads); pair " + std::to_string(pair) +
+            ": wall ratio " + std::to_string(e2e / c).substr(0, 5) + ", CPU ratio " +
+            std::to_string(plain_cpu / ceiling_cpu).substr(0, 5));
     ratios.push_back(e2e / c);
+    cpu_ratios.push_back(plain_cpu / ceiling_cpu);
   }
   if (!ratios.empty()) {
-    std::sort(ratios.begin(), ratios.end());
-    std::string all;
-    for (double q : ratios) all += (all.empty() ? "" : " ") + std::to_string(q).substr(0, 4);
-    std::printf("end_to_end_over_ceiling,%d,%d,%d,,,\"median %.2f of the pairs' ratios (%s); target 1.5\"\n",
-                frames, W, H, ratios[ratios.size() / 2], all.c_str());
+    const auto [w, ws] = median_and_list(ratios, 2);
+    const auto [c, cs] = median_and_list(cpu_ratios, 2);
+    std::printf(
+        "end_to_end_over_ceiling,%d,%d,%d,,,\"wall: median %.2f of the %zu pairs' ratios (%s), highest %.2f; "
+        "CPU "
+        "seconds: median %.2f (%s); load average %.1f before, %.1f after; target: median under 1.4, no pair "
+        "over 1.5\"\n",
+        frames, W, H, w, ratios.size(), ws.c_str(), *std::max_element(ratios.begin(), ratios.end()), c,
+        cs.c_str(), load_before, load1());
+    std::fflush(stdout);
+  }
+  if (only_pairs) {
+    std::filesystem::remove(raw);
+    return 0;
   }
   if (!overlay_ratios.empty()) {
     std::sort(overlay_ratios.begin(), overlay_ratios.end());

@@ -9,41 +9,24 @@
 //         median seconds per thread count and the ratio median(1 thread) / median(2 threads).
 // stderr: per-stage seconds of one profiled run per scene and thread count (World::profile()).
 // Options: --repeats N (default 5), --pyramid-steps N (200), --pile-steps N (600), --base N (100),
-//          --threads N (the second thread count, default 2), --only pyramid|pile.
+//          --threads N (the second thread count, default 2), --only pyramid|pile, --no-backoff (the
+//          pool splits every run however busy the machine: WorldConfig::thread_backoff).
 #include <algorithm>
 #include <cinttypes>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
 #include <string>
 #include <vector>
 
 #include "bench/bench_util.hpp"
 #include "sim/scene_builders.hpp"
+#include "sim/state_hash.hpp"
 
 using namespace simreel;
 
 namespace {
-
-uint64_t state_hash(const World& w) {
-  uint64_t h = 1469598103934665603ull;
-  auto mix = [&h](double x) {
-    unsigned char b[sizeof(double)];
-    std::memcpy(b, &x, sizeof x);
-    for (unsigned char c : b) {
-      h ^= c;
-      h *= 1099511628211ull;
-    }
-  };
-  for (int i = 0; i < w.body_count(); ++i) {
-    const MotionState& s = w.state(i);
-    for (double x : {s.q_WP.w(), s.q_WP.x(), s.q_WP.y(), s.q_WP.z()}) mix(x);
-    for (int k = 0; k < 3; ++k) mix(s.x_W[k]);
-    for (int k = 0; k < 3; ++k) mix(s.v_W[k]);
-    for (int k = 0; k < 3; ++k) mix(s.w_P[k]);
-  }
-  return h;
-}
 
 struct Scene {
   std::string name;
@@ -52,18 +35,32 @@ struct Scene {
   long steps;
 };
 
+bool g_backoff = true;  // --no-backoff: the pool never runs a stage on the calling thread alone
+
+// The CPU time of the whole process so far (every thread's), s.
+double process_cpu_s() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
 // Steps the scene; returns the wall time of the stepping calls (the world's construction, which
-// starts the worker threads and collides once, is left out).
-double run(const Scene& s, int threads, bool profile, uint64_t* hash) {
+// starts the worker threads and collides once, is left out), their CPU time over all threads in
+// *cpu and the pool's runs on the calling thread alone (back-off) in *alone.
+double run(const Scene& s, int threads, bool profile, uint64_t* hash, double* cpu = nullptr,
+           long* alone = nullptr) {
   WorldConfig cfg;
   cfg.dt = s.dt;
   cfg.threads = threads;
   cfg.contacts.sleep = false;
+  cfg.thread_backoff = g_backoff;
   World w(cfg, s.bodies);
   w.set_profiling(profile);
-  const double t0 = bench::now_s();
+  const double t0 = bench::now_s(), c0 = process_cpu_s();
   for (long k = 0; k < s.steps; ++k) w.step();
   const double t = bench::now_s() - t0;
+  if (cpu) *cpu = process_cpu_s() - c0;
+  if (alone) *alone = w.profile().pool_alone_runs;
   *hash = state_hash(w);
   if (profile) {
     const Profile& p = w.profile();
@@ -108,6 +105,8 @@ int main(int argc, char** argv) {
       threads2 = std::atoi(next());
     else if (a == "--only")
       only = next();
+    else if (a == "--no-backoff")
+      g_backoff = false;
     else {
       std::fprintf(stderr, "unknown option %s\n", a.c_str());
       return 2;
@@ -121,25 +120,28 @@ int main(int argc, char** argv) {
   if (only.empty() || only == "pyramid")
     scenes.push_back({"pyramid" + std::to_string(base), r3_pyramid(base), kPyramidDt, pyramid_steps});
   if (only.empty() || only == "pile") scenes.push_back({"pile", r3_pile(), kR3Dt, pile_steps});
-  std::printf("scene,threads,run,seconds,hash\n");
+  std::printf("scene,threads,run,seconds,cpu_seconds,alone_runs,hash\n");
   bool same = true;
   for (const Scene& s : scenes) {
-    std::vector<double> t1, t2;
+    std::vector<double> t1, t2, c1, c2;
     uint64_t h1 = 0, h2 = 0, h;
     for (int r = 0; r < repeats; ++r) {
       for (int threads : {1, threads2}) {
-        const double t = run(s, threads, false, &h);
+        double cpu = 0;
+        long alone = 0;
+        const double t = run(s, threads, false, &h, &cpu, &alone);
         (threads == 1 ? t1 : t2).push_back(t);
+        (threads == 1 ? c1 : c2).push_back(cpu);
         (threads == 1 ? h1 : h2) = h;
         same = same && h == h1;
-        std::printf("%s,%d,%d,%.4f,%016" PRIx64 "\n", s.name.c_str(), threads, r, t, h);
+        std::printf("%s,%d,%d,%.4f,%.4f,%ld,%016" PRIx64 "\n", s.name.c_str(), threads, r, t, cpu, alone, h);
         std::fflush(stdout);
       }
     }
     const double m1 = median(t1), m2 = median(t2);
-    std::printf("%s,1,median,%.4f,%016" PRIx64 "\n", s.name.c_str(), m1, h1);
-    std::printf("%s,%d,median,%.4f,%016" PRIx64 "\n", s.name.c_str(), threads2, m2, h2);
-    std::printf("%s,ratio,median,%.3f,%s\n", s.name.c_str(), m2 > 0 ? m1 / m2 : 0.0,
+    std::printf("%s,1,median,%.4f,%.4f,,%016" PRIx64 "\n", s.name.c_str(), m1, median(c1), h1);
+    std::printf("%s,%d,median,%.4f,%.4f,,%016" PRIx64 "\n", s.name.c_str(), threads2, m2, median(c2), h2);
+    std::printf("%s,ratio,median,%.3f,,,%s\n", s.name.c_str(), m2 > 0 ? m1 / m2 : 0.0,
                 h1 == h2 ? "same_hash" : "HASH_DIFFERS");
     std::fflush(stdout);
     for (int threads : {1, threads2}) {

@@ -25,5 +25,8 @@ struct FxaaBuffers {
 // In place on an RGBA8 image of width x height, rows top first. Every decision reads the image as
 // it was on entry; alpha is left alone.
 void fxaa(uint8_t* rgba, int width, int height, FxaaBuffers& buffers);
+// The same without AVX2 (one step of the edge search at a time): what fxaa() runs on a CPU without
+// it; the same bytes (tests compare the two).
+void fxaa_portable(uint8_t* rgba, int width, int height, FxaaBuffers& buffers);
 
 }  // namespace simreel

@@ -61,6 +61,9 @@ struct BodyDef {
   Vec3 w_W = Vec3::Zero();       ///< rad/s, angular velocity, world frame
   BodyType type = BodyType::dynamic;
   std::optional<Integrator> integrator;  ///< overrides the world's for this body (side-by-side demos)
+  /// Swept for time of impact every step it moves, however slowly (sim/README.md "Continuous
+  /// collision"; other bodies only when they move more than half their smallest width in a step).
+  bool bullet = false;
   std::vector<Collider> colliders;
   /// Mass properties stated rather than drawn (scene key `mass_properties`): mass, centre of mass
   /// and inertia about it in the body frame B. When set, mass_B() and the World use it instead of

@@ -13,6 +13,10 @@ struct ContactPoint {
   Vec3 p_W = Vec3::Zero();    ///< m, world, when collided
   double separation = 0;      ///< m, negative = overlap, when collided
   double normal_impulse = 0;  ///< N s, accumulated over the last step (>= 0)
+  /// m, B's anchor minus A's across the normal (zero but for a fast pair's manifold taken ahead,
+  /// sim/world_ccd.cpp: there the two surface points meet only at the time of impact). Made afresh
+  /// by every collide; not saved.
+  Vec3 offset_W = Vec3::Zero();
 };
 
 struct Contact {

@@ -34,6 +34,10 @@ struct ContactSettings {
   /// m/s: sliding friction below this slip speed is viscous, mu N v / slip_speed, instead of sticking
   /// (the regularised Coulomb law of tippe-top models: a spinning contact patch never sticks); 0 = off
   double slip_speed = 0;
+  // Continuous collision (sim/README.md "Continuous collision"): bodies moving more than half their
+  // smallest width in a step, and bodies flagged `bullet`, are swept and stopped before they pass
+  // through anything. Scene: simulation.contacts.continuous.
+  bool continuous = true;
   // Sleeping (sim/README.md "Sleeping"): a group of touching bodies whose every point has moved
   // slower than sleep_speed for sleep_time stops being stepped until something wakes it.
   bool sleep = true;          ///< scene: simulation.sleep

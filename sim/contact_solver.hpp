@@ -24,6 +24,7 @@
 
 #include "sim/constraint_graph.hpp"
 #include "sim/contact.hpp"
+#include "sim/contact_refresh.hpp"
 #include "sim/contact_settings.hpp"
 #include "sim/shapes.hpp"
 #include "sim/state.hpp"
@@ -88,6 +89,9 @@ struct ContactConstraint {
   int count = 0;
   Softness soft;
   ConstraintPoint p[4];
+  // A contact whose point runs over a smooth surface (a rim, an ellipsoid, ...: sim/contact_refresh.hpp):
+  // its index in the solver's tracked list, or -1.
+  int track = -1;
 };
 
 // What the solver needs of the world for one step (arrays owned by World, indexed by body).
@@ -136,13 +140,23 @@ class ContactSolver {
 
  private:
   SolverInput in_;
-  std::vector<int> bodies_;              ///< body index of solver body k + 1
-  std::vector<SolverBody> sb_;           ///< [0] is the static body: never written (zero mass and inertia)
-  std::vector<Mat3> I_W_;                ///< world inertia of each solver body (gyroscopic term)
-  std::vector<char> gyro_;               ///< needs the gyroscopic term
-  std::vector<Vec3> accel_;              ///< m/s^2, g + f/m
-  std::vector<Vec3> ang_accel_;          ///< rad/s^2, I^-1 tau
+  std::vector<int> bodies_;      ///< body index of solver body k + 1
+  std::vector<SolverBody> sb_;   ///< [0] is the static body: never written (zero mass and inertia)
+  std::vector<Mat3> I_W_;        ///< world inertia of each solver body (gyroscopic term)
+  std::vector<char> gyro_;       ///< needs the gyroscopic term (2: a tracked body's, after the warm start)
+  std::vector<Vec3> gyro_w0_;    ///< rad/s, a tracked body's w before the warm start (gyro_ 2)
+  double h_ = 0;                 ///< s, this substep's
+  std::vector<Vec3> accel_;      ///< m/s^2, g + f/m
+  std::vector<Vec3> ang_accel_;  ///< rad/s^2, I^-1 tau
   std::vector<ContactConstraint> cons_;  ///< in solve order: colour by colour (graph_.slot)
+  std::vector<TrackedContact>
+      tracked_;  ///< contacts whose point runs over a surface (ContactConstraint::track), in contact order
+  std::vector<int> tracked_bodies_;  ///< their tracked bodies' solver bodies, ascending
+  bool track_due_ = false;           ///< moved since the tracked points were last found
+  // Constraints that may be tracked (one point, a round shape on either side), in contact order:
+  // make_constraint makes their records here (con -1: not tracked after all).
+  std::vector<TrackedContact> track_scratch_;
+  std::vector<int> track_candidate_of_;  ///< per constraint (contact order): its index there, or -1
   Softness soft_, static_soft_;
   bool any_restitution_ = false;  ///< some constraint has restitution > 0 (else the stage is empty)
 
@@ -163,8 +177,12 @@ class ContactSolver {
   // a barrier between colours, then the overflow set on worker 0.
   template <typename F>
   void by_colour(int w, int nw, F&& f);
-  void make_constraint(ContactConstraint& k, int ci, const Contact& c, const std::vector<int>& solver_index);
+  void make_constraint(ContactConstraint& k, int slot, int cand, int ci, const Contact& c,
+                       const std::vector<int>& solver_index);
   void integrate_velocity(int k, double h);
+  static void normal_terms(ConstraintPoint& p, const Vec3& n, const SolverBody& A, const SolverBody& B);
+  static void friction_terms(ContactConstraint& k, const SolverBody& A, const SolverBody& B);
+  void refresh_tracked(int w, int nw);  ///< the tracked points and their bodies' inertia (inside on_workers)
   void restitution_one(ContactConstraint& k, double threshold);
   // Fewer constraints than this are solved on the calling thread alone.
   static constexpr int kMinParallelConstraints = 128;

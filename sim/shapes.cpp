@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 #include "sim/convex_hull.hpp"
 #include "sim/error.hpp"
+#include "sim/trimesh.hpp"
 
 namespace simreel {
 
@@ -29,6 +31,11 @@ double bounding_radius(const CollideShape& g) {
       for (const Vec3& v : g.hull->vertices) r = std::max(r, v.norm());
       return r;
     }
+    case CollideKind::mesh: {
+      double r = 0;
+      for (const Vec3& v : g.mesh->vertices) r = std::max(r, v.norm());
+      return r;
+    }
     case CollideKind::count:
       break;
   }
@@ -39,6 +46,7 @@ double bounding_radius(const CollideShape& g) {
 
 ShapeTable::ShapeTable(const std::vector<BodyDef>& defs, const std::vector<BodyModel>& models,
                        std::vector<std::string>& notes) {
+  std::map<const TriangleMesh*, std::shared_ptr<const TriMeshShape>> trimeshes;  // one per mesh
   for (int b = 0; b < (int)defs.size(); ++b) {
     const BodyDef& d = defs[b];
     const BodyModel& m = models[b];
@@ -90,6 +98,22 @@ ShapeTable::ShapeTable(const std::vector<BodyDef>& defs, const std::vector<BodyM
           break;
         }
         case ShapeKind::mesh: {
+          if (d.type == BodyType::static_body) {
+            // A static body's mesh collides as its triangles (sim/trimesh.hpp), not a hull.
+            if (!c.mesh) throw InputError("body '" + d.name + "': mesh collider without a mesh");
+            std::shared_ptr<const TriMeshShape>& tm = trimeshes[c.mesh.get()];
+            if (!tm) {
+              try {
+                tm = std::make_shared<const TriMeshShape>(make_trimesh_shape(*c.mesh));
+              } catch (const InputError& e) {
+                throw InputError("body '" + d.name + "': " + e.what());
+              }
+            }
+            g.kind = CollideKind::mesh;
+            g.mesh = tm.get();
+            owned_meshes_.push_back(tm);
+            break;
+          }
           g.kind = CollideKind::hull;
           std::vector<std::shared_ptr<const ConvexPolyhedron>> hulls = c.hulls;
           if (hulls.empty()) {
@@ -155,6 +179,12 @@ Aabb ShapeTable::bounds(const CollideShape& g, const Pose& x) {
     case CollideKind::box:
       e = R.cwiseAbs() * g.half_extents;
       break;
+    case CollideKind::mesh: {
+      const Vec3 mc = 0.5 * (g.mesh->lo + g.mesh->hi), me = 0.5 * (g.mesh->hi - g.mesh->lo);
+      c = x.apply(mc);
+      e = R.cwiseAbs() * me;
+      break;
+    }
     case CollideKind::hull: {
       Vec3 lo = Vec3::Constant(INFINITY), hi = Vec3::Constant(-INFINITY);
       for (const Vec3& v : g.hull->vertices) {

@@ -37,9 +37,10 @@ struct Aabb {
 class ShapeTable {
  public:
   // Builds the records of every colliding collider. `models` gives each body's principal frame.
-  // Mesh colliders collide as their convex hulls (Collider::hulls, or the hull of the mesh's
-  // vertices); a note is added to `notes` when a mesh is not convex. Throws InputError for a
-  // plane on a body that is not static.
+  // A static body's mesh colliders collide as their triangles (CollideKind::mesh, sim/trimesh.hpp,
+  // built once per mesh); other mesh colliders as their convex hulls (Collider::hulls, or the hull
+  // of the mesh's vertices). Throws InputError for a plane on a body that is not static, or a
+  // static mesh with no triangle of any area.
   ShapeTable(const std::vector<BodyDef>& defs, const std::vector<BodyModel>& models,
              std::vector<std::string>& notes);
 
@@ -60,7 +61,8 @@ class ShapeTable {
 
  private:
   std::vector<ShapeRecord> shapes_;
-  std::vector<std::shared_ptr<const ConvexPolyhedron>> owned_;  ///< box and mesh hulls
+  std::vector<std::shared_ptr<const ConvexPolyhedron>> owned_;     ///< box and mesh hulls
+  std::vector<std::shared_ptr<const TriMeshShape>> owned_meshes_;  ///< static meshes' triangles
 };
 
 // m, the radius of curvature the shape's surface has wherever it touches (sphere, capsule and

@@ -222,7 +222,7 @@ void World::restore_state(std::istream& is) {
     c.shape_b = in.i32();
     c.body_a = in.i32();
     c.body_b = in.i32();
-    if (c.shape_a < 0 || c.shape_b <= c.shape_a || c.shape_b >= ns || (k > 0 && c.key() <= last) ||
+    if (c.shape_a < 0 || c.shape_b <= c.shape_a || c.shape_b >= ns || (k > 0 && c.key() < last) ||
         c.body_a != (*shapes_)[c.shape_a].body || c.body_b != (*shapes_)[c.shape_b].body)
       throw InputError("saved state is damaged (contact " + std::to_string(k) + ")");
     last = c.key();
@@ -285,6 +285,7 @@ void World::restore_state(std::istream& is) {
   steps_ = steps;
   contact_stats_ = stats;
   contacts_ = std::move(contacts);
+  after_restore();
 }
 
 }  // namespace simreel

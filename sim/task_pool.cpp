@@ -4,7 +4,7 @@
 
 namespace simreel {
 
-WorkerPool::WorkerPool(int threads) : n_(threads) {
+WorkerPool::WorkerPool(int threads, bool backoff) : n_(threads), backoff_on_(backoff) {
   for (int w = 1; w < n_; ++w) workers_.emplace_back([this, w] { worker_loop(w); });
 }
 
@@ -44,7 +44,7 @@ void WorkerPool::run(Fn fn, void* ctx) {
   // Every worker has finished (done_ acquired): slow_ holds whatever they saw. One stall now and
   // then (a few ms, ~20 in 20 steps of the large pyramid even with this process's priority
   // raised) costs less than the runs it shares; a second within kWindow runs backs off.
-  if (slow_.exchange(false, std::memory_order_relaxed) && ++slow_in_window_ >= 2) {
+  if (slow_.exchange(false, std::memory_order_relaxed) && backoff_on_ && ++slow_in_window_ >= 2) {
     backoff_ = backoff_next_;
     backoff_next_ = std::min(2 * backoff_next_, kBackoffMax);
     slow_in_window_ = window_runs_ = 0;

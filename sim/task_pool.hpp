@@ -35,7 +35,8 @@ namespace simreel {
 class WorkerPool {
  public:
   using Fn = void (*)(void* ctx, int worker, int workers);
-  explicit WorkerPool(int threads);  ///< threads >= 2; worker 0 is the caller of run()
+  /// threads >= 2; worker 0 is the caller of run(). `backoff`: false never runs alone (tests).
+  explicit WorkerPool(int threads, bool backoff = true);
   ~WorkerPool();
   WorkerPool(const WorkerPool&) = delete;
   WorkerPool& operator=(const WorkerPool&) = delete;
@@ -90,6 +91,7 @@ class WorkerPool {
   void worker_loop(int w);
 
   int n_;
+  bool backoff_on_;
   // Each shared counter on its own cache line: the workers spin on them.
   alignas(64) std::atomic<unsigned> gen_{0};  ///< run() generation
   alignas(64) std::atomic<int> done_{0};      ///< workers finished with this run

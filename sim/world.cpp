@@ -25,6 +25,7 @@ const char* to_string(Stage s) {
                                       "store_impulses",
                                       "integrate",
                                       "check",
+                                      "continuous",
                                       "sleep",
                                       "clear",
                                       "derived"};
@@ -75,10 +76,12 @@ World::World(const WorldConfig& config, std::vector<BodyDef> bodies)
     if (d.colliders.empty()) throw InputError(body_label(defs_, i) + " has no colliders");
     m.is_static = d.type == BodyType::static_body;
     m.is_kinematic = d.type == BodyType::kinematic;
-    // Planes have no mass; a static body made of planes only is massless (it never moves).
+    // Planes have no mass, nor have a static body's meshes (triangle meshes, sim/trimesh.hpp); a
+    // static body made of those only is massless (it never moves).
     std::vector<Collider> massive;
     for (const Collider& c : d.colliders)
-      if (c.shape != ShapeKind::plane) massive.push_back(c);
+      if (c.shape != ShapeKind::plane && !(m.is_static && c.shape == ShapeKind::mesh && c.props_C.mass == 0))
+        massive.push_back(c);
     if (massive.empty() && !m.is_static)
       throw InputError(body_label(defs_, i) + ": a plane collider needs a static body");
     const MassProperties mp = massive.empty()   ? MassProperties{}
@@ -124,13 +127,14 @@ World::World(const WorldConfig& config, std::vector<BodyDef> bodies)
       g->bodies.push_back(i);
     }
   }
-  if (cfg_.threads > 1) pool_ = std::make_unique<WorkerPool>(cfg_.threads);
+  if (cfg_.threads > 1) pool_ = std::make_unique<WorkerPool>(cfg_.threads, cfg_.thread_backoff);
   chunk_sum_.resize(cfg_.threads);
   asleep_.assign(defs_.size(), -1);  // everyone awake (init_contacts collides once)
   still_time_.assign(defs_.size(), 0.0);
   init_forces();  // before init_contacts: it takes bodies under forces out of groups_
   init_contacts();
   init_sleep();  // after init_contacts: needs the shapes
+  init_continuous();
   check_spin();
 }
 
@@ -153,6 +157,7 @@ void World::step() {
   }
   bool finite = true;
   bool solved = false;
+  if (ccd_enabled_) save_start_poses();  // the sweeps' start (sim/world_ccd.cpp)
   if (collide_enabled_) {
     {
       Timer t(profiling_, &sec[(int)Stage::update_broad_phase]);
@@ -183,6 +188,16 @@ void World::step() {
   runs[(int)Stage::integrate]++;
   runs[(int)Stage::check]++;
   if (!kinematic_.empty()) stage_kinematic();
+  if (ccd_enabled_ && finite) {
+    bool ran;
+    {
+      Timer t(profiling_, &sec[(int)Stage::continuous]);
+      ran = stage_continuous();
+    }
+    (ran ? runs : skipped)[(int)Stage::continuous]++;
+  } else {
+    skipped[(int)Stage::continuous]++;
+  }
   if (sleep_enabled_) {
     Timer t(profiling_, &sec[(int)Stage::sleep]);
     stage_sleep();

@@ -6,7 +6,7 @@
 //   forces               the scene's forces (sim/forces.hpp) into the accumulators at the step's
 //                        start, through apply_force / apply_torque; impulses due applied once
 //                        (skipped when there are none; gravity is applied inside integration)
-//   update_broad_phase   world boxes of the colliding shapes, sort and sweep -> candidate pairs
+//   update_broad_phase   world boxes of the awake colliding shapes, dynamic tree -> candidate pairs
 //   collide              narrow phase on each pair -> manifolds matched to last step's by feature
 //                        id (warm-start impulses carried over)
 //   prepare_contacts     solver bodies (world frame, fresh R I^-1 R^T) and constraints for the
@@ -34,6 +34,7 @@
 
 #include "sim/body.hpp"
 #include "sim/broad_phase.hpp"
+#include "sim/ccd.hpp"
 #include "sim/contact.hpp"
 #include "sim/contact_settings.hpp"
 #include "sim/contact_solver.hpp"
@@ -49,6 +50,10 @@ struct WorldConfig {
   Vec3 gravity = Vec3(0.0, 0.0, -9.81);  ///< m/s^2
   Integrator integrator = Integrator::automatic;
   int threads = 1;  ///< worker threads for integration (results identical)
+  /// Whether the worker pool may run stages on the calling thread alone while the machine is too
+  /// busy for its barriers (sim/task_pool.hpp "Back-off": timing only, never results). Off in the
+  /// thread-count tests, so that their runs are split among the threads whatever the load.
+  bool thread_backoff = true;
   ContactSettings contacts;
   /// Pairs of body indices that never collide with each other (scene: simulation.ignore_pairs).
   std::vector<std::pair<int, int>> ignore_pairs;
@@ -76,6 +81,7 @@ enum class Stage {
   store_impulses,
   integrate,
   check,
+  continuous,
   sleep,
   clear,
   derived,
@@ -102,6 +108,9 @@ struct Profile {
   long impact_substeps = 0;   ///< substeps with an impact (one more sweep: kImpactSpeed)
   long pool_runs = 0;         ///< parallel stage runs handed to the worker pool (threads > 1)
   long pool_alone_runs = 0;   ///< of which run on the calling thread alone (sim/task_pool.hpp back-off)
+  long swept_bodies = 0;      ///< fast or bullet bodies swept by the continuous stage, summed over steps
+  long toi_pairs = 0;         ///< shape pairs whose time of impact was computed, summed over steps
+  long toi_hits = 0;          ///< swept bodies moved back to their time of impact, summed over steps
 };
 
 // What contact did over the run (simulate --json).
@@ -183,7 +192,8 @@ class World {
 
   // ---- Contacts.
   const ShapeTable& shapes() const { return *shapes_; }
-  const std::vector<Contact>& contacts() const { return contacts_; }  ///< by (shape a, shape b)
+  /// By (shape a, shape b); a pair with a static triangle mesh may have several, consecutive.
+  const std::vector<Contact>& contacts() const { return contacts_; }
   const ContactStats& contact_stats() const { return contact_stats_; }
   bool has_contacts() const { return collide_enabled_; }  ///< false: contact stages always skipped
   int substeps() const { return substeps_; }              ///< contact solver substeps per step (resolved)
@@ -213,17 +223,47 @@ class World {
   void init_contacts();
   bool shapes_may_touch(int a, int b) const;
   void stage_broad_phase();
+  void init_awake();     ///< awake_bodies_, shape_first_ (after init_contacts)
+  void after_restore();  ///< caches of the broad phase and the islands
   void stage_collide();
+  // One candidate pair of stage_collide: its records go to contacts_next_[slot, slot + count).
   struct CollideJob {
-    uint64_t key;  ///< the shape pair
-    int prev;      ///< its record in last step's contact list, or -1
-    bool keep;     ///< both sides inert: last step's record is kept as it is
+    uint64_t key;    ///< the shape pair
+    int prev;        ///< its first record in last step's contact list, or -1
+    int prev_count;  ///< its records there (a pair with a static triangle mesh may have several)
+    int slot;        ///< its first slot in contacts_next_
+    int cap;         ///< slots reserved: 1, or kMaxMeshManifolds for a pair with a mesh
+    int count;       ///< records written
+    int points;      ///< contact points in them (0 for records kept as they were)
+    bool keep;       ///< both sides inert: last step's records are kept as they are
+    bool mesh;       ///< one side is a static triangle mesh (world_trimesh.cpp)
   };
+  // A pair's narrow phase into its slots (records, points, deepest overlap in m); reads only the
+  // state, the shapes, this step's poses and boxes, and last step's contact list: pairs run in
+  // parallel.
+  double collide_job(CollideJob& job);
   double collide_pair(const CollideJob& job, Contact& c) const;
+  // A pair with a static triangle mesh: its manifolds into out[0, kMaxMeshManifolds), each
+  // warm-started from last step's records of the pair; returns how many (world_trimesh.cpp).
+  int collide_mesh_pair(const CollideJob& job, Contact* out, int& points, double& deepest) const;
+  // A fresh record in c for shapes a < b: bodies, mixed friction and restitution, and the impulses
+  // warm-started from `prev` (last step's record of the same manifold) when there is one.
+  void new_contact(Contact& c, int a, int b, const Contact* prev) const;
   bool stage_solve_contacts();  ///< false if a non-finite value appeared
   void stage_kinematic();
   void init_sleep();
   void stage_sleep();
+  void init_continuous();
+  void save_start_poses();
+  bool stage_continuous();  ///< false: nothing was fast
+  bool fast_pair(int a, int b, double closing) const;
+  int collide_ahead(int a, int b, const Pose& xa, const Pose& xb, double speculative, double closing,
+                    PairCache& cache, Manifold& m, Vec3 offset[4]) const;
+  double mesh_toi(int c, int m, const Sweep& s, const Aabb& box, double target, double tolerance,
+                  bool guarded,
+                  int* triangle = nullptr) const;  ///< world_ccd.cpp
+  int collide_mesh_ahead(int c, int m, double speculative, Manifold out[],
+                         Vec3 offset[][4]) const;  ///< world_trimesh.cpp
   bool inert(int i) const;  ///< static, asleep, or kinematic at rest: neither moves nor wakes
   void stage_clear();
   template <typename F>
@@ -282,7 +322,10 @@ class World {
   std::vector<Pose> poses_;                  ///< per moving shape, world pose this step (broad phase)
   std::vector<std::pair<int, int>> ignore_;  ///< body pairs, (lo, hi), sorted
   BroadPhase broad_;
-  int settle_substeps_ = 0;  ///< substeps left with one more sweep after an impact (saved state)
+  std::vector<int> active_shapes_;   ///< this step: moving shapes of awake bodies, then pending_freeze_
+  std::vector<int> pending_freeze_;  ///< shapes of bodies that fell asleep: one box at rest to make
+  std::vector<int> shape_first_;     ///< per body + 1: its shapes are shape_first_[b] .. [b + 1] - 1
+  int settle_substeps_ = 0;          ///< substeps left with one more sweep after an impact (saved state)
 
   // ---- Sleeping (sim/world_sleep.cpp).
   bool sleep_enabled_ = false;
@@ -290,6 +333,10 @@ class World {
   std::vector<double> reach_;       ///< per body: m, farthest shape point from the centroid
   std::vector<double> still_time_;  ///< per body: s slow and touching (saved state)
   std::vector<int> asleep_;         ///< per body: -1 awake, else its island's id (saved state)
+  std::vector<int> island_next_;    ///< per sleeping body: next body of its island, or -1
+  std::vector<int> island_tail_;    ///< per island id: its list's last body (scratch)
+  std::vector<int> awake_bodies_;   ///< dynamic and kinematic bodies awake (ascending when sorted)
+  bool awake_sorted_ = true;        ///< false after a wake appended to awake_bodies_
   int sleeping_ = 0;
   std::vector<int> uf_;             ///< union-find parents (scratch)
   std::vector<double> island_min_;  ///< per island root: least still_time_ (scratch)
@@ -297,16 +344,36 @@ class World {
   std::vector<Contact> contacts_, contacts_next_;
   std::vector<CollideJob> collide_jobs_;  ///< this step's pairs, in key order (stage_collide)
   std::vector<ChunkSum> collide_sums_;    ///< per thread: deepest overlap (stage_collide)
-  std::vector<char> in_contact_;        ///< per body, this step
-  std::vector<int> contact_bodies_;     ///< dynamic and kinematic bodies in contact, ascending
-  std::vector<int> solver_index_;       ///< per body, this step (0: not in the solver)
-  std::vector<char> touched_none_;      ///< per solver body: received no impulse this step
-  int substeps_ = 1;                    ///< contact solver substeps this step
-  int base_substeps_ = 1;               ///< the least (settings, or 1/240 s substeps)
-  std::vector<std::vector<int>> free_;  ///< per group: its bodies not in contact this step
+  std::vector<char> in_contact_;          ///< per body, this step
+  std::vector<int> contact_bodies_;       ///< dynamic and kinematic bodies in contact, ascending
+  std::vector<int> solver_index_;         ///< per body, this step (0: not in the solver)
+  std::vector<char> touched_none_;        ///< per solver body: received no impulse this step
+  int substeps_ = 1;                      ///< contact solver substeps this step
+  int base_substeps_ = 1;                 ///< the least (settings, or 1/240 s substeps)
+  std::vector<std::vector<int>> free_;    ///< per group: its bodies not in contact this step
   std::vector<int> kinematic_;
   ContactSolver solver_;
   ContactStats contact_stats_;
+
+  // ---- Continuous collision (sim/world_ccd.cpp, sim/ccd.hpp). Scratch only: nothing here
+  // outlives a step, so a saved state needs none of it.
+  bool ccd_enabled_ = false;
+  std::vector<int> ccd_movers_;      ///< dynamic and kinematic bodies, ascending
+  std::vector<Vec3> x0_;             ///< per body: centre of mass at the step's start
+  std::vector<Quat> q0_;             ///< per body: orientation at the step's start
+  std::vector<double> min_size_;     ///< per body: m, smallest width of its shapes
+  std::vector<double> body_reach_;   ///< per body: m, farthest shape point from the centre of mass
+  std::vector<double> shape_reach_;  ///< per shape: m, the same for the shape alone
+  std::vector<double> shape_width_;  ///< per shape: m, its smallest width (min_width; planes: infinite)
+  std::vector<int> shape_begin_;     ///< per body: its first shape (shapes are in body order); +1: end
+  std::vector<char> shape_swept_;    ///< per shape: swept this step
+  std::vector<char> bullet_;         ///< per body: dynamic and flagged `bullet`
+  std::vector<double> toi_;          ///< per body: earliest time of impact this step (fraction)
+  std::vector<Sweep> sweeps_;        ///< per body, this step
+  std::vector<int> fast_;            ///< swept bodies this step, ascending
+  std::vector<Aabb> swept_boxes_;    ///< per shape: its box over the whole step
+  std::vector<int> ccd_order_;       ///< sweep_shapes_ sorted by swept box lo.x
+  std::vector<uint64_t> ccd_pairs_;  ///< shape pairs (a << 32 | b) to sweep, this step
 };
 
 }  // namespace simreel

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "sim/collide/mesh.hpp"
 #include "sim/error.hpp"
 #include "sim/task_pool.hpp"
 #include "sim/world.hpp"
@@ -78,6 +79,7 @@ void World::init_contacts() {
   in_contact_.assign(n, 0);
   solver_index_.assign(n, 0);
   free_.resize(groups_.size());
+  init_awake();
   if (!collide_enabled_) return;
   // Bodies overlapping at the start: a warning naming the pair and the depth.
   stage_broad_phase();
@@ -111,13 +113,26 @@ bool World::shapes_may_touch(int a, int b) const {
 
 // World boxes of the moving shapes, grown by the speculative distance and by the farthest any
 // point of the shape can travel this step (|v| + |w| r) dt, so a pair that can touch within the
-// step is found before it does. (Flattened: GCC at -O2 calls Eigen's small products and the pose
-// and bounds helpers here instead of inlining them.)
+// step is found before it does. Only the active shapes are looked at: those of awake bodies, and
+// once those of a body that fell asleep (its box then has no motion margin: a function of its
+// pose alone, as a resumed run computes it). Static and sleeping shapes cost nothing.
+// (Flattened: GCC at -O2 calls Eigen's small products and the pose and bounds helpers here
+// instead of inlining them.)
 __attribute__((flatten)) void World::stage_broad_phase() {
   const ShapeTable& st = *shapes_;
   const double spec = cfg_.contacts.speculative_distance, dt = cfg_.dt;
-  for (int i : sweep_shapes_) {
-    if (!shape_moving_[i]) continue;
+  if (!awake_sorted_) {
+    std::sort(awake_bodies_.begin(), awake_bodies_.end());
+    awake_sorted_ = true;
+  }
+  active_shapes_.clear();
+  for (int b : awake_bodies_)
+    for (int i = shape_first_[b]; i < shape_first_[b + 1]; ++i)
+      if (shape_moving_[i]) active_shapes_.push_back(i);  // (planes are static)
+  // A body that fell asleep: its box at rest (v = w = 0 now), then nothing until it wakes.
+  active_shapes_.insert(active_shapes_.end(), pending_freeze_.begin(), pending_freeze_.end());
+  pending_freeze_.clear();
+  for (int i : active_shapes_) {
     const ShapeRecord& r = st[i];
     const MotionState& s = state_[r.body];
     poses_[i] = ShapeTable::world_pose(r, s);  // kept for collide: the state does not change between
@@ -127,38 +142,57 @@ __attribute__((flatten)) void World::stage_broad_phase() {
     boxes_[i] = Aabb{b.lo - m, b.hi + m};
   }
   broad_.update(
-      boxes_, sweep_shapes_, plane_shapes_, plane_poses_, shape_moving_,
+      boxes_, active_shapes_, sweep_shapes_, plane_shapes_, plane_poses_, shape_moving_,
       [this](int a, int b) { return shapes_may_touch(a, b); }, pairs_);
   profile_.pairs += (long)pairs_.size();
 }
 
-// Narrow phase on each candidate pair; last step's contact for the same pair (found by a merge
-// of the two sorted lists) gives its cache and its points' impulses by id. In three passes, so
-// that the narrow phase, nearly all of the work, runs on every thread:
-//   1. (serial) the merge: each pair's record slot in the new list, its last-step record, and
-//      whether it is kept as it was (both sides inert: asleep, static or a resting kinematic);
-//   2. (threads) collide() on each pair not kept, into its own slot: pairs are independent;
-//   3. (serial, in key order) islands woken by a touch, and the bodies in contact. A pair kept in
-//      pass 1 whose body has just woken is collided then, until no more islands wake.
+// Narrow phase on each candidate pair; last step's records of the same pair (found by a merge of
+// the two sorted lists) give its cache and its points' impulses by id. In three passes, so that
+// the narrow phase, nearly all of the work, runs on every thread, with the results of one
+// sequential pass in key order:
+//   1. (serial) the merge: each pair's slots in the new list (one, or kMaxMeshManifolds for a pair
+//      with a static triangle mesh), its last-step records, and whether they are kept as they
+//      were (both sides inert: asleep, static or a resting kinematic);
+//   2. (threads) each pair not kept collided into its own slots (collide_job): pairs are
+//      independent; kept records copied;
+//   3. (serial, in key order) the touches: a pair with points wakes the islands of its sleeping
+//      bodies and puts its bodies in contact. A pair kept in pass 1 whose body was woken by a pair
+//      before it in key order is collided here, where the sequential pass would have collided it
+//      (a pair after the one that woke it; one before it keeps its records, as there). Then the
+//      records are packed (a mesh pair leaves unused slots).
 void World::stage_collide() {
+  const ShapeTable& st = *shapes_;
   collide_jobs_.clear();
   size_t old = 0;
+  int slots = 0;
+  bool packed = true;  // every job fills its slots exactly
   for (uint64_t key : pairs_) {
     while (old < contacts_.size() && contacts_[old].key() < key) ++old;
-    const int prev = (old < contacts_.size() && contacts_[old].key() == key) ? (int)old : -1;
+    size_t old_end = old;
+    while (old_end < contacts_.size() && contacts_[old_end].key() == key) ++old_end;
     const int a = (int)(key >> 32), b = (int)(key & 0xFFFFFFFFu);
-    // A pair that cannot move keeps its contact as it was when it fell asleep: neither body has
-    // moved since.
-    const bool keep = sleeping_ > 0 && inert((*shapes_)[a].body) && inert((*shapes_)[b].body);
-    if (keep && prev < 0) continue;
-    collide_jobs_.push_back(CollideJob{key, prev, keep});
+    CollideJob job;
+    job.key = key;
+    job.prev = old_end > old ? (int)old : -1;
+    job.prev_count = (int)(old_end - old);
+    // A pair that cannot move keeps its records as they were when it fell asleep: neither body
+    // has moved since.
+    job.keep = sleeping_ > 0 && inert(st[a].body) && inert(st[b].body);
+    job.mesh = st[a].geom.kind == CollideKind::mesh || st[b].geom.kind == CollideKind::mesh;
+    job.cap = std::max(job.mesh ? kMaxMeshManifolds : 1, job.prev_count);
+    job.slot = slots;
+    job.count = job.points = 0;
+    slots += job.cap;
+    packed = packed && !job.mesh && !(job.keep && job.prev_count != 1);
+    collide_jobs_.push_back(job);
   }
   const int n = (int)collide_jobs_.size();
-  contacts_next_.resize(n);
+  contacts_next_.resize(slots);
   collide_sums_.resize(cfg_.threads);
   // Blocks of pairs claimed from a shared counter (pairs cost from a sphere-plane formula to a
   // hull-hull clipping, so fixed shares would leave one thread waiting): which thread collides a
-  // pair changes nothing, as each writes its own slot and the deepest overlap is a maximum.
+  // pair changes nothing, as each writes its own slots and the deepest overlap is a maximum.
   constexpr int kBlock = 32;
   std::atomic<int> next_block{0};
   auto work = [&](int w, int) {
@@ -166,11 +200,13 @@ void World::stage_collide() {
     for (int begin; (begin = kBlock * next_block.fetch_add(1, std::memory_order_relaxed)) < n;) {
       const int end = std::min(n, begin + kBlock);
       for (int j = begin; j < end; ++j) {
-        const CollideJob& job = collide_jobs_[j];
-        if (job.keep)
-          contacts_next_[j] = contacts_[job.prev];
-        else
-          deepest = std::max(deepest, collide_pair(job, contacts_next_[j]));
+        CollideJob& job = collide_jobs_[j];
+        if (job.keep) {
+          for (int k = 0; k < job.prev_count; ++k) contacts_next_[job.slot + k] = contacts_[job.prev + k];
+          job.count = job.prev_count;
+        } else {
+          deepest = std::max(deepest, collide_job(job));
+        }
       }
     }
     collide_sums_[w].value = deepest;
@@ -189,29 +225,40 @@ void World::stage_collide() {
   std::fill(in_contact_.begin(), in_contact_.end(), 0);
   int points = 0;
   bool woke = false;
-  auto touch = [&](const Contact& c) {
-    if (c.count == 0) return;
-    points += c.count;
-    // Something awake comes within reach of a sleeping body: its island wakes.
-    if (asleep_[c.body_a] >= 0) wake(c.body_a), woke = true;
-    if (asleep_[c.body_b] >= 0) wake(c.body_b), woke = true;
-    in_contact_[c.body_a] = in_contact_[c.body_a] || !model_[c.body_a].is_static;
-    in_contact_[c.body_b] = in_contact_[c.body_b] || !model_[c.body_b].is_static;
-  };
-  for (int j = 0; j < n; ++j)
-    if (!collide_jobs_[j].keep) touch(contacts_next_[j]);
-  while (woke) {
-    woke = false;
-    for (int j = 0; j < n; ++j) {
-      CollideJob& job = collide_jobs_[j];
-      if (!job.keep || (inert(contacts_next_[j].body_a) && inert(contacts_next_[j].body_b))) continue;
+  for (CollideJob& job : collide_jobs_) {
+    const int body_a = st[(int)(job.key >> 32)].body, body_b = st[(int)(job.key & 0xFFFFFFFFu)].body;
+    if (job.keep) {
+      if (inert(body_a) && inert(body_b)) continue;
+      // Woken by a pair before this one: collided now, as the sequential pass would.
       job.keep = false;
-      contact_stats_.max_penetration =
-          std::max(contact_stats_.max_penetration, collide_pair(job, contacts_next_[j]));
-      touch(contacts_next_[j]);
+      contact_stats_.max_penetration = std::max(contact_stats_.max_penetration, collide_job(job));
+      packed = packed && job.count == job.cap;
     }
+    if (job.points <= 0) continue;
+    points += job.points;
+    // Something awake comes within reach of a sleeping body: its island wakes.
+    if (asleep_[body_a] >= 0) wake(body_a), woke = true;
+    if (asleep_[body_b] >= 0) wake(body_b), woke = true;
+    in_contact_[body_a] = in_contact_[body_a] || !model_[body_a].is_static;
+    in_contact_[body_b] = in_contact_[body_b] || !model_[body_b].is_static;
+  }
+  if (!packed) {
+    // Records after a job's unused slots move up, in order.
+    int to = 0;
+    for (const CollideJob& job : collide_jobs_)
+      for (int k = 0; k < job.count; ++k, ++to)
+        if (to != job.slot + k) contacts_next_[to] = contacts_next_[job.slot + k];
+    contacts_next_.resize(to);
   }
   contacts_.swap(contacts_next_);
+  if (woke) {
+    // Contacts kept for bodies that slept until now (earlier in key order) are theirs again.
+    for (const Contact& c : contacts_) {
+      if (c.count == 0) continue;
+      if (asleep_[c.body_a] < 0 && !model_[c.body_a].is_static) in_contact_[c.body_a] = 1;
+      if (asleep_[c.body_b] < 0 && !model_[c.body_b].is_static) in_contact_[c.body_b] = 1;
+    }
+  }
   contact_stats_.contacts_max = std::max(contact_stats_.contacts_max, points);
   profile_.contact_points += points;
   contact_bodies_.clear();
@@ -219,8 +266,20 @@ void World::stage_collide() {
     if (in_contact_[i]) contact_bodies_.push_back(i);
 }
 
-// One pair's narrow phase into c (overwritten); returns its deepest overlap (m, >= 0). Reads only
-// the state, the shapes, this step's poses and last step's contact list: pairs run in parallel.
+double World::collide_job(CollideJob& job) {
+  Contact* out = &contacts_next_[job.slot];
+  double deepest = 0;
+  if (job.mesh) {
+    job.count = collide_mesh_pair(job, out, job.points, deepest);
+  } else {
+    deepest = collide_pair(job, *out);
+    job.count = 1;
+    job.points = out->count;
+  }
+  return deepest;
+}
+
+// One convex pair's narrow phase into c (overwritten); returns its deepest overlap (m, >= 0).
 double World::collide_pair(const CollideJob& job, Contact& c) const {
   const ShapeTable& st = *shapes_;
   const double spec = cfg_.contacts.speculative_distance, dt = cfg_.dt;
@@ -230,28 +289,20 @@ double World::collide_pair(const CollideJob& job, Contact& c) const {
   const ShapeRecord& B = st[b];
   const MotionState& sa = state_[A.body];
   const MotionState& sb = state_[B.body];
-  c = Contact{};
-  c.shape_a = a;
-  c.shape_b = b;
-  c.body_a = A.body;
-  c.body_b = B.body;
-  c.friction = std::sqrt(A.friction * B.friction);
-  c.restitution = std::max(A.restitution, B.restitution);
-  if (prev) {
-    c.cache = prev->cache;
-    c.friction_impulse_W = prev->friction_impulse_W;
-    c.twist_impulse = prev->twist_impulse;
-    c.rolling_impulse = prev->rolling_impulse;
-  }
+  new_contact(c, a, b, prev);
+  if (prev) c.cache = prev->cache;
   // How far the two can close this step, bounded: relative speed of their farthest points.
   const double reach_a = (A.p_PC.norm() + A.geom.bounding_radius) * sa.w_P.norm();
   const double reach_b = (B.p_PC.norm() + B.geom.bounding_radius) * sb.w_P.norm();
   const double closing = ((sa.v_W - sb.v_W).norm() + reach_a + reach_b) * dt;
   Manifold m;
+  Vec3 offset[4] = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
   // World poses: the broad phase's for moving shapes (made from this same state).
   const Pose xa = shape_moving_[a] ? poses_[a] : ShapeTable::world_pose(A, sa);
   const Pose xb = shape_moving_[b] ? poses_[b] : ShapeTable::world_pose(B, sb);
-  const int n = collide(A.geom, xa, B.geom, xb, spec + closing, c.cache, m);
+  // A fast pair's speculative manifold is taken where it will touch (sim/world_ccd.cpp).
+  const int n = fast_pair(a, b, closing) ? collide_ahead(a, b, xa, xb, spec, closing, c.cache, m, offset)
+                                         : collide(A.geom, xa, B.geom, xb, spec + closing, c.cache, m);
   c.normal_W = m.normal_W;
   c.count = n;
   double deepest = 0;
@@ -260,6 +311,7 @@ double World::collide_pair(const CollideJob& job, Contact& c) const {
     p.id = m.points[j].id;
     p.p_W = m.points[j].p_W;
     p.separation = m.points[j].separation;
+    p.offset_W = offset[j];
     if (prev) {
       for (int k = 0; k < prev->count; ++k)
         if (prev->points[k].id == p.id) {
@@ -390,6 +442,24 @@ void World::stage_kinematic() {
     s.x_W += h * s.v_W;
     s.q_WP = (rotation_increment(w_W, h) * s.q_WP).normalized();
     s.w_P = s.q_WP.conjugate() * w_W;
+  }
+}
+
+// (Assigned whole: the slots are reused from step to step.)
+void World::new_contact(Contact& c, int a, int b, const Contact* prev) const {
+  const ShapeRecord& A = (*shapes_)[a];
+  const ShapeRecord& B = (*shapes_)[b];
+  c = Contact{};
+  c.shape_a = a;
+  c.shape_b = b;
+  c.body_a = A.body;
+  c.body_b = B.body;
+  c.friction = std::sqrt(A.friction * B.friction);
+  c.restitution = std::max(A.restitution, B.restitution);
+  if (prev) {
+    c.friction_impulse_W = prev->friction_impulse_W;
+    c.twist_impulse = prev->twist_impulse;
+    c.rolling_impulse = prev->rolling_impulse;
   }
 }
 

@@ -36,6 +36,8 @@ void World::init_sleep() {
   }
   uf_.assign(n, 0);
   island_min_.assign(n, 0.0);
+  island_next_.assign(n, -1);
+  island_tail_.assign(n, -1);
 }
 
 bool World::inert(int i) const {
@@ -43,22 +45,77 @@ bool World::inert(int i) const {
   return defs_[i].type == BodyType::kinematic && state_[i].v_W.isZero(0) && state_[i].w_P.isZero(0);
 }
 
-void World::wake(int i) {
-  if ((size_t)i >= asleep_.size() || asleep_[i] < 0) return;
-  const int island = asleep_[i];
-  for (int j : dynamic_)
-    if (asleep_[j] == island) {
-      asleep_[j] = -1;
-      still_time_[j] = 0;
-      --sleeping_;
-    }
+// The bodies that move (dynamic and kinematic), all awake at the start, and each body's shapes
+// (ShapeTable lists them body by body).
+void World::init_awake() {
+  const int n = (int)defs_.size();
+  awake_bodies_.clear();
+  for (int i = 0; i < n; ++i)
+    if (!model_[i].is_static) awake_bodies_.push_back(i);
+  awake_sorted_ = true;
+  pending_freeze_.clear();
+  const ShapeTable& st = *shapes_;
+  shape_first_.assign(n + 1, 0);
+  for (int k = 0; k < st.size(); ++k) shape_first_[st[k].body + 1]++;
+  for (int b = 0; b < n; ++b) shape_first_[b + 1] += shape_first_[b];
 }
 
+// A sleeping island is a list threaded through island_next_, from its id (its least body, itself
+// a member) in ascending order: waking it visits its bodies only, and they join awake_bodies_
+// (sorted again before its next use).
+void World::wake(int i) {
+  if ((size_t)i >= asleep_.size() || asleep_[i] < 0) return;
+  for (int j = asleep_[i]; j >= 0;) {
+    const int next = island_next_[j];
+    asleep_[j] = -1;
+    still_time_[j] = 0;
+    island_next_[j] = -1;
+    --sleeping_;
+    awake_bodies_.push_back(j);
+    j = next;
+  }
+  awake_sorted_ = false;
+}
+
+// After restore_state: the awake list and the islands' lists from asleep_ (saved); the sleeping
+// bodies' boxes made again at rest, and the broad phase started afresh.
+void World::after_restore() {
+  broad_.reset();
+  awake_bodies_.clear();
+  pending_freeze_.clear();
+  for (int i = 0; i < (int)defs_.size(); ++i) {
+    if (model_[i].is_static) continue;
+    if (asleep_[i] < 0) {
+      awake_bodies_.push_back(i);
+      continue;
+    }
+    for (int k = shape_first_[i]; k < shape_first_[i + 1]; ++k)
+      if (shape_moving_[k]) pending_freeze_.push_back(k);
+  }
+  awake_sorted_ = true;
+  if (!sleep_enabled_) return;
+  for (int j : dynamic_) {
+    island_next_[j] = -1;
+    const int r = asleep_[j];
+    if (r < 0) continue;
+    // An island's id is its least body, itself asleep in it (so it comes first here).
+    if (r > j || asleep_[r] != r)
+      throw InputError("saved state is damaged (sleeping island of body '" + defs_[j].name + "')");
+    if (j != r) island_next_[island_tail_[r]] = j;
+    island_tail_[r] = j;
+  }
+}
+
+// Visits the awake bodies and the contacts only: a world asleep costs one pass over its contacts.
 void World::stage_sleep() {
   const double dt = cfg_.dt, speed = cfg_.contacts.sleep_speed;
+  if (!awake_sorted_) {
+    std::sort(awake_bodies_.begin(), awake_bodies_.end());
+    awake_sorted_ = true;
+  }
   // 1. Still time: a body counts it while the solver stepped it and its fastest point is slow.
-  for (int i : dynamic_) {
-    if (asleep_[i] >= 0) continue;
+  for (int i : awake_bodies_) {
+    if (model_[i].inv_mass == 0) continue;  // kinematic
     const MotionState& s = state_[i];
     const bool still = may_sleep_[i] && in_contact_[i] && s.v_W.norm() + reach_[i] * s.w_P.norm() < speed;
     still_time_[i] = still ? still_time_[i] + dt : 0.0;
@@ -66,7 +123,7 @@ void World::stage_sleep() {
   // 2. Islands: union-find over the contacts between two awake dynamic bodies, the smaller root
   // kept (so an island's id, its least body index, does not depend on the contacts' order). A body
   // carried by a moving kinematic body is not still, whatever its own speed.
-  for (int i : dynamic_) uf_[i] = i;
+  for (int i : awake_bodies_) uf_[i] = i;
   auto find = [this](int i) {
     while (uf_[i] != i) i = uf_[i] = uf_[uf_[i]];
     return i;
@@ -87,24 +144,36 @@ void World::stage_sleep() {
     }
   }
   // 3. An island sleeps when its least still body has been still for sleep_time.
-  for (int i : dynamic_)
-    if (asleep_[i] < 0) island_min_[find(i)] = std::numeric_limits<double>::infinity();
-  for (int i : dynamic_)
-    if (asleep_[i] < 0) {
+  for (int i : awake_bodies_)
+    if (model_[i].inv_mass > 0) island_min_[find(i)] = std::numeric_limits<double>::infinity();
+  for (int i : awake_bodies_)
+    if (model_[i].inv_mass > 0) {
       const int r = find(i);
       island_min_[r] = std::min(island_min_[r], still_time_[i]);
     }
+  // Members join their island's list in ascending order; its id, the least, comes first. They
+  // leave awake_bodies_, and their shapes get one box at rest in the next broad phase.
   const double t_sleep = std::max(cfg_.contacts.sleep_time, dt) - 1e-12;
-  for (int i : dynamic_) {
-    if (asleep_[i] >= 0) continue;
-    const int r = find(i);
-    if (!(island_min_[r] >= t_sleep)) continue;
+  size_t kept = 0;
+  for (size_t k = 0; k < awake_bodies_.size(); ++k) {
+    const int i = awake_bodies_[k];
+    const int r = model_[i].inv_mass > 0 ? find(i) : -1;
+    if (r < 0 || !(island_min_[r] >= t_sleep)) {
+      awake_bodies_[kept++] = i;
+      continue;
+    }
     asleep_[i] = r;
+    island_next_[i] = -1;
+    if (i != r) island_next_[island_tail_[r]] = i;
+    island_tail_[r] = i;
     state_[i].v_W.setZero();
     state_[i].w_P.setZero();
     in_contact_[i] = 0;
     ++sleeping_;
+    for (int s = shape_first_[i]; s < shape_first_[i + 1]; ++s)
+      if (shape_moving_[s]) pending_freeze_.push_back(s);
   }
+  awake_bodies_.resize(kept);
 }
 
 }  // namespace simreel

@@ -46,7 +46,9 @@ std::vector<uint8_t> slurp(const std::string& path) {
 
 // The command line that reproduces this run with another --update (for the report).
 std::string command_line(const std::vector<std::string>& args, const std::string& update) {
-  std::string out = "simreel check";
+  // As the user ran it (build/simreel when not on the PATH), so the printed command can be pasted.
+  const bool plain_prog = g_invoked_as.find_first_of(" \t\"'$\\*?;&|<>()") == std::string::npos;
+  std::string out = (plain_prog ? g_invoked_as : "'" + g_invoked_as + "'") + " check";
   bool skip = false;
   for (const std::string& a : args) {
     if (skip) {
@@ -260,6 +262,9 @@ int cmd_check(const std::vector<std::string>& args) {
       rf.scene = scene.name;
       rf.frame = (int)c.target.index;
       rf.time = c.target.time;
+      // Named as its golden is (a moment of simulated time), not by plan frame: "t=1.25s".
+      rf.label = golden_file_name(c.target.time).substr(1);
+      rf.label = "t=" + rf.label.substr(0, rf.label.size() - 4);
       rf.width = c.image.width;
       rf.height = c.image.height;
       const std::string file = golden_file_name(c.target.time);

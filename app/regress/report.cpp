@@ -422,8 +422,11 @@ std::string report_html(const ReportInput& in) {
     for (size_t i : order) {
       const ReportFrame& f = in.frames[i];
       if (rank(f.status) > 1) break;
-      s += "<a href=\"#f" + std::to_string(i) + "\">" + html_escape(f.scene) +
-           (f.frame >= 0 ? " #" + std::to_string(f.frame) : " t=" + fmt("%g", f.time) + "s") + "</a> ";
+      s += "<a href=\"#f" + std::to_string(i) + "\">" + html_escape(f.scene) + " " +
+           (!f.label.empty() ? html_escape(f.label)
+            : f.frame >= 0   ? "#" + std::to_string(f.frame)
+                             : "t=" + fmt("%g", f.time) + "s") +
+           "</a> ";
     }
     s += "</div>";
   }

@@ -18,6 +18,7 @@ struct ReportFrame {
   std::string scene;  // scene name
   int frame = 0;      // frame index; -1 for a moment between frames of the plan (shown by time only)
   double time = 0;    // s
+  std::string label;  // how links name it ("" : "#frame", or "t=...s" for a moment between frames)
   // "pass", "fail", "new" (golden written), "missing" (no golden, not written), "updated"
   std::string status;
   // What changed: "" | "physics" | "rendering" | "size" (check) | "pixels" | "count" (diff: a

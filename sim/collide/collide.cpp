@@ -12,9 +12,14 @@
 //   plane-sphere, plane-ellipsoid   1 point, closed form. The ellipsoid's deepest point along -n is
 //                                   p_C = -diag(r^2) m / |diag(r) m|, m = R^T n (exact support).
 //   plane-capsule                   2 points: the two hemisphere bottoms.
-//   plane-cylinder                  the exact deepest rim point of each end disk, plus three more
-//                                   rim points of the lower disk at 90 degree steps (so a standing
-//                                   cylinder rests on 4 points); reduced to 4.
+//   plane-cylinder                  the exact deepest rim point; with the side facing the plane
+//                                   (axis within ~2.6 degrees of it) also the other end disk's (a
+//                                   lying cylinder rests on 2 points), with the cap facing it
+//                                   (axis within ~2.6 degrees of the normal) three more rim points
+//                                   of the lower disk at 90 degree steps (a standing one on 4).
+//                                   On its rim it touches at one point: a speculative point would
+//                                   move the friction centre off the contact (cylinder-on-face the
+//                                   same).
 //   plane-box, plane-hull           every vertex below the speculative distance, reduced to 4.
 //   sphere-sphere, sphere-capsule   closed form (closest point on the segment).
 //   capsule-capsule                 segment-segment closest points (Ericson 5.1.9); 2 points when
@@ -99,6 +104,11 @@
 //   with all but box and hull)      radius as a margin; when the cores overlap, EPA (van den
 //                                   Bergen 2001) from GJK's final simplex. 1 point.
 //
+//   static triangle mesh with     collide_mesh() (triangles.cpp), not this table: the mesh's tree
+//   any of the above              gives the triangles near the shape, each collided in closed form
+//                                 (sphere, capsule) or by GJK/EPA and face clipping, internal edges
+//                                 handled, grouped into up to four manifolds by normal.
+//
 // REDUCTION (more than 4 candidates): the deepest point, then the point furthest from it in the
 // contact plane, then the two points making the largest signed areas on either side of that
 // diagonal (the quadrilateral of largest area containing the deepest point); ties to the lowest
@@ -145,6 +155,8 @@ const char* to_string(CollideKind k) {
       return "box";
     case CollideKind::hull:
       return "hull";
+    case CollideKind::mesh:
+      return "mesh";
     default:
       return "?";
   }
@@ -184,7 +196,8 @@ void closest_segments(const Vec3& p1, const Vec3& q1, const Vec3& p2, const Vec3
   c2 = p2 + t * d2;
 }
 
-void reduce_to_manifold(const Candidate* c, int n, const Vec3& normal, Manifold& out) {
+void reduce_to_manifold(const Candidate* c, int n, const Vec3& normal, Manifold& out, double tie_depth,
+                        double tie_rel) {
   out.normal_W = normal;
   out.count = 0;
   if (n <= 0) return;
@@ -195,7 +208,7 @@ void reduce_to_manifold(const Candidate* c, int n, const Vec3& normal, Manifold&
   // 1: deepest.
   int i1 = 0;
   for (int i = 1; i < n; ++i)
-    if (c[i].s < c[i1].s) i1 = i;
+    if (c[i].s < c[i1].s - tie_depth) i1 = i;
   // 2: furthest from it in the contact plane.
   auto planar = [&](const Vec3& d) { return Vec3(d - normal.dot(d) * normal); };
   int i2 = -1;
@@ -203,17 +216,18 @@ void reduce_to_manifold(const Candidate* c, int n, const Vec3& normal, Manifold&
   for (int i = 0; i < n; ++i) {
     if (i == i1) continue;
     const double d2 = planar(c[i].p_W - c[i1].p_W).squaredNorm();
-    if (d2 > best) best = d2, i2 = i;
+    if (d2 > best + tie_rel * std::max(best, 0.0)) best = d2, i2 = i;
   }
   // 3 and 4: largest signed area on each side of the diagonal 1-2.
   const Vec3 e = c[i2].p_W - c[i1].p_W;
+  const double atol = tie_rel * best;
   int i3 = -1, i4 = -1;
   double amax = 0, amin = 0;
   for (int i = 0; i < n; ++i) {
     if (i == i1 || i == i2) continue;
     const double a = e.cross(c[i].p_W - c[i1].p_W).dot(normal);
-    if (a > amax) amax = a, i3 = i;
-    if (a < amin) amin = a, i4 = i;
+    if (a > amax + atol) amax = a, i3 = i;
+    if (a < amin - atol) amin = a, i4 = i;
   }
   const int keep[4] = {i1, i2, i3, i4};
   for (int k : keep)
@@ -227,8 +241,10 @@ struct Table {
   constexpr Table() {
     using C = CollideKind;
     auto set = [&](C a, C b, PairFn fn) { f[(int)a][(int)b] = fn; };
-    for (int a = 1; a < K; ++a)
-      for (int b = a; b < K; ++b) f[a][b] = convex_generic;
+    // Convex kinds only: a static mesh pairs through collide_mesh() (triangles.cpp).
+    constexpr int kConvex = (int)C::mesh;
+    for (int a = 1; a < kConvex; ++a)
+      for (int b = a; b < kConvex; ++b) f[a][b] = convex_generic;
     set(C::plane, C::sphere, plane_sphere);
     set(C::plane, C::capsule, plane_capsule);
     set(C::plane, C::cylinder, plane_cylinder);

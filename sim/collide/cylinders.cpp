@@ -14,9 +14,6 @@ namespace simreel::collide_detail {
 
 namespace {
 
-constexpr double kCosTol = 0.999;    // |u . n| >= this: the cap faces n (~2.6 deg, as curved_hull)
-constexpr double kSinTol = 0.04471;  // |u . n| <= this (sqrt(1 - 0.999^2)): the side faces n
-
 // A cylinder in the world: centre, unit axis, radius, half height, and its pose's x and y axes.
 struct Cyl {
   Vec3 c, u, ex, ey;

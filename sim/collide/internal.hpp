@@ -34,8 +34,12 @@ struct Candidate {
 
 // Writes at most four of the n candidates (s <= speculative already) into out: the deepest
 // first, then the one furthest from it, then the two that maximise the quadrilateral's area on
-// either side of that diagonal (projected on the plane normal to n). Ties go to the lowest index.
-void reduce_to_manifold(const Candidate* c, int n, const Vec3& normal, Manifold& out);
+// either side of that diagonal (projected on the plane normal to n). Ties go to the lowest index;
+// with tie_depth (m) and tie_rel > 0 near-ties too: a later candidate displaces the one kept only
+// when deeper by more than tie_depth, or farther or larger in area by more than tie_rel of the
+// largest (triangles.cpp: clipped points equal to the shape's own to rounding stay behind them).
+void reduce_to_manifold(const Candidate* c, int n, const Vec3& normal, Manifold& out, double tie_depth = 0,
+                        double tie_rel = 0);
 
 // Closest point to p on segment [a, b]; t in [0, 1] its parameter.
 inline Vec3 closest_on_segment(const Vec3& p, const Vec3& a, const Vec3& b, double& t) {
@@ -44,6 +48,15 @@ inline Vec3 closest_on_segment(const Vec3& p, const Vec3& a, const Vec3& b, doub
   t = L2 > 0 ? std::clamp((p - a).dot(ab) / L2, 0.0, 1.0) : 0.0;
   return a + t * ab;
 }
+
+// Closest point of triangle (a, b, c) to q (Ericson, Real-Time Collision Detection, 5.1.5), and the
+// feature it lies on: f = 0 the face, 1 + k edge k (vertex k to k + 1), 4 + k vertex k.
+Vec3 closest_on_triangle(const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c, int& f);
+
+// Triangle tri as a three-vertex hull about its centroid (pose: the centroid, no rotation), for
+// GJK/EPA against a triangle of a mesh. The hull is one per thread and reused, so nothing is
+// allocated after a thread's first call; the shape is valid until that thread's next call.
+CollideShape triangle_hull(const Vec3 tri[3], Pose& pose);
 
 // Closest points c1 = p1 + s (q1 - p1), c2 = p2 + t (q2 - p2) of two segments (Ericson, Real-Time
 // Collision Detection, 5.1.9), with the parallel case resolved to s = 0 (or its clamp).
@@ -57,10 +70,27 @@ inline Vec3 any_perpendicular(const Vec3& u) {
   return u.cross(t).normalized();
 }
 
+// Which feature of a cylinder with unit axis u faces a unit direction n: its cap when
+// |u . n| >= kCosTol (~2.6 degrees, as curved_hull's face test), its side when |u . n| <= kSinTol
+// (sqrt(1 - kCosTol^2)), else its rim.
+constexpr double kCosTol = 0.999;
+constexpr double kSinTol = 0.04471;
+
 // The rim points of a cylinder against a plane of unit normal n (pointing from the plane to the
 // cylinder), in the world: 0 the lower disk's deepest point (exact), 1 the upper disk's, 2-4 the
 // lower disk's points at +90, -90 and 180 degrees from the deepest one.
 void cylinder_rim_points(const CollideShape& cyl, const Pose& xc, const Vec3& n, Vec3 q[5]);
+
+// Whether a manifold against a plane of normal n uses rim point i of cylinder_rim_points: the
+// deepest always; the upper disk's only when the side faces the plane (a lying cylinder rests on
+// both ends of its line), the other three only when the cap does (a standing one on four points).
+// A cylinder on its rim touches at one point, and a speculative point in the manifold would move
+// the friction centre (the solver applies friction at the centre of the manifold's points) off
+// the contact: a disk rolling on its rim (Euler's disk, a rolling coin) was braked and toppled.
+inline bool cylinder_rim_point_used(int i, const Vec3& axis_W, const Vec3& n) {
+  const double c = std::fabs(axis_W.dot(n));
+  return i == 0 || (i == 1 ? c <= kSinTol : c >= kCosTol);
+}
 
 // Feature ids of the cylinder-cylinder and capsule-cylinder points (cylinders.cpp): a tag per
 // feature pair plus the point's index (lens: support direction 0-3, then 4 the deepest point;

@@ -69,7 +69,8 @@ int plane_cylinder(const CollideShape&, const Pose& xa, const CollideShape& b, c
   int n = 0;
   for (int i = 0; i < 5; ++i) {
     const double s = pl.n.dot(q[i]) - pl.d;
-    if (s <= spec) c[n++] = {Vec3(q[i] - 0.5 * s * pl.n), s, (uint32_t)i};
+    if (s <= spec && cylinder_rim_point_used(i, xb.R.col(2), pl.n))
+      c[n++] = {Vec3(q[i] - 0.5 * s * pl.n), s, (uint32_t)i};
   }
   reduce_to_manifold(c, n, pl.n, out);
   return out.count;

@@ -863,7 +863,8 @@ int curved_hull(const CollideShape& a, const Pose& xa, const CollideShape& b, co
   const double eps = 1e-12 * (a.bounding_radius + b.bounding_radius);
   for (int i = 0; i < nq; ++i) {
     const double s = m.dot(q[i]) - d;
-    if (s > spec) continue;
+    if (s > spec || (a.kind == CollideKind::cylinder && !cylinder_rim_point_used(i, xa.R.col(2), m)))
+      continue;
     // Inside the face's prism (its side planes, hull frame)?
     const Vec3 x = xb.apply_inverse(q[i]);
     bool inside = true;

@@ -10,8 +10,12 @@
 
 namespace simreel {
 
+struct TriMeshShape;
+
 // Narrow-phase shape kinds, in the order the pair dispatch table uses.
-enum class CollideKind : uint8_t { plane, sphere, capsule, cylinder, ellipsoid, box, hull, count };
+// `mesh` (a static triangle mesh, sim/trimesh.hpp) pairs through collide_mesh() (sim/collide/mesh.hpp),
+// not collide(): it gives several manifolds.
+enum class CollideKind : uint8_t { plane, sphere, capsule, cylinder, ellipsoid, box, hull, mesh, count };
 const char* to_string(CollideKind k);
 
 struct CollideShape {
@@ -23,6 +27,7 @@ struct CollideShape {
   Vec3 half_extents = Vec3::Zero();        ///< m: box
   Vec3 radii = Vec3::Zero();               ///< m: ellipsoid semi-axes along x_C, y_C, z_C
   const ConvexPolyhedron* hull = nullptr;  ///< hull (and box: make_box_polyhedron, owned elsewhere)
+  const TriMeshShape* mesh = nullptr;      ///< mesh: the triangles and their tree (owned elsewhere)
   double bounding_radius = 0;              ///< m, about C's origin (planes: 0, unbounded)
 };
 

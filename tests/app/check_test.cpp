@@ -101,7 +101,15 @@ TEST(Check, GoldensWrittenThenCheckedCleanThenChangesCaught) {
   EXPECT_EQ(r.code, 1) << r.out;
   EXPECT_NE(r.out.find("rendering changed"), std::string::npos) << r.out;
   EXPECT_EQ(r.out.find("physics changed"), std::string::npos) << r.out;
+  {  // The page's jump links name the moments as the goldens do (by time), frame 0 as well as 0.5 s.
+    const std::string page = slurp(fs::path(report) / "index.html");
+    for (const char* l : {">drop t=0s</a>", ">drop t=0.5s</a>", ">drop t=2s</a>"})
+      EXPECT_NE(page.find(l), std::string::npos) << l;
+    EXPECT_EQ(page.find(">drop #"), std::string::npos) << "a link named by frame number";
+  }
   EXPECT_NE(r.out.find("--update changed"), std::string::npos) << "the accept command is printed\n" << r.out;
+  // ... as it was run (here by the binary's full path), so that it can be pasted.
+  EXPECT_NE(r.out.find(std::string(SIMREEL_BIN) + " check "), std::string::npos) << r.out;
   // The same under the portable comparison: a colour change is no noise.
   r = run("check " + recolored + " --goldens " + goldens + " --update none --tolerance portable");
   EXPECT_EQ(r.code, 1) << r.out;

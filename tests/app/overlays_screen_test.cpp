@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 
 #include "app/overlays.hpp"
@@ -216,6 +217,35 @@ TEST(OverlaysScreen, TheWholeLayerIsCrispAfterFxaa) {
       }
   EXPECT_GT(compared, 10000);
   EXPECT_EQ(differ, 0);
+}
+
+// The per-body numbers tilt (deg, the body z axis from the vertical) and precession (rad/s, the
+// axis's turn about the vertical): a body tilted 30 degrees about y and turning at 2 rad/s about
+// the world's vertical: tilt 30, precession 2; turning about its own axis instead: precession 0.
+TEST(OverlaysScreen, TiltAndPrecessionOfABodysAxis) {
+  std::string hud = "{b.tilt:.6f} {b.precession:.6f}";
+  const Scene s = load_scene_text(
+      "simulation: { duration: 1, gravity: [0, 0, 0] }\n"
+      "bodies:\n"
+      "  - { name: b, euler: [0, 30, 0], angular_velocity: [0, 0, 2],\n"
+      "      colliders: [ { shape: box, size: [0.1, 0.2, 0.3] } ] }\n"
+      "overlays: { hud: [\"" +
+          hud + "\"] }\n",
+      (test::scratch_dir() / "tilt.yaml").string());
+  std::string line;
+  {
+    World w(WorldConfig{}, s.bodies);
+    format_hud_line(s.overlays.hud[0], w, 0, 0, Vec3::Zero(), line, 30);
+    EXPECT_EQ(line, "30.000000 2.000000");
+  }
+  std::vector<BodyDef> own = s.bodies;
+  own[0].w_W = own[0].q_WB * Vec3(0, 0, 5);  // about its own z axis: the axis stays put
+  World w(WorldConfig{}, own);
+  format_hud_line(s.overlays.hud[0], w, 0, 0, Vec3::Zero(), line, 30);
+  double tilt = 0, precession = 1;
+  ASSERT_EQ(std::sscanf(line.c_str(), "%lf %lf", &tilt, &precession), 2) << line;
+  EXPECT_NEAR(tilt, 30, 1e-6);
+  EXPECT_NEAR(precession, 0, 1e-6);
 }
 
 }  // namespace

@@ -87,6 +87,17 @@ TEST(SceneOverlays, HudFieldsBodiesComponentsAndNorms) {
   EXPECT_EQ(s.overlays.text_size, 1.5);
 }
 
+TEST(SceneOverlays, TiltAndPrecessionAreNumbersOfABody) {
+  const std::string hud = std::string(kHead) + "overlays: { hud: [\"";
+  EXPECT_NE(error_of(hud + "{handle.tilt.x}\"] }\n").find("'tilt' is a number: no component or |...|"),
+            std::string::npos);
+  EXPECT_NE(error_of(hud + "{precesion}\"] }\n").find("did you mean 'precession'?"), std::string::npos);
+  const Scene s = load_scene(write_scene("tilt.yaml", hud + "{tilt:.1f} {handle.precession}\"] }\n"));
+  ASSERT_EQ(s.overlays.hud[0].fields.size(), 2u);
+  EXPECT_EQ(s.overlays.hud[0].fields[0].body, 0);
+  EXPECT_EQ(s.overlays.hud[0].fields[1].name, "precession");
+}
+
 TEST(SceneOverlays, MistakesNameFileLineAndKey) {
   const std::string show = std::string(kHead) + "    show:\n";
   EXPECT_NE(error_of(show + "      - angular_velocty\n")

@@ -773,3 +773,30 @@ TEST(Scene, ManyCollidersComposeInLinearTimeAndLimitsAreNamed) {
 
 }  // namespace
 }  // namespace simreel
+
+namespace simreel {
+namespace {
+
+// A static body's mesh collides as its triangles (sim/trimesh.hpp): an open mesh (which no
+// dynamic body may weigh) loads, weighs nothing, and becomes one triangle-mesh shape; mass keys
+// on it are errors naming file, line and key.
+TEST(Scene, StaticMeshCollidesAsItsTriangles) {
+  const Scene s = load_scene(write_scene(
+      "tray.yaml",
+      "bodies:\n  - name: tray\n    type: static\n    colliders:\n      - { shape: mesh, file: open_box.obj "
+      "}\n"
+      "  - name: ball\n    position: [0.5, 0.5, 0.5]\n    colliders: [ { shape: sphere, radius: 0.1 } ]\n"));
+  EXPECT_EQ(s.bodies[0].colliders[0].props_C.mass, 0);
+  World w(world_config(s, 1), s.bodies);
+  ASSERT_EQ(w.shapes().size(), 2);
+  EXPECT_EQ(w.shapes()[0].geom.kind, CollideKind::mesh);
+  EXPECT_HAS(
+      error_of("bodies:\n  - static: true\n    colliders:\n      - { shape: mesh, file: open_box.obj, "
+               "density: 3 }\n"),
+      "bodies[0].colliders[0].density: a static body's mesh collides as its triangles and has no mass");
+  // On a dynamic body the same open mesh is still refused (it has no volume to weigh).
+  EXPECT_NE(error_of("bodies:\n  - colliders:\n      - { shape: mesh, file: open_box.obj }\n"), "");
+}
+
+}  // namespace
+}  // namespace simreel

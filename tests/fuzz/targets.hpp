@@ -130,8 +130,12 @@ inline void scene(const uint8_t* data, size_t size) {
     const Scene s = load_scene_text(yaml, "scene.yaml");
     for (const BodyDef& b : s.bodies) {
       bool massive = false;
-      for (const Collider& c : b.colliders) massive = massive || c.shape != ShapeKind::plane;
-      if (!massive) continue;
+      bool trimesh = false;  // a static body's mesh collides as its triangles and weighs nothing
+      for (const Collider& c : b.colliders) {
+        massive = massive || c.shape != ShapeKind::plane;
+        trimesh = trimesh || (c.shape == ShapeKind::mesh && b.type == BodyType::static_body);
+      }
+      if (!massive || trimesh) continue;
       const MassProperties& mp = b.mass_B();
       if (!std::isfinite(mp.mass) || !(mp.mass > 0) || !all_finite(mp.com) || !mp.inertia.allFinite())
         finding("a body with a non-finite or non-positive mass or inertia was loaded");

@@ -14,7 +14,10 @@
 
 #include "sim/collide/internal.hpp"
 #include "sim/collide/manifold.hpp"
+#include "sim/collide/mesh.hpp"
 #include "sim/convex_hull.hpp"
+#include "sim/trimesh.hpp"
+#include "tests/sim/trimesh_fixtures.hpp"
 
 // Counts heap allocations in this test binary (to check that collide() never allocates). GCC
 // flags free() on memory from operator new even when operator new is this malloc wrapper.
@@ -30,6 +33,17 @@ void operator delete(void* p) noexcept {
   std::free(p);
 }
 void operator delete(void* p, std::size_t) noexcept {
+  std::free(p);
+}
+// The nothrow forms too (std::get_temporary_buffer, behind std::stable_partition and
+// std::stable_sort, allocates through them): replaced and counted like the others, else their
+// memory came from the runtime's operator new and went back through the free() above
+// (AddressSanitizer: alloc-dealloc-mismatch), and their allocations went uncounted.
+void* operator new(std::size_t n, const std::nothrow_t&) noexcept {
+  ++g_allocations;
+  return std::malloc(n ? n : 1);
+}
+void operator delete(void* p, const std::nothrow_t&) noexcept {
   std::free(p);
 }
 #pragma GCC diagnostic pop
@@ -1369,6 +1383,38 @@ TEST(Collide, NeverAllocates) {
   EXPECT_EQ(g_allocations.load(), before);
   EXPECT_GT(total, 0);
   EXPECT_EQ(multi, 5);
+}
+
+// Against a static triangle mesh too: a capsule and a box lying across a fine grid (1 cm cells),
+// enough candidate points to fill a cluster and make the collector reduce it on the way.
+TEST(Collide, MeshNeverAllocates) {
+  const TriMeshShape tm = make_trimesh_shape(*trimesh_test::grid(60, 60, 0.01, -0.3, -0.3));
+  CollideShape mesh;
+  mesh.kind = CollideKind::mesh;
+  mesh.mesh = &tm;
+  CollideShape cap;
+  cap.kind = CollideKind::capsule;
+  cap.radius = 0.02;
+  cap.half_length = 0.2;
+  cap.bounding_radius = 0.22;
+  const CollideShape slab = box(Vec3(0.2, 0.15, 0.02));
+  const Mat3 Rx = rot(kPi / 2, Vec3::UnitY());  // the capsule's axis along x: lying
+  const long before = g_allocations.load();
+  int points = 0;
+  for (int i = 0; i < 20; ++i) {
+    const double shift = 0.003 * i;
+    Manifold m[kMaxMeshManifolds];
+    const Pose xc = pose(Vec3(shift, -shift, 0.0199), Rx);
+    const int nc =
+        collide_mesh(mesh, Pose{}, cap, xc, Vec3(-0.25, -0.05, -0.01), Vec3(0.25, 0.05, 0.05), 0.01, m);
+    for (int k = 0; k < nc; ++k) points += m[k].count;
+    const Pose xs = pose(Vec3(shift, shift, 0.0199));
+    const int ns =
+        collide_mesh(mesh, Pose{}, slab, xs, Vec3(-0.25, -0.2, -0.01), Vec3(0.25, 0.2, 0.05), 0.01, m);
+    for (int k = 0; k < ns; ++k) points += m[k].count;
+  }
+  EXPECT_EQ(g_allocations.load(), before);
+  EXPECT_GT(points, 0);
 }
 
 }  // namespace

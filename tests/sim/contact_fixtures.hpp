@@ -14,6 +14,7 @@
 
 #include "sim/body.hpp"
 #include "sim/primitives.hpp"
+#include "sim/state_hash.hpp"
 #include "sim/world.hpp"
 
 namespace simreel::contact_test {
@@ -107,26 +108,7 @@ inline double energy(const World& w) {
   return w.kinetic_energy() + w.potential_energy();
 }
 
-// FNV-1a over every MotionState field of every body, value by value (no padding bytes).
-inline uint64_t state_hash(const World& w) {
-  uint64_t h = 1469598103934665603ull;
-  auto mix = [&h](double x) {
-    unsigned char b[sizeof(double)];
-    std::memcpy(b, &x, sizeof x);
-    for (unsigned char c : b) {
-      h ^= c;
-      h *= 1099511628211ull;
-    }
-  };
-  for (int i = 0; i < w.body_count(); ++i) {
-    const MotionState& s = w.state(i);
-    for (double x : {s.q_WP.w(), s.q_WP.x(), s.q_WP.y(), s.q_WP.z()}) mix(x);
-    for (int k = 0; k < 3; ++k) mix(s.x_W[k]);
-    for (int k = 0; k < 3; ++k) mix(s.v_W[k]);
-    for (int k = 0; k < 3; ++k) mix(s.w_P[k]);
-  }
-  return h;
-}
+using simreel::state_hash;
 
 // Least-squares line y = a + b t; returns {a, b}.
 struct Line {

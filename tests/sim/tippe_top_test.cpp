@@ -119,18 +119,20 @@ double final_theta_deg(const std::vector<TippeSample>& s) {
   return s.back().theta * 180 / kPi;
 }
 
-constexpr double kDuration = 8, kEvery = 0.01;
+constexpr double kDuration = 8, kEvery = 1.0 / 120;  // s; a whole number of steps (kDt)
 
-// The step of the simreel runs: 1/38400 s. The contact solver is first order and prepares its
-// constraints once per step (world inertia, lever arms), and this top is a hard case for it: spun
-// at 120 rad/s with I1 close to I3, its axis cones about L at I3 n / I1 = 133 rad/s while friction
-// turns it over. Jellett's quantity drifted at most, Group II (measured): 8.8e-2 at 1/240 s,
-// 8.7e-3 at 1/2400, 5.3e-3 at 1/4800, 2.6e-3 at 1/9600, 1.3e-3 at 1/19200, 6.3e-4 at 1/38400:
-// first order, and 1e-3 (the issue's) needs 1/38400 (about 1 s of run time per top here). At the
-// default 1/240 s the outcome is wrong: all three tops turn over (Group I to 176 degrees, its
-// Jellett quantity off by 42%); from 1/2400 s on all three match the reference (Group III stops
-// at 116 degrees at 1/2400, 105 at 1/19200; the reference at 103).
-constexpr double kDt = 1.0 / 38400;
+// The step of the simreel runs: the default 1/240 s, with the automatic substeps (1/2400 s here: a
+// body in contact turning more than 0.05 rad per substep gets more). This top is a hard case: spun at
+// 120 rad/s with I1 close to I3, its axis cones about L at I3 n / I1 = 133 rad/s while friction turns
+// it over, so its contact point runs round the sphere and its world inertia turns within a step. The
+// solver tracks the point per substep (sim/contact_refresh.hpp) and takes the top's gyroscopic term
+// with the substep's contact impulse in its midpoint. Measured, Jellett's quantity drifts at most
+// 3.1e-5 (Group I) and 1.9e-4 (Group II) in 8 s, and the three outcomes match the reference (Group III
+// stops at 104.4 degrees, the reference at 103.4). Before (constraints made once per step), Group II
+// drifted 8.8e-2 at 1/240 s and 6.3e-4 at 1/38400 s (first order), and at 1/240 s all three tops
+// turned over (Group I to 176 degrees, its Jellett quantity off by 42%); with the tracking but the
+// gyroscopic term before the impulses, 1.1e-2 at 1/240 s.
+constexpr double kDt = 1.0 / 240;
 
 // Each simreel run once (two tests read them).
 const std::vector<TippeSample>& simulated(double gamma) {
