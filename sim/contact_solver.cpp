@@ -20,6 +20,11 @@ Softness make_softness(double hertz, double zeta, double h) {
 
 namespace {
 
+// The relax's block solve: K + eps diag(K) for the singular K of a face on a face (see
+// ManifoldSolve::block): velocities off by a relative 1e-8, far inside the passes' tolerance (1e-4),
+// and the matrix well enough conditioned (1e8) for double.
+constexpr double kBlockRegularisation = 1e-8;
+
 // A unit vector perpendicular to n, chosen from n alone (deterministic): n x e, with e the world
 // axis least aligned with n.
 Vec3 perpendicular(const Vec3& n) {
@@ -285,6 +290,7 @@ __attribute__((flatten)) void ContactSolver::make_constraint(ContactConstraint& 
   k.fA = centreA - xA;
   k.fB = centreB - xB;
   friction_terms(k, A, B);
+  block_terms(k, A, B);
   // Warm start: last step's friction impulse re-expressed in this step's tangent basis.
   k.tangent_impulse[0] = k.t[0].dot(c.friction_impulse_W);
   k.tangent_impulse[1] = k.t[1].dot(c.friction_impulse_W);
@@ -365,6 +371,37 @@ void ContactSolver::friction_terms(ContactConstraint& k, const SolverBody& A, co
   } else {
     k.tangent_mass.setZero();
   }
+}
+
+// The block solve's matrices (ManifoldSolve::block). K_ij = 1/m_A + 1/m_B + (r_A,i x n).I_A^-1 (r_A,j x n)
+// + (r_B,i x n).I_B^-1 (r_B,j x n): the change of point i's normal velocity per unit impulse at
+// point j (n.n = 1). Fixed within the step (anchors and inertia are), so inverted here once.
+void ContactSolver::block_terms(ContactConstraint& k, const SolverBody& A, const SolverBody& B) {
+  k.block = false;
+  if (k.count < 2) return;
+  const int n = k.count;
+  const double im = A.inv_mass + B.inv_mass;
+  Eigen::Matrix4d K = Eigen::Matrix4d::Identity();
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j <= i; ++j)
+      K(i, j) = K(j, i) = im + k.p[i].rnA.dot(k.p[j].IrnA) + k.p[i].rnB.dot(k.p[j].IrnB);
+  // D_ii = K_ii / a2 (a2 = mass_scale / impulse_scale): see ManifoldSolve::block.
+  const double d = k.soft.mass_scale > 0 ? k.soft.impulse_scale / k.soft.mass_scale : 0.0;
+  Eigen::Matrix4d Ks = K, Kr = K;
+  for (int i = 0; i < n; ++i) {
+    Ks(i, i) += d * K(i, i);
+    Kr(i, i) += kBlockRegularisation * K(i, i);
+  }
+  const Eigen::LLT<Eigen::Matrix4d> ls(Ks), lr(Kr);
+  if (ls.info() != Eigen::Success || lr.info() != Eigen::Success) return;
+  const Eigen::Matrix4d Ms = ls.solve(Eigen::Matrix4d::Identity());
+  const Eigen::Matrix4d Mr = lr.solve(Eigen::Matrix4d::Identity());
+  for (int i = 0, e = 0; i < 4; ++i)
+    for (int j = 0; j <= i; ++j, ++e) {
+      k.block_soft[e] = 0.5 * (Ms(i, j) + Ms(j, i));
+      k.block_rigid[e] = 0.5 * (Mr(i, j) + Mr(j, i));
+    }
+  k.block = true;
 }
 
 namespace {
@@ -546,6 +583,64 @@ struct ManifoldSolve {
     }
   }
 
+  // The block solve: a manifold whose points all rest (the solve: every gap closed, each point
+  // soft) or all touch (the relax: no gap beyond `apart`, each point rigid) is solved at once, to
+  // the fixed point the repeated passes converge to. A pass updates point i by
+  //   dl_i = -m_i ms (vn_i + b_i) - is l_i,  m_i = 1 / K_ii, ms = a2 a3, is = a3,
+  // with l_i the accumulated impulse and vn_i the normal velocity, both as they are at the update.
+  // At the fixed point of the passes dl_i = 0 with l_i = l0_i + x_i (x the change this sweep,
+  // vn = vn0 + K x): 0 = -m_i ms (vn0_i + (K x)_i + b_i) - is (l0_i + x_i); divided by -m_i ms and
+  // with is / ms = 1 / a2:  (K x)_i + (K_ii / a2) x_i = -(vn0_i + b_i) - (K_ii / a2) l0_i, that is
+  //   (K + D) x = -(vn0 + b) - D l0,  D = diag(K_ii / a2),
+  // K = J M^-1 J^T symmetric positive semi-definite and D > 0: positive definite, one solution.
+  // (One point, count 1: x = -m ms (vn0 + b) - is l0, the pass itself.) The solution is accepted
+  // if every accumulated impulse l0 + x stays >= 0 (the clamp inactive: then it is the passes'
+  // limit exactly, which they reach only to their tolerance); else the passes run.
+  // The relax has no softness (ms = 1, is = 0, D = 0) and K x = -(vn0 + b); a face on a face is
+  // four points on three degrees of freedom and K is singular there. Any solution gives the same
+  // velocities (they differ by impulses in the null space of J^T, which move nothing; for a
+  // rectangle's corners (+1, -1, +1, -1), which changes neither the sum nor the twist limit), so
+  // it takes x of (K + eps diag(K)) x = -(vn0 + b), eps = kBlockRegularisation: the least
+  // diag(K)-weighted x, off the exact velocities by a relative eps.
+  void block() {
+    if (!k.block || k.track >= 0) return;
+    const double* M = q.use_bias ? k.block_soft : k.block_rigid;
+    const double d = q.use_bias ? k.soft.impulse_scale / k.soft.mass_scale : 0.0;
+    double r[4];
+    for (int j = 0; j < k.count; ++j) {
+      const ConstraintPoint& p = k.p[j];
+      const double s = sep[j];
+      double bias = 0;
+      if (q.use_bias) {
+        if (s > 0) return;  // speculative: rigid, a row of its own kind (the passes)
+        bias = std::max(k.soft.bias_rate * std::min(0.0, s + q.slop), -q.max_push);
+      } else {
+        if (s > q.apart) return;  // may only release (the passes)
+        if (s > 0) bias = s * q.inv_h;
+      }
+      const double vn = (k.n.dot(B.v) + B.w.dot(p.rnB)) - (k.n.dot(A.v) + A.w.dot(p.rnA));
+      r[j] = -(vn + bias) - (d / p.normal_mass) * p.normal_impulse;
+    }
+    double x[4], total[4];
+    for (int i = 0; i < k.count; ++i) {
+      const int row = i * (i + 1) / 2;
+      double sum = 0;
+      for (int j = 0; j < k.count; ++j) sum += M[j <= i ? row + j : j * (j + 1) / 2 + i] * r[j];
+      x[i] = sum;
+      total[i] = k.p[i].normal_impulse + sum;
+      if (total[i] < 0) return;
+    }
+    for (int j = 0; j < k.count; ++j) {
+      ConstraintPoint& p = k.p[j];
+      p.normal_impulse = total[j];
+      p.max_normal_impulse = std::max(p.max_normal_impulse, total[j]);
+      total_normal += total[j];
+      twist_limit += p.lever * total[j];
+      apply_normal<kStatic>(A, B, k, p, x[j]);
+    }
+    done = true;
+  }
+
   void start_pass() {
     total_normal_pass = 0;
     twist_pass = 0;
@@ -692,6 +787,7 @@ template <int kStatic>
 __attribute__((flatten)) bool solve_one(ContactConstraint& k, const SolveParams& q,
                                         std::vector<SolverBody>& sb) {
   ManifoldSolve<kStatic> m(k, q, sb);
+  m.block();
   while (!m.done) {
     m.start_pass();
     for (int jj = 0; jj < k.count; ++jj) m.point(jj);
@@ -710,6 +806,8 @@ __attribute__((flatten)) bool solve_two(ContactConstraint& k0, ContactConstraint
                                         std::vector<SolverBody>& sb) {
   ManifoldSolve<kStatic0> m0(k0, q, sb);
   ManifoldSolve<kStatic1> m1(k1, q, sb);
+  m0.block();
+  m1.block();
   while (!m0.done && !m1.done) {
     m0.start_pass();
     m1.start_pass();

@@ -89,6 +89,11 @@ struct ContactConstraint {
   int count = 0;
   Softness soft;
   ConstraintPoint p[4];
+  // The block solve of the normal points (count >= 2; sim/README.md "Block solve"): (K + D)^-1 for
+  // the solve (D = diag(K_ii) impulse_scale / mass_scale, the softness) and (K + eps diag(K))^-1
+  // for the relax, K the points' coupling J M^-1 J^T; symmetric, the lower triangle row by row.
+  double block_soft[10], block_rigid[10];
+  bool block = false;  ///< both made (count >= 2, K + D positive definite)
   // A contact whose point runs over a smooth surface (a rim, an ellipsoid, ...: sim/contact_refresh.hpp):
   // its index in the solver's tracked list, or -1.
   int track = -1;
@@ -182,6 +187,7 @@ class ContactSolver {
   void integrate_velocity(int k, double h);
   static void normal_terms(ConstraintPoint& p, const Vec3& n, const SolverBody& A, const SolverBody& B);
   static void friction_terms(ContactConstraint& k, const SolverBody& A, const SolverBody& B);
+  static void block_terms(ContactConstraint& k, const SolverBody& A, const SolverBody& B);
   void refresh_tracked(int w, int nw);  ///< the tracked points and their bodies' inertia (inside on_workers)
   void restitution_one(ContactConstraint& k, double threshold);
   // Fewer constraints than this are solved on the calling thread alone.
