@@ -7,7 +7,8 @@
 //     integrate velocities  v += h (g + f/m); w += h I_W^-1 tau, then the implicit gyroscopic
 //                           term (one Newton step of I (w' - w) + h w' x I w' = 0, Catto 2015);
 //     warm start            apply the accumulated impulses (an impulse per substep);
-//     solve                 normal (soft, with bias) then friction, Gauss-Seidel in a fixed order;
+//     solve                 normal (soft, with bias) then friction, Gauss-Seidel in a fixed order
+//                           (a manifold's resting points solved together: ManifoldSolve::block);
 //     integrate positions   dp += h v; dq <- exp(h w / 2) dq (exact rotation for constant w);
 //     relax                 solve again without bias, so push-out does not become velocity;
 //     restitution           points that hit faster than the threshold this substep bounce;
@@ -97,8 +98,9 @@ struct ContactConstraint {
 // What the three sweeps (warm start, solve, relax) read and write of a constraint, packed from its
 // ContactConstraint in prepare (and again for a tracked point after it moves): the same values, less
 // the anchors, the friction centre, rolling resistance and the restitution records (about 1.4 KB
-// instead of 1.8). The sweeps are memory-bound in large scenes (the large pyramid streams its
-// 17,000 constraints three times a substep), so what they do not read stays in the full record.
+// instead of 1.8). In large scenes the sweeps wait on memory (the large pyramid streams its 17,000
+// constraints three times a substep; sampled, a sixth of its time sits on the prefetches of the
+// next constraints), so what they do not read stays in the full record.
 struct SweepPoint {
   Vec3 rnA, rnB, IrnA, IrnB;  ///< as ConstraintPoint
   Vec3 cA, cB;                ///< as ConstraintPoint
