@@ -56,8 +56,9 @@ void visit_forces(const World& w, ForceVisitor& v);
 template <class F>
 void visit_contacts(const World& w, int body, F&& f) {
   const double h = w.config().dt / std::max(1, w.substeps());
-  for (const Contact& c : w.contacts()) {
-    if (c.count == 0 || (c.body_a != body && c.body_b != body)) continue;
+  // The step's contacts and those of sleeping pairs (kept as they were when the pair fell asleep).
+  w.for_each_contact([&](const Contact& c) {
+    if (c.count == 0 || (c.body_a != body && c.body_b != body)) return;
     const double sign = c.body_b == body ? 1.0 : -1.0;  // normal_W points from A to B
     double sum = 0;
     for (int j = 0; j < c.count; ++j) sum += c.points[j].normal_impulse;
@@ -66,7 +67,7 @@ void visit_contacts(const World& w, int body, F&& f) {
       const Vec3 P = lam * c.normal_W + (sum > 0 ? lam / sum : 1.0 / c.count) * c.friction_impulse_W;
       f(c.points[j].p_W, Vec3(sign * c.normal_W), Vec3(sign * P / h));
     }
-  }
+  });
 }
 
 // Okabe-Ito colour-blind-safe palette (B. Wong, Nature Methods 8, 441, 2011), as linear RGB.

@@ -223,9 +223,10 @@ uint64_t simreel_run(const Scene& s, bool profile, Result* r, Profile* prof, dou
   r->cpu_seconds = cpu;
   r->steps = w.steps();
   r->pen_engine = w.contact_stats().max_penetration;
-  for (const Contact& c : w.contacts())
+  w.for_each_contact([r](const Contact& c) {  // the step's and the sleeping pairs'
     for (int j = 0; j < c.count; ++j)
       r->final_pen_engine = std::max(r->final_pen_engine, -c.points[j].separation);
+  });
   const uint64_t h = state_hash(w);
   char buf[160];
   std::snprintf(buf, sizeof buf, "state hash %016" PRIx64 "; substeps %d; contacts_max %d; asleep at end %d",

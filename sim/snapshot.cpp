@@ -145,8 +145,9 @@ void World::save_state(std::ostream& os) const {
   }
   o.i32(contact_stats_.contacts_max);
   o.f64(contact_stats_.max_penetration);
-  o.u32((uint32_t)contacts_.size());
-  for (const Contact& c : contacts_) {
+  // contacts_ and resting_ merged in key order: the one list stage_collide keeps.
+  o.u32((uint32_t)(contacts_.size() + resting_.size()));
+  for_each_contact([&o](const Contact& c) {
     o.i32(c.shape_a);
     o.i32(c.shape_b);
     o.i32(c.body_a);
@@ -168,7 +169,7 @@ void World::save_state(std::ostream& os) const {
     o.i32(c.cache.b);
     o.f64(c.friction);
     o.f64(c.restitution);
-  }
+  });
   o.u32((uint32_t)fired_.size());
   for (char f : fired_) o.u8((uint8_t)f);
   o.i32(settle_substeps_);
@@ -285,6 +286,8 @@ void World::restore_state(std::istream& is) {
   steps_ = steps;
   contact_stats_ = stats;
   contacts_ = std::move(contacts);
+  resting_.clear();  // the resting records move there again in the next collide
+  resting_keys_.clear();
   after_restore();
 }
 

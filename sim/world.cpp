@@ -164,7 +164,7 @@ void World::step() {
       stage_broad_phase();
     }
     runs[(int)Stage::update_broad_phase]++;
-    if (pairs_.empty() && contacts_.empty()) {
+    if (pairs_.empty() && contacts_.empty() && resting_.empty()) {
       skipped[(int)Stage::collide]++;  // nothing close, nothing was: no contact bodies either
     } else {
       {

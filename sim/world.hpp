@@ -192,8 +192,21 @@ class World {
 
   // ---- Contacts.
   const ShapeTable& shapes() const { return *shapes_; }
-  /// By (shape a, shape b); a pair with a static triangle mesh may have several, consecutive.
+  /// The records that may act this step (at least one side awake, or kinematic), by (shape a,
+  /// shape b); a pair with a static triangle mesh may have several, consecutive.
   const std::vector<Contact>& contacts() const { return contacts_; }
+  /// The records of pairs whose two sides are asleep or static, by (shape a, shape b): kept as
+  /// they were when the pair fell asleep, untouched until a side wakes (stage_collide).
+  const std::vector<Contact>& resting_contacts() const { return resting_; }
+  /// f(const Contact&) for the records of both lists, merged in key order (the one list the
+  /// sequential pass keeps; what a saved state holds).
+  template <class F>
+  void for_each_contact(F&& f) const {
+    for (size_t i = 0, r = 0; i < contacts_.size() || r < resting_.size();)
+      f(r == resting_.size() || (i < contacts_.size() && contacts_[i].key() < resting_[r].key())
+            ? contacts_[i++]
+            : resting_[r++]);
+  }
   const ContactStats& contact_stats() const { return contact_stats_; }
   bool has_contacts() const { return collide_enabled_; }  ///< false: contact stages always skipped
   int substeps() const { return substeps_; }              ///< contact solver substeps per step (resolved)
@@ -228,20 +241,26 @@ class World {
   void stage_collide();
   // One candidate pair of stage_collide: its records go to contacts_next_[slot, slot + count).
   struct CollideJob {
-    uint64_t key;    ///< the shape pair
-    int prev;        ///< its first record in last step's contact list, or -1
-    int prev_count;  ///< its records there (a pair with a static triangle mesh may have several)
-    int slot;        ///< its first slot in contacts_next_
-    int cap;         ///< slots reserved: 1, or kMaxMeshManifolds for a pair with a mesh
-    int count;       ///< records written
-    int points;      ///< contact points in them (0 for records kept as they were)
-    bool keep;       ///< both sides inert: last step's records are kept as they are
-    bool mesh;       ///< one side is a static triangle mesh (world_trimesh.cpp)
+    uint64_t key;        ///< the shape pair
+    int body_a, body_b;  ///< the shapes' bodies
+    int prev;            ///< its first record in last step's contacts_ (resting_ if stored), or -1
+    int prev_count;      ///< its records there (a pair with a static triangle mesh may have several)
+    int slot;            ///< its first slot in contacts_next_
+    int cap;             ///< slots reserved: 1, or kMaxMeshManifolds for a pair with a mesh
+    int count;           ///< records written
+    int points;          ///< contact points in them (0 for records kept as they were)
+    bool keep;           ///< both sides inert: last step's records are kept as they are
+    bool stored;         ///< last step's records are in resting_ (kept there, no slots, while keep)
+    bool mesh;           ///< one side is a static triangle mesh (world_trimesh.cpp)
   };
   // A pair's narrow phase into its slots (records, points, deepest overlap in m); reads only the
   // state, the shapes, this step's poses and boxes, and last step's contact list: pairs run in
   // parallel.
   double collide_job(CollideJob& job);
+  const Contact* prev_record(const CollideJob& job) const {
+    return job.prev < 0 ? nullptr : job.stored ? &resting_[job.prev] : &contacts_[job.prev];
+  }
+  bool resting(int i) const { return model_[i].is_static || asleep_[i] >= 0; }  ///< static or asleep
   double collide_pair(const CollideJob& job, Contact& c) const;
   // A pair with a static triangle mesh: its manifolds into out[0, kMaxMeshManifolds), each
   // warm-started from last step's records of the pair; returns how many (world_trimesh.cpp).
@@ -264,7 +283,9 @@ class World {
                   int* triangle = nullptr) const;  ///< world_ccd.cpp
   int collide_mesh_ahead(int c, int m, double speculative, Manifold out[],
                          Vec3 offset[][4]) const;  ///< world_trimesh.cpp
-  bool inert(int i) const;  ///< static, asleep, or kinematic at rest: neither moves nor wakes
+  /// static, asleep, or kinematic at rest: neither moves nor wakes (asleep_ first: a compact array)
+  bool inert(int i) const { return asleep_[i] >= 0 || model_[i].is_static || kinematic_at_rest(i); }
+  bool kinematic_at_rest(int i) const;
   void stage_clear();
   template <typename F>
   void for_each_chunk(F& f);
@@ -325,6 +346,7 @@ class World {
   std::vector<int> active_shapes_;   ///< this step: moving shapes of awake bodies, then pending_freeze_
   std::vector<int> pending_freeze_;  ///< shapes of bodies that fell asleep: one box at rest to make
   std::vector<int> shape_first_;     ///< per body + 1: its shapes are shape_first_[b] .. [b + 1] - 1
+  std::vector<int> shape_body_;      ///< per shape: its body (ShapeTable's, in a compact array)
   int settle_substeps_ = 0;          ///< substeps left with one more sweep after an impact (saved state)
 
   // ---- Sleeping (sim/world_sleep.cpp).
@@ -342,6 +364,10 @@ class World {
   std::vector<double> island_min_;  ///< per island root: least still_time_ (scratch)
   std::vector<uint64_t> pairs_;
   std::vector<Contact> contacts_, contacts_next_;
+  // Records of pairs between sleeping or static bodies (a kinematic body at rest excluded: it may
+  // move without being woken), key order: no work per step while they sleep (stage_collide).
+  std::vector<Contact> resting_, resting_next_;
+  std::vector<uint64_t> resting_keys_, resting_keys_next_;  ///< resting_[i].key(), compact for the merge
   std::vector<CollideJob> collide_jobs_;  ///< this step's pairs, in key order (stage_collide)
   std::vector<ChunkSum> collide_sums_;    ///< per thread: deepest overlap (stage_collide)
   std::vector<char> in_contact_;          ///< per body, this step

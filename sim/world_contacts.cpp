@@ -148,45 +148,72 @@ __attribute__((flatten)) void World::stage_broad_phase() {
 }
 
 // Narrow phase on each candidate pair; last step's records of the same pair (found by a merge of
-// the two sorted lists) give its cache and its points' impulses by id. In three passes, so that
-// the narrow phase, nearly all of the work, runs on every thread, with the results of one
-// sequential pass in key order:
+// the sorted lists) give its cache and its points' impulses by id. In three passes, so that the
+// narrow phase, nearly all of the work, runs on every thread, with the results of one sequential
+// pass in key order:
 //   1. (serial) the merge: each pair's slots in the new list (one, or kMaxMeshManifolds for a pair
 //      with a static triangle mesh), its last-step records, and whether they are kept as they
 //      were (both sides inert: asleep, static or a resting kinematic);
 //   2. (threads) each pair not kept collided into its own slots (collide_job): pairs are
-//      independent; kept records copied;
+//      independent; kept records copied, unless they rest in resting_;
 //   3. (serial, in key order) the touches: a pair with points wakes the islands of its sleeping
 //      bodies and puts its bodies in contact. A pair kept in pass 1 whose body was woken by a pair
 //      before it in key order is collided here, where the sequential pass would have collided it
 //      (a pair after the one that woke it; one before it keeps its records, as there). Then the
 //      records are packed (a mesh pair leaves unused slots).
+// Records of a pair whose two sides are asleep or static live in resting_, apart from contacts_,
+// and stay where they are while the pair sleeps: a sleeping pair costs its key in the merge and
+// nothing else (no copy; the solver and the sleep stage never see it). Both lists are rebuilt
+// only in a step where a record enters or leaves resting_ (an island falls asleep or wakes, a
+// pair leaves the broad phase). contacts_ and resting_ together, in key order, are the one list
+// the sequential pass keeps (and the saved state holds).
 void World::stage_collide() {
   const ShapeTable& st = *shapes_;
   collide_jobs_.clear();
-  size_t old = 0;
-  int slots = 0;
-  bool packed = true;  // every job fills its slots exactly
+  size_t old = 0, rest = 0;
+  int slots = 0, busy = 0;     // busy: pairs collided or copied
+  bool packed = true;          // every job fills its slots exactly
+  bool resting_moves = false;  // a record enters or leaves resting_ this step
   for (uint64_t key : pairs_) {
     while (old < contacts_.size() && contacts_[old].key() < key) ++old;
     size_t old_end = old;
     while (old_end < contacts_.size() && contacts_[old_end].key() == key) ++old_end;
+    // Resting records of a pair the broad phase no longer reports are dropped, as contacts_' are.
+    for (; rest < resting_keys_.size() && resting_keys_[rest] < key; ++rest) resting_moves = true;
+    size_t rest_end = rest;
+    while (rest_end < resting_keys_.size() && resting_keys_[rest_end] == key) ++rest_end;
     const int a = (int)(key >> 32), b = (int)(key & 0xFFFFFFFFu);
+    const int body_a = shape_body_[a], body_b = shape_body_[b];
     CollideJob job;
     job.key = key;
-    job.prev = old_end > old ? (int)old : -1;
-    job.prev_count = (int)(old_end - old);
+    job.body_a = body_a;
+    job.body_b = body_b;
+    job.stored = rest_end > rest;
+    job.prev = job.stored ? (int)rest : old_end > old ? (int)old : -1;
+    job.prev_count = job.stored ? (int)(rest_end - rest) : (int)(old_end - old);
     // A pair that cannot move keeps its records as they were when it fell asleep: neither body
     // has moved since.
-    job.keep = sleeping_ > 0 && inert(st[a].body) && inert(st[b].body);
-    job.mesh = st[a].geom.kind == CollideKind::mesh || st[b].geom.kind == CollideKind::mesh;
-    job.cap = std::max(job.mesh ? kMaxMeshManifolds : 1, job.prev_count);
-    job.slot = slots;
+    job.keep = sleeping_ > 0 && inert(body_a) && inert(body_b);
     job.count = job.points = 0;
-    slots += job.cap;
-    packed = packed && !job.mesh && !(job.keep && job.prev_count != 1);
+    if (job.keep && job.stored) {
+      job.mesh = false;  // (not looked at: the shape records are not touched)
+      job.cap = 0;       // its records stay in resting_
+      job.slot = -1;
+      job.count = job.prev_count;
+    } else {
+      job.mesh = st[a].geom.kind == CollideKind::mesh || st[b].geom.kind == CollideKind::mesh;
+      // Woken since (its records leave resting_), or fell asleep last step (they enter it).
+      resting_moves = resting_moves || job.stored || (job.keep && resting(body_a) && resting(body_b));
+      job.cap = std::max(job.mesh ? kMaxMeshManifolds : 1, job.prev_count);
+      job.slot = slots;
+      slots += job.cap;
+      ++busy;
+      packed = packed && !job.mesh && !(job.keep && job.prev_count != 1);
+    }
     collide_jobs_.push_back(job);
+    rest = rest_end;
   }
+  resting_moves = resting_moves || rest < resting_keys_.size();
   const int n = (int)collide_jobs_.size();
   contacts_next_.resize(slots);
   collide_sums_.resize(cfg_.threads);
@@ -202,6 +229,7 @@ void World::stage_collide() {
       for (int j = begin; j < end; ++j) {
         CollideJob& job = collide_jobs_[j];
         if (job.keep) {
+          if (job.stored) continue;
           for (int k = 0; k < job.prev_count; ++k) contacts_next_[job.slot + k] = contacts_[job.prev + k];
           job.count = job.prev_count;
         } else {
@@ -215,7 +243,7 @@ void World::stage_collide() {
   // (The pool may also run it as worker 0 of 1: sim/task_pool.hpp.)
   constexpr int kMinParallelPairs = 64;
   for (ChunkSum& d : collide_sums_) d.value = 0;
-  if (pool_ && n >= kMinParallelPairs)
+  if (pool_ && busy >= kMinParallelPairs)
     pool_->run(work);
   else
     work(0, 1);
@@ -226,11 +254,21 @@ void World::stage_collide() {
   int points = 0;
   bool woke = false;
   for (CollideJob& job : collide_jobs_) {
-    const int body_a = st[(int)(job.key >> 32)].body, body_b = st[(int)(job.key & 0xFFFFFFFFu)].body;
+    const int body_a = job.body_a, body_b = job.body_b;
     if (job.keep) {
-      if (inert(body_a) && inert(body_b)) continue;
+      // (Only a wake in this pass can end a kept pair's rest.)
+      if (!woke || (inert(body_a) && inert(body_b))) continue;
       // Woken by a pair before this one: collided now, as the sequential pass would.
       job.keep = false;
+      if (job.stored) {
+        // Slots after all others (the records are then packed by the rebuild below).
+        job.mesh = st[(int)(job.key >> 32)].geom.kind == CollideKind::mesh ||
+                   st[(int)(job.key & 0xFFFFFFFFu)].geom.kind == CollideKind::mesh;
+        job.cap = std::max(job.mesh ? kMaxMeshManifolds : 1, job.prev_count);
+        job.slot = (int)contacts_next_.size();
+        contacts_next_.resize(contacts_next_.size() + job.cap);
+        resting_moves = true;
+      }
       contact_stats_.max_penetration = std::max(contact_stats_.max_penetration, collide_job(job));
       packed = packed && job.count == job.cap;
     }
@@ -242,15 +280,43 @@ void World::stage_collide() {
     in_contact_[body_a] = in_contact_[body_a] || !model_[body_a].is_static;
     in_contact_[body_b] = in_contact_[body_b] || !model_[body_b].is_static;
   }
-  if (!packed) {
-    // Records after a job's unused slots move up, in order.
-    int to = 0;
+  // A resting pair woken by a pair after it in key order keeps its records, which leave resting_.
+  if (woke && !resting_moves)
     for (const CollideJob& job : collide_jobs_)
-      for (int k = 0; k < job.count; ++k, ++to)
-        if (to != job.slot + k) contacts_next_[to] = contacts_next_[job.slot + k];
-    contacts_next_.resize(to);
+      if (job.keep && job.stored && !(resting(job.body_a) && resting(job.body_b))) {
+        resting_moves = true;
+        break;
+      }
+  if (resting_moves) {
+    // Both lists afresh, each in key order: a pair's records go to resting_ if both its bodies
+    // are asleep or static now, else to contacts_ (last step's contacts_ is no longer read).
+    contacts_.clear();
+    resting_next_.clear();
+    resting_keys_next_.clear();
+    for (const CollideJob& job : collide_jobs_) {
+      const Contact* from = job.keep && job.stored ? &resting_[job.prev] : &contacts_next_[job.slot];
+      if (resting(job.body_a) && resting(job.body_b)) {
+        resting_next_.insert(resting_next_.end(), from, from + job.count);
+        resting_keys_next_.insert(resting_keys_next_.end(), job.count, job.key);
+      } else {
+        contacts_.insert(contacts_.end(), from, from + job.count);
+      }
+    }
+    resting_.swap(resting_next_);
+    resting_keys_.swap(resting_keys_next_);
+  } else {
+    if (!packed) {
+      // Records after a job's unused slots move up, in order.
+      int to = 0;
+      for (const CollideJob& job : collide_jobs_) {
+        if (job.keep && job.stored) continue;
+        for (int k = 0; k < job.count; ++k, ++to)
+          if (to != job.slot + k) contacts_next_[to] = contacts_next_[job.slot + k];
+      }
+      contacts_next_.resize(to);
+    }
+    contacts_.swap(contacts_next_);
   }
-  contacts_.swap(contacts_next_);
   if (woke) {
     // Contacts kept for bodies that slept until now (earlier in key order) are theirs again.
     for (const Contact& c : contacts_) {
@@ -284,7 +350,7 @@ double World::collide_pair(const CollideJob& job, Contact& c) const {
   const ShapeTable& st = *shapes_;
   const double spec = cfg_.contacts.speculative_distance, dt = cfg_.dt;
   const int a = (int)(job.key >> 32), b = (int)(job.key & 0xFFFFFFFFu);
-  const Contact* prev = job.prev >= 0 ? &contacts_[job.prev] : nullptr;
+  const Contact* prev = prev_record(job);
   const ShapeRecord& A = st[a];
   const ShapeRecord& B = st[b];
   const MotionState& sa = state_[A.body];

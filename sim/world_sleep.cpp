@@ -40,8 +40,7 @@ void World::init_sleep() {
   island_tail_.assign(n, -1);
 }
 
-bool World::inert(int i) const {
-  if (model_[i].is_static || asleep_[i] >= 0) return true;
+bool World::kinematic_at_rest(int i) const {
   return defs_[i].type == BodyType::kinematic && state_[i].v_W.isZero(0) && state_[i].w_P.isZero(0);
 }
 
@@ -56,7 +55,8 @@ void World::init_awake() {
   pending_freeze_.clear();
   const ShapeTable& st = *shapes_;
   shape_first_.assign(n + 1, 0);
-  for (int k = 0; k < st.size(); ++k) shape_first_[st[k].body + 1]++;
+  shape_body_.resize(st.size());
+  for (int k = 0; k < st.size(); ++k) shape_first_[st[k].body + 1]++, shape_body_[k] = st[k].body;
   for (int b = 0; b < n; ++b) shape_first_[b + 1] += shape_first_[b];
 }
 
@@ -106,7 +106,8 @@ void World::after_restore() {
   }
 }
 
-// Visits the awake bodies and the contacts only: a world asleep costs one pass over its contacts.
+// Visits the awake bodies and the step's contacts only (a sleeping pair's records are in resting_,
+// which nothing here needs: both its sides are asleep or static): a world asleep costs nothing.
 void World::stage_sleep() {
   const double dt = cfg_.dt, speed = cfg_.contacts.sleep_speed;
   if (!awake_sorted_) {

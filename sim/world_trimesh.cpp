@@ -1,7 +1,7 @@
 // World's narrow phase for pairs with a static triangle mesh (sim/collide/mesh.hpp): one Contact
-// record per manifold, several per pair, consecutive in contacts_ (same key). Each new manifold is
-// warm-started from last step's record of the pair whose normal is closest to its own (within
-// kMatchCos), each record used once; points by feature id as for every pair.
+// record per manifold, several per pair, consecutive in contacts_ or resting_ (same key). Each new manifold
+// is warm-started from last step's record of the pair whose normal is closest to its own (within kMatchCos),
+// each record used once; points by feature id as for every pair.
 #include <algorithm>
 #include <cmath>
 
@@ -46,7 +46,7 @@ int World::collide_mesh_pair(const CollideJob& job, Contact* out, int& points, d
     for (int i = 0; i < nm; ++i)
       for (int j = 0; j < 4; ++j) offset[i][j].setZero();
   }
-  const Contact* old = job.prev >= 0 ? &contacts_[job.prev] : nullptr;
+  const Contact* old = prev_record(job);
   const int old_count = job.prev_count;
   bool used[kMaxMeshManifolds * 4] = {};
   points = 0;

@@ -227,6 +227,74 @@ TEST(TriMeshCollide, SphereInACreaseGetsOneManifoldPerFace) {
   }
 }
 
+// A sphere near the edges and corners of a closed box mesh (the 1 cm x 50 x 50 cm wall of
+// tests/sim/ccd_mesh_test.cpp, 5 cm cells), within a speculative distance as large as a fast
+// ball's (10 cm): every contact along an edge's or a vertex's own normal (not a face normal) is
+// at the sphere's nearest point of the box, closed form: normal (q - c) / |q - c| and separation
+// |q - c| - r with c the centre q clamped to the box. A vertex farther along a convex edge is not
+// the nearest point; its contact, tilted along the edge, is a ghost (a ball sliding off the edge
+// was kicked away from the face by one: CcdMesh.SphereSlidingOffTheMeshWallsEdgeKeepsItsVelocity).
+// And apart, the deepest point is that one (the mesh never reports less than the distance).
+TEST(TriMeshCollide, SphereEdgeAndVertexContactsOnABoxAreAtItsNearestPoint) {
+  const Vec3 h(0.005, 0.25, 0.25);
+  const int cells[3] = {1, 10, 10};
+  TriMeshShape tm = make_trimesh_shape(*cuboid(h, cells));
+  CollideShape mesh;
+  mesh.kind = CollideKind::mesh;
+  mesh.mesh = &tm;
+  CollideShape s;
+  s.kind = CollideKind::sphere;
+  s.radius = 0.025;
+  s.bounding_radius = 0.025;
+  const double spec = 0.1;
+  std::mt19937_64 rng(15);
+  std::uniform_real_distribution<double> U(-1, 1), D(0, 0.03);
+  int edge_contacts = 0;
+  double worst = 0;
+  for (int it = 0; it < 2000; ++it) {
+    // Past an edge or a corner: two or three coordinates beyond the box, by up to 3 cm.
+    Vec3 q(U(rng) * h.x(), U(rng) * h.y(), U(rng) * h.z());
+    const int a = it % 3, b = (it / 3) % 3;
+    q[a] = (U(rng) < 0 ? -1 : 1) * (h[a] + D(rng));
+    if (b != a) q[b] = (U(rng) < 0 ? -1 : 1) * (h[b] + D(rng));
+    if (it % 7 == 0)
+      q = Vec3((U(rng) < 0 ? -1 : 1) * (h.x() + D(rng)), (U(rng) < 0 ? -1 : 1) * (h.y() + D(rng)),
+               (U(rng) < 0 ? -1 : 1) * (h.z() + D(rng)));
+    const Vec3 c = q.cwiseMax(-h).cwiseMin(h);
+    const double dist = (q - c).norm();
+    if (dist < 1e-6) continue;
+    const Vec3 n_true = (q - c) / dist;
+    Pose xb;
+    xb.p = q;
+    Manifold m[kMaxMeshManifolds];
+    const int nm = collide_mesh(mesh, Pose{}, s, xb, q - Vec3::Constant(s.radius + spec),
+                                q + Vec3::Constant(s.radius + spec), spec, m);
+    double deepest = INFINITY;
+    for (int i = 0; i < nm; ++i) {
+      for (int j = 0; j < m[i].count; ++j) deepest = std::min(deepest, m[i].points[j].separation);
+      if (m[i].normal_W.cwiseAbs().maxCoeff() > 1 - 1e-12) continue;  // a face's normal
+      ++edge_contacts;
+      for (int j = 0; j < m[i].count; ++j) {
+        const double err = std::max((m[i].normal_W - n_true).norm(),
+                                    std::fabs(m[i].points[j].separation - (dist - s.radius)));
+        worst = std::max(worst, err);
+        EXPECT_LT(err, 1e-9) << "sphere at " << q.transpose() << ": normal " << m[i].normal_W.transpose()
+                             << " separation " << m[i].points[j].separation << ", nearest "
+                             << n_true.transpose() << " at " << dist - s.radius;
+      }
+    }
+    // (Apart only: a sphere sunk into the 1 cm wall has its centre within a radius of the far face,
+    // whose face contact, one-sided as it is, then counts too.)
+    if (dist >= s.radius && dist - s.radius <= spec) {
+      EXPECT_NEAR(deepest, dist - s.radius, 1e-9) << q.transpose();
+    }
+  }
+  std::printf(
+      "[measure] sphere near a box mesh's edges and corners: %d edge or vertex contacts, worst %.2e\n",
+      edge_contacts, worst);
+  EXPECT_GT(edge_contacts, 500);
+}
+
 // ------------------------------------------------------------------ in the world
 
 // A sphere rolling (2 m/s, diagonally, so it crosses edges of all three directions) across a flat

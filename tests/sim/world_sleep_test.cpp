@@ -167,5 +167,84 @@ TEST(Sleep, ResumeIntoAWorldThatRanEqualsStraightRun) {
   for (auto& w : others) EXPECT_TRUE(same_state(straight, *w));
 }
 
+// A sleeping pair costs nothing per step (stage_collide): 400 boxes asleep on the ground leave the
+// step's contact list empty, and their 400 records lie in the resting list untouched, byte for
+// byte at the same address, step after step (before, every step copied each of them to a new
+// list). An impulse on one box brings its one record back into the step's list, and the box,
+// being alone in its island, is the only one woken.
+TEST(Sleep, SleepingPairsAreNotTouchedPerStep) {
+  std::vector<BodyDef> b{ground(0.6, 0)};
+  for (int k = 0; k < 400; ++k)
+    b.push_back(box(Vec3::Constant(0.5), Vec3(1.0 * (k % 20), 1.0 * (k / 20), 0.25)));
+  World w(WorldConfig{}, b);
+  while (w.time() < 1.5) w.step();
+  ASSERT_EQ(w.sleeping_count(), 400);
+  EXPECT_EQ(w.contacts().size(), 0u);
+  ASSERT_EQ(w.resting_contacts().size(), 400u);
+  const Contact* at = w.resting_contacts().data();
+  const auto* bytes = reinterpret_cast<const unsigned char*>(at);  // (padding included)
+  const std::vector<unsigned char> before(bytes, bytes + 400 * sizeof(Contact));
+  for (int k = 0; k < 50; ++k) {
+    w.step();
+    ASSERT_EQ(w.resting_contacts().data(), at) << "step " << k;
+    ASSERT_EQ(std::memcmp(before.data(), at, before.size()), 0) << "step " << k;
+    ASSERT_EQ(w.contacts().size(), 0u);
+  }
+  w.apply_impulse(7, Vec3(0, 0, 1), w.centroid(7));
+  w.step();
+  EXPECT_EQ(w.sleeping_count(), 399);
+  ASSERT_EQ(w.contacts().size(), 1u);
+  EXPECT_EQ(w.contacts()[0].body_b, 7);
+  EXPECT_GT(w.contacts()[0].count, 0);
+  EXPECT_EQ(w.resting_contacts().size(), 399u);
+}
+
+// A row of 16 dominoes (0.1 x 0.6 x 1 m, 0.5 m apart, listed last to first so that each wakes
+// the one before it in index order) sleeps, then a push topples the first: each falls against the
+// next and wakes it. Every domino must fall and come to rest at the leaning angle of the closed
+// form below, and a run resumed while
+// they sleep, and one on two threads, equal the straight run bit for bit through the chain of
+// wakes (records leaving the resting list at every wake, some collided in the step that woke
+// them, some kept).
+TEST(Sleep, ChainOfWakesEqualsStraightRunResumedAndThreaded) {
+  auto row = [] {
+    std::vector<BodyDef> b{ground(0.6, 0)};
+    for (int k = 15; k >= 0; --k) b.push_back(box(Vec3(0.1, 0.6, 1.0), Vec3(0.5 * k, 0.05 * (k % 3), 0.5)));
+    return b;
+  };
+  WorldConfig c2;
+  c2.threads = 2;
+  World straight(WorldConfig{}, row()), threaded(c2, row());
+  while (straight.time() < 1.5) straight.step(), threaded.step();
+  ASSERT_EQ(straight.sleeping_count(), 16);
+  std::stringstream saved;
+  straight.save_state(saved);
+  World resumed(WorldConfig{}, row());
+  resumed.restore_state(saved);
+  for (World* w : {&straight, &threaded, &resumed})
+    w->apply_impulse(16, Vec3(30, 0, 0), w->centroid(16) + Vec3(0, 0, 0.5));
+  int most_awake = 0;
+  while (straight.time() < 8) {
+    straight.step(), resumed.step(), threaded.step();
+    most_awake = std::max(most_awake, 16 - straight.sleeping_count());
+  }
+  EXPECT_EQ(most_awake, 16);
+  // Closed form: a domino leaning on the next one, both at tilt theta about their front bottom
+  // edges, has its front top edge on the next one's back face when d cos(theta) = t (d = 0.5 m
+  // apart, t = 0.1 m thick): theta = acos(0.2) = 78.46 deg, whatever the height. The last one
+  // (body 1) lies flat.
+  const double theta = std::acos(0.1 / 0.5) * 180 / kPi;
+  double worst = 0;
+  for (int i = 2; i <= 16; ++i) {
+    const Vec3 up = straight.orientation(i) * Vec3::UnitZ();
+    const double tilt = std::acos(std::clamp(up.z(), -1.0, 1.0)) * 180 / kPi;
+    worst = std::max(worst, std::fabs(tilt - theta));
+    EXPECT_NEAR(tilt, theta, 1.0) << "domino " << i;
+  }
+  std::printf("[measure] toppled dominoes: tilt within %.2f deg of acos(t / d) = %.2f deg\n", worst, theta);
+  EXPECT_TRUE(same_state(straight, resumed));
+  EXPECT_TRUE(same_state(straight, threaded));
+}
+
 }  // namespace
 }  // namespace simreel
