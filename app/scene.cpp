@@ -738,12 +738,13 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
     if (const YAML::Node k = sim["contacts"]) {
       const Ctx kc = c.child("contacts");
       check_keys(k, kc,
-                 {"substeps", "iterations", "contact_hertz", "damping_ratio", "max_push_out",
+                 {"substeps", "iterations", "passes", "contact_hertz", "damping_ratio", "max_push_out",
                   "restitution_threshold", "speculative_distance", "linear_slop", "rolling_resistance",
                   "slip_speed", "sleep_speed", "sleep_time", "continuous"});
       ContactSettings& cs = s.contacts;
       if (k["substeps"]) cs.substeps = whole(k["substeps"], kc.child("substeps"), 0, 1000);  // 0: automatic
       if (k["iterations"]) cs.iterations = whole(k["iterations"], kc.child("iterations"), 1, 1000);
+      if (k["passes"]) cs.passes = whole(k["passes"], kc.child("passes"), 1, 32);
       if (k["contact_hertz"]) cs.contact_hertz = positive(k["contact_hertz"], kc.child("contact_hertz"));
       if (k["damping_ratio"]) cs.damping_ratio = non_negative(k["damping_ratio"], kc.child("damping_ratio"));
       if (k["max_push_out"]) cs.max_push_out = non_negative(k["max_push_out"], kc.child("max_push_out"));

@@ -23,6 +23,7 @@ constexpr double kImpactSettleTime = 1.0 / 30.0;  ///< s
 struct ContactSettings {
   int substeps = 0;                  ///< solver substeps per step; 0: automatic (see above)
   int iterations = 1;                ///< solve and relax iterations per substep
+  int passes = 8;                    ///< most Gauss-Seidel passes over a resting manifold's points a sweep
   double contact_hertz = 120;        ///< Hz, stiffness of the soft contact (at most 1/4 of the substep rate)
   double damping_ratio = 10;         ///< dimensionless, of the soft contact
   double max_push_out = 3;           ///< m/s, fastest speed at which overlap is removed

@@ -7,7 +7,8 @@
 //     integrate velocities  v += h (g + f/m); w += h I_W^-1 tau, then the implicit gyroscopic
 //                           term (one Newton step of I (w' - w) + h w' x I w' = 0, Catto 2015);
 //     warm start            apply the accumulated impulses (an impulse per substep);
-//     solve                 normal (soft, with bias) then friction, Gauss-Seidel in a fixed order;
+//     solve                 normal (soft, with bias) then friction, Gauss-Seidel in a fixed order
+//                           (a manifold's resting points solved together: ManifoldSolve::block);
 //     integrate positions   dp += h v; dq <- exp(h w / 2) dq (exact rotation for constant w);
 //     relax                 solve again without bias, so push-out does not become velocity;
 //     restitution           points that hit faster than the threshold this substep bounce;
@@ -94,6 +95,36 @@ struct ContactConstraint {
   int track = -1;
 };
 
+// What the three sweeps (warm start, solve, relax) read and write of a constraint, packed from its
+// ContactConstraint in prepare (and again for a tracked point after it moves): the same values, less
+// the anchors, the friction centre, rolling resistance and the restitution records (about 1.4 KB
+// instead of 1.8). In large scenes the sweeps wait on memory (the large pyramid streams its 17,000
+// constraints three times a substep; sampled, a sixth of its time sits on the prefetches of the
+// next constraints), so what they do not read stays in the full record.
+struct SweepPoint {
+  Vec3 rnA, rnB, IrnA, IrnB;  ///< as ConstraintPoint
+  Vec3 cA, cB;                ///< as ConstraintPoint
+  double adjusted_separation, normal_mass, lever;
+  double normal_impulse, max_normal_impulse;  ///< N s (the live values: the full record's are not kept)
+};
+
+struct SweepConstraint {
+  int a, b, count, track;
+  Vec3 n, t[2], nA, nB;
+  double friction, restitution, rolling;
+  Eigen::Matrix2d tangent_mass;
+  Vec3 fAt[2], fBt[2], IfAt[2], IfBt[2], InA, InB;
+  double twist_mass;
+  Softness soft;
+  double tangent_impulse[2], twist_impulse;  ///< N s, N m s (the live values)
+  SweepPoint p[4];
+  // The block solve of the normal points (count >= 2; sim/README.md "Block solve"): (K + D)^-1 for
+  // the solve (D = diag(K_ii) impulse_scale / mass_scale, the softness) and (K + eps diag(K))^-1
+  // for the relax, K the points' coupling J M^-1 J^T; symmetric, the lower triangle row by row.
+  double block_soft[10], block_rigid[10];
+  bool block;  ///< both made (count >= 2, both matrices positive definite)
+};
+
 // What the solver needs of the world for one step (arrays owned by World, indexed by body).
 struct SolverInput {
   const BodyModel* model = nullptr;
@@ -149,6 +180,7 @@ class ContactSolver {
   std::vector<Vec3> accel_;      ///< m/s^2, g + f/m
   std::vector<Vec3> ang_accel_;  ///< rad/s^2, I^-1 tau
   std::vector<ContactConstraint> cons_;  ///< in solve order: colour by colour (graph_.slot)
+  std::vector<SweepConstraint> sweep_;   ///< the same, what the sweeps read (pack_sweep)
   std::vector<TrackedContact>
       tracked_;  ///< contacts whose point runs over a surface (ContactConstraint::track), in contact order
   std::vector<int> tracked_bodies_;  ///< their tracked bodies' solver bodies, ascending
@@ -182,8 +214,11 @@ class ContactSolver {
   void integrate_velocity(int k, double h);
   static void normal_terms(ConstraintPoint& p, const Vec3& n, const SolverBody& A, const SolverBody& B);
   static void friction_terms(ContactConstraint& k, const SolverBody& A, const SolverBody& B);
+  static void block_terms(SweepConstraint& k, const SolverBody& A, const SolverBody& B);
+  // sweep_[slot] from cons_[slot]; with `impulses`, the accumulated impulses too (prepare).
+  void pack_sweep(int slot, bool impulses);
   void refresh_tracked(int w, int nw);  ///< the tracked points and their bodies' inertia (inside on_workers)
-  void restitution_one(ContactConstraint& k, double threshold);
+  void restitution_one(SweepConstraint& k, ContactConstraint& f, double threshold);
   // Fewer constraints than this are solved on the calling thread alone.
   static constexpr int kMinParallelConstraints = 128;
 };

@@ -32,8 +32,9 @@ struct StageTimer {
 void World::init_contacts() {
   const int n = (int)defs_.size();
   const ContactSettings& cs = cfg_.contacts;
-  if (cs.substeps < 0 || cs.iterations < 1)
-    throw InputError("contacts: substeps must be at least 1 (or 0: automatic) and iterations at least 1");
+  if (cs.substeps < 0 || cs.iterations < 1 || cs.passes < 1)
+    throw InputError(
+        "contacts: substeps must be at least 1 (or 0: automatic), iterations and passes at least 1");
   // Automatic: substeps of at most 1/960 s.
   base_substeps_ =
       cs.substeps > 0 ? cs.substeps : std::max(1, (int)std::ceil(cfg_.dt * kContactSubstepRate - 1e-9));

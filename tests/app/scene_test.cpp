@@ -403,12 +403,14 @@ TEST(Scene, NonPositiveSizesOfEveryShapeNameTheKey) {
 TEST(Scene, ContactSettings) {
   const Scene s = load_scene(write_scene(
       "cs.yaml",
-      "simulation:\n  contacts: { substeps: 8, iterations: 2, contact_hertz: 60, damping_ratio: 5,\n"
+      "simulation:\n  contacts: { substeps: 8, iterations: 2, passes: 3, contact_hertz: 60, damping_ratio: "
+      "5,\n"
       "    max_push_out: 1, restitution_threshold: 0.5, speculative_distance: 0.01, linear_slop: 0.001,\n"
       "    rolling_resistance: 0.02, slip_speed: 0.01 }\nbodies:\n  - name: a\n" +
           std::string(kBox)));
   EXPECT_EQ(s.contacts.substeps, 8);
   EXPECT_EQ(s.contacts.iterations, 2);
+  EXPECT_EQ(s.contacts.passes, 3);
   EXPECT_EQ(s.contacts.contact_hertz, 60);
   EXPECT_EQ(s.contacts.damping_ratio, 5);
   EXPECT_EQ(s.contacts.max_push_out, 1);
@@ -418,6 +420,7 @@ TEST(Scene, ContactSettings) {
   EXPECT_EQ(s.contacts.rolling_resistance, 0.02);
   const WorldConfig wc = world_config(s, 1);
   EXPECT_EQ(wc.contacts.substeps, 8);
+  EXPECT_EQ(wc.contacts.passes, 3);
   EXPECT_EQ(wc.contacts.rolling_resistance, 0.02);
   EXPECT_EQ(wc.contacts.slip_speed, 0.01);
   const Scene d = load_scene(write_scene("cs2.yaml", "bodies:\n  - name: a\n" + std::string(kBox)));
@@ -428,6 +431,8 @@ TEST(Scene, ContactSettings) {
              "bad.yaml:2:25: simulation.contacts.substeps: expected a whole number from 0 to 1000, got '-1'");
   EXPECT_HAS(error_of("simulation:\n  contacts: { iterations: 1.5 }\n" + b),
              "simulation.contacts.iterations: expected a whole number");
+  EXPECT_HAS(error_of("simulation:\n  contacts: { passes: 0 }\n" + b),
+             "simulation.contacts.passes: expected a whole number from 1 to 32, got '0'");
   EXPECT_HAS(error_of("simulation:\n  contacts: { contact_hertz: 0 }\n" + b),
              "simulation.contacts.contact_hertz: must be positive");
   EXPECT_HAS(error_of("simulation:\n  contacts: { damping_ratio: -1 }\n" + b),

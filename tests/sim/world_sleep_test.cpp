@@ -54,7 +54,10 @@ TEST(Sleep, StillStackSleepsAndWakesWhenTouched) {
   EXPECT_GT(woke_at, 2.3);
   EXPECT_LT(woke_at, 2.6);
   EXPECT_EQ(top_woke_at, woke_at);                  // woken with its island
-  EXPECT_GT(w.centroid(1).x(), frozen.x() + 1e-3);  // pushed
+  // Pushed: 0.89 mm with the block solve of the resting manifolds; the same model solved by
+  // passes to convergence (1000 a sweep) gives 0.88 mm. (The 1.05 mm of the old cap of 8-32
+  // passes was their unconverged share-out of the box's load among its corners.) A frozen box: 0.
+  EXPECT_GT(w.centroid(1).x(), frozen.x() + 5e-4);
 }
 
 // A body in free flight never sleeps, however slow: a box drifting at 1 mm/s with no gravity
