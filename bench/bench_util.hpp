@@ -2,6 +2,8 @@
 #pragma once
 #include <time.h>
 #include <algorithm>
+#include <cstdio>
+#include <cstdlib>
 
 #include <chrono>
 #include <vector>
@@ -34,6 +36,15 @@ Timing time_runs(int repeats, F f) {
   }
   std::sort(t.begin(), t.end());
   return {t.front(), t[t.size() / 2], repeats};
+}
+
+// The value after option argv[i] (advancing i to it); a missing value exits 2 naming the option.
+inline const char* option_value(int& i, int argc, char** argv) {
+  if (i + 1 >= argc) {
+    std::fprintf(stderr, "%s needs a value\n", argv[i]);
+    std::exit(2);
+  }
+  return argv[++i];
 }
 
 }  // namespace simreel::bench

@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/bench_util.hpp"
 #include "sim/scene_builders.hpp"
 #include "sim/state_hash.hpp"
 
@@ -42,13 +43,7 @@ int main(int argc, char** argv) {
   cfg.contacts.sleep = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    auto next = [&]() -> const char* {
-      if (i + 1 >= argc) {
-        std::fprintf(stderr, "%s needs a value\n", a.c_str());
-        std::exit(2);
-      }
-      return argv[++i];
-    };
+    auto next = [&] { return bench::option_value(i, argc, argv); };
     if (a == "--base")
       base = std::atoi(next());
     else if (a == "--steps")
