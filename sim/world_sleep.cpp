@@ -91,6 +91,7 @@ void World::after_restore() {
     }
     for (int k = shape_first_[i]; k < shape_first_[i + 1]; ++k)
       if (shape_moving_[k]) pending_freeze_.push_back(k);
+    if (ccd_enabled_) x0_[i] = state_[i].x_W, q0_[i] = state_[i].q_WP;  // see save_start_poses
   }
   awake_sorted_ = true;
   if (!sleep_enabled_) return;
@@ -171,6 +172,7 @@ void World::stage_sleep() {
     state_[i].w_P.setZero();
     in_contact_[i] = 0;
     ++sleeping_;
+    if (ccd_enabled_) x0_[i] = state_[i].x_W, q0_[i] = state_[i].q_WP;  // its sweeps' start while asleep
     for (int s = shape_first_[i]; s < shape_first_[i + 1]; ++s)
       if (shape_moving_[s]) pending_freeze_.push_back(s);
   }
