@@ -103,10 +103,23 @@ int main(int argc, char** argv) {
         sizes.push_back((int)std::strtol(s, &s, 10));
         if (*s == ',') ++s;
       }
-    } else {
+    } else if (!std::strcmp(argv[i], "rest_asleep") || !std::strcmp(argv[i], "rest_awake") ||
+               !std::strcmp(argv[i], "moving")) {
       scenes.push_back(argv[i]);
+    } else {
+      std::fprintf(stderr,
+                   "bench_broad_phase: unknown argument '%s'\n"
+                   "usage: bench_broad_phase [--label L] [--sizes 1000,10000,50000] "
+                   "[rest_asleep|rest_awake|moving ...]\n",
+                   argv[i]);
+      return 2;
     }
   }
+  for (int n : sizes)
+    if (n <= 0) {
+      std::fprintf(stderr, "bench_broad_phase: --sizes takes positive body counts\n");
+      return 2;
+    }
   if (scenes.empty()) scenes = {"rest_asleep", "rest_awake", "moving"};
   std::printf(
       "version,scene,bodies,steps,broad_phase_wall_s_per_step,collide_wall_s_per_step,step_wall_s_per_step,"
