@@ -18,6 +18,7 @@
 #include "sim/scene_builders.hpp"
 #include "sim/trimesh.hpp"
 #include "tests/sim/ccd_fixtures.hpp"
+#include "tests/sim/collide_shapes.hpp"
 #include "tests/sim/contact_fixtures.hpp"
 #include "tests/sim/trimesh_fixtures.hpp"
 
@@ -25,6 +26,11 @@ namespace simreel {
 namespace {
 
 using ccd_test::crossed;
+using ccd_test::kRadius;
+using ccd_test::kSpeed;
+using ccd_test::kSteel;
+using ccd_test::kThick;
+constexpr double kDt = ccd_test::kShotDt;  // s
 using ccd_test::shot_config;
 using contact_test::box;
 using contact_test::deg;
@@ -32,12 +38,6 @@ using contact_test::kPi;
 using contact_test::sphere;
 using contact_test::state_hash;
 using trimesh_test::mesh_body;
-
-constexpr double kRadius = 0.025;    // m: a 5 cm sphere
-constexpr double kSpeed = 100;       // m/s
-constexpr double kThick = 0.01;      // m: a 1 cm wall
-constexpr double kSteel = 7800;      // kg/m^3
-constexpr double kDt = 1.0 / 240.0;  // s
 
 // A 1 cm x 4 m x 4 m closed mesh wall (10 cm cells), thin axis x: wide enough that a ball sliding
 // along its face after the impact does not reach its edge within a few steps.
@@ -351,16 +351,9 @@ TEST(CcdMesh, SpinningBulletBoxNeverPassesTheMeshSheet) {
 // Rising from below the grid (behind it), it passes: one-sided.
 TEST(CcdMesh, TimeOfImpactWithAMeshIsTheClosedForm) {
   const TriMeshShape tm = make_trimesh_shape(*trimesh_test::grid(8, 8, 0.125, -0.5, -0.5));
-  CollideShape mesh;
-  mesh.kind = CollideKind::mesh;
-  mesh.mesh = &tm;
-  CollideShape ball;
-  ball.kind = CollideKind::sphere;
-  ball.radius = ball.bounding_radius = 0.05;
-  CollideShape cube;
-  cube.kind = CollideKind::box;
-  cube.half_extents = Vec3(0.04, 0.03, 0.02);
-  cube.bounding_radius = cube.half_extents.norm();
+  const CollideShape mesh = collide_shapes::mesh(tm);
+  const CollideShape ball = collide_shapes::sphere(0.05);
+  const CollideShape cube = collide_shapes::box(Vec3(0.04, 0.03, 0.02));
   const Pose xm;
   SplitMix64 rng(38);
   for (int k = 0; k < 50; ++k) {

@@ -20,6 +20,11 @@ namespace simreel {
 namespace {
 
 using ccd_test::crossed;
+using ccd_test::kRadius;
+using ccd_test::kSpeed;
+using ccd_test::kSteel;
+using ccd_test::kThick;
+constexpr double kDt = ccd_test::kShotDt;  // s
 using ccd_test::shot_config;
 using contact_test::box;
 using contact_test::deg;
@@ -27,12 +32,7 @@ using contact_test::kPi;
 using contact_test::sphere;
 using contact_test::state_hash;
 
-constexpr double kRadius = 0.025;    // m: a 5 cm sphere
-constexpr double kSpeed = 100;       // m/s
-constexpr double kThick = 0.01;      // m: a 1 cm wall or plate
-constexpr double kSteel = 7800;      // kg/m^3
 constexpr double kAluminium = 2700;  // kg/m^3
-constexpr double kDt = 1.0 / 240.0;  // s
 
 // One shot: direction at angle theta from the wall's normal (+x), turned phi about it; aimed at a
 // point of the face within 15 cm of its centre, starting `lead` m before reaching it (so the step

@@ -17,6 +17,7 @@
 #include "sim/collide/mesh.hpp"
 #include "sim/convex_hull.hpp"
 #include "sim/trimesh.hpp"
+#include "tests/sim/collide_shapes.hpp"
 #include "tests/sim/trimesh_fixtures.hpp"
 
 // Counts heap allocations in this test binary (to check that collide() never allocates). GCC
@@ -53,12 +54,7 @@ namespace {
 
 constexpr double kExact = 1e-12;
 constexpr double kPi = 3.14159265358979323846;
-
-// Polyhedra built for the tests live here (CollideShape points at them).
-std::deque<ConvexPolyhedron>& store() {
-  static std::deque<ConvexPolyhedron> s;
-  return s;
-}
+using namespace collide_shapes;
 
 // A polyhedron from vertices and face loops (counter-clockwise seen from outside).
 ConvexPolyhedron make_polyhedron(const std::vector<Vec3>& v, const std::vector<std::vector<int>>& loops) {
@@ -139,58 +135,6 @@ ConvexPolyhedron prism(int n, double r, double hz) {
   return make_polyhedron(v, loops);
 }
 
-CollideShape plane() {
-  CollideShape s;
-  s.kind = CollideKind::plane;
-  return s;
-}
-CollideShape sphere(double r) {
-  CollideShape s;
-  s.kind = CollideKind::sphere;
-  s.radius = r;
-  s.bounding_radius = r;
-  return s;
-}
-CollideShape capsule(double r, double hl) {
-  CollideShape s;
-  s.kind = CollideKind::capsule;
-  s.radius = r;
-  s.half_length = hl;
-  s.bounding_radius = r + hl;
-  return s;
-}
-CollideShape cylinder(double r, double hl) {
-  CollideShape s;
-  s.kind = CollideKind::cylinder;
-  s.radius = r;
-  s.half_length = hl;
-  s.bounding_radius = std::hypot(r, hl);
-  return s;
-}
-CollideShape ellipsoid(const Vec3& radii) {
-  CollideShape s;
-  s.kind = CollideKind::ellipsoid;
-  s.radii = radii;
-  s.bounding_radius = radii.maxCoeff();
-  return s;
-}
-CollideShape box(const Vec3& h) {
-  CollideShape s;
-  s.kind = CollideKind::box;
-  s.half_extents = h;
-  store().push_back(make_box_polyhedron(h));
-  s.hull = &store().back();
-  s.bounding_radius = h.norm();
-  return s;
-}
-CollideShape hull(const ConvexPolyhedron& p) {
-  CollideShape s;
-  s.kind = CollideKind::hull;
-  store().push_back(p);
-  s.hull = &store().back();
-  for (const Vec3& v : p.vertices) s.bounding_radius = std::max(s.bounding_radius, v.norm());
-  return s;
-}
 Pose pose(const Vec3& p, const Mat3& R = Mat3::Identity()) {
   Pose x;
   x.R = R;
@@ -1389,14 +1333,8 @@ TEST(Collide, NeverAllocates) {
 // enough candidate points to fill a cluster and make the collector reduce it on the way.
 TEST(Collide, MeshNeverAllocates) {
   const TriMeshShape tm = make_trimesh_shape(*trimesh_test::grid(60, 60, 0.01, -0.3, -0.3));
-  CollideShape mesh;
-  mesh.kind = CollideKind::mesh;
-  mesh.mesh = &tm;
-  CollideShape cap;
-  cap.kind = CollideKind::capsule;
-  cap.radius = 0.02;
-  cap.half_length = 0.2;
-  cap.bounding_radius = 0.22;
+  const CollideShape mesh = collide_shapes::mesh(tm);
+  const CollideShape cap = capsule(0.02, 0.2);
   const CollideShape slab = box(Vec3(0.2, 0.15, 0.02));
   const Mat3 Rx = rot(kPi / 2, Vec3::UnitY());  // the capsule's axis along x: lying
   const long before = g_allocations.load();

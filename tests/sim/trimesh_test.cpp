@@ -13,6 +13,7 @@
 #include "sim/primitives.hpp"
 #include "sim/shapes.hpp"
 #include "sim/trimesh.hpp"
+#include "tests/sim/collide_shapes.hpp"
 #include "tests/sim/contact_fixtures.hpp"
 #include "tests/sim/trimesh_fixtures.hpp"
 
@@ -95,34 +96,23 @@ TEST(TriMesh, EdgesAreActiveWhereConvexAndOnTheBoundary) {
 
 // ------------------------------------------------------------------ narrow phase against the plane
 
-CollideShape shape_of(CollideKind k, std::vector<std::shared_ptr<ConvexPolyhedron>>& keep) {
-  CollideShape s;
-  s.kind = k;
+CollideShape shape_of(CollideKind k) {
+  using namespace collide_shapes;
+  const Vec3 h(0.21, 0.13, 0.09);
   switch (k) {
     case CollideKind::sphere:
-      s.radius = 0.13;
-      break;
+      return sphere(0.13);
     case CollideKind::capsule:
-      s.radius = 0.07, s.half_length = 0.2;
-      break;
+      return capsule(0.07, 0.2);
     case CollideKind::cylinder:
-      s.radius = 0.15, s.half_length = 0.1;
-      break;
+      return cylinder(0.15, 0.1);
     case CollideKind::ellipsoid:
-      s.radii = Vec3(0.2, 0.12, 0.08);
-      break;
+      return ellipsoid(Vec3(0.2, 0.12, 0.08));
     case CollideKind::box:
-    case CollideKind::hull: {
-      s.half_extents = Vec3(0.21, 0.13, 0.09);
-      keep.push_back(std::make_shared<ConvexPolyhedron>(make_box_polyhedron(s.half_extents)));
-      s.hull = keep.back().get();
-      break;
-    }
+      return box(h);
     default:
-      break;
+      return hull(make_box_polyhedron(h));
   }
-  s.bounding_radius = 0.3;
-  return s;
 }
 
 // A shape on (or just into, or just above) a finely triangulated flat grid touches it exactly as
@@ -131,18 +121,14 @@ CollideShape shape_of(CollideKind k, std::vector<std::shared_ptr<ConvexPolyhedro
 // manifold, 1e-9 m), whatever the pose and wherever the shape sits over the triangles' edges.
 TEST(TriMeshCollide, EveryShapeOnAFlatGridTouchesAsOnThePlane) {
   TriMeshShape tm = make_trimesh_shape(*grid(40, 40, 0.05, -1, -1));
-  CollideShape mesh;
-  mesh.kind = CollideKind::mesh;
-  mesh.mesh = &tm;
-  CollideShape plane;
-  plane.kind = CollideKind::plane;
-  std::vector<std::shared_ptr<ConvexPolyhedron>> keep;
+  const CollideShape mesh = collide_shapes::mesh(tm);
+  const CollideShape plane = collide_shapes::plane();
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> U(-0.5, 0.5), A(-M_PI, M_PI);
   int checked = 0;
   for (CollideKind k : {CollideKind::sphere, CollideKind::capsule, CollideKind::cylinder,
                         CollideKind::ellipsoid, CollideKind::box, CollideKind::hull}) {
-    const CollideShape s = shape_of(k, keep);
+    const CollideShape s = shape_of(k);
     for (int it = 0; it < 200; ++it) {
       // Resting poses (a face, side or end down) and random tilts.
       Quat q = Quat::Identity();
@@ -203,13 +189,8 @@ TEST(TriMeshCollide, SphereInACreaseGetsOneManifoldPerFace) {
   const auto L = param_grid(20, 10, -1, 1, -0.5, 0.5,
                             [](double u, double v) { return u < 0 ? Vec3(0, v, -u) : Vec3(u, v, 0); });
   TriMeshShape tm = make_trimesh_shape(*L);
-  CollideShape mesh;
-  mesh.kind = CollideKind::mesh;
-  mesh.mesh = &tm;
-  CollideShape s;
-  s.kind = CollideKind::sphere;
-  s.radius = 0.1;
-  s.bounding_radius = 0.1;
+  const CollideShape mesh = collide_shapes::mesh(tm);
+  const CollideShape s = collide_shapes::sphere(0.1);
   for (double y : {0.0, 0.05, 0.0123}) {
     Pose xb;
     xb.p = Vec3(0.099, y, 0.099);
@@ -239,13 +220,8 @@ TEST(TriMeshCollide, SphereEdgeAndVertexContactsOnABoxAreAtItsNearestPoint) {
   const Vec3 h(0.005, 0.25, 0.25);
   const int cells[3] = {1, 10, 10};
   TriMeshShape tm = make_trimesh_shape(*cuboid(h, cells));
-  CollideShape mesh;
-  mesh.kind = CollideKind::mesh;
-  mesh.mesh = &tm;
-  CollideShape s;
-  s.kind = CollideKind::sphere;
-  s.radius = 0.025;
-  s.bounding_radius = 0.025;
+  const CollideShape mesh = collide_shapes::mesh(tm);
+  const CollideShape s = collide_shapes::sphere(0.025);
   const double spec = 0.1;
   std::mt19937_64 rng(15);
   std::uniform_real_distribution<double> U(-1, 1), D(0, 0.03);

@@ -31,6 +31,33 @@ bool same_state(const World& a, const World& b) {
   return true;
 }
 
+// One scene three ways: straight, on two threads, and resumed from a save taken at t_save, when
+// `asleep` bodies must sleep. kick(world) then acts on all three, which step on to t_end;
+// each(straight) after every step. The two others must equal the straight run bit for bit.
+struct ThreeRuns {
+  std::unique_ptr<World> straight, threaded, resumed;
+};
+template <typename Scene, typename Kick, typename Each>
+ThreeRuns run_three_ways(Scene scene, double t_save, int asleep, Kick kick, double t_end, Each each) {
+  WorldConfig c2;
+  c2.threads = 2;
+  ThreeRuns r{std::make_unique<World>(WorldConfig{}, scene()), std::make_unique<World>(c2, scene()),
+              std::make_unique<World>(WorldConfig{}, scene())};
+  while (r.straight->time() < t_save) r.straight->step(), r.threaded->step();
+  EXPECT_EQ(r.straight->sleeping_count(), asleep);
+  std::stringstream saved;
+  r.straight->save_state(saved);
+  r.resumed->restore_state(saved);
+  for (World* w : {r.straight.get(), r.threaded.get(), r.resumed.get()}) kick(*w);
+  while (r.straight->time() < t_end) {
+    r.straight->step(), r.resumed->step(), r.threaded->step();
+    each(*r.straight);
+  }
+  EXPECT_TRUE(same_state(*r.straight, *r.resumed));
+  EXPECT_TRUE(same_state(*r.straight, *r.threaded));
+  return r;
+}
+
 // The stack settles and sleeps (within sleep_time of settling), costs no integration while
 // asleep (its pose is bit-for-bit frozen), and the ball's arrival wakes both boxes: the lower one,
 // hit, moves. Without the wake the ball would stop against a frozen box.
@@ -212,22 +239,11 @@ TEST(Sleep, ChainOfWakesEqualsStraightRunResumedAndThreaded) {
     for (int k = 15; k >= 0; --k) b.push_back(box(Vec3(0.1, 0.6, 1.0), Vec3(0.5 * k, 0.05 * (k % 3), 0.5)));
     return b;
   };
-  WorldConfig c2;
-  c2.threads = 2;
-  World straight(WorldConfig{}, row()), threaded(c2, row());
-  while (straight.time() < 1.5) straight.step(), threaded.step();
-  ASSERT_EQ(straight.sleeping_count(), 16);
-  std::stringstream saved;
-  straight.save_state(saved);
-  World resumed(WorldConfig{}, row());
-  resumed.restore_state(saved);
-  for (World* w : {&straight, &threaded, &resumed})
-    w->apply_impulse(16, Vec3(30, 0, 0), w->centroid(16) + Vec3(0, 0, 0.5));
   int most_awake = 0;
-  while (straight.time() < 8) {
-    straight.step(), resumed.step(), threaded.step();
-    most_awake = std::max(most_awake, 16 - straight.sleeping_count());
-  }
+  const ThreeRuns r = run_three_ways(
+      row, 1.5, 16, [](World& w) { w.apply_impulse(16, Vec3(30, 0, 0), w.centroid(16) + Vec3(0, 0, 0.5)); },
+      8.0, [&](const World& w) { most_awake = std::max(most_awake, 16 - w.sleeping_count()); });
+  const World& straight = *r.straight;
   EXPECT_EQ(most_awake, 16);
   // Closed form: a domino leaning on the next one, both at tilt theta about their front bottom
   // edges, has its front top edge on the next one's back face when d cos(theta) = t (d = 0.5 m
@@ -242,8 +258,6 @@ TEST(Sleep, ChainOfWakesEqualsStraightRunResumedAndThreaded) {
     EXPECT_NEAR(tilt, theta, 1.0) << "domino " << i;
   }
   std::printf("[measure] toppled dominoes: tilt within %.2f deg of acos(t / d) = %.2f deg\n", worst, theta);
-  EXPECT_TRUE(same_state(straight, resumed));
-  EXPECT_TRUE(same_state(straight, threaded));
 }
 
 // A sleeping body's sweep for continuous collision starts where it lies: a bullet fired into a
@@ -257,27 +271,13 @@ TEST(Sleep, BulletIntoSleepingStackEqualsResumedAndThreaded) {
     b.push_back(sphere(0.05, Vec3(-4, 0, 0.05)));
     return b;
   };
-  WorldConfig c2;
-  c2.threads = 2;
-  World straight(WorldConfig{}, scene()), threaded(c2, scene());
-  while (straight.time() < 2.0) straight.step(), threaded.step();
-  ASSERT_EQ(straight.sleeping_count(), 4);
-  std::stringstream saved;
-  straight.save_state(saved);
-  World resumed(WorldConfig{}, scene());
-  resumed.restore_state(saved);
-  for (World* w : {&straight, &threaded, &resumed})
-    w->apply_impulse(4, Vec3(60 * w->model(4).mass, 0, 0), w->centroid(4));
   int swept = 0;
-  while (straight.time() < 2.5) {
-    straight.step(), resumed.step(), threaded.step();
-    swept = std::max(swept, 3 - straight.sleeping_count());
-  }
+  const ThreeRuns r = run_three_ways(
+      scene, 2.0, 4, [](World& w) { w.apply_impulse(4, Vec3(60 * w.model(4).mass, 0, 0), w.centroid(4)); },
+      2.5, [&](const World& w) { swept = std::max(swept, 3 - w.sleeping_count()); });
   // The ball (60 m/s: 0.25 m a step, 2.5 of its widths) was swept, struck the bottom box and woke the stack.
   EXPECT_EQ(swept, 3);
-  EXPECT_LT(straight.centroid(4).x(), -0.25 + 1e-3) << "the ball passed into the box";
-  EXPECT_TRUE(same_state(straight, resumed));
-  EXPECT_TRUE(same_state(straight, threaded));
+  EXPECT_LT(r.straight->centroid(4).x(), -0.25 + 1e-3) << "the ball passed into the box";
 }
 
 }  // namespace
