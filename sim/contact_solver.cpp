@@ -20,11 +20,6 @@ Softness make_softness(double hertz, double zeta, double h) {
 
 namespace {
 
-// The relax's block solve: K + eps diag(K) for the singular K of a face on a face (see
-// ManifoldSolve::block): velocities off by a relative 1e-8, far inside the passes' tolerance (1e-4),
-// and the matrix well enough conditioned (1e8) for double.
-constexpr double kBlockRegularisation = 1e-8;
-
 // A unit vector perpendicular to n, chosen from n alone (deterministic): n x e, with e the world
 // axis least aligned with n.
 Vec3 perpendicular(const Vec3& n) {
@@ -32,6 +27,43 @@ Vec3 perpendicular(const Vec3& n) {
   const Vec3 e =
       (a.x() <= a.y() && a.x() <= a.z()) ? Vec3::UnitX() : (a.y() <= a.z() ? Vec3::UnitY() : Vec3::UnitZ());
   return n.cross(e).normalized();
+}
+
+// The block solve's matrices (ManifoldSolve::block) of a manifold's n points (1 to 4), im = 1/m_A +
+// 1/m_B: K_ij = im + (r_A,i x n).I_A^-1 (r_A,j x n) + (r_B,i x n).I_B^-1 (r_B,j x n), the change of
+// point i's normal velocity per unit impulse at point j (n.n = 1), fixed within the step (anchors
+// and inertia are), inverted here once: (K + D)^-1 into soft (D = diag(K_ii) impulse_scale /
+// mass_scale, the softness) and (K + eps diag(K))^-1 into rigid, symmetric, the lower triangle row
+// by row. False if either is not positive definite.
+template <class Point>  // ConstraintPoint or SweepPoint
+Eigen::Matrix4d coupling(const Point* p, int n, double im) {
+  Eigen::Matrix4d K = Eigen::Matrix4d::Identity();
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j <= i; ++j) K(i, j) = K(j, i) = im + p[i].rnA.dot(p[j].IrnA) + p[i].rnB.dot(p[j].IrnB);
+  return K;
+}
+
+template <class Point>
+bool block_matrices(const Point* p, int n, double im, const Softness& soft_terms, double* soft,
+                    double* rigid) {
+  const Eigen::Matrix4d K = coupling(p, n, im);
+  // D_ii = K_ii / a2 (a2 = mass_scale / impulse_scale): see ManifoldSolve::block.
+  const double d = soft_terms.mass_scale > 0 ? soft_terms.impulse_scale / soft_terms.mass_scale : 0.0;
+  Eigen::Matrix4d Ks = K, Kr = K;
+  for (int i = 0; i < n; ++i) {
+    Ks(i, i) += d * K(i, i);
+    Kr(i, i) += kBlockRegularisation * K(i, i);
+  }
+  const Eigen::LLT<Eigen::Matrix4d> ls(Ks), lr(Kr);
+  if (ls.info() != Eigen::Success || lr.info() != Eigen::Success) return false;
+  const Eigen::Matrix4d Ms = ls.solve(Eigen::Matrix4d::Identity());
+  const Eigen::Matrix4d Mr = lr.solve(Eigen::Matrix4d::Identity());
+  for (int i = 0, e = 0; i < 4; ++i)
+    for (int j = 0; j <= i; ++j, ++e) {
+      soft[e] = 0.5 * (Ms(i, j) + Ms(j, i));
+      rigid[e] = 0.5 * (Mr(i, j) + Mr(j, i));
+    }
+  return true;
 }
 
 inline Vec3 relative_velocity(const SolverBody& A, const SolverBody& B, const Vec3& rA, const Vec3& rB) {
@@ -47,9 +79,10 @@ inline double normal_velocity(const Body& A, const Body& B, const Vec3& n, const
 // Asks for a constraint's memory ahead of its solve: a sweep streams the constraints (1.7 KB each,
 // 25 MB for the large pyramid) from memory, and the first loads of each stalled the solve (a third
 // of its time in the pyramid, sampled). Changes no result.
-inline void prefetch(const SweepConstraint& k) {
+template <class T>  // SweepConstraint or wide::Bundle
+inline void prefetch(const T& k) {
   const char* p = reinterpret_cast<const char*>(&k);
-  for (size_t off = 0; off < sizeof(SweepConstraint); off += 64) __builtin_prefetch(p + off);
+  for (size_t off = 0; off < sizeof(T); off += 64) __builtin_prefetch(p + off);
 }
 
 // Which side of a constraint is the static body (solver body 0): it would receive zeros, so it is
@@ -108,19 +141,103 @@ void ContactSolver::on_workers(F&& f) const {
     f(0, 1);
 }
 
-template <typename F>
-void ContactSolver::by_colour(int w, int nw, F&& f) {
+template <typename FS, typename FW>
+void ContactSolver::by_colour(int w, int nw, FS&& scalar, FW&& wide) {
   const std::vector<int>& used = graph_.used();
+  constexpr int kOverflow = ConstraintGraph::kOverflow;
   const bool overflow = graph_.overflow_count() > 0;
   for (size_t u = 0; u < used.size(); ++u) {
     const int c = used[u];
     int b, e;
-    share(graph_.end(c) - graph_.begin(c), w, nw, b, e);
-    f(graph_.begin(c) + b, graph_.begin(c) + e);
+    share(scalar_start_[c + 1] - scalar_start_[c], w, nw, b, e);
+    if (b < e) scalar(scalar_start_[c] + b, scalar_start_[c] + e);
+    share(bundle_start_[c + 1] - bundle_start_[c], w, nw, b, e);
+    if (b < e) wide(bundle_start_[c] + b, bundle_start_[c] + e);
     // No barrier after the last: the end of the pool's run waits for everyone.
     if (nw > 1 && (u + 1 < used.size() || overflow)) pool_->barrier();
   }
-  if (overflow && w == 0) f(graph_.begin(ConstraintGraph::kOverflow), graph_.end(ConstraintGraph::kOverflow));
+  if (overflow && w == 0) scalar(scalar_start_[kOverflow], scalar_start_[kOverflow + 1]);
+}
+
+// Which constraints go to the wide path (plain_, per constraint, and not in the overflow set),
+// in bundles of four per colour in slot order; the rest to scalar_. The padding lanes of each
+// colour's last bundle are emptied here; the others are filled by set_lane.
+void ContactSolver::assign_lanes() {
+  const int ncons = (int)cons_.size();
+  constexpr int kOverflow = ConstraintGraph::kOverflow;
+  lane_of_.assign(ncons, -1);
+  scalar_.clear();
+  scalar_start_.assign(kOverflow + 2, 0);
+  bundle_start_.assign(kOverflow + 2, 0);
+  // Per slot: 0 scalar, 1 wide, 2 wide and apart at the step's start (every point's gap open).
+  slot_plain_.resize(ncons);
+  for (int j = 0; j < ncons; ++j) slot_plain_[graph_.slot(j)] = plain_[j] ? 1 + apart_[j] : 0;
+  int lanes = 0;
+  for (int c = 0; c <= kOverflow; ++c) {
+    scalar_start_[c] = (int)scalar_.size();
+    bundle_start_[c] = lanes / wide::kLanes;
+    // The manifolds apart at the step's start after the others: they mostly stay apart (the sides
+    // of the large pyramid's rows, a gap apart: a quarter of its manifolds), and a bundle of
+    // them costs a look at their gaps (wide::solve).
+    for (int kind = 1; kind <= 2; ++kind)
+      for (int slot = graph_.begin(c); slot < graph_.end(c); ++slot)
+        if (slot_plain_[slot] == kind && c != kOverflow) lane_of_[slot] = lanes++;
+    for (int slot = graph_.begin(c); slot < graph_.end(c); ++slot)
+      if (!slot_plain_[slot] || c == kOverflow) scalar_.push_back(slot);
+    // The colour's last bundle padded with empty lanes (cleared once the bundles exist).
+    lanes = (lanes + wide::kLanes - 1) / wide::kLanes * wide::kLanes;
+  }
+  scalar_start_[kOverflow + 1] = (int)scalar_.size();
+  bundle_start_[kOverflow + 1] = lanes / wide::kLanes;
+  bundles_.resize(lanes / wide::kLanes);
+  for (int c = 0; c <= kOverflow; ++c) {
+    const int b0 = bundle_start_[c], b1 = bundle_start_[c + 1];
+    if (b0 == b1) continue;
+    // Lanes of the colour's last bundle past its manifolds.
+    const int used = (graph_.end(c) - graph_.begin(c)) - (scalar_start_[c + 1] - scalar_start_[c]);
+    for (int l = used - (b1 - 1 - b0) * wide::kLanes; l < wide::kLanes; ++l)
+      wide::clear_lane(bundles_[b1 - 1], l);
+  }
+}
+
+// A wide lane from the constraint's record (make_constraint), with its block matrices.
+void ContactSolver::set_lane(int slot) {
+  const ContactConstraint& f = cons_[slot];
+  const int lane = lane_of_[slot];
+  wide::LaneInput in{};
+  in.a = f.a;
+  in.b = f.b;
+  in.count = f.count;
+  in.contact = f.contact;
+  in.n = &f.n;
+  in.t0 = &f.t[0];
+  in.t1 = &f.t[1];
+  in.fA = &f.fA;
+  in.fB = &f.fB;
+  in.friction = f.friction;
+  in.twist_mass = f.twist_mass;
+  in.tangent_mass00 = f.tangent_mass(0, 0);
+  in.tangent_mass01 = f.tangent_mass(0, 1);
+  in.tangent_mass11 = f.tangent_mass(1, 1);
+  in.soft = &f.soft;
+  in.tangent_impulse0 = f.tangent_impulse[0];
+  in.tangent_impulse1 = f.tangent_impulse[1];
+  in.twist_impulse = f.twist_impulse;
+  for (int j = 0; j < f.count; ++j) {
+    const ConstraintPoint& p = f.p[j];
+    in.cA[j] = &p.cA;
+    in.cB[j] = &p.cB;
+    in.adjusted_separation[j] = p.adjusted_separation;
+    in.normal_mass[j] = p.normal_mass;
+    in.lever[j] = p.lever;
+    in.normal_impulse[j] = p.normal_impulse;
+  }
+  const Eigen::Matrix4d K = coupling(f.p, f.count, sb_[f.a].inv_mass + sb_[f.b].inv_mass);
+  double lower[10];
+  for (int i = 0, e = 0; i < 4; ++i)
+    for (int j = 0; j <= i; ++j, ++e) lower[e] = K(i, j);
+  in.K = lower;
+  wide::set_lane(bundles_[lane / wide::kLanes], lane % wide::kLanes, in);
 }
 
 // Flattened for the same reason as solve_one (Eigen's 3x3 products called, not inlined).
@@ -151,6 +268,8 @@ __attribute__((flatten)) void ContactSolver::prepare(const SolverInput& in, cons
   edge_a_.clear();
   edge_b_.clear();
   track_candidate_of_.clear();
+  plain_.clear();
+  apart_.clear();
   int ncand = 0;
   any_restitution_ = false;
   for (int ci = 0; ci < (int)contacts.size(); ++ci) {
@@ -164,6 +283,12 @@ __attribute__((flatten)) void ContactSolver::prepare(const SolverInput& in, cons
     const bool candidate = c.count == 1 && (round((*in.shapes)[c.shape_a].geom.kind) ||
                                             round((*in.shapes)[c.shape_b].geom.kind));
     track_candidate_of_.push_back(candidate ? ncand++ : -1);
+    // The wide path takes plain manifolds (sim/contact_wide.hpp): no tracked point, restitution,
+    // rolling resistance or regularised Coulomb friction.
+    plain_.push_back(!candidate && c.restitution == 0 && cs.rolling_resistance == 0 && cs.slip_speed == 0);
+    bool apart = true;
+    for (int j = 0; j < c.count; ++j) apart = apart && c.points[j].separation > 0;
+    apart_.push_back(apart);
     wanted_.push_back(ci);
     edge_a_.push_back(solver_index[c.body_a]);
     edge_b_.push_back(solver_index[c.body_b]);
@@ -173,6 +298,7 @@ __attribute__((flatten)) void ContactSolver::prepare(const SolverInput& in, cons
   graph_.build(nb, ncons, edge_a_.data(), edge_b_.data());
   cons_.resize(ncons);
   sweep_.resize(ncons);
+  assign_lanes();
   track_scratch_.resize(ncand);
   // Threads only where there is enough to split (a pool run and a barrier per colour cost a few
   // microseconds); the result is the same either way.
@@ -212,9 +338,13 @@ __attribute__((flatten)) void ContactSolver::prepare(const SolverInput& in, cons
     if (nw > 1) pool_->barrier();  // the constraints read the solver bodies
     share(ncons, w, nw, b, e);
     for (int j = b; j < e; ++j) {
-      make_constraint(cons_[graph_.slot(j)], graph_.slot(j), track_candidate_of_[j], wanted_[j],
-                      contacts[wanted_[j]], solver_index);
-      pack_sweep(graph_.slot(j), true);
+      const int slot = graph_.slot(j);
+      make_constraint(cons_[slot], slot, track_candidate_of_[j], wanted_[j], contacts[wanted_[j]],
+                      solver_index);
+      if (lane_of_[slot] >= 0)
+        set_lane(slot);
+      else
+        pack_sweep(slot, true);
     }
   });
   // The tracked contacts, in contact order (their records made in make_constraint), and their
@@ -431,31 +561,8 @@ void ContactSolver::pack_sweep(int slot, bool impulses) {
 // + (r_B,i x n).I_B^-1 (r_B,j x n): the change of point i's normal velocity per unit impulse at
 // point j (n.n = 1). Fixed within the step (anchors and inertia are), so inverted here once.
 void ContactSolver::block_terms(SweepConstraint& k, const SolverBody& A, const SolverBody& B) {
-  k.block = false;
-  if (k.count < 2) return;
-  const int n = k.count;
-  const double im = A.inv_mass + B.inv_mass;
-  Eigen::Matrix4d K = Eigen::Matrix4d::Identity();
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j <= i; ++j)
-      K(i, j) = K(j, i) = im + k.p[i].rnA.dot(k.p[j].IrnA) + k.p[i].rnB.dot(k.p[j].IrnB);
-  // D_ii = K_ii / a2 (a2 = mass_scale / impulse_scale): see ManifoldSolve::block.
-  const double d = k.soft.mass_scale > 0 ? k.soft.impulse_scale / k.soft.mass_scale : 0.0;
-  Eigen::Matrix4d Ks = K, Kr = K;
-  for (int i = 0; i < n; ++i) {
-    Ks(i, i) += d * K(i, i);
-    Kr(i, i) += kBlockRegularisation * K(i, i);
-  }
-  const Eigen::LLT<Eigen::Matrix4d> ls(Ks), lr(Kr);
-  if (ls.info() != Eigen::Success || lr.info() != Eigen::Success) return;
-  const Eigen::Matrix4d Ms = ls.solve(Eigen::Matrix4d::Identity());
-  const Eigen::Matrix4d Mr = lr.solve(Eigen::Matrix4d::Identity());
-  for (int i = 0, e = 0; i < 4; ++i)
-    for (int j = 0; j <= i; ++j, ++e) {
-      k.block_soft[e] = 0.5 * (Ms(i, j) + Ms(j, i));
-      k.block_rigid[e] = 0.5 * (Mr(i, j) + Mr(j, i));
-    }
-  k.block = true;
+  k.block = k.count >= 2 &&
+            block_matrices(k.p, k.count, A.inv_mass + B.inv_mass, k.soft, k.block_soft, k.block_rigid);
 }
 
 namespace {
@@ -531,18 +638,26 @@ __attribute__((flatten)) inline void warm_start_constraint(const SweepConstraint
 
 void ContactSolver::warm_start() {
   on_workers([&](int w, int nw) {
-    by_colour(w, nw, [&](int begin, int end) {
-      for (int i = begin; i < end; ++i) {
-        const SweepConstraint& k = sweep_[i];
-        if (i + 2 < end) prefetch(sweep_[i + 2]);
-        if (k.a == 0)
-          warm_start_constraint<kStaticA>(k, cons_[i], sb_[0], sb_[k.b]);
-        else if (k.b == 0)
-          warm_start_constraint<kStaticB>(k, cons_[i], sb_[k.a], sb_[0]);
-        else
-          warm_start_constraint<kNoneStatic>(k, cons_[i], sb_[k.a], sb_[k.b]);
-      }
-    });
+    by_colour(
+        w, nw,
+        [&](int begin, int end) {
+          for (int n = begin; n < end; ++n) {
+            const int i = scalar_[n];
+            const SweepConstraint& k = sweep_[i];
+            if (n + 2 < end) prefetch(sweep_[scalar_[n + 2]]);
+            if (k.a == 0)
+              warm_start_constraint<kStaticA>(k, cons_[i], sb_[0], sb_[k.b]);
+            else if (k.b == 0)
+              warm_start_constraint<kStaticB>(k, cons_[i], sb_[k.a], sb_[0]);
+            else
+              warm_start_constraint<kNoneStatic>(k, cons_[i], sb_[k.a], sb_[k.b]);
+          }
+        },
+        [&](int begin, int end) {
+          for (int i = begin; i < end; ++i) {
+            wide::warm_start(bundles_[i], sb_.data());
+          }
+        });
     // A tracked body's gyroscopic term, with the substep's contact impulse in its midpoint: m = (w0 +
     // w')/2 must hold the whole substep's change of w, and the contact's, I^-1 (r x P), is of the
     // same order as the term's own (the contact's torque is what turns L). Taken before the
@@ -968,17 +1083,26 @@ bool ContactSolver::solve(double h, bool use_bias, bool first_iteration) {
                       first_iteration,
                       h,
                       tracked_.data()};
+  const wide::SolveParams wq{q.inv_h, q.max_push, q.slop, q.apart, q.resting_passes, use_bias};
   for (Flag& f : struck_) f.value = false;  // the pool may run everything as worker 0 of 1
   on_workers([&](int w, int nw) {
     bool struck = false;
-    by_colour(w, nw, [&](int begin, int end) {
-      int i = begin;
-      for (; i + 1 < end; i += 2) {
-        if (i + 3 < end) prefetch(sweep_[i + 2]), prefetch(sweep_[i + 3]);
-        struck |= solve_pair(sweep_[i], sweep_[i + 1], cons_[i], cons_[i + 1], q, sb_);
-      }
-      if (i < end) struck |= solve_single(sweep_[i], cons_[i], q, sb_);
-    });
+    by_colour(
+        w, nw,
+        [&](int begin, int end) {
+          int n = begin;
+          for (; n + 1 < end; n += 2) {
+            if (n + 3 < end) prefetch(sweep_[scalar_[n + 2]]), prefetch(sweep_[scalar_[n + 3]]);
+            const int i = scalar_[n], i1 = scalar_[n + 1];
+            struck |= solve_pair(sweep_[i], sweep_[i1], cons_[i], cons_[i1], q, sb_);
+          }
+          if (n < end) struck |= solve_single(sweep_[scalar_[n]], cons_[scalar_[n]], q, sb_);
+        },
+        [&](int begin, int end) {
+          for (int i = begin; i < end; ++i) {
+            struck |= wide::solve(bundles_[i], sb_.data(), wq);
+          }
+        });
     struck_[w].value = struck;
   });
   bool struck = false;
@@ -1057,18 +1181,24 @@ void ContactSolver::refresh_tracked(int w, int nw) {
 void ContactSolver::restitution(double threshold) {
   if (!any_restitution_) return;
   on_workers([&](int w, int nw) {
-    by_colour(w, nw, [&](int begin, int end) {
-      for (int i = begin; i < end; ++i)
-        if (sweep_[i].restitution > 0) restitution_one(sweep_[i], cons_[i], threshold);
-    });
+    by_colour(
+        w, nw,
+        [&](int begin, int end) {
+          for (int n = begin; n < end; ++n) {
+            const int i = scalar_[n];
+            if (sweep_[i].restitution > 0) restitution_one(sweep_[i], cons_[i], threshold);
+          }
+        },
+        [](int, int) {});          // wide manifolds have no restitution
     if (nw > 1) pool_->barrier();  // every manifold has bounced
     // The next substep's start velocities, once every manifold has bounced: a later manifold's
     // bounce changes the velocity of a body this one shares (a row of balls), and a velocity taken
     // before it read as an acceleration over the substep and predicted a false impact speed (a
     // Newton's cradle then gained energy; measured).
     int begin, end;
-    share((int)cons_.size(), w, nw, begin, end);
-    for (int i = begin; i < end; ++i) {
+    share((int)scalar_.size(), w, nw, begin, end);
+    for (int n = begin; n < end; ++n) {
+      const int i = scalar_[n];
       const SweepConstraint& k = sweep_[i];
       if (k.restitution == 0) continue;
       for (int j = 0; j < k.count; ++j)
@@ -1140,8 +1270,9 @@ void ContactSolver::restitution_one(SweepConstraint& k, ContactConstraint& f, do
 void ContactSolver::store_impulses(std::vector<Contact>& contacts) const {
   on_workers([&](int w, int nw) {
     int begin, end;
-    share((int)cons_.size(), w, nw, begin, end);
-    for (int i = begin; i < end; ++i) {
+    share((int)scalar_.size(), w, nw, begin, end);
+    for (int n = begin; n < end; ++n) {
+      const int i = scalar_[n];
       const SweepConstraint& k = sweep_[i];
       Contact& c = contacts[cons_[i].contact];
       for (int j = 0; j < k.count; ++j) {
@@ -1151,6 +1282,19 @@ void ContactSolver::store_impulses(std::vector<Contact>& contacts) const {
       c.twist_impulse = k.twist_impulse;
       c.rolling_impulse = cons_[i].rolling_impulse;
     }
+    share((int)bundles_.size(), w, nw, begin, end);
+    for (int i = begin; i < end; ++i) {
+      const wide::Bundle& k = bundles_[i];
+      for (int l = 0; l < wide::kLanes; ++l) {
+        if (k.contact[l] < 0) continue;
+        Contact& c = contacts[k.contact[l]];
+        for (int j = 0; j < k.count[l]; ++j) c.points[j].normal_impulse = k.p[j].normal_impulse[l];
+        const Vec3 t0(k.t0.x[l], k.t0.y[l], k.t0.z[l]), t1(k.t1.x[l], k.t1.y[l], k.t1.z[l]);
+        c.friction_impulse_W = k.tangent_impulse0[l] * t0 + k.tangent_impulse1[l] * t1;
+        c.twist_impulse = k.twist_impulse[l];
+        c.rolling_impulse.setZero();
+      }
+    }
   });
 }
 
@@ -1158,11 +1302,18 @@ void ContactSolver::finish(const BodyModel* model, MotionState* state,
                            std::vector<char>& touched_none) const {
   for (int k = 1; k < (int)sb_.size(); ++k) touched_none[k] = 1;
   touched_none[0] = 0;
-  for (const SweepConstraint& k : sweep_) {
+  for (int i : scalar_) {
+    const SweepConstraint& k = sweep_[i];
     bool touched = false;
     for (int j = 0; j < k.count; ++j) touched = touched || k.p[j].max_normal_impulse > 0;
     if (touched) touched_none[k.a] = touched_none[k.b] = 0;
   }
+  for (const wide::Bundle& k : bundles_)
+    for (int l = 0; l < wide::kLanes; ++l) {
+      bool touched = false;
+      for (int j = 0; j < k.count[l]; ++j) touched = touched || k.p[j].max_normal_impulse[l] > 0;
+      if (touched) touched_none[k.a[l]] = touched_none[k.b[l]] = 0;
+    }
   for (int k = 1; k < (int)sb_.size(); ++k) {
     const int i = bodies_[k - 1];
     if (model[i].inv_mass == 0 || touched_none[k]) continue;

@@ -27,6 +27,7 @@
 #include "sim/contact.hpp"
 #include "sim/contact_refresh.hpp"
 #include "sim/contact_settings.hpp"
+#include "sim/contact_wide.hpp"
 #include "sim/shapes.hpp"
 #include "sim/state.hpp"
 
@@ -180,7 +181,17 @@ class ContactSolver {
   std::vector<Vec3> accel_;      ///< m/s^2, g + f/m
   std::vector<Vec3> ang_accel_;  ///< rad/s^2, I^-1 tau
   std::vector<ContactConstraint> cons_;  ///< in solve order: colour by colour (graph_.slot)
-  std::vector<SweepConstraint> sweep_;   ///< the same, what the sweeps read (pack_sweep)
+  std::vector<SweepConstraint> sweep_;   ///< the same, what the scalar path's sweeps read (pack_sweep)
+  // Each colour's plain manifolds go four at a time to the wide path (sim/contact_wide.hpp), the
+  // others (and the overflow set) to the scalar path; both per colour in slot order.
+  std::vector<wide::Bundle> bundles_;  ///< colour by colour
+  std::vector<int> bundle_start_;      ///< kColours + 2 entries: colour c's bundles
+  std::vector<int> scalar_;            ///< slots on the scalar path, colour by colour
+  std::vector<int> scalar_start_;      ///< kColours + 2 entries: colour c's in scalar_
+  std::vector<int> lane_of_;           ///< per slot: 4 bundle + lane, or -1 (scalar)
+  std::vector<char> plain_;            ///< per constraint (contact order): may take the wide path
+  std::vector<char> apart_;            ///< per constraint: every point apart at the step's start
+  std::vector<char> slot_plain_;       ///< per slot: 0 scalar, 1 wide, 2 wide and apart
   std::vector<TrackedContact>
       tracked_;  ///< contacts whose point runs over a surface (ContactConstraint::track), in contact order
   std::vector<int> tracked_bodies_;  ///< their tracked bodies' solver bodies, ascending
@@ -205,10 +216,13 @@ class ContactSolver {
 
   template <typename F>
   void on_workers(F&& f) const;  ///< f(worker, workers) on every worker, or f(0, 1)
-  // Inside on_workers: f(begin, end) over this worker's share of each colour's constraint slots,
-  // a barrier between colours, then the overflow set on worker 0.
-  template <typename F>
-  void by_colour(int w, int nw, F&& f);
+  // Inside on_workers: per colour, scalar(begin, end) over this worker's share of the colour's
+  // scalar_ entries and wide(begin, end) over its share of the colour's bundles, a barrier
+  // between colours, then the overflow set (scalar) on worker 0.
+  template <typename FS, typename FW>
+  void by_colour(int w, int nw, FS&& scalar, FW&& wide);
+  void assign_lanes();  ///< bundles and scalar_ from the colouring (prepare)
+  void set_lane(int slot);
   void make_constraint(ContactConstraint& k, int slot, int cand, int ci, const Contact& c,
                        const std::vector<int>& solver_index);
   void integrate_velocity(int k, double h);

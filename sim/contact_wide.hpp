@@ -1,0 +1,104 @@
+// The contact solver's wide path: four manifolds of one colour solved at once, one per lane of
+// a four-double vector (Box2D v3 / Box3D solve a colour's contacts in SIMD bundles the same way:
+// Catto, "Solver2D" and Box2D's contact_solver.c, "wide" float lanes; here doubles).
+//
+// Which manifolds. Within a colour no two manifolds share a moving body (sim/constraint_graph.hpp),
+// so four of them are four independent solves. A lane does exactly what ManifoldSolve
+// (contact_solver.cpp) does for a plain manifold, the same algorithm in the same order: the block
+// solve of the resting points, the passes where it does not apply (every lane runs them, masked,
+// until its own manifold has converged), friction at the centre, twist. Manifolds that need more
+// stay on the scalar path: a tracked point, rolling resistance, restitution, regularised Coulomb
+// friction (contacts.slip_speed), and the graph's overflow set (solved in sequence). Bundles are
+// made per colour in slot order, so they, and every result, are the same for any thread count;
+// a lane's arithmetic depends on nothing in the other lanes.
+//
+// Why. The large pyramid's sweeps streamed 1.4 KB per manifold (its 15,000 manifolds, 21 MB,
+// three times a substep, from the shared cache): the warm start ran at the cache's bandwidth and
+// the solve had half of it again as arithmetic on one lane. A lane here is 0.7 KB: the lever
+// arms r x n and the inertia products I^-1 (r x n) are made in the sweep from the anchors and the
+// bodies (in the 1st-level cache), not stored, and an impulse's angular part is summed over the
+// points before one product with I^-1 (warm start, block solve, friction).
+#pragma once
+#include <cstdint>
+
+#include "sim/contact_settings.hpp"
+#include "sim/types.hpp"
+
+namespace simreel {
+
+struct SolverBody;
+
+// The block solve's regularisation of rigid rows: K + eps diag(K) for the singular K of a face on a
+// face (four points on three degrees of freedom): velocities off by a relative 1e-8, far inside the
+// passes' tolerance (1e-4), and the matrix well enough conditioned (1e8) for double.
+constexpr double kBlockRegularisation = 1e-8;
+struct Softness;
+
+namespace wide {
+
+constexpr int kLanes = 4;
+using Real = double __attribute__((vector_size(32)));        ///< four doubles
+using Mask = std::int64_t __attribute__((vector_size(32)));  ///< per lane: -1 true, 0 false
+
+struct Vec {
+  Real x, y, z;
+};
+
+// One point of each lane's manifold (a lane with fewer points: zeros, normal_mass 1).
+struct Point {
+  Vec cA, cB;                ///< m, each surface's centre of curvature from its centre of mass (world)
+  Real adjusted_separation;  ///< m, separation - n.(cB - cA) at the step's start
+  Real normal_mass;          ///< kg, 1 / K_ii
+  Real lever;                ///< m, distance from the friction centre (twist limit)
+  Real normal_impulse;       ///< N s, accumulated (per substep)
+  Real max_normal_impulse;   ///< N s, the largest this step
+};
+
+// Four manifolds of one colour (an empty lane: bodies 0 and 0, no points).
+struct alignas(64) Bundle {
+  int a[kLanes], b[kLanes];  ///< solver bodies (0: the static body, never written)
+  int count[kLanes];         ///< points, 0 to 4
+  int contact[kLanes];       ///< index into the contact list (-1: an empty lane)
+  Vec n, t0, t1;             ///< normal (A to B) and tangent basis, world
+  Real friction;             ///< dimensionless
+  Real tangent_mass[3];      ///< kg, the 2x2 tangent mass at the centre, symmetric: 00, 01, 11
+  Real twist_mass;           ///< kg m^2
+  Real bias_rate, mass_scale, impulse_scale;  ///< the lane's softness (Softness)
+  Vec fA, fB;                                 ///< m, the friction centre from each centre of mass
+  Real tangent_impulse0, tangent_impulse1, twist_impulse;  ///< N s, N s, N m s
+  Point p[4];
+  // The points' coupling K = J M^-1 J^T (K_ij: point i's normal velocity per unit impulse at
+  // point j; symmetric, positive semi-definite), lower triangle row by row; an absent point's row
+  // and column are the identity's. For the block solve (contact_wide.cpp).
+  Real K[10];
+};
+
+// What a lane is made from (ContactSolver::make_constraint's record).
+struct LaneInput {
+  int a, b, count, contact;
+  const Vec3 *n, *t0, *t1, *fA, *fB;
+  double friction, twist_mass, tangent_mass00, tangent_mass01, tangent_mass11;
+  const Softness* soft;
+  double tangent_impulse0, tangent_impulse1, twist_impulse;
+  const Vec3* cA[4];
+  const Vec3* cB[4];
+  double adjusted_separation[4], normal_mass[4], lever[4], normal_impulse[4];
+  const double* K;  ///< 10 values, as Bundle::K
+};
+
+void clear_lane(Bundle& k, int lane);
+void set_lane(Bundle& k, int lane, const LaneInput& in);
+
+struct SolveParams {
+  double inv_h, max_push, slop, apart;  ///< 1/s, m/s, m, m (as ManifoldSolve's)
+  int resting_passes;                   ///< contacts.passes
+  bool use_bias;                        ///< solve (true) or relax (false)
+};
+
+// The warm start: each lane's accumulated impulses applied to its bodies.
+void warm_start(const Bundle& k, SolverBody* sb);
+// One Gauss-Seidel visit of each lane's manifold; returns whether one was struck (kImpactSpeed).
+bool solve(Bundle& k, SolverBody* sb, const SolveParams& q);
+
+}  // namespace wide
+}  // namespace simreel
