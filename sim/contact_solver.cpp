@@ -151,8 +151,16 @@ void ContactSolver::by_colour(int w, int nw, FS&& scalar, FW&& wide) {
     int b, e;
     share(scalar_start_[c + 1] - scalar_start_[c], w, nw, b, e);
     if (b < e) scalar(scalar_start_[c] + b, scalar_start_[c] + e);
-    share(bundle_start_[c + 1] - bundle_start_[c], w, nw, b, e);
-    if (b < e) wide(bundle_start_[c] + b, bundle_start_[c] + e);
+    // The colour's bundles in two parts, each shared out: those apart at the step's start come
+    // last and mostly cost a look (wide::solve), and in one share the second worker got them
+    // (the large pyramid ran 1.44x one thread on two; interleaving bundles one by one instead
+    // shared cache lines of neighbouring bodies between the cores: 1.32x).
+    for (int part = 0; part < 2; ++part) {
+      const int b0 = part == 0 ? bundle_start_[c] : bundle_split_[c];
+      const int b1 = part == 0 ? bundle_split_[c] : bundle_start_[c + 1];
+      share(b1 - b0, w, nw, b, e);
+      if (b < e) wide(b0 + b, b0 + e);
+    }
     // No barrier after the last: the end of the pool's run waits for everyone.
     if (nw > 1 && (u + 1 < used.size() || overflow)) pool_->barrier();
   }
@@ -169,6 +177,7 @@ void ContactSolver::assign_lanes() {
   scalar_.clear();
   scalar_start_.assign(kOverflow + 2, 0);
   bundle_start_.assign(kOverflow + 2, 0);
+  bundle_split_.assign(kOverflow + 2, 0);
   // Per slot: 0 scalar, 1 wide, 2 wide and apart at the step's start (every point's gap open).
   slot_plain_.resize(ncons);
   for (int j = 0; j < ncons; ++j) slot_plain_[graph_.slot(j)] = plain_[j] ? 1 + apart_[j] : 0;
@@ -179,9 +188,11 @@ void ContactSolver::assign_lanes() {
     // The manifolds apart at the step's start after the others: they mostly stay apart (the sides
     // of the large pyramid's rows, a gap apart: a quarter of its manifolds), and a bundle of
     // them costs a look at their gaps (wide::solve).
-    for (int kind = 1; kind <= 2; ++kind)
+    for (int kind = 1; kind <= 2; ++kind) {
+      if (kind == 2) bundle_split_[c] = (lanes + wide::kLanes - 1) / wide::kLanes;
       for (int slot = graph_.begin(c); slot < graph_.end(c); ++slot)
         if (slot_plain_[slot] == kind && c != kOverflow) lane_of_[slot] = lanes++;
+    }
     for (int slot = graph_.begin(c); slot < graph_.end(c); ++slot)
       if (!slot_plain_[slot] || c == kOverflow) scalar_.push_back(slot);
     // The colour's last bundle padded with empty lanes (cleared once the bundles exist).

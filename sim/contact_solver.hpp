@@ -186,6 +186,7 @@ class ContactSolver {
   // others (and the overflow set) to the scalar path; both per colour in slot order.
   std::vector<wide::Bundle> bundles_;  ///< colour by colour
   std::vector<int> bundle_start_;      ///< kColours + 2 entries: colour c's bundles
+  std::vector<int> bundle_split_;      ///< per colour: its first bundle of manifolds apart
   std::vector<int> scalar_;            ///< slots on the scalar path, colour by colour
   std::vector<int> scalar_start_;      ///< kColours + 2 entries: colour c's in scalar_
   std::vector<int> lane_of_;           ///< per slot: 4 bundle + lane, or -1 (scalar)
