@@ -35,14 +35,14 @@ namespace simreel {
 
 class WorkerPool;
 
-struct SolverBody {
-  Vec3 v = Vec3::Zero();       ///< m/s, centre-of-mass velocity, world
-  Vec3 w = Vec3::Zero();       ///< rad/s, world
-  Vec3 dp = Vec3::Zero();      ///< m, centre-of-mass displacement so far this step
-  Quat dq = Quat::Identity();  ///< rotation so far this step (world)
-  Mat3 dR = Mat3::Identity();  ///< dq as a matrix (set with dq; read by every constraint's gaps)
-  double inv_mass = 0;         ///< 1/kg (0: static or kinematic)
-  Mat3 inv_I = Mat3::Zero();   ///< 1/(kg m^2), world, R I^-1 R^T at the step's start
+struct alignas(64) SolverBody {  // whole cache lines: two threads write neighbouring bodies
+  Vec3 v = Vec3::Zero();         ///< m/s, centre-of-mass velocity, world
+  Vec3 w = Vec3::Zero();         ///< rad/s, world
+  Vec3 dp = Vec3::Zero();        ///< m, centre-of-mass displacement so far this step
+  Quat dq = Quat::Identity();    ///< rotation so far this step (world)
+  Mat3 dR = Mat3::Identity();    ///< dq as a matrix (set with dq; read by every constraint's gaps)
+  double inv_mass = 0;           ///< 1/kg (0: static or kinematic)
+  Mat3 inv_I = Mat3::Zero();     ///< 1/(kg m^2), world, R I^-1 R^T at the step's start
 };
 
 struct Softness {
