@@ -79,10 +79,9 @@ inline double normal_velocity(const Body& A, const Body& B, const Vec3& n, const
 // Asks for a constraint's memory ahead of its solve: a sweep streams the constraints (1.7 KB each,
 // 25 MB for the large pyramid) from memory, and the first loads of each stalled the solve (a third
 // of its time in the pyramid, sampled). Changes no result.
-template <class T>  // SweepConstraint or wide::Bundle
-inline void prefetch(const T& k) {
+inline void prefetch(const SweepConstraint& k) {
   const char* p = reinterpret_cast<const char*>(&k);
-  for (size_t off = 0; off < sizeof(T); off += 64) __builtin_prefetch(p + off);
+  for (size_t off = 0; off < sizeof(SweepConstraint); off += 64) __builtin_prefetch(p + off);
 }
 
 // Which side of a constraint is the static body (solver body 0): it would receive zeros, so it is
@@ -211,44 +210,15 @@ void ContactSolver::assign_lanes() {
   }
 }
 
-// A wide lane from the constraint's record (make_constraint), with its block matrices.
+// A wide lane from the constraint's record (make_constraint), with its points' coupling K.
 void ContactSolver::set_lane(int slot) {
   const ContactConstraint& f = cons_[slot];
   const int lane = lane_of_[slot];
-  wide::LaneInput in{};
-  in.a = f.a;
-  in.b = f.b;
-  in.count = f.count;
-  in.contact = f.contact;
-  in.n = &f.n;
-  in.t0 = &f.t[0];
-  in.t1 = &f.t[1];
-  in.fA = &f.fA;
-  in.fB = &f.fB;
-  in.friction = f.friction;
-  in.twist_mass = f.twist_mass;
-  in.tangent_mass00 = f.tangent_mass(0, 0);
-  in.tangent_mass01 = f.tangent_mass(0, 1);
-  in.tangent_mass11 = f.tangent_mass(1, 1);
-  in.soft = &f.soft;
-  in.tangent_impulse0 = f.tangent_impulse[0];
-  in.tangent_impulse1 = f.tangent_impulse[1];
-  in.twist_impulse = f.twist_impulse;
-  for (int j = 0; j < f.count; ++j) {
-    const ConstraintPoint& p = f.p[j];
-    in.cA[j] = &p.cA;
-    in.cB[j] = &p.cB;
-    in.adjusted_separation[j] = p.adjusted_separation;
-    in.normal_mass[j] = p.normal_mass;
-    in.lever[j] = p.lever;
-    in.normal_impulse[j] = p.normal_impulse;
-  }
   const Eigen::Matrix4d K = coupling(f.p, f.count, sb_[f.a].inv_mass + sb_[f.b].inv_mass);
   double lower[10];
   for (int i = 0, e = 0; i < 4; ++i)
     for (int j = 0; j <= i; ++j, ++e) lower[e] = K(i, j);
-  in.K = lower;
-  wide::set_lane(bundles_[lane / wide::kLanes], lane % wide::kLanes, in);
+  wide::set_lane(bundles_[lane / wide::kLanes], lane % wide::kLanes, f, lower);
 }
 
 // Flattened for the same reason as solve_one (Eigen's 3x3 products called, not inlined).

@@ -178,45 +178,46 @@ void clear_lane(Bundle& k, int l) {
     for (int j = 0; j <= i; ++j, ++e) k.K[e][l] = i == j ? 1.0 : 0.0;
 }
 
-void set_lane(Bundle& k, int l, const LaneInput& in) {
+void set_lane(Bundle& k, int l, const ContactConstraint& f, const double* K) {
   clear_lane(k, l);
-  k.a[l] = in.a;
-  k.b[l] = in.b;
-  k.count[l] = in.count;
-  k.contact[l] = in.contact;
+  k.a[l] = f.a;
+  k.b[l] = f.b;
+  k.count[l] = f.count;
+  k.contact[l] = f.contact;
   auto put = [l](Vec& v, const Vec3& x) {
     v.x[l] = x.x();
     v.y[l] = x.y();
     v.z[l] = x.z();
   };
-  put(k.n, *in.n);
-  put(k.t0, *in.t0);
-  put(k.t1, *in.t1);
-  put(k.fA, *in.fA);
-  put(k.fB, *in.fB);
-  k.friction[l] = in.friction;
-  k.twist_mass[l] = in.twist_mass;
-  k.tangent_mass[0][l] = in.tangent_mass00;
-  k.tangent_mass[1][l] = in.tangent_mass01;
-  k.tangent_mass[2][l] = in.tangent_mass11;
-  k.bias_rate[l] = in.soft->bias_rate;
-  k.mass_scale[l] = in.soft->mass_scale;
-  k.impulse_scale[l] = in.soft->impulse_scale;
-  k.tangent_impulse0[l] = in.tangent_impulse0;
-  k.tangent_impulse1[l] = in.tangent_impulse1;
-  k.twist_impulse[l] = in.twist_impulse;
-  for (int j = 0; j < in.count; ++j) {
+  put(k.n, f.n);
+  put(k.t0, f.t[0]);
+  put(k.t1, f.t[1]);
+  put(k.fA, f.fA);
+  put(k.fB, f.fB);
+  k.friction[l] = f.friction;
+  k.twist_mass[l] = f.twist_mass;
+  k.tangent_mass[0][l] = f.tangent_mass(0, 0);
+  k.tangent_mass[1][l] = f.tangent_mass(0, 1);
+  k.tangent_mass[2][l] = f.tangent_mass(1, 1);
+  k.bias_rate[l] = f.soft.bias_rate;
+  k.mass_scale[l] = f.soft.mass_scale;
+  k.impulse_scale[l] = f.soft.impulse_scale;
+  k.tangent_impulse0[l] = f.tangent_impulse[0];
+  k.tangent_impulse1[l] = f.tangent_impulse[1];
+  k.twist_impulse[l] = f.twist_impulse;
+  for (int j = 0; j < f.count; ++j) {
+    const ConstraintPoint& fp = f.p[j];
     Point& p = k.p[j];
-    put(p.cA, *in.cA[j]);
-    put(p.cB, *in.cB[j]);
-    p.adjusted_separation[l] = in.adjusted_separation[j];
-    p.normal_mass[l] = in.normal_mass[j];
-    p.lever[l] = in.lever[j];
-    p.normal_impulse[l] = in.normal_impulse[j];
+    put(p.cA, fp.cA);
+    put(p.cB, fp.cB);
+    p.adjusted_separation[l] = fp.adjusted_separation;
+    p.normal_mass[l] = fp.normal_mass;
+    p.lever[l] = fp.lever;
+    p.normal_impulse[l] = fp.normal_impulse;
   }
   for (int i = 0, e = 0; i < 4; ++i)
     for (int j = 0; j <= i; ++j, ++e)
-      if (i < in.count && j < in.count) k.K[e][l] = in.K[e];
+      if (i < f.count && j < f.count) k.K[e][l] = K[e];
 }
 
 // Both sweeps built twice, for AVX2 (four doubles an instruction) and for the baseline x86-64 (two),
@@ -269,14 +270,13 @@ SIMREEL_WIDE_TARGETS bool solve(Bundle& k, SolverBody* sb, const SolveParams& q)
   // Each point's row: its bias, whether it is speculative (apart at the substep's start: rigid,
   // closing at most the gap), whether the relax may only release it (apart by more than
   // `apart`), and the normal velocity now.
-  const Real zero4 = zero;
   Real bias[4], vn[4];
   Mask spec[4], release[4];
   const Real nvA = dot(k.n, A.v), nvB = dot(k.n, B.v);
   for (int j = 0; j < 4; ++j) {
     spec[j] = s[j] > 0.0;
     const Real soft_bias =
-        q.use_bias ? vmax(k.bias_rate * vmin(zero4, s[j] + q.slop), splat(-q.max_push)) : zero4;
+        q.use_bias ? vmax(k.bias_rate * vmin(zero, s[j] + q.slop), splat(-q.max_push)) : zero;
     bias[j] = sel(spec[j], s[j] * q.inv_h, soft_bias);
     release[j] = q.use_bias ? Mask{0, 0, 0, 0} : (s[j] > q.apart);
     vn[j] = (nvB + dot(B.w, rnB[j])) - (nvA + dot(A.w, rnA[j]));
@@ -301,16 +301,16 @@ SIMREEL_WIDE_TARGETS bool solve(Bundle& k, SolverBody* sb, const SolveParams& q)
   // solved by LDL^T (K + D is positive definite: K is J M^-1 J^T, positive semi-definite, and D
   // positive). Accepted where every accumulated impulse l0 + x stays >= 0 (the clamps inactive:
   // then it is the passes' limit exactly); the other lanes run the passes.
-  const Real d = q.use_bias ? k.impulse_scale / k.mass_scale : zero4;
+  const Real d = q.use_bias ? k.impulse_scale / k.mass_scale : zero;
   Real dr[4], Kd[4];
   for (int j = 0; j < 4; ++j) {
     const Real Kjj = k.K[j * (j + 1) / 2 + j];
     const Mask soft = ~spec[j] & (q.use_bias ? Mask{-1, -1, -1, -1} : Mask{0, 0, 0, 0});
-    dr[j] = sel(soft, d, zero4) * Kjj;
+    dr[j] = sel(soft, d, zero) * Kjj;
     Kd[j] = Kjj + sel(soft, d, splat(kBlockRegularisation)) * Kjj;
   }
   Real r[4];
-  for (int j = 0; j < 4; ++j) r[j] = sel(in[j], -(vn[j] + bias[j]) - dr[j] * k.p[j].normal_impulse, zero4);
+  for (int j = 0; j < 4; ++j) r[j] = sel(in[j], -(vn[j] + bias[j]) - dr[j] * k.p[j].normal_impulse, zero);
   // Where a point's impulse would come out negative (a corner lifting off), the most negative is
   // let go (impulse 0, x_i = -l0_i) and the others solved again: the exact solution of the
   // complementarity problem the passes converge to (K + D positive definite: it has one), when
@@ -330,13 +330,13 @@ SIMREEL_WIDE_TARGETS bool solve(Bundle& k, SolverBody* sb, const SolveParams& q)
     act[j] = in[j] & ~idle;
     open &= ~(act[j] & (q.use_bias ? spec[j] : release[j]));
   }
-  Real x[4] = {zero4, zero4, zero4, zero4}, sum[4];
+  Real x[4] = {zero, zero, zero, zero}, sum[4];
   for (int round = 0; round < 3 && any(open); ++round) {
     Real A[10], rr[4], xf[4], xr[4];
-    for (int i = 0; i < 4; ++i) xf[i] = sel(act[i], zero4, -k.p[i].normal_impulse);
+    for (int i = 0; i < 4; ++i) xf[i] = sel(act[i], zero, -k.p[i].normal_impulse);
     for (int i = 0, e = 0; i < 4; ++i)
       for (int j = 0; j <= i; ++j, ++e)
-        A[e] = i == j ? sel(act[i], Kd[i], splat(1)) : sel(act[i] & act[j], k.K[e], zero4);
+        A[e] = i == j ? sel(act[i], Kd[i], splat(1)) : sel(act[i] & act[j], k.K[e], zero);
     for (int i = 0; i < 4; ++i) {
       Real ri = r[i];
       for (int j = 0; j < 4; ++j)
@@ -345,7 +345,7 @@ SIMREEL_WIDE_TARGETS bool solve(Bundle& k, SolverBody* sb, const SolveParams& q)
     }
     Mask good = open & ldlt_solve(A, rr, xr);
     Mask drop = Mask{0, 0, 0, 0};
-    Real scale = splat(1e-300), least = zero4;
+    Real scale = splat(1e-300), least = zero;
     Mask worst = Mask{-1, -1, -1, -1};  // the point with the most negative impulse (-1: none)
     for (int i = 0; i < 4; ++i) {
       const Real si = k.p[i].normal_impulse + xr[i];

@@ -27,12 +27,12 @@
 namespace simreel {
 
 struct SolverBody;
+struct ContactConstraint;
 
 // The block solve's regularisation of rigid rows: K + eps diag(K) for the singular K of a face on a
 // face (four points on three degrees of freedom): velocities off by a relative 1e-8, far inside the
 // passes' tolerance (1e-4), and the matrix well enough conditioned (1e8) for double.
 constexpr double kBlockRegularisation = 1e-8;
-struct Softness;
 
 namespace wide {
 
@@ -73,21 +73,10 @@ struct alignas(64) Bundle {
   Real K[10];
 };
 
-// What a lane is made from (ContactSolver::make_constraint's record).
-struct LaneInput {
-  int a, b, count, contact;
-  const Vec3 *n, *t0, *t1, *fA, *fB;
-  double friction, twist_mass, tangent_mass00, tangent_mass01, tangent_mass11;
-  const Softness* soft;
-  double tangent_impulse0, tangent_impulse1, twist_impulse;
-  const Vec3* cA[4];
-  const Vec3* cB[4];
-  double adjusted_separation[4], normal_mass[4], lever[4], normal_impulse[4];
-  const double* K;  ///< 10 values, as Bundle::K
-};
-
 void clear_lane(Bundle& k, int lane);
-void set_lane(Bundle& k, int lane, const LaneInput& in);
+// A lane from a constraint's full record (ContactSolver::make_constraint) and its points'
+// coupling K (10 values, as Bundle::K).
+void set_lane(Bundle& k, int lane, const ContactConstraint& f, const double* K);
 
 struct SolveParams {
   double inv_h, max_push, slop, apart;  ///< 1/s, m/s, m, m (as ManifoldSolve's)
