@@ -66,10 +66,6 @@ bool block_matrices(const Point* p, int n, double im, const Softness& soft_terms
   return true;
 }
 
-inline Vec3 relative_velocity(const SolverBody& A, const SolverBody& B, const Vec3& rA, const Vec3& rB) {
-  return B.v + B.w.cross(rB) - A.v - A.w.cross(rA);
-}
-
 // Normal velocity of a point: n.(vB - vA) + wB.(rB x n) - wA.(rA x n).
 template <class Body, class Point>  // SolverBody or LocalBody; ConstraintPoint or SweepPoint
 inline double normal_velocity(const Body& A, const Body& B, const Vec3& n, const Point& p) {

@@ -222,7 +222,13 @@ void set_lane(Bundle& k, int l, const ContactConstraint& f, const double* K) {
 
 // Both sweeps built twice, for AVX2 (four doubles an instruction) and for the baseline x86-64 (two),
 // chosen at load time; the same operations on the same lanes, so the same results either way.
+// Clang checks the vector calling convention at each call before inlining, so an AVX2 clone may not
+// call the helpers above (built for the baseline): a clang build runs the baseline sweeps only.
+#if defined(__clang__)
+#define SIMREEL_WIDE_TARGETS
+#else
 #define SIMREEL_WIDE_TARGETS __attribute__((target_clones("avx2", "default")))
+#endif
 
 SIMREEL_WIDE_TARGETS void warm_start(const Bundle& k, SolverBody* sb) {
   Mask held = (k.tangent_impulse0 != 0.0) | (k.tangent_impulse1 != 0.0) | (k.twist_impulse != 0.0);
