@@ -11,8 +11,17 @@ namespace {
 // Lane-wise arithmetic is the vector types' own (IEEE, per lane, no contraction: the build has
 // -ffp-contract=off), so a lane computes what the same expression on doubles would.
 inline Real splat(double x) {
-  return Real{x, x, x, x};
+  Real r;
+  for (int l = 0; l < kLanes; ++l) r[l] = x;
+  return r;
 }
+inline Mask msplat(std::int64_t x) {
+  Mask r;
+  for (int l = 0; l < kLanes; ++l) r[l] = x;
+  return r;
+}
+constexpr Mask kNone = {};     ///< every lane false
+constexpr Mask kAll = ~kNone;  ///< every lane true
 inline Real sel(Mask m, Real a, Real b) {
   return (Real)((m & (Mask)a) | (~m & (Mask)b));
 }
@@ -26,7 +35,9 @@ inline Real vabs(Real a) {
   return sel(a < 0.0, -a, a);
 }
 inline bool any(Mask m) {
-  return (m[0] | m[1] | m[2] | m[3]) != 0;
+  std::int64_t o = 0;
+  for (int l = 0; l < kLanes; ++l) o |= m[l];
+  return o != 0;
 }
 
 inline Vec operator+(const Vec& a, const Vec& b) {
@@ -61,16 +72,25 @@ struct Bodies {
   Sym inv_I;
 };
 
+// Lane l's value of `expr` read off body b<l> (declared by SIMREEL_BODIES from sb and idx).
+#if SIMREEL_WIDE_LANES == 4
+#define SIMREEL_BODIES const SolverBody &b0 = sb[idx[0]], &b1 = sb[idx[1]], &b2 = sb[idx[2]], &b3 = sb[idx[3]]
 #define SIMREEL_LANES(expr)            \
   Real {                               \
     b0.expr, b1.expr, b2.expr, b3.expr \
   }
+#elif SIMREEL_WIDE_LANES == 8
+#define SIMREEL_BODIES                                                                                       \
+  const SolverBody &b0 = sb[idx[0]], &b1 = sb[idx[1]], &b2 = sb[idx[2]], &b3 = sb[idx[3]], &b4 = sb[idx[4]], \
+                   &b5 = sb[idx[5]], &b6 = sb[idx[6]], &b7 = sb[idx[7]]
+#define SIMREEL_LANES(expr)                                                \
+  Real {                                                                   \
+    b0.expr, b1.expr, b2.expr, b3.expr, b4.expr, b5.expr, b6.expr, b7.expr \
+  }
+#endif
 
 __attribute__((always_inline)) inline Bodies gather(const SolverBody* sb, const int* idx) {
-  const SolverBody& b0 = sb[idx[0]];
-  const SolverBody& b1 = sb[idx[1]];
-  const SolverBody& b2 = sb[idx[2]];
-  const SolverBody& b3 = sb[idx[3]];
+  SIMREEL_BODIES;
   Bodies o;
   o.v = {SIMREEL_LANES(v.x()), SIMREEL_LANES(v.y()), SIMREEL_LANES(v.z())};
   o.w = {SIMREEL_LANES(w.x()), SIMREEL_LANES(w.y()), SIMREEL_LANES(w.z())};
@@ -82,10 +102,7 @@ __attribute__((always_inline)) inline Bodies gather(const SolverBody* sb, const 
 
 // R^T n for each lane's body: n.(R c) = (R^T n).c, one product per body instead of one per point.
 __attribute__((always_inline)) inline Vec rotated_back(const SolverBody* sb, const int* idx, const Vec& n) {
-  const SolverBody& b0 = sb[idx[0]];
-  const SolverBody& b1 = sb[idx[1]];
-  const SolverBody& b2 = sb[idx[2]];
-  const SolverBody& b3 = sb[idx[3]];
+  SIMREEL_BODIES;
   const Real r00 = SIMREEL_LANES(dR(0, 0)), r01 = SIMREEL_LANES(dR(0, 1)), r02 = SIMREEL_LANES(dR(0, 2));
   const Real r10 = SIMREEL_LANES(dR(1, 0)), r11 = SIMREEL_LANES(dR(1, 1)), r12 = SIMREEL_LANES(dR(1, 2));
   const Real r20 = SIMREEL_LANES(dR(2, 0)), r21 = SIMREEL_LANES(dR(2, 1)), r22 = SIMREEL_LANES(dR(2, 2));
@@ -94,14 +111,12 @@ __attribute__((always_inline)) inline Vec rotated_back(const SolverBody* sb, con
 }
 
 __attribute__((always_inline)) inline Vec displacement(const SolverBody* sb, const int* idx) {
-  const SolverBody& b0 = sb[idx[0]];
-  const SolverBody& b1 = sb[idx[1]];
-  const SolverBody& b2 = sb[idx[2]];
-  const SolverBody& b3 = sb[idx[3]];
+  SIMREEL_BODIES;
   return {SIMREEL_LANES(dp.x()), SIMREEL_LANES(dp.y()), SIMREEL_LANES(dp.z())};
 }
 
 #undef SIMREEL_LANES
+#undef SIMREEL_BODIES
 
 // The moving bodies' velocities back (the static body, shared by every ground contact and read
 // by other threads, is never written; neither is an empty lane's).
@@ -142,7 +157,9 @@ __attribute__((always_inline)) inline Mask ldlt_solve(const Real* A, const Real*
 }
 
 inline Mask lane_count(const Bundle& k) {
-  return Mask{k.count[0], k.count[1], k.count[2], k.count[3]};
+  Mask m;
+  for (int l = 0; l < kLanes; ++l) m[l] = k.count[l];
+  return m;
 }
 
 // An impulse on both sides: linear part L (along which the lanes push B and pull A), angular
@@ -227,7 +244,7 @@ void set_lane(Bundle& k, int l, const ContactConstraint& f, const double* K) {
 #if defined(__clang__)
 #define SIMREEL_WIDE_TARGETS
 #else
-#define SIMREEL_WIDE_TARGETS __attribute__((target_clones("avx2", "default")))
+#define SIMREEL_WIDE_TARGETS __attribute__((target_clones("arch=x86-64-v4", "avx2", "default")))
 #endif
 
 SIMREEL_WIDE_TARGETS void warm_start(const Bundle& k, SolverBody* sb) {
@@ -284,7 +301,7 @@ SIMREEL_WIDE_TARGETS bool solve(Bundle& k, SolverBody* sb, const SolveParams& q)
     const Real soft_bias =
         q.use_bias ? vmax(k.bias_rate * vmin(zero, s[j] + q.slop), splat(-q.max_push)) : zero;
     bias[j] = sel(spec[j], s[j] * q.inv_h, soft_bias);
-    release[j] = q.use_bias ? Mask{0, 0, 0, 0} : (s[j] > q.apart);
+    release[j] = q.use_bias ? kNone : (s[j] > q.apart);
     vn[j] = (nvB + dot(B.w, rnB[j])) - (nvA + dot(A.w, rnA[j]));
   }
   // A lane whose points are all apart, hold no impulse and will not close their gaps this
@@ -311,7 +328,7 @@ SIMREEL_WIDE_TARGETS bool solve(Bundle& k, SolverBody* sb, const SolveParams& q)
   Real dr[4], Kd[4];
   for (int j = 0; j < 4; ++j) {
     const Real Kjj = k.K[j * (j + 1) / 2 + j];
-    const Mask soft = ~spec[j] & (q.use_bias ? Mask{-1, -1, -1, -1} : Mask{0, 0, 0, 0});
+    const Mask soft = ~spec[j] & (q.use_bias ? kAll : kNone);
     dr[j] = sel(soft, d, zero) * Kjj;
     Kd[j] = Kjj + sel(soft, d, splat(kBlockRegularisation)) * Kjj;
   }
@@ -329,7 +346,7 @@ SIMREEL_WIDE_TARGETS bool solve(Bundle& k, SolverBody* sb, const SolveParams& q)
   // 0.97 -> 1.01 mm deep and the pile's 0.96 -> 1.27 mm; starts a few tenths of a millimetre
   // higher spread as widely either way, 0.8-1.8 mm, see the issue note: kept for the figures.)
   Mask act[4];
-  Mask open = ~quiet & (count > 0), ok = Mask{0, 0, 0, 0};
+  Mask open = ~quiet & (count > 0), ok = kNone;
   for (int j = 0; j < 4; ++j) {
     const Mask idle =
         in[j] & spec[j] & (k.p[j].normal_impulse == 0.0) & (release[j] | (vn[j] + bias[j] >= 0.0));
@@ -350,15 +367,15 @@ SIMREEL_WIDE_TARGETS bool solve(Bundle& k, SolverBody* sb, const SolveParams& q)
       rr[i] = sel(act[i], ri, xf[i]);
     }
     Mask good = open & ldlt_solve(A, rr, xr);
-    Mask drop = Mask{0, 0, 0, 0};
+    Mask drop = kNone;
     Real scale = splat(1e-300), least = zero;
-    Mask worst = Mask{-1, -1, -1, -1};  // the point with the most negative impulse (-1: none)
+    Mask worst = kAll;  // the point with the most negative impulse (-1: none)
     for (int i = 0; i < 4; ++i) {
       const Real si = k.p[i].normal_impulse + xr[i];
       scale = vmax(scale, si);
       const Mask lower_still = act[i] & (si < least);
       least = sel(lower_still, si, least);
-      worst = (lower_still & Mask{i, i, i, i}) | (~lower_still & worst);
+      worst = (lower_still & msplat(i)) | (~lower_still & worst);
     }
     for (int i = 0; i < 4; ++i) {
       const Real si = k.p[i].normal_impulse + xr[i];
@@ -383,7 +400,7 @@ SIMREEL_WIDE_TARGETS bool solve(Bundle& k, SolverBody* sb, const SolveParams& q)
   }
   for (int i = 0; i < 4; ++i) sum[i] = k.p[i].normal_impulse + x[i];
   Real total_normal = zero, twist_limit = zero;
-  Mask struck = Mask{0, 0, 0, 0};
+  Mask struck = kNone;
   if (any(ok)) {
     Real X = zero;
     Vec aA{zero, zero, zero}, aB = aA;
@@ -414,16 +431,16 @@ SIMREEL_WIDE_TARGETS bool solve(Bundle& k, SolverBody* sb, const SolveParams& q)
       IrnB[j] = B.inv_I * rnB[j];
       // Speculative: close the gap within this substep, no more, rigid. Else soft with bias
       // (solve) or rigid without (relax).
-      const Mask soft = ~spec[j] & (q.use_bias ? Mask{-1, -1, -1, -1} : Mask{0, 0, 0, 0});
+      const Mask soft = ~spec[j] & (q.use_bias ? kAll : kNone);
       const Real ms = sel(soft, k.mass_scale, splat(1));
       is[j] = sel(soft, k.impulse_scale, zero);
       c[j] = -k.p[j].normal_mass * ms;
     }
     const Vec nA = A.inv_mass * k.n, nB = B.inv_mass * k.n;
-    Mask had_impact = Mask{0, 0, 0, 0};
+    Mask had_impact = kNone;
     for (int pass = 0; any(~done); ++pass) {
       Real total_pass = zero, twist_pass = zero, change = zero, scale = splat(1e-300);
-      Mask impact = Mask{0, 0, 0, 0};
+      Mask impact = kNone;
       for (int jj = 0; jj < 4; ++jj) {
         const int j = (pass & 1) ? 3 - jj : jj;
         Point& p = k.p[j];
@@ -452,9 +469,9 @@ SIMREEL_WIDE_TARGETS bool solve(Bundle& k, SolverBody* sb, const SolveParams& q)
       twist_limit = sel(active, twist_pass, twist_limit);
       had_impact |= impact;
       const Real tolerance = sel(had_impact, splat(1e-6), splat(1e-4));
-      const Mask passes_done = (pass + 1 >= q.resting_passes) ? ~impact : Mask{0, 0, 0, 0};
+      const Mask passes_done = (pass + 1 >= q.resting_passes) ? ~impact : kNone;
       done |= (count == 1) | passes_done | (change <= tolerance * scale);
-      if (pass + 1 >= 32) done = Mask{-1, -1, -1, -1};
+      if (pass + 1 >= 32) done = kAll;
     }
   }
 

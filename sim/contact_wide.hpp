@@ -36,9 +36,10 @@ constexpr double kBlockRegularisation = 1e-8;
 
 namespace wide {
 
-constexpr int kLanes = 4;
-using Real = double __attribute__((vector_size(32)));        ///< four doubles
-using Mask = std::int64_t __attribute__((vector_size(32)));  ///< per lane: -1 true, 0 false
+#define SIMREEL_WIDE_LANES 4  // 4 or 8 (contact_wide.cpp spells out the gathers for each)
+constexpr int kLanes = SIMREEL_WIDE_LANES;
+using Real = double __attribute__((vector_size(8 * kLanes)));        ///< a double per lane
+using Mask = std::int64_t __attribute__((vector_size(8 * kLanes)));  ///< per lane: -1 true, 0 false
 
 struct Vec {
   Real x, y, z;
@@ -54,7 +55,7 @@ struct Point {
   Real max_normal_impulse;   ///< N s, the largest this step
 };
 
-// Four manifolds of one colour (an empty lane: bodies 0 and 0, no points).
+// kLanes manifolds of one colour (an empty lane: bodies 0 and 0, no points).
 struct alignas(64) Bundle {
   int a[kLanes], b[kLanes];  ///< solver bodies (0: the static body, never written)
   int count[kLanes];         ///< points, 0 to 4
