@@ -1060,7 +1060,17 @@ bool ContactSolver::solve(double h, bool use_bias, bool first_iteration) {
                       first_iteration,
                       h,
                       tracked_.data()};
-  const wide::SolveParams wq{q.inv_h, q.max_push, q.slop, q.apart, q.resting_passes, use_bias};
+  const wide::SolveParams wq{
+      q.inv_h,
+      q.max_push,
+      q.slop,
+      q.apart,
+      {soft_.bias_rate, static_soft_.bias_rate},
+      {soft_.mass_scale, static_soft_.mass_scale},
+      {soft_.impulse_scale, static_soft_.impulse_scale},
+      {soft_.impulse_scale / soft_.mass_scale, static_soft_.impulse_scale / static_soft_.mass_scale},
+      q.resting_passes,
+      use_bias};
   for (Flag& f : struck_) f.value = false;  // the pool may run everything as worker 0 of 1
   on_workers([&](int w, int nw) {
     bool struck = false;
@@ -1266,7 +1276,8 @@ void ContactSolver::store_impulses(std::vector<Contact>& contacts) const {
         if (k.contact[l] < 0) continue;
         Contact& c = contacts[k.contact[l]];
         for (int j = 0; j < k.count[l]; ++j) c.points[j].normal_impulse = k.p[j].normal_impulse[l];
-        const Vec3 t0(k.t0.x[l], k.t0.y[l], k.t0.z[l]), t1(k.t1.x[l], k.t1.y[l], k.t1.z[l]);
+        const Vec3 n(k.n.x[l], k.n.y[l], k.n.z[l]), t0(k.t0.x[l], k.t0.y[l], k.t0.z[l]);
+        const Vec3 t1 = n.cross(t0);  // as make_constraint's
         c.friction_impulse_W = k.tangent_impulse0[l] * t0 + k.tangent_impulse1[l] * t1;
         c.twist_impulse = k.twist_impulse[l];
         c.rolling_impulse.setZero();
@@ -1287,9 +1298,7 @@ void ContactSolver::finish(const BodyModel* model, MotionState* state,
   }
   for (const wide::Bundle& k : bundles_)
     for (int l = 0; l < wide::kLanes; ++l) {
-      bool touched = false;
-      for (int j = 0; j < k.count[l]; ++j) touched = touched || k.p[j].max_normal_impulse[l] > 0;
-      if (touched) touched_none[k.a[l]] = touched_none[k.b[l]] = 0;
+      if (k.touched[l]) touched_none[k.a[l]] = touched_none[k.b[l]] = 0;
     }
   for (int k = 1; k < (int)sb_.size(); ++k) {
     const int i = bodies_[k - 1];

@@ -156,6 +156,13 @@ __attribute__((always_inline)) inline Mask ldlt_solve(const Real* A, const Real*
   return (D0 > 1e-14 * A[0]) & (D1 > 1e-14 * A[2]) & (D2 > 1e-14 * A[5]) & (D3 > 1e-14 * A[9]);
 }
 
+// Point j's normal mass 1 / K_jj, as ContactSolver::normal_terms makes it (K_jj is the same sum,
+// bit for bit; an absent point's K_jj is 1).
+inline Real normal_mass(const Bundle& k, int j) {
+  const Real Kjj = k.K[lower(j, j)];
+  return sel(Kjj > 0.0, 1.0 / Kjj, splat(0));
+}
+
 inline Mask lane_count(const Bundle& k) {
   Mask m;
   for (int l = 0; l < kLanes; ++l) m[l] = k.count[l];
@@ -178,21 +185,18 @@ void clear_lane(Bundle& k, int l) {
   k.a[l] = k.b[l] = 0;
   k.count[l] = 0;
   k.contact[l] = -1;
-  for (Vec* v : {&k.n, &k.t0, &k.t1, &k.fA, &k.fB}) v->x[l] = v->y[l] = v->z[l] = 0;
+  for (Vec* v : {&k.n, &k.t0, &k.fA, &k.fB}) v->x[l] = v->y[l] = v->z[l] = 0;
   k.friction[l] = k.twist_mass[l] = 0;
   k.tangent_mass[0][l] = k.tangent_mass[1][l] = k.tangent_mass[2][l] = 0;
-  k.bias_rate[l] = 0;
-  k.mass_scale[l] = 1;
-  k.impulse_scale[l] = 0;
   k.tangent_impulse0[l] = k.tangent_impulse1[l] = k.twist_impulse[l] = 0;
   for (Point& p : k.p) {
     p.cA.x[l] = p.cA.y[l] = p.cA.z[l] = p.cB.x[l] = p.cB.y[l] = p.cB.z[l] = 0;
     p.adjusted_separation[l] = 0;
-    p.normal_mass[l] = 1;
-    p.lever[l] = p.normal_impulse[l] = p.max_normal_impulse[l] = 0;
+    p.lever[l] = p.normal_impulse[l] = 0;
   }
   for (int i = 0, e = 0; i < 4; ++i)
     for (int j = 0; j <= i; ++j, ++e) k.K[e][l] = i == j ? 1.0 : 0.0;
+  k.touched[l] = 0;
 }
 
 void set_lane(Bundle& k, int l, const ContactConstraint& f, const double* K) {
@@ -208,7 +212,6 @@ void set_lane(Bundle& k, int l, const ContactConstraint& f, const double* K) {
   };
   put(k.n, f.n);
   put(k.t0, f.t[0]);
-  put(k.t1, f.t[1]);
   put(k.fA, f.fA);
   put(k.fB, f.fB);
   k.friction[l] = f.friction;
@@ -216,9 +219,6 @@ void set_lane(Bundle& k, int l, const ContactConstraint& f, const double* K) {
   k.tangent_mass[0][l] = f.tangent_mass(0, 0);
   k.tangent_mass[1][l] = f.tangent_mass(0, 1);
   k.tangent_mass[2][l] = f.tangent_mass(1, 1);
-  k.bias_rate[l] = f.soft.bias_rate;
-  k.mass_scale[l] = f.soft.mass_scale;
-  k.impulse_scale[l] = f.soft.impulse_scale;
   k.tangent_impulse0[l] = f.tangent_impulse[0];
   k.tangent_impulse1[l] = f.tangent_impulse[1];
   k.twist_impulse[l] = f.twist_impulse;
@@ -228,7 +228,6 @@ void set_lane(Bundle& k, int l, const ContactConstraint& f, const double* K) {
     put(p.cA, fp.cA);
     put(p.cB, fp.cB);
     p.adjusted_separation[l] = fp.adjusted_separation;
-    p.normal_mass[l] = fp.normal_mass;
     p.lever[l] = fp.lever;
     p.normal_impulse[l] = fp.normal_impulse;
   }
@@ -261,7 +260,7 @@ SIMREEL_WIDE_TARGETS void warm_start(const Bundle& k, SolverBody* sb) {
     aA = aA + l * cross(p.cA, k.n);
     aB = aB + l * cross(p.cB, k.n);
   }
-  const Vec P = k.tangent_impulse0 * k.t0 + k.tangent_impulse1 * k.t1;
+  const Vec P = k.tangent_impulse0 * k.t0 + k.tangent_impulse1 * cross(k.n, k.t0);
   const Vec L = total * k.n + P;
   const Vec twist = k.twist_impulse * k.n;
   apply(A, B, L, aA + cross(k.fA, P) + twist, aB + cross(k.fB, P) + twist);
@@ -273,6 +272,12 @@ SIMREEL_WIDE_TARGETS bool solve(Bundle& k, SolverBody* sb, const SolveParams& q)
   Bodies A = gather(sb, k.a), B = gather(sb, k.b);
   const Mask count = lane_count(k);
   const Real zero = splat(0);
+  // The lane's softness: against a static or kinematic body (no mass to move), or between two
+  // moving bodies.
+  const Mask fixed = (A.inv_mass == 0.0) | (B.inv_mass == 0.0);
+  const Real bias_rate = sel(fixed, splat(q.bias_rate[1]), splat(q.bias_rate[0]));
+  const Real mass_scale = sel(fixed, splat(q.mass_scale[1]), splat(q.mass_scale[0]));
+  const Real impulse_scale = sel(fixed, splat(q.impulse_scale[1]), splat(q.impulse_scale[0]));
 
   // Separation now of each point: each surface's centre of curvature moved with its body since
   // the manifold was made (ManifoldSolve's constructor), and the lever arms r x n = c x n (the
@@ -299,7 +304,7 @@ SIMREEL_WIDE_TARGETS bool solve(Bundle& k, SolverBody* sb, const SolveParams& q)
   for (int j = 0; j < 4; ++j) {
     spec[j] = s[j] > 0.0;
     const Real soft_bias =
-        q.use_bias ? vmax(k.bias_rate * vmin(zero, s[j] + q.slop), splat(-q.max_push)) : zero;
+        q.use_bias ? vmax(bias_rate * vmin(zero, s[j] + q.slop), splat(-q.max_push)) : zero;
     bias[j] = sel(spec[j], s[j] * q.inv_h, soft_bias);
     release[j] = q.use_bias ? kNone : (s[j] > q.apart);
     vn[j] = (nvB + dot(B.w, rnB[j])) - (nvA + dot(A.w, rnA[j]));
@@ -324,7 +329,7 @@ SIMREEL_WIDE_TARGETS bool solve(Bundle& k, SolverBody* sb, const SolveParams& q)
   // solved by LDL^T (K + D is positive definite: K is J M^-1 J^T, positive semi-definite, and D
   // positive). Accepted where every accumulated impulse l0 + x stays >= 0 (the clamps inactive:
   // then it is the passes' limit exactly); the other lanes run the passes.
-  const Real d = q.use_bias ? k.impulse_scale / k.mass_scale : zero;
+  const Real d = q.use_bias ? sel(fixed, splat(q.d[1]), splat(q.d[0])) : zero;
   Real dr[4], Kd[4];
   for (int j = 0; j < 4; ++j) {
     const Real Kjj = k.K[j * (j + 1) / 2 + j];
@@ -386,9 +391,12 @@ SIMREEL_WIDE_TARGETS bool solve(Bundle& k, SolverBody* sb, const SolveParams& q)
       // more than a pass would answer with an impulse of a 1e-4th of the largest (the passes'
       // own test of convergence, kRestingTolerance: rounding leaves a point on the edge of
       // contact a little either way).
-      Real vf = vn[i];
-      for (int j = 0; j < 4; ++j) vf = vf + k.K[lower(i, j)] * xr[j];
-      good &= ~(in[i] & ~act[i] & ~release[i] & (-(vf + bias[i]) * k.p[i].normal_mass > 1e-4 * scale));
+      const Mask off = in[i] & ~act[i] & ~release[i];
+      if (any(off)) {
+        Real vf = vn[i];
+        for (int j = 0; j < 4; ++j) vf = vf + k.K[lower(i, j)] * xr[j];
+        good &= ~(off & (-(vf + bias[i]) * normal_mass(k, i) > 1e-4 * scale));
+      }
       // Only the most negative is let go (a face on a face whose corners' gaps are not in one
       // plane: its singular K pushes the solution along (+1, -1, +1, -1), two corners negative,
       // and three corners hold it).
@@ -412,7 +420,7 @@ SIMREEL_WIDE_TARGETS bool solve(Bundle& k, SolverBody* sb, const SolveParams& q)
       aA = aA + xj * rnA[j];
       aB = aB + xj * rnB[j];
       p.normal_impulse = sel(m, sum[j], p.normal_impulse);
-      p.max_normal_impulse = sel(m, vmax(p.max_normal_impulse, sum[j]), p.max_normal_impulse);
+      k.touched |= m & (sum[j] > 0.0);
       total_normal = total_normal + sel(m, sum[j], zero);
       twist_limit = twist_limit + sel(m, p.lever * sum[j], zero);
     }
@@ -432,9 +440,9 @@ SIMREEL_WIDE_TARGETS bool solve(Bundle& k, SolverBody* sb, const SolveParams& q)
       // Speculative: close the gap within this substep, no more, rigid. Else soft with bias
       // (solve) or rigid without (relax).
       const Mask soft = ~spec[j] & (q.use_bias ? kAll : kNone);
-      const Real ms = sel(soft, k.mass_scale, splat(1));
-      is[j] = sel(soft, k.impulse_scale, zero);
-      c[j] = -k.p[j].normal_mass * ms;
+      const Real ms = sel(soft, mass_scale, splat(1));
+      is[j] = sel(soft, impulse_scale, zero);
+      c[j] = -normal_mass(k, j) * ms;
     }
     const Vec nA = A.inv_mass * k.n, nB = B.inv_mass * k.n;
     Mask had_impact = kNone;
@@ -451,7 +459,7 @@ SIMREEL_WIDE_TARGETS bool solve(Bundle& k, SolverBody* sb, const SolveParams& q)
         total = sel(release[j], vmin(total, p.normal_impulse), total);
         const Real lambda = sel(m, total - p.normal_impulse, zero);
         p.normal_impulse = sel(m, total, p.normal_impulse);
-        p.max_normal_impulse = sel(m, vmax(p.max_normal_impulse, total), p.max_normal_impulse);
+        k.touched |= m & (total > 0.0);
         total_pass = total_pass + sel(m, total, zero);
         twist_pass = twist_pass + sel(m, p.lever * total, zero);
         const Mask hit = m & spec[j] & (total > 0.0);
@@ -480,26 +488,27 @@ SIMREEL_WIDE_TARGETS bool solve(Bundle& k, SolverBody* sb, const SolveParams& q)
   // comes out with zero impulses and moves nothing.
   {
     const Vec dv = B.v - A.v;
-    const Vec fAt0 = cross(k.fA, k.t0), fAt1 = cross(k.fA, k.t1);
-    const Vec fBt0 = cross(k.fB, k.t0), fBt1 = cross(k.fB, k.t1);
+    const Vec t1 = cross(k.n, k.t0);
+    const Vec fAt0 = cross(k.fA, k.t0), fAt1 = cross(k.fA, t1);
+    const Vec fBt0 = cross(k.fB, k.t0), fBt1 = cross(k.fB, t1);
     const Real vt0 = (dot(k.t0, dv) + dot(B.w, fBt0)) - dot(A.w, fAt0);
-    const Real vt1 = (dot(k.t1, dv) + dot(B.w, fBt1)) - dot(A.w, fAt1);
+    const Real vt1 = (dot(t1, dv) + dot(B.w, fBt1)) - dot(A.w, fAt1);
     const Real old0 = k.tangent_impulse0, old1 = k.tangent_impulse1;
-    Real t0 = old0 - (k.tangent_mass[0] * vt0 + k.tangent_mass[1] * vt1);
-    Real t1 = old1 - (k.tangent_mass[1] * vt0 + k.tangent_mass[2] * vt1);
+    Real i0 = old0 - (k.tangent_mass[0] * vt0 + k.tangent_mass[1] * vt1);
+    Real i1 = old1 - (k.tangent_mass[1] * vt0 + k.tangent_mass[2] * vt1);
     const Real limit = k.friction * total_normal;
-    const Real mag2 = t0 * t0 + t1 * t1;
+    const Real mag2 = i0 * i0 + i1 * i1;
     const Mask clamp = mag2 > limit * limit;
     if (any(clamp)) {
       Real root;
       for (int l = 0; l < kLanes; ++l) root[l] = clamp[l] ? std::sqrt(mag2[l]) : 1.0;
       const Real f = sel(clamp, limit / root, splat(1));
-      t0 = t0 * f;
-      t1 = t1 * f;
+      i0 = i0 * f;
+      i1 = i1 * f;
     }
-    k.tangent_impulse0 = t0;
-    k.tangent_impulse1 = t1;
-    const Vec P = (t0 - old0) * k.t0 + (t1 - old1) * k.t1;
+    k.tangent_impulse0 = i0;
+    k.tangent_impulse1 = i1;
+    const Vec P = (i0 - old0) * k.t0 + (i1 - old1) * t1;
     apply(A, B, P, cross(k.fA, P), cross(k.fB, P));
   }
   // Twist friction about the normal, limited by the pressure's moment arm over the patch.

@@ -45,33 +45,34 @@ struct Vec {
   Real x, y, z;
 };
 
-// One point of each lane's manifold (a lane with fewer points: zeros, normal_mass 1).
+// One point of each lane's manifold (a lane with fewer points: zeros). Its normal mass is 1 / K_ii
+// (Bundle::K), taken where the passes need it, not stored.
 struct Point {
   Vec cA, cB;                ///< m, each surface's centre of curvature from its centre of mass (world)
   Real adjusted_separation;  ///< m, separation - n.(cB - cA) at the step's start
-  Real normal_mass;          ///< kg, 1 / K_ii
   Real lever;                ///< m, distance from the friction centre (twist limit)
   Real normal_impulse;       ///< N s, accumulated (per substep)
-  Real max_normal_impulse;   ///< N s, the largest this step
 };
 
-// kLanes manifolds of one colour (an empty lane: bodies 0 and 0, no points).
+// kLanes manifolds of one colour (an empty lane: bodies 0 and 0, no points). Only what the sweeps
+// cannot make cheaply from the rest: they wait on memory as much as on arithmetic (the large
+// pyramid streams its bundles, 9 MB, three times a substep).
 struct alignas(64) Bundle {
   int a[kLanes], b[kLanes];  ///< solver bodies (0: the static body, never written)
   int count[kLanes];         ///< points, 0 to 4
   int contact[kLanes];       ///< index into the contact list (-1: an empty lane)
-  Vec n, t0, t1;             ///< normal (A to B) and tangent basis, world
+  Vec n, t0;                 ///< normal (A to B) and first tangent, world (the second: n x t0)
   Real friction;             ///< dimensionless
   Real tangent_mass[3];      ///< kg, the 2x2 tangent mass at the centre, symmetric: 00, 01, 11
   Real twist_mass;           ///< kg m^2
-  Real bias_rate, mass_scale, impulse_scale;  ///< the lane's softness (Softness)
-  Vec fA, fB;                                 ///< m, the friction centre from each centre of mass
+  Vec fA, fB;                ///< m, the friction centre from each centre of mass
   Real tangent_impulse0, tangent_impulse1, twist_impulse;  ///< N s, N s, N m s
   Point p[4];
   // The points' coupling K = J M^-1 J^T (K_ij: point i's normal velocity per unit impulse at
   // point j; symmetric, positive semi-definite), lower triangle row by row; an absent point's row
   // and column are the identity's. For the block solve (contact_wide.cpp).
   Real K[10];
+  Mask touched;  ///< a point held an impulse at some time this step (ContactSolver::finish)
 };
 
 void clear_lane(Bundle& k, int lane);
@@ -81,8 +82,12 @@ void set_lane(Bundle& k, int lane, const ContactConstraint& f, const double* K);
 
 struct SolveParams {
   double inv_h, max_push, slop, apart;  ///< 1/s, m/s, m, m (as ManifoldSolve's)
-  int resting_passes;                   ///< contacts.passes
-  bool use_bias;                        ///< solve (true) or relax (false)
+  // The softness (Softness) of a pair of moving bodies [0] and of one with a static or kinematic
+  // body [1] (ContactSolver::make_constraint's choice, made here from the bodies' masses), and
+  // d = impulse_scale / mass_scale of each.
+  double bias_rate[2], mass_scale[2], impulse_scale[2], d[2];  ///< 1/s, -, -, -
+  int resting_passes;                                          ///< contacts.passes
+  bool use_bias;                                               ///< solve (true) or relax (false)
 };
 
 // The warm start: each lane's accumulated impulses applied to its bodies.
