@@ -180,7 +180,9 @@ class ContactSolver {
   double h_ = 0;                 ///< s, this substep's
   std::vector<Vec3> accel_;      ///< m/s^2, g + f/m
   std::vector<Vec3> ang_accel_;  ///< rad/s^2, I^-1 tau
-  std::vector<ContactConstraint> cons_;  ///< in solve order: colour by colour (graph_.slot)
+  std::vector<ContactConstraint>
+      cons_;  ///< in solve order: colour by colour (graph_.slot); a wide lane's unused
+  std::vector<int> constraint_of_slot_;  ///< graph_.slot's inverse
   std::vector<SweepConstraint> sweep_;   ///< the same, what the scalar path's sweeps read (pack_sweep)
   // Each colour's plain manifolds go four at a time to the wide path (sim/contact_wide.hpp), the
   // others (and the overflow set) to the scalar path; both per colour in slot order.
@@ -222,8 +224,8 @@ class ContactSolver {
   // between colours, then the overflow set (scalar) on worker 0.
   template <typename FS, typename FW>
   void by_colour(int w, int nw, FS&& scalar, FW&& wide);
-  void assign_lanes();  ///< bundles and scalar_ from the colouring (prepare)
-  void set_lane(int slot);
+  void assign_lanes();                                  ///< bundles and scalar_ from the colouring (prepare)
+  void set_lane(int slot, const ContactConstraint& f);  ///< f: the slot's record (make_constraint)
   void make_constraint(ContactConstraint& k, int slot, int cand, int ci, const Contact& c,
                        const std::vector<int>& solver_index);
   void integrate_velocity(int k, double h);

@@ -34,6 +34,13 @@ inline Real vmin(Real a, Real b) {
 inline Real vabs(Real a) {
   return sel(a < 0.0, -a, a);
 }
+// The lanes' square roots (IEEE: each lane's is std::sqrt's; one vector instruction where the
+// file is built without errno for sqrt, CMakeLists.txt).
+inline Real vsqrt(Real a) {
+  Real r;
+  for (int l = 0; l < kLanes; ++l) r[l] = __builtin_sqrt(a[l]);
+  return r;
+}
 inline bool any(Mask m) {
   std::int64_t o = 0;
   for (int l = 0; l < kLanes; ++l) o |= m[l];
@@ -500,9 +507,7 @@ SIMREEL_WIDE_TARGETS bool solve(Bundle& k, SolverBody* sb, const SolveParams& q)
     const Real mag2 = i0 * i0 + i1 * i1;
     const Mask clamp = mag2 > limit * limit;
     if (any(clamp)) {
-      Real root;
-      for (int l = 0; l < kLanes; ++l) root[l] = clamp[l] ? std::sqrt(mag2[l]) : 1.0;
-      const Real f = sel(clamp, limit / root, splat(1));
+      const Real f = sel(clamp, limit / vsqrt(sel(clamp, mag2, splat(1))), splat(1));
       i0 = i0 * f;
       i1 = i1 * f;
     }
