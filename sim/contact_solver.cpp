@@ -1,5 +1,7 @@
 #include "sim/contact_solver.hpp"
 
+#include <chrono>
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -143,6 +145,7 @@ void ContactSolver::by_colour(int w, int nw, FS&& scalar, FW&& wide) {
   const bool overflow = graph_.overflow_count() > 0;
   for (size_t u = 0; u < used.size(); ++u) {
     const int c = used[u];
+    const auto t0 = nw == 2 ? std::chrono::steady_clock::now() : std::chrono::steady_clock::time_point{};
     int b, e;
     share(scalar_start_[c + 1] - scalar_start_[c], w, nw, b, e);
     if (b < e) scalar(scalar_start_[c] + b, scalar_start_[c] + e);
@@ -153,13 +156,46 @@ void ContactSolver::by_colour(int w, int nw, FS&& scalar, FW&& wide) {
     for (int part = 0; part < 2; ++part) {
       const int b0 = part == 0 ? bundle_start_[c] : bundle_split_[c];
       const int b1 = part == 0 ? bundle_split_[c] : bundle_start_[c + 1];
-      share(b1 - b0, w, nw, b, e);
+      if (nw == 2 && part == 0) {  // worker 0 takes colour_share_[c] of them (balance_colours)
+        const int first = (int)std::lround(colour_share_[c] * (b1 - b0));
+        b = w == 0 ? 0 : first;
+        e = w == 0 ? first : b1 - b0;
+      } else {
+        share(b1 - b0, w, nw, b, e);
+      }
       if (b < e) wide(b0 + b, b0 + e);
     }
+    if (nw == 2)
+      colour_time_[w].seconds[c] =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     // No barrier after the last: the end of the pool's run waits for everyone.
     if (nw > 1 && (u + 1 < used.size() || overflow)) pool_->barrier();
   }
   if (overflow && w == 0) scalar(scalar_start_[kOverflow], scalar_start_[kOverflow + 1]);
+}
+
+// Two workers: each colour's resting bundles are split where the two took equally long in the
+// sweeps before. Split by count, one worker waited at each barrier for the other (the large
+// pyramid: 1 to 4 ms of each 35 ms step, summed over its 1,536 barriers), as the bundles' cost
+// varies along a colour (corners lifting off go to the passes). The split moves by a bundle a
+// sweep toward the faster worker's side and follows a colour's costs, which change slowly; two
+// threads went from 1.65x to 1.71x one thread (medians of five). Which worker solves a bundle does
+// not change any result (no two bundles of a colour share a moving body), so the split may follow
+// timings.
+void ContactSolver::balance_colours() {
+  if (workers_ != 2) return;
+  constexpr int kOverflow = ConstraintGraph::kOverflow;
+  for (int c : graph_.used()) {
+    const int n = bundle_split_[c] - bundle_start_[c];
+    if (n < 2) continue;
+    const double t0 = colour_time_[0].seconds[c], t1 = colour_time_[1].seconds[c];
+    const double step = 1.0 / n;
+    if (t0 > 1.05 * t1)
+      colour_share_[c] = std::max(0.2, colour_share_[c] - step);
+    else if (t1 > 1.05 * t0)
+      colour_share_[c] = std::min(0.8, colour_share_[c] + step);
+  }
+  static_assert(kOverflow + 1 <= (int)(sizeof(ColourTime::seconds) / sizeof(double)));
 }
 
 // Which constraints go to the wide path (plain_, per constraint, and not in the overflow set),
@@ -283,6 +319,10 @@ __attribute__((flatten)) void ContactSolver::prepare(const SolverInput& in, cons
   pool_ = (in.pool && ncons >= kMinParallelConstraints) ? in.pool : nullptr;
   workers_ = pool_ ? pool_->size() : 1;
   struck_.resize(workers_);
+  if (workers_ == 2) {
+    colour_time_.resize(2);
+    if (colour_share_.empty()) colour_share_.assign(ConstraintGraph::kOverflow + 1, 0.5);
+  }
 
   on_workers([&](int w, int nw) {
     int b, e;
@@ -1098,6 +1138,7 @@ bool ContactSolver::solve(double h, bool use_bias, bool first_iteration) {
         });
     struck_[w].value = struck;
   });
+  balance_colours();
   bool struck = false;
   for (int w = 0; w < workers_; ++w) struck = struck || struck_[w].value;
   return struck;

@@ -216,6 +216,12 @@ class ContactSolver {
     bool value = false;
   };
   std::vector<Flag> struck_;
+  struct alignas(64) ColourTime {                        // per worker, its own cache lines
+    double seconds[ConstraintGraph::kColours + 1] = {};  ///< s, in each colour in the last sweep
+  };
+  std::vector<ColourTime> colour_time_;  ///< two workers only
+  std::vector<double> colour_share_;  ///< two workers: worker 0's fraction of each colour's resting bundles
+  void balance_colours();             ///< colour_share_ from colour_time_ (after a sweep)
 
   template <typename F>
   void on_workers(F&& f) const;  ///< f(worker, workers) on every worker, or f(0, 1)
