@@ -176,12 +176,11 @@ void ContactSolver::by_colour(int w, int nw, FS&& scalar, FW&& wide) {
 
 // Two workers: each colour's resting bundles are split where the two took equally long in the
 // sweeps before. Split by count, one worker waited at each barrier for the other (the large
-// pyramid: 1 to 4 ms of each 35 ms step, summed over its 1,536 barriers), as the bundles' cost
-// varies along a colour (corners lifting off go to the passes). The split moves by a bundle a
-// sweep toward the faster worker's side and follows a colour's costs, which change slowly; two
-// threads went from 1.65x to 1.71x one thread (medians of five). Which worker solves a bundle does
-// not change any result (no two bundles of a colour share a moving body), so the split may follow
-// timings.
+// pyramid: 1 to 4 ms of each 35 ms step, summed over its 1,536 barriers): the two halves of a
+// colour cost unequally. The split moves by a bundle a sweep toward the faster worker's side and
+// follows a colour's costs, which change slowly; two threads went from 1.66x one thread (median
+// of six runs) to 1.71-1.76x (three). Which worker solves a bundle does not change any result (no
+// two bundles of a colour share a moving body), so the split may follow timings.
 void ContactSolver::balance_colours() {
   if (workers_ != 2) return;
   constexpr int kOverflow = ConstraintGraph::kOverflow;
