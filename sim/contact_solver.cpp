@@ -386,6 +386,11 @@ __attribute__((flatten)) void ContactSolver::prepare(const SolverInput& in, cons
   tracked_bodies_.erase(std::unique(tracked_bodies_.begin(), tracked_bodies_.end()), tracked_bodies_.end());
   for (int k : tracked_bodies_)
     if (gyro_[k]) gyro_[k] = 2;  // the gyroscopic term after the warm start (warm_start)
+  // Every constraint on the wide path (none tracked, none bouncing): after the first substep the
+  // warm start is made per body (warm_start).
+  body_warm_ = scalar_.empty() && tracked_.empty() && !any_restitution_;
+  warm_starts_ = 0;
+  if (body_warm_) impulse_change_.resize(nb);
 }
 
 // One constraint from contact ci (c), at `slot`; `cand` its index in track_scratch_ or -1. Flattened as
@@ -618,11 +623,19 @@ void ContactSolver::integrate_velocities(double h) {
   const bool refresh = track_due_;
   track_due_ = false;
   h_ = h;
+  const bool capture = body_warm_ && warm_starts_ > 0;
   on_workers([&](int w, int nw) {
     if (refresh) refresh_tracked(w, nw);
     int begin, end;
     share((int)sb_.size() - 1, w, nw, begin, end);
-    for (int k = begin + 1; k < end + 1; ++k) integrate_velocity(k, h);
+    for (int k = begin + 1; k < end + 1; ++k) {
+      if (capture) {  // the last substep's impulses, all of them (warm_start)
+        BodyImpulse& d = impulse_change_[k];
+        d.dv = sb_[k].v - d.v0;
+        d.dw = sb_[k].w - d.w0;
+      }
+      integrate_velocity(k, h);
+    }
   });
 }
 
@@ -658,7 +671,35 @@ __attribute__((flatten)) inline void warm_start_constraint(const SweepConstraint
 
 }  // namespace
 
-void ContactSolver::warm_start() {
+// Per body, after the step's first substep. Within a step a constraint's Jacobian is fixed (its
+// lever arms and the bodies' inverse inertia are the step's), so the velocity change that the
+// accumulated impulses lambda give a body, M^-1 J^T lambda, summed over its constraints, is
+// exactly what the last substep's warm start and sweeps added to it together (they applied
+// lambda's last value and every change to it, through the same J): v - v0 at the substep's end,
+// v0 its velocity before that warm start. Adding that per body is the sweep's result up to
+// rounding (1e-16 of the velocities), for a pass over the bodies instead of the constraints (the
+// large pyramid: 5,050 bodies against 15,000 manifolds, 2.2 KB a bundle of four). Not where a
+// constraint's Jacobian moves within the step (a tracked point) or restitution clears impulses
+// between substeps: there the sweep.
+bool ContactSolver::warm_start() {
+  if (body_warm_) {
+    const bool by_body = warm_starts_++ > 0;
+    on_workers([&](int w, int nw) {
+      int begin, end;
+      share((int)sb_.size() - 1, w, nw, begin, end);
+      for (int k = begin + 1; k < end + 1; ++k) {
+        SolverBody& b = sb_[k];
+        BodyImpulse& d = impulse_change_[k];
+        d.v0 = b.v;
+        d.w0 = b.w;
+        if (by_body) {
+          b.v += d.dv;
+          b.w += d.dw;
+        }
+      }
+    });
+    if (by_body) return true;
+  }
   on_workers([&](int w, int nw) {
     by_colour(
         w, nw,
@@ -705,6 +746,7 @@ void ContactSolver::warm_start() {
       b.w = midpoint_gyro(I_W_[k], gyro_w0_[k], b.w, h_);
     }
   });
+  return false;
 }
 
 namespace {

@@ -156,7 +156,7 @@ class ContactSolver {
   void prepare(const SolverInput& in, const std::vector<int>& bodies, const std::vector<Contact>& contacts,
                std::vector<int>& solver_index);
   void integrate_velocities(double h);
-  void warm_start();
+  bool warm_start();  ///< true: made per body (the step's later substeps, when it may be)
   // One Gauss-Seidel sweep over the manifolds; returns whether one was struck (kImpactSpeed).
   bool solve(double h, bool use_bias, bool first_iteration);
   void integrate_positions(double h);
@@ -205,6 +205,16 @@ class ContactSolver {
   std::vector<int> track_candidate_of_;  ///< per constraint (contact order): its index there, or -1
   Softness soft_, static_soft_;
   bool any_restitution_ = false;  ///< some constraint has restitution > 0 (else the stage is empty)
+  // The warm start per body (warm_start): every constraint is on the wide path; warm starts done
+  // this step; per solver body, its velocity before the last warm start and the change the last
+  // substep's impulses made to it.
+  bool body_warm_ = false;
+  int warm_starts_ = 0;
+  struct BodyImpulse {
+    Vec3 v0 = Vec3::Zero(), w0 = Vec3::Zero();  ///< m/s, rad/s
+    Vec3 dv = Vec3::Zero(), dw = Vec3::Zero();  ///< m/s, rad/s
+  };
+  std::vector<BodyImpulse> impulse_change_;
 
   // Threads.
   WorkerPool* pool_ = nullptr;  ///< null, or not used this step (too little work to split)

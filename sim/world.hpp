@@ -106,6 +106,7 @@ struct Profile {
   long contact_points = 0;    ///< manifold points, summed over steps
   long solver_bodies = 0;     ///< bodies stepped by the contact solver, summed over steps
   long impact_substeps = 0;   ///< substeps with an impact (one more sweep: kImpactSpeed)
+  long body_warm_starts = 0;  ///< substeps warm-started per body (ContactSolver::warm_start)
   long pool_runs = 0;         ///< parallel stage runs handed to the worker pool (threads > 1)
   long pool_alone_runs = 0;   ///< of which run on the calling thread alone (sim/task_pool.hpp back-off)
   long swept_bodies = 0;      ///< fast or bullet bodies swept by the continuous stage, summed over steps

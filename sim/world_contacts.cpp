@@ -430,7 +430,7 @@ bool World::stage_solve_contacts() {
     }
     {
       StageTimer t(profiling_, &sec[(int)Stage::warm_start]);
-      solver_.warm_start();
+      if (solver_.warm_start()) ++profile_.body_warm_starts;
     }
     // One more sweep each while the last impact settles (kImpactSettleTime), and one at once on
     // an impact in this substep's first sweeps.
