@@ -6,7 +6,8 @@
 //   per substep h = dt / substeps:
 //     integrate velocities  v += h (g + f/m); w += h I_W^-1 tau, then the implicit gyroscopic
 //                           term (one Newton step of I (w' - w) + h w' x I w' = 0, Catto 2015);
-//     warm start            apply the accumulated impulses (an impulse per substep);
+//     warm start            apply the accumulated impulses (an impulse per substep; after the
+//                           step's first substep per body where it may be: warm_start);
 //     solve                 normal (soft, with bias) then friction, Gauss-Seidel in a fixed order
 //                           (a manifold's resting points solved together: ManifoldSolve::block);
 //     integrate positions   dp += h v; dq <- exp(h w / 2) dq (exact rotation for constant w);
