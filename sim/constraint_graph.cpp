@@ -11,6 +11,7 @@ void ConstraintGraph::build(int bodies, int n, const int* a, const int* b) {
   last_.assign(bodies, -1);
   colour_.resize(n);
   slot_.resize(n);
+  at_.resize(n);
   start_.assign(kColours + 2, 0);
   for (int i = 0; i < n; ++i) {
     const int A = a[i], B = b[i];  // 0: the static body, which does not count
@@ -29,6 +30,7 @@ void ConstraintGraph::build(int bodies, int n, const int* a, const int* b) {
   for (int c = 0; c <= kColours; ++c) start_[c + 1] += start_[c];
   // Slots: a stable counting sort by colour (start_ is the running cursor, then restored).
   for (int i = 0; i < n; ++i) slot_[i] = start_[colour_[i]]++;
+  for (int i = 0; i < n; ++i) at_[slot_[i]] = i;
   for (int c = kColours; c > 0; --c) start_[c] = start_[c - 1];
   start_[0] = 0;
   used_.clear();

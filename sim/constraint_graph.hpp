@@ -42,6 +42,7 @@ class ConstraintGraph {
   void build(int bodies, int n, const int* a, const int* b);
 
   int slot(int i) const { return slot_[i]; }
+  int constraint_at(int slot) const { return at_[slot]; }  ///< slot's inverse
   int colour_of(int i) const { return colour_[i]; }
   int begin(int c) const { return start_[c]; }
   int end(int c) const { return start_[c + 1]; }
@@ -54,6 +55,7 @@ class ConstraintGraph {
   std::vector<int8_t> last_;      ///< per body: the colour of its latest constraint, or -1
   std::vector<uint8_t> colour_;   ///< per constraint
   std::vector<int> slot_;         ///< per constraint
+  std::vector<int> at_;           ///< per slot: its constraint
   std::vector<int> start_;        ///< kColours + 2 entries: the overflow set is colour kColours
   std::vector<int> used_;
 };

@@ -187,12 +187,16 @@ void ContactSolver::balance_colours() {
   for (int c : graph_.used()) {
     const int n = bundle_split_[c] - bundle_start_[c];
     if (n < 2) continue;
-    const double t0 = colour_time_[0].seconds[c], t1 = colour_time_[1].seconds[c];
+    double& t0 = colour_time_[0].seconds[c];
+    double& t1 = colour_time_[1].seconds[c];
     const double step = 1.0 / n;
+    // Only times from this sweep (a pool run backed off to one thread leaves none).
+    if (t0 == 0 || t1 == 0) continue;
     if (t0 > 1.05 * t1)
       colour_share_[c] = std::max(0.2, colour_share_[c] - step);
     else if (t1 > 1.05 * t0)
       colour_share_[c] = std::min(0.8, colour_share_[c] + step);
+    t0 = t1 = 0;
   }
   static_assert(kOverflow + 1 <= (int)(sizeof(ColourTime::seconds) / sizeof(double)));
 }
@@ -309,8 +313,6 @@ __attribute__((flatten)) void ContactSolver::prepare(const SolverInput& in, cons
   graph_.build(nb, ncons, edge_a_.data(), edge_b_.data());
   cons_.resize(ncons);
   sweep_.resize(ncons);
-  constraint_of_slot_.resize(ncons);
-  for (int j = 0; j < ncons; ++j) constraint_of_slot_[graph_.slot(j)] = j;
   assign_lanes();
   track_scratch_.resize(ncand);
   // Threads only where there is enough to split (a pool run and a barrier per colour cost a few
@@ -359,7 +361,7 @@ __attribute__((flatten)) void ContactSolver::prepare(const SolverInput& in, cons
     share(ncons, w, nw, b, e);
     ContactConstraint scratch;
     for (int slot = b; slot < e; ++slot) {
-      const int j = constraint_of_slot_[slot];
+      const int j = graph_.constraint_at(slot);
       const bool wide = lane_of_[slot] >= 0;
       ContactConstraint& k = wide ? scratch : cons_[slot];
       make_constraint(k, slot, track_candidate_of_[j], wanted_[j], contacts[wanted_[j]], solver_index);

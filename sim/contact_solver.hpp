@@ -181,10 +181,9 @@ class ContactSolver {
   double h_ = 0;                 ///< s, this substep's
   std::vector<Vec3> accel_;      ///< m/s^2, g + f/m
   std::vector<Vec3> ang_accel_;  ///< rad/s^2, I^-1 tau
-  std::vector<ContactConstraint>
-      cons_;  ///< in solve order: colour by colour (graph_.slot); a wide lane's unused
-  std::vector<int> constraint_of_slot_;  ///< graph_.slot's inverse
-  std::vector<SweepConstraint> sweep_;   ///< the same, what the scalar path's sweeps read (pack_sweep)
+  // In solve order: colour by colour (graph_.slot); a wide lane's is made on prepare's stack.
+  std::vector<ContactConstraint> cons_;
+  std::vector<SweepConstraint> sweep_;  ///< the same, what the scalar path's sweeps read (pack_sweep)
   // Each colour's plain manifolds go four at a time to the wide path (sim/contact_wide.hpp), the
   // others (and the overflow set) to the scalar path; both per colour in slot order.
   std::vector<wide::Bundle> bundles_;  ///< colour by colour

@@ -80,21 +80,12 @@ struct Bodies {
 };
 
 // Lane l's value of `expr` read off body b<l> (declared by SIMREEL_BODIES from sb and idx).
-#if SIMREEL_WIDE_LANES == 4
+static_assert(kLanes == 4, "the gathers below spell out four lanes");
 #define SIMREEL_BODIES const SolverBody &b0 = sb[idx[0]], &b1 = sb[idx[1]], &b2 = sb[idx[2]], &b3 = sb[idx[3]]
 #define SIMREEL_LANES(expr)            \
   Real {                               \
     b0.expr, b1.expr, b2.expr, b3.expr \
   }
-#elif SIMREEL_WIDE_LANES == 8
-#define SIMREEL_BODIES                                                                                       \
-  const SolverBody &b0 = sb[idx[0]], &b1 = sb[idx[1]], &b2 = sb[idx[2]], &b3 = sb[idx[3]], &b4 = sb[idx[4]], \
-                   &b5 = sb[idx[5]], &b6 = sb[idx[6]], &b7 = sb[idx[7]]
-#define SIMREEL_LANES(expr)                                                \
-  Real {                                                                   \
-    b0.expr, b1.expr, b2.expr, b3.expr, b4.expr, b5.expr, b6.expr, b7.expr \
-  }
-#endif
 
 __attribute__((always_inline)) inline Bodies gather(const SolverBody* sb, const int* idx) {
   SIMREEL_BODIES;

@@ -14,10 +14,11 @@
 //
 // Why. The large pyramid's sweeps streamed 1.4 KB per manifold (its 15,000 manifolds, 21 MB,
 // three times a substep, from the shared cache): the warm start ran at the cache's bandwidth and
-// the solve had half of it again as arithmetic on one lane. A lane here is 0.7 KB: the lever
+// the solve had half of it again as arithmetic on one lane. A lane here is 0.55 KB: the lever
 // arms r x n and the inertia products I^-1 (r x n) are made in the sweep from the anchors and the
-// bodies (in the 1st-level cache), not stored, and an impulse's angular part is summed over the
-// points before one product with I^-1 (warm start, block solve, friction).
+// bodies (in the 1st-level cache), not stored, nor is what is cheap to make (a point's normal
+// mass 1/K_ii, the second tangent n x t0, the softness), and an impulse's angular part is summed
+// over the points before one product with I^-1 (warm start, block solve, friction).
 #pragma once
 #include <cstdint>
 
@@ -36,8 +37,7 @@ constexpr double kBlockRegularisation = 1e-8;
 
 namespace wide {
 
-#define SIMREEL_WIDE_LANES 4  // 4 or 8 (contact_wide.cpp spells out the gathers for each)
-constexpr int kLanes = SIMREEL_WIDE_LANES;
+constexpr int kLanes = 4;  // (eight lanes of AVX-512 measured no faster: the sweeps wait on memory)
 using Real = double __attribute__((vector_size(8 * kLanes)));        ///< a double per lane
 using Mask = std::int64_t __attribute__((vector_size(8 * kLanes)));  ///< per lane: -1 true, 0 false
 
