@@ -252,7 +252,8 @@ void ContactSolver::set_lane(int slot, const ContactConstraint& f) {
   double lower[10];
   for (int i = 0, e = 0; i < 4; ++i)
     for (int j = 0; j <= i; ++j, ++e) lower[e] = K(i, j);
-  wide::set_lane(bundles_[lane / wide::kLanes], lane % wide::kLanes, f, lower);
+  wide::set_lane(bundles_[lane / wide::kLanes], lane % wide::kLanes, f, lower, sb_[f.a].inv_I,
+                 sb_[f.b].inv_I);
 }
 
 // Flattened for the same reason as solve_one (Eigen's 3x3 products called, not inlined).
@@ -391,6 +392,7 @@ __attribute__((flatten)) void ContactSolver::prepare(const SolverInput& in, cons
   // Every constraint on the wide path (none tracked, none bouncing): after the first substep the
   // warm start is made per body (warm_start).
   body_warm_ = scalar_.empty() && tracked_.empty() && !any_restitution_;
+  need_dR_ = !scalar_.empty() || !tracked_.empty();
   warm_starts_ = 0;
   if (body_warm_) impulse_change_.resize(nb);
 }
@@ -1196,7 +1198,7 @@ void ContactSolver::integrate_positions(double h) {
       b.dp += h * b.v;
       // World angular velocity: the rotation exp(h w / 2) multiplies from the left.
       b.dq = rotation_increment(b.w, h) * b.dq;
-      b.dR = b.dq.toRotationMatrix();
+      if (need_dR_) b.dR = b.dq.toRotationMatrix();
     }
   });
   track_due_ = !tracked_.empty();

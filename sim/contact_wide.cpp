@@ -87,25 +87,26 @@ static_assert(kLanes == 4, "the gathers below spell out four lanes");
     b0.expr, b1.expr, b2.expr, b3.expr \
   }
 
-__attribute__((always_inline)) inline Bodies gather(const SolverBody* sb, const int* idx) {
+// Velocities and inverse mass from the bodies, inverse inertia from the bundle (inv_IA or inv_IB).
+__attribute__((always_inline)) inline Bodies gather(const SolverBody* sb, const int* idx, const Real* inv_I) {
   SIMREEL_BODIES;
   Bodies o;
   o.v = {SIMREEL_LANES(v.x()), SIMREEL_LANES(v.y()), SIMREEL_LANES(v.z())};
   o.w = {SIMREEL_LANES(w.x()), SIMREEL_LANES(w.y()), SIMREEL_LANES(w.z())};
   o.inv_mass = SIMREEL_LANES(inv_mass);
-  o.inv_I = {SIMREEL_LANES(inv_I(0, 0)), SIMREEL_LANES(inv_I(0, 1)), SIMREEL_LANES(inv_I(0, 2)),
-             SIMREEL_LANES(inv_I(1, 1)), SIMREEL_LANES(inv_I(1, 2)), SIMREEL_LANES(inv_I(2, 2))};
+  o.inv_I = {inv_I[0], inv_I[1], inv_I[2], inv_I[3], inv_I[4], inv_I[5]};
   return o;
 }
 
-// R^T n for each lane's body: n.(R c) = (R^T n).c, one product per body instead of one per point.
+// R^T n for each lane's body, R its rotation so far this step (the quaternion dq = (c, u)): n.(R c)
+// = (R^T n).c, one rotation per body instead of one per point. R^T n = n - c t + u x t with t = 2 u
+// x n (the conjugate's rotation).
 __attribute__((always_inline)) inline Vec rotated_back(const SolverBody* sb, const int* idx, const Vec& n) {
   SIMREEL_BODIES;
-  const Real r00 = SIMREEL_LANES(dR(0, 0)), r01 = SIMREEL_LANES(dR(0, 1)), r02 = SIMREEL_LANES(dR(0, 2));
-  const Real r10 = SIMREEL_LANES(dR(1, 0)), r11 = SIMREEL_LANES(dR(1, 1)), r12 = SIMREEL_LANES(dR(1, 2));
-  const Real r20 = SIMREEL_LANES(dR(2, 0)), r21 = SIMREEL_LANES(dR(2, 1)), r22 = SIMREEL_LANES(dR(2, 2));
-  return {r00 * n.x + r10 * n.y + r20 * n.z, r01 * n.x + r11 * n.y + r21 * n.z,
-          r02 * n.x + r12 * n.y + r22 * n.z};
+  const Vec u{SIMREEL_LANES(dq.x()), SIMREEL_LANES(dq.y()), SIMREEL_LANES(dq.z())};
+  const Real c = SIMREEL_LANES(dq.w());
+  const Vec t = splat(2.0) * cross(u, n);
+  return (n - c * t) + cross(u, t);
 }
 
 __attribute__((always_inline)) inline Vec displacement(const SolverBody* sb, const int* idx) {
@@ -183,6 +184,7 @@ void clear_lane(Bundle& k, int l) {
   k.a[l] = k.b[l] = 0;
   k.count[l] = 0;
   k.contact[l] = -1;
+  for (int e = 0; e < 6; ++e) k.inv_IA[e][l] = k.inv_IB[e][l] = 0;
   for (Vec* v : {&k.n, &k.t0, &k.fA, &k.fB}) v->x[l] = v->y[l] = v->z[l] = 0;
   k.friction[l] = k.twist_mass[l] = 0;
   k.tangent_mass[0][l] = k.tangent_mass[1][l] = k.tangent_mass[2][l] = 0;
@@ -197,10 +199,16 @@ void clear_lane(Bundle& k, int l) {
   k.touched[l] = 0;
 }
 
-void set_lane(Bundle& k, int l, const ContactConstraint& f, const double* K) {
+void set_lane(Bundle& k, int l, const ContactConstraint& f, const double* K, const Mat3& inv_IA,
+              const Mat3& inv_IB) {
   clear_lane(k, l);
   k.a[l] = f.a;
   k.b[l] = f.b;
+  const int row[6] = {0, 0, 0, 1, 1, 2}, col[6] = {0, 1, 2, 1, 2, 2};
+  for (int e = 0; e < 6; ++e) {
+    k.inv_IA[e][l] = inv_IA(row[e], col[e]);
+    k.inv_IB[e][l] = inv_IB(row[e], col[e]);
+  }
   k.count[l] = f.count;
   k.contact[l] = f.contact;
   auto put = [l](Vec& v, const Vec3& x) {
@@ -248,7 +256,7 @@ SIMREEL_WIDE_TARGETS void warm_start(const Bundle& k, SolverBody* sb) {
   Mask held = (k.tangent_impulse0 != 0.0) | (k.tangent_impulse1 != 0.0) | (k.twist_impulse != 0.0);
   for (const Point& p : k.p) held |= p.normal_impulse != 0.0;
   if (!any(held)) return;  // nothing to apply (a bundle of manifolds apart)
-  Bodies A = gather(sb, k.a), B = gather(sb, k.b);
+  Bodies A = gather(sb, k.a, k.inv_IA), B = gather(sb, k.b, k.inv_IB);
   Real total = splat(0);
   Vec aA{total, total, total}, aB = aA;
   for (int j = 0; j < 4; ++j) {
@@ -267,7 +275,7 @@ SIMREEL_WIDE_TARGETS void warm_start(const Bundle& k, SolverBody* sb) {
 }
 
 SIMREEL_WIDE_TARGETS bool solve(Bundle& k, SolverBody* sb, const SolveParams& q) {
-  Bodies A = gather(sb, k.a), B = gather(sb, k.b);
+  Bodies A = gather(sb, k.a, k.inv_IA), B = gather(sb, k.b, k.inv_IB);
   const Mask count = lane_count(k);
   const Real zero = splat(0);
   // The lane's softness: against a static or kinematic body (no mass to move), or between two

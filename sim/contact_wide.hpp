@@ -61,11 +61,14 @@ struct alignas(64) Bundle {
   int a[kLanes], b[kLanes];  ///< solver bodies (0: the static body, never written)
   int count[kLanes];         ///< points, 0 to 4
   int contact[kLanes];       ///< index into the contact list (-1: an empty lane)
-  Vec n, t0;                 ///< normal (A to B) and first tangent, world (the second: n x t0)
-  Real friction;             ///< dimensionless
-  Real tangent_mass[3];      ///< kg, the 2x2 tangent mass at the centre, symmetric: 00, 01, 11
-  Real twist_mass;           ///< kg m^2
-  Vec fA, fB;                ///< m, the friction centre from each centre of mass
+  // Each side's world inverse inertia R I^-1 R^T (xx, xy, xz, yy, yz, zz), copied from its body:
+  // read from the body, it was two more cache lines of each of eight bodies read at random.
+  Real inv_IA[6], inv_IB[6];  ///< 1/(kg m^2)
+  Vec n, t0;                  ///< normal (A to B) and first tangent, world (the second: n x t0)
+  Real friction;              ///< dimensionless
+  Real tangent_mass[3];       ///< kg, the 2x2 tangent mass at the centre, symmetric: 00, 01, 11
+  Real twist_mass;            ///< kg m^2
+  Vec fA, fB;                 ///< m, the friction centre from each centre of mass
   Real tangent_impulse0, tangent_impulse1, twist_impulse;  ///< N s, N s, N m s
   Point p[4];
   // The points' coupling K = J M^-1 J^T (K_ij: point i's normal velocity per unit impulse at
@@ -76,9 +79,10 @@ struct alignas(64) Bundle {
 };
 
 void clear_lane(Bundle& k, int lane);
-// A lane from a constraint's full record (ContactSolver::make_constraint) and its points'
-// coupling K (10 values, as Bundle::K).
-void set_lane(Bundle& k, int lane, const ContactConstraint& f, const double* K);
+// A lane from a constraint's full record (ContactSolver::make_constraint), its points' coupling K
+// (10 values, as Bundle::K) and its bodies' world inverse inertia.
+void set_lane(Bundle& k, int lane, const ContactConstraint& f, const double* K, const Mat3& inv_IA,
+              const Mat3& inv_IB);
 
 struct SolveParams {
   double inv_h, max_push, slop, apart;  ///< 1/s, m/s, m, m (as ManifoldSolve's)
