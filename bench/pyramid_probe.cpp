@@ -113,8 +113,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "  worst cube %d at (%.1f, %.1f): drift (%.2e, %.2e, %.2e); %d cubes drift > 5 mm\n",
                  worst, x0.x(), x0.z(), d.x(), d.y(), d.z(), over5);
   }
-  std::fprintf(stderr, "  impact substeps %ld; state hash %016llx\n", w.profile().impact_substeps,
-               (unsigned long long)state_hash(w));
+  std::fprintf(stderr, "  impact substeps %ld, sweeps %ld; state hash %016llx\n", w.profile().impact_substeps,
+               w.profile().sweeps, (unsigned long long)state_hash(w));
   if (profile) {
     const Profile& p = w.profile();
     for (int k = 0; k < (int)Stage::count; ++k)

@@ -54,6 +54,14 @@ struct alignas(64) SolverBody {  // whole cache lines: two threads write neighbo
 static_assert(sizeof(SolverBody) == 256, "a solver body is four cache lines");
 static_assert(offsetof(SolverBody, dq) + sizeof(Quat) <= 128, "what the wide sweeps read: two lines");
 
+// Per solver body, made by ContactSolver::warm_start: its velocities before the substep's contact
+// impulses (the approach speeds an impact is judged by, kImpactSpeed) and, for the warm start per
+// body, the change the last substep's impulses made to them.
+struct BodyImpulse {
+  Vec3 v0 = Vec3::Zero(), w0 = Vec3::Zero();  ///< m/s, rad/s
+  Vec3 dv = Vec3::Zero(), dw = Vec3::Zero();  ///< m/s, rad/s
+};
+
 struct Softness {
   double bias_rate = 0;      ///< 1/s
   double mass_scale = 1;     ///< dimensionless
@@ -215,15 +223,10 @@ class ContactSolver {
   bool any_restitution_ = false;  ///< some constraint has restitution > 0 (else the stage is empty)
   bool need_dR_ = true;           ///< SolverBody::dR is read this step (the scalar path, tracked points)
   // The warm start per body (warm_start): every constraint is on the wide path; warm starts done
-  // this step; per solver body, its velocity before the last warm start and the change the last
-  // substep's impulses made to it.
+  // this step.
   bool body_warm_ = false;
   int warm_starts_ = 0;
-  struct BodyImpulse {
-    Vec3 v0 = Vec3::Zero(), w0 = Vec3::Zero();  ///< m/s, rad/s
-    Vec3 dv = Vec3::Zero(), dw = Vec3::Zero();  ///< m/s, rad/s
-  };
-  std::vector<BodyImpulse> impulse_change_;
+  std::vector<BodyImpulse> impulse_change_;  ///< per solver body ([0], the static body: zeros)
 
   // Threads.
   WorkerPool* pool_ = nullptr;  ///< null, or not used this step (too little work to split)

@@ -162,6 +162,21 @@ inline Real normal_mass(const Bundle& k, int j) {
   return sel(Kjj > 0.0, 1.0 / Kjj, splat(0));
 }
 
+// Point j's normal velocity from its bodies' velocities before the substep's contact impulses (an
+// impact's approach speed; a velocity read within a sweep carries the impulses the sweep has
+// applied so far), per lane: called only where a point may have been struck. (Out of line, called
+// from the sweeps' clones: so no vector type crosses the call, whose convention differs between
+// them.)
+void start_normal_velocity(const Bundle& k, int j, const BodyImpulse* start, double* r) {
+  for (int l = 0; l < kLanes; ++l) {
+    const BodyImpulse &A = start[k.a[l]], &B = start[k.b[l]];
+    const Vec3 n(k.n.x[l], k.n.y[l], k.n.z[l]);
+    const Vec3 cA(k.p[j].cA.x[l], k.p[j].cA.y[l], k.p[j].cA.z[l]);
+    const Vec3 cB(k.p[j].cB.x[l], k.p[j].cB.y[l], k.p[j].cB.z[l]);
+    r[l] = (n.dot(B.v0) + B.w0.dot(cB.cross(n))) - (n.dot(A.v0) + A.w0.dot(cA.cross(n)));
+  }
+}
+
 inline Mask lane_count(const Bundle& k) {
   Mask m;
   for (int l = 0; l < kLanes; ++l) m[l] = k.count[l];
@@ -257,19 +272,20 @@ SIMREEL_WIDE_TARGETS void warm_start(const Bundle& k, SolverBody* sb) {
   for (const Point& p : k.p) held |= p.normal_impulse != 0.0;
   if (!any(held)) return;  // nothing to apply (a bundle of manifolds apart)
   Bodies A = gather(sb, k.a, k.inv_IA), B = gather(sb, k.b, k.inv_IB);
+  // The normal impulses' angular parts sum(l_j c_j x n) = (sum l_j c_j) x n.
   Real total = splat(0);
-  Vec aA{total, total, total}, aB = aA;
+  Vec cA{total, total, total}, cB = cA;
   for (int j = 0; j < 4; ++j) {
     const Point& p = k.p[j];
     const Real l = p.normal_impulse;
     total = total + l;
-    aA = aA + l * cross(p.cA, k.n);
-    aB = aB + l * cross(p.cB, k.n);
+    cA = cA + l * p.cA;
+    cB = cB + l * p.cB;
   }
   const Vec P = k.tangent_impulse0 * k.t0 + k.tangent_impulse1 * cross(k.n, k.t0);
   const Vec L = total * k.n + P;
   const Vec twist = k.twist_impulse * k.n;
-  apply(A, B, L, aA + cross(k.fA, P) + twist, aB + cross(k.fB, P) + twist);
+  apply(A, B, L, cross(cA, k.n) + cross(k.fA, P) + twist, cross(cB, k.n) + cross(k.fB, P) + twist);
   scatter(sb, k.a, A);
   scatter(sb, k.b, B);
 }
@@ -286,18 +302,14 @@ SIMREEL_WIDE_TARGETS bool solve(Bundle& k, SolverBody* sb, const SolveParams& q)
   const Real impulse_scale = sel(fixed, splat(q.impulse_scale[1]), splat(q.impulse_scale[0]));
 
   // Separation now of each point: each surface's centre of curvature moved with its body since
-  // the manifold was made (ManifoldSolve's constructor), and the lever arms r x n = c x n (the
-  // anchor and the centre of curvature differ along n).
+  // the manifold was made (ManifoldSolve's constructor).
   const Vec nRA = rotated_back(sb, k.a, k.n), nRB = rotated_back(sb, k.b, k.n);
   const Real ndp = dot(k.n, displacement(sb, k.b) - displacement(sb, k.a));
   Real s[4];
-  Vec rnA[4], rnB[4];
   Mask in[4];  // the lane has point j
   for (int j = 0; j < 4; ++j) {
     const Point& p = k.p[j];
     s[j] = ((ndp + dot(nRB, p.cB)) - dot(nRA, p.cA)) + p.adjusted_separation;
-    rnA[j] = cross(p.cA, k.n);
-    rnB[j] = cross(p.cB, k.n);
     in[j] = count > j;
   }
 
@@ -306,14 +318,17 @@ SIMREEL_WIDE_TARGETS bool solve(Bundle& k, SolverBody* sb, const SolveParams& q)
   // `apart`), and the normal velocity now.
   Real bias[4], vn[4];
   Mask spec[4], release[4];
+  // The lever arms are r x n = c x n (the anchor and the centre of curvature differ along n), and
+  // w.(c x n) = c.(n x w): one cross product per body, not one per point.
   const Real nvA = dot(k.n, A.v), nvB = dot(k.n, B.v);
+  const Vec nwA = cross(k.n, A.w), nwB = cross(k.n, B.w);
   for (int j = 0; j < 4; ++j) {
     spec[j] = s[j] > 0.0;
     const Real soft_bias =
         q.use_bias ? vmax(bias_rate * vmin(zero, s[j] + q.slop), splat(-q.max_push)) : zero;
     bias[j] = sel(spec[j], s[j] * q.inv_h, soft_bias);
     release[j] = q.use_bias ? kNone : (s[j] > q.apart);
-    vn[j] = (nvB + dot(B.w, rnB[j])) - (nvA + dot(A.w, rnA[j]));
+    vn[j] = (nvB + dot(k.p[j].cB, nwB)) - (nvA + dot(k.p[j].cA, nwA));
   }
   // A lane whose points are all apart, hold no impulse and will not close their gaps this
   // substep (or may only release) is left as it is: a pass would give each point max(c (vn +
@@ -416,21 +431,22 @@ SIMREEL_WIDE_TARGETS bool solve(Bundle& k, SolverBody* sb, const SolveParams& q)
   Real total_normal = zero, twist_limit = zero;
   Mask struck = kNone;
   if (any(ok)) {
+    // The impulses' angular parts sum(x_j c_j x n) = (sum x_j c_j) x n.
     Real X = zero;
-    Vec aA{zero, zero, zero}, aB = aA;
+    Vec cA{zero, zero, zero}, cB = cA;
     for (int j = 0; j < 4; ++j) {
       Point& p = k.p[j];
       const Mask m = ok & in[j];
       const Real xj = sel(m, x[j], zero);
       X = X + xj;
-      aA = aA + xj * rnA[j];
-      aB = aB + xj * rnB[j];
+      cA = cA + xj * p.cA;
+      cB = cB + xj * p.cB;
       p.normal_impulse = sel(m, sum[j], p.normal_impulse);
       k.touched |= m & (sum[j] > 0.0);
       total_normal = total_normal + sel(m, sum[j], zero);
       twist_limit = twist_limit + sel(m, p.lever * sum[j], zero);
     }
-    apply(A, B, X * k.n, aA, aB);
+    apply(A, B, X * k.n, cross(cA, k.n), cross(cB, k.n));
   }
 
   // The passes (ManifoldSolve::point and end_pass) for the other lanes, masked: symmetric
@@ -438,9 +454,11 @@ SIMREEL_WIDE_TARGETS bool solve(Bundle& k, SolverBody* sb, const SolveParams& q)
   // masked, is each lane's own count - 1 down to 0), until each lane's manifold has converged.
   Mask done = ok | quiet | (count == 0);
   if (any(~done)) {
-    Vec IrnA[4], IrnB[4];
+    Vec rnA[4], rnB[4], IrnA[4], IrnB[4];
     Real c[4], is[4];
     for (int j = 0; j < 4; ++j) {
+      rnA[j] = cross(k.p[j].cA, k.n);
+      rnB[j] = cross(k.p[j].cB, k.n);
       IrnA[j] = A.inv_I * rnA[j];
       IrnB[j] = B.inv_I * rnB[j];
       // Speculative: close the gap within this substep, no more, rigid. Else soft with bias
@@ -470,7 +488,14 @@ SIMREEL_WIDE_TARGETS bool solve(Bundle& k, SolverBody* sb, const SolveParams& q)
         twist_pass = twist_pass + sel(m, p.lever * total, zero);
         const Mask hit = m & spec[j] & (total > 0.0);
         impact |= hit;
-        struck |= hit & (vn < -kImpactSpeed);
+        const Mask fast = hit & (vn < -kImpactSpeed);
+        if (any(fast)) {
+          double v0[kLanes];
+          start_normal_velocity(k, j, q.start, v0);
+          Real v;
+          for (int l = 0; l < kLanes; ++l) v[l] = v0[l];
+          struck |= fast & (v < -kImpactSpeed);
+        }
         change = vmax(change, vabs(lambda));
         scale = vmax(scale, sel(m, total, zero));
         A.v = A.v - lambda * nA;
@@ -493,12 +518,10 @@ SIMREEL_WIDE_TARGETS bool solve(Bundle& k, SolverBody* sb, const SolveParams& q)
   // disk of radius mu N. An empty lane, or one with no normal impulse and none accumulated,
   // comes out with zero impulses and moves nothing.
   {
-    const Vec dv = B.v - A.v;
+    // The relative velocity of the two centres, (vB + wB x fB) - (vA + wA x fA), along each tangent.
     const Vec t1 = cross(k.n, k.t0);
-    const Vec fAt0 = cross(k.fA, k.t0), fAt1 = cross(k.fA, t1);
-    const Vec fBt0 = cross(k.fB, k.t0), fBt1 = cross(k.fB, t1);
-    const Real vt0 = (dot(k.t0, dv) + dot(B.w, fBt0)) - dot(A.w, fAt0);
-    const Real vt1 = (dot(t1, dv) + dot(B.w, fBt1)) - dot(A.w, fAt1);
+    const Vec u = (B.v + cross(B.w, k.fB)) - (A.v + cross(A.w, k.fA));
+    const Real vt0 = dot(k.t0, u), vt1 = dot(t1, u);
     const Real old0 = k.tangent_impulse0, old1 = k.tangent_impulse1;
     Real i0 = old0 - (k.tangent_mass[0] * vt0 + k.tangent_mass[1] * vt1);
     Real i1 = old1 - (k.tangent_mass[1] * vt0 + k.tangent_mass[2] * vt1);

@@ -29,6 +29,7 @@ namespace simreel {
 
 struct SolverBody;
 struct ContactConstraint;
+struct BodyImpulse;
 
 // The block solve's regularisation of rigid rows: K + eps diag(K) for the singular K of a face on a
 // face (four points on three degrees of freedom): velocities off by a relative 1e-8, far inside the
@@ -92,6 +93,7 @@ struct SolveParams {
   double bias_rate[2], mass_scale[2], impulse_scale[2], d[2];  ///< 1/s, -, -, -
   int resting_passes;                                          ///< contacts.passes
   bool use_bias;                                               ///< solve (true) or relax (false)
+  const BodyImpulse* start;  ///< per solver body, its velocities before the substep's impulses
 };
 
 // The warm start: each lane's accumulated impulses applied to its bodies.

@@ -105,6 +105,7 @@ struct Profile {
   long pairs = 0;             ///< candidate pairs from the broad phase, summed over steps
   long contact_points = 0;    ///< manifold points, summed over steps
   long solver_bodies = 0;     ///< bodies stepped by the contact solver, summed over steps
+  long sweeps = 0;            ///< the contact solver's solve and relax sweeps, summed over steps
   long impact_substeps = 0;   ///< substeps with an impact (one more sweep: kImpactSpeed)
   long body_warm_starts = 0;  ///< substeps warm-started per body (ContactSolver::warm_start)
   long pool_runs = 0;         ///< parallel stage runs handed to the worker pool (threads > 1)

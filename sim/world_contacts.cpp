@@ -439,7 +439,8 @@ bool World::stage_solve_contacts() {
       StageTimer t(profiling_, &sec[(int)Stage::solve]);
       bool struck = false;
       for (int it = 0; it < sweeps; ++it) struck |= solver_.solve(h, true, it == 0);
-      if (struck && settle_substeps_ == 0) solver_.solve(h, true, false);
+      profile_.sweeps += sweeps;
+      if (struck && settle_substeps_ == 0) solver_.solve(h, true, false), ++profile_.sweeps;
       if (struck) {
         settle_substeps_ = (int)std::ceil(kImpactSettleTime / h - 1e-9) + 1;
         ++profile_.impact_substeps;
@@ -453,6 +454,7 @@ bool World::stage_solve_contacts() {
       StageTimer t(profiling_, &sec[(int)Stage::relax]);
       const int relax = cs.iterations + (settle_substeps_ > 0 ? 1 : 0);
       for (int it = 0; it < relax; ++it) solver_.solve(h, false, false);
+      profile_.sweeps += relax;
       if (settle_substeps_ > 0) --settle_substeps_;
     }
     {
