@@ -156,7 +156,7 @@ void ContactSolver::by_colour(int w, int nw, FS&& scalar, FW&& wide) {
     for (int part = 0; part < 2; ++part) {
       const int b0 = part == 0 ? bundle_start_[c] : bundle_split_[c];
       const int b1 = part == 0 ? bundle_split_[c] : bundle_start_[c + 1];
-      if (nw == 2 && part == 0) {  // worker 0 takes colour_share_[c] of them (balance_colours)
+      if (nw == 2 && part == 0) {  // worker 0 takes its share of them (balance_colours)
         const int first = (int)std::lround(colour_share_[c] * (b1 - b0));
         b = w == 0 ? 0 : first;
         e = w == 0 ? first : b1 - b0;
@@ -180,7 +180,9 @@ void ContactSolver::by_colour(int w, int nw, FS&& scalar, FW&& wide) {
 // colour cost unequally. The split moves by a bundle a sweep toward the faster worker's side and
 // follows a colour's costs, which change slowly; two threads went from 1.66x one thread (median
 // of six runs) to 1.71-1.76x (three). Which worker solves a bundle does not change any result (no
-// two bundles of a colour share a moving body), so the split may follow timings.
+// two bundles of a colour share a moving body), so the split may follow timings. (The faster
+// worker still waits about a tenth of the sweeps' time at the 32 colours' barriers, in phases of
+// some 17 us each; a split each for the solve and the relax measured no better.)
 void ContactSolver::balance_colours() {
   if (workers_ != 2) return;
   constexpr int kOverflow = ConstraintGraph::kOverflow;
@@ -189,13 +191,14 @@ void ContactSolver::balance_colours() {
     if (n < 2) continue;
     double& t0 = colour_time_[0].seconds[c];
     double& t1 = colour_time_[1].seconds[c];
+    double& share = colour_share_[c];
     const double step = 1.0 / n;
     // Only times from this sweep (a pool run backed off to one thread leaves none).
     if (t0 == 0 || t1 == 0) continue;
     if (t0 > 1.05 * t1)
-      colour_share_[c] = std::max(0.2, colour_share_[c] - step);
+      share = std::max(0.2, share - step);
     else if (t1 > 1.05 * t0)
-      colour_share_[c] = std::min(0.8, colour_share_[c] + step);
+      share = std::min(0.8, share + step);
     t0 = t1 = 0;
   }
   static_assert(kOverflow + 1 <= (int)(sizeof(ColourTime::seconds) / sizeof(double)));

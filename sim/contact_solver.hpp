@@ -51,7 +51,6 @@ struct alignas(64) SolverBody {  // whole cache lines: two threads write neighbo
       Mat3::Identity();  ///< dq as a matrix (set with dq where the scalar path or a tracked point reads it)
   Mat3 inv_I = Mat3::Zero();  ///< 1/(kg m^2), world, R I^-1 R^T at the step's start
 };
-static_assert(sizeof(SolverBody) == 256, "a solver body is four cache lines");
 static_assert(offsetof(SolverBody, dq) + sizeof(Quat) <= 128, "what the wide sweeps read: two lines");
 
 // Per solver body, made by ContactSolver::warm_start: its velocities before the substep's contact

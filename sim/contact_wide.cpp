@@ -489,7 +489,7 @@ SIMREEL_WIDE_TARGETS bool solve(Bundle& k, SolverBody* sb, const SolveParams& q)
         const Mask hit = m & spec[j] & (total > 0.0);
         impact |= hit;
         const Mask fast = hit & (vn < -kImpactSpeed);
-        if (any(fast)) {
+        if (q.use_bias && any(fast)) {  // (the relax's `struck` is not used)
           double v0[kLanes];
           start_normal_velocity(k, j, q.start, v0);
           Real v;

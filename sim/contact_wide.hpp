@@ -62,8 +62,11 @@ struct alignas(64) Bundle {
   int a[kLanes], b[kLanes];  ///< solver bodies (0: the static body, never written)
   int count[kLanes];         ///< points, 0 to 4
   int contact[kLanes];       ///< index into the contact list (-1: an empty lane)
-  // Each side's world inverse inertia R I^-1 R^T (xx, xy, xz, yy, yz, zz), copied from its body:
-  // read from the body, it was two more cache lines of each of eight bodies read at random.
+  // Each side's world inverse inertia R I^-1 R^T (xx, xy, xz, yy, yz, zz) at the step's start,
+  // copied from its body (read from the body, it was two more cache lines of each of eight bodies
+  // read at random); the step's start is also what K and the tangent mass are made with (a
+  // tracked body's inertia, refreshed within the step, is not followed: like the scalar path's
+  // constraints other than the tracked one).
   Real inv_IA[6], inv_IB[6];  ///< 1/(kg m^2)
   Vec n, t0;                  ///< normal (A to B) and first tangent, world (the second: n x t0)
   Real friction;              ///< dimensionless
