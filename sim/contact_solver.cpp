@@ -705,9 +705,8 @@ bool ContactSolver::warm_start() {
         b.w += d.dw;
       }
     }
-  });
-  if (by_body) return true;
-  on_workers([&](int w, int nw) {
+    if (by_body) return;
+    if (nw > 1) pool_->barrier();  // every body's v0 kept before any impulse moves it
     by_colour(
         w, nw,
         [&](int begin, int end) {
@@ -744,7 +743,6 @@ bool ContactSolver::warm_start() {
     // colour is warm-started (a barrier).
     if (tracked_bodies_.empty()) return;
     if (nw > 1) pool_->barrier();
-    int begin, end;
     share((int)tracked_bodies_.size(), w, nw, begin, end);
     for (int i = begin; i < end; ++i) {
       const int k = tracked_bodies_[i];
@@ -753,7 +751,7 @@ bool ContactSolver::warm_start() {
       b.w = midpoint_gyro(I_W_[k], gyro_w0_[k], b.w, h_);
     }
   });
-  return false;
+  return by_body;
 }
 
 namespace {

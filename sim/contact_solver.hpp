@@ -39,7 +39,7 @@ class WorkerPool;
 
 // The wide sweeps (sim/contact_wide.cpp) read only the first two cache lines, v to dq: a bundle's
 // eight bodies are read at random, and each line a body adds waits on memory (the large pyramid's
-// sweeps went 4% faster from five lines to four); the inverse inertia they read is copied into the
+// sweeps went 7% faster from five lines to two); the inverse inertia they read is copied into the
 // bundle, and the rotation so far is read as the quaternion dq.
 struct alignas(64) SolverBody {  // whole cache lines: two threads write neighbouring bodies
   Vec3 v = Vec3::Zero();         ///< m/s, centre-of-mass velocity, world
@@ -47,9 +47,8 @@ struct alignas(64) SolverBody {  // whole cache lines: two threads write neighbo
   Vec3 dp = Vec3::Zero();        ///< m, centre-of-mass displacement so far this step
   double inv_mass = 0;           ///< 1/kg (0: static or kinematic)
   Quat dq = Quat::Identity();    ///< rotation so far this step (world)
-  Mat3 dR =
-      Mat3::Identity();  ///< dq as a matrix (set with dq where the scalar path or a tracked point reads it)
-  Mat3 inv_I = Mat3::Zero();  ///< 1/(kg m^2), world, R I^-1 R^T at the step's start
+  Mat3 dR = Mat3::Identity();    ///< dq as a matrix (made only where read: need_dR_)
+  Mat3 inv_I = Mat3::Zero();     ///< 1/(kg m^2), world, R I^-1 R^T at the step's start
 };
 static_assert(offsetof(SolverBody, dq) + sizeof(Quat) <= 128, "what the wide sweeps read: two lines");
 

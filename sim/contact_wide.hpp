@@ -14,7 +14,7 @@
 //
 // Why. The large pyramid's sweeps streamed 1.4 KB per manifold (its 15,000 manifolds, 21 MB,
 // three times a substep, from the shared cache): the warm start ran at the cache's bandwidth and
-// the solve had half of it again as arithmetic on one lane. A lane here is 0.55 KB: the lever
+// the solve had half of it again as arithmetic on one lane. A lane here is 0.65 KB: the lever
 // arms r x n and the inertia products I^-1 (r x n) are made in the sweep from the anchors and the
 // bodies (in the 1st-level cache), not stored, nor is what is cheap to make (a point's normal
 // mass 1/K_ii, the second tangent n x t0, the softness), and an impulse's angular part is summed
