@@ -143,74 +143,54 @@ void ContactSolver::by_colour(int w, int nw, FS&& scalar, FW&& wide) {
   const std::vector<int>& used = graph_.used();
   constexpr int kOverflow = ConstraintGraph::kOverflow;
   const bool overflow = graph_.overflow_count() > 0;
-  for (size_t u = 0; u < used.size(); ++u) {
-    const int c = used[u];
-    const auto t0 = nw == 2 ? std::chrono::steady_clock::now() : std::chrono::steady_clock::time_point{};
-    int b, e;
-    share(scalar_start_[c + 1] - scalar_start_[c], w, nw, b, e);
-    if (b < e) scalar(scalar_start_[c] + b, scalar_start_[c] + e);
-    // The colour's bundles in two parts, each shared out: those apart at the step's start come
-    // last and mostly cost a look (wide::solve), and in one share the second worker got them
-    // (the large pyramid ran 1.44x one thread on two; interleaving bundles one by one instead
-    // shared cache lines of neighbouring bodies between the cores: 1.32x).
-    for (int part = 0; part < 2; ++part) {
-      const int b0 = part == 0 ? bundle_start_[c] : bundle_split_[c];
-      const int b1 = part == 0 ? bundle_split_[c] : bundle_start_[c + 1];
-      if (nw == 2 && part == 0) {  // worker 0 takes its share of them (balance_colours)
-        const int first = (int)std::lround(colour_share_[c] * (b1 - b0));
-        b = w == 0 ? 0 : first;
-        e = w == 0 ? first : b1 - b0;
-      } else {
-        share(b1 - b0, w, nw, b, e);
-      }
-      if (b < e) wide(b0 + b, b0 + e);
+  auto items = [&](int g, int begin, int end) {
+    if (begin >= end) return;
+    if (g == 0)
+      scalar(begin, end);
+    else
+      wide(begin, end);
+  };
+  if (nw == 1) {  // one worker (or the pool backing off): every colour whole, in turn
+    for (const int c : used) {
+      items(0, scalar_start_[c], scalar_start_[c + 1]);
+      items(1, bundle_start_[c], bundle_start_[c + 1]);
     }
-    if (nw == 2)
-      colour_time_[w].seconds[c] =
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    // No barrier after the last: the end of the pool's run waits for everyone.
-    if (nw > 1 && (u + 1 < used.size() || overflow)) pool_->barrier();
+    if (overflow) scalar(scalar_start_[kOverflow], scalar_start_[kOverflow + 1]);
+    return;
   }
-  if (overflow && w == 0) scalar(scalar_start_[kOverflow], scalar_start_[kOverflow + 1]);
-}
-
-// Two workers: each colour's resting bundles are split where the two took equally long in the
-// sweeps before. Split by count, one worker waited at each barrier for the other (the large
-// pyramid: 1 to 4 ms of each 35 ms step, summed over its 1,536 barriers): the two halves of a
-// colour cost unequally. The split moves by a bundle a sweep toward the faster worker's side and
-// follows a colour's costs, which change slowly; two threads went from 1.66x one thread (median
-// of six runs) to 1.71-1.76x (three). Which worker solves a bundle does not change any result (no
-// two bundles of a colour share a moving body), so the split may follow timings. (The faster
-// worker still waits about a tenth of the sweeps' time at the 32 colours' barriers, in phases of
-// some 17 us each; a split each for the solve and the relax measured no better.)
-void ContactSolver::balance_colours() {
-  if (workers_ != 2) return;
-  constexpr int kOverflow = ConstraintGraph::kOverflow;
-  for (int c : graph_.used()) {
-    const int n = bundle_split_[c] - bundle_start_[c];
-    if (n < 2) continue;
-    double& t0 = colour_time_[0].seconds[c];
-    double& t1 = colour_time_[1].seconds[c];
-    double& share = colour_share_[c];
-    const double step = 1.0 / n;
-    // Only times from this sweep (a pool run backed off to one thread leaves none).
-    if (t0 == 0 || t1 == 0) continue;
-    if (t0 > 1.05 * t1)
-      share = std::max(0.2, share - step);
-    else if (t1 > 1.05 * t0)
-      share = std::min(0.8, share + step);
-    t0 = t1 = 0;
+  // Every worker's count is the same here (each advances once per colour of every call).
+  const unsigned base = pool_->progress(w);
+  const auto t0 = std::chrono::steady_clock::now();
+  double waited = 0;
+  for (size_t u = 0; u < used.size(); ++u) {
+    // The others' items of the colours before, on bodies this worker's items share, are done.
+    if (u > 0)
+      for (int v = 0; v < nw; ++v)
+        if (v != w) waited += pool_->await_progress(v, base + (unsigned)u);
+    const WorkRange* r = &range_[(size_t)used[u] * kGroups * nw + w];
+    for (int g = 0; g < kGroups; ++g) {
+      items(g, r[g * nw].lo, r[g * nw].a);
+      items(g, r[g * nw].b, r[g * nw].hi);
+    }
+    pool_->advance(w);
+    for (int g = 0; g < kGroups; ++g) items(g, r[g * nw].a, r[g * nw].b);
   }
-  static_assert(kOverflow + 1 <= (int)(sizeof(ColourTime::seconds) / sizeof(double)));
+  worker_time_[w].busy +=
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() - waited;
+  if (overflow) {
+    pool_->barrier();
+    if (w == 0) scalar(scalar_start_[kOverflow], scalar_start_[kOverflow + 1]);
+  }
 }
 
 // Which constraints go to the wide path (plain_, per constraint, and not in the overflow set),
-// in bundles of four per colour in slot order; the rest to scalar_. The padding lanes of each
-// colour's last bundle are emptied here; the others are filled by set_lane.
+// in bundles of four per colour in slot order, those resting and those apart in runs of their own;
+// the rest to scalar_. The padding lanes are emptied here; the others are filled by set_lane.
 void ContactSolver::assign_lanes() {
   const int ncons = (int)cons_.size();
   constexpr int kOverflow = ConstraintGraph::kOverflow;
   lane_of_.assign(ncons, -1);
+  lane_slot_.clear();
   scalar_.clear();
   scalar_start_.assign(kOverflow + 2, 0);
   bundle_start_.assign(kOverflow + 2, 0);
@@ -226,26 +206,28 @@ void ContactSolver::assign_lanes() {
     // of the large pyramid's rows, a gap apart: a quarter of its manifolds), and a bundle of
     // them costs a look at their gaps (wide::solve).
     for (int kind = 1; kind <= 2; ++kind) {
-      if (kind == 2) bundle_split_[c] = (lanes + wide::kLanes - 1) / wide::kLanes;
+      if (kind == 2) {  // the bundles apart start afresh (so each run of bundles is in slot order)
+        lanes = (lanes + wide::kLanes - 1) / wide::kLanes * wide::kLanes;
+        lane_slot_.resize(lanes, -1);
+        bundle_split_[c] = lanes / wide::kLanes;
+      }
       for (int slot = graph_.begin(c); slot < graph_.end(c); ++slot)
-        if (slot_plain_[slot] == kind && c != kOverflow) lane_of_[slot] = lanes++;
+        if (slot_plain_[slot] == kind && c != kOverflow) {
+          lane_of_[slot] = lanes++;
+          lane_slot_.push_back(slot);
+        }
     }
     for (int slot = graph_.begin(c); slot < graph_.end(c); ++slot)
       if (!slot_plain_[slot] || c == kOverflow) scalar_.push_back(slot);
-    // The colour's last bundle padded with empty lanes (cleared once the bundles exist).
+    // The colour's last bundle padded with empty lanes.
     lanes = (lanes + wide::kLanes - 1) / wide::kLanes * wide::kLanes;
+    lane_slot_.resize(lanes, -1);
   }
   scalar_start_[kOverflow + 1] = (int)scalar_.size();
   bundle_start_[kOverflow + 1] = lanes / wide::kLanes;
   bundles_.resize(lanes / wide::kLanes);
-  for (int c = 0; c <= kOverflow; ++c) {
-    const int b0 = bundle_start_[c], b1 = bundle_start_[c + 1];
-    if (b0 == b1) continue;
-    // Lanes of the colour's last bundle past its manifolds.
-    const int used = (graph_.end(c) - graph_.begin(c)) - (scalar_start_[c + 1] - scalar_start_[c]);
-    for (int l = used - (b1 - 1 - b0) * wide::kLanes; l < wide::kLanes; ++l)
-      wide::clear_lane(bundles_[b1 - 1], l);
-  }
+  for (int l = 0; l < lanes; ++l)  // the padding lanes (the ends of a colour's two runs)
+    if (lane_slot_[l] < 0) wide::clear_lane(bundles_[l / wide::kLanes], l % wide::kLanes);
 }
 
 // A wide lane from the constraint's record (make_constraint), with its points' coupling K.
@@ -324,10 +306,7 @@ __attribute__((flatten)) void ContactSolver::prepare(const SolverInput& in, cons
   pool_ = (in.pool && ncons >= kMinParallelConstraints) ? in.pool : nullptr;
   workers_ = pool_ ? pool_->size() : 1;
   struck_.resize(workers_);
-  if (workers_ == 2) {
-    colour_time_.resize(2);
-    if (colour_share_.empty()) colour_share_.assign(ConstraintGraph::kOverflow + 1, 0.5);
-  }
+  if (workers_ > 1) split_colours();
 
   on_workers([&](int w, int nw) {
     int b, e;
@@ -1194,7 +1173,6 @@ bool ContactSolver::solve(double h, bool use_bias, bool first_iteration) {
         });
     struck_[w].value = struck;
   });
-  balance_colours();
   bool struck = false;
   for (int w = 0; w < workers_; ++w) struck = struck || struck_[w].value;
   return struck;

@@ -158,10 +158,11 @@ struct SolverInput {
 // and positions, the write-back) and per-constraint stages that write nothing shared (prepare,
 // store) take fixed shares; the stages that apply impulses (warm start, solve, relax,
 // restitution) go colour by colour through the constraint graph (sim/constraint_graph.hpp), each
-// colour split among the workers in fixed shares, with a barrier between colours. (Blocks of 16
-// constraints claimed from a shared counter balanced the load but moved each constraint and its
-// bodies between the cores' caches: the large pyramid's solve ran 1.55x one thread with them,
-// 1.64x with fixed shares.) Within a colour no two
+// worker taking the same span of bodies in every colour, and waiting before a colour only for the
+// others' items of the colour before that touch bodies its own items touch
+// (sim/contact_split.cpp). (Blocks of 16 constraints claimed from a shared counter balanced the
+// load but moved each constraint and its bodies between the cores' caches: the large pyramid's
+// solve ran 1.55x one thread with them, 1.64x with fixed shares.) Within a colour no two
 // constraints share a moving body, so every body receives the same impulses in the same order
 // whatever the thread count: results are bit for bit those of one thread.
 class ContactSolver {
@@ -183,6 +184,13 @@ class ContactSolver {
   void finish(const BodyModel* model, MotionState* state, std::vector<char>& touched_none) const;
 
   const ConstraintGraph& graph() const { return graph_; }  ///< this step's colouring
+  int workers() const { return workers_; }                 ///< this step's (1: no split)
+  // Checks the workers' split of the colours (sim/contact_split.cpp) as by_colour uses it: each
+  // colour's items shared out whole, and no item solved after the worker's count went on touches
+  // a body another worker's items touch. Returns the number of faults; if given, *deferred the
+  // number of items solved after the count (the ones no other worker waits for) and *items all
+  // of them (bundles and scalar constraints, over the colours). For tests.
+  int split_faults(long* deferred = nullptr, long* items = nullptr) const;
   int constraint_count() const { return (int)cons_.size(); }
 
  private:
@@ -236,18 +244,34 @@ class ContactSolver {
     bool value = false;
   };
   std::vector<Flag> struck_;
-  struct alignas(64) ColourTime {                        // per worker, its own cache lines
-    double seconds[ConstraintGraph::kColours + 1] = {};  ///< s, in each colour in the last sweep
+  // Two or more workers: which part of each colour each takes, and which of it first
+  // (sim/contact_split.cpp). Per colour c, group g (0: scalar_ entries, 1: bundles resting, 2:
+  // bundles apart) and worker w, range_[(c * kGroups + g) * workers_ + w]: the worker solves
+  // [lo, a) and [b, hi) (the items touching a body that another worker's items touch), then tells
+  // the others it has (WorkerPool::advance), then [a, b).
+  static constexpr int kGroups = 3;
+  struct WorkRange {
+    int lo = 0, a = 0, b = 0, hi = 0;
   };
-  std::vector<ColourTime> colour_time_;  ///< two workers only
-  std::vector<double> colour_share_;  ///< two workers: worker 0's fraction of each colour's resting bundles
-  void balance_colours();             ///< colour_share_ from colour_time_ (after a sweep)
+  std::vector<WorkRange> range_;
+  std::vector<int> lane_slot_;           ///< per lane (4 bundle + lane): its slot, or -1 (padding)
+  std::vector<uint32_t> body_workers_;   ///< per solver body: bit w set if worker w's items touch it
+  std::vector<double> key_weight_;       ///< per solver body: the work of the items keyed by it
+  std::vector<double> worker_fraction_;  ///< per worker: its fraction of the weighted items
+  std::vector<int> threshold_;           ///< workers_ + 1 entries: worker w takes keys [t_w, t_w+1)
+  std::vector<int> worker_count_;        ///< per worker: scratch (split_colours)
+  struct alignas(64) WorkerTime {        // per worker, its own cache line
+    double busy = 0;                     ///< s in by_colour this step, not waiting
+  };
+  std::vector<WorkerTime> worker_time_;
+  void split_colours();  ///< range_ from worker_fraction_, after it is rebalanced (prepare)
 
   template <typename F>
   void on_workers(F&& f) const;  ///< f(worker, workers) on every worker, or f(0, 1)
   // Inside on_workers: per colour, scalar(begin, end) over this worker's share of the colour's
-  // scalar_ entries and wide(begin, end) over its share of the colour's bundles, a barrier
-  // between colours, then the overflow set (scalar) on worker 0.
+  // scalar_ entries and wide(begin, end) over its share of the colour's bundles (range_), waiting
+  // before each colour until the other workers have solved the last colour's items they share
+  // bodies with; then, after a barrier, the overflow set (scalar) on worker 0.
   template <typename FS, typename FW>
   void by_colour(int w, int nw, FS&& scalar, FW&& wide);
   void assign_lanes();                                  ///< bundles and scalar_ from the colouring (prepare)

@@ -4,7 +4,8 @@
 
 namespace simreel {
 
-WorkerPool::WorkerPool(int threads, bool backoff) : n_(threads), backoff_on_(backoff) {
+WorkerPool::WorkerPool(int threads, bool backoff)
+    : n_(threads), backoff_on_(backoff), progress_(new Progress[threads]) {
   for (int w = 1; w < n_; ++w) workers_.emplace_back([this, w] { worker_loop(w); });
 }
 
@@ -68,6 +69,15 @@ void WorkerPool::barrier() {
     return;
   }
   await_change(barrier_gen_, gen);
+}
+
+double WorkerPool::await_progress(int v, unsigned target) {
+  std::atomic<unsigned>& a = progress_[v].count;
+  unsigned seen = a.load(std::memory_order_acquire);
+  if ((int)(seen - target) >= 0) return 0;
+  const auto t0 = clock::now();
+  while ((int)(seen - target) < 0) seen = await_change(a, seen);
+  return std::chrono::duration<double>(clock::now() - t0).count();
 }
 
 }  // namespace simreel

@@ -3,8 +3,9 @@
 // created and nothing is allocated per step.
 //
 // run(f) calls f(worker, workers) once on every worker, worker 0 on the calling thread, and
-// returns when all have finished. Inside it, barrier() holds every worker until all have arrived
-// (the contact solver's colours: one barrier per colour). Work is split by the callers into fixed
+// returns when all have finished. Inside it, barrier() holds every worker until all have arrived,
+// and advance / await_progress let one worker wait for another's count of milestones (the
+// contact solver's colours, sim/contact_split.cpp). Work is split by the callers into fixed
 // ranges by worker index, or claimed from a shared counter where results do not depend on who
 // does which item, so no result depends on the thread count or on timing.
 //
@@ -27,6 +28,7 @@
 #pragma once
 #include <atomic>
 #include <chrono>
+#include <memory>
 #include <thread>
 #include <vector>
 
@@ -50,6 +52,17 @@ class WorkerPool {
   }
   // Called by every worker inside run(): returns once all of them have called it.
   void barrier();
+  // Point-to-point progress (the contact solver's colours, sim/contact_split.cpp): each worker
+  // counts its own milestones, and another waits until that count reaches a target, instead of
+  // every worker waiting for all at a barrier. advance(w): worker w's count + 1 (release: what w
+  // wrote before is seen by whoever sees the count). await_progress(v, target): returns once
+  // worker v's count has reached target (wrapping compare), in seconds waited (0 if at once).
+  unsigned progress(int w) const { return progress_[w].count.load(std::memory_order_relaxed); }
+  void advance(int w) {
+    progress_[w].count.fetch_add(1, std::memory_order_release);
+    progress_[w].count.notify_all();
+  }
+  double await_progress(int v, unsigned target);
   long runs() const { return runs_; }         ///< run() calls
   long alone_runs() const { return alone_; }  ///< of which on the caller alone (back-off)
 
@@ -99,6 +112,10 @@ class WorkerPool {
   alignas(64) std::atomic<unsigned> barrier_gen_{0};
   alignas(64) std::atomic<bool> quit_{false};
   alignas(64) std::atomic<bool> slow_{false};  ///< a wait took longer than kSlow
+  struct alignas(64) Progress {
+    std::atomic<unsigned> count{0};
+  };
+  std::unique_ptr<Progress[]> progress_;  ///< per worker, one cache line each
   Fn fn_ = nullptr;
   void* ctx_ = nullptr;
   int backoff_ = 0, backoff_next_ = kBackoffMin;  ///< runs left alone; the next back-off's length

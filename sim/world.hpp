@@ -212,6 +212,7 @@ class World {
   const ContactStats& contact_stats() const { return contact_stats_; }
   bool has_contacts() const { return collide_enabled_; }  ///< false: contact stages always skipped
   int substeps() const { return substeps_; }              ///< contact solver substeps per step (resolved)
+  const ContactSolver& contact_solver() const { return solver_; }  ///< the last step's (tests)
 
   // ---- Sleeping (sim/world_sleep.cpp): a sleeping body is not stepped; touching it, a force,
   // an impulse or setting its pose or velocity wakes it with the bodies it slept with.
