@@ -185,6 +185,8 @@ class ContactSolver {
 
   const ConstraintGraph& graph() const { return graph_; }  ///< this step's colouring
   int workers() const { return workers_; }                 ///< this step's (1: no split)
+  /// The split chosen last (sim/contact_split.cpp): fractions of each colour, else spans of bodies.
+  bool split_in_fractions() const { return split_by_fraction_; }
   // Checks the workers' split of the colours (sim/contact_split.cpp) as by_colour uses it: each
   // colour's items shared out whole, and no item solved after the worker's count went on touches
   // a body another worker's items touch. Returns the number of faults; if given, *deferred the
@@ -253,18 +255,30 @@ class ContactSolver {
   struct WorkRange {
     int lo = 0, a = 0, b = 0, hi = 0;
   };
-  std::vector<WorkRange> range_;
-  std::vector<int> lane_slot_;           ///< per lane (4 bundle + lane): its slot, or -1 (padding)
+  std::vector<WorkRange> range_, range_alt_;  ///< the split used; the other one tried
+  std::vector<int> lane_slot_;                ///< per lane (4 bundle + lane): its slot, or -1 (padding)
+  struct BodyPair {
+    int a, b;  ///< solver bodies
+  };
+  std::vector<BodyPair> lane_body_, scalar_body_;  ///< per lane, per scalar_ entry (split_colours)
   std::vector<uint32_t> body_workers_;   ///< per solver body: bit w set if worker w's items touch it
   std::vector<double> key_weight_;       ///< per solver body: the work of the items keyed by it
   std::vector<double> worker_fraction_;  ///< per worker: its fraction of the weighted items
   std::vector<int> threshold_;           ///< workers_ + 1 entries: worker w takes keys [t_w, t_w+1)
   std::vector<int> worker_count_;        ///< per worker: scratch (split_colours)
-  struct alignas(64) WorkerTime {        // per worker, its own cache line
-    double busy = 0;                     ///< s in by_colour this step, not waiting
+  std::vector<double> model_start_, model_publish_;  ///< per worker: scratch (finish_split)
+  long split_steps_ = 0;                             ///< steps split among workers
+  bool split_by_fraction_ = false;  ///< the last choice: split_by_fractions, else split_by_spans
+  struct alignas(64) WorkerTime {   // per worker, its own cache line
+    double busy = 0;                ///< s in by_colour this step, not waiting
   };
   std::vector<WorkerTime> worker_time_;
   void split_colours();  ///< range_ from worker_fraction_, after it is rebalanced (prepare)
+  void split_by_spans(std::vector<WorkRange>& range);
+  void split_by_fractions(std::vector<WorkRange>& range) const;
+  double finish_split(std::vector<WorkRange>& range);  ///< a, b of each range; the modelled time
+  int group_begin(int c, int g) const;                 ///< colour c's group g: its items [begin, end)
+  int group_end(int c, int g) const;
 
   template <typename F>
   void on_workers(F&& f) const;  ///< f(worker, workers) on every worker, or f(0, 1)

@@ -13,6 +13,7 @@ namespace simreel {
 namespace {
 
 struct Split {
+  bool fractions = false;
   int faults = 0, workers = 0;
   long deferred = 0, items = 0;
 };
@@ -29,18 +30,20 @@ Split split_after(const std::vector<BodyDef>& bodies, double dt, int threads, in
     long deferred = 0, items = 0;
     s.faults += w.contact_solver().split_faults(&deferred, &items);
     s.workers = w.contact_solver().workers();
+    s.fractions = w.contact_solver().split_in_fractions();
     s.deferred = deferred, s.items = items;
   }
   return s;
 }
 
 // The R3 pile while its layers land (the split changes every step with the times), on two and
-// three workers: no faults, and most items are solved without anyone waiting for them (the
-// spans of bodies meet in a few columns of cubes).
+// three workers: no faults, and most items are solved without anyone waiting for them. Its
+// colours are its layers, each in one span of bodies, so each colour is split in fractions.
 TEST(ContactSplit, PileSplitHasNoSharedBodyAfterTheCount) {
   for (const int threads : {2, 3}) {
     const Split s = split_after(r3_pile(), kR3Dt, threads, 150);
     ASSERT_EQ(s.workers, threads);
+    EXPECT_TRUE(s.fractions) << threads << " threads";
     EXPECT_EQ(s.faults, 0) << threads << " threads";
     EXPECT_GT(s.items, 0);
     EXPECT_GT(s.deferred, s.items / 2) << threads << " threads";
@@ -56,11 +59,13 @@ TEST(ContactSplit, PyramidSplitHasNoSharedBodyAfterTheCount) {
   }
 }
 
-// The large pyramid (5,050 cubes): its spans meet in a row or two of cubes, and with two workers
-// nearly every item is solved without the other waiting for it (94% measured; 80% asked).
+// The large pyramid (5,050 cubes): split in spans of bodies, which meet in a row or two of cubes,
+// and with two workers nearly every item is solved without the other waiting for it (94%
+// measured; 80% asked).
 TEST(ContactSplit, LargePyramidLeavesFewItemsToWaitFor) {
   const Split s = split_after(r3_pyramid(100), kPyramidDt, 2, 10);
   ASSERT_EQ(s.workers, 2);
+  EXPECT_FALSE(s.fractions);
   EXPECT_EQ(s.faults, 0);
   EXPECT_GT(s.deferred, 0.8 * s.items);
 }
