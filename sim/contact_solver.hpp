@@ -158,13 +158,13 @@ struct SolverInput {
 // and positions, the write-back) and per-constraint stages that write nothing shared (prepare,
 // store) take fixed shares; the stages that apply impulses (warm start, solve, relax,
 // restitution) go colour by colour through the constraint graph (sim/constraint_graph.hpp), each
-// worker taking the same span of bodies in every colour, and waiting before a colour only for the
-// others' items of the colour before that touch bodies its own items touch
-// (sim/contact_split.cpp). (Blocks of 16 constraints claimed from a shared counter balanced the
-// load but moved each constraint and its bodies between the cores' caches: the large pyramid's
-// solve ran 1.55x one thread with them, 1.64x with fixed shares.) Within a colour no two
-// constraints share a moving body, so every body receives the same impulses in the same order
-// whatever the thread count: results are bit for bit those of one thread.
+// worker taking a part of every colour (spans of bodies, or fractions of each colour), and
+// waiting before a colour only for the others' items of the colour before that touch bodies its
+// own items touch (sim/contact_split.cpp). (Blocks of 16 constraints claimed from a shared
+// counter balanced the load but moved each constraint and its bodies between the cores' caches:
+// the large pyramid's solve ran 1.55x one thread with them, 1.64x with fixed shares.) Within a
+// colour no two constraints share a moving body, so every body receives the same impulses in the
+// same order whatever the thread count: results are bit for bit those of one thread.
 class ContactSolver {
  public:
   // Solver body index of each body this step: 0 for static bodies and bodies not in contact.

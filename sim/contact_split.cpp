@@ -268,10 +268,11 @@ int ContactSolver::split_faults(long* deferred, long* items) const {
   int faults = 0;
   // Which workers touch each body, from the ranges alone.
   std::vector<uint64_t> touch(sb_.size(), 0);
-  auto constraints = [&](int g, int n, auto&& f) {
-    if (g == 0) return f(graph_.constraint_at(scalar_[n]));
-    for (int l = 0; l < wide::kLanes; ++l)
-      if (lane_slot_[n * wide::kLanes + l] >= 0) f(graph_.constraint_at(lane_slot_[n * wide::kLanes + l]));
+  // An item's bodies as the sweeps read them (the records made after the split: an oracle
+  // apart from the split's own copies).
+  auto bodies = [&](int g, int n, auto&& f) {
+    if (g == 0) return f(sweep_[scalar_[n]].a, sweep_[scalar_[n]].b);
+    for (int l = 0; l < wide::kLanes; ++l) f(bundles_[n].a[l], bundles_[n].b[l]);
   };
   for (const int c : graph_.used())
     for (int g = 0; g < kGroups; ++g) {
@@ -283,9 +284,9 @@ int ContactSolver::split_faults(long* deferred, long* items) const {
         if (r.lo != at || r.lo > r.a || r.a > r.b || r.b > r.hi) ++faults;
         at = r.hi;
         for (int n = r.lo; n < r.hi; ++n)
-          constraints(g, n, [&](int i) {
-            touch[edge_a_[i]] |= 1ull << (w % 64);
-            touch[edge_b_[i]] |= 1ull << (w % 64);
+          bodies(g, n, [&](int a, int b) {
+            touch[a] |= 1ull << (w % 64);
+            touch[b] |= 1ull << (w % 64);
           });
       }
       if (at != hi) ++faults;
@@ -298,8 +299,8 @@ int ContactSolver::split_faults(long* deferred, long* items) const {
         if (deferred) *deferred += r.b - r.a;
         if (items) *items += r.hi - r.lo;
         for (int n = r.a; n < r.b; ++n)
-          constraints(g, n, [&](int i) {
-            for (const int body : {edge_a_[i], edge_b_[i]})
+          bodies(g, n, [&](int a, int b) {
+            for (const int body : {a, b})
               if ((touch[body] & ~(1ull << (w % 64))) != 0) ++faults;
           });
       }
