@@ -260,8 +260,9 @@ void set_lane(Bundle& k, int l, const ContactConstraint& f, const double* K, con
 // Both sweeps built twice, for AVX2 (four doubles an instruction) and for the baseline x86-64 (two),
 // chosen at load time; the same operations on the same lanes, so the same results either way.
 // Clang checks the vector calling convention at each call before inlining, so an AVX2 clone may not
-// call the helpers above (built for the baseline): a clang build runs the baseline sweeps only.
-#if defined(__clang__)
+// call the helpers above (built for the baseline): a clang build runs the baseline sweeps only. A
+// ThreadSanitizer build too: the clones' resolver runs before the sanitizer's runtime is up.
+#if defined(__clang__) || defined(__SANITIZE_THREAD__)
 #define SIMREEL_WIDE_TARGETS
 #else
 #define SIMREEL_WIDE_TARGETS __attribute__((target_clones("arch=x86-64-v4", "avx2", "default")))

@@ -143,10 +143,14 @@ inline void rk4_rotation(MotionState& st, const BodyModel& m, const Vec3& tau_W,
 }
 
 // Four torque-free gyroscopic bodies, one per lane: gather, step, scatter. A separate function so
-// that it can be cloned for AVX2 (chosen at load time; both clones give identical results).
-__attribute__((target_clones("avx2", "default"))) void rk4_rotation_block(MotionState* st,
-                                                                          const BodyModel* mo, const int* idx,
-                                                                          double h) {
+// that it can be cloned for AVX2 (chosen at load time; both clones give identical results). Not in
+// a ThreadSanitizer build: the clones' resolver runs before the sanitizer's runtime is up.
+#if defined(__SANITIZE_THREAD__)
+#define SIMREEL_RK4_TARGETS
+#else
+#define SIMREEL_RK4_TARGETS __attribute__((target_clones("avx2", "default")))
+#endif
+SIMREEL_RK4_TARGETS void rk4_rotation_block(MotionState* st, const BodyModel* mo, const int* idx, double h) {
   MotionState* b[kLanes];
   const BodyModel* m[kLanes];
   for (int l = 0; l < kLanes; ++l) b[l] = &st[idx[l]], m[l] = &mo[idx[l]];
