@@ -276,8 +276,7 @@ int ContactSolver::split_faults(long* deferred, long* items) const {
   };
   for (const int c : graph_.used())
     for (int g = 0; g < kGroups; ++g) {
-      const int lo = g == 0 ? scalar_start_[c] : (g == 1 ? bundle_start_[c] : bundle_split_[c]);
-      const int hi = g == 0 ? scalar_start_[c + 1] : (g == 1 ? bundle_split_[c] : bundle_start_[c + 1]);
+      const int lo = group_begin(c, g), hi = group_end(c, g);
       int at = lo;
       for (int w = 0; w < nw; ++w) {
         const WorkRange& r = range_[((size_t)c * kGroups + g) * nw + w];
