@@ -8,7 +8,7 @@
 //             every sphere is swept in every step it flies.
 //   bullets200_mesh: the same with the wall a closed triangle mesh (10 cm cells, 3,440 triangles)
 //             and the ground a flat mesh (8 x 8 m, 10 cm cells, 12,800 triangles) instead of the
-//             box and the plane: the sweep against static meshes (sim/ccd.hpp, mesh_time_of_impact).
+//             box and the plane: the sweep against static meshes (sim/collision/time_of_impact.hpp, mesh_time_of_impact).
 // stdout: CSV
 // scene,continuous,steps,seconds,us_per_step,swept_bodies,toi_pairs,toi_hits,passed_through,state_hash usage:
 // bench_ccd_cost [--repeats N]
@@ -21,10 +21,10 @@
 #include <vector>
 
 #include "bench/bench_util.hpp"
-#include "sim/primitives.hpp"
-#include "sim/scene_builders.hpp"
-#include "sim/state_hash.hpp"
-#include "tests/sim/trimesh_fixtures.hpp"
+#include "sim/mass/primitives.hpp"
+#include "tests/fixtures/reference_scenes.hpp"
+#include "tests/fixtures/state_hash.hpp"
+#include "tests/sim/collision/trimesh_fixtures.hpp"
 
 using namespace simreel;
 

@@ -1,4 +1,4 @@
-// Narrow-phase cost per call (sim/collide): CSV "case,ns_per_call,points_per_call" on stdout.
+// Narrow-phase cost per call (sim/collision/narrow): CSV "case,ns_per_call,points_per_call" on stdout.
 // Each case runs 1024 slightly different poses (seeded), 200 sweeps, minimum of 7 timed runs.
 //   box_plane           a unit cube resting face-down on the ground (4 points)
 //   box_box_resting     a cube resting on a cube, fresh cache every call (full SAT + clip)
@@ -16,9 +16,9 @@
 #include <vector>
 
 #include "bench/bench_util.hpp"
-#include "sim/collide/internal.hpp"
-#include "sim/collide/manifold.hpp"
-#include "sim/convex_hull.hpp"
+#include "sim/collision/narrow/internal.hpp"
+#include "sim/collision/narrow/manifold.hpp"
+#include "sim/geometry/convex_hull.hpp"
 
 using namespace simreel;
 

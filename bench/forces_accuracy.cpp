@@ -16,10 +16,10 @@
 #include <string>
 #include <vector>
 
-#include "sim/primitives.hpp"
-#include "sim/scene_builders.hpp"
-#include "sim/world.hpp"
-#include "tests/sim/force_references.hpp"
+#include "sim/mass/primitives.hpp"
+#include "tests/fixtures/reference_scenes.hpp"
+#include "sim/world/world.hpp"
+#include "tests/sim/dynamics/force_references.hpp"
 
 using namespace simreel;
 

@@ -1,4 +1,4 @@
-// Convex hull speed and memory (sim/convex_hull.hpp): prints CSV "case,points,seconds,peak_rss_mb".
+// Convex hull speed and memory (sim/geometry/convex_hull.hpp): prints CSV "case,points,seconds,peak_rss_mb".
 // Cases: a CAD-like gear point set of about 43k points (the size of issue 14's tm_cycloidal.ply)
 // and 500k random points in a ball. Peak RSS is the process's (getrusage), so run one case per
 // process for a clean figure: bench_hull_bench gear | ball (default: both).
@@ -11,7 +11,7 @@
 #include <numbers>
 #include <string>
 
-#include "sim/convex_hull.hpp"
+#include "sim/geometry/convex_hull.hpp"
 
 using namespace simreel;
 

@@ -18,8 +18,8 @@
 #include <vector>
 
 #include "bench/bench_util.hpp"
-#include "sim/scene_builders.hpp"
-#include "sim/state_hash.hpp"
+#include "tests/fixtures/reference_scenes.hpp"
+#include "tests/fixtures/state_hash.hpp"
 
 using namespace simreel;
 

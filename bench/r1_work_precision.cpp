@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "bench/bench_util.hpp"
-#include "sim/free_top.hpp"
-#include "sim/scene_builders.hpp"
+#include "sim/dynamics/free_top.hpp"
+#include "tests/fixtures/reference_scenes.hpp"
 
 using namespace simreel;
 using LD = long double;

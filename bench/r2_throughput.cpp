@@ -5,7 +5,7 @@
 #include <memory>
 
 #include "bench/bench_util.hpp"
-#include "sim/scene_builders.hpp"
+#include "tests/fixtures/reference_scenes.hpp"
 
 #ifdef SIMREEL_BENCH_BULLET
 #include <btBulletDynamicsCommon.h>

@@ -38,8 +38,8 @@
 #include <string>
 
 #include "bench/bench_util.hpp"
-#include "sim/scene_builders.hpp"
-#include "sim/state_hash.hpp"
+#include "tests/fixtures/reference_scenes.hpp"
+#include "tests/fixtures/state_hash.hpp"
 
 #ifdef SIMREEL_BENCH_BULLET
 #include <btBulletDynamicsCommon.h>
@@ -432,7 +432,7 @@ void run_scene(const Scene& s, int repeats) {
   }
   if (repeats > 1) sim.notes += same ? "; same hash in every run" : "; HASH DIFFERS BETWEEN RUNS";
   if (repeats > 1) slept.notes += slept_same ? "; same hash in every run" : "; HASH DIFFERS BETWEEN RUNS";
-  // The narrow phase's stand-in (sim/collide/dev_stub.cpp) has no box-box contact: say so in the
+  // The narrow phase's stand-in (sim/collision/narrow/dev_stub.cpp) has no box-box contact: say so in the
   // row when cubes end up inside each other, so that such a row is never read as the R3 figure.
   if (sim.pen_cube > 0.1) sim.notes += "; CUBES PASS THROUGH EACH OTHER (no box-box contact)";
   simreel_profile(s, sim, hash);

@@ -29,8 +29,8 @@
 #include <string>
 #include <vector>
 
-#include "app/frame_loop.hpp"
-#include "app/overlays.hpp"
+#include "app/runner/frame_loop.hpp"
+#include "app/view/overlays.hpp"
 #include "bench/bench_util.hpp"
 #include "render/draw_list.hpp"
 #include "render/fxaa.hpp"
@@ -38,8 +38,8 @@
 #include "render/renderer.hpp"
 #include "render/video_writer.hpp"
 #include "render/yuv.hpp"
-#include "sim/scene_builders.hpp"
-#include "sim/world.hpp"
+#include "tests/fixtures/reference_scenes.hpp"
+#include "sim/world/world.hpp"
 
 using namespace simreel;
 
@@ -79,7 +79,7 @@ Boxes hundred_boxes() {
   return out;
 }
 
-// The scene through the app's one frame loop (app/frame_loop.hpp), as `simreel render` runs it:
+// The scene through the app's one frame loop (app/runner/frame_loop.hpp), as `simreel render` runs it:
 // `frames` frames at kFps, physics at 240 Hz.
 struct Setup {
   FrameLoop loop;

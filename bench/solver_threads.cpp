@@ -1,5 +1,5 @@
 // Thread scaling of the contact stages (issue 15, "Two threads solve large islands in parallel"):
-// the large pyramid (sim/scene_builders r3_pyramid(100): 5,050 unit cubes, sleeping off, 200
+// the large pyramid (tests/fixtures/reference_scenes r3_pyramid(100): 5,050 unit cubes, sleeping off, 200
 // steps of 1/60 s) and the R3 pile (1000 cubes, dt 1/240, sleeping off, --pile-steps steps),
 // stepped with 1 and with 2 threads in turn, --repeats times each (1, 2, 1, 2, ...), so both
 // see the same machine load. The final state hash must be the same for every thread count (the
@@ -21,8 +21,8 @@
 #include <vector>
 
 #include "bench/bench_util.hpp"
-#include "sim/scene_builders.hpp"
-#include "sim/state_hash.hpp"
+#include "tests/fixtures/reference_scenes.hpp"
+#include "tests/fixtures/state_hash.hpp"
 
 using namespace simreel;
 

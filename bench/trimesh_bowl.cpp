@@ -9,10 +9,10 @@
 #include <cstdlib>
 
 #include "bench/bench_util.hpp"
-#include "sim/primitives.hpp"
-#include "sim/trimesh.hpp"
-#include "sim/world.hpp"
-#include "tests/sim/trimesh_fixtures.hpp"
+#include "sim/mass/primitives.hpp"
+#include "sim/geometry/trimesh.hpp"
+#include "sim/world/world.hpp"
+#include "tests/sim/collision/trimesh_fixtures.hpp"
 
 using namespace simreel;
 

@@ -3,8 +3,8 @@
 #include <cstdio>
 #include <memory>
 
-#include "sim/mesh_collider.hpp"
-#include "sim/world.hpp"
+#include "sim/dynamics/mesh_collider.hpp"
+#include "sim/world/world.hpp"
 
 using namespace simreel;
 

@@ -3,7 +3,7 @@
 #pragma once
 #include <Eigen/Core>
 
-#include "sim/types.hpp"
+#include "sim/base/math.hpp"
 
 namespace simreel {
 

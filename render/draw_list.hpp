@@ -1,7 +1,7 @@
 // Simulation state to a draw list: what to draw, where, in which colour. sim/ knows nothing of GL;
 // the GL passes in renderer.cpp know nothing of bodies. A frame is the bodies (items), the unlit
 // 3D overlay geometry (render/overlay.hpp) and the 2D screen layer (render/screen.hpp); app/
-// fills the last two from a scene's `show:` and `overlays:` (app/overlays.hpp).
+// fills the last two from a scene's `show:` and `overlays:` (app/view/overlays.hpp).
 #pragma once
 #include <Eigen/Core>
 #include <array>
@@ -11,7 +11,7 @@
 #include "render/overlay.hpp"
 #include "render/screen.hpp"
 #include "render/tessellate.hpp"
-#include "sim/world.hpp"
+#include "sim/world/world.hpp"
 
 namespace simreel {
 

@@ -8,7 +8,7 @@
 #include <array>
 #include <vector>
 
-#include "sim/types.hpp"
+#include "sim/base/math.hpp"
 
 namespace simreel {
 

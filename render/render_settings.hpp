@@ -1,5 +1,5 @@
 // Every render setting and its default, in one place. A scene's `render:` block sets the
-// RenderLook part (app/scene.hpp's RenderSpec is this struct); the command line and the programs
+// RenderLook part (app/scene/scene.hpp's RenderSpec is this struct); the command line and the programs
 // that draw frames set the rest. No GL here: app/ parses scenes without the renderer.
 #pragma once
 #include <array>

@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "sim/body.hpp"
+#include "sim/dynamics/body.hpp"
 
 namespace simreel {
 

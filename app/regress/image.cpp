@@ -9,7 +9,7 @@
 #include <cstring>
 #include <stdexcept>
 
-#include "sim/error.hpp"
+#include "sim/base/error.hpp"
 
 namespace simreel {
 

@@ -1,4 +1,4 @@
-// libFuzzer harness: simreel's own OFF reader (app/mesh_readers.cpp) on arbitrary bytes, and the
+// libFuzzer harness: simreel's own OFF reader (app/scene/mesh_readers.cpp) on arbitrary bytes, and the
 // solid mass properties of what it reads (tests/fuzz/targets.hpp).
 #include "tests/fuzz/targets.hpp"
 

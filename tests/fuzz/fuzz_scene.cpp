@@ -1,4 +1,4 @@
-// libFuzzer harness: the scene loader (app/scene.cpp, yaml-cpp underneath) on arbitrary text.
+// libFuzzer harness: the scene loader (app/scene/scene.cpp, yaml-cpp underneath) on arbitrary text.
 //
 // The scene "lives" in a scratch folder holding copies of assets/ (the working directory is moved
 // there once), so `file: tetra.off` loads a real mesh and nothing else on the machine is named by

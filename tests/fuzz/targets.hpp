@@ -14,11 +14,11 @@
 #include <string>
 #include <string_view>
 
-#include "app/mesh_import.hpp"
-#include "app/scene.hpp"
-#include "sim/error.hpp"
-#include "sim/mass_properties.hpp"
-#include "sim/mesh_mass.hpp"
+#include "app/scene/mesh_import.hpp"
+#include "app/scene/scene.hpp"
+#include "sim/base/error.hpp"
+#include "sim/mass/mass_properties.hpp"
+#include "sim/mass/mesh_mass.hpp"
 
 namespace simreel::fuzz {
 
@@ -80,7 +80,7 @@ inline void reader(const char* format, const uint8_t* data, size_t size) {
   }
 }
 
-// Mass properties of arbitrary triangle meshes (sim/mesh_mass.cpp), every mode.
+// Mass properties of arbitrary triangle meshes (sim/mass/mesh_mass.cpp), every mode.
 //
 // Input: byte 0 picks the mode (solid, shell, hull) and how coordinates are coded, byte 1 a
 // binary exponent for the coordinates (-128 .. 127, times 8: sizes from 1e-308 to 1e308), byte 2

@@ -15,10 +15,10 @@
 
 #include "render/draw_list.hpp"
 #include "render/renderer.hpp"
-#include "sim/mesh_mass.hpp"
-#include "sim/primitives.hpp"
-#include "sim/scene_builders.hpp"
-#include "tests/sim/mesh_fixtures.hpp"
+#include "sim/mass/mesh_mass.hpp"
+#include "sim/mass/primitives.hpp"
+#include "tests/fixtures/reference_scenes.hpp"
+#include "tests/sim/mass/mesh_fixtures.hpp"
 
 namespace simreel {
 namespace {

@@ -12,9 +12,9 @@
 #include "render/renderer.hpp"
 #include "render/shaders.hpp"
 #include "render/video_writer.hpp"
-#include "sim/mesh_mass.hpp"
-#include "sim/primitives.hpp"
-#include "sim/scene_builders.hpp"
+#include "sim/mass/mesh_mass.hpp"
+#include "sim/mass/primitives.hpp"
+#include "tests/fixtures/reference_scenes.hpp"
 #include "tests/render/decode.hpp"
 #include "tests/scratch.hpp"
 

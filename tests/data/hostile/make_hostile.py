@@ -3,7 +3,7 @@
 
 Each file is small and reproduces one finding; tests/fuzz/replay_test.cpp replays every file in this
 folder through the normal reader API (an InputError or a mesh, never a crash), and
-tests/app/mesh_import_test.cpp checks the message of each."""
+tests/app/scene/mesh_import_test.cpp checks the message of each."""
 import struct
 
 

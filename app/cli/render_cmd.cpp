@@ -1,0 +1,399 @@
+// simreel render: scene to video, frames drawn off-screen and encoded in-process.
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+
+#include <unistd.h>
+
+#include <algorithm>
+
+#include "app/runner/camera_fit.hpp"
+#include "app/cli/cli.hpp"
+#include "app/cli/commands.hpp"
+#include "app/runner/frame_loop.hpp"
+#include "app/runner/run.hpp"
+#include "app/scene/text.hpp"
+
+#ifdef SIMREEL_HAVE_RENDER
+#include "app/view/panes.hpp"
+#include "render/png_writer.hpp"
+#include "render/renderer.hpp"
+#include "render/video_writer.hpp"
+#endif
+
+namespace simreel {
+
+namespace {
+
+struct RenderOptions {
+  std::vector<std::string> scenes;
+  RunOptions run;
+  std::optional<std::string> out, frames, frames_dir;
+  std::optional<double> at;
+  bool overwrite = false, no_video = false, no_shadows = false;
+  std::optional<std::string> aa, gl;
+  std::optional<int> crf, gif_width;
+  std::optional<double> gif_fps;
+};
+
+// render's option table.
+void render_table(CLI::App& app, RenderOptions& o) {
+  cli::setup(app, "render",
+             "Simulates SCENE and writes a video: frame k shows simulated time k / fps exactly (the timestep "
+             "is shortened, with a note, when it does not divide 1/fps); a scene's `time:` block plays it "
+             "slower, faster or held (frame k then shows the step nearest f(k / fps)).",
+             "The video appears at its path only when complete; Ctrl-C (SIGINT), SIGTERM, SIGHUP or SIGQUIT "
+             "stops the run between steps and finishes a playable video of the frames done so far (exit 130, "
+             "143, 129 or 131), however many signals follow.");
+  cli::add_positionals(app, o.scenes);
+  app.add_option("-o", o.out,
+                 "output video, .mp4/.mov/.mkv (H.264), .webm (VP9) or .gif; default out/<scene>.mp4. With "
+                 "--at: a .png")
+      ->type_name("OUT");
+  app.add_option(
+         "--frames", o.frames,
+         "render only these frames (the physics runs through the others): comma-separated frame "
+         "numbers N, ranges A:B (both included; A:, :B), times Ts (the frame at or after T seconds "
+         "of video) and shares P% of the video. Frame k of a partial render is byte for byte frame k of the "
+         "full render, with the same PNG name and timestamp")
+      ->type_name("SPEC");
+  app.add_option("--at", o.at,
+                 "one frame at simulated time T (seconds, need not fall on a frame) as a PNG (-o, default "
+                 "out/<scene>_<T>s.png): a preview")
+      ->type_name("T")
+      ->check(cli::number());
+  app.add_option("--frames-dir", o.frames_dir,
+                 "also write every frame as DIR/frame_00000.png ... (numbered by frame k); refused if DIR "
+                 "already holds frames, unless --overwrite")
+      ->type_name("DIR");
+  app.add_flag("--overwrite", o.overwrite,
+               "with --frames-dir: delete the frame_*.png files already there first");
+  app.add_flag("--no-video", o.no_video, "with --frames-dir: PNG frames only");
+  add_scene_overrides(app, o.run, true);
+  app.add_option(
+         "--aa", o.aa,
+         "anti-aliasing: fxaa (default: cheap, on the CPU), msaa2, msaa4 (GL multisampling, smoother, "
+         "~2x the render time on llvmpipe), none")
+      ->check(cli::choice({"fxaa", "msaa2", "msaa4", "none"}));
+  app.add_flag("--no-shadows", o.no_shadows, "skip shadow mapping");
+  app.add_option(
+         "--gl", o.gl,
+         "OpenGL context: osmesa (the default where built) or egl (Mesa's surfaceless platform or the "
+         "first EGL device); the same frames on llvmpipe")
+      ->check(cli::choice({"osmesa", "egl"}));
+  app.add_option("--crf", o.crf, "H.264 quality, 0-51 (default 20; lower is better and larger)")
+      ->type_name("N")
+      ->transform(cli::whole(0, 51));
+  app.add_option("--gif-width", o.gif_width,
+                 "with a .gif output: its width (the height follows the aspect ratio), scaled from the "
+                 "rendered frames with a Lanczos filter; default the video width")
+      ->type_name("W")
+      ->transform(cli::whole(16, 16384));
+  app.add_option("--gif-fps", o.gif_fps,
+                 "with a .gif output: its frame rate, at most the video's (frames are picked at the nearest "
+                 "time) and at most 50 (GIF delays are whole hundredths of a second, and browsers slow "
+                 "delays under 2 to 10); default the video's, up to 50")
+      ->type_name("F")
+      ->check(cli::positive());
+  add_summary_flags(app, o.run);
+}
+
+#ifdef SIMREEL_HAVE_RENDER
+std::string lower_ext(const std::string& path) {
+  std::string e = std::filesystem::path(path).extension().string();
+  for (char& c : e) c = (char)std::tolower((unsigned char)c);
+  return e;
+}
+
+// The output must be a file simreel can write, in a folder that exists or can be made: checked
+// before anything runs, so a wrong name fails at once and leaves nothing behind.
+void check_output(const std::string& path, const std::vector<std::string>& exts, const char* what) {
+  const std::string e = lower_ext(path);
+  if (std::find(exts.begin(), exts.end(), e) == exts.end()) {
+    std::string list;
+    for (const std::string& x : exts) list += (list.empty() ? "" : ", ") + x;
+    throw UsageError("-o '" + path + "': " + what + " must end in " + list);
+  }
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw UsageError("-o '" + path + "' is a folder, not a file");
+  std::string err;
+  if (!ensure_parent_dir(path, &err)) throw std::runtime_error(err);
+}
+
+// Frame sizes the encoders cannot take, refused before anything runs (FFmpeg found out after the
+// first frames, 2.3 s and 3.2 GB into a 16384 x 16384 H.264 render). H.264's highest level (6.2)
+// allows 139264 macroblocks of 16 x 16 px a frame, and a side of at most sqrt(8 x 139264) = 1055
+// macroblocks; VP9 takes sides up to 65536 px, GIF up to 65535.
+void check_codec_limits(const std::string& path, int w, int h) {
+  const std::string e = lower_ext(path);
+  if (e == ".gif") {
+    if (w > 65535 || h > 65535)
+      throw UsageError("a GIF's sides are at most 65535 px, asked " + std::to_string(w) + "x" +
+                       std::to_string(h));
+    return;
+  }
+  if (e == ".webm") return;  // VP9: up to 65536, beyond the 16384 simreel allows
+  const long mbw = (w + 15) / 16, mbh = (h + 15) / 16;
+  if (mbw * mbh > 139264 || mbw > 1055 || mbh > 1055)
+    throw UsageError("H.264 cannot encode " + std::to_string(w) + "x" + std::to_string(h) + " (" +
+                     std::to_string(mbw * mbh) +
+                     " macroblocks a frame; its highest level allows 139264, e.g. 8192x4320): use a smaller "
+                     "--width/--height, or .webm (VP9)");
+}
+
+bool is_frame_png(const std::filesystem::path& p) {
+  const std::string n = p.filename().string();
+  return n.rfind("frame_", 0) == 0 && lower_ext(n) == ".png";
+}
+
+// --frames-dir: a folder of this run's frames only. Stale frames of an earlier, longer run must
+// never mix with new ones: refuse a folder that holds frames unless --overwrite, which deletes
+// them (and nothing else) first.
+void prepare_frames_dir(const std::string& dir, bool overwrite) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
+    throw UsageError("--frames-dir '" + dir + "' exists and is not a folder");
+  if (fs::is_directory(dir, ec)) {
+    std::vector<fs::path> old;
+    for (const auto& e : fs::directory_iterator(dir, ec))
+      if (is_frame_png(e.path())) old.push_back(e.path());
+    if (!old.empty() && !overwrite)
+      throw UsageError("--frames-dir '" + dir + "' already holds " + std::to_string(old.size()) +
+                       " frames (frame_*.png); add --overwrite to replace them, or choose another folder");
+    for (const fs::path& p : old)
+      if (!fs::remove(p, ec) || ec)
+        throw std::runtime_error("cannot delete the old frame '" + p.string() + "'");
+  }
+  fs::create_directories(dir, ec);
+  if (ec) throw std::runtime_error("cannot create '" + dir + "': " + ec.message());
+}
+
+ViewOptions view_options(const RenderOptions& r) {
+  ViewOptions o;
+  if (r.aa) o.aa = *r.aa;  // names checked by the table
+  if (r.gl) {
+    o.gl = *r.gl;
+    if (!gl_backend_built(*gl_backend_from_name(o.gl)))
+      throw UsageError("this simreel was built without the " + o.gl + " backend");
+  }
+  o.no_shadows = r.no_shadows;
+  return o;
+}
+
+// render --at T: the one frame at simulated time T, as a PNG.
+int render_at(const RenderOptions& r, const Scene& scene, FrameLoop& loop, int w, int h,
+              const StopSignals& stop) {
+  const double t = *r.at;
+  char name[64];
+  if (t < 0 || t > scene.duration) {
+    std::snprintf(name, sizeof name, "%g", t);
+    throw UsageError(std::string("--at ") + name + " is outside the run (0 to " +
+                     std::to_string(scene.duration) + " s; --duration sets the end)");
+  }
+  std::snprintf(name, sizeof name, "_%gs.png", t);
+  const std::string path = r.out ? *r.out : "out/" + scene.name + name;
+  check_output(path, {".png"}, "--at's output");
+  ViewOptions o = view_options(r);
+  o.width = w, o.height = h;
+  o.threads = loop.world().config().threads;
+  SceneFrames view(scene, loop, o);  // one view or panes (app/view/panes.hpp)
+  if (!r.run.quiet)
+    for (const std::string& n : view.notes()) std::fprintf(stderr, "note: %s\n", n.c_str());
+  const FrameTarget target{-1, t, step_at(t, scene.timestep, loop.plan().total_steps)};
+  double render_s = 0;
+  FrameLoop::Hooks hooks;
+  hooks.stop = &stop.flag();
+  hooks.step = view.step_hook();  // trails: every physics step, drawn or not
+  hooks.frame = [&](const FrameTarget&, const World& world) {
+    const auto t0 = std::chrono::steady_clock::now();
+    // The HUD's frame: the first video frame showing this step, if one does.
+    const uint8_t* rgba = view.draw(world, nullptr, loop.video_frame_at_step(world.steps()));
+    const std::string tmp = path + ".partial-" + std::to_string(getpid()) + ".png";
+    try {
+      write_png(tmp, rgba, w, h);
+      std::filesystem::rename(tmp, path);
+    } catch (...) {
+      std::remove(tmp.c_str());
+      throw;
+    }
+    render_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  };
+  const long done = loop.run({target}, hooks, false);
+  RunSummary s = make_summary(scene, loop.world(), loop.drift(), (int)done, loop.step_seconds());
+  s.render_seconds = render_s;
+  s.encode_seconds = 0;
+  s.renderer = view.description();
+  if (done) s.output = path;
+  if (stop.signal())
+    s.warnings.push_back("interrupted by signal " + std::to_string(stop.signal()) + " before the frame");
+  print_summary(r.run, s);
+  return stop.signal() ? 128 + stop.signal() : kExitOk;
+}
+#endif
+
+}  // namespace
+
+#ifdef SIMREEL_HAVE_RENDER
+int cmd_render(const std::vector<std::string>& args) {
+  RenderOptions r;
+  CLI::App app;
+  render_table(app, r);
+  if (!cli::parse(app, args)) return kExitOk;
+  if (r.scenes.size() != 1) throw UsageError("render takes one scene file");
+  if (r.no_video && !r.frames_dir) throw UsageError("--no-video needs --frames-dir");
+  if (r.overwrite && !r.frames_dir) throw UsageError("--overwrite needs --frames-dir");
+  if (r.at && (r.frames || r.frames_dir || r.no_video))
+    throw UsageError("--at writes one PNG: it does not go with --frames, --frames-dir or --no-video");
+  const bool gif = r.out && !r.at && !r.no_video && lower_ext(*r.out) == ".gif";
+  if ((r.gif_width || r.gif_fps) && !gif)
+    throw UsageError(std::string(r.gif_width ? "--gif-width" : "--gif-fps") +
+                     " applies to a .gif output (-o clip.gif)");
+  // From here signals stop the run between steps and the outputs are finished (a playable video
+  // of the frames done), however many signals follow.
+  const StopSignals stop;
+  Scene scene = load_scene(r.scenes[0]);
+  apply_overrides(r.run, scene);
+  if (!r.run.quiet)  // --quiet: nothing but errors
+    for (const std::string& n : scene.notes) std::fprintf(stderr, "note: %s\n", n.c_str());
+  int w = scene.video.width, h = scene.video.height;
+  if (!r.at && (w % 2 || h % 2)) {
+    std::fprintf(stderr, "note: %dx%d rounded up to %dx%d (yuv420p video needs even sizes)\n", w, h,
+                 w + w % 2, h + h % 2);
+    w += w % 2, h += h % 2;
+  }
+  const int threads = r.run.threads;
+  if (const std::string n = fit_camera(scene, threads); !n.empty() && !r.run.quiet)
+    std::fprintf(stderr, "note: %s\n", n.c_str());
+  FrameLoop loop(scene, threads);
+  if (r.at) return render_at(r, scene, loop, w, h, stop);
+
+  FrameTargets targets = loop.video_frames();
+  if (r.frames) {
+    try {
+      // Frames of the video: numbers and times of the clip (with a `time:` block, video time).
+      targets = parse_frame_spec(*r.frames, loop.video_plan(), scene.video.fps, scene.timestep,
+                                 loop.video_duration(), true);
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(std::string("--frames: ") + e.what());
+    }
+  }
+
+  VideoSettings vs;
+  vs.width = w;
+  vs.height = h;
+  vs.fps = scene.video.fps;
+  if (r.crf) vs.crf = *r.crf;
+  if (r.gif_width) {
+    if (*r.gif_width > w)
+      throw UsageError("--gif-width " + std::to_string(*r.gif_width) + " is wider than the frames (" +
+                       std::to_string(w) + " px): render them wider with --width");
+    vs.gif_width = *r.gif_width;
+  }
+  if (r.gif_fps) {
+    char f[160];
+    std::snprintf(f, sizeof f, "--gif-fps %g is above ", *r.gif_fps);
+    if (*r.gif_fps > 50)
+      throw UsageError(std::string(f) +
+                       "50 (GIF delays are whole hundredths of a second; browsers show delays "
+                       "under 2 as 10)");
+    if (*r.gif_fps > scene.video.fps * (1 + 1e-12)) {
+      std::snprintf(f + std::strlen(f), sizeof f - std::strlen(f), "the video's frame rate (fps %g)",
+                    scene.video.fps);
+      throw UsageError(f);
+    }
+    vs.gif_fps = *r.gif_fps;
+  } else if (gif && scene.video.fps > 50 && !r.run.quiet) {
+    std::fprintf(stderr, "note: the GIF runs at 50 frames/s, the most GIF timing allows (--gif-fps)\n");
+  }
+  if (!r.no_video) {
+    vs.path = r.out ? *r.out : "out/" + scene.name + ".mp4";
+    check_output(vs.path, {".mp4", ".mov", ".mkv", ".webm", ".gif"}, "a video");
+    check_codec_limits(vs.path, w, h);
+    remove_stale_partials(vs.path);  // left by a render that was killed (SIGKILL cannot be caught)
+  }
+  if (r.frames_dir) {
+    vs.frames_dir = *r.frames_dir;
+    prepare_frames_dir(vs.frames_dir, r.overwrite);
+  }
+
+  ViewOptions o = view_options(r);
+  o.width = w, o.height = h;
+  o.threads = threads;
+  // The post stage (FXAA, then the screen layer) runs on the writer's thread, overlapping the next
+  // frame's rendering.
+  SceneFrames view(scene, loop, o, PostStage::caller);
+  if (!r.run.quiet)
+    for (const std::string& n : view.notes()) std::fprintf(stderr, "note: %s\n", n.c_str());
+  vs.fxaa = view.caller_fxaa();
+  VideoWriter writer(vs);
+
+  Progress progress("frames", (long)targets.size(), r.run.quiet || r.run.json);
+  double render_s = 0;
+  FrameLoop::Hooks hooks;
+  hooks.stop = &stop.flag();
+  hooks.step = view.step_hook();  // trails: every physics step, drawn or not
+  // Frames that show no body at all: most of them empty means a camera or a scale gone wrong.
+  const std::vector<double> radii = body_radii(loop.world());
+  long empty = 0;
+  hooks.frame = [&](const FrameTarget& t, const World& world) {
+    const auto t0 = std::chrono::steady_clock::now();
+    view.draw(world, writer.acquire(), t.index);  // read back straight into the writer's queue
+    // (A camera inside a body sees its inside faces culled: nothing.)
+    if (view.shows_nothing(world)) ++empty;
+    writer.commit(t.index, &view.screen());
+    render_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  };
+  hooks.progress = [&](long done) { progress.update(done); };
+  // A full render goes on to the end of the duration, as simulate does, so both report the same
+  // run; a partial one stops at its last frame.
+  const long done = loop.run(targets, hooks, !r.frames);
+  progress.finish();
+  if (done > 0) writer.finish();  // with no frame at all, the destructor removes the partial file
+
+  RunSummary s = make_summary(scene, loop.world(), loop.drift(), (int)done, loop.step_seconds());
+  s.render_seconds = render_s;
+  s.renderer = view.description();
+  s.encode_seconds = writer.encode_seconds();
+  if (done > 0) s.output = vs.path.empty() ? vs.frames_dir : vs.path;
+  if (done > 0 && empty * 2 > done) {
+    std::string msg =
+        std::to_string(empty) + " of " + std::to_string(done) +
+        " frames show no body: is the camera aimed at the scene (camera.look_at), or the scene in the "
+        "units you meant (metres)? camera: { auto: true } frames everything";
+    if (!view.split())
+      if (const int inside = body_around(loop.world(), radii, scene.camera.position); inside >= 0)
+        msg += "; the camera is inside body '" + loop.world().def(inside).name + "'";
+    s.warnings.push_back(msg);
+  }
+  if (stop.signal()) {
+    s.warnings.push_back("interrupted by signal " + std::to_string(stop.signal()) + " after " +
+                         std::to_string(done) + " of " + std::to_string(targets.size()) + " frames");
+  }
+  print_summary(r.run, s);
+  return stop.signal() ? 128 + stop.signal() : kExitOk;
+}
+#else
+int cmd_render(const std::vector<std::string>& args) {
+  RenderOptions r;
+  CLI::App app;
+  render_table(app, r);
+  if (!cli::parse(app, args)) return kExitOk;
+  std::fprintf(stderr, "simreel render: this build has no renderer (configured with -DSIMREEL_RENDER=OFF)\n");
+  return kExitFailure;
+}
+// check and diff draw and decode frames: without render/ they only say so.
+int cmd_check(const std::vector<std::string>&) {
+  std::fprintf(stderr, "simreel check: this build has no renderer (configured with -DSIMREEL_RENDER=OFF)\n");
+  return kExitFailure;
+}
+int cmd_diff(const std::vector<std::string>&) {
+  std::fprintf(stderr, "simreel diff: this build has no renderer (configured with -DSIMREEL_RENDER=OFF)\n");
+  return kExitFailure;
+}
+#endif
+
+}  // namespace simreel

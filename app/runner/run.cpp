@@ -1,0 +1,270 @@
+#include "app/runner/run.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+#include "app/scene/text.hpp"
+
+#include <nlohmann/json.hpp>
+
+namespace simreel {
+
+namespace {
+// A count as a long, saturated: plans are made before prepare_run refuses absurd counts (a
+// scene's test.frames is checked at load), and a double over LONG_MAX must not become a long.
+long saturated(double v) {
+  return v >= 4e18 ? (long)4e18 : v > 0 ? (long)v : 0;
+}
+}  // namespace
+
+FramePlan plan_frames(double duration, double dt, double fps) {
+  FramePlan p;
+  p.dt = dt;
+  p.fps = fps;
+  // The 1e-9 slack keeps exact multiples (20 s / (1/240)) from gaining a step to rounding.
+  p.total_steps = saturated(std::ceil(duration / dt - 1e-9));
+  p.frames = saturated(std::floor(duration * fps + 1e-9)) + 1;
+  return p;
+}
+
+long FramePlan::step(long k) const {
+  if (sim_time) return std::min(saturated(std::round(sim_time((double)k / fps) / dt)), total_steps);
+  return std::min(saturated(std::ceil((double)k / fps / dt - 1e-9)), total_steps);
+}
+
+double estimate_physics_seconds(const Scene& s, double steps) {
+  int dynamic = 0, colliding = 0;
+  bool moving_collider = false;
+  for (const BodyDef& b : s.bodies) {
+    if (b.type == BodyType::dynamic) ++dynamic;
+    for (const Collider& c : b.colliders)
+      if (c.collide) {
+        ++colliding;
+        moving_collider = moving_collider || b.type != BodyType::static_body;
+      }
+  }
+  const bool contacts = colliding >= 2 && moving_collider;
+  return steps * (1e-6 + dynamic * (contacts ? 1.5e-6 : 0.03e-6));
+}
+
+namespace {
+
+std::string count(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.3g", v);
+  return std::string(b);
+}
+
+std::string span(double sec) {
+  char b[48];
+  if (sec < 120)
+    std::snprintf(b, sizeof b, "%.2g s", sec);
+  else if (sec < 7200)
+    std::snprintf(b, sizeof b, "%.2g min", sec / 60);
+  else if (sec < 2 * 86400)
+    std::snprintf(b, sizeof b, "%.2g h", sec / 3600);
+  else
+    std::snprintf(b, sizeof b, "%.2g days", sec / 86400);
+  return std::string(b);
+}
+
+void check_limits(const Scene& s) {
+  const double steps = s.duration / s.timestep, frames = s.duration * s.video.fps;
+  if (!(steps <= kMaxSteps))
+    throw std::invalid_argument("simulation.duration / simulation.timestep asks for " + count(steps) +
+                                " steps, over the limit of " + count(kMaxSteps));
+  if (!(frames <= kMaxFrames))
+    throw std::invalid_argument("simulation.duration x video.fps asks for " + count(frames) +
+                                " frames, over the limit of " + count(kMaxFrames));
+}
+
+}  // namespace
+
+void prepare_run(Scene& s) {
+  check_limits(s);
+  // Steps per frame interval: when 1/fps is a whole number of steps (to 1e-9), frames already
+  // fall on the grid; otherwise shorten the step to the next whole number of steps per frame.
+  const double interval = 1.0 / s.video.fps, per = interval / s.timestep;
+  const double whole = std::round(per);
+  if (!(whole >= 1 && std::fabs(per - whole) <= 1e-9 * per)) {
+    const double n = std::ceil(per);
+    const double dt = interval / n;
+    char note[256];
+    std::snprintf(
+        note, sizeof note,
+        "timestep %.6g s does not divide the frame interval 1/%g s%s: using %.6g s (%g steps a frame) so "
+        "frame k falls exactly at t = k / fps",
+        s.timestep, s.video.fps, per < 1 ? " (it is longer than the interval)" : "", dt, n);
+    s.notes.push_back(note);
+    s.timestep = dt;
+    check_limits(s);  // a shorter step is more steps
+  }
+  prepare_time(s);  // app/scene/scene_time.hpp
+  // Legal but long: say so before starting, with what it may take and how to stop it.
+  const double steps = s.duration / s.timestep, frames = s.duration * s.video.fps;
+  const double est = estimate_physics_seconds(s, steps);
+  if (steps > kLongSteps || frames > kLongFrames || est > kLongSeconds) {
+    int dynamic = 0;
+    for (const BodyDef& b : s.bodies) dynamic += b.type == BodyType::dynamic;
+    char note[512];
+    std::snprintf(note, sizeof note,
+                  "a long run: simulation.duration %g s / simulation.timestep %g s is %s steps of %d dynamic "
+                  "%s, and %s frames at video.fps %g; the physics alone may take %s (a rough estimate "
+                  "from bodies x steps), a full render about %s more at 10 ms a frame. Ctrl-C (or SIGTERM) "
+                  "stops it early and keeps what is done: the CSV rows, a playable video of the frames drawn",
+                  s.duration, s.timestep, count(steps).c_str(), dynamic, dynamic == 1 ? "body" : "bodies",
+                  count(frames).c_str(), s.video.fps, span(est).c_str(), span(frames * 0.01).c_str());
+    s.notes.push_back(note);
+  }
+}
+
+Drift::Drift(const World& w)
+    : E0_(w.kinetic_energy() + w.potential_energy()), L0_(w.total_angular_momentum()) {
+  scale_ = std::max(std::fabs(E0_), w.kinetic_energy());
+  prev_E_ = E0_;
+}
+
+void Drift::sample(const World& w) {
+  const double ke = w.kinetic_energy();
+  scale_ = std::max(scale_, ke);
+  const double E = ke + w.potential_energy();
+  max_dE_ = std::max(max_dE_, std::fabs(E - E0_));
+  max_rise_ = std::max(max_rise_, E - prev_E_);
+  prev_E_ = E;
+  max_dL_ = std::max(max_dL_, (w.total_angular_momentum() - L0_).norm());
+}
+
+double Drift::energy_rel() const {
+  return scale_ > 0 ? max_dE_ / scale_ : 0.0;
+}
+double Drift::momentum_rel() const {
+  return L0_.norm() > 0 ? max_dL_ / L0_.norm() : max_dL_;
+}
+
+WorldConfig world_config(const Scene& s, int threads) {
+  WorldConfig c;
+  c.dt = s.timestep;
+  c.gravity = s.gravity;
+  c.integrator = s.integrator;
+  c.threads = threads;
+  c.contacts = s.contacts;
+  c.ignore_pairs = s.ignore_pairs;
+  c.forces = s.forces;
+  return c;
+}
+
+RunSummary make_summary(const Scene& scene, const World& world, const Drift& drift, int frames,
+                        double step_seconds) {
+  RunSummary s;
+  s.scene = scene.path;
+  s.integrator = scene.integrator;
+  s.timestep = scene.timestep;
+  s.duration = scene.duration;
+  s.steps = world.steps();
+  s.bodies = world.body_count();
+  s.dynamic_bodies = world.dynamic_count();
+  s.frames = frames;
+  s.step_seconds = step_seconds;
+  s.energy_rel_drift = drift.energy_rel();
+  s.momentum_rel_drift = drift.momentum_rel();
+  s.contacts = world.has_contacts();
+  s.contacts_max = world.contact_stats().contacts_max;
+  s.max_penetration = world.contact_stats().max_penetration;
+  s.sleeping = world.sleeping_count();
+  s.energy_gained = drift.energy_gained();
+  s.warnings = world.warnings();
+  s.notes = scene.notes;  // printed once, at the start; the JSON carries them for scripts
+  return s;
+}
+
+std::string summary_text(const RunSummary& s) {
+  std::ostringstream o;
+  o << s.scene << ": " << s.steps << " steps of " << s.timestep << " s (" << to_string(s.integrator) << "), "
+    << s.bodies << " bodies (" << s.dynamic_bodies << " dynamic), " << s.frames << " frames\n";
+  o << "  stepping: " << s.step_seconds << " s wall";
+  if (s.steps > 0 && s.step_seconds > 0) o << " (" << s.step_seconds / s.steps * 1e6 << " us/step)";
+  o << "\n";
+  if (s.render_seconds >= 0)
+    o << "  rendering: " << s.render_seconds << " s, encoding thread busy " << s.encode_seconds << " s ("
+      << s.renderer << ")\n";
+  o << "  energy drift: " << s.energy_rel_drift
+    << " (relative), angular momentum drift: " << s.momentum_rel_drift << "\n";
+  if (s.contacts)
+    o << "  contacts: at most " << s.contacts_max << " points in a step, deepest overlap "
+      << s.max_penetration << " m, largest energy rise between frames " << s.energy_gained << " J, "
+      << s.sleeping << " bodies asleep at the end\n";
+  if (s.profile) {
+    o << "  profile (stage: seconds, steps run, steps skipped):\n";
+    for (int i = 0; i < (int)Stage::count; ++i)
+      o << "    " << to_string((Stage)i) << ": " << s.profile->seconds[i] << " s, " << s.profile->runs[i]
+        << ", " << s.profile->skipped[i] << "\n";
+    o << "  bodies: " << s.profile->gyroscopic_bodies << " with gyroscopic dynamics, "
+      << s.profile->isotropic_bodies << " isotropic (no gyroscopic work), " << s.profile->static_bodies
+      << " static (never integrated), " << s.profile->kinematic_bodies << " kinematic\n";
+    if (s.profile->shapes > 0)
+      o << "  contacts: " << s.profile->shapes << " shapes; summed over steps: " << s.profile->pairs
+        << " candidate pairs, " << s.profile->contact_points << " contact points, "
+        << s.profile->solver_bodies << " bodies through the solver, " << s.profile->impact_substeps
+        << " substeps with an impact (one more sweep)\n";
+    if (s.profile->forces > 0)
+      o << "  forces: " << s.profile->forces << " records (the drag is one per body), "
+        << s.profile->forced_bodies << " bodies stepped by RK4 with the forces evaluated at every stage\n";
+  }
+  for (const std::string& w : s.warnings) o << "  warning: " << w << "\n";
+  if (!s.output.empty()) o << "  wrote " << s.output << "\n";
+  return o.str();
+}
+
+std::string summary_json(const RunSummary& s) {
+  using J = nlohmann::ordered_json;  // keys in the order written; non-finite numbers become null
+  J o;
+  o["scene"] = s.scene;
+  o["integrator"] = to_string(s.integrator);
+  o["timestep"] = s.timestep;
+  o["duration"] = s.duration;
+  o["steps"] = s.steps;
+  o["bodies"] = s.bodies;
+  o["dynamic_bodies"] = s.dynamic_bodies;
+  o["frames"] = s.frames;
+  o["step_seconds"] = s.step_seconds;
+  o["energy_rel_drift"] = s.energy_rel_drift;
+  o["momentum_rel_drift"] = s.momentum_rel_drift;
+  o["contacts_max"] = s.contacts_max;
+  o["max_penetration"] = s.max_penetration;
+  o["energy_gained"] = s.energy_gained;
+  o["sleeping"] = s.sleeping;
+  if (s.render_seconds >= 0) {
+    o["render_seconds"] = s.render_seconds;
+    o["encode_seconds"] = s.encode_seconds;
+    o["renderer"] = s.renderer;
+  }
+  if (s.profile) {
+    J p;
+    for (int i = 0; i < (int)Stage::count; ++i)
+      p[to_string((Stage)i)] = {{"seconds", s.profile->seconds[i]},
+                                {"runs", s.profile->runs[i]},
+                                {"skipped", s.profile->skipped[i]}};
+    p["bodies"] = {{"gyroscopic", s.profile->gyroscopic_bodies},
+                   {"isotropic_no_gyroscopic_work", s.profile->isotropic_bodies},
+                   {"static_never_integrated", s.profile->static_bodies},
+                   {"kinematic", s.profile->kinematic_bodies}};
+    p["contacts"] = {{"shapes", s.profile->shapes},
+                     {"pairs", s.profile->pairs},
+                     {"contact_points", s.profile->contact_points},
+                     {"solver_bodies", s.profile->solver_bodies},
+                     {"impact_substeps", s.profile->impact_substeps}};
+    p["applied_forces"] = {{"records", s.profile->forces}, {"rk4_bodies", s.profile->forced_bodies}};
+    o["profile"] = std::move(p);
+  }
+  if (!s.output.empty()) o["output"] = s.output;
+  o["warnings"] = s.warnings;
+  o["notes"] = s.notes;
+  // Invalid UTF-8 in a name or path is replaced, not thrown on.
+  return o.dump(-1, ' ', false, J::error_handler_t::replace);
+}
+
+}  // namespace simreel

@@ -1,0 +1,188 @@
+#include "app/scene/scene_views.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "app/runner/run.hpp"
+#include "app/scene/scene.hpp"
+
+namespace simreel {
+
+using namespace scene_yaml;
+
+namespace {
+
+constexpr size_t kMaxPanes = 16;
+
+// A body of the scene by name, or a clear error with the nearest name.
+void check_body(const Scene& s, const std::string& name, const YAML::Node& n, const Ctx& c) {
+  std::vector<std::string> all;
+  for (const BodyDef& b : s.bodies) all.push_back(b.name);
+  if (std::find(all.begin(), all.end(), name) != all.end()) return;
+  std::string msg = "no body is named '" + name + "'";
+  if (auto sug = nearest(name, all)) msg += "; did you mean '" + *sug + "'?";
+  c.fail(n, msg);
+}
+
+PaneCamera pane_camera(const YAML::Node& n, const Ctx& c, const Scene& s) {
+  if (!n.IsMap()) c.fail(n, "expected a mapping (position, look_at, up, fov, follow, frame), got " + show(n));
+  check_keys(n, c, {"position", "look_at", "up", "fov", "follow", "frame"});
+  PaneCamera pc;
+  if (n["position"]) pc.position = vec<3>(n["position"], c.child("position"));
+  if (n["look_at"]) pc.look_at = vec<3>(n["look_at"], c.child("look_at"));
+  if (n["up"]) pc.up = vec<3>(n["up"], c.child("up"));
+  if (n["fov"]) {
+    pc.fov = positive(n["fov"], c.child("fov"));
+    if (*pc.fov >= 179) c.child("fov").fail(n["fov"], "must be below 179 degrees");
+  }
+  if (n["follow"]) {
+    pc.follow = text(n["follow"], c.child("follow"));
+    check_body(s, *pc.follow, n["follow"], c.child("follow"));
+  }
+  if (n["frame"]) {
+    pc.frame_body = camera_frame_body(n["frame"], c.child("frame"));
+    if (!pc.frame_body->empty()) check_body(s, *pc.frame_body, n["frame"], c.child("frame").child("body"));
+  }
+  if (pc.follow && pc.frame_body && !pc.frame_body->empty())
+    c.child("follow").fail(n["follow"],
+                           "a camera riding in a body's frame does not also follow one: give one");
+  if (pc.position && pc.look_at && (*pc.position - *pc.look_at).norm() == 0)
+    c.child("look_at").fail(n["look_at"], "coincides with the camera position");
+  if (pc.up && pc.up->norm() == 0) c.child("up").fail(n["up"], "is zero");
+  return pc;
+}
+
+std::string variant_title(const Scene& s, const VariantSpec* v) {
+  const Integrator in = v && v->integrator ? *v->integrator : s.integrator;
+  const double dt = v && v->timestep ? *v->timestep : s.timestep;
+  char b[160];
+  std::snprintf(b, sizeof b, "%s%s%s, dt = 1/%g s", v ? v->name.c_str() : "", v ? ": " : "", to_string(in),
+                std::round(1 / dt * 1000) / 1000);
+  return b;
+}
+
+}  // namespace
+
+std::string camera_frame_body(const YAML::Node& n, const Ctx& c) {
+  if (n.IsScalar()) {
+    const std::string f = text(n, c);
+    if (f == "world") return "";
+    c.fail(n, "expected world or { body: NAME } (the camera rides in that body's frame), got " + show(n));
+  }
+  if (!n.IsMap()) c.fail(n, "expected world or { body: NAME }, got " + show(n));
+  check_keys(n, c, {"body"});
+  if (!n["body"]) c.fail(n, "needs 'body' (the name of the body whose frame the camera rides in)");
+  return text(n["body"], c.child("body"));
+}
+
+void load_views(const YAML::Node& root, const std::string& path, Scene& s) {
+  const Ctx top(path, "");
+  ViewsSpec& vs = s.views;
+  if (const YAML::Node v = root["variants"]) {
+    const Ctx c = top.child("variants");
+    if (!v.IsSequence() || v.size() == 0)
+      c.fail(v, "expected a list of { name: N, integrator: I, timestep: DT }, got " + show(v));
+    if (v.size() + 1 > kMaxPanes) c.fail(v, "at most " + std::to_string(kMaxPanes - 1) + " variants");
+    for (size_t k = 0; k < v.size(); ++k) {
+      const Ctx e = c.index(k);
+      const YAML::Node n = v[k];
+      if (!n.IsMap()) e.fail(n, "expected { name: N, integrator: I, timestep: DT }, got " + show(n));
+      check_keys(n, e, {"name", "integrator", "timestep"});
+      VariantSpec var;
+      if (!n["name"]) e.fail(n, "needs 'name' (what a pane's 'variant:' calls it)");
+      var.name = text(n["name"], e.child("name"));
+      for (const VariantSpec& o : vs.variants)
+        if (o.name == var.name)
+          e.child("name").fail(n["name"], "another variant is named '" + var.name + "'");
+      if (n["integrator"]) var.integrator = integrator(n["integrator"], e.child("integrator"));
+      if (n["timestep"]) {
+        var.timestep = positive(n["timestep"], e.child("timestep"));
+        if (*var.timestep > s.duration)
+          e.child("timestep").fail(n["timestep"], "is longer than the duration");
+      }
+      if (!var.integrator && !var.timestep)
+        e.fail(n, "variant '" + var.name + "' changes nothing: give integrator or timestep");
+      vs.variants.push_back(var);
+    }
+  }
+  if (const YAML::Node p = root["panes"]) {
+    const Ctx c = top.child("panes");
+    if (p.IsMap()) {
+      check_keys(p, c, {"columns", "views"});
+      if (!p["views"]) c.fail(p, "needs 'views' (the list of panes)");
+    }
+    // A copy binds to the node (operator= on a YAML::Node writes into the node it refers to).
+    const YAML::Node list = p.IsMap() ? p["views"] : p;
+    const Ctx lc = p.IsMap() ? c.child("views") : c;
+    if (!list.IsSequence() || list.size() == 0)
+      lc.fail(list, "expected a list of panes ({ title: T, camera: {...}, variant: V }), got " + show(list));
+    if (list.size() > kMaxPanes) lc.fail(list, "at most " + std::to_string(kMaxPanes) + " panes");
+    if (p.IsMap() && p["columns"]) {
+      const YAML::Node cn = p["columns"];
+      const double cols = positive(cn, c.child("columns"));
+      if (cols != std::floor(cols) || cols > (double)list.size())
+        c.child("columns").fail(cn, "expected a whole number from 1 to the number of panes (" +
+                                        std::to_string(list.size()) + ")");
+      vs.columns = (int)cols;
+    }
+    for (size_t k = 0; k < list.size(); ++k) {
+      const Ctx e = lc.index(k);
+      const YAML::Node n = list[k];
+      if (!n.IsMap()) e.fail(n, "expected { title: T, camera: {...}, variant: V }, got " + show(n));
+      check_keys(n, e, {"title", "camera", "variant", "show"});
+      PaneSpec pane;
+      if (n["title"]) pane.title = text(n["title"], e.child("title"));
+      if (n["variant"]) {
+        pane.variant = text(n["variant"], e.child("variant"));
+        std::vector<std::string> names;
+        for (const VariantSpec& o : vs.variants) names.push_back(o.name);
+        if (std::find(names.begin(), names.end(), pane.variant) == names.end()) {
+          std::string msg = "no variant is named '" + pane.variant + "'";
+          if (names.empty())
+            msg += " (the scene has no 'variants:' list)";
+          else if (auto sug = nearest(pane.variant, names))
+            msg += "; did you mean '" + *sug + "'?";
+          e.child("variant").fail(n["variant"], msg);
+        }
+      }
+      if (n["camera"]) pane.camera = pane_camera(n["camera"], e.child("camera"), s);
+      if (const YAML::Node sh = n["show"]) {
+        const Ctx sc = e.child("show");
+        if (!sh.IsMap())
+          sc.fail(sh,
+                  "expected a mapping of body names to show lists ({ BODY: [axes, ...] }), got " + show(sh));
+        for (const auto& kv : sh) {
+          const std::string name = kv.first.as<std::string>();
+          check_body(s, name, kv.first, sc);
+          int b = 0;
+          while (s.bodies[b].name != name) ++b;
+          pane.show.emplace_back(b, read_show_list(kv.second, sc.child(name), s, (size_t)b));
+        }
+      }
+      vs.panes.push_back(pane);
+    }
+  } else if (!vs.variants.empty()) {
+    // Variants without panes: the scene and each variant side by side, the scene's camera.
+    vs.panes.push_back({variant_title(s, nullptr), "", {}, {}});
+    for (const VariantSpec& v : vs.variants) vs.panes.push_back({variant_title(s, &v), v.name, {}, {}});
+  }
+}
+
+Scene variant_scene(const Scene& s, const VariantSpec& v) {
+  Scene out = s;
+  out.views = {};
+  out.notes.clear();
+  if (v.integrator) {
+    out.integrator = *v.integrator;
+    for (BodyDef& b : out.bodies) b.integrator.reset();
+  }
+  if (v.timestep) {
+    out.timestep = *v.timestep;
+    prepare_run(out);
+    for (std::string& n : out.notes) n = "variant '" + v.name + "': " + n;
+  }
+  return out;
+}
+
+}  // namespace simreel

@@ -1,0 +1,67 @@
+// Split screen and variants (the scene's `panes:` and `variants:`, scenes/README.md): several
+// views of a run side by side or in a grid, each with its own camera (a camera may ride in a
+// body's frame) and title, and variants of the scene (another integrator or timestep), each its
+// own World, shown in their own panes.
+#pragma once
+#include <yaml-cpp/yaml.h>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "app/scene/scene_overlays.hpp"
+#include "app/scene/scene_yaml.hpp"
+#include "sim/dynamics/integrators.hpp"
+#include "sim/base/math.hpp"
+
+namespace simreel {
+
+struct Scene;
+
+// The same scene with other settings, run as its own World.
+struct VariantSpec {
+  std::string name;
+  std::optional<Integrator> integrator;  ///< every body's (per-body overrides dropped)
+  std::optional<double> timestep;        ///< s (shortened as the scene's is, to divide 1/fps)
+};
+
+// A pane's camera: the scene's camera (after camera.auto) with these keys over it. Positions are
+// in the world, or with `frame: { body: NAME }` in that body's frame (points relative to its
+// origin, `up` a direction in its axes): the camera rides with the body, which then stands still
+// in the pane while the world turns around it.
+struct PaneCamera {
+  std::optional<Vec3> position, look_at, up;  ///< m
+  std::optional<double> fov;                  ///< degrees, vertical
+  std::optional<std::string> follow;          ///< body name ("" turns the scene's follow off)
+  std::optional<std::string> frame_body;      ///< body name ("" : the world frame)
+};
+
+struct PaneSpec {
+  std::string title;    ///< drawn at the pane's top centre ("" none)
+  std::string variant;  ///< "" the scene as given, else a variant's name
+  PaneCamera camera;
+  /// The pane's own show items of the bodies it names (body index, items; empty hides them);
+  /// other bodies show the scene's.
+  std::vector<std::pair<int, std::vector<ShowItem>>> show;
+};
+
+struct ViewsSpec {
+  std::vector<VariantSpec> variants;
+  std::vector<PaneSpec> panes;  ///< empty: one view (with variants: one pane each, made up)
+  int columns = 0;              ///< panes per row; 0: all in one row
+  bool split() const { return !panes.empty(); }
+};
+
+// Reads `variants:` and `panes:` into s.views (with variants and no panes: the scene and each
+// variant side by side, titled by their integrator and timestep). Throws InputError
+// "FILE:LINE:COL: KEY: what". Called by load_scene once the bodies and camera are read.
+void load_views(const YAML::Node& root, const std::string& path, Scene& s);
+
+// `camera.frame` / a pane camera's `frame`: "world" -> "", { body: NAME } -> NAME (checked
+// against the scene's bodies by load_views).
+std::string camera_frame_body(const YAML::Node& n, const scene_yaml::Ctx& c);
+
+// The scene as a variant runs it (prepare_run applied to a new timestep, its note kept).
+Scene variant_scene(const Scene& s, const VariantSpec& v);
+
+}  // namespace simreel

@@ -1,0 +1,473 @@
+#include "app/view/overlays.hpp"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "app/runner/frame_loop.hpp"
+#include "render/camera.hpp"
+
+namespace simreel {
+
+namespace {
+
+float srgb_to_linear(int c) {
+  const double x = c / 255.0;
+  return (float)(x <= 0.04045 ? x / 12.92 : std::pow((x + 0.055) / 1.055, 2.4));
+}
+
+Rgba with_alpha(const ShowRgb& c, double a) {
+  return {c[0], c[1], c[2], (float)a};
+}
+
+// The default colour of each kind (Okabe-Ito indices, okabe_ito()).
+int default_color(ShowKind k) {
+  switch (k) {
+    case ShowKind::angular_velocity:
+      return 7;  // reddish purple
+    case ShowKind::angular_momentum:
+      return 5;  // blue
+    case ShowKind::velocity:
+      return 3;  // bluish green
+    case ShowKind::inertia_box:
+    case ShowKind::inertia_ellipsoid:
+      return 2;  // sky blue
+    case ShowKind::trail:
+    case ShowKind::center_of_mass:
+    case ShowKind::axes:
+      return 0;  // black
+    case ShowKind::cones:
+      return 1;  // orange (the body cone; the space cone is blue, as L)
+    case ShowKind::poinsot:
+      return 2;  // sky blue (the ellipsoid)
+    case ShowKind::forces:
+      return 6;  // vermillion
+    case ShowKind::contacts:
+      return 1;  // orange
+  }
+  return 0;
+}
+
+bool is_arrow(ShowKind k) {
+  return k == ShowKind::angular_velocity || k == ShowKind::angular_momentum || k == ShowKind::velocity;
+}
+
+Vec3 quantity(const World& w, int i, ShowKind k) {
+  switch (k) {
+    case ShowKind::angular_velocity:
+      return w.angular_velocity(i);
+    case ShowKind::angular_momentum:
+      return w.angular_momentum(i);
+    case ShowKind::velocity:
+      return w.linear_velocity(i);
+    default:
+      return Vec3::Zero();
+  }
+}
+
+// The largest component of each magnitude, per body.
+double largest(const Magnitudes& m, ShowKind k) {
+  return k == ShowKind::angular_velocity ? m.omega : k == ShowKind::angular_momentum ? m.L : m.v;
+}
+
+}  // namespace
+
+Rgba okabe_ito(int index, float alpha) {
+  static const int hex[8] = {0x000000, 0xE69F00, 0x56B4E9, 0x009E73, 0xF0E442, 0x0072B2, 0xD55E00, 0xCC79A7};
+  const int h = hex[((index % 8) + 8) % 8];
+  return {srgb_to_linear(h >> 16), srgb_to_linear((h >> 8) & 255), srgb_to_linear(h & 255), alpha};
+}
+
+namespace {
+
+// The largest magnitudes of the world's present state into m (dynamic bodies).
+void accumulate(const World& w, std::vector<Magnitudes>& m) {
+  for (int i = 0; i < w.body_count(); ++i) {
+    if (w.type(i) != BodyType::dynamic) continue;
+    m[i].omega = std::max(m[i].omega, w.angular_velocity(i).norm());
+    m[i].L = std::max(m[i].L, w.angular_momentum(i).norm());
+    m[i].v = std::max(m[i].v, w.linear_velocity(i).norm());
+  }
+  if (!w.has_forces()) return;
+  struct Max : ForceVisitor {
+    std::vector<Magnitudes>& m;
+    explicit Max(std::vector<Magnitudes>& m) : m(m) {}
+    void force(int i, const Vec3& F, const Vec3&, ForceKind) override {
+      m[i].force = std::max(m[i].force, F.norm());
+    }
+    void torque(int i, const Vec3& t) override { m[i].torque = std::max(m[i].torque, t.norm()); }
+  } v(m);
+  visit_forces(w, v);
+}
+
+}  // namespace
+
+Rgba item_color(const ShowItem& s) {
+  return s.color ? with_alpha(*s.color, s.opacity) : okabe_ito(default_color(s.kind), (float)s.opacity);
+}
+
+std::vector<Magnitudes> measure_magnitudes(const Scene& scene, int threads) {
+  FrameLoop loop(scene, threads);
+  std::vector<Magnitudes> m((size_t)loop.world().body_count());
+  FrameLoop::Hooks h;
+  h.step = [&](const World& w) { accumulate(w, m); };
+  loop.run({}, h, true);
+  return m;
+}
+
+void SceneOverlays::prepass(const Scene& scene, int threads, bool magnitudes, std::vector<Magnitudes>& mags,
+                            std::vector<double>& contact_forces) {
+  FrameLoop loop(scene, threads);
+  const World& w0 = loop.world();
+  mags.assign((size_t)w0.body_count(), Magnitudes{});
+  const double E0 = w0.kinetic_energy() + w0.potential_energy();
+  const Vec3 L0 = w0.total_angular_momentum();
+  std::vector<int> contact_bodies;
+  for (const Item& it : items_)
+    if (it.spec.kind == ShowKind::contacts && !it.spec.scale) contact_bodies.push_back(it.body);
+  // Contact forces sampled about 60 times a simulated second (a landing lasts a few steps).
+  const long contact_every = std::max(1L, std::lround(1.0 / (60.0 * dt_)));
+  FrameLoop::Hooks h;
+  h.step = [&](const World& w) {
+    if (magnitudes) accumulate(w, mags);
+    const long s = w.steps();
+    if (!contact_bodies.empty() && s % contact_every == 0)
+      for (int b : contact_bodies)
+        visit_contacts(w, b, [&](const Vec3&, const Vec3&, const Vec3& F) {
+          if (F.norm() > 0) contact_forces.push_back(F.norm());
+        });
+    for (Plot& p : plots_) {
+      if (s % p.every != 0) continue;
+      p.t.push_back(w.time());
+      for (size_t q = 0; q < p.spec.quantities.size(); ++q)
+        p.values[q].push_back((float)quantity_value(p.spec.quantities[q], w, -1, E0, L0));
+    }
+  };
+  loop.run({}, h, true);
+}
+
+SceneOverlays::SceneOverlays(const Scene& scene, const World& world, const std::vector<double>& body_radius,
+                             int width, int height, int threads)
+    : width_(width),
+      height_(height),
+      dt_(scene.timestep),
+      duration_(scene.duration),
+      fps_(scene.video.fps),
+      body_radius_(body_radius),
+      hud_(scene.overlays.hud),
+      hud_corner_(scene.overlays.hud_corner),
+      title_(scene.overlays.title),
+      captions_(scene.overlays.captions),
+      labels_(scene.overlays.labels),
+      legend_(scene.overlays.legend) {
+  const OverlaySpec& o = scene.overlays;
+  bool need_scales = false;
+  shows_forces_.assign(o.show.size(), 0);
+  for (size_t i = 0; i < o.show.size(); ++i)
+    for (const ShowItem& s : o.show[i]) {
+      if (s.kind == ShowKind::trail) {
+        add_trail(
+            (int)i, s, Source::point,
+            s.color ? with_alpha(*s.color, s.opacity) : okabe_ito(default_color(s.kind), (float)s.opacity),
+            height);
+        trails_.back().p_B = s.point_in_world ? world.world_to_local((int)i, s.point) : s.point;
+        continue;
+      }
+      if (s.kind == ShowKind::poinsot) {
+        Item it{(int)i, s, 0, 0, {-1, -1}};
+        ShowItem line = s;
+        line.opacity = 1;
+        it.trails[0] = (int)trails_.size();
+        add_trail((int)i, line, Source::polhode, okabe_ito(1), height);  // orange, on the body
+        it.trails[1] = (int)trails_.size();
+        add_trail((int)i, line, Source::herpolhode, okabe_ito(0), height);  // black, on the plane
+        need_scales = need_scales || !s.scale;
+        items_.push_back(it);
+        continue;
+      }
+      if (s.kind == ShowKind::forces) {
+        shows_forces_[i] = 1;
+        need_scales = need_scales || !s.scale || !s.torque_scale;
+      }
+      need_scales = need_scales || (is_arrow(s.kind) && !s.scale);
+      items_.push_back({(int)i, s, 0, 0, {-1, -1}});
+    }
+  bool contacts_auto = false;
+  for (const Item& it : items_)
+    contacts_auto = contacts_auto || (it.spec.kind == ShowKind::contacts && !it.spec.scale);
+  // Plots: their samples come from the pre-pass, about 1.5 per pixel of the plot's width.
+  for (const PlotSpec& ps : o.plots) {
+    Plot p;
+    p.spec = ps;
+    const double wpx = std::max(8.0, ps.rect[2] * width);
+    const long steps = std::max(1L, std::lround(duration_ / dt_));
+    p.every = std::max(1L, std::lround(steps / (1.5 * wpx)));
+    p.t.reserve((size_t)(steps / p.every + 2));
+    p.values.assign(ps.quantities.size(), {});
+    for (auto& v : p.values) v.reserve(p.t.capacity());
+    plots_.push_back(std::move(p));
+  }
+  std::vector<Magnitudes> mags((size_t)world.body_count());
+  std::vector<double> contact_forces;
+  if (need_scales || contacts_auto || !plots_.empty())
+    prepass(scene, threads, need_scales, mags, contact_forces);
+  // Contacts: one scale for every body showing them, so that forces compare across the pile.
+  double contact_scale = 0;
+  if (contacts_auto && !contact_forces.empty()) {
+    const size_t k = std::min(contact_forces.size() - 1, (size_t)(kContactQuantile * contact_forces.size()));
+    std::nth_element(contact_forces.begin(), contact_forces.begin() + (long)k, contact_forces.end());
+    double R = 0;
+    int n = 0;
+    for (const Item& it : items_)
+      if (it.spec.kind == ShowKind::contacts && !it.spec.scale) R += body_radius_[it.body], ++n;
+    contact_scale = kContactReach * (R / n) / contact_forces[k];
+  }
+  const Vec3 g = world.config().gravity;
+  for (Item& it : items_) {
+    const double R = it.body < (int)body_radius_.size() ? body_radius_[it.body] : 0.5;
+    if (is_arrow(it.spec.kind)) {
+      const double big = it.spec.scale ? 0 : largest(mags[it.body], it.spec.kind);
+      it.scale = it.spec.scale ? *it.spec.scale : big > 0 ? kArrowReach * R / big : 0;
+      it.radius = 0.028 * R * it.spec.width;
+    } else if (it.spec.kind == ShowKind::forces) {
+      double big = mags[it.body].force;
+      if (it.spec.gravity) big = std::max(big, world.model(it.body).mass * g.norm());
+      it.scale = it.spec.scale ? *it.spec.scale : big > 0 ? kForceReach * R / big : 0;
+      const double tb = mags[it.body].torque;
+      it.torque_scale = it.spec.torque_scale ? *it.spec.torque_scale : tb > 0 ? kForceReach * R / tb : 0;
+      it.radius = 0.028 * R * it.spec.width;
+    } else if (it.spec.kind == ShowKind::contacts) {
+      it.scale = it.spec.scale ? *it.spec.scale : contact_scale;
+      it.radius = 0.02 * R * it.spec.width;
+    } else if (it.spec.kind == ShowKind::axes) {
+      it.scale = it.spec.scale ? *it.spec.scale : 1.25 * R;
+      it.radius = 0.018 * R * it.spec.width;
+    } else if (it.spec.kind == ShowKind::center_of_mass) {
+      it.scale = it.spec.scale ? *it.spec.scale : 0.07 * R;
+    } else if (it.spec.kind == ShowKind::poinsot) {
+      // m per rad/s: as an auto-scaled omega arrow, whose tip is then the contact point.
+      const double big = it.spec.scale ? 0 : mags[it.body].omega;
+      it.scale = it.spec.scale ? *it.spec.scale : big > 0 ? kArrowReach * R / big : 0;
+      for (int k : it.trails) trails_[k].k = it.scale;
+    } else if (it.spec.kind == ShowKind::cones) {
+      it.scale = it.spec.scale ? *it.spec.scale : kArrowReach * R;  // slant: an auto-scaled omega's length
+    }
+  }
+  E0_ = world.kinetic_energy() + world.potential_energy();
+  L0_ = world.total_angular_momentum();
+  make_screen(scene, world);
+}
+
+SceneOverlays::~SceneOverlays() = default;
+
+void SceneOverlays::add_trail(int body, const ShowItem& s, Source src, const Rgba& color, int height) {
+  Trail t;
+  t.body = body;
+  t.source = src;
+  t.p_B = Vec3::Zero();
+  t.color = color;
+  t.width_px = std::max(1.5, s.width * height / 720.0);  // px, at least 1.5 on small frames
+  // About 120 samples a second of simulated time, on whole steps; sparser when the trail is long, so
+  // that no trail holds more than kMaxTrailPoints (a Poinsot trail over a 1e7-step run held 150 MB
+  // and drew every one of its points each frame).
+  t.span = std::lround(std::min(s.length, duration_ + dt_) / dt_);  // the ring holds no more than the run
+  t.every =
+      std::max({1L, std::lround(1.0 / (120.0 * dt_)), (t.span + kMaxTrailPoints - 1) / kMaxTrailPoints});
+  const size_t cap = (size_t)(t.span / t.every + 3);
+  t.points.resize(cap);
+  t.steps.resize(cap);
+  t.scratch.reserve(cap + 1);
+  t.colors.reserve(cap + 1);
+  trails_.push_back(std::move(t));
+}
+
+Vec3 SceneOverlays::sample(const Trail& t, const World& w) const {
+  switch (t.source) {
+    case Source::polhode:
+      return t.k * w.state(t.body).w_P;
+    case Source::herpolhode:
+      return t.k * w.angular_velocity(t.body);
+    case Source::point:
+      break;
+  }
+  return w.local_to_world(t.body, t.p_B);
+}
+
+Vec3 SceneOverlays::to_world(const Trail& t, const World& w, const Vec3& v) const {
+  switch (t.source) {
+    case Source::polhode:  // on the principal axes, drawn a hair outside the ellipsoid it lies on
+      return w.centroid(t.body) + w.state(t.body).q_WP * (v * 1.006);
+    case Source::herpolhode:
+      return w.centroid(t.body) + v;
+    case Source::point:
+      break;
+  }
+  return v;
+}
+
+double SceneOverlays::arrow_scale(int body, ShowKind kind, bool torque) const {
+  for (const Item& it : items_)
+    if (it.body == body && it.spec.kind == kind) return torque ? it.torque_scale : it.scale;
+  return 0;
+}
+
+void SceneOverlays::record(const World& w) {
+  const long s = w.steps();
+  for (Trail& t : trails_) {
+    if (s <= t.last) continue;
+    t.last = s;
+    if (s % t.every) continue;
+    t.points[t.head] = sample(t, w);
+    t.steps[t.head] = s;
+    t.head = (t.head + 1) % t.points.size();
+    t.count = std::min(t.count + 1, t.points.size());
+  }
+}
+
+void SceneOverlays::build(const World& w, long frame, DrawList& dl) {
+  dl.overlay.clear();
+  dl.screen.clear();
+  const Vec3 eye = dl.camera.eye;
+  for (const Item& it : items_) {
+    const int i = it.body;
+    const Vec3 c = w.centroid(i);
+    const ShowItem& s = it.spec;
+    const Rgba color =
+        s.color ? with_alpha(*s.color, s.opacity) : okabe_ito(default_color(s.kind), (float)s.opacity);
+    const float xray = (float)s.xray;
+    // Thin next to a small body seen from far away: at least 1.5 px (times `width`) thick.
+    const double px = pixel_size_at(dl.camera, height_, std::max((c - eye).norm(), 1e-3));
+    const double radius = std::max(it.radius, 0.75 * px * s.width);
+    switch (s.kind) {
+      case ShowKind::angular_velocity:
+      case ShowKind::angular_momentum:
+      case ShowKind::velocity:
+        dl.overlay.arrow(c, quantity(w, i, s.kind) * it.scale, radius, color, xray);
+        break;
+      case ShowKind::axes: {
+        const Mat3 R = w.state(i).q_WP.toRotationMatrix();
+        // e1 e2 e3 red, green, blue: Okabe-Ito's vermillion, bluish green and blue.
+        const int axis_color[3] = {6, 3, 5};
+        for (int k = 0; k < 3; ++k)
+          dl.overlay.arrow(c, R.col(k) * it.scale, radius, okabe_ito(axis_color[k], (float)s.opacity), xray);
+        break;
+      }
+      case ShowKind::center_of_mass:
+        dl.overlay.ellipsoid(c, Mat3::Identity(), Vec3::Constant(it.scale), color, xray);
+        break;
+      case ShowKind::inertia_box:
+      case ShowKind::inertia_ellipsoid: {
+        // The uniform box (I_1 = m (b^2 + c^2) / 12 ...) or solid ellipsoid (m (b^2 + c^2) / 5)
+        // with the body's mass and principal moments: half-sides / semi-axes from the moments.
+        const BodyModel& m = w.model(i);
+        const Vec3 I = m.I_P;
+        const double k = s.kind == ShowKind::inertia_box ? 6.0 : 2.5;
+        Vec3 half;
+        for (int a = 0; a < 3; ++a)
+          half[a] = std::sqrt(std::max(0.0, k * (I[(a + 1) % 3] + I[(a + 2) % 3] - I[a]) / m.mass)) *
+                    (s.kind == ShowKind::inertia_box ? 0.5 : 1.0);
+        const Mat3 R = w.state(i).q_WP.toRotationMatrix();
+        if (s.kind == ShowKind::inertia_ellipsoid) {
+          dl.overlay.ellipsoid(c, R, half, color, xray);
+        } else {
+          // A box as a cylinder would not do: draw its 12 edges as rods.
+          const double r = 0.012 * body_radius_[i];
+          for (int a = 0; a < 3; ++a)
+            for (int sb : {-1, 1})
+              for (int sc : {-1, 1}) {
+                Vec3 p = Vec3::Zero();
+                p[(a + 1) % 3] = sb * half[(a + 1) % 3];
+                p[(a + 2) % 3] = sc * half[(a + 2) % 3];
+                Vec3 q = p;
+                p[a] = -half[a], q[a] = half[a];
+                dl.overlay.rod(c + R * p, c + R * q, r, {color[0], color[1], color[2], 1.0f}, xray);
+              }
+        }
+        break;
+      }
+      case ShowKind::forces:
+        build_forces(it, w, dl.camera, dl.overlay);
+        break;
+      case ShowKind::contacts:
+        build_contacts(it, w, dl.camera, dl.overlay);
+        break;
+      case ShowKind::trail:
+      case ShowKind::poinsot:  // below, after every other item: translucent
+      case ShowKind::cones:
+        break;
+    }
+  }
+  for (const Item& it : items_) {
+    if (it.spec.kind != ShowKind::poinsot || !(it.scale > 0)) continue;
+    // Poinsot: in omega-space scaled by k (m per rad/s), the energy ellipsoid omega.I.omega = 2T
+    // (semi-axes sqrt(2T / I_i) on the principal axes, moving with the body) touches the
+    // invariable plane omega.L / |L| = 2T / |L| (fixed in space) at omega itself, and rolls on it
+    // without slipping: the contact point traces the polhode on the ellipsoid and the herpolhode on
+    // the plane.
+    const int i = it.body;
+    const Vec3 c = w.centroid(i), L = w.angular_momentum(i), wP = w.state(i).w_P;
+    const Vec3 I = w.model(i).I_P;
+    if (!(L.norm() > 0)) continue;
+    const double twoT = wP.dot(I.cwiseProduct(wP)), k = it.scale;
+    const Vec3 semi(k * std::sqrt(twoT / I[0]), k * std::sqrt(twoT / I[1]), k * std::sqrt(twoT / I[2]));
+    const Mat3 R = w.state(i).q_WP.toRotationMatrix();
+    const float a = (float)it.spec.opacity;
+    dl.overlay.ellipsoid(c, R, semi, okabe_ito(2, a));
+    const Vec3 n = L.normalized();
+    Vec3 u = n.cross(std::fabs(n.z()) < 0.9 ? Vec3::UnitZ() : Vec3::UnitX()).normalized(), v = n.cross(u);
+    const double half = 1.05 * semi.maxCoeff();
+    dl.overlay.quad(c + n * (k * twoT / L.norm()), u * half, v * half, {0.35f, 0.35f, 0.4f, 0.6f * a});
+    dl.overlay.ellipsoid(c + k * w.angular_velocity(i), Mat3::Identity(),
+                         Vec3::Constant(0.03 * semi.minCoeff()),
+                         okabe_ito(6));  // the contact point, vermillion
+  }
+  for (const Item& it : items_) {
+    if (it.spec.kind != ShowKind::cones) continue;
+    // The body cone (swept by omega about the symmetry axis, fixed in the body) and the space
+    // cone (swept about L, fixed in space): the body cone rolls on the space cone along omega.
+    // The symmetry axis is the principal axis whose moment stands apart from the other two.
+    const int i = it.body;
+    const Vec3 c = w.centroid(i), om = w.angular_velocity(i), L = w.angular_momentum(i);
+    if (!(om.norm() > 0) || !(L.norm() > 0)) continue;
+    const Vec3 u = om.normalized();
+    const Vec3 I = w.model(i).I_P;
+    const Mat3 R = w.state(i).q_WP.toRotationMatrix();
+    Vec3 s = R.col(std::fabs(I[0] - I[1]) < std::fabs(I[1] - I[2]) ? 2 : 0);
+    if (s.dot(u) < 0) s = -s;
+    const float a = (float)it.spec.opacity, xray = (float)it.spec.xray;
+    for (const auto& [axis, color] :
+         {std::pair<Vec3, Rgba>{s, okabe_ito(1, a)}, {L.normalized(), okabe_ito(5, a)}}) {
+      const double cosb = std::clamp(u.dot(axis), -1.0, 1.0), sinb = std::sqrt(1 - cosb * cosb);
+      dl.overlay.cone(c, axis * (it.scale * cosb), it.scale * sinb, color, xray);
+    }
+  }
+  const long now = w.steps();
+  for (Trail& t : trails_) {
+    t.scratch.clear();
+    t.colors.clear();
+    const size_t n = t.points.size();
+    for (size_t k = 0; k < t.count; ++k) {
+      const size_t idx = (t.head + n - t.count + k) % n;  // oldest first
+      const long age = now - t.steps[idx];
+      if (age < 0 || age > t.span) continue;
+      t.scratch.push_back(to_world(t, w, t.points[idx]));
+    }
+    // The newest sample may lag the frame by a few steps: end at the point's present position.
+    const Vec3 p_now = to_world(t, w, sample(t, w));
+    if (t.count == 0 || t.steps[(t.head + n - 1) % n] != now) t.scratch.push_back(p_now);
+    // Fade: opacity falls linearly with age, from the item's at present to 0 `length` ago.
+    const size_t m = t.scratch.size();
+    for (size_t k = 0; k < m; ++k) {
+      Rgba c = t.color;
+      c[3] *= m > 1 ? (float)(k + 1) / (float)m : 1.0f;
+      t.colors.push_back(c);
+    }
+    double d = (p_now - eye).norm();
+    const double width = t.width_px * pixel_size_at(dl.camera, height_, std::max(d, 1e-3));
+    dl.overlay.ribbon(t.scratch.data(), t.colors.data(), (int)m, eye, width);
+  }
+  if (has_screen_) build_screen(w, frame, dl.camera, dl.screen);
+}
+
+}  // namespace simreel

@@ -1,0 +1,194 @@
+// A scene's teaching overlays (app/scene/scene_overlays.hpp) turned into each frame's overlay geometry
+// and screen layer (render/overlay.hpp, render/screen.hpp).
+//
+// Arrows scale themselves: before the run a pre-pass simulates the scene through the app's frame
+// loop (the same physics, every step) and keeps each body's largest |omega|, |L| and |v|; that
+// magnitude is drawn kArrowReach times the body's radius, unless the item gives `scale:`.
+// Trails record a body point at a fixed cadence of physics steps through FrameLoop::Hooks::step,
+// into ring buffers sized up front: a frame's trail is a function of the steps before it, the
+// same in a partial render (--frames A:B, --at) as in the full one.
+// Frames are a function of (state, history of steps, camera, settings): no per-frame allocation
+// once the buffers have grown (text glyphs are rasterised once, on first use).
+#pragma once
+#include <algorithm>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "app/scene/scene.hpp"
+#include "render/draw_list.hpp"
+#include "render/plot.hpp"
+#include "render/text.hpp"
+#include "sim/world/world.hpp"
+
+namespace simreel {
+
+inline constexpr double kArrowReach = 2.0;  ///< an auto-scaled arrow's longest, in body radii
+inline constexpr double kForceReach = 3.0;  ///< an auto-scaled applied force's longest, in body radii
+inline constexpr double kContactReach =
+    1.0;  ///< an auto-scaled contact force's typical length, in body radii
+inline constexpr double kContactQuantile = 0.9;  ///< ... is the contact forces' 90th percentile
+inline constexpr long kMaxTrailPoints = 16384;   ///< a trail's samples at most (long trails sample sparser)
+
+// The largest magnitudes over a run, per body.
+struct Magnitudes {
+  double omega = 0;   ///< rad/s
+  double L = 0;       ///< kg m^2/s
+  double v = 0;       ///< m/s
+  double force = 0;   ///< N, the largest applied force drawn as an arrow (force, spring and drag entries)
+  double torque = 0;  ///< N m, the largest torque entry
+};
+// The pre-pass: every step of the scene from its initial state, through FrameLoop.
+std::vector<Magnitudes> measure_magnitudes(const Scene& scene, int threads);
+// The forces `forces:` applies to each body at the world's present state, as the `forces` item
+// draws them: force(body, F_W, at_W, kind) for every force, spring (at each end) and drag entry
+// acting now, torque(body, tau_W) for every torque entry (impulses are instantaneous: not drawn).
+struct ForceVisitor {
+  virtual void force(int body, const Vec3& F_W, const Vec3& at_W, ForceKind kind) = 0;
+  virtual void torque(int body, const Vec3& tau_W) = 0;
+  virtual ~ForceVisitor() = default;
+};
+void visit_forces(const World& w, ForceVisitor& v);
+// The contact force on `body` at each of its contact points: F = (lambda n + friction share) / h,
+// with lambda the point's normal impulse of the last substep, h = dt / substeps, the manifold's
+// friction impulse shared among its points in proportion to lambda; n points into `body`.
+// Calls f(point_W, normal_W (into the body), F_W) for each point of each touching manifold.
+template <class F>
+void visit_contacts(const World& w, int body, F&& f) {
+  const double h = w.config().dt / std::max(1, w.substeps());
+  // The step's contacts and those of sleeping pairs (kept as they were when the pair fell asleep).
+  w.for_each_contact([&](const Contact& c) {
+    if (c.count == 0 || (c.body_a != body && c.body_b != body)) return;
+    const double sign = c.body_b == body ? 1.0 : -1.0;  // normal_W points from A to B
+    double sum = 0;
+    for (int j = 0; j < c.count; ++j) sum += c.points[j].normal_impulse;
+    for (int j = 0; j < c.count; ++j) {
+      const double lam = c.points[j].normal_impulse;
+      const Vec3 P = lam * c.normal_W + (sum > 0 ? lam / sum : 1.0 / c.count) * c.friction_impulse_W;
+      f(c.points[j].p_W, Vec3(sign * c.normal_W), Vec3(sign * P / h));
+    }
+  });
+}
+
+// Okabe-Ito colour-blind-safe palette (B. Wong, Nature Methods 8, 441, 2011), as linear RGB.
+Rgba okabe_ito(int index, float alpha = 1);  ///< 0 black, 1 orange, 2 sky blue, 3 bluish green, 4 yellow,
+                                             ///< 5 blue, 6 vermillion, 7 reddish purple
+
+// The colour an item is drawn in: its `color` or its kind's Okabe-Ito colour, with its opacity.
+Rgba item_color(const ShowItem& s);
+
+class SceneOverlays {
+ public:
+  // `body_radius`: m per body, its drawn size about its centre of mass. Runs the pre-pass if an
+  // arrow scales itself. width x height: the frame (text sizes follow its height).
+  SceneOverlays(const Scene& scene, const World& world, const std::vector<double>& body_radius, int width,
+                int height, int threads = 1);
+  ~SceneOverlays();
+  bool empty() const { return items_.empty() && !has_screen_; }
+  bool has_trails() const { return !trails_.empty(); }
+  // Samples trail k can hold (its ring's size), and the physics steps between its samples.
+  size_t trail_capacity(int k) const { return trails_[k].points.size(); }
+  long trail_every(int k) const { return trails_[k].every; }
+
+  // FrameLoop::Hooks::step: records the trails.
+  void record(const World& w);
+  // The world's present state into dl.overlay and dl.screen (dl.camera set already). frame: the
+  // frame's number in the clip (HUD {frame}).
+  void build(const World& w, long frame, DrawList& dl);
+
+  // The scale in use for a body's arrow item (m per unit), for tests. Forces: m per N; torques
+  // (kind forces, torque = true): m per N m; contacts: m per N.
+  double arrow_scale(int body, ShowKind kind, bool torque = false) const;
+  // Inset plot k, as drawn (for tests), and its samples.
+  const InsetPlot& plot(int k) const { return *plots_[k].plot; }
+  const std::vector<double>& plot_times(int k) const { return plots_[k].t; }
+  const std::vector<float>& plot_values(int k, int q) const { return plots_[k].values[q]; }
+  // The title's size after shrinking it to fit the frame (px).
+  int title_pixel_size() const { return title_font_ ? title_font_->pixel_size() : 0; }
+
+ private:
+  struct Item {
+    int body;
+    ShowItem spec;
+    double scale = 0;          // arrows, poinsot: m per unit; axes: m; centre of mass: m radius
+    double radius = 0;         // m, arrow shaft
+    int trails[2] = {-1, -1};  // poinsot: its polhode and herpolhode
+    double torque_scale = 0;   // forces: m per N m
+  };
+  struct Plot {
+    PlotSpec spec;
+    std::unique_ptr<InsetPlot> plot;
+    std::vector<double> t;                   // s, the samples' times
+    std::vector<std::vector<float>> values;  // per quantity
+    std::vector<const float*> series;        // values[q].data()
+    long every = 1;                          // steps between samples
+    std::vector<float> now;                  // the values at the frame drawn
+  };
+
+  // What a trail traces: a body point (world), or Poinsot's contact point k omega, recorded on
+  // the principal axes (the polhode, drawn on the moving body) or in the world (the herpolhode,
+  // drawn on the fixed invariable plane), both from the centre of mass.
+  enum class Source { point, polhode, herpolhode };
+  struct Trail {
+    int body;
+    Source source = Source::point;
+    double k = 0;  // m per rad/s (polhode, herpolhode)
+    Vec3 p_B;      // m, the traced point in the body frame
+    Rgba color;
+    double width_px;
+    long every;                // steps between samples
+    long span;                 // steps of history shown
+    std::vector<Vec3> points;  // ring
+    std::vector<long> steps;   // ring, the step of each point
+    size_t head = 0, count = 0;
+    long last = -1;
+    std::vector<Vec3> scratch;  // the drawn polyline, reused
+    std::vector<Rgba> colors;   // its colours, reused
+  };
+  void build_screen(const World& w, long frame, const CameraView& cam, ScreenLayer& out);
+  void build_forces(const Item& it, const World& w, const CameraView& cam, OverlayList& out);
+  void build_contacts(const Item& it, const World& w, const CameraView& cam, OverlayList& out);
+  void prepass(const Scene& scene, int threads, bool magnitudes, std::vector<Magnitudes>& mags,
+               std::vector<double>& contact_forces);
+  void make_screen(const Scene& scene, const World& world);
+  void fill_legend(const Scene& scene);
+
+  Vec3 sample(const Trail& t, const World& w) const;                   // what a trail records now
+  Vec3 to_world(const Trail& t, const World& w, const Vec3& v) const;  // a recorded sample, drawn now
+  void add_trail(int body, const ShowItem& s, Source src, const Rgba& color, int height);
+
+  int width_, height_;
+  double dt_, duration_, fps_;
+  std::vector<double> body_radius_;
+  std::vector<Item> items_;
+  std::vector<Trail> trails_;
+  std::vector<HudLine> hud_;
+  std::string hud_corner_, title_;
+  std::vector<Caption> captions_;
+  std::vector<BodyLabel> labels_;
+  Legend legend_;
+  std::vector<Plot> plots_;
+  bool has_screen_ = false;
+  size_t max_lines_ = 0;            // screen lines a frame may hold (plots), reserved once
+  std::vector<char> shows_forces_;  // per body: has a `forces` item (springs drawn once)
+  double E0_ = 0;
+  Vec3 L0_ = Vec3::Zero();
+  std::unique_ptr<Typeface> font_, title_font_, small_font_;
+  std::vector<std::string> lines_;   // HUD text this frame, storage reused
+  std::string scratch_text_;         // storage reused
+  std::vector<Vec3> spring_points_;  // a spring's zig-zag, reused
+  std::vector<Rgba> spring_colors_;
+};
+
+// A HUD line with its fields filled from the world; `out` keeps its storage. `fps`: the video's,
+// for {video_t} = frame / fps (app/scene/scene_time.hpp; 0: the simulated time).
+void format_hud_line(const HudLine& line, const World& w, long frame, double E0, const Vec3& L0,
+                     std::string& out, double fps = 0);
+// The value of a scalar quantity (a HUD field with a component, |...| or a scene scalar).
+double quantity_value(const HudField& f, const World& w, long frame, double E0, const Vec3& L0,
+                      double fps = 0);
+
+// A linear RGB colour as the screen layer's display (sRGB-encoded) bytes.
+Rgba8 to_display(const Rgba& linear);
+
+}  // namespace simreel

@@ -1,0 +1,397 @@
+// The 2D screen layer of a scene's overlays (app/view/overlays.hpp): title, HUD, captions, labels,
+// legend and inset plots, laid out in pixels over the finished frame. Text is in the TeX subset of
+// render/tex.hpp throughout.
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+
+#include "app/view/overlays.hpp"
+#include "render/camera.hpp"
+
+namespace simreel {
+
+namespace {
+
+const Rgba8 kPanel{16, 20, 28, 150}, kInk{255, 255, 255, 255};
+
+uint8_t encode(float linear) {
+  const double x = std::clamp((double)linear, 0.0, 1.0);
+  const double s = x <= 0.0031308 ? 12.92 * x : 1.055 * std::pow(x, 1 / 2.4) - 0.055;
+  return (uint8_t)std::lround(255 * s);
+}
+
+Rgba8 faded(Rgba8 c, double a) {
+  c[3] = (uint8_t)std::lround(c[3] * std::clamp(a, 0.0, 1.0));
+  return c;
+}
+
+// Plot curves' default colours: Okabe-Ito, those that read on the dark panel first.
+const int kPlotColors[8] = {6, 3, 2, 4, 1, 7, 5, 0};
+
+}  // namespace
+
+Rgba8 to_display(const Rgba& c) {
+  return {encode(c[0]), encode(c[1]), encode(c[2]), (uint8_t)std::lround(255 * std::clamp(c[3], 0.0f, 1.0f))};
+}
+
+namespace {
+
+// A per-body vector quantity of the HUD's names.
+Vec3 body_vector(const HudField& f, const World& w) {
+  const int i = f.body;
+  if (f.name == "omega") return w.angular_velocity(i);
+  if (f.name == "omega_body") return w.state(i).w_P;
+  if (f.name == "L") return w.angular_momentum(i);
+  if (f.name == "v") return w.linear_velocity(i);
+  if (f.name == "position") return w.centroid(i);
+  return Vec3::Zero();
+}
+
+// A per-body number: `tilt`, the angle of the body's z axis from the world's vertical (deg; for a
+// disk or coin with its axis along z, the angle between the disk and a level floor), or
+// `precession`, the rate at which that axis turns about the vertical (rad/s, counter-clockwise
+// seen from above; the line of nodes' rate, Omega of Euler's disk).
+bool body_scalar(const HudField& f, const World& w, double& out) {
+  if (f.name != "tilt" && f.name != "precession") return false;
+  const Vec3 a = w.local_to_world_vec(f.body, Vec3::UnitZ());
+  if (f.name == "tilt") {
+    out = std::acos(std::clamp(a.z(), -1.0, 1.0)) * 180.0 / std::numbers::pi;
+  } else {
+    const Vec3 da = w.angular_velocity(f.body).cross(a);
+    const double h2 = a.x() * a.x() + a.y() * a.y();
+    out = h2 > 1e-24 ? (a.x() * da.y() - a.y() * da.x()) / h2 : 0.0;
+  }
+  return true;
+}
+
+}  // namespace
+
+double quantity_value(const HudField& f, const World& w, long frame, double E0, const Vec3& L0, double fps) {
+  if (f.name == "frame") return (double)frame;
+  if (f.body < 0) {
+    const double E = w.kinetic_energy() + w.potential_energy();
+    if (f.name == "t") return w.time();
+    if (f.name == "video_t") return fps > 0 ? (double)frame / fps : w.time();
+    if (f.name == "E") return E;
+    if (f.name == "E_drift") return E0 != 0 ? (E - E0) / std::fabs(E0) : E - E0;
+    if (f.name == "L_drift") {
+      const double n0 = L0.norm();
+      return n0 > 0 ? (w.total_angular_momentum() - L0).norm() / n0
+                    : (w.total_angular_momentum() - L0).norm();
+    }
+    return 0;
+  }
+  double x;
+  if (body_scalar(f, w, x)) return x;
+  const Vec3 v = body_vector(f, w);
+  return f.norm ? v.norm() : f.component >= 0 ? v[f.component] : 0.0;
+}
+
+void format_hud_line(const HudLine& line, const World& w, long frame, double E0, const Vec3& L0,
+                     std::string& out, double fps) {
+  out.clear();
+  char buf[96];
+  for (size_t k = 0; k < line.fields.size(); ++k) {
+    out += line.text[k];
+    const HudField& f = line.fields[k];
+    const char* fmt = f.printf.c_str();
+    if (f.name == "frame") {
+      std::snprintf(buf, sizeof buf, fmt, frame);
+      out += buf;
+      continue;
+    }
+    if (f.body < 0 || f.norm || f.component >= 0 || f.name == "tilt" || f.name == "precession") {
+      std::snprintf(buf, sizeof buf, fmt, quantity_value(f, w, frame, E0, L0, fps));
+      out += buf;
+      continue;
+    }
+    // A whole vector: (x, y, z), the format applied to each.
+    const Vec3 v = body_vector(f, w);
+    out += '(';
+    for (int c = 0; c < 3; ++c) {
+      std::snprintf(buf, sizeof buf, fmt, v[c]);
+      out += buf;
+      if (c < 2) out += ", ";
+    }
+    out += ')';
+  }
+  out += line.text.back();
+}
+
+void SceneOverlays::make_screen(const Scene& scene, const World& world) {
+  has_screen_ = !hud_.empty() || !title_.empty() || !captions_.empty() || !labels_.empty() || legend_.shown ||
+                !plots_.empty();
+  if (!has_screen_) return;
+  const std::string path = default_font_path();
+  const int px = std::max(10, (int)std::lround(height_ * 0.032 * scene.overlays.text_size));
+  font_ = std::make_unique<Typeface>(path, px);
+  small_font_ = std::make_unique<Typeface>(path, std::max(8, (int)std::lround(0.8 * px)));
+  lines_.resize(hud_.size());
+  if (!title_.empty()) {
+    // A title wider than the frame is set smaller until it fits (with its panel and a margin).
+    int tp = std::max(12, (int)std::lround(px * 1.4));
+    title_font_ = std::make_unique<Typeface>(path, tp);
+    for (int tries = 0; tries < 40; ++tries) {
+      const int avail = width_ - 2 * (tp / 2) - 2 * (px / 2);
+      const int tw = title_font_->width(title_);
+      if (tw <= avail || tp <= 6) break;
+      tp = std::max(6, std::min(tp - 1, (int)std::floor(tp * (double)avail / tw)));
+      title_font_ = std::make_unique<Typeface>(path, tp);
+    }
+  }
+  if (legend_.shown && legend_.items.empty()) fill_legend(scene);
+  for (Plot& p : plots_) {
+    const PlotSpec& ps = p.spec;
+    PlotLayout L;
+    L.x = (int)std::lround(ps.rect[0] * width_);
+    L.y = (int)std::lround(ps.rect[1] * height_);
+    L.width = (int)std::lround(ps.rect[2] * width_);
+    L.height = (int)std::lround(ps.rect[3] * height_);
+    L.t0 = 0;
+    L.t1 = duration_;
+    if (ps.auto_range) {
+      double lo = 1e300, hi = -1e300;
+      for (const auto& v : p.values)
+        for (float x : v)
+          if (std::isfinite(x)) lo = std::min(lo, (double)x), hi = std::max(hi, (double)x);
+      if (!(hi >= lo)) lo = -1, hi = 1;
+      if (hi - lo < 1e-12 * std::max(1.0, std::fabs(hi))) lo -= 0.5, hi += 0.5;
+      const double m = 0.08 * (hi - lo);
+      L.v0 = lo - m, L.v1 = hi + m;
+    } else {
+      L.v0 = ps.y_min, L.v1 = ps.y_max;
+    }
+    L.labels = ps.labels;
+    for (size_t q = 0; q < ps.quantities.size(); ++q)
+      L.colors.push_back(ps.colors[q]
+                             ? to_display({(*ps.colors[q])[0], (*ps.colors[q])[1], (*ps.colors[q])[2], 1})
+                             : to_display(okabe_ito(kPlotColors[q % 8])));
+    L.title = ps.title;
+    L.line_width = std::max(1.5f, 2.0f * height_ / 720.0f);
+    p.plot = std::make_unique<InsetPlot>(L, *small_font_);
+    p.series.clear();
+    for (const auto& v : p.values) p.series.push_back(v.data());
+    p.now.assign(p.values.size(), 0.0f);
+    // Lines a frame can hold: the fixed ones (under 200 for a plot), every segment of every curve, the
+    // cursor.
+    max_lines_ += 256 + p.values.size() * (p.t.size() + 1) + 1;
+  }
+  (void)world;
+}
+
+void SceneOverlays::fill_legend(const Scene& scene) {
+  struct E {
+    std::string text;
+    Rgba c;
+    int body;
+  };
+  std::vector<E> all;
+  const OverlaySpec& o = scene.overlays;
+  for (size_t b = 0; b < o.show.size(); ++b)
+    for (const ShowItem& s : o.show[b]) {
+      const Rgba c = item_color(s);
+      auto add = [&](const std::string& t, const Rgba& col) {
+        all.push_back({t, {col[0], col[1], col[2], 1}, (int)b});
+      };
+      switch (s.kind) {
+        case ShowKind::axes:
+          add("e_1", okabe_ito(6)), add("e_2", okabe_ito(3)), add("e_3", okabe_ito(5));
+          break;
+        case ShowKind::angular_velocity:
+          add("angular velocity \\omega", c);
+          break;
+        case ShowKind::angular_momentum:
+          add("angular momentum L", c);
+          break;
+        case ShowKind::velocity:
+          add("velocity v", c);
+          break;
+        case ShowKind::center_of_mass:
+          add("centre of mass", c);
+          break;
+        case ShowKind::trail:
+          add("trail", c);
+          break;
+        case ShowKind::inertia_box:
+          add("inertia box", c);
+          break;
+        case ShowKind::inertia_ellipsoid:
+          add("inertia ellipsoid", c);
+          break;
+        case ShowKind::cones:
+          add("body cone", okabe_ito(1)), add("space cone", okabe_ito(5));
+          break;
+        case ShowKind::poinsot:
+          add("energy ellipsoid", okabe_ito(2)), add("polhode", okabe_ito(1)),
+              add("herpolhode", okabe_ito(0));
+          break;
+        case ShowKind::forces: {
+          bool force = false, torque = false, drag = false, spring = false;
+          for (const ForceDef& f : scene.forces) {
+            const bool mine = f.body == (int)b;
+            force = force || (mine && f.kind == ForceKind::force);
+            torque = torque || (mine && f.kind == ForceKind::torque);
+            drag = drag || (mine && f.kind == ForceKind::drag);
+            spring = spring || (f.kind == ForceKind::spring && (mine || f.body_b == (int)b));
+          }
+          if (s.arrows && (force || spring)) add("force", c);
+          if (s.arrows && torque) add("torque", c);
+          if (s.arrows && drag) add("drag", okabe_ito(2));
+          if (s.gravity) add("weight mg", okabe_ito(0));
+          if (s.springs && spring) add("spring", {0.06f, 0.06f, 0.07f, 1});
+          break;
+        }
+        case ShowKind::contacts:
+          if (s.arrows) add("contact force", c);
+          if (s.points || s.normals) add("contact point, normal", okabe_ito(0));
+          break;
+      }
+    }
+  // One entry per text and colour; a text drawn in several colours names each body.
+  for (size_t k = 0; k < all.size(); ++k) {
+    bool seen = false, several = false;
+    for (size_t j = 0; j < all.size(); ++j) {
+      if (all[j].text != all[k].text) continue;
+      if (j < k && all[j].c == all[k].c) seen = true;
+      if (all[j].c != all[k].c) several = true;
+    }
+    if (seen) continue;
+    std::string t = all[k].text;
+    if (several) t += " (" + scene.bodies[all[k].body].name + ")";
+    legend_.items.push_back({t, {all[k].c[0], all[k].c[1], all[k].c[2]}});
+  }
+}
+
+void SceneOverlays::build_screen(const World& w, long frame, const CameraView& cam, ScreenLayer& out) {
+  const double t = w.time();
+  int top = 0;  // px: what is in the top corners goes below the title
+  if (!title_.empty()) {
+    Typeface& f = *title_font_;
+    const int tw = f.width(title_), pad = f.pixel_size() / 2;
+    const int x = (width_ - tw) / 2, base = pad + f.ascent() + pad / 2;
+    top = base + f.descent() + pad / 2;
+    out.rects.push_back({x - pad, pad / 2, x + tw + pad, top, kPanel});
+    f.draw(title_, x, base, kInk, &out);
+  }
+  const int margin = font_->pixel_size() / 2;
+  int next_top[2] = {top + margin, top + margin};             // left, right: the next box's top
+  int next_bottom[2] = {height_ - margin, height_ - margin};  // left, right: the next box's bottom
+  // y of a box at x, y (w x h px) moved out of the way of the inset plots: below one (or above
+  // it, `up`) that it overlaps.
+  auto clear_of_plots = [&](int x, int y, int bw, int bh, bool up) {
+    for (int pass = 0; pass < 2; ++pass)
+      for (const Plot& p : plots_) {
+        const PlotLayout& L = p.plot->layout();
+        if (x < L.x + L.width && x + bw > L.x && y < L.y + L.height && y + bh > L.y)
+          y = up ? L.y - margin - bh : L.y + L.height + margin;
+      }
+    return y;
+  };
+  // A box of w x h px in a corner, stacked under (over) what is there already: its top-left.
+  auto place = [&](const std::string& corner, int bw, int bh) {
+    const int side = corner.find("right") != std::string::npos ? 1 : 0;
+    const int x = side ? width_ - margin - bw : margin;
+    const bool bottom = corner.find("bottom") != std::string::npos;
+    // Out of the way of the inset plots: below one in a top corner, above it in a bottom one.
+    const int y = clear_of_plots(x, bottom ? next_bottom[side] - bh : next_top[side], bw, bh, bottom);
+    if (bottom)
+      next_bottom[side] = y - margin;
+    else
+      next_top[side] = y + bh + margin;
+    return std::pair<int, int>{x, y};
+  };
+
+  if (!plots_.empty() && out.lines.capacity() < max_lines_)
+    out.lines.reserve(max_lines_);  // once: curves grow
+  for (Plot& p : plots_) {
+    for (size_t q = 0; q < p.spec.quantities.size(); ++q)
+      p.now[q] = (float)quantity_value(p.spec.quantities[q], w, frame, E0_, L0_);
+    p.plot->draw(p.t.data(), p.series.data(), (int)p.t.size(), t, out, p.now.data());
+  }
+
+  if (!hud_.empty()) {
+    Typeface& f = *font_;
+    int widest = 0;
+    for (size_t k = 0; k < hud_.size(); ++k) {
+      format_hud_line(hud_[k], w, frame, E0_, L0_, lines_[k], fps_);
+      widest = std::max(widest, f.width(lines_[k]));
+    }
+    const int pad = f.pixel_size() / 2, lh = f.line_height();
+    const int box_w = widest + 2 * pad,
+              box_h = (int)hud_.size() * lh + 2 * pad - (lh - f.ascent() - f.descent());
+    const auto [x0, y0] = place(hud_corner_, box_w, box_h);
+    out.rects.push_back({x0, y0, x0 + box_w, y0 + box_h, kPanel});
+    for (size_t k = 0; k < hud_.size(); ++k)
+      f.draw(lines_[k], x0 + pad, y0 + pad + f.ascent() + (int)k * lh, kInk, &out);
+  }
+
+  if (legend_.shown && !legend_.items.empty()) {
+    Typeface& f = *small_font_;
+    const int pad = f.pixel_size() / 2, lh = f.line_height(), sw = 2 * f.pixel_size();
+    int widest = 0;
+    for (const LegendEntry& e : legend_.items) widest = std::max(widest, f.width(e.text));
+    const int box_w = 3 * pad + sw + widest,
+              box_h = (int)legend_.items.size() * lh + 2 * pad - (lh - f.ascent() - f.descent());
+    const auto [x0, y0] = place(legend_.corner, box_w, box_h);
+    out.rects.push_back({x0, y0, x0 + box_w, y0 + box_h, kPanel});
+    for (size_t k = 0; k < legend_.items.size(); ++k) {
+      const LegendEntry& e = legend_.items[k];
+      const int base = y0 + pad + f.ascent() + (int)k * lh;
+      const int sh = std::max(3, f.pixel_size() / 3), ym = base - (int)std::lround(0.33 * f.ascent());
+      // The swatch on a light backing, so that black and dark colours show on the dark panel.
+      out.rects.push_back(
+          {x0 + pad - 1, ym - sh / 2 - 1, x0 + pad + sw + 1, ym - sh / 2 + sh + 1, {200, 200, 200, 255}});
+      out.rects.push_back({x0 + pad, ym - sh / 2, x0 + pad + sw, ym - sh / 2 + sh,
+                           to_display({e.color[0], e.color[1], e.color[2], 1})});
+      f.draw(e.text, x0 + 2 * pad + sw, base, kInk, &out);
+    }
+  }
+
+  for (const BodyLabel& l : labels_) {
+    double depth = 0;
+    const Vec3 c = w.centroid(l.body);
+    const Eigen::Vector2d p = project_to_pixel(cam, width_, height_, c, &depth);
+    if (!(depth > 0)) continue;  // behind the camera
+    Typeface& f = *font_;
+    const int tw = f.width(l.text), pad = f.pixel_size() / 2;
+    const int bw = tw + 2 * pad, bh = f.ascent() + f.descent() + pad;
+    double cx, cy;  // the box's centre
+    if (l.has_offset) {
+      cx = p.x() + l.dx * height_ / 720.0, cy = p.y() - l.dy * height_ / 720.0;
+    } else {
+      // Just above the body's drawn outline (its radius about the centre of mass, projected).
+      const double r = body_radius_[l.body] / pixel_size_at(cam, height_, depth);
+      cx = p.x(), cy = p.y() - r - pad - 0.5 * bh;
+    }
+    // Kept inside the frame, whole.
+    int x0 = (int)std::lround(cx - 0.5 * bw), y0 = (int)std::lround(cy - 0.5 * bh);
+    x0 = std::clamp(x0, margin, std::max(margin, width_ - margin - bw));
+    y0 = std::clamp(y0, top + margin, std::max(top + margin, height_ - margin - bh));  // below the title
+    const Rgba8 ink = l.color ? to_display({(*l.color)[0], (*l.color)[1], (*l.color)[2], 1}) : kInk;
+    out.rects.push_back({x0, y0, x0 + bw, y0 + bh, kPanel});
+    f.draw(l.text, x0 + pad, y0 + pad / 2 + f.ascent(), ink, &out);
+  }
+
+  for (const Caption& c : captions_) {
+    if (!(t >= c.from && t < c.to)) continue;
+    const double a = c.fade > 0 ? std::min({1.0, (t - c.from) / c.fade, (c.to - t) / c.fade}) : 1.0;
+    if (!(a > 0)) continue;
+    Typeface& f = *font_;
+    const int tw = f.width(c.text), pad = f.pixel_size() / 2;
+    const int bh = f.ascent() + f.descent() + pad;
+    const int x = (width_ - tw) / 2;
+    int y0;
+    if (c.position == "top")
+      y0 = clear_of_plots(x - pad, top + margin, tw + 2 * pad, bh, false);
+    else if (c.position == "center")
+      y0 = (height_ - bh) / 2;
+    else
+      y0 = clear_of_plots(x - pad, height_ - 2 * margin - bh, tw + 2 * pad, bh, true);
+    out.rects.push_back({x - pad, y0, x + tw + pad, y0 + bh, faded(kPanel, a)});
+    f.draw(c.text, x, y0 + pad / 2 + f.ascent(), faded(kInk, a), &out);
+  }
+}
+
+}  // namespace simreel

@@ -1,0 +1,87 @@
+// The frames of a scene as `render` and `check` draw them: one view (app/view/scene_view.hpp), or a
+// split screen of panes (the scene's `panes:` and `variants:`, app/scene/scene_views.hpp).
+//
+// Panes are laid out in a grid (`columns` per row, all in one row by default) with a thin dark
+// gutter between them, under a band holding the scene's title when it has one. Each pane is a
+// SceneView of its own size with its own renderer: its camera, its title (drawn as the pane's
+// overlay title), its HUD with its world's values. The panes' images are copied into the whole
+// frame, which is then finished once as a single view's is: FXAA (on the video writer's thread in
+// `simreel render`), then every pane's text moved into place, so text stays sharp. Each variant is its own
+// World and FrameLoop, advanced at every frame, in the order the variants are listed, to the step nearest the
+// simulated time the main world shows: frames are a function of the scene alone, the same for any --threads.
+#pragma once
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "app/runner/frame_loop.hpp"
+#include "app/view/scene_view.hpp"
+#include "render/fxaa.hpp"
+#include "render/renderer.hpp"
+#include "render/text.hpp"
+
+namespace simreel {
+
+// Where a pane sits in the frame: [x0, x0 + width) x [y0, y0 + height), px, y down.
+struct PaneRect {
+  int x0 = 0, y0 = 0, width = 0, height = 0;
+};
+// The panes' rectangles in a width x height frame: n panes, `columns` per row (0: one row), under
+// a band `top` px high. Throws std::invalid_argument when a pane would be under 16 px a side.
+std::vector<PaneRect> layout_panes(int n, int columns, int width, int height, int top);
+
+class SceneFrames {
+ public:
+  // `main` at the scene's initial state; `post`: who runs FXAA and the screen layer of a single
+  // view or of the whole split screen.
+  SceneFrames(const Scene& scene, FrameLoop& main, const ViewOptions& o,
+              PostStage post = PostStage::renderer);
+  ~SceneFrames();
+
+  // FrameLoop::Hooks::step for the main loop: every pane's trails on the main world.
+  std::function<void(const World&)> step_hook();
+  // Draws the frame of the main world's present state (variants advanced to the same simulated
+  // time first). `frame`: the video frame's number for the HUD (-1: from the world's time). With
+  // post == caller, FXAA (if caller_fxaa()) and screen() are left to the caller.
+  const uint8_t* draw(const World& main, uint8_t* out = nullptr, long frame = -1);
+  const ScreenLayer& screen() const;  ///< the frame's 2D layer of the last draw()
+  bool caller_fxaa() const;           ///< whether the caller must run FXAA (post == caller)
+  std::string description() const;    ///< the renderer's
+  int width() const { return width_; }
+  int height() const { return height_; }
+  bool split() const { return !panes_.empty(); }
+  // For the warning about empty frames: whether the frame shows no body at all to a camera fixed
+  // in the world (false when no pane's camera is: a following or riding camera always sees one).
+  bool shows_nothing(const World& main) const;
+  // Every world drawn, main first, then the variants in order (check compares all their states).
+  std::vector<const World*> worlds() const;
+  const std::vector<std::string>& notes() const { return notes_; }  ///< the variants' notes
+
+ private:
+  struct Variant;
+  struct Pane;
+  void advance_variants(const World& main);
+
+  int width_, height_;
+  PostStage post_;
+  // A single view.
+  std::unique_ptr<SceneView> view_;
+  std::unique_ptr<Renderer> renderer_;
+  // A split screen.
+  std::vector<std::unique_ptr<Variant>> variants_;
+  std::vector<std::unique_ptr<Pane>> panes_;
+  ScreenLayer title_layer_;  // the title band's text
+  ScreenLayer screen_;       // the frame's: the title band's and every pane's text, in place
+  bool fxaa_ = false;
+  FxaaBuffers fxaa_buffers_;
+  std::unique_ptr<Font> title_font_;
+  std::string title_;
+  int band_ = 0;  // px, the title band's height
+  std::vector<uint8_t> frame_;
+  std::vector<std::string> notes_;
+  std::vector<double> radii_;
+  FrameLoop* main_;
+};
+
+}  // namespace simreel

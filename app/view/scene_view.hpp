@@ -1,0 +1,54 @@
+// A scene as the renderer takes it: the render meshes and colours, the camera, the render
+// settings and the teaching overlays (app/view/overlays.hpp), made in one place for every command that
+// draws frames (render, check).
+#pragma once
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "app/view/ghost_view.hpp"
+#include "app/view/overlays.hpp"
+#include "app/scene/scene.hpp"
+#include "render/draw_list.hpp"
+#include "render/renderer.hpp"
+#include "sim/world/world.hpp"
+
+namespace simreel {
+
+// Overrides of the scene's drawing, from the command line.
+struct ViewOptions {
+  int width = 0, height = 0;  ///< px; 0: the scene's (odd sizes round up to even for video)
+  std::string aa;             ///< "": the scene's; fxaa, msaa2, msaa4, none
+  bool no_shadows = false;
+  std::string gl;   ///< "": the default backend; osmesa, egl
+  int threads = 1;  ///< for the overlays' pre-pass (frames are the same for any count)
+};
+
+struct SceneView {
+  SceneMeshes meshes;
+  CameraView camera;
+  int follow = -1;  ///< body the camera tracks, or -1
+  int ride = -1;    ///< body whose frame the camera rides in (camera.frame), or -1: `camera` is then
+                    ///< in that body's frame (points about its origin)
+  RenderSettings settings;
+  AntiAliasing aa = AntiAliasing::fxaa;
+  std::unique_ptr<SceneOverlays> overlays;  ///< null for a scene without `show:` or `overlays:`
+  std::unique_ptr<GhostView> ghosts;        ///< null for a scene without `ghost:`
+  // Throws UsageError-like std::invalid_argument for an unknown backend or mode. `world` must be
+  // at the scene's initial state (trails given in world coordinates, the HUD's E0 and L0).
+  SceneView(const Scene& scene, const World& world, const ViewOptions& o);
+  // The frame of the world's present state, with the post stage (FXAA, screen layer) when the
+  // settings leave it to the renderer; valid until the next call. `frame`: the frame's number in
+  // the clip for the HUD (-1: the nearest frame to the world's time).
+  const uint8_t* draw(Renderer& r, const World& world, uint8_t* out = nullptr, long frame = -1);
+  // The screen layer of the last draw(): for a caller that runs the post stage itself.
+  const ScreenLayer& screen() const { return dl_.screen; }
+  // For FrameLoop::Hooks::step: records trails at every physics step (empty if none are shown).
+  std::function<void(const World&)> step_hook();
+
+ private:
+  DrawList dl_;
+  double fps_ = 30;
+};
+
+}  // namespace simreel

@@ -1,0 +1,93 @@
+#include "sim/dynamics/body.hpp"
+
+#include <cmath>
+
+#include "sim/base/error.hpp"
+#include "sim/mass/mass_properties.hpp"
+#include "sim/mass/primitives.hpp"
+
+namespace simreel {
+
+const char* to_string(ShapeKind s) {
+  switch (s) {
+    case ShapeKind::box:
+      return "box";
+    case ShapeKind::sphere:
+      return "sphere";
+    case ShapeKind::cylinder:
+      return "cylinder";
+    case ShapeKind::capsule:
+      return "capsule";
+    case ShapeKind::mesh:
+      return "mesh";
+    case ShapeKind::plane:
+      return "plane";
+    case ShapeKind::ellipsoid:
+      return "ellipsoid";
+  }
+  return "?";
+}
+
+const char* to_string(BodyType t) {
+  switch (t) {
+    case BodyType::static_body:
+      return "static";
+    case BodyType::kinematic:
+      return "kinematic";
+    case BodyType::dynamic:
+      return "dynamic";
+  }
+  return "?";
+}
+
+MassProperties primitive_mass(const Collider& c, double rho) {
+  switch (c.shape) {
+    case ShapeKind::box:
+      return box_mass(c.size, rho);
+    case ShapeKind::sphere:
+      return sphere_mass(c.radius, rho);
+    case ShapeKind::cylinder:
+      return cylinder_mass(c.radius, c.height, rho);
+    case ShapeKind::capsule:
+      return capsule_mass(c.radius, c.height, rho);
+    case ShapeKind::ellipsoid:
+      return ellipsoid_mass(c.radii, rho);
+    case ShapeKind::plane:
+      throw InputError("a plane has no mass: it may only be a collider of a static body");
+    case ShapeKind::mesh:
+      break;
+  }
+  throw InputError("primitive_mass called for a mesh collider");
+}
+
+MassProperties compose(const std::vector<Collider>& colliders) {
+  MassAccumulator acc;
+  for (const Collider& c : colliders) acc.add(placed(c.props_C, c.q_BC.toRotationMatrix(), c.p_BC));
+  return acc.result();
+}
+
+std::string mass_problem(const MassProperties& mp, double rel_tol) {
+  if (!std::isfinite(mp.mass) || !(mp.mass > 0)) return "mass must be positive and finite";
+  if (!mp.com.allFinite()) return "centre of mass is not finite";
+  return inertia_problem(mp.inertia, rel_tol);
+}
+
+const MassProperties& BodyDef::add_collider(Collider c) {
+  colliders.push_back(std::move(c));
+  return mass_B();
+}
+
+void BodyDef::append_collider(Collider c) {
+  colliders.push_back(std::move(c));
+}
+
+const MassProperties& BodyDef::mass_B() const {
+  if (mass_override) return *mass_override;
+  if (composed_ != colliders.size()) {
+    mass_B_ = compose(colliders);
+    composed_ = colliders.size();
+  }
+  return mass_B_;
+}
+
+}  // namespace simreel

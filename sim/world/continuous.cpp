@@ -1,0 +1,331 @@
+// Stage "continuous": no tunnelling (sim/README.md "Continuous collision"). After the step has
+// moved every body (contact solver, free-flight integrators, kinematic bodies), each dynamic body
+// that moved more than half its smallest width, or is flagged `bullet` and moved at all, is swept
+// from its pose at the step's start to its pose now, against every shape its swept box meets
+// (static, kinematic and dynamic bodies alike, the others swept over their own step's motion),
+// and moved back to its earliest time of impact, keeping its velocity. The next step's speculative
+// contact (found because the broad phase grows boxes by the velocity) then stops it at the
+// surface. Box2D v3 and Box3D do this for dynamic bodies against static ones and bullets against
+// dynamic ones, each against the others' end poses; here both sides move, so two fast dynamic
+// bodies crossing each other are caught too (where Rapier tunnels: dimforge/rapier#984).
+//
+// Deterministic and independent of order: every time of impact is computed from the same sweeps
+// (none moves a body until all are known), and each body then goes to the minimum of its own.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "sim/collision/narrow/manifold.hpp"
+#include "sim/dynamics/integrators.hpp"
+#include "sim/world/world.hpp"
+
+namespace simreel {
+
+namespace {
+constexpr double kInfWidth = std::numeric_limits<double>::infinity();
+}  // namespace
+
+void World::init_continuous() {
+  ccd_enabled_ = collide_enabled_ && cfg_.contacts.continuous;
+  if (!ccd_enabled_) return;
+  const int n = (int)defs_.size();
+  const ShapeTable& st = *shapes_;
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  min_size_.assign(n, kInf);
+  body_reach_.assign(n, 0.0);
+  shape_reach_.assign(st.size(), 0.0);
+  shape_width_.assign(st.size(), kInf);
+  shape_swept_.assign(st.size(), 0);
+  shape_begin_.assign(n + 1, st.size());
+  for (int k = st.size() - 1; k >= 0; --k) shape_begin_[st[k].body] = k;
+  for (int i = n - 1; i >= 0; --i) shape_begin_[i] = std::min(shape_begin_[i], shape_begin_[i + 1]);
+  for (int k = 0; k < st.size(); ++k) {
+    const ShapeRecord& r = st[k];
+    // Planes and static meshes (never swept; their width is unbounded), shapes that touch nothing.
+    if (r.geom.kind == CollideKind::plane || r.geom.kind == CollideKind::mesh || r.group == 0 || r.mask == 0)
+      continue;
+    shape_reach_[k] = r.p_PC.norm() + r.geom.bounding_radius;
+    shape_width_[k] = min_width(r.geom);
+    body_reach_[r.body] = std::max(body_reach_[r.body], shape_reach_[k]);
+    min_size_[r.body] = std::min(min_size_[r.body], shape_width_[k]);
+  }
+  bullet_.assign(n, 0);
+  for (int i : dynamic_) bullet_[i] = defs_[i].bullet;
+  ccd_movers_ = dynamic_;
+  ccd_movers_.insert(ccd_movers_.end(), kinematic_.begin(), kinematic_.end());
+  std::sort(ccd_movers_.begin(), ccd_movers_.end());
+  x0_.assign(n, Vec3::Zero());
+  q0_.assign(n, Quat::Identity());
+  for (int i = 0; i < n; ++i) x0_[i] = state_[i].x_W, q0_[i] = state_[i].q_WP;
+  toi_.assign(n, 1.0);
+  sweeps_.assign(n, Sweep{});
+  for (int i = 0; i < n; ++i) sweeps_[i] = make_sweep(x0_[i], q0_[i], x0_[i], q0_[i]);
+  swept_boxes_.assign(st.size(), Aabb{});
+  for (int k : sweep_shapes_)
+    if (!shape_moving_[k])
+      swept_boxes_[k] = ShapeTable::bounds(st[k].geom, ShapeTable::world_pose(st[k], state_[st[k].body]));
+  ccd_order_ = sweep_shapes_;
+}
+
+// A fast pair (one of its shapes can close on the other by more than half its own smallest width
+// this step, or a bullet is in it): collide_ahead instead of collide. `closing` (the broad phase's
+// bound on how far the pair can close, about the bodies' centres) bounds the shapes' own relative
+// motion, so slow pairs are turned away without more work.
+bool World::fast_pair(int a, int b, double closing) const {
+  if (!ccd_enabled_) return false;
+  const ShapeRecord& A = (*shapes_)[a];
+  const ShapeRecord& B = (*shapes_)[b];
+  const double slop4 = 4 * cfg_.contacts.linear_slop;
+  if (!(shape_width_[a] > slop4) || !(shape_width_[b] > slop4)) return false;  // as in stage_continuous
+  if (bullet_[A.body] || bullet_[B.body]) return true;
+  const double limit = 0.5 * std::min(model_[A.body].is_static ? kInfWidth : shape_width_[a],
+                                      model_[B.body].is_static ? kInfWidth : shape_width_[b]);
+  if (closing <= limit) return false;
+  // The shapes' own motion: their centres' relative velocity and their spin about their centres.
+  auto centre_velocity = [&](const ShapeRecord& r, Vec3& w) {
+    const MotionState& s = state_[r.body];
+    w = s.q_WP * s.w_P;
+    return Vec3(s.v_W + w.cross(s.q_WP * r.p_PC));
+  };
+  Vec3 wa, wb;
+  const Vec3 va = centre_velocity(A, wa), vb = centre_velocity(B, wb);
+  const double own =
+      ((va - vb).norm() + wa.norm() * A.geom.bounding_radius + wb.norm() * B.geom.bounding_radius) * cfg_.dt;
+  return own > limit;
+}
+
+// The speculative manifold of a fast pair, taken where the pair will touch rather than where it is.
+// A manifold made at the step's start from the closest features (what collide does, with the
+// speculative range grown by how far the pair can close) is the wrong one for a body that moves
+// several of its sizes in a step: a sphere shot past a wall's edge at an angle gets the edge's
+// diagonal normal, and the solver stops it against that plane instead of the face it will hit (a
+// ghost collision: with restitution 0 it bounced off at 10 m/s, measured). Here each body's motion
+// over the step is predicted from its velocity (and gravity), the pair is swept to the time it
+// comes within half the speculative distance (time_of_impact.hpp), the manifold is made there, and its points
+// are carried back to the step's start with their bodies (each anchor fixed in its body), so the
+// solver's speculative constraint is the one of the surfaces that will touch. The two anchors of a
+// point then differ across the normal by the pair's sliding until the impact: `offset` (the
+// solver reads it into the anchors; ContactPoint::offset_W). A pair that never
+// comes that close in the prediction has no points (the continuous stage after the solve catches
+// what the prediction missed); a pair touching already is collided as usual.
+int World::collide_ahead(int a, int b, const Pose& xa, const Pose& xb, double speculative, double closing,
+                         PairCache& cache, Manifold& m, Vec3 offset[4]) const {
+  const ShapeTable& st = *shapes_;
+  const ShapeRecord& A = st[a];
+  const ShapeRecord& B = st[b];
+  const double dt = cfg_.dt;
+  auto predict = [&](int i) {
+    const MotionState& s = state_[i];
+    Vec3 x1 = s.x_W + dt * s.v_W;
+    if (model_[i].inv_mass > 0) x1 += (0.5 * dt * dt) * cfg_.gravity;
+    const Quat q1 = (rotation_increment(s.q_WP * s.w_P, dt) * s.q_WP).normalized();
+    return make_sweep(s.x_W, s.q_WP, x1, q1);
+  };
+  const Sweep sa = predict(A.body), sb = predict(B.body);
+  ToiInput in;
+  in.a = &A.geom;
+  in.R_PA = A.R_PC;
+  in.p_PA = A.p_PC;
+  in.sa = &sa;
+  in.reach_a = shape_reach_[a];
+  in.b = &B.geom;
+  in.R_PB = B.R_PC;
+  in.p_PB = B.p_PC;
+  in.sb = &sb;
+  in.reach_b = shape_reach_[b];
+  in.target = 0.5 * speculative;
+  in.tolerance = 0.25 * speculative;
+  const ToiOutput out = time_of_impact(in);
+  if (out.state == ToiOutput::touching || !(speculative > 0))
+    return collide(A.geom, xa, B.geom, xb, speculative + closing, cache, m);
+  m.count = 0;
+  if (out.state == ToiOutput::separated) return 0;
+  const double t = out.t;
+  const Vec3 xA = sa.x_at(t), xB = sb.x_at(t);
+  const Quat qA = sa.q_at(t), qB = sb.q_at(t);
+  const int n =
+      collide(A.geom, shape_pose(A, xA, qA), B.geom, shape_pose(B, xB, qB), 2.0 * speculative, cache, m);
+  // Back to the start: each surface point keeps its place in its body.
+  const Mat3 RA0 = sa.q0.toRotationMatrix(), RB0 = sb.q0.toRotationMatrix();
+  const Mat3 RAt = qA.toRotationMatrix(), RBt = qB.toRotationMatrix();
+  const Vec3& nrm = m.normal_W;
+  for (int j = 0; j < n; ++j) {
+    ManifoldPoint& p = m.points[j];
+    const Vec3 pA = sa.x0 + RA0 * (RAt.transpose() * (p.p_W - (0.5 * p.separation) * nrm - xA));
+    const Vec3 pB = sb.x0 + RB0 * (RBt.transpose() * (p.p_W + (0.5 * p.separation) * nrm - xB));
+    p.separation = nrm.dot(pB - pA);
+    p.p_W = 0.5 * (pA + pB);
+    offset[j] = (pB - pA) - p.separation * nrm;
+  }
+  return n;
+}
+
+// The earliest time of impact (fraction of the step; 1: none) of convex shape c on sweep s with the
+// triangles of static mesh shape m whose boxes meet c's box over the sweep, `box`, grown by the
+// target gap. guarded: stage_continuous's fallbacks for triangles touched at the start; else a
+// triangle touched at the start gives -1 (collide_mesh_pair then collides as usual).
+double World::mesh_toi(int c, int m, const Sweep& s, const Aabb& box, double target, double tolerance,
+                       bool guarded, int* triangle) const {
+  const ShapeTable& st = *shapes_;
+  const ShapeRecord& C = st[c];
+  const ShapeRecord& M = st[m];
+  ToiInput in;
+  in.a = &C.geom;
+  in.R_PA = C.R_PC;
+  in.p_PA = C.p_PC;
+  in.sa = &s;
+  in.reach_a = shape_reach_[c];
+  in.target = target;
+  in.tolerance = tolerance;
+  const Vec3 grow = Vec3::Constant(target + tolerance);
+  const ToiOutput out = mesh_time_of_impact(in, M.geom, ShapeTable::world_pose(M, state_[M.body]),
+                                            box.lo - grow, box.hi + grow, guarded, triangle);
+  if (out.state == ToiOutput::touching) return -1;
+  return out.state == ToiOutput::hit ? out.t : 1.0;
+}
+
+// Only the awake bodies (dynamic and kinematic): a sleeping body's start pose was saved when it fell
+// asleep (stage_sleep) or was restored (after_restore) and holds while it sleeps, since nothing
+// moves it without waking it first. With 50,000 bodies asleep the copy of every pose was a quarter
+// of the step.
+void World::save_start_poses() {
+  for (int i : awake_bodies_) {
+    x0_[i] = state_[i].x_W;
+    q0_[i] = state_[i].q_WP;
+  }
+}
+
+bool World::stage_continuous() {
+  // Which bodies are swept: a dynamic body one of whose shapes moved more than half its smallest
+  // width (Box2D's and Box3D's rule, there per body: here a 20 um tip on a large top does not make
+  // the whole top fast), or a bullet that moved at all. The body's farthest point bounds every
+  // shape's motion, so most bodies are turned away by one test.
+  fast_.clear();
+  const ShapeTable& shapes = *shapes_;
+  for (int i : dynamic_) {
+    if (asleep_[i] >= 0) continue;
+    const MotionState& s = state_[i];
+    const Vec3 dx = s.x_W - x0_[i];
+    const double c = std::min(1.0, std::fabs(q0_[i].dot(s.q_WP)));
+    const double angle = 2.0 * std::acos(c);
+    const double motion = dx.norm() + angle * body_reach_[i];
+    if (!(motion > 0) || (!bullet_[i] && motion <= 0.5 * min_size_[i])) continue;
+    bool any = false;
+    const Mat3 R0 = q0_[i].toRotationMatrix(), R1 = s.q_WP.toRotationMatrix();
+    for (int k = shape_begin_[i]; k < shape_begin_[i + 1]; ++k) {
+      const ShapeRecord& r = shapes[k];
+      // Planes and shapes that touch nothing are not swept; nor shapes narrower than four slops
+      // (0.4 mm by default): the solver lets any contact sink a slop, so their centre is not
+      // outside what they touch even at rest (a 20 um tip on a spinning top was pulled back
+      // every step and the top stopped precessing).
+      if (!(shape_width_[k] > 4 * cfg_.contacts.linear_slop) || !std::isfinite(shape_width_[k])) continue;
+      const double m = (dx + (R1 - R0) * r.p_PC).norm() + angle * r.geom.bounding_radius;
+      shape_swept_[k] = bullet_[i] || m > 0.5 * shape_width_[k];
+      any = any || shape_swept_[k];
+    }
+    if (any) fast_.push_back(i);
+  }
+  if (fast_.empty()) return false;
+  profile_.swept_bodies += (long)fast_.size();
+  // Every moving body's sweep, and every shape's box over the step (its boxes at the start and at
+  // the end, grown by how far a rotation's arc strays from its chord: r (1 - cos(angle / 2))).
+  for (int i : ccd_movers_) sweeps_[i] = make_sweep(x0_[i], q0_[i], state_[i].x_W, state_[i].q_WP);
+  const ShapeTable& st = *shapes_;
+  const ContactSettings& cs = cfg_.contacts;
+  const double target = std::max(cs.linear_slop, 1e-5), tolerance = 0.25 * target;
+  for (int k : sweep_shapes_) {
+    if (!shape_moving_[k]) continue;
+    const ShapeRecord& r = st[k];
+    const Sweep& s = sweeps_[r.body];
+    Aabb b = ShapeTable::bounds(r.geom, shape_pose(r, s.x0, s.q0));
+    if (s.moves) {
+      const Aabb e = ShapeTable::bounds(r.geom, shape_pose(r, s.x0 + s.dx, s.q1));
+      const double arc = shape_reach_[k] * (1.0 - std::cos(0.5 * s.angle));
+      b.lo = b.lo.cwiseMin(e.lo) - Vec3::Constant(arc);
+      b.hi = b.hi.cwiseMax(e.hi) + Vec3::Constant(arc);
+    }
+    swept_boxes_[k] = b;
+  }
+  // Candidate pairs: sort and sweep along x over the swept boxes, keeping pairs with a swept body.
+  const std::vector<Aabb>& bx = swept_boxes_;
+  std::sort(ccd_order_.begin(), ccd_order_.end(), [&](int a, int b) {
+    return bx[a].lo.x() < bx[b].lo.x() || (bx[a].lo.x() == bx[b].lo.x() && a < b);
+  });
+  ccd_pairs_.clear();
+  const double grow = target + tolerance;
+  for (size_t i = 0; i < ccd_order_.size(); ++i) {
+    const int a = ccd_order_[i];
+    const Aabb& A = bx[a];
+    const bool sa = shape_swept_[a];
+    for (size_t j = i + 1; j < ccd_order_.size(); ++j) {
+      const int b = ccd_order_[j];
+      const Aabb& B = bx[b];
+      if (B.lo.x() > A.hi.x() + grow) break;
+      if (!sa && !shape_swept_[b]) continue;
+      if (A.lo.y() > B.hi.y() + grow || B.lo.y() > A.hi.y() + grow || A.lo.z() > B.hi.z() + grow ||
+          B.lo.z() > A.hi.z() + grow)
+        continue;
+      const int lo = std::min(a, b), hi = std::max(a, b);
+      if (shapes_may_touch(lo, hi)) ccd_pairs_.push_back(((uint64_t)lo << 32) | (uint32_t)hi);
+    }
+  }
+  for (int p : plane_shapes_)
+    for (int k : sweep_shapes_) {
+      if (!shape_swept_[k]) continue;
+      const int lo = std::min(p, k), hi = std::max(p, k);
+      if (shapes_may_touch(lo, hi)) ccd_pairs_.push_back(((uint64_t)lo << 32) | (uint32_t)hi);
+    }
+  std::sort(ccd_pairs_.begin(), ccd_pairs_.end());
+  profile_.toi_pairs += (long)ccd_pairs_.size();
+  // Times of impact, all from the same sweeps.
+  for (uint64_t key : ccd_pairs_) {
+    const int a = (int)(key >> 32), b = (int)(key & 0xFFFFFFFFu);
+    const ShapeRecord& A = st[a];
+    const ShapeRecord& B = st[b];
+    if (A.geom.kind == CollideKind::mesh || B.geom.kind == CollideKind::mesh) {
+      // A static triangle mesh: its triangles within the swept shape's box (the mesh is never the
+      // swept side: it is static).
+      const int c = A.geom.kind == CollideKind::mesh ? b : a;
+      const double t =
+          mesh_toi(c, a == c ? b : a, sweeps_[st[c].body], swept_boxes_[c], target, tolerance, true);
+      if (t < 1 && t > 0) toi_[st[c].body] = std::min(toi_[st[c].body], t);
+      continue;
+    }
+    ToiInput in;
+    in.a = &A.geom;
+    in.R_PA = A.R_PC;
+    in.p_PA = A.p_PC;
+    in.sa = &sweeps_[A.body];
+    in.reach_a = shape_reach_[a];
+    in.b = &B.geom;
+    in.R_PB = B.R_PC;
+    in.p_PB = B.p_PC;
+    in.sb = &sweeps_[B.body];
+    in.reach_b = shape_reach_[b];
+    in.target = target;
+    in.tolerance = tolerance;
+    // Touching at the start (a resting or sliding contact, which the solver handles): the swept
+    // sides' cores instead, then their centres (time_of_impact.hpp, time_of_impact_guarded).
+    const ToiOutput out = time_of_impact_guarded(in, (shape_swept_[a] ? 1 : 0) | (shape_swept_[b] ? 2 : 0));
+    if (out.state != ToiOutput::hit || !(out.t > 0)) continue;
+    if (shape_swept_[a]) toi_[A.body] = std::min(toi_[A.body], out.t);
+    if (shape_swept_[b]) toi_[B.body] = std::min(toi_[B.body], out.t);
+  }
+  // Each swept body that hits goes back to its earliest time of impact, its velocity unchanged;
+  // unless it ended within a slop of that pose (the solver stopped it at the surface, as it
+  // should: moving it back would only leave it hovering a target gap off the surface).
+  const double keep = target + tolerance + cs.linear_slop;
+  for (int i : fast_) {
+    for (int k = shape_begin_[i]; k < shape_begin_[i + 1]; ++k) shape_swept_[k] = 0;
+    const Sweep& s = sweeps_[i];
+    if (toi_[i] < 1 && (1.0 - toi_[i]) * (s.dx.norm() + s.angle * body_reach_[i]) > keep) {
+      state_[i].x_W = s.x_at(toi_[i]);
+      state_[i].q_WP = s.q_at(toi_[i]);
+      ++profile_.toi_hits;
+    }
+    toi_[i] = 1.0;
+  }
+  return true;
+}
+
+}  // namespace simreel

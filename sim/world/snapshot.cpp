@@ -1,0 +1,294 @@
+#include "sim/world/snapshot.hpp"
+
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <istream>
+#include <ostream>
+#include <string>
+
+#include "sim/base/error.hpp"
+#include "sim/world/world.hpp"
+
+namespace simreel {
+
+namespace {
+
+constexpr char kMagic[] = "SIMREEL-STATE\n";
+
+class Out {
+ public:
+  explicit Out(std::ostream& os) : os_(os) {}
+  void u64(uint64_t v) {
+    unsigned char b[8];
+    for (int i = 0; i < 8; ++i) b[i] = (unsigned char)(v >> (8 * i));
+    os_.write(reinterpret_cast<const char*>(b), 8);
+  }
+  void u32(uint32_t v) {
+    unsigned char b[4];
+    for (int i = 0; i < 4; ++i) b[i] = (unsigned char)(v >> (8 * i));
+    os_.write(reinterpret_cast<const char*>(b), 4);
+  }
+  void i32(int32_t v) { u32((uint32_t)v); }
+  void i64(int64_t v) { u64((uint64_t)v); }
+  void u8(uint8_t v) { os_.put((char)v); }
+  void f64(double v) { u64(std::bit_cast<uint64_t>(v)); }
+  void vec(const Vec3& v) {
+    f64(v.x());
+    f64(v.y());
+    f64(v.z());
+  }
+  void quat(const Quat& q) {
+    f64(q.w());
+    f64(q.x());
+    f64(q.y());
+    f64(q.z());
+  }
+
+ private:
+  std::ostream& os_;
+};
+
+class In {
+ public:
+  explicit In(std::istream& is) : is_(is) {}
+  uint64_t u64() {
+    unsigned char b[8];
+    read(b, 8);
+    uint64_t v = 0;
+    for (int i = 0; i < 8; ++i) v |= (uint64_t)b[i] << (8 * i);
+    return v;
+  }
+  uint32_t u32() {
+    unsigned char b[4];
+    read(b, 4);
+    uint32_t v = 0;
+    for (int i = 0; i < 4; ++i) v |= (uint32_t)b[i] << (8 * i);
+    return v;
+  }
+  int32_t i32() { return (int32_t)u32(); }
+  int64_t i64() { return (int64_t)u64(); }
+  uint8_t u8() {
+    unsigned char b;
+    read(&b, 1);
+    return b;
+  }
+  double f64() { return std::bit_cast<double>(u64()); }
+  Vec3 vec() {
+    const double x = f64(), y = f64(), z = f64();
+    return Vec3(x, y, z);
+  }
+  Quat quat() {
+    const double w = f64(), x = f64(), y = f64(), z = f64();
+    return Quat(w, x, y, z);
+  }
+
+ private:
+  void read(unsigned char* b, std::streamsize n) {
+    is_.read(reinterpret_cast<char*>(b), n);
+    if (is_.gcount() != n) throw InputError("saved state is truncated");
+  }
+  std::istream& is_;
+};
+
+void fnv(uint64_t& h, const void* p, size_t n) {
+  const unsigned char* b = static_cast<const unsigned char*>(p);
+  for (size_t i = 0; i < n; ++i) h = (h ^ b[i]) * 0x100000001b3ull;
+}
+
+}  // namespace
+
+uint64_t World::fingerprint() const {
+  uint64_t h = 0xcbf29ce484222325ull;
+  const uint64_t n = defs_.size();
+  fnv(h, &n, sizeof n);
+  for (const BodyDef& d : defs_) {
+    fnv(h, d.name.data(), d.name.size());
+    const int t = (int)d.type;
+    fnv(h, &t, sizeof t);
+  }
+  const uint64_t ns = shapes_->size();
+  fnv(h, &ns, sizeof ns);
+  for (const ShapeRecord& r : shapes_->shapes()) {
+    const int k = (int)r.geom.kind;
+    fnv(h, &k, sizeof k);
+  }
+  const uint64_t dt = std::bit_cast<uint64_t>(cfg_.dt);
+  fnv(h, &dt, sizeof dt);
+  // The force list's kinds and bodies (only when there is one: a scene without forces keeps the
+  // fingerprint it had before forces existed).
+  if (!cfg_.forces.empty()) {
+    const uint64_t nf = cfg_.forces.size();
+    fnv(h, &nf, sizeof nf);
+    for (const ForceDef& f : cfg_.forces) {
+      const int v[3] = {(int)f.kind, f.body, f.body_b};
+      fnv(h, v, sizeof v);
+    }
+  }
+  return h;
+}
+
+void World::save_state(std::ostream& os) const {
+  Out o(os);
+  os.write(kMagic, sizeof kMagic - 1);
+  o.u32(kStateVersion);
+  o.u64(fingerprint());
+  o.i64(steps_);
+  for (size_t i = 0; i < state_.size(); ++i) {
+    const MotionState& s = state_[i];
+    o.quat(s.q_WP);
+    o.vec(s.x_W);
+    o.vec(s.v_W);
+    o.vec(s.w_P);
+    o.vec(wrench_[i].f_W);
+    o.vec(wrench_[i].tau_W);
+  }
+  o.i32(contact_stats_.contacts_max);
+  o.f64(contact_stats_.max_penetration);
+  // contacts_ and resting_ merged in key order: the one list stage_collide keeps.
+  o.u32((uint32_t)(contacts_.size() + resting_.size()));
+  for_each_contact([&o](const Contact& c) {
+    o.i32(c.shape_a);
+    o.i32(c.shape_b);
+    o.i32(c.body_a);
+    o.i32(c.body_b);
+    o.vec(c.normal_W);
+    o.i32(c.count);
+    for (int j = 0; j < c.count; ++j) {
+      const ContactPoint& p = c.points[j];
+      o.u32(p.id);
+      o.vec(p.p_W);
+      o.f64(p.separation);
+      o.f64(p.normal_impulse);
+    }
+    o.vec(c.friction_impulse_W);
+    o.f64(c.twist_impulse);
+    o.vec(c.rolling_impulse);
+    o.u8(c.cache.type);
+    o.i32(c.cache.a);
+    o.i32(c.cache.b);
+    o.f64(c.friction);
+    o.f64(c.restitution);
+  });
+  o.u32((uint32_t)fired_.size());
+  for (char f : fired_) o.u8((uint8_t)f);
+  o.i32(settle_substeps_);
+  for (size_t i = 0; i < state_.size(); ++i) {
+    o.f64(still_time_[i]);
+    o.i32(asleep_[i]);
+  }
+  if (!os) throw std::runtime_error("could not write the saved state");
+}
+
+void World::restore_state(std::istream& is) {
+  char magic[sizeof kMagic - 1];
+  is.read(magic, sizeof magic);
+  if (is.gcount() != (std::streamsize)sizeof magic || std::memcmp(magic, kMagic, sizeof magic) != 0)
+    throw InputError("not a simreel saved state");
+  In in(is);
+  const uint32_t version = in.u32();
+  if (version < 1 || version > kStateVersion)
+    throw InputError("saved state has version " + std::to_string(version) + "; this simreel reads version " +
+                     std::to_string(kStateVersion));
+  if (in.u64() != fingerprint())
+    throw InputError("saved state is from another scene (bodies, shapes or timestep differ)");
+  const int64_t steps = in.i64();
+  if (steps < 0) throw InputError("saved state is damaged (negative step count)");
+  std::vector<MotionState> state(state_.size());
+  std::vector<Wrench> wrench(state_.size());
+  bool dirty = false;
+  for (size_t i = 0; i < state.size(); ++i) {
+    MotionState& s = state[i];
+    s.q_WP = in.quat();
+    s.x_W = in.vec();
+    s.v_W = in.vec();
+    s.w_P = in.vec();
+    wrench[i].f_W = in.vec();
+    wrench[i].tau_W = in.vec();
+    dirty = dirty || !wrench[i].f_W.isZero(0) || !wrench[i].tau_W.isZero(0);
+    if (!s.q_WP.coeffs().allFinite() || !all_finite(s.x_W) || !all_finite(s.v_W) || !all_finite(s.w_P))
+      throw InputError("saved state is damaged (non-finite state of body '" + defs_[i].name + "')");
+  }
+  ContactStats stats;
+  stats.contacts_max = in.i32();
+  stats.max_penetration = in.f64();
+  const uint32_t nc = in.u32();
+  const int ns = shapes_->size();
+  if (nc > (uint64_t)ns * (uint64_t)ns) throw InputError("saved state is damaged (contact count)");
+  std::vector<Contact> contacts(nc);
+  uint64_t last = 0;
+  for (uint32_t k = 0; k < nc; ++k) {
+    Contact& c = contacts[k];
+    c.shape_a = in.i32();
+    c.shape_b = in.i32();
+    c.body_a = in.i32();
+    c.body_b = in.i32();
+    if (c.shape_a < 0 || c.shape_b <= c.shape_a || c.shape_b >= ns || (k > 0 && c.key() < last) ||
+        c.body_a != (*shapes_)[c.shape_a].body || c.body_b != (*shapes_)[c.shape_b].body)
+      throw InputError("saved state is damaged (contact " + std::to_string(k) + ")");
+    last = c.key();
+    c.normal_W = in.vec();
+    c.count = in.i32();
+    if (c.count < 0 || c.count > 4) throw InputError("saved state is damaged (contact point count)");
+    for (int j = 0; j < c.count; ++j) {
+      ContactPoint& p = c.points[j];
+      p.id = in.u32();
+      p.p_W = in.vec();
+      p.separation = in.f64();
+      p.normal_impulse = in.f64();
+    }
+    c.friction_impulse_W = in.vec();
+    c.twist_impulse = in.f64();
+    c.rolling_impulse = in.vec();
+    c.cache.type = in.u8();
+    c.cache.a = in.i32();
+    c.cache.b = in.i32();
+    c.friction = in.f64();
+    c.restitution = in.f64();
+  }
+  // Version 2: which impulses were applied. Version 1 had no forces (its fingerprint matched a
+  // world without any): none applied.
+  std::vector<char> fired(fired_.size(), 0);
+  if (version >= 2) {
+    if (in.u32() != fired.size()) throw InputError("saved state is damaged (force count)");
+    for (char& f : fired) {
+      const uint8_t b = in.u8();
+      if (b > 1) throw InputError("saved state is damaged (impulse flag)");
+      f = (char)b;
+    }
+  }
+  // Version 3: substeps left with an impact's extra sweep (none before).
+  // and each body's still time and sleeping island (all awake before).
+  int settle = 0;
+  std::vector<double> still(state_.size(), 0.0);
+  std::vector<int> asleep(state_.size(), -1);
+  int sleeping = 0;
+  if (version >= 3) {
+    settle = in.i32();
+    if (settle < 0 || settle > 100000) throw InputError("saved state is damaged (impact settling)");
+    for (size_t i = 0; i < state_.size(); ++i) {
+      still[i] = in.f64();
+      asleep[i] = in.i32();
+      if (!(still[i] >= 0) || !std::isfinite(still[i]) || asleep[i] < -1 || asleep[i] >= (int)state_.size() ||
+          (asleep[i] >= 0 && (!sleep_enabled_ || !may_sleep_[i])))
+        throw InputError("saved state is damaged (sleep state of body '" + defs_[i].name + "')");
+      sleeping += asleep[i] >= 0;
+    }
+  }
+  fired_ = std::move(fired);
+  settle_substeps_ = settle;
+  still_time_ = std::move(still);
+  asleep_ = std::move(asleep);
+  sleeping_ = sleeping;
+  state_ = std::move(state);
+  wrench_ = std::move(wrench);
+  wrench_dirty_ = dirty;
+  steps_ = steps;
+  contact_stats_ = stats;
+  contacts_ = std::move(contacts);
+  resting_.clear();  // the resting records move there again in the next collide
+  resting_keys_.clear();
+  after_restore();
+}
+
+}  // namespace simreel

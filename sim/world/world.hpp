@@ -1,0 +1,408 @@
+// The simulated world: bodies as plain arrays reached by index, advanced by a fixed step.
+//
+// World::step() is the pipeline (Box2D v3's b2World_Step, Box3D's solver stages), each stage an
+// entry of `Stage`, timed into Profile when profiling is on and counted as skipped when it had
+// nothing to do:
+//   forces               the scene's forces (sim/dynamics/forces.hpp) into the accumulators at the step's
+//                        start, through apply_force / apply_torque; impulses due applied once
+//                        (skipped when there are none; gravity is applied inside integration)
+//   update_broad_phase   world boxes of the awake colliding shapes, dynamic tree -> candidate pairs
+//   collide              narrow phase on each pair -> manifolds matched to last step's by feature
+//                        id (warm-start impulses carried over)
+//   prepare_contacts     solver bodies (world frame, fresh R I^-1 R^T) and constraints for the
+//                        bodies in contact this step
+//   per substep: integrate_velocities, warm_start, solve, integrate_positions, relax
+//   restitution, store_impulses, then the solved bodies' motion is written back
+//   integrate            the free-flight integrators over the dynamic bodies touching nothing this
+//                        step (static bodies are never visited), kinematic bodies at their velocity;
+//                        bodies under forces with `auto` or `rk4` by one RK4 over all of them that
+//                        evaluates the forces again at every stage (sim/README.md, "Forces")
+//   check                NaN/inf guard over the new state; stops the run naming the body and time
+//   clear                zero the force/torque accumulators (skipped unless something was applied)
+//   derived              world inverse inertia for consumers that need it every step
+// A scene without colliding shapes skips every contact stage and pays nothing for them.
+// Thread count never changes results: free-flight bodies are split into fixed contiguous chunks
+// and each body is advanced independently; the narrow phase writes each pair into its own slot;
+// the contact solver goes colour by colour through a colouring of its constraints that depends on
+// the contact list alone (sim/solver/constraint_graph.hpp, sim/README.md "Threads").
+#pragma once
+#include <iosfwd>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "sim/dynamics/body.hpp"
+#include "sim/collision/broad_phase.hpp"
+#include "sim/collision/time_of_impact.hpp"
+#include "sim/collision/contact.hpp"
+#include "sim/solver/contact_settings.hpp"
+#include "sim/solver/contact_solver.hpp"
+#include "sim/dynamics/forces.hpp"
+#include "sim/dynamics/integrators.hpp"
+#include "sim/collision/shape_table.hpp"
+#include "sim/dynamics/state.hpp"
+
+namespace simreel {
+
+struct WorldConfig {
+  double dt = 1.0 / 240.0;               ///< s, fixed step
+  Vec3 gravity = Vec3(0.0, 0.0, -9.81);  ///< m/s^2
+  Integrator integrator = Integrator::automatic;
+  int threads = 1;  ///< worker threads for integration (results identical)
+  /// Whether the worker pool may run stages on the calling thread alone while the machine is too
+  /// busy for its barriers (sim/base/worker_pool.hpp "Back-off": timing only, never results). Off in the
+  /// thread-count tests, so that their runs are split among the threads whatever the load.
+  bool thread_backoff = true;
+  ContactSettings contacts;
+  /// Pairs of body indices that never collide with each other (scene: simulation.ignore_pairs).
+  std::vector<std::pair<int, int>> ignore_pairs;
+  /// Applied forces (scene: forces), by body index; checked by validate_forces.
+  std::vector<ForceDef> forces;
+};
+
+// A non-finite value appeared in the state.
+class StateError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+enum class Stage {
+  forces,
+  update_broad_phase,
+  collide,
+  prepare_contacts,
+  integrate_velocities,
+  warm_start,
+  solve,
+  integrate_positions,
+  relax,
+  restitution,
+  store_impulses,
+  integrate,
+  check,
+  continuous,
+  sleep,
+  clear,
+  derived,
+  count
+};
+const char* to_string(Stage s);
+
+struct Profile {
+  double seconds[(int)Stage::count] = {};  ///< wall time spent per stage
+  long runs[(int)Stage::count] = {};       ///< steps in which the stage did work
+  long skipped[(int)Stage::count] = {};    ///< steps in which it had nothing to do
+  long steps = 0;
+  // What the integrate stage does with each body (fixed when the world is built):
+  int static_bodies = 0;      ///< never visited
+  int isotropic_bodies = 0;   ///< dynamic under `auto` with isotropic inertia: no gyroscopic work
+  int gyroscopic_bodies = 0;  ///< dynamic, full rotational dynamics
+  int kinematic_bodies = 0;   ///< moved at their given velocity
+  int forced_bodies = 0;      ///< dynamic under auto/rk4 with forces: RK4 evaluating forces per stage
+  int forces = 0;             ///< entries of the force list
+  int shapes = 0;             ///< colliding shapes (planes included)
+  long pairs = 0;             ///< candidate pairs from the broad phase, summed over steps
+  long contact_points = 0;    ///< manifold points, summed over steps
+  long solver_bodies = 0;     ///< bodies stepped by the contact solver, summed over steps
+  long sweeps = 0;            ///< the contact solver's solve and relax sweeps, summed over steps
+  long impact_substeps = 0;   ///< substeps with an impact (one more sweep: kImpactSpeed)
+  long body_warm_starts = 0;  ///< substeps warm-started per body (ContactSolver::warm_start)
+  long pool_runs = 0;         ///< parallel stage runs handed to the worker pool (threads > 1)
+  long pool_alone_runs = 0;   ///< of which run on the calling thread alone (sim/base/worker_pool.hpp back-off)
+  long swept_bodies = 0;      ///< fast or bullet bodies swept by the continuous stage, summed over steps
+  long toi_pairs = 0;         ///< shape pairs whose time of impact was computed, summed over steps
+  long toi_hits = 0;          ///< swept bodies moved back to their time of impact, summed over steps
+};
+
+// What contact did over the run (simulate --json).
+struct ContactStats {
+  int contacts_max = 0;        ///< most manifold points in one step
+  double max_penetration = 0;  ///< m, deepest overlap seen at the start of a step
+};
+
+class WorkerPool;
+
+class World {
+ public:
+  // Validates every body (positive mass, valid inertia, finite, unit quaternion); throws InputError.
+  World(const WorldConfig& config, std::vector<BodyDef> bodies);
+  ~World();
+  World(const World&) = delete;
+  World& operator=(const World&) = delete;
+
+  void step();
+  double time() const { return (double)steps_ * cfg_.dt; }  ///< s, steps * dt (no accumulated rounding)
+  long steps() const { return steps_; }
+  const WorldConfig& config() const { return cfg_; }
+  int body_count() const { return (int)defs_.size(); }
+  int dynamic_count() const { return (int)dynamic_.size(); }
+  BodyType type(int i) const { return defs_[i].type; }
+  const BodyDef& def(int i) const { return defs_[i]; }
+  const BodyModel& model(int i) const { return model_[i]; }
+  const MotionState& state(int i) const { return state_[i]; }
+
+  // ---- The article's RigidBody interface, by body index (sim/README.md maps the names).
+  const Vec3& local_centroid(int i) const { return model_[i].c_B; }  ///< m, body frame
+  const Vec3& centroid(int i) const { return state_[i].x_W; }        ///< m, world
+  Vec3 origin_position(int i) const;                                 ///< UpdatePositionFromGlobalCentroid
+  void set_origin_position(int i, const Vec3& p_W);                  ///< UpdateGlobalCentroidFromPosition
+  Quat orientation(int i) const;                                     ///< q_WB, body to world
+  void set_orientation(int i, const Quat& q_WB);                     ///< keeps the centroid, normalises
+  Mat3 rotation(int i) const { return orientation(i).toRotationMatrix(); }  ///< R_WB
+  Mat3 inverse_rotation(int i) const { return rotation(i).transpose(); }    ///< R_BW
+  Vec3 local_to_world(int i, const Vec3& p_B) const;                        ///< point, m
+  Vec3 world_to_local(int i, const Vec3& p_W) const;                        ///< point, m
+  Vec3 local_to_world_vec(int i, const Vec3& v_B) const;                    ///< direction: rotation only
+  Vec3 world_to_local_vec(int i, const Vec3& v_W) const;
+  const Vec3& linear_velocity(int i) const { return state_[i].v_W; }  ///< m/s, of the centroid
+  void set_linear_velocity(int i, const Vec3& v_W) {
+    wake(i);
+    state_[i].v_W = v_W;
+  }
+  Vec3 angular_velocity(int i) const { return state_[i].q_WP * state_[i].w_P; }  ///< rad/s, world
+  void set_angular_velocity(int i, const Vec3& w_W);
+  Vec3 angular_momentum(int i) const;       ///< kg m^2/s about the centroid, world
+  Mat3 inverse_inertia_world(int i) const;  ///< R I_local^-1 R^T, 1/(kg m^2) (article erratum fixed)
+  Mat3 inertia_world(int i) const;          ///< R I_local R^T, kg m^2, about the centroid
+  // Force f_W (N) at world point at_W (m): torque (at - centroid) x f about the centroid.
+  void apply_force(int i, const Vec3& f_W, const Vec3& at_W);
+  void apply_force_local(int i, const Vec3& f_B, const Vec3& at_B);  ///< both in the body frame
+  void apply_central_force(int i, const Vec3& f_W);                  ///< at the centroid, no torque
+  void apply_torque(int i, const Vec3& tau_W);                       ///< N m, world
+  void apply_impulse(int i, const Vec3& J_W, const Vec3& at_W);      ///< N s at a world point, instant
+  void apply_angular_impulse(int i, const Vec3& dL_W);               ///< N m s, instant
+  void normalize_orientation(int i);  ///< UpdateOrientation: re-orthonormalise via the quaternion
+
+  // ---- Whole-world quantities (dynamic bodies only).
+  double kinetic_energy() const;  ///< J
+  double potential_energy()
+      const;                    ///< J, uniform gravity (zero at the world origin) + springs' k (L - L0)^2 / 2
+  Vec3 total_momentum() const;  ///< kg m/s
+  Vec3 total_angular_momentum() const;  ///< kg m^2/s about the system's centre of mass
+  // Throws StateError naming the body and time if any state value is not finite.
+  void check_state() const;
+  // Bodies whose spin |w| dt exceeds `max_angle` rad per step; each named once in warnings().
+  void check_spin(double max_angle = 0.5);
+  const std::vector<std::string>& warnings() const { return warnings_; }
+
+  // ---- Save and restore (sim/world/snapshot.hpp): the whole state between two steps. restore_state
+  // throws InputError for a file from another scene or version, or a damaged one.
+  void save_state(std::ostream& os) const;
+  void restore_state(std::istream& is);
+  uint64_t fingerprint() const;  ///< of the model: what a saved state must match
+
+  // ---- Contacts.
+  const ShapeTable& shapes() const { return *shapes_; }
+  /// The records that may act this step (at least one side awake, or kinematic), by (shape a,
+  /// shape b); a pair with a static triangle mesh may have several, consecutive.
+  const std::vector<Contact>& contacts() const { return contacts_; }
+  /// The records of pairs whose two sides are asleep or static, by (shape a, shape b): kept as
+  /// they were when the pair fell asleep, untouched until a side wakes (stage_collide).
+  const std::vector<Contact>& resting_contacts() const { return resting_; }
+  /// f(const Contact&) for the records of both lists, merged in key order (the one list the
+  /// sequential pass keeps; what a saved state holds).
+  template <class F>
+  void for_each_contact(F&& f) const {
+    for (size_t i = 0, r = 0; i < contacts_.size() || r < resting_.size();)
+      f(r == resting_.size() || (i < contacts_.size() && contacts_[i].key() < resting_[r].key())
+            ? contacts_[i++]
+            : resting_[r++]);
+  }
+  const ContactStats& contact_stats() const { return contact_stats_; }
+  bool has_contacts() const { return collide_enabled_; }  ///< false: contact stages always skipped
+  int substeps() const { return substeps_; }              ///< contact solver substeps per step (resolved)
+  const ContactSolver& contact_solver() const { return solver_; }  ///< the last step's (tests)
+
+  // ---- Sleeping (sim/world/sleep.cpp): a sleeping body is not stepped; touching it, a force,
+  // an impulse or setting its pose or velocity wakes it with the bodies it slept with.
+  bool asleep(int i) const { return asleep_[i] >= 0; }
+  int sleeping_count() const { return sleeping_; }
+  void wake(int i);
+
+  // ---- Applied forces (config().forces).
+  bool has_forces() const { return !cfg_.forces.empty(); }
+  bool impulse_applied(int k) const { return fired_[k] != 0; }  ///< force k (an impulse) was applied
+
+  void set_profiling(bool on) { profiling_ = on; }
+  const Profile& profile() const { return profile_; }
+  // Ask for the world inverse inertia to be refreshed every step (stage 5).
+  void keep_world_inertia(bool on) { keep_derived_ = on; }
+  const Mat3& cached_inverse_inertia_world(int i) const { return inv_I_W_[i]; }
+
+ private:
+  bool stage_integrate_and_check();  ///< false if a non-finite value appeared
+  void init_forces();
+  bool stage_forces();      ///< false: nothing to do this step
+  bool integrate_forced();  ///< false if a non-finite value appeared
+  void rk4_forced(double a, double b);
+  void init_contacts();
+  bool shapes_may_touch(int a, int b) const;
+  void stage_broad_phase();
+  void init_awake();     ///< awake_bodies_, shape_first_ (after init_contacts)
+  void after_restore();  ///< caches of the broad phase and the islands
+  void stage_collide();
+  // One candidate pair of stage_collide: its records go to contacts_next_[slot, slot + count).
+  struct CollideJob {
+    uint64_t key;        ///< the shape pair
+    int body_a, body_b;  ///< the shapes' bodies
+    int prev;            ///< its first record in last step's contacts_ (resting_ if stored), or -1
+    int prev_count;      ///< its records there (a pair with a static triangle mesh may have several)
+    int slot;            ///< its first slot in contacts_next_
+    int cap;             ///< slots reserved: 1, or kMaxMeshManifolds for a pair with a mesh
+    int count;           ///< records written
+    int points;          ///< contact points in them (0 for records kept as they were)
+    bool keep;           ///< both sides inert: last step's records are kept as they are
+    bool stored;         ///< last step's records are in resting_ (kept there, no slots, while keep)
+    bool mesh;           ///< one side is a static triangle mesh (mesh_pairs.cpp)
+  };
+  // A pair's narrow phase into its slots (records, points, deepest overlap in m); reads only the
+  // state, the shapes, this step's poses and boxes, and last step's contact list: pairs run in
+  // parallel.
+  double collide_job(CollideJob& job);
+  const Contact* prev_record(const CollideJob& job) const {
+    return job.prev < 0 ? nullptr : job.stored ? &resting_[job.prev] : &contacts_[job.prev];
+  }
+  bool resting(int i) const { return model_[i].is_static || asleep_[i] >= 0; }  ///< static or asleep
+  double collide_pair(const CollideJob& job, Contact& c) const;
+  // A pair with a static triangle mesh: its manifolds into out[0, kMaxMeshManifolds), each
+  // warm-started from last step's records of the pair; returns how many (mesh_pairs.cpp).
+  int collide_mesh_pair(const CollideJob& job, Contact* out, int& points, double& deepest) const;
+  // A fresh record in c for shapes a < b: bodies, mixed friction and restitution, and the impulses
+  // warm-started from `prev` (last step's record of the same manifold) when there is one.
+  void new_contact(Contact& c, int a, int b, const Contact* prev) const;
+  bool stage_solve_contacts();  ///< false if a non-finite value appeared
+  void stage_kinematic();
+  void init_sleep();
+  void stage_sleep();
+  void init_continuous();
+  void save_start_poses();
+  bool stage_continuous();  ///< false: nothing was fast
+  bool fast_pair(int a, int b, double closing) const;
+  int collide_ahead(int a, int b, const Pose& xa, const Pose& xb, double speculative, double closing,
+                    PairCache& cache, Manifold& m, Vec3 offset[4]) const;
+  double mesh_toi(int c, int m, const Sweep& s, const Aabb& box, double target, double tolerance,
+                  bool guarded,
+                  int* triangle = nullptr) const;  ///< continuous.cpp
+  int collide_mesh_ahead(int c, int m, double speculative, Manifold out[],
+                         Vec3 offset[][4]) const;  ///< mesh_pairs.cpp
+  /// static, asleep, or kinematic at rest: neither moves nor wakes (asleep_ first: a compact array)
+  bool inert(int i) const { return asleep_[i] >= 0 || model_[i].is_static || kinematic_at_rest(i); }
+  bool kinematic_at_rest(int i) const;
+  void stage_clear();
+  template <typename F>
+  void for_each_chunk(F& f);
+  void stage_derived();
+  Wrench& wrench(int i);
+
+  WorldConfig cfg_;
+  std::vector<BodyDef> defs_;
+  std::vector<BodyModel> model_;
+  std::vector<MotionState> state_;
+  std::vector<Wrench> wrench_;
+  std::vector<Mat3> inv_I_W_;
+  std::vector<int> dynamic_;  ///< indices of dynamic bodies, ascending
+  struct Group {
+    Integrator method;
+    std::vector<int> bodies;  ///< ascending
+  };
+  std::vector<Group> groups_;    ///< dynamic bodies by integrator, in order of first use
+  struct alignas(64) ChunkSum {  // one cache line per thread
+    double value = 0;
+  };
+  std::vector<ChunkSum> chunk_sum_;
+  std::vector<char> spin_warned_;
+  std::vector<std::string> warnings_;
+  bool wrench_dirty_ = false;
+  bool keep_derived_ = false;
+  bool profiling_ = false;
+  long steps_ = 0;
+  Profile profile_;
+  std::unique_ptr<WorkerPool> pool_;
+
+  // ---- Applied forces (sim/dynamics/forces.hpp, forces_stage.cpp).
+  std::vector<int> continuous_;            ///< indices into cfg_.forces: everything but impulses
+  std::vector<int> impulses_;              ///< indices into cfg_.forces: impulses, in list order
+  std::vector<char> fired_;                ///< per force: an impulse already applied (saved state)
+  std::vector<int> forced_;                ///< dynamic auto/rk4 bodies under continuous forces, ascending
+  std::vector<int> forced_slot_;           ///< per body: its index in forced_, or -1
+  std::vector<char> forced_auto_;          ///< per forced_ entry: integrator auto (substeps)
+  std::vector<int> involved_;              ///< every body a continuous force reads, ascending
+  std::vector<int> forced_now_;            ///< forced_ bodies not in contact this step
+  std::vector<MotionState> eval_state_;    ///< per body: the state the forces are evaluated at
+  std::vector<Wrench> stage_wrench_;       ///< per body: forces at an RK4 stage
+  std::vector<Wrench> user_wrench_;        ///< per forced_ entry: apply_* calls from outside this step
+  std::vector<double> rate1_, rate2_;      ///< per body: force rates (force_rates)
+  std::vector<double> y0_, ys_, k_, acc_;  ///< RK4 buffers, 13 doubles per forced_ entry
+  std::vector<double> cuts_;               ///< window edges within this step
+
+  // ---- Contact data (sim/collision/shape_table.hpp, broad_phase.hpp, contact.hpp, contact_solver.hpp).
+  std::unique_ptr<ShapeTable> shapes_;
+  bool collide_enabled_ = false;
+  std::vector<int> sweep_shapes_, plane_shapes_;  ///< non-plane and plane colliding shapes
+  std::vector<Pose> plane_poses_;
+  std::vector<char> shape_moving_;           ///< per shape: its body is not static
+  std::vector<Aabb> boxes_;                  ///< per shape, this step
+  std::vector<Pose> poses_;                  ///< per moving shape, world pose this step (broad phase)
+  std::vector<std::pair<int, int>> ignore_;  ///< body pairs, (lo, hi), sorted
+  BroadPhase broad_;
+  std::vector<int> active_shapes_;   ///< this step: moving shapes of awake bodies, then pending_freeze_
+  std::vector<int> pending_freeze_;  ///< shapes of bodies that fell asleep: one box at rest to make
+  std::vector<int> shape_first_;     ///< per body + 1: its shapes are shape_first_[b] .. [b + 1] - 1
+  std::vector<int> shape_body_;      ///< per shape: its body (ShapeTable's, in a compact array)
+  int settle_substeps_ = 0;          ///< substeps left with one more sweep after an impact (saved state)
+
+  // ---- Sleeping (sim/world/sleep.cpp).
+  bool sleep_enabled_ = false;
+  std::vector<char> may_sleep_;     ///< per body: dynamic and under no continuous force
+  std::vector<double> reach_;       ///< per body: m, farthest shape point from the centroid
+  std::vector<double> still_time_;  ///< per body: s slow and touching (saved state)
+  std::vector<int> asleep_;         ///< per body: -1 awake, else its island's id (saved state)
+  std::vector<int> island_next_;    ///< per sleeping body: next body of its island, or -1
+  std::vector<int> island_tail_;    ///< per island id: its list's last body (scratch)
+  std::vector<int> awake_bodies_;   ///< dynamic and kinematic bodies awake (ascending when sorted)
+  bool awake_sorted_ = true;        ///< false after a wake appended to awake_bodies_
+  int sleeping_ = 0;
+  std::vector<int> uf_;             ///< union-find parents (scratch)
+  std::vector<double> island_min_;  ///< per island root: least still_time_ (scratch)
+  std::vector<uint64_t> pairs_;
+  std::vector<Contact> contacts_, contacts_next_;
+  // Records of pairs between sleeping or static bodies (a kinematic body at rest excluded: it may
+  // move without being woken), key order: no work per step while they sleep (stage_collide).
+  std::vector<Contact> resting_, resting_next_;
+  std::vector<uint64_t> resting_keys_, resting_keys_next_;  ///< resting_[i].key(), compact for the merge
+  std::vector<CollideJob> collide_jobs_;  ///< this step's pairs, in key order (stage_collide)
+  std::vector<ChunkSum> collide_sums_;    ///< per thread: deepest overlap (stage_collide)
+  std::vector<char> in_contact_;          ///< per body, this step
+  std::vector<int> contact_bodies_;       ///< dynamic and kinematic bodies in contact, ascending
+  std::vector<int> solver_index_;         ///< per body, this step (0: not in the solver)
+  std::vector<char> touched_none_;        ///< per solver body: received no impulse this step
+  int substeps_ = 1;                      ///< contact solver substeps this step
+  int base_substeps_ = 1;                 ///< the least (settings, or 1/240 s substeps)
+  std::vector<std::vector<int>> free_;    ///< per group: its bodies not in contact this step
+  std::vector<int> kinematic_;
+  ContactSolver solver_;
+  ContactStats contact_stats_;
+
+  // ---- Continuous collision (sim/world/continuous.cpp, sim/collision/time_of_impact.hpp). Scratch only: nothing here
+  // outlives a step, so a saved state needs none of it.
+  bool ccd_enabled_ = false;
+  std::vector<int> ccd_movers_;      ///< dynamic and kinematic bodies, ascending
+  std::vector<Vec3> x0_;             ///< per body: centre of mass at the step's start
+  std::vector<Quat> q0_;             ///< per body: orientation at the step's start
+  std::vector<double> min_size_;     ///< per body: m, smallest width of its shapes
+  std::vector<double> body_reach_;   ///< per body: m, farthest shape point from the centre of mass
+  std::vector<double> shape_reach_;  ///< per shape: m, the same for the shape alone
+  std::vector<double> shape_width_;  ///< per shape: m, its smallest width (min_width; planes: infinite)
+  std::vector<int> shape_begin_;     ///< per body: its first shape (shapes are in body order); +1: end
+  std::vector<char> shape_swept_;    ///< per shape: swept this step
+  std::vector<char> bullet_;         ///< per body: dynamic and flagged `bullet`
+  std::vector<double> toi_;          ///< per body: earliest time of impact this step (fraction)
+  std::vector<Sweep> sweeps_;        ///< per body, this step
+  std::vector<int> fast_;            ///< swept bodies this step, ascending
+  std::vector<Aabb> swept_boxes_;    ///< per shape: its box over the whole step
+  std::vector<int> ccd_order_;       ///< sweep_shapes_ sorted by swept box lo.x
+  std::vector<uint64_t> ccd_pairs_;  ///< shape pairs (a << 32 | b) to sweep, this step
+};
+
+}  // namespace simreel

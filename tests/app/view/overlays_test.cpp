@@ -1,0 +1,349 @@
+// Teaching overlays drawn as `simreel render` and `check` draw them (issue 12): arrows end at the
+// projected point of their quantity, trails pass through the positions `simreel simulate --csv`
+// reports, HUD text sits where the font puts it and is not blurred by FXAA, and frames with
+// overlays are the same bytes across runs, thread counts and partial renders.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "app/runner/frame_loop.hpp"
+#include "app/view/overlays.hpp"
+#include "app/view/scene_view.hpp"
+#include "render/camera.hpp"
+#include "tests/app/view/overlay_fixtures.hpp"
+
+namespace simreel {
+namespace {
+
+const char* kArrows =
+    "simulation: { duration: 1, timestep: 0.005, gravity: [0, 0, 0] }\n"
+    "video: { width: 320, height: 240, fps: 20 }\n"
+    "render: { shadows: false, antialiasing: msaa4 }\n"
+    "camera: { position: [0.4, -3, 0.6], look_at: [0, 0, 0.4], fov: 40 }\n"
+    "bodies:\n"
+    "  - name: box\n"
+    "    angular_velocity: [0.6, 0, 2]\n"
+    "    linear_velocity: [1, 0, 0.3]\n"
+    "    color: [0.05, 0.05, 0.05]\n"
+    "    colliders: [ { shape: box, size: [0.3, 0.2, 0.25], density: 1000 } ]\n"
+    "    show:\n"
+    "      - { angular_velocity: { color: [1, 0, 1], scale: 0.55, width: 2 } }\n"
+    "      - { velocity: { color: [0, 1, 1], width: 2 } }\n";
+
+TEST(Overlays, ArrowTipsLandOnTheProjectedPointWithinAPixel) {
+  Drawn d(write_scene("arrows.yaml", kArrows), "msaa4");
+  for (long k : {0L, 10L}) {
+    d.draw_frame(k);
+    g_sky = d.px(0, 0);
+    const World& w = d.loop->world();
+    const Vec3 c = w.centroid(0);
+    expect_tip(d, magenta, c, c + 0.55 * w.angular_velocity(0), "omega");
+    // The velocity arrow scales itself: the run's largest |v| (constant here) is kArrowReach body radii.
+    const double R = 0.5 * Vec3(0.3, 0.2, 0.25).norm();
+    const double scale = d.view->overlays->arrow_scale(0, ShowKind::velocity);
+    EXPECT_NEAR(scale, kArrowReach * R / Vec3(1, 0, 0.3).norm(), 1e-7);  // R from the float render mesh
+    expect_tip(d, cyan, c, c + scale * w.linear_velocity(0), "v");
+  }
+}
+
+TEST(Overlays, AngularMomentumScaleComesFromThePrePass) {
+  // A torque-free box tumbling about no principal axis: |omega| changes over the run, |L| does not.
+  const std::string path =
+      write_scene("prepass.yaml",
+                  "simulation: { duration: 3, timestep: 0.002, gravity: [0, 0, 0] }\n"
+                  "video: { width: 64, height: 48 }\n"
+                  "bodies:\n"
+                  "  - { name: b, angular_velocity: [3, 0.2, 1.5],\n"
+                  "      colliders: [ { shape: box, size: [1, 0.5, 0.2], density: 10 } ],\n"
+                  "      show: [ angular_momentum, angular_velocity ] }\n");
+  Drawn d(path);
+  const World& w = d.loop->world();
+  const double R = 0.5 * Vec3(1, 0.5, 0.2).norm();
+  EXPECT_NEAR(d.view->overlays->arrow_scale(0, ShowKind::angular_momentum),
+              kArrowReach * R / w.angular_momentum(0).norm(),
+              1e-6 * kArrowReach * R / w.angular_momentum(0).norm());
+  // omega's largest magnitude is over every step of the run, not the initial one.
+  const std::vector<Magnitudes> m = measure_magnitudes(d.scene, 1);
+  EXPECT_GE(m[0].omega, w.angular_velocity(0).norm());
+  EXPECT_NEAR(d.view->overlays->arrow_scale(0, ShowKind::angular_velocity), kArrowReach * R / m[0].omega,
+              1e-6 * kArrowReach * R / m[0].omega);
+}
+
+const char* kTrail =
+    "simulation: { duration: 2, timestep: 0.004166666666666667 }\n"
+    "video: { width: 320, height: 240, fps: 30 }\n"
+    "render: { shadows: false, antialiasing: none }\n"
+    "camera: { position: [1, -9, 2], look_at: [1, 0, 1.5], fov: 45 }\n"
+    "bodies:\n"
+    "  - name: ball\n"
+    "    position: [-1.5, 0, 0.5]\n"
+    "    linear_velocity: [2.5, 0, 6]\n"
+    "    angular_velocity: [0, 4, 1]\n"
+    "    color: [0.9, 0.9, 0.9]\n"
+    "    colliders: [ { shape: box, size: [0.2, 0.2, 0.2], density: 100 } ]\n"
+    "    show:\n"
+    "      - { trail: { point: [0.1, 0, 0.05], frame: body, length: 1.0, color: [0, 0, 0] } }\n";
+
+// A trail as long as a 1e7-step run holds at most kMaxTrailPoints samples, spread over the whole
+// length (was: 120 a second, 150 MB for a Poinsot trail); a short run keeps 120 samples a second.
+TEST(Overlays, TrailMemoryIsBoundedOnLongRuns) {
+  const auto trail_of = [&](const std::string& duration) {
+    std::string text = kTrail;
+    text.replace(text.find("length: 1.0"), 11, "length: 1e6");
+    text = "simulation: { duration: " + duration + ", timestep: 0.001 }\n" + text.substr(text.find('\n') + 1);
+    const std::string path = write_scene("long_trail.yaml", text);
+    const Scene scene = load_scene(path);
+    FrameLoop loop(scene, 1);
+    SceneOverlays o(scene, loop.world(), std::vector<double>(1, 0.2), 320, 180, 1);
+    return std::make_pair(o.trail_capacity(0), o.trail_every(0));
+  };
+  const auto [cap_long, every_long] = trail_of("10000");  // 1e7 steps
+  EXPECT_LE(cap_long, (size_t)kMaxTrailPoints + 3);
+  EXPECT_GE(cap_long, (size_t)(0.99 * kMaxTrailPoints)) << "the whole length is still sampled";
+  EXPECT_EQ(every_long, (10000000 + kMaxTrailPoints - 1) / kMaxTrailPoints);
+  const auto [cap_short, every_short] = trail_of("3");
+  EXPECT_EQ(every_short, 8) << "120 samples a second at dt 1 ms";
+  EXPECT_EQ(cap_short, (size_t)(3000 / 8 + 3));
+}
+
+TEST(Overlays, TrailPassesThroughThePositionsSimulateReports) {
+  const std::string path = write_scene("trail.yaml", kTrail);
+  const fs::path csv = test::scratch("trail.csv");
+  ASSERT_EQ(run("simulate " + path + " --quiet --csv " + csv.string()), 0);
+  std::ifstream in(csv);
+  std::string line;
+  std::getline(in, line);
+  // t, and the traced body point from the CSV's body origin (px py pz) and orientation (qw .. qz).
+  std::vector<std::pair<double, Vec3>> rows;
+  while (std::getline(in, line)) {
+    std::stringstream ss(line);
+    std::string f[9];
+    for (auto& x : f) std::getline(ss, x, ',');
+    const Quat q(std::stod(f[5]), std::stod(f[6]), std::stod(f[7]), std::stod(f[8]));
+    rows.push_back(
+        {std::stod(f[0]), Vec3(std::stod(f[2]), std::stod(f[3]), std::stod(f[4])) + q * Vec3(0.1, 0, 0.05)});
+  }
+  Drawn d(path);
+  const long k = 45;  // t = 1.5 s: the trail shows 0.5 .. 1.5 s
+  d.draw_frame(k);
+  DrawList dl;
+  dl.camera = d.view->camera;
+  d.view->overlays->build(d.loop->world(), k, dl);
+  const auto& v = dl.overlay.ribbons;
+  ASSERT_GE(v.size(), 6u);
+  std::vector<Vec3> centre;  // the ribbon's centre line: the traced points
+  for (size_t q = 0; q < v.size(); q += 6) {
+    centre.push_back(
+        Vec3(v[q].pos[0] + v[q + 1].pos[0], v[q].pos[1] + v[q + 1].pos[1], v[q].pos[2] + v[q + 1].pos[2]) /
+        2);
+    if (q + 6 == v.size())
+      centre.push_back(Vec3(v[q + 2].pos[0] + v[q + 5].pos[0], v[q + 2].pos[1] + v[q + 5].pos[1],
+                            v[q + 2].pos[2] + v[q + 5].pos[2]) /
+                       2);
+  }
+  int checked = 0, dark = 0;
+  for (const auto& [t, p] : rows) {
+    if (t < 0.5 - 1e-9 || t > 1.5 + 1e-9) {
+      if (t < 0.45) {  // older than the trail's length: not in it
+        double nearest = 1e9;
+        for (const Vec3& c : centre) nearest = std::min(nearest, (c - p).norm());
+        EXPECT_GT(nearest, 0.01) << "t = " << t << " is older than the trail";
+      }
+      continue;
+    }
+    double nearest = 1e9;
+    for (const Vec3& c : centre) nearest = std::min(nearest, (c - p).norm());
+    EXPECT_LT(nearest, 2e-5) << "t = " << t;  // float vertices
+    ++checked;
+    // And in the picture: the trail's pixel there is darker than the sky (older parts fade).
+    if (t < 1.35) {
+      const Eigen::Vector2d q = project_to_pixel(d.view->camera, d.w(), d.h(), p);
+      const auto c = d.px((int)q.x(), (int)q.y());
+      dark += c[0] + c[1] + c[2] < 3 * 190;
+    }
+  }
+  EXPECT_EQ(checked, 31);  // 0.5 .. 1.5 s at 30 fps
+  EXPECT_GE(dark, 22) << "of 26 points the trail should darken most (the oldest are faint)";
+}
+
+// Partial render == full render, --at == the frame, any --threads and LP_NUM_THREADS, run twice:
+// with a trail (history from the physics steps), arrows and a HUD (post stage on the writer's
+// thread for --frames-dir, in the renderer for --at).
+TEST(Overlays, FramesAreTheSameBytesAcrossRunsThreadsAndPartialRenders) {
+  const std::string path = write_scene(
+      "det.yaml", std::string(kTrail) +
+                      "      - angular_velocity\n      - axes\n"
+                      "overlays: { title: Test, hud: [\"t = {t:.2f} s  ω = {|omega|:.3f}  {frame}\"],\n"
+                      "  captions: [ { text: 'x_1 \\cdot \\vec{L}', from: 1.2, to: 1.8 } ], legend: true,\n"
+                      "  labels: [ { body: ball, text: '\\omega_{ball}' } ],\n"
+                      "  plots: [ { quantities: [omega_body.x, '|v|'], rect: [0.5, 0.6, 0.48, 0.38] } ] }\n");
+  const fs::path full = test::scratch("det_full"), part = test::scratch("det_part"),
+                 t4 = test::scratch("det_t4"), at = test::scratch("det_at.png");
+  for (const fs::path& p : {full, part, t4}) fs::remove_all(p);
+  ASSERT_EQ(run("render " + path + " --no-video --quiet --frames-dir " + full.string()), 0);
+  ASSERT_EQ(run("render " + path + " --no-video --quiet --frames 40:42,50 --frames-dir " + part.string()), 0);
+  ASSERT_EQ(
+      run("render " + path + " --no-video --quiet --threads 3 --frames 40:42,50 --frames-dir " + t4.string(),
+          "LP_NUM_THREADS=1"),
+      0);
+  ASSERT_EQ(run("render " + path + " --quiet --at 1.4 -o " + at.string(), "LP_NUM_THREADS=4"), 0);
+  for (const char* n : {"frame_00040.png", "frame_00041.png", "frame_00042.png", "frame_00050.png"}) {
+    const std::string f = slurp(full / n);
+    ASSERT_FALSE(f.empty()) << n;
+    EXPECT_TRUE(f == slurp(part / n)) << n << ": partial render";
+    EXPECT_TRUE(f == slurp(t4 / n)) << n << ": --threads 3, LP_NUM_THREADS=1";
+  }
+  EXPECT_TRUE(slurp(at) == slurp(full / "frame_00042.png")) << "--at 1.4 is frame 42";
+  // llvmpipe at a 128-bit vector width (a CI runner's CPU without AVX2 uses it): the arrows' instanced
+  // draw aborted there ("double free or corruption" in Mesa 22.3.6) while a 1-float per-instance
+  // attribute was part of it; now x-ray travels in the model matrix's spare element.
+  const fs::path narrow = test::scratch("det_128.png");
+  ASSERT_EQ(run("render " + path + " --quiet --at 1.4 -o " + narrow.string(), "LP_NATIVE_VECTOR_WIDTH=128"),
+            0);
+  EXPECT_FALSE(slurp(narrow).empty());
+  EXPECT_FALSE(slurp(full / "frame_00040.png") == slurp(full / "frame_00041.png"));
+  fs::remove_all(part);
+  ASSERT_EQ(run("render " + path + " --no-video --quiet --frames 40:42,50 --frames-dir " + part.string()), 0);
+  EXPECT_TRUE(slurp(full / "frame_00050.png") == slurp(part / "frame_00050.png")) << "a second run";
+}
+
+const char* kHud =
+    "simulation: { duration: 1, gravity: [0, 0, 0] }\n"
+    "video: { width: 480, height: 270, fps: 10 }\n"
+    "render: { shadows: false }\n"
+    "camera: { position: [2, -6, 1.5], look_at: [0, 0, 0] }\n"
+    "bodies:\n"
+    "  - { name: b, angular_velocity: [0, 0, 1], colliders: [ { shape: box, size: [1, 1, 1] } ] }\n"
+    "overlays:\n"
+    "  hud: [\"Hello ω₃ = {omega.z:+.2f}\"]\n";
+
+TEST(Overlays, HudGlyphsAppearWhereTheFontPutsThemAndStayCrispAfterFxaa) {
+  const std::string path = write_scene("hud.yaml", kHud);
+  Drawn with(path, "fxaa"), without(path, "none");
+  with.draw_frame(0);
+  without.draw_frame(0);
+  // Where the glyphs go: the same layout made here from the font and the HUD's text.
+  Font f(default_font_path(), 10);  // 3.2% of the height, at least 10 px
+  ScreenLayer expect;
+  const int pad = f.pixel_size() / 2, margin = pad;
+  f.draw("Hello ω₃ = +1.00", margin + pad, margin + pad + f.ascent(), {255, 255, 255, 255}, &expect);
+  ASSERT_EQ(expect.glyphs.size(), 13u);  // spaces have no bitmap
+  int inked = 0, total = 0;
+  for (const ScreenGlyph& g : expect.glyphs)
+    for (int y = 0; y < g.bitmap->height; ++y)
+      for (int x = 0; x < g.bitmap->width; ++x) {
+        if (g.bitmap->coverage[(size_t)y * g.bitmap->width + x] < 255) continue;
+        ++total;
+        inked += with.px(g.x + x, g.y + y) == std::array<int, 3>{255, 255, 255};  // white ink, fully covered
+      }
+  EXPECT_EQ(inked, total) << "every fully covered glyph pixel is white";
+  // Crisp: the HUD panel (over flat sky) is the same with and without FXAA. Were the text
+  // anti-aliased, FXAA would blur its edges.
+  const int x1 = margin + 2 * pad + f.width("Hello ω₃ = +1.00"), y1 = margin + 2 * pad + f.line_height();
+  int differ = 0;
+  for (int y = 0; y < y1; ++y)
+    for (int x = 0; x < x1; ++x) differ += with.px(x, y) != without.px(x, y);
+  EXPECT_EQ(differ, 0);
+  // And the body's edges are anti-aliased (FXAA is on): the frames do differ elsewhere.
+  EXPECT_NE(with.frame, without.frame);
+}
+
+// The body cone (about the symmetry axis) and the space cone (about L) touch along omega: omega's
+// direction at the cones' slant lies on both base circles; the space cone stays put.
+TEST(Overlays, BodyAndSpaceConesMeetAlongOmegaAndTheSpaceConeStandsStill) {
+  const std::string path =
+      write_scene("cones.yaml",
+                  "simulation: { duration: 2, gravity: [0, 0, 0] }\n"
+                  "video: { width: 64, height: 48 }\n"
+                  "bodies:\n"
+                  "  - { name: disc, orientation: [0.9659258262890683, 0.25881904510252074, 0, 0],\n"
+                  "      angular_velocity: [0, 0, 4],\n"
+                  "      colliders: [ { shape: cylinder, radius: 0.6, height: 0.08 } ],\n"
+                  "      show: [ { cones: { scale: 0.8 } } ] }\n");
+  Drawn d(path);
+  Eigen::Matrix4f space0 = Eigen::Matrix4f::Zero();
+  for (long k : {0L, 17L, 45L}) {
+    d.draw_frame(k);
+    DrawList dl;
+    dl.camera = d.view->camera;
+    d.view->overlays->build(d.loop->world(), k, dl);
+    const auto& cones = dl.overlay.instances[(int)OverlayShape::cone];
+    ASSERT_EQ(cones.size(), 2u);
+    const World& w = d.loop->world();
+    const Vec3 p = w.centroid(0) + 0.8 * w.angular_velocity(0).normalized();  // on the contact line
+    for (const OverlayInstance& c : cones) {
+      const Eigen::Vector4d q = c.model.cast<double>().inverse() * Eigen::Vector4d(p.x(), p.y(), p.z(), 1);
+      EXPECT_NEAR(q.z(), 0, 1e-5) << "frame " << k;                     // on the base's plane
+      EXPECT_NEAR(std::hypot(q.x(), q.y()), 1, 1e-5) << "frame " << k;  // on its rim
+    }
+    if (k == 0) space0 = cones[1].model;
+    EXPECT_LT((cones[1].model - space0).cwiseAbs().maxCoeff(), 1e-5) << "the space cone moved by frame " << k;
+    if (k > 0) {
+      EXPECT_GT((cones[0].model.col(2) - space0.col(2)).norm(), 1e-3) << "the body cone turns";
+    }
+  }
+}
+
+// Poinsot: omega (scaled) touches the energy ellipsoid and the invariable plane; the herpolhode
+// stays in the plane and the polhode on the ellipsoid, over the whole run so far.
+TEST(Overlays, PoinsotContactPointPolhodeAndHerpolhodeLieOnTheEllipsoidAndThePlane) {
+  const std::string path =
+      write_scene("poinsot.yaml",
+                  "simulation: { duration: 3, gravity: [0, 0, 0] }\n"
+                  "video: { width: 64, height: 48 }\n"
+                  "bodies:\n"
+                  "  - { name: brick, angular_velocity: [0.9, 0.7, 3.0],\n"
+                  "      colliders: [ { shape: box, size: [0.8, 0.5, 0.25], density: 600 } ],\n"
+                  "      show: [ poinsot ] }\n");
+  Drawn d(path);
+  d.draw_frame(80);
+  DrawList dl;
+  dl.camera = d.view->camera;
+  const World& w = d.loop->world();
+  d.view->overlays->build(w, 80, dl);
+  const auto& spheres = dl.overlay.instances[(int)OverlayShape::sphere];
+  ASSERT_EQ(spheres.size(), 2u);  // the ellipsoid and the contact point
+  const Eigen::Matrix4d E = spheres[0].model.cast<double>(), Einv = E.inverse();
+  const Vec3 c = w.centroid(0), L = w.angular_momentum(0), n = L.normalized();
+  const Vec3 contact = spheres[1].model.cast<double>().block<3, 1>(0, 3);
+  EXPECT_NEAR((Einv * contact.homogeneous()).head<3>().norm(), 1.0, 1e-5)
+      << "the contact point is on the ellipsoid";
+  const double k = d.view->overlays->arrow_scale(0, ShowKind::poinsot);
+  EXPECT_LT((contact - (c + k * w.angular_velocity(0))).norm(), 1e-6) << "the contact point is k omega";
+  // The plane: 2 triangles, its centre at 2T/|L| k along L.
+  const auto& rib = dl.overlay.ribbons;
+  const Vec3 q0(rib[0].pos[0], rib[0].pos[1], rib[0].pos[2]);
+  const double plane = (q0 - c).dot(n);
+  EXPECT_NEAR((contact - c).dot(n), plane, 1e-5) << "the contact point is on the plane";
+  // The ribbons after the plane's 6 vertices: the polhode's, then the herpolhode's.
+  ASSERT_GT(rib.size(), 6u + 12u);
+  int on_plane = 0, on_ellipsoid = 0, total = 0;
+  for (size_t q = 6; q < rib.size(); q += 6) {
+    const Vec3 p = Vec3(rib[q].pos[0] + rib[q + 1].pos[0], rib[q].pos[1] + rib[q + 1].pos[1],
+                        rib[q].pos[2] + rib[q + 1].pos[2]) /
+                   2;
+    ++total;
+    on_plane += std::fabs((p - c).dot(n) - plane) < 2e-5;
+    on_ellipsoid += std::fabs((Einv * p.homogeneous()).head<3>().norm() - 1.006) < 2e-5;  // drawn 0.6% out
+    if (std::fabs((p - c).dot(n) - plane) >= 2e-5 &&
+        std::fabs((Einv * p.homogeneous()).head<3>().norm() - 1.006) >= 2e-5)
+      ADD_FAILURE() << "point " << q / 6 << " is on neither: " << (p - c).dot(n) - plane
+                    << " from the plane, " << (Einv * p.homogeneous()).head<3>().norm() << " ellipsoid radii";
+  }
+  EXPECT_GT(on_plane, total / 3) << "the herpolhode";
+  EXPECT_GT(on_ellipsoid, total / 3) << "the polhode";
+  EXPECT_GE(on_plane + on_ellipsoid, total);  // near the contact point the polhode is on the plane too
+}
+
+TEST(Overlays, ScenesWithoutOverlaysHaveNone) {
+  Drawn d(write_scene("none.yaml", "bodies: [ { name: a, colliders: [ { shape: sphere, radius: 1 } ] } ]\n"));
+  EXPECT_EQ(d.view->overlays, nullptr);
+  EXPECT_FALSE(d.view->step_hook());
+}
+
+}  // namespace
+}  // namespace simreel
