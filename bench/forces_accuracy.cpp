@@ -18,7 +18,7 @@
 
 #include "sim/mass/primitives.hpp"
 #include "tests/fixtures/reference_scenes.hpp"
-#include "sim/world/world.hpp"
+#include <simreel/world.hpp>
 #include "tests/sim/dynamics/force_references.hpp"
 
 using namespace simreel;

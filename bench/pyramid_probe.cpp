@@ -20,6 +20,7 @@
 #include "bench/bench_util.hpp"
 #include "tests/fixtures/reference_scenes.hpp"
 #include "tests/fixtures/state_hash.hpp"
+#include "sim/world/world_impl.hpp"
 
 using namespace simreel;
 
@@ -88,12 +89,12 @@ int main(int argc, char** argv) {
       last_impacts = w.profile().impact_substeps;
     }
     if (k + 1 == steps / 2)
-      for (int i = 0; i < n; ++i) mid[i] = w.state(i).x_W;
+      for (int i = 0; i < n; ++i) mid[i] = w.impl().state(i).x_W;
   }
   double drift = 0, vmax = 0;
   int moving = 0, nan = 0, worst = 0, over5 = 0;
   for (int i = 0; i < n; ++i) {
-    const MotionState& s = w.state(i);
+    const MotionState& s = w.impl().state(i);
     if (!std::isfinite(s.x_W.squaredNorm())) ++nan;
     const double d = (s.x_W - mid[i]).norm();
     over5 += d > 0.005;
@@ -102,13 +103,13 @@ int main(int argc, char** argv) {
     vmax = std::max(vmax, v);
     moving += v > 0.01;
   }
-  const double sink = defs[n - 1].p_WB.z() - w.state(n - 1).x_W.z();
+  const double sink = defs[n - 1].p_WB.z() - w.impl().state(n - 1).x_W.z();
   std::printf("%d,%ld,%d,%g,%g,%d,%d,%.3f,%.3e,%.3e,%.3e,%d,%.3e,%s\n", base, steps, substeps_max,
               cfg.contacts.contact_hertz, cfg.contacts.damping_ratio, cfg.contacts.iterations,
               cfg.contacts.passes, cpu, drift, sink, vmax, moving, w.contact_stats().max_penetration,
               nan ? "NaN" : "");
   {
-    const Vec3 d = w.state(worst).x_W - mid[worst];
+    const Vec3 d = w.impl().state(worst).x_W - mid[worst];
     const Vec3 x0 = defs[worst].p_WB;
     std::fprintf(stderr, "  worst cube %d at (%.1f, %.1f): drift (%.2e, %.2e, %.2e); %d cubes drift > 5 mm\n",
                  worst, x0.x(), x0.z(), d.x(), d.y(), d.z(), over5);

@@ -9,6 +9,7 @@
 #include "bench/bench_util.hpp"
 #include "sim/dynamics/free_top.hpp"
 #include "tests/fixtures/reference_scenes.hpp"
+#include "sim/world/world_impl.hpp"
 
 using namespace simreel;
 using LD = long double;
@@ -102,7 +103,7 @@ int main() {
       const bench::Timing t = bench::time_runs(reps, [&] {
         World w(c, {r1_tumble_body()});
         for (long s = 0; s < steps; ++s) w.step();
-        if (w.state(0).q_WP.w() == 12345.0) std::puts("#");
+        if (w.impl().state(0).q_WP.w() == 12345.0) std::puts("#");
       });
       std::printf("%s,%d,%ld,%.6e,%.6e,%.4f,%.3e,%.3e,%.3e\n", to_string(m), dtinv, steps, t.min, t.median,
                   t.min / steps * 1e6, eang, eE, eL);

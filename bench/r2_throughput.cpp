@@ -6,6 +6,7 @@
 
 #include "bench/bench_util.hpp"
 #include "tests/fixtures/reference_scenes.hpp"
+#include "sim/dynamics/state.hpp"
 
 #ifdef SIMREEL_BENCH_BULLET
 #include <btBulletDynamicsCommon.h>

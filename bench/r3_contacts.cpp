@@ -40,6 +40,7 @@
 #include "bench/bench_util.hpp"
 #include "tests/fixtures/reference_scenes.hpp"
 #include "tests/fixtures/state_hash.hpp"
+#include "sim/world/world_impl.hpp"
 
 #ifdef SIMREEL_BENCH_BULLET
 #include <btBulletDynamicsCommon.h>
@@ -223,7 +224,7 @@ uint64_t simreel_run(const Scene& s, bool profile, Result* r, Profile* prof, dou
   r->cpu_seconds = cpu;
   r->steps = w.steps();
   r->pen_engine = w.contact_stats().max_penetration;
-  w.for_each_contact([r](const Contact& c) {  // the step's and the sleeping pairs'
+  w.impl().for_each_contact([r](const Contact& c) {  // the step's and the sleeping pairs'
     for (int j = 0; j < c.count; ++j)
       r->final_pen_engine = std::max(r->final_pen_engine, -c.points[j].separation);
   });

@@ -39,7 +39,7 @@
 #include "render/video_writer.hpp"
 #include "render/yuv.hpp"
 #include "tests/fixtures/reference_scenes.hpp"
-#include "sim/world/world.hpp"
+#include <simreel/world.hpp>
 
 using namespace simreel;
 

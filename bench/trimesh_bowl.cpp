@@ -11,7 +11,8 @@
 #include "bench/bench_util.hpp"
 #include "sim/mass/primitives.hpp"
 #include "sim/geometry/trimesh.hpp"
-#include "sim/world/world.hpp"
+#include <simreel/world.hpp>
+#include "sim/world/world_impl.hpp"
 #include "tests/sim/collision/trimesh_fixtures.hpp"
 
 using namespace simreel;
@@ -75,7 +76,7 @@ int main(int argc, char** argv) {
     escaped += out;
     above_rim += c.z() > R;
   }
-  const TriMeshShape& tm = *w.shapes()[0].geom.mesh;
+  const TriMeshShape& tm = *w.impl().shapes()[0].geom.mesh;
   std::printf(
       "name,spheres,triangles,steps,dt,sim_seconds,wall_seconds,steps_per_s,body_steps_per_s,rss_before_mb,"
       "rss_"

@@ -3,8 +3,7 @@
 #include <cstdio>
 #include <memory>
 
-#include "sim/dynamics/mesh_collider.hpp"
-#include "sim/world/world.hpp"
+#include <simreel/simreel.hpp>
 
 using namespace simreel;
 

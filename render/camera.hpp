@@ -3,7 +3,7 @@
 #pragma once
 #include <Eigen/Core>
 
-#include "sim/base/math.hpp"
+#include <simreel/math.hpp>
 
 namespace simreel {
 

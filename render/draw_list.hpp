@@ -11,7 +11,7 @@
 #include "render/overlay.hpp"
 #include "render/screen.hpp"
 #include "render/tessellate.hpp"
-#include "sim/world/world.hpp"
+#include <simreel/world.hpp>
 
 namespace simreel {
 

@@ -8,7 +8,7 @@
 #include <array>
 #include <vector>
 
-#include "sim/base/math.hpp"
+#include <simreel/math.hpp>
 
 namespace simreel {
 

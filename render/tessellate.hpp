@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "sim/dynamics/body.hpp"
+#include <simreel/body.hpp>
 
 namespace simreel {
 

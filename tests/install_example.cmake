@@ -18,6 +18,23 @@ if(NOT OUT MATCHES "mass 350.0000 kg" OR NOT OUT MATCHES "centroid height 0.3750
    NOT OUT MATCHES "t = 1.00 s: .*velocity z 1.6186 m/s")
   message(FATAL_ERROR "unexpected output of the installed example:\n${OUT}")
 endif()
+# Boxes at rest: the contact read-out carries each box's weight (the program checks it, exit 1).
+step(${WORK}/build/resting_boxes)
+message(STATUS "${OUT}")
+if(NOT OUT MATCHES "box 0: mass 4.000 kg, weight 39.240 N, ground pushes 39.240 N up" OR
+   NOT OUT MATCHES "every box rests on its weight")
+  message(FATAL_ERROR "unexpected output of the installed example:\n${OUT}")
+endif()
+# Only the public headers are installed: <simreel/...>, nothing of sim/.
+file(GLOB_RECURSE installed_headers RELATIVE ${WORK}/prefix/include ${WORK}/prefix/include/*)
+foreach(h ${installed_headers})
+  if(NOT h MATCHES "^simreel/[a-z_]+\\.hpp$")
+    message(FATAL_ERROR "a private header was installed: ${h}")
+  endif()
+endforeach()
+if(NOT EXISTS ${WORK}/prefix/include/simreel/simreel.hpp)
+  message(FATAL_ERROR "simreel/simreel.hpp was not installed")
+endif()
 if(NOT EXISTS ${WORK}/prefix/bin/simreel)
   message(FATAL_ERROR "simreel was not installed")
 endif()

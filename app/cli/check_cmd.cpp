@@ -24,7 +24,7 @@
 #include "app/regress/metrics.hpp"
 #include "app/report/report.hpp"
 #include "app/scene/text.hpp"
-#include "sim/base/error.hpp"
+#include <simreel/error.hpp>
 
 namespace simreel {
 

@@ -15,7 +15,7 @@
 #include "app/regress/image.hpp"
 #include "app/regress/metrics.hpp"
 #include "app/report/report.hpp"
-#include "sim/base/error.hpp"
+#include <simreel/error.hpp>
 
 namespace simreel {
 

@@ -9,7 +9,7 @@
 #include <stdexcept>
 
 #include "app/scene/text.hpp"
-#include "sim/base/error.hpp"
+#include <simreel/error.hpp>
 
 namespace simreel {
 

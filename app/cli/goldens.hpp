@@ -9,8 +9,8 @@
 #include <utility>
 #include <vector>
 
-#include "sim/base/math.hpp"
-#include "sim/world/world.hpp"
+#include <simreel/math.hpp>
+#include <simreel/world.hpp>
 
 namespace simreel {
 

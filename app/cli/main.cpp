@@ -16,8 +16,8 @@
 #include "app/scene/mesh_import.hpp"
 #include "app/runner/run.hpp"
 #include "app/scene/text.hpp"
-#include "sim/base/error.hpp"
-#include "sim/mass/mass_properties.hpp"
+#include <simreel/error.hpp>
+#include <simreel/mass_properties.hpp>
 
 namespace simreel {
 

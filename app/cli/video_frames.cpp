@@ -6,7 +6,7 @@ extern "C" {
 #include <libswscale/swscale.h>
 }
 
-#include "sim/base/error.hpp"
+#include <simreel/error.hpp>
 
 namespace simreel {
 

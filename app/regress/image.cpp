@@ -9,7 +9,7 @@
 #include <cstring>
 #include <stdexcept>
 
-#include "sim/base/error.hpp"
+#include <simreel/error.hpp>
 
 namespace simreel {
 

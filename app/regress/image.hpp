@@ -16,7 +16,7 @@ struct Image {
 // Reads a PNG of any colour type and depth: grey, grey + alpha, palette (with or without tRNS),
 // RGB and RGBA, 1-16 bits, interlaced or not, all converted to RGBA8 (16-bit samples scaled to 8
 // bits with rounding; no gamma or colour-space conversion; alpha 255 where the file has none). Throws
-// InputError (sim/base/error.hpp) whose message starts with the path on any failure: missing or
+// InputError (include/simreel/error.hpp) whose message starts with the path on any failure: missing or
 // unreadable file, not a PNG, corrupt or truncated data (including a missing IEND), or a side over
 // 16384 (simreel's largest frame).
 Image read_png(const std::string& path);

@@ -12,7 +12,7 @@
 
 #include "app/runner/run.hpp"
 #include "app/scene/scene.hpp"
-#include "sim/world/world.hpp"
+#include <simreel/world.hpp>
 
 namespace simreel {
 

@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "app/scene/scene.hpp"
-#include "sim/world/world.hpp"
+#include <simreel/world.hpp>
 
 namespace simreel {
 

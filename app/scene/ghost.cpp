@@ -3,7 +3,7 @@
 #include <algorithm>
 
 #include "app/scene/scene.hpp"
-#include "sim/base/error.hpp"
+#include <simreel/error.hpp>
 
 namespace simreel {
 
@@ -75,8 +75,8 @@ void check_ghosts(const YAML::Node& root, const std::string& path, const Scene& 
 }
 
 FreeMotion ghost_motion(const World& w, int i) {
-  const MotionState& s = w.state(i);
-  return FreeMotion(w.model(i).I_P, s.q_WP, s.w_P, s.x_W, s.v_W, w.config().gravity);
+  return FreeMotion(w.principal_moments(i), w.principal_orientation(i), w.angular_velocity_principal(i),
+                    w.centroid(i), w.linear_velocity(i), w.config().gravity);
 }
 
 }  // namespace simreel

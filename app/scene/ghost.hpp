@@ -13,7 +13,7 @@
 
 #include "app/scene/scene_yaml.hpp"
 #include "sim/dynamics/free_motion.hpp"
-#include "sim/world/world.hpp"
+#include <simreel/world.hpp>
 
 namespace simreel {
 

@@ -20,7 +20,7 @@
 #include <sstream>
 
 #include "app/scene/mesh_import.hpp"
-#include "sim/base/error.hpp"
+#include <simreel/error.hpp>
 
 #if defined(__SANITIZE_ADDRESS__)
 #define SIMREEL_ASAN 1

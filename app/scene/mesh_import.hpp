@@ -13,7 +13,7 @@
 #include <string_view>
 #include <vector>
 
-#include "sim/mass/mesh_mass.hpp"
+#include <simreel/mesh.hpp>
 
 namespace simreel {
 

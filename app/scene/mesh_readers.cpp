@@ -19,7 +19,7 @@
 #include <sstream>
 
 #include "app/scene/mesh_import.hpp"
-#include "sim/base/error.hpp"
+#include <simreel/error.hpp>
 
 namespace simreel::detail {
 namespace {

@@ -22,8 +22,8 @@
 #include "app/scene/mesh_import.hpp"
 #include "app/scene/scene_forces.hpp"
 #include "sim/geometry/convex_hull.hpp"
-#include "sim/base/error.hpp"
-#include "sim/mass/mass_properties.hpp"
+#include <simreel/error.hpp>
+#include <simreel/mass_properties.hpp>
 #include "sim/dynamics/mesh_collider.hpp"
 #include "sim/mass/primitives.hpp"
 

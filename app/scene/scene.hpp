@@ -10,7 +10,7 @@
 #include "app/scene/scene_time.hpp"
 #include "app/scene/scene_views.hpp"
 #include "render/render_settings.hpp"
-#include "sim/dynamics/body.hpp"
+#include <simreel/body.hpp>
 #include "sim/solver/contact_settings.hpp"
 #include "sim/dynamics/forces.hpp"
 #include "sim/dynamics/integrators.hpp"

@@ -12,7 +12,7 @@
 #include <sstream>
 
 #include "app/scene/scene.hpp"
-#include "sim/base/error.hpp"
+#include <simreel/error.hpp>
 
 namespace simreel {
 

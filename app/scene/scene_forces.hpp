@@ -3,7 +3,7 @@
 #include <string>
 #include <vector>
 
-#include "sim/dynamics/body.hpp"
+#include <simreel/body.hpp>
 #include "sim/dynamics/forces.hpp"
 
 namespace YAML {

@@ -8,7 +8,7 @@
 
 #include "app/scene/scene.hpp"
 #include "app/scene/scene_yaml.hpp"
-#include "sim/base/error.hpp"
+#include <simreel/error.hpp>
 
 namespace simreel {
 

@@ -18,7 +18,7 @@
 #include <string>
 #include <vector>
 
-#include "sim/base/math.hpp"
+#include <simreel/math.hpp>
 
 namespace YAML {
 class Node;

@@ -12,7 +12,7 @@
 #include "app/scene/scene_overlays.hpp"
 #include "app/scene/scene_yaml.hpp"
 #include "sim/dynamics/integrators.hpp"
-#include "sim/base/math.hpp"
+#include <simreel/math.hpp>
 
 namespace simreel {
 

@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
-#include "sim/base/error.hpp"
-#include "sim/base/math.hpp"
+#include <simreel/error.hpp>
+#include <simreel/math.hpp>
 
 namespace simreel::scene_yaml {
 

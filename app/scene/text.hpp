@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "sim/base/math.hpp"
+#include <simreel/math.hpp>
 
 namespace simreel {
 

@@ -9,7 +9,7 @@
 
 #include "app/scene/scene.hpp"
 #include "render/draw_list.hpp"
-#include "sim/world/world.hpp"
+#include <simreel/world.hpp>
 
 namespace simreel {
 

@@ -232,7 +232,7 @@ SceneOverlays::SceneOverlays(const Scene& scene, const World& world, const std::
       it.radius = 0.028 * R * it.spec.width;
     } else if (it.spec.kind == ShowKind::forces) {
       double big = mags[it.body].force;
-      if (it.spec.gravity) big = std::max(big, world.model(it.body).mass * g.norm());
+      if (it.spec.gravity) big = std::max(big, world.mass(it.body) * g.norm());
       it.scale = it.spec.scale ? *it.spec.scale : big > 0 ? kForceReach * R / big : 0;
       const double tb = mags[it.body].torque;
       it.torque_scale = it.spec.torque_scale ? *it.spec.torque_scale : tb > 0 ? kForceReach * R / tb : 0;
@@ -285,7 +285,7 @@ void SceneOverlays::add_trail(int body, const ShowItem& s, Source src, const Rgb
 Vec3 SceneOverlays::sample(const Trail& t, const World& w) const {
   switch (t.source) {
     case Source::polhode:
-      return t.k * w.state(t.body).w_P;
+      return t.k * w.angular_velocity_principal(t.body);
     case Source::herpolhode:
       return t.k * w.angular_velocity(t.body);
     case Source::point:
@@ -297,7 +297,7 @@ Vec3 SceneOverlays::sample(const Trail& t, const World& w) const {
 Vec3 SceneOverlays::to_world(const Trail& t, const World& w, const Vec3& v) const {
   switch (t.source) {
     case Source::polhode:  // on the principal axes, drawn a hair outside the ellipsoid it lies on
-      return w.centroid(t.body) + w.state(t.body).q_WP * (v * 1.006);
+      return w.centroid(t.body) + w.principal_orientation(t.body) * (v * 1.006);
     case Source::herpolhode:
       return w.centroid(t.body) + v;
     case Source::point:
@@ -346,7 +346,7 @@ void SceneOverlays::build(const World& w, long frame, DrawList& dl) {
         dl.overlay.arrow(c, quantity(w, i, s.kind) * it.scale, radius, color, xray);
         break;
       case ShowKind::axes: {
-        const Mat3 R = w.state(i).q_WP.toRotationMatrix();
+        const Mat3 R = w.principal_orientation(i).toRotationMatrix();
         // e1 e2 e3 red, green, blue: Okabe-Ito's vermillion, bluish green and blue.
         const int axis_color[3] = {6, 3, 5};
         for (int k = 0; k < 3; ++k)
@@ -360,14 +360,14 @@ void SceneOverlays::build(const World& w, long frame, DrawList& dl) {
       case ShowKind::inertia_ellipsoid: {
         // The uniform box (I_1 = m (b^2 + c^2) / 12 ...) or solid ellipsoid (m (b^2 + c^2) / 5)
         // with the body's mass and principal moments: half-sides / semi-axes from the moments.
-        const BodyModel& m = w.model(i);
-        const Vec3 I = m.I_P;
+        const Vec3 I = w.principal_moments(i);
+        const double mass = w.mass(i);
         const double k = s.kind == ShowKind::inertia_box ? 6.0 : 2.5;
         Vec3 half;
         for (int a = 0; a < 3; ++a)
-          half[a] = std::sqrt(std::max(0.0, k * (I[(a + 1) % 3] + I[(a + 2) % 3] - I[a]) / m.mass)) *
+          half[a] = std::sqrt(std::max(0.0, k * (I[(a + 1) % 3] + I[(a + 2) % 3] - I[a]) / mass)) *
                     (s.kind == ShowKind::inertia_box ? 0.5 : 1.0);
-        const Mat3 R = w.state(i).q_WP.toRotationMatrix();
+        const Mat3 R = w.principal_orientation(i).toRotationMatrix();
         if (s.kind == ShowKind::inertia_ellipsoid) {
           dl.overlay.ellipsoid(c, R, half, color, xray);
         } else {
@@ -406,12 +406,12 @@ void SceneOverlays::build(const World& w, long frame, DrawList& dl) {
     // without slipping: the contact point traces the polhode on the ellipsoid and the herpolhode on
     // the plane.
     const int i = it.body;
-    const Vec3 c = w.centroid(i), L = w.angular_momentum(i), wP = w.state(i).w_P;
-    const Vec3 I = w.model(i).I_P;
+    const Vec3 c = w.centroid(i), L = w.angular_momentum(i), wP = w.angular_velocity_principal(i);
+    const Vec3 I = w.principal_moments(i);
     if (!(L.norm() > 0)) continue;
     const double twoT = wP.dot(I.cwiseProduct(wP)), k = it.scale;
     const Vec3 semi(k * std::sqrt(twoT / I[0]), k * std::sqrt(twoT / I[1]), k * std::sqrt(twoT / I[2]));
-    const Mat3 R = w.state(i).q_WP.toRotationMatrix();
+    const Mat3 R = w.principal_orientation(i).toRotationMatrix();
     const float a = (float)it.spec.opacity;
     dl.overlay.ellipsoid(c, R, semi, okabe_ito(2, a));
     const Vec3 n = L.normalized();
@@ -431,8 +431,8 @@ void SceneOverlays::build(const World& w, long frame, DrawList& dl) {
     const Vec3 c = w.centroid(i), om = w.angular_velocity(i), L = w.angular_momentum(i);
     if (!(om.norm() > 0) || !(L.norm() > 0)) continue;
     const Vec3 u = om.normalized();
-    const Vec3 I = w.model(i).I_P;
-    const Mat3 R = w.state(i).q_WP.toRotationMatrix();
+    const Vec3 I = w.principal_moments(i);
+    const Mat3 R = w.principal_orientation(i).toRotationMatrix();
     Vec3 s = R.col(std::fabs(I[0] - I[1]) < std::fabs(I[1] - I[2]) ? 2 : 0);
     if (s.dot(u) < 0) s = -s;
     const float a = (float)it.spec.opacity, xray = (float)it.spec.xray;

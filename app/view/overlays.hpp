@@ -19,7 +19,7 @@
 #include "render/draw_list.hpp"
 #include "render/plot.hpp"
 #include "render/text.hpp"
-#include "sim/world/world.hpp"
+#include <simreel/world.hpp>
 
 namespace simreel {
 
@@ -55,19 +55,13 @@ void visit_forces(const World& w, ForceVisitor& v);
 // Calls f(point_W, normal_W (into the body), F_W) for each point of each touching manifold.
 template <class F>
 void visit_contacts(const World& w, int body, F&& f) {
-  const double h = w.config().dt / std::max(1, w.substeps());
-  // The step's contacts and those of sleeping pairs (kept as they were when the pair fell asleep).
-  w.for_each_contact([&](const Contact& c) {
-    if (c.count == 0 || (c.body_a != body && c.body_b != body)) return;
-    const double sign = c.body_b == body ? 1.0 : -1.0;  // normal_W points from A to B
-    double sum = 0;
-    for (int j = 0; j < c.count; ++j) sum += c.points[j].normal_impulse;
-    for (int j = 0; j < c.count; ++j) {
-      const double lam = c.points[j].normal_impulse;
-      const Vec3 P = lam * c.normal_W + (sum > 0 ? lam / sum : 1.0 / c.count) * c.friction_impulse_W;
-      f(c.points[j].p_W, Vec3(sign * c.normal_W), Vec3(sign * P / h));
-    }
-  });
+  // The step's contacts and those of sleeping pairs (kept as they were when the pair fell asleep),
+  // each read from `body`'s side. The buffer keeps its capacity: no allocation once warm.
+  static thread_local std::vector<ContactData> pairs;
+  pairs.clear();
+  w.body_contacts(body, pairs);
+  for (const ContactData& c : pairs)
+    for (int j = 0; j < c.count; ++j) f(c.points[j].p_W, c.normal_W, c.points[j].force_W);
 }
 
 // Okabe-Ito colour-blind-safe palette (B. Wong, Nature Methods 8, 441, 2011), as linear RGB.

@@ -6,6 +6,7 @@
 
 #include "app/view/overlays.hpp"
 #include "render/camera.hpp"
+#include "sim/world/world_impl.hpp"
 
 namespace simreel {
 
@@ -44,8 +45,8 @@ void torque_arrow(OverlayList& out, const Vec3& c, const Vec3& vec, double radiu
 void visit_forces(const World& w, ForceVisitor& v) {
   if (!w.has_forces()) return;
   const double t = w.time();
-  const MotionState* st = &w.state(0);
-  const BodyModel* mo = &w.model(0);
+  const MotionState* st = &w.impl().state(0);
+  const BodyModel* mo = &w.impl().model(0);
   struct Sink {
     ForceVisitor& v;
     const MotionState* st;
@@ -99,7 +100,7 @@ void SceneOverlays::build_forces(const Item& it, const World& w, const CameraVie
     d.out_c = c;
     visit_forces(w, d);
     if (s.gravity && it.scale > 0) {
-      const Vec3 v = w.model(i).mass * w.config().gravity * it.scale;
+      const Vec3 v = w.mass(i) * w.config().gravity * it.scale;
       out.arrow(s.at_tip ? Vec3(c - v) : c, v, radius, okabe_ito(0, (float)s.opacity), xray);
     }
   }

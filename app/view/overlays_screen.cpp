@@ -42,7 +42,7 @@ namespace {
 Vec3 body_vector(const HudField& f, const World& w) {
   const int i = f.body;
   if (f.name == "omega") return w.angular_velocity(i);
-  if (f.name == "omega_body") return w.state(i).w_P;
+  if (f.name == "omega_body") return w.angular_velocity_principal(i);
   if (f.name == "L") return w.angular_momentum(i);
   if (f.name == "v") return w.linear_velocity(i);
   if (f.name == "position") return w.centroid(i);

@@ -7,7 +7,7 @@
 
 #include "app/runner/camera_fit.hpp"
 #include "render/fxaa.hpp"
-#include "sim/base/error.hpp"
+#include <simreel/error.hpp>
 
 namespace simreel {
 

@@ -11,7 +11,7 @@
 #include "app/scene/scene.hpp"
 #include "render/draw_list.hpp"
 #include "render/renderer.hpp"
-#include "sim/world/world.hpp"
+#include <simreel/world.hpp>
 
 namespace simreel {
 

@@ -5,7 +5,7 @@
 #include <map>
 
 #include "sim/geometry/convex_hull.hpp"
-#include "sim/base/error.hpp"
+#include <simreel/error.hpp>
 #include "sim/geometry/trimesh.hpp"
 
 namespace simreel {

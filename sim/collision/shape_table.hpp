@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "sim/dynamics/body.hpp"
+#include <simreel/body.hpp>
 #include "sim/collision/narrow/geometry.hpp"
 #include "sim/dynamics/state.hpp"
 

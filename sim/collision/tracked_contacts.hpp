@@ -15,7 +15,7 @@
 #pragma once
 #include "sim/collision/shape_table.hpp"
 #include "sim/dynamics/state.hpp"
-#include "sim/base/math.hpp"
+#include <simreel/math.hpp>
 
 namespace simreel {
 

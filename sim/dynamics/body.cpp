@@ -1,9 +1,9 @@
-#include "sim/dynamics/body.hpp"
+#include <simreel/body.hpp>
 
 #include <cmath>
 
-#include "sim/base/error.hpp"
-#include "sim/mass/mass_properties.hpp"
+#include <simreel/error.hpp>
+#include <simreel/mass_properties.hpp>
 #include "sim/mass/primitives.hpp"
 
 namespace simreel {
@@ -58,6 +58,54 @@ MassProperties primitive_mass(const Collider& c, double rho) {
       break;
   }
   throw InputError("primitive_mass called for a mesh collider");
+}
+
+Collider box_collider(const Vec3& size, double density) {
+  Collider c;
+  c.shape = ShapeKind::box;
+  c.size = size;
+  c.props_C = box_mass(size, density);
+  return c;
+}
+
+Collider sphere_collider(double radius, double density) {
+  Collider c;
+  c.shape = ShapeKind::sphere;
+  c.radius = radius;
+  c.props_C = sphere_mass(radius, density);
+  return c;
+}
+
+Collider cylinder_collider(double radius, double height, double density) {
+  Collider c;
+  c.shape = ShapeKind::cylinder;
+  c.radius = radius;
+  c.height = height;
+  c.props_C = cylinder_mass(radius, height, density);
+  return c;
+}
+
+Collider capsule_collider(double radius, double height, double density) {
+  Collider c;
+  c.shape = ShapeKind::capsule;
+  c.radius = radius;
+  c.height = height;
+  c.props_C = capsule_mass(radius, height, density);
+  return c;
+}
+
+Collider ellipsoid_collider(const Vec3& radii, double density) {
+  Collider c;
+  c.shape = ShapeKind::ellipsoid;
+  c.radii = radii;
+  c.props_C = ellipsoid_mass(radii, density);
+  return c;
+}
+
+Collider plane_collider() {
+  Collider c;
+  c.shape = ShapeKind::plane;
+  return c;
 }
 
 MassProperties compose(const std::vector<Collider>& colliders) {

@@ -2,7 +2,7 @@
 
 #include <string>
 
-#include "sim/base/error.hpp"
+#include <simreel/error.hpp>
 
 namespace simreel {
 

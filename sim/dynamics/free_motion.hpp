@@ -22,7 +22,7 @@
 #include <vector>
 
 #include "sim/dynamics/free_top.hpp"
-#include "sim/base/math.hpp"
+#include <simreel/math.hpp>
 
 namespace simreel {
 

@@ -4,7 +4,7 @@
 // arithmetic-geometric mean), 17.6 (K by the AGM); Carlson, Numer. Algorithms 10 (1995) (R_F).
 // These are the references tests and benchmarks compare the integrators against.
 #pragma once
-#include "sim/base/math.hpp"
+#include <simreel/math.hpp>
 
 namespace simreel {
 

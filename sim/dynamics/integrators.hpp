@@ -15,14 +15,12 @@
 #include <string>
 #include <string_view>
 
+#include <simreel/settings.hpp>
+
 #include "sim/dynamics/state.hpp"
 
 namespace simreel {
 
-enum class Integrator { automatic, seed, euler_gyro, rk4, splitting };
-const char* to_string(Integrator i);
-std::optional<Integrator> integrator_from_name(std::string_view name);
-const char* integrator_names();  ///< "auto, seed, euler_gyro, rk4, splitting"
 
 // Largest rotation of the fast variables per (sub)step that `auto` accepts before it substeps,
 // rad. Measured on a box at 1000 rad/s: 0.5 gives 2e-2 energy error over 10 s, 0.2 gives 2e-4, 0.1

@@ -4,7 +4,7 @@
 #include <string>
 
 #include "sim/geometry/convex_hull.hpp"
-#include "sim/base/error.hpp"
+#include <simreel/error.hpp>
 
 namespace simreel {
 

@@ -3,7 +3,7 @@
 //   MotionState what the integrators advance, 13 doubles (112 bytes with alignment);
 //   Wrench      force and torque accumulated during a step, cleared after integration.
 #pragma once
-#include "sim/base/math.hpp"
+#include <simreel/math.hpp>
 
 namespace simreel {
 

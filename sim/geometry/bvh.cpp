@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "sim/base/error.hpp"
+#include <simreel/error.hpp>
 
 namespace simreel {
 

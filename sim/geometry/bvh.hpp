@@ -12,7 +12,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "sim/base/math.hpp"
+#include <simreel/math.hpp>
 
 namespace simreel {
 

@@ -10,7 +10,7 @@
 #include <string>
 #include <unordered_map>
 
-#include "sim/base/error.hpp"
+#include <simreel/error.hpp>
 
 extern "C" {
 #include <libqhull_r/qhull_ra.h>

@@ -7,7 +7,7 @@
 // as one planar convex facet instead of a knot of slivers. Every hull vertex is one of the input
 // points, unchanged; a point qhull leaves out lies within a few ulps of the hull's surface.
 #pragma once
-#include "sim/mass/mesh_mass.hpp"
+#include <simreel/mesh.hpp>
 #include "sim/geometry/polyhedron.hpp"
 
 namespace simreel {

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "sim/base/math.hpp"
+#include <simreel/math.hpp>
 
 namespace simreel {
 

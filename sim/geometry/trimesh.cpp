@@ -6,7 +6,7 @@
 #include <map>
 #include <tuple>
 
-#include "sim/base/error.hpp"
+#include <simreel/error.hpp>
 
 namespace simreel {
 

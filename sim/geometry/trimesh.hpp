@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "sim/geometry/bvh.hpp"
-#include "sim/mass/mesh_mass.hpp"
+#include <simreel/mesh.hpp>
 
 namespace simreel {
 

@@ -1,4 +1,4 @@
-#include "sim/mass/mass_properties.hpp"
+#include <simreel/mass_properties.hpp>
 
 #include <Eigen/Eigenvalues>
 #include <cmath>

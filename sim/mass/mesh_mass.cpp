@@ -1,4 +1,4 @@
-#include "sim/mass/mesh_mass.hpp"
+#include <simreel/mesh.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -10,7 +10,7 @@
 #include <unordered_map>
 
 #include "sim/geometry/convex_hull.hpp"
-#include "sim/base/error.hpp"
+#include <simreel/error.hpp>
 
 namespace simreel {
 

@@ -25,9 +25,6 @@ double sphere_volume(double r) {
 double cylinder_volume(double r, double h) {
   return kPi * r * r * h;
 }
-double capsule_volume(double r, double h) {
-  return cylinder_volume(r, h - 2.0 * r) + sphere_volume(r);
-}
 
 MassProperties box_mass(const Vec3& s, double rho) {
   const double m = rho * box_volume(s);

@@ -3,14 +3,13 @@
 // or Wikipedia "List of moments of inertia"; capsule: the cylinder plus two hemispheres, each
 // hemisphere's centroid 3r/8 from its flat face, shifted by the parallel axis theorem.
 #pragma once
-#include "sim/mass/mass_properties.hpp"
+#include <simreel/mass_properties.hpp>
 
 namespace simreel {
 
 double box_volume(const Vec3& size);                   ///< m^3; size = full extents (m)
 double sphere_volume(double radius);                   ///< m^3
 double cylinder_volume(double radius, double height);  ///< m^3
-double capsule_volume(double radius, double height);   ///< m^3; height is tip to tip, >= 2 radius
 double ellipsoid_volume(const Vec3& radii);            ///< m^3; semi-axes
 
 MassProperties box_mass(const Vec3& size, double density);

@@ -1,6 +1,7 @@
-// Contact solver settings (scene key `simulation.contacts`; sim/README.md "Contacts" explains each
-// and why its default was chosen).
+// The contact solver's fixed constants (the settings users choose are ContactSettings in
+// include/simreel/settings.hpp; sim/README.md "Contacts" explains each and why its default was chosen).
 #pragma once
+#include <simreel/settings.hpp>
 
 namespace simreel {
 
@@ -19,30 +20,5 @@ constexpr int kContactMaxSubsteps = 16;
 // settling: 1.03 mm; two more sweeps instead of one: no better).
 constexpr double kImpactSpeed = 0.5;              ///< m/s, normal approach speed
 constexpr double kImpactSettleTime = 1.0 / 30.0;  ///< s
-
-struct ContactSettings {
-  int substeps = 0;                  ///< solver substeps per step; 0: automatic (see above)
-  int iterations = 1;                ///< solve and relax iterations per substep
-  int passes = 8;                    ///< most Gauss-Seidel passes over a resting manifold's points a sweep
-  double contact_hertz = 120;        ///< Hz, stiffness of the soft contact (at most 1/4 of the substep rate)
-  double damping_ratio = 10;         ///< dimensionless, of the soft contact
-  double max_push_out = 3;           ///< m/s, fastest speed at which overlap is removed
-  double restitution_threshold = 1;  ///< m/s, approach speeds below this do not bounce
-  double speculative_distance = 0.02;  ///< m, contacts are created this far before touching
-  double linear_slop = 0.0001;         ///< m, overlap left uncorrected (keeps resting contacts quiet)
-  double rolling_resistance = 0;       ///< dimensionless (lever per unit radius), 0 = off
-  /// m/s: sliding friction below this slip speed is viscous, mu N v / slip_speed, instead of sticking
-  /// (the regularised Coulomb law of tippe-top models: a spinning contact patch never sticks); 0 = off
-  double slip_speed = 0;
-  // Continuous collision (sim/README.md "Continuous collision"): bodies moving more than half their
-  // smallest width in a step, and bodies flagged `bullet`, are swept and stopped before they pass
-  // through anything. Scene: simulation.contacts.continuous.
-  bool continuous = true;
-  // Sleeping (sim/README.md "Sleeping"): a group of touching bodies whose every point has moved
-  // slower than sleep_speed for sleep_time stops being stepped until something wakes it.
-  bool sleep = true;          ///< scene: simulation.sleep
-  double sleep_speed = 0.01;  ///< m/s, |v| + |w| r (r: the body's farthest shape point)
-  double sleep_time = 0.5;    ///< s
-};
 
 }  // namespace simreel

@@ -23,7 +23,7 @@
 #include <cstdint>
 
 #include "sim/solver/contact_settings.hpp"
-#include "sim/base/math.hpp"
+#include <simreel/math.hpp>
 
 namespace simreel {
 

@@ -7,9 +7,9 @@
 #include <sstream>
 
 #include "sim/collision/narrow/mesh.hpp"
-#include "sim/base/error.hpp"
+#include <simreel/error.hpp>
 #include "sim/base/worker_pool.hpp"
-#include "sim/world/world.hpp"
+#include "sim/world/world_impl.hpp"
 
 namespace simreel {
 
@@ -29,7 +29,7 @@ struct StageTimer {
 
 }  // namespace
 
-void World::init_contacts() {
+void WorldImpl::init_contacts() {
   const int n = (int)defs_.size();
   const ContactSettings& cs = cfg_.contacts;
   if (cs.substeps < 0 || cs.iterations < 1 || cs.passes < 1)
@@ -98,7 +98,7 @@ void World::init_contacts() {
   profile_.pairs = profile_.contact_points = 0;
 }
 
-bool World::shapes_may_touch(int a, int b) const {
+bool WorldImpl::shapes_may_touch(int a, int b) const {
   const ShapeRecord& A = (*shapes_)[a];
   const ShapeRecord& B = (*shapes_)[b];
   if (A.body == B.body) return false;
@@ -118,7 +118,7 @@ bool World::shapes_may_touch(int a, int b) const {
 // pose alone, as a resumed run computes it). Static and sleeping shapes cost nothing.
 // (Flattened: GCC at -O2 calls Eigen's small products and the pose and bounds helpers here
 // instead of inlining them.)
-__attribute__((flatten)) void World::stage_broad_phase() {
+__attribute__((flatten)) void WorldImpl::stage_broad_phase() {
   const ShapeTable& st = *shapes_;
   const double spec = cfg_.contacts.speculative_distance, dt = cfg_.dt;
   if (!awake_sorted_) {
@@ -167,7 +167,7 @@ __attribute__((flatten)) void World::stage_broad_phase() {
 // only in a step where a record enters or leaves resting_ (an island falls asleep or wakes, a
 // pair leaves the broad phase). contacts_ and resting_ together, in key order, are the one list
 // the sequential pass keeps (and the saved state holds).
-void World::stage_collide() {
+void WorldImpl::stage_collide() {
   const ShapeTable& st = *shapes_;
   collide_jobs_.clear();
   size_t old = 0, rest = 0;
@@ -332,7 +332,7 @@ void World::stage_collide() {
     if (in_contact_[i]) contact_bodies_.push_back(i);
 }
 
-double World::collide_job(CollideJob& job) {
+double WorldImpl::collide_job(CollideJob& job) {
   Contact* out = &contacts_next_[job.slot];
   double deepest = 0;
   if (job.mesh) {
@@ -346,7 +346,7 @@ double World::collide_job(CollideJob& job) {
 }
 
 // One convex pair's narrow phase into c (overwritten); returns its deepest overlap (m, >= 0).
-double World::collide_pair(const CollideJob& job, Contact& c) const {
+double WorldImpl::collide_pair(const CollideJob& job, Contact& c) const {
   const ShapeTable& st = *shapes_;
   const double spec = cfg_.contacts.speculative_distance, dt = cfg_.dt;
   const int a = (int)(job.key >> 32), b = (int)(job.key & 0xFFFFFFFFu);
@@ -391,7 +391,7 @@ double World::collide_pair(const CollideJob& job, Contact& c) const {
 }
 
 // The soft step over the bodies in contact (sim/solver/contact_solver.hpp), then their new state.
-bool World::stage_solve_contacts() {
+bool WorldImpl::stage_solve_contacts() {
   double* sec = profile_.seconds;
   long* runs = profile_.runs;
   const ContactSettings& cs = cfg_.contacts;
@@ -502,7 +502,7 @@ bool World::stage_solve_contacts() {
 
 // Kinematic bodies move at their given velocity, exactly: x += h v, and a constant world angular
 // velocity w turns the orientation by exp(h w / 2) (w_P is re-expressed so that w stays fixed).
-void World::stage_kinematic() {
+void WorldImpl::stage_kinematic() {
   const double h = cfg_.dt;
   for (int i : kinematic_) {
     MotionState& s = state_[i];
@@ -514,7 +514,7 @@ void World::stage_kinematic() {
 }
 
 // (Assigned whole: the slots are reused from step to step.)
-void World::new_contact(Contact& c, int a, int b, const Contact* prev) const {
+void WorldImpl::new_contact(Contact& c, int a, int b, const Contact* prev) const {
   const ShapeRecord& A = (*shapes_)[a];
   const ShapeRecord& B = (*shapes_)[b];
   c = Contact{};

@@ -17,7 +17,7 @@
 
 #include "sim/collision/narrow/manifold.hpp"
 #include "sim/dynamics/integrators.hpp"
-#include "sim/world/world.hpp"
+#include "sim/world/world_impl.hpp"
 
 namespace simreel {
 
@@ -25,7 +25,7 @@ namespace {
 constexpr double kInfWidth = std::numeric_limits<double>::infinity();
 }  // namespace
 
-void World::init_continuous() {
+void WorldImpl::init_continuous() {
   ccd_enabled_ = collide_enabled_ && cfg_.contacts.continuous;
   if (!ccd_enabled_) return;
   const int n = (int)defs_.size();
@@ -71,7 +71,7 @@ void World::init_continuous() {
 // this step, or a bullet is in it): collide_ahead instead of collide. `closing` (the broad phase's
 // bound on how far the pair can close, about the bodies' centres) bounds the shapes' own relative
 // motion, so slow pairs are turned away without more work.
-bool World::fast_pair(int a, int b, double closing) const {
+bool WorldImpl::fast_pair(int a, int b, double closing) const {
   if (!ccd_enabled_) return false;
   const ShapeRecord& A = (*shapes_)[a];
   const ShapeRecord& B = (*shapes_)[b];
@@ -108,7 +108,7 @@ bool World::fast_pair(int a, int b, double closing) const {
 // solver reads it into the anchors; ContactPoint::offset_W). A pair that never
 // comes that close in the prediction has no points (the continuous stage after the solve catches
 // what the prediction missed); a pair touching already is collided as usual.
-int World::collide_ahead(int a, int b, const Pose& xa, const Pose& xb, double speculative, double closing,
+int WorldImpl::collide_ahead(int a, int b, const Pose& xa, const Pose& xb, double speculative, double closing,
                          PairCache& cache, Manifold& m, Vec3 offset[4]) const {
   const ShapeTable& st = *shapes_;
   const ShapeRecord& A = st[a];
@@ -164,7 +164,7 @@ int World::collide_ahead(int a, int b, const Pose& xa, const Pose& xb, double sp
 // triangles of static mesh shape m whose boxes meet c's box over the sweep, `box`, grown by the
 // target gap. guarded: stage_continuous's fallbacks for triangles touched at the start; else a
 // triangle touched at the start gives -1 (collide_mesh_pair then collides as usual).
-double World::mesh_toi(int c, int m, const Sweep& s, const Aabb& box, double target, double tolerance,
+double WorldImpl::mesh_toi(int c, int m, const Sweep& s, const Aabb& box, double target, double tolerance,
                        bool guarded, int* triangle) const {
   const ShapeTable& st = *shapes_;
   const ShapeRecord& C = st[c];
@@ -188,14 +188,14 @@ double World::mesh_toi(int c, int m, const Sweep& s, const Aabb& box, double tar
 // asleep (stage_sleep) or was restored (after_restore) and holds while it sleeps, since nothing
 // moves it without waking it first. With 50,000 bodies asleep the copy of every pose was a quarter
 // of the step.
-void World::save_start_poses() {
+void WorldImpl::save_start_poses() {
   for (int i : awake_bodies_) {
     x0_[i] = state_[i].x_W;
     q0_[i] = state_[i].q_WP;
   }
 }
 
-bool World::stage_continuous() {
+bool WorldImpl::stage_continuous() {
   // Which bodies are swept: a dynamic body one of whose shapes moved more than half its smallest
   // width (Box2D's and Box3D's rule, there per body: here a 20 um tip on a large top does not make
   // the whole top fast), or a bullet that moved at all. The body's farthest point bounds every

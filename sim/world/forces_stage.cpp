@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "sim/world/world.hpp"
+#include "sim/world/world_impl.hpp"
 
 namespace simreel {
 
@@ -27,14 +27,14 @@ void unpack_unit(const double* y, MotionState& s) {
 // Forces from the scene list handed to the article's interface: the forces stage writes the
 // accumulators through the same calls a program would make.
 struct WorldSink {
-  World& w;
+  WorldImpl& w;
   void force(int i, const Vec3& f_W, const Vec3& at_W) { w.apply_force(i, f_W, at_W); }
   void central(int i, const Vec3& f_W) { w.apply_central_force(i, f_W); }
   void torque(int i, const Vec3& tau_W) { w.apply_torque(i, tau_W); }
 };
 }  // namespace
 
-void World::init_forces() {
+void WorldImpl::init_forces() {
   const int n = (int)defs_.size();
   std::vector<std::string> names;
   for (const BodyDef& d : defs_) names.push_back(d.name);
@@ -94,7 +94,7 @@ void World::init_forces() {
 // accumulators. An impulse with time T is applied once, at the start of the first step whose start
 // time n dt reaches T (n dt >= T - 1e-9 dt): the velocity jumps at t = n dt, after the state at
 // that time was reported. Returns false when there was nothing to do.
-bool World::stage_forces() {
+bool WorldImpl::stage_forces() {
   const double dt = cfg_.dt;
   const double t0 = time(), t1 = (double)(steps_ + 1) * dt;
   bool did = false;
@@ -128,7 +128,7 @@ bool World::stage_forces() {
 // rate (force_rates, spin) times the substep stays below kAutoMaxStepAngle. Bodies not stepped
 // here that forces read (in contact, static, kinematic, other integrators) are seen at their
 // start-of-step state.
-bool World::integrate_forced() {
+bool WorldImpl::integrate_forced() {
   forced_now_.clear();
   const bool some_in_contact = !contact_bodies_.empty();
   for (int i : forced_)
@@ -178,7 +178,7 @@ bool World::integrate_forced() {
 // "Solving ODEs I", II.1): k1 = f(y), k2 = f(y + h/2 k1), k3 = f(y + h/2 k2), k4 = f(y + h k3),
 // y += h/6 (k1 + 2 k2 + 2 k3 + k4); f evaluates the forces at each stage's states. The window
 // weight is that of the whole substep [a, b], which never straddles an edge (1 or 0).
-void World::rk4_forced(double a, double b) {
+void WorldImpl::rk4_forced(double a, double b) {
   const double h = b - a;
   const int nb = (int)forced_now_.size();
   for (int j = 0; j < nb; ++j) {

@@ -7,7 +7,7 @@
 
 #include "sim/collision/narrow/mesh.hpp"
 #include "sim/dynamics/integrators.hpp"
-#include "sim/world/world.hpp"
+#include "sim/world/world_impl.hpp"
 
 namespace simreel {
 
@@ -15,7 +15,7 @@ namespace {
 constexpr double kMatchCos = 0.9;  // ~26 degrees
 }
 
-int World::collide_mesh_pair(const CollideJob& job, Contact* out, int& points, double& deepest) const {
+int WorldImpl::collide_mesh_pair(const CollideJob& job, Contact* out, int& points, double& deepest) const {
   const ShapeTable& st = *shapes_;
   const int a = (int)(job.key >> 32), b = (int)(job.key & 0xFFFFFFFFu);
   const ShapeRecord& A = st[a];
@@ -92,7 +92,7 @@ int World::collide_mesh_pair(const CollideJob& job, Contact* out, int& points, d
 // the mesh's across the normal (the sliding until the impact). Returns the manifolds, 0 if the
 // prediction comes nowhere near the mesh, -1 if a triangle is that close already (then collide as
 // usual).
-int World::collide_mesh_ahead(int c, int mi, double speculative, Manifold out[], Vec3 offset[][4]) const {
+int WorldImpl::collide_mesh_ahead(int c, int mi, double speculative, Manifold out[], Vec3 offset[][4]) const {
   if (!(speculative > 0)) return -1;
   const ShapeTable& st = *shapes_;
   const ShapeRecord& C = st[c];

@@ -7,13 +7,13 @@
 #include <cmath>
 #include <limits>
 
-#include "sim/base/error.hpp"
+#include <simreel/error.hpp>
 #include "sim/collision/shape_table.hpp"
-#include "sim/world/world.hpp"
+#include "sim/world/world_impl.hpp"
 
 namespace simreel {
 
-void World::init_sleep() {
+void WorldImpl::init_sleep() {
   const int n = (int)defs_.size();
   const ContactSettings& cs = cfg_.contacts;
   if (!(cs.sleep_speed >= 0) || !(cs.sleep_time >= 0) || !std::isfinite(cs.sleep_speed) ||
@@ -40,13 +40,13 @@ void World::init_sleep() {
   island_tail_.assign(n, -1);
 }
 
-bool World::kinematic_at_rest(int i) const {
+bool WorldImpl::kinematic_at_rest(int i) const {
   return defs_[i].type == BodyType::kinematic && state_[i].v_W.isZero(0) && state_[i].w_P.isZero(0);
 }
 
 // The bodies that move (dynamic and kinematic), all awake at the start, and each body's shapes
 // (ShapeTable lists them body by body).
-void World::init_awake() {
+void WorldImpl::init_awake() {
   const int n = (int)defs_.size();
   awake_bodies_.clear();
   for (int i = 0; i < n; ++i)
@@ -63,7 +63,7 @@ void World::init_awake() {
 // A sleeping island is a list threaded through island_next_, from its id (its least body, itself
 // a member) in ascending order: waking it visits its bodies only, and they join awake_bodies_
 // (sorted again before its next use).
-void World::wake(int i) {
+void WorldImpl::wake(int i) {
   if ((size_t)i >= asleep_.size() || asleep_[i] < 0) return;
   for (int j = asleep_[i]; j >= 0;) {
     const int next = island_next_[j];
@@ -79,7 +79,7 @@ void World::wake(int i) {
 
 // After restore_state: the awake list and the islands' lists from asleep_ (saved); the sleeping
 // bodies' boxes made again at rest, and the broad phase started afresh.
-void World::after_restore() {
+void WorldImpl::after_restore() {
   broad_.reset();
   awake_bodies_.clear();
   pending_freeze_.clear();
@@ -109,7 +109,7 @@ void World::after_restore() {
 
 // Visits the awake bodies and the step's contacts only (a sleeping pair's records are in resting_,
 // which nothing here needs: both its sides are asleep or static): a world asleep costs nothing.
-void World::stage_sleep() {
+void WorldImpl::stage_sleep() {
   const double dt = cfg_.dt, speed = cfg_.contacts.sleep_speed;
   if (!awake_sorted_) {
     std::sort(awake_bodies_.begin(), awake_bodies_.end());

@@ -7,8 +7,8 @@
 #include <ostream>
 #include <string>
 
-#include "sim/base/error.hpp"
-#include "sim/world/world.hpp"
+#include <simreel/error.hpp>
+#include "sim/world/world_impl.hpp"
 
 namespace simreel {
 
@@ -98,7 +98,7 @@ void fnv(uint64_t& h, const void* p, size_t n) {
 
 }  // namespace
 
-uint64_t World::fingerprint() const {
+uint64_t WorldImpl::fingerprint() const {
   uint64_t h = 0xcbf29ce484222325ull;
   const uint64_t n = defs_.size();
   fnv(h, &n, sizeof n);
@@ -128,7 +128,7 @@ uint64_t World::fingerprint() const {
   return h;
 }
 
-void World::save_state(std::ostream& os) const {
+void WorldImpl::save_state(std::ostream& os) const {
   Out o(os);
   os.write(kMagic, sizeof kMagic - 1);
   o.u32(kStateVersion);
@@ -180,7 +180,7 @@ void World::save_state(std::ostream& os) const {
   if (!os) throw std::runtime_error("could not write the saved state");
 }
 
-void World::restore_state(std::istream& is) {
+void WorldImpl::restore_state(std::istream& is) {
   char magic[sizeof kMagic - 1];
   is.read(magic, sizeof magic);
   if (is.gcount() != (std::streamsize)sizeof magic || std::memcmp(magic, kMagic, sizeof magic) != 0)

@@ -1,12 +1,12 @@
-#include "sim/world/world.hpp"
+#include "sim/world/world_impl.hpp"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <sstream>
 
-#include "sim/base/error.hpp"
-#include "sim/mass/mass_properties.hpp"
+#include <simreel/error.hpp>
+#include <simreel/mass_properties.hpp>
 #include "sim/base/worker_pool.hpp"
 
 namespace simreel {
@@ -53,7 +53,7 @@ struct Timer {
 
 }  // namespace
 
-World::World(const WorldConfig& config, std::vector<BodyDef> bodies)
+WorldImpl::WorldImpl(const WorldConfig& config, std::vector<BodyDef> bodies)
     : cfg_(config), defs_(std::move(bodies)) {
   if (!(cfg_.dt > 0) || !std::isfinite(cfg_.dt)) throw InputError("timestep must be a positive number");
   if (!all_finite(cfg_.gravity)) throw InputError("gravity must be finite");
@@ -88,6 +88,14 @@ World::World(const WorldConfig& config, std::vector<BodyDef> bodies)
                               : d.mass_override ? *d.mass_override
                                                 : compose(massive);
     if (!massive.empty()) {
+      if (!d.mass_override)
+        for (size_t k = 0; k < d.colliders.size(); ++k)
+          if (d.colliders[k].shape != ShapeKind::plane && d.colliders[k].props_C.mass == 0 &&
+              d.colliders[k].props_C.inertia.hasNaN() && !(m.is_static && d.colliders[k].shape == ShapeKind::mesh))
+            throw InputError(body_label(defs_, i) + ": collider " + std::to_string(k) +
+                             " has no mass properties: make it with box_collider(size, density), "
+                             "sphere_collider(radius, density), ..., mesh_collider(mesh, density), or set "
+                             "its props_C (primitive_mass(collider, density))");
       if (!(mp.mass > 0) || !std::isfinite(mp.mass))
         throw InputError(body_label(defs_, i) + ": mass must be positive");
       const std::string bad = d.mass_override ? mass_problem(mp, 1e-7) : inertia_problem(mp.inertia, 1e-7);
@@ -138,10 +146,10 @@ World::World(const WorldConfig& config, std::vector<BodyDef> bodies)
   check_spin();
 }
 
-World::~World() = default;
+WorldImpl::~WorldImpl() = default;
 
 // ------------------------------------------------------------------ the step pipeline
-void World::step() {
+void WorldImpl::step() {
   double* sec = profile_.seconds;
   long* runs = profile_.runs;
   long* skipped = profile_.skipped;
@@ -230,7 +238,7 @@ void World::step() {
 // thread alone checked every body after a two-thread integration, each step moved the other
 // core's half of the state between caches and two threads ran no faster than one.
 template <typename F>
-void World::for_each_chunk(F& f) {
+void WorldImpl::for_each_chunk(F& f) {
   if (!pool_) {
     f(0, 1);
     return;
@@ -252,7 +260,7 @@ inline void chunk_range(const std::vector<int>& v, int c, int nc, const int*& be
 // reaches its orientation or centroid within the step, and then the sum; only then are the
 // bodies searched (check_state) to name the first bad one. Profile: integrate is timed on the
 // calling thread up to the end of its own chunk, check from there until every thread is done.
-bool World::stage_integrate_and_check() {
+bool WorldImpl::stage_integrate_and_check() {
   using clock = std::chrono::steady_clock;
   const Wrench* wr = wrench_dirty_ ? wrench_.data() : nullptr;
   clock::time_point t0, t_mid;
@@ -305,16 +313,16 @@ bool World::stage_integrate_and_check() {
   return finite;
 }
 
-void World::stage_clear() {
+void WorldImpl::stage_clear() {
   for (Wrench& w : wrench_) w = Wrench{};
   wrench_dirty_ = false;
 }
 
-void World::stage_derived() {
+void WorldImpl::stage_derived() {
   for (int i : dynamic_) inv_I_W_[i] = inverse_inertia_world(i);
 }
 
-void World::check_state() const {
+void WorldImpl::check_state() const {
   for (int i : dynamic_) {
     const MotionState& s = state_[i];
     const char* what = !s.q_WP.coeffs().allFinite() ? "orientation"
@@ -331,7 +339,7 @@ void World::check_state() const {
   }
 }
 
-void World::check_spin(double max_angle) {
+void WorldImpl::check_spin(double max_angle) {
   for (int i : dynamic_) {
     const double a = state_[i].w_P.norm() * cfg_.dt;
     if (a > max_angle && !spin_warned_[i]) {
@@ -346,11 +354,11 @@ void World::check_spin(double max_angle) {
 }
 
 // ------------------------------------------------------------------ the article's interface
-Quat World::orientation(int i) const {
+Quat WorldImpl::orientation(int i) const {
   return state_[i].q_WP * model_[i].q_BP.conjugate();
 }
 
-void World::set_orientation(int i, const Quat& q_WB) {
+void WorldImpl::set_orientation(int i, const Quat& q_WB) {
   const Vec3 p = origin_position(i);
   const Vec3 w = angular_velocity(i);
   state_[i].q_WP = (q_WB.normalized() * model_[i].q_BP).normalized();
@@ -358,92 +366,92 @@ void World::set_orientation(int i, const Quat& q_WB) {
   set_angular_velocity(i, w);
 }
 
-Vec3 World::origin_position(int i) const {
+Vec3 WorldImpl::origin_position(int i) const {
   return state_[i].x_W - orientation(i) * model_[i].c_B;
 }
 
-void World::set_origin_position(int i, const Vec3& p_W) {
+void WorldImpl::set_origin_position(int i, const Vec3& p_W) {
   wake(i);
   state_[i].x_W = p_W + orientation(i) * model_[i].c_B;
 }
 
-Vec3 World::local_to_world(int i, const Vec3& p_B) const {
+Vec3 WorldImpl::local_to_world(int i, const Vec3& p_B) const {
   return orientation(i) * p_B + origin_position(i);
 }
-Vec3 World::world_to_local(int i, const Vec3& p_W) const {
+Vec3 WorldImpl::world_to_local(int i, const Vec3& p_W) const {
   return orientation(i).conjugate() * (p_W - origin_position(i));
 }
-Vec3 World::local_to_world_vec(int i, const Vec3& v_B) const {
+Vec3 WorldImpl::local_to_world_vec(int i, const Vec3& v_B) const {
   return orientation(i) * v_B;
 }
-Vec3 World::world_to_local_vec(int i, const Vec3& v_W) const {
+Vec3 WorldImpl::world_to_local_vec(int i, const Vec3& v_W) const {
   return orientation(i).conjugate() * v_W;
 }
 
-void World::set_angular_velocity(int i, const Vec3& w_W) {
+void WorldImpl::set_angular_velocity(int i, const Vec3& w_W) {
   wake(i);
   state_[i].w_P = model_[i].is_static ? Vec3::Zero() : Vec3(state_[i].q_WP.conjugate() * w_W);
 }
 
-Vec3 World::angular_momentum(int i) const {
+Vec3 WorldImpl::angular_momentum(int i) const {
   return state_[i].q_WP * Vec3(model_[i].I_P.cwiseProduct(state_[i].w_P));
 }
 
-Mat3 World::inverse_inertia_world(int i) const {
+Mat3 WorldImpl::inverse_inertia_world(int i) const {
   const Mat3 R = state_[i].q_WP.toRotationMatrix();
   return R * model_[i].inv_I_P.asDiagonal() * R.transpose();
 }
 
-Mat3 World::inertia_world(int i) const {
+Mat3 WorldImpl::inertia_world(int i) const {
   const Mat3 R = state_[i].q_WP.toRotationMatrix();
   return R * model_[i].I_P.asDiagonal() * R.transpose();
 }
 
-Wrench& World::wrench(int i) {
+Wrench& WorldImpl::wrench(int i) {
   wrench_dirty_ = true;
   return wrench_[i];
 }
 
-void World::apply_force(int i, const Vec3& f_W, const Vec3& at_W) {
+void WorldImpl::apply_force(int i, const Vec3& f_W, const Vec3& at_W) {
   wake(i);
   Wrench& w = wrench(i);
   w.f_W += f_W;
   w.tau_W += (at_W - state_[i].x_W).cross(f_W);
 }
 
-void World::apply_force_local(int i, const Vec3& f_B, const Vec3& at_B) {
+void WorldImpl::apply_force_local(int i, const Vec3& f_B, const Vec3& at_B) {
   apply_force(i, local_to_world_vec(i, f_B), local_to_world(i, at_B));
 }
 
-void World::apply_central_force(int i, const Vec3& f_W) {
+void WorldImpl::apply_central_force(int i, const Vec3& f_W) {
   wake(i);
   wrench(i).f_W += f_W;
 }
 
-void World::apply_torque(int i, const Vec3& tau_W) {
+void WorldImpl::apply_torque(int i, const Vec3& tau_W) {
   wake(i);
   wrench(i).tau_W += tau_W;
 }
 
-void World::apply_impulse(int i, const Vec3& J_W, const Vec3& at_W) {
+void WorldImpl::apply_impulse(int i, const Vec3& J_W, const Vec3& at_W) {
   wake(i);
   if (model_[i].inv_mass == 0) return;
   state_[i].v_W += model_[i].inv_mass * J_W;
   apply_angular_impulse(i, (at_W - state_[i].x_W).cross(J_W));
 }
 
-void World::apply_angular_impulse(int i, const Vec3& dL_W) {
+void WorldImpl::apply_angular_impulse(int i, const Vec3& dL_W) {
   wake(i);
   if (model_[i].inv_mass == 0) return;
   state_[i].w_P += model_[i].inv_I_P.cwiseProduct(state_[i].q_WP.conjugate() * dL_W);
 }
 
-void World::normalize_orientation(int i) {
+void WorldImpl::normalize_orientation(int i) {
   state_[i].q_WP.normalize();
 }
 
 // ------------------------------------------------------------------ whole-world quantities
-double World::kinetic_energy() const {
+double WorldImpl::kinetic_energy() const {
   double e = 0;
   for (int i : dynamic_) {
     const BodyModel& m = model_[i];
@@ -453,7 +461,7 @@ double World::kinetic_energy() const {
   return e;
 }
 
-double World::potential_energy() const {
+double WorldImpl::potential_energy() const {
   double e = 0;
   for (int i : dynamic_) e -= model_[i].mass * cfg_.gravity.dot(state_[i].x_W);
   // Springs acting now store k (L - L0)^2 / 2 (their dashpots and all other forces do work).
@@ -471,13 +479,13 @@ double World::potential_energy() const {
   return e;
 }
 
-Vec3 World::total_momentum() const {
+Vec3 WorldImpl::total_momentum() const {
   Vec3 p = Vec3::Zero();
   for (int i : dynamic_) p += model_[i].mass * state_[i].v_W;
   return p;
 }
 
-Vec3 World::total_angular_momentum() const {
+Vec3 WorldImpl::total_angular_momentum() const {
   // About the system's centre of mass: uniform gravity exerts no torque about it, so this is
   // conserved in free flight whatever the gravity.
   double M = 0;

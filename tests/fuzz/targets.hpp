@@ -16,9 +16,9 @@
 
 #include "app/scene/mesh_import.hpp"
 #include "app/scene/scene.hpp"
-#include "sim/base/error.hpp"
-#include "sim/mass/mass_properties.hpp"
-#include "sim/mass/mesh_mass.hpp"
+#include <simreel/error.hpp>
+#include <simreel/mass_properties.hpp>
+#include <simreel/mesh.hpp>
 
 namespace simreel::fuzz {
 

@@ -15,7 +15,7 @@
 
 #include "render/draw_list.hpp"
 #include "render/renderer.hpp"
-#include "sim/mass/mesh_mass.hpp"
+#include <simreel/mesh.hpp>
 #include "sim/mass/primitives.hpp"
 #include "tests/fixtures/reference_scenes.hpp"
 #include "tests/sim/mass/mesh_fixtures.hpp"

@@ -12,7 +12,7 @@
 #include "render/renderer.hpp"
 #include "render/shaders.hpp"
 #include "render/video_writer.hpp"
-#include "sim/mass/mesh_mass.hpp"
+#include <simreel/mesh.hpp>
 #include "sim/mass/primitives.hpp"
 #include "tests/fixtures/reference_scenes.hpp"
 #include "tests/render/decode.hpp"

@@ -1,12 +1,12 @@
 // Collision geometry as the narrow phase reads it: one flat record per collider shape, in the
-// collider's own frame C (sim/base/math.hpp), and a rigid pose C -> world. Mass properties are not
-// here: sim/dynamics/body.hpp's Collider holds them, and a collider may collide as a simpler shape than it
+// collider's own frame C (include/simreel/math.hpp), and a rigid pose C -> world. Mass properties are not
+// here: include/simreel/body.hpp's Collider holds them, and a collider may collide as a simpler shape than it
 // weighs (a mesh weighs as the exact mesh, collides as its convex hull).
 #pragma once
 #include <cstdint>
 
 #include "sim/geometry/polyhedron.hpp"
-#include "sim/base/math.hpp"
+#include <simreel/math.hpp>
 
 namespace simreel {
 

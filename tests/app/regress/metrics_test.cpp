@@ -11,7 +11,7 @@
 
 #include "app/regress/image.hpp"
 #include "app/regress/metrics.hpp"
-#include "sim/base/error.hpp"
+#include <simreel/error.hpp>
 #include "tests/scratch.hpp"
 
 namespace simreel {

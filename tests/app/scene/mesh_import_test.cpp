@@ -14,7 +14,7 @@
 #include <functional>
 
 #include "app/scene/mesh_import.hpp"
-#include "sim/base/error.hpp"
+#include <simreel/error.hpp>
 #include "tests/scratch.hpp"
 
 namespace simreel {

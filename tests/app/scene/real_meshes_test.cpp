@@ -12,7 +12,7 @@
 #include <sstream>
 
 #include "app/scene/mesh_import.hpp"
-#include "sim/base/error.hpp"
+#include <simreel/error.hpp>
 #include "tests/sim/mass/exact_mass.hpp"
 
 namespace simreel {

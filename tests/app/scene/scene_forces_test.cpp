@@ -12,8 +12,8 @@
 
 #include "app/runner/run.hpp"
 #include "app/scene/scene.hpp"
-#include "sim/base/error.hpp"
-#include "sim/world/world.hpp"
+#include <simreel/error.hpp>
+#include <simreel/world.hpp>
 #include "tests/cli_run.hpp"
 #include "tests/scratch.hpp"
 

@@ -4,8 +4,9 @@
 
 #include "app/runner/run.hpp"
 #include "app/scene/scene.hpp"
-#include "sim/base/error.hpp"
-#include "sim/world/world.hpp"
+#include <simreel/error.hpp>
+#include <simreel/world.hpp>
+#include "sim/world/world_impl.hpp"
 #include "tests/scratch.hpp"
 
 namespace simreel {
@@ -37,7 +38,7 @@ TEST(SceneMassProperties, OverrideReachesTheWorld) {
   ASSERT_TRUE(s.bodies[0].mass_override.has_value());
   EXPECT_EQ(s.bodies[0].mass_B().mass, 1.0);  // the ellipsoid alone at 1000 kg/m^3: 0.50 kg
   World w(world_config(s, 1), s.bodies);
-  EXPECT_EQ(w.model(0).mass, 1.0);
+  EXPECT_EQ(w.impl().model(0).mass, 1.0);
   EXPECT_EQ(w.local_centroid(0), Vec3(0, 0, -0.01));
   Mat3 I;
   I << 2e-4, -2e-5, 0, -2e-5, 1.6e-3, 0, 0, 0, 1.7e-3;

@@ -6,7 +6,7 @@
 #include <fstream>
 
 #include "app/scene/scene.hpp"
-#include "sim/base/error.hpp"
+#include <simreel/error.hpp>
 #include "tests/scratch.hpp"
 
 namespace simreel {

@@ -8,9 +8,10 @@
 
 #include "app/runner/run.hpp"
 #include "app/scene/scene.hpp"
-#include "sim/base/error.hpp"
+#include <simreel/error.hpp>
 #include "sim/geometry/polyhedron.hpp"
-#include "sim/world/world.hpp"
+#include <simreel/world.hpp>
+#include "sim/world/world_impl.hpp"
 #include "tests/scratch.hpp"
 
 namespace simreel {
@@ -788,8 +789,8 @@ TEST(Scene, StaticMeshCollidesAsItsTriangles) {
       "  - name: ball\n    position: [0.5, 0.5, 0.5]\n    colliders: [ { shape: sphere, radius: 0.1 } ]\n"));
   EXPECT_EQ(s.bodies[0].colliders[0].props_C.mass, 0);
   World w(world_config(s, 1), s.bodies);
-  ASSERT_EQ(w.shapes().size(), 2);
-  EXPECT_EQ(w.shapes()[0].geom.kind, CollideKind::mesh);
+  ASSERT_EQ(w.impl().shapes().size(), 2);
+  EXPECT_EQ(w.impl().shapes()[0].geom.kind, CollideKind::mesh);
   EXPECT_HAS(
       error_of("bodies:\n  - static: true\n    colliders:\n      - { shape: mesh, file: open_box.obj, "
                "density: 3 }\n"),

@@ -9,7 +9,7 @@
 
 #include "app/runner/frame_loop.hpp"
 #include "app/scene/scene.hpp"
-#include "sim/base/error.hpp"
+#include <simreel/error.hpp>
 
 namespace simreel {
 namespace {

@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "app/scene/scene.hpp"
-#include "sim/base/error.hpp"
+#include <simreel/error.hpp>
 
 namespace simreel {
 namespace {

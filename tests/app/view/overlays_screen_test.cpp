@@ -10,6 +10,7 @@
 
 #include "app/view/overlays.hpp"
 #include "tests/app/view/overlay_fixtures.hpp"
+#include "sim/world/world_impl.hpp"
 
 namespace simreel {
 namespace {
@@ -146,7 +147,7 @@ TEST(OverlaysScreen, PlotsCarryTheRunsValues) {
   FrameLoop::Hooks h;
   h.step = [&](const World& w) {
     if (k < t.size() && std::fabs(w.time() - t[k]) < 1e-12) {
-      EXPECT_EQ(o.plot_values(0, 0)[k], (float)w.state(0).w_P.z());
+      EXPECT_EQ(o.plot_values(0, 0)[k], (float)w.impl().state(0).w_P.z());
       EXPECT_EQ(o.plot_values(0, 1)[k], (float)w.angular_momentum(1).norm());
       EXPECT_EQ(o.plot_values(0, 2)[k], (float)w.centroid(0).x());
       ++k;

@@ -3,7 +3,7 @@
 #pragma once
 #include <cmath>
 
-#include "sim/world/world.hpp"
+#include <simreel/world.hpp>
 
 namespace simreel::ccd_test {
 

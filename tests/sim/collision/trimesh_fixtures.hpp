@@ -6,8 +6,8 @@
 #include <memory>
 #include <vector>
 
-#include "sim/dynamics/body.hpp"
-#include "sim/mass/mesh_mass.hpp"
+#include <simreel/body.hpp>
+#include <simreel/mesh.hpp>
 
 namespace simreel::trimesh_test {
 

@@ -16,6 +16,7 @@
 #include "tests/sim/collision/collide_shapes.hpp"
 #include "tests/sim/solver/contact_fixtures.hpp"
 #include "tests/sim/collision/trimesh_fixtures.hpp"
+#include "sim/world/world_impl.hpp"
 
 namespace simreel {
 namespace {
@@ -429,7 +430,7 @@ TEST(TriMeshWorld, EveryShapeLandsOnBumpyTerrain) {
   double deepest = 0;
   while (w.time() < 3) {
     w.step();
-    for (const Contact& c : w.contacts())
+    for (const Contact& c : w.impl().contacts())
       for (int j = 0; j < c.count; ++j) deepest = std::max(deepest, -c.points[j].separation);
   }
   std::printf("[measure] shapes on bumpy terrain: deepest overlap %.3e m over 3 s\n", deepest);
@@ -459,8 +460,8 @@ TEST(TriMeshWorld, ResumeEqualsStraightRunWithMeshContacts) {
   World straight(WorldConfig{}, bodies());
   while (straight.time() < 0.3) straight.step();
   int multi = 0;
-  for (size_t k = 1; k < straight.contacts().size(); ++k)
-    multi += straight.contacts()[k].key() == straight.contacts()[k - 1].key();
+  for (size_t k = 1; k < straight.impl().contacts().size(); ++k)
+    multi += straight.impl().contacts()[k].key() == straight.impl().contacts()[k - 1].key();
   std::stringstream saved;
   straight.save_state(saved);
   World resumed(WorldConfig{}, bodies());
@@ -468,8 +469,8 @@ TEST(TriMeshWorld, ResumeEqualsStraightRunWithMeshContacts) {
   while (straight.time() < 1.5) {
     straight.step();
     resumed.step();
-    for (size_t k = 1; k < straight.contacts().size(); ++k)
-      multi += straight.contacts()[k].key() == straight.contacts()[k - 1].key();
+    for (size_t k = 1; k < straight.impl().contacts().size(); ++k)
+      multi += straight.impl().contacts()[k].key() == straight.impl().contacts()[k - 1].key();
   }
   EXPECT_GT(multi, 0);  // the pair of the ball and the L had two manifolds at some step
   EXPECT_EQ(state_hash(straight), state_hash(resumed));

@@ -2,7 +2,7 @@
 #pragma once
 #include <cmath>
 
-#include "sim/base/math.hpp"
+#include <simreel/math.hpp>
 
 namespace simreel::test {
 

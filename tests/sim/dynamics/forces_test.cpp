@@ -8,10 +8,11 @@
 #include <numbers>
 #include <sstream>
 
-#include "sim/base/error.hpp"
+#include <simreel/error.hpp>
 #include "sim/mass/primitives.hpp"
 #include "tests/fixtures/reference_scenes.hpp"
-#include "sim/world/world.hpp"
+#include <simreel/world.hpp>
+#include "sim/world/world_impl.hpp"
 #include "tests/sim/solver/contact_fixtures.hpp"
 #include "tests/sim/dynamics/force_references.hpp"
 
@@ -258,11 +259,11 @@ TEST(Forces, ImpulseChangesMomentumByJAndAngularMomentumByRCrossJ) {
   World w(no_gravity({f}), {b});
   for (int k = 0; k < 121; ++k) w.step();
   EXPECT_FALSE(w.impulse_applied(0));
-  const Vec3 p0 = w.model(0).mass * w.linear_velocity(0), L0 = w.angular_momentum(0);
+  const Vec3 p0 = w.impl().model(0).mass * w.linear_velocity(0), L0 = w.angular_momentum(0);
   const Vec3 r = w.local_to_world(0, at) - w.centroid(0);
   w.step();
   EXPECT_TRUE(w.impulse_applied(0));
-  const Vec3 dp = w.model(0).mass * w.linear_velocity(0) - p0;
+  const Vec3 dp = w.impl().model(0).mass * w.linear_velocity(0) - p0;
   EXPECT_LT((dp - J).norm(), 1e-15 * 4 * J.norm());
   const Vec3 dL = w.angular_momentum(0) - L0;
   EXPECT_LT((dL - r.cross(J)).norm(), 1e-14 * r.cross(J).norm()) << dL.transpose();
@@ -399,7 +400,7 @@ std::vector<ForceDef> mixed_forces() {
 
 void expect_same_state(const World& a, const World& b) {
   for (int i = 0; i < a.body_count(); ++i) {
-    const MotionState &x = a.state(i), &y = b.state(i);
+    const MotionState &x = a.impl().state(i), &y = b.impl().state(i);
     EXPECT_EQ(std::memcmp(&x, &y, sizeof x), 0) << "body " << i;
   }
 }

@@ -10,7 +10,8 @@
 #include <cmath>
 #include <cstdio>
 
-#include "sim/world/world.hpp"
+#include <simreel/world.hpp>
+#include "sim/world/world_impl.hpp"
 
 namespace simreel {
 namespace {
@@ -97,13 +98,13 @@ TEST(FreeMotion, AgreesWithTheIntegratorAtAFineStep) {
     b.p_WB = Vec3(1, 2, 3);
     b.v_W = Vec3(0.5, -1, 4);
     World w(c, {b});
-    const MotionState s0 = w.state(0);
-    const FreeMotion m(w.model(0).I_P, s0.q_WP, s0.w_P, s0.x_W, s0.v_W, c.gravity);
+    const MotionState s0 = w.impl().state(0);
+    const FreeMotion m(w.impl().model(0).I_P, s0.q_WP, s0.w_P, s0.x_W, s0.v_W, c.gravity);
     double worst = 0, worst_x = 0;
     while (w.time() < 8.0 - 1e-9) {
       w.step();
       if (w.steps() % 50) continue;  // every 25 ms
-      worst = std::max(worst, angle(w.state(0).q_WP, m.orientation(w.time())));
+      worst = std::max(worst, angle(w.impl().state(0).q_WP, m.orientation(w.time())));
       worst_x = std::max(worst_x, (w.centroid(0) - m.position(w.time())).norm());
     }
     std::printf("shape %d: closed form vs dt = 1/2000 over 8 s: %.2e rad, %.2e m\n", shape, worst, worst_x);

@@ -8,7 +8,8 @@
 #include "sim/dynamics/free_top.hpp"
 #include "sim/mass/primitives.hpp"
 #include "tests/fixtures/reference_scenes.hpp"
-#include "sim/world/world.hpp"
+#include <simreel/world.hpp>
+#include "sim/world/world_impl.hpp"
 
 namespace simreel {
 namespace {
@@ -28,11 +29,11 @@ std::vector<BodyDef> one(BodyDef b) {
 // Times at which body-frame w2 changes sign, by linear interpolation between steps.
 std::vector<double> w2_zero_crossings(World& w, double T) {
   std::vector<double> z;
-  double prev = w.state(0).w_P.y(), tprev = 0;
+  double prev = w.impl().state(0).w_P.y(), tprev = 0;
   const long n = std::lround(T / w.config().dt);
   for (long k = 0; k < n; ++k) {
     w.step();
-    const double cur = w.state(0).w_P.y();
+    const double cur = w.impl().state(0).w_P.y();
     if ((prev > 0) != (cur > 0)) z.push_back(tprev + (w.time() - tprev) * prev / (prev - cur));
     prev = cur, tprev = w.time();
   }
@@ -101,7 +102,7 @@ TEST(Tumble, DefaultFlipsWhenJacobiSaysItFlips) {
   // R1 at dt = 1/240. The half-period between flips is 2 K(m) / lambda (Landau & Lifshitz 37);
   // RK4's phase error at this step is ~1e-8 rad/rad (measured 3e-9 s), so 1e-6 s is generous.
   World w(config(Integrator::automatic, 1.0 / 240), one(r1_tumble_body()));
-  const FreeTop top(w.model(0).I_P, w.state(0).w_P);
+  const FreeTop top(w.impl().model(0).I_P, w.impl().state(0).w_P);
   const std::vector<double> z = w2_zero_crossings(w, kR1Duration);
   ASSERT_EQ(z.size(), 3u) << "R1 flips three times in 20 s";
   const double half = top.flip_half_period();
@@ -120,11 +121,11 @@ TEST(Tumble, AngularVelocityFollowsJacobiToFourthOrder) {
   int k = 0;
   for (double dt : {1.0 / 60, 1.0 / 120}) {
     World w(config(Integrator::rk4, dt), one(r1_tumble_body()));
-    const FreeTop top(w.model(0).I_P, w.state(0).w_P);
+    const FreeTop top(w.impl().model(0).I_P, w.impl().state(0).w_P);
     double e = 0;
     while (w.time() < kR1Duration - 1e-9) {
       w.step();
-      e = std::max(e, (w.state(0).w_P - top.angular_velocity(w.time())).norm());
+      e = std::max(e, (w.impl().state(0).w_P - top.angular_velocity(w.time())).norm());
     }
     err[k++] = e;
   }
@@ -146,9 +147,9 @@ TEST_P(Convergence, ErrorShrinksAtTheMethodsOrder) {
   for (int k = 0; k < 2; ++k) {
     const double dt = c.dt / (1 << k);
     World w(config(c.method, dt), one(r1_tumble_body()));
-    const FreeTop top(w.model(0).I_P, w.state(0).w_P);
+    const FreeTop top(w.impl().model(0).I_P, w.impl().state(0).w_P);
     while (w.time() < 2.0 - 1e-9) w.step();
-    err[k] = (w.state(0).w_P - top.angular_velocity(w.time())).norm();
+    err[k] = (w.impl().state(0).w_P - top.angular_velocity(w.time())).norm();
   }
   const double ratio = err[0] / err[1], want = std::pow(2.0, c.order);
   EXPECT_GT(ratio, 0.75 * want) << to_string(c.method) << " errors " << err[0] << " " << err[1];
@@ -204,22 +205,22 @@ TEST(SymmetricTop, BodyAndSpacePrecessionRates) {
   b.add_collider(c);
   b.w_W = Vec3(0.4, 0.0, 3.0);
   World w(config(Integrator::automatic, 1.0 / 240), one(b));
-  const Vec3 I = w.model(0).I_P;
+  const Vec3 I = w.impl().model(0).I_P;
   ASSERT_NEAR(I[0], I[1], 1e-12 * I[0]);
   const double It = I[0], I3 = I[2];
-  const Vec3 w0 = w.state(0).w_P;
+  const Vec3 w0 = w.impl().state(0).w_P;
   const double Om = symmetric_top_body_precession(It, I3, w0.z());
   const Vec3 L = w.angular_momentum(0);
   const double Os = symmetric_top_space_precession(It, L.norm());
-  const Vec3 axis0 = w.state(0).q_WP * Vec3::UnitZ();
+  const Vec3 axis0 = w.impl().state(0).q_WP * Vec3::UnitZ();
   double eb = 0, es = 0;
   for (int k = 0; k < 2400; ++k) {
     w.step();
     const double t = w.time();
     const Eigen::Rotation2Dd rb(Om * t);
     const Eigen::Vector2d wp = rb * w0.head<2>();
-    eb = std::max(eb, (w.state(0).w_P - Vec3(wp.x(), wp.y(), w0.z())).norm());
-    const Vec3 axis = w.state(0).q_WP * Vec3::UnitZ();
+    eb = std::max(eb, (w.impl().state(0).w_P - Vec3(wp.x(), wp.y(), w0.z())).norm());
+    const Vec3 axis = w.impl().state(0).q_WP * Vec3::UnitZ();
     es = std::max(es, (axis - Eigen::AngleAxisd(Os * t, L.normalized()) * axis0).norm());
   }
   EXPECT_LT(eb, 1e-8);  // RK4 at h w ~ 0.013: measured ~1e-11

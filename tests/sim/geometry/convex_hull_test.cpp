@@ -11,7 +11,7 @@
 #include <thread>
 
 #include "sim/geometry/convex_hull.hpp"
-#include "sim/base/error.hpp"
+#include <simreel/error.hpp>
 #include "tests/sim/geometry/hull_exact.hpp"
 
 namespace simreel {

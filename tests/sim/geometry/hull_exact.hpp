@@ -15,7 +15,7 @@
 #include <unordered_set>
 #include <vector>
 
-#include "sim/mass/mesh_mass.hpp"
+#include <simreel/mesh.hpp>
 
 namespace simreel::test {
 

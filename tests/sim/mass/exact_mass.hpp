@@ -16,7 +16,7 @@
 #include <cmath>
 #include <vector>
 
-#include "sim/mass/mesh_mass.hpp"
+#include <simreel/mesh.hpp>
 
 namespace simreel::test {
 

@@ -5,11 +5,12 @@
 
 #include <cmath>
 
-#include "sim/dynamics/body.hpp"
-#include "sim/base/error.hpp"
-#include "sim/mass/mass_properties.hpp"
+#include <simreel/body.hpp>
+#include <simreel/error.hpp>
+#include <simreel/mass_properties.hpp>
 #include "sim/mass/primitives.hpp"
-#include "sim/world/world.hpp"
+#include <simreel/world.hpp>
+#include "sim/world/world_impl.hpp"
 
 namespace simreel {
 namespace {
@@ -43,11 +44,11 @@ TEST(MassOverride, ReplacesTheCollidersCompositionInTheWorld) {
   WorldConfig cfg;
   cfg.gravity.setZero();
   World w(cfg, {b});
-  EXPECT_EQ(w.model(0).mass, 2.5);
+  EXPECT_EQ(w.impl().model(0).mass, 2.5);
   EXPECT_EQ(w.local_centroid(0), mp.com);
   EXPECT_LT((w.centroid(0) - Vec3(1.1, 1.8, 3.05)).norm(), 1e-15);
   EXPECT_LT((w.inertia_world(0) - mp.inertia).norm(), 1e-14);
-  EXPECT_FALSE(w.model(0).isotropic);
+  EXPECT_FALSE(w.impl().model(0).isotropic);
 }
 
 TEST(MassOverride, WorldRefusesUnphysicalStatedProperties) {

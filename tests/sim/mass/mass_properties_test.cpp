@@ -2,9 +2,9 @@
 // only error is rounding: ~1e-14 relative for meshes of a few dozen faces near unit size.
 #include <gtest/gtest.h>
 
-#include "sim/dynamics/body.hpp"
+#include <simreel/body.hpp>
 #include "sim/geometry/convex_hull.hpp"
-#include "sim/base/error.hpp"
+#include <simreel/error.hpp>
 #include "sim/mass/primitives.hpp"
 #include "tests/sim/mass/mesh_fixtures.hpp"
 

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "sim/mass/mesh_mass.hpp"
+#include <simreel/mesh.hpp>
 
 namespace simreel::test {
 

@@ -5,7 +5,7 @@
 
 #include <numbers>
 
-#include "sim/base/error.hpp"
+#include <simreel/error.hpp>
 #include "tests/sim/mass/mesh_fixtures.hpp"
 
 namespace simreel {

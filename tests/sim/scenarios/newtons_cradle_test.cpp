@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "tests/sim/solver/contact_fixtures.hpp"
+#include "sim/world/world_impl.hpp"
 
 namespace simreel {
 namespace {
@@ -50,13 +51,13 @@ CradleResult run_cradle(int n, int strikers, double v0, double gap, bool on_floo
   World w(cfg, bodies);
   CradleResult out;
   for (int i = 0; i < n; ++i) {
-    out.p0 += w.model(first + i).mass * w.linear_velocity(first + i).x();
+    out.p0 += w.impl().model(first + i).mass * w.linear_velocity(first + i).x();
   }
   out.E0 = w.kinetic_energy();
   while (w.time() < duration) w.step();
   for (int i = 0; i < n; ++i) {
     out.v.push_back(w.linear_velocity(first + i).x());
-    out.p1 += w.model(first + i).mass * w.linear_velocity(first + i).x();
+    out.p1 += w.impl().model(first + i).mass * w.linear_velocity(first + i).x();
   }
   out.E1 = w.kinetic_energy();
   return out;

@@ -25,8 +25,8 @@
 #include <cstdio>
 #include <numbers>
 
-#include "sim/dynamics/body.hpp"
-#include "sim/world/world.hpp"
+#include <simreel/body.hpp>
+#include <simreel/world.hpp>
 #include "tests/sim/solver/contact_fixtures.hpp"
 #include "tests/sim/scenarios/rattleback_reference.hpp"
 

@@ -26,7 +26,7 @@
 #include <cmath>
 #include <vector>
 
-#include "sim/base/math.hpp"
+#include <simreel/math.hpp>
 
 namespace simreel::test {
 

@@ -16,6 +16,7 @@
 #include "tests/fixtures/reference_scenes.hpp"
 #include "tests/sim/solver/contact_fixtures.hpp"
 #include "tests/sim/collision/trimesh_fixtures.hpp"
+#include "sim/world/world_impl.hpp"
 
 namespace simreel {
 namespace {
@@ -185,7 +186,7 @@ TEST(ContactThreads, OverflowSetIsTheSameForAnyThreadCount) {
   World probe(cfg, v);
   for (int k = 0; k < 30; ++k) probe.step();
   int on_plank = 0;
-  for (const Contact& c : probe.contacts()) on_plank += c.count > 0 && (c.body_a == 0 || c.body_b == 0);
+  for (const Contact& c : probe.impl().contacts()) on_plank += c.count > 0 && (c.body_a == 0 || c.body_b == 0);
   ASSERT_GT(on_plank, ConstraintGraph::kColours + 100) << "the plank must overflow the colours";
   const uint64_t h1 = run(v, kR3Dt, 1, 120);
   EXPECT_EQ(h1, run(v, kR3Dt, 2, 120));
@@ -256,7 +257,7 @@ void expect_same_bits_for_any_thread_count(const std::vector<BodyDef>& bodies, W
 
 int touching(const World& w) {
   int n = 0;
-  for (const Contact& c : w.contacts()) n += c.count > 0;
+  for (const Contact& c : w.impl().contacts()) n += c.count > 0;
   return n;
 }
 
@@ -289,7 +290,7 @@ TEST(ContactThreads, BulletsAreTheSameForAnyThreadCount) {
   expect_same_bits_for_any_thread_count(v, cfg, 3, 4, [&](const World& w) {
     if (w.steps() <= 3) hits_before = w.profile().toi_hits;
     most = std::max(most, touching(w));
-    for (const Contact& c : w.contacts())  // manifolds taken ahead, at a fast pair's impact
+    for (const Contact& c : w.impl().contacts())  // manifolds taken ahead, at a fast pair's impact
       for (int j = 0; j < c.count; ++j) ahead += w.steps() > 3 && c.points[j].offset_W.norm() > 0;
   });
   EXPECT_GT(ahead, 0) << "fast pairs must be collided ahead while the threads run";
@@ -357,8 +358,8 @@ TEST(ContactThreads, TriangleMeshIsTheSameForAnyThreadCount) {
     if (w.steps() <= 180) most_asleep = std::max(most_asleep, w.sleeping_count());
     most_touching = std::max(most_touching, touching(w));
     int shared = 0;  // records of a mesh pair after its first
-    for (size_t k = 1; k < w.contacts().size(); ++k)
-      shared += w.contacts()[k].key() == w.contacts()[k - 1].key();
+    for (size_t k = 1; k < w.impl().contacts().size(); ++k)
+      shared += w.impl().contacts()[k].key() == w.impl().contacts()[k - 1].key();
     most_shared = std::max(most_shared, shared);
   });
   EXPECT_EQ(most_asleep, 162) << "the stacks must be asleep when the threads start";
@@ -407,9 +408,9 @@ TEST(ContactThreads, RollingDisksAreTheSameForAnyThreadCount) {
   int most_one_point = 0;
   expect_same_bits_for_any_thread_count(v, cfg, 100, 10, [&](const World& w) {
     int n = 0;
-    for (const Contact& c : w.contacts())
-      n += c.count == 1 && (w.shapes()[c.shape_a].geom.kind == CollideKind::cylinder ||
-                            w.shapes()[c.shape_b].geom.kind == CollideKind::cylinder);
+    for (const Contact& c : w.impl().contacts())
+      n += c.count == 1 && (w.impl().shapes()[c.shape_a].geom.kind == CollideKind::cylinder ||
+                            w.impl().shapes()[c.shape_b].geom.kind == CollideKind::cylinder);
     most_one_point = std::max(most_one_point, n);
   });
   EXPECT_GE(most_one_point, 128) << "the disks must touch with one rim point each";
@@ -462,8 +463,8 @@ TEST(ContactThreads, TrackedEllipsoidsAndTopsAreTheSameForAnyThreadCount) {
   int most_one_point = 0;
   expect_same_bits_for_any_thread_count(v, cfg, 20, 10, [&](const World& w) {
     int n = 0;
-    for (const Contact& c : w.contacts()) {
-      const CollideKind ka = w.shapes()[c.shape_a].geom.kind, kb = w.shapes()[c.shape_b].geom.kind;
+    for (const Contact& c : w.impl().contacts()) {
+      const CollideKind ka = w.impl().shapes()[c.shape_a].geom.kind, kb = w.impl().shapes()[c.shape_b].geom.kind;
       n += c.count == 1 && (ka == CollideKind::ellipsoid || kb == CollideKind::ellipsoid ||
                             ka == CollideKind::sphere || kb == CollideKind::sphere);
     }

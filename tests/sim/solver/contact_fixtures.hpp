@@ -12,10 +12,11 @@
 #include <numbers>
 #include <vector>
 
-#include "sim/dynamics/body.hpp"
+#include <simreel/body.hpp>
 #include "sim/mass/primitives.hpp"
 #include "tests/fixtures/state_hash.hpp"
-#include "sim/world/world.hpp"
+#include <simreel/world.hpp>
+#include "sim/world/world_impl.hpp"
 
 namespace simreel::contact_test {
 
@@ -143,7 +144,7 @@ inline bool narrow_phase_touches(const BodyDef& support, const BodyDef& probe) {
   cfg.gravity = Vec3::Zero();
   World w(cfg, {support, probe});
   w.step();
-  for (const Contact& c : w.contacts())
+  for (const Contact& c : w.impl().contacts())
     if (c.count > 0) return true;
   return false;
 }

@@ -13,6 +13,7 @@
 
 #include "tests/fixtures/reference_scenes.hpp"
 #include "tests/sim/solver/contact_fixtures.hpp"
+#include "sim/world/world_impl.hpp"
 
 namespace simreel {
 namespace {
@@ -167,7 +168,7 @@ TEST(ContactStack, TenBoxesRestForTenSeconds) {
   double vmax = 0, deepest = 0;
   while (w.time() < 10) {
     w.step();
-    for (const Contact& c : w.contacts())
+    for (const Contact& c : w.impl().contacts())
       for (int j = 0; j < c.count; ++j) deepest = std::max(deepest, -c.points[j].separation);
     if (w.time() < 0.5) continue;
     for (int i = 1; i <= 10; ++i)
@@ -255,7 +256,7 @@ TEST(ContactStack, ResumeRightAfterAnImpactEqualsStraightRun) {
   resumed.restore_state(saved);
   for (int k = 0; k < 60; ++k) straight.step(), resumed.step();
   for (int i = 0; i < straight.body_count(); ++i) {
-    const MotionState &x = straight.state(i), &y = resumed.state(i);
+    const MotionState &x = straight.impl().state(i), &y = resumed.impl().state(i);
     EXPECT_EQ(std::memcmp(&x, &y, sizeof x), 0) << "body " << i;
   }
 }
@@ -402,7 +403,7 @@ Rest rest_measure(World& w, double seconds, double reach) {
   Rest r;
   while (w.time() < seconds) {
     w.step();
-    for (const Contact& c : w.contacts())
+    for (const Contact& c : w.impl().contacts())
       for (int j = 0; j < c.count; ++j) r.deepest = std::max(r.deepest, -c.points[j].separation);
     if (w.time() < 0.5) continue;
     for (int i = 0; i < w.body_count(); ++i)

@@ -15,6 +15,7 @@
 #include <functional>
 
 #include "tests/sim/solver/contact_fixtures.hpp"
+#include "sim/world/world_impl.hpp"
 
 namespace simreel {
 namespace {
@@ -47,7 +48,7 @@ double incline_acceleration(double theta, double mu, double* max_slip = nullptr)
     // point, r below the centre along n. (The sphere rests ~0.5 mm deep; rolling without
     // slipping is about its own radius, not about the midpoint of the overlap: at 36 rad/s the
     // 0.28 mm between the two would read as 1 cm/s of slip.)
-    if (!w.contacts().empty() && w.contacts()[0].count > 0) {
+    if (!w.impl().contacts().empty() && w.impl().contacts()[0].count > 0) {
       const Vec3 vc = w.linear_velocity(1) + w.angular_velocity(1).cross(-r * n);
       slip = std::max(slip, (vc - n.dot(vc) * n).norm());  // tangential: the normal part is not slip
     }
@@ -256,7 +257,7 @@ void check_dead(const BodyDef& b, double half_height, const char* what) {
   double hi = 0;
   while (w.time() < 3) {
     w.step();
-    for (const Contact& c : w.contacts())
+    for (const Contact& c : w.impl().contacts())
       for (int j = 0; j < c.count; ++j) touched = touched || c.points[j].normal_impulse > 0;
     if (touched) hi = std::max(hi, w.centroid(1).z() - half_height);
   }
@@ -282,7 +283,7 @@ TEST(ContactRestitution, RestitutionZeroStaysDown) {
 void check_energy(BodyDef b, double e, const char* what) {
   b.colliders[0].restitution = e;
   World w(WorldConfig{}, {ground(0.6, e), b});
-  const double scale = w.model(1).mass * g * (w.centroid(1).z() + 1.0);
+  const double scale = w.impl().model(1).mass * g * (w.centroid(1).z() + 1.0);
   double E = energy(w), rise = 0;
   int at = -1;
   for (int k = 0; k < 720; ++k) {
@@ -296,7 +297,7 @@ void check_energy(BodyDef b, double e, const char* what) {
       what, e, rise, rise / scale, at, w.contact_stats().max_penetration);
   // The bound from the comment above: pushing out the deepest overlap seen lifts the body by at
   // most that depth, m g x overlap (plus rounding).
-  EXPECT_LE(rise, w.model(1).mass * g * w.contact_stats().max_penetration + 1e-9 * scale)
+  EXPECT_LE(rise, w.impl().model(1).mass * g * w.contact_stats().max_penetration + 1e-9 * scale)
       << what << " e=" << e;
 }
 TEST(ContactEnergy, ContactsNeverAddEnergy) {
@@ -489,7 +490,7 @@ TEST(ContactFreeFlight, BodyTouchingNothingKeepsTheExactFreeFlight) {
     alone.step();
   }
   ASSERT_GT(busy.contact_stats().contacts_max, 0) << "the busy world must have contacts";
-  const MotionState &a = busy.state(3), &b = alone.state(0);
+  const MotionState &a = busy.impl().state(3), &b = alone.impl().state(0);
   EXPECT_EQ(a.x_W, b.x_W);
   EXPECT_EQ(a.v_W, b.v_W);
   EXPECT_EQ(a.w_P, b.w_P);

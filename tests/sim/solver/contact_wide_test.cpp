@@ -5,7 +5,8 @@
 
 #include <memory>
 
-#include "sim/world/world.hpp"
+#include <simreel/world.hpp>
+#include "sim/world/world_impl.hpp"
 #include "tests/sim/solver/contact_fixtures.hpp"
 
 namespace simreel {
@@ -14,7 +15,7 @@ using namespace contact_test;
 
 // A manifold's points' impulses (N s, the last substep's) between bodies a and b.
 double manifold_impulse(const World& w, int a, int b, double* least = nullptr, double* most = nullptr) {
-  for (const Contact& c : w.contacts()) {
+  for (const Contact& c : w.impl().contacts()) {
     if (!((c.body_a == a && c.body_b == b) || (c.body_a == b && c.body_b == a))) continue;
     double sum = 0, lo = 1e300, hi = -1e300;
     for (int j = 0; j < c.count; ++j) {

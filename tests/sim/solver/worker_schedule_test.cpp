@@ -7,7 +7,8 @@
 #include <vector>
 
 #include "tests/fixtures/reference_scenes.hpp"
-#include "sim/world/world.hpp"
+#include <simreel/world.hpp>
+#include "sim/world/world_impl.hpp"
 
 namespace simreel {
 namespace {
@@ -28,9 +29,9 @@ Split split_after(const std::vector<BodyDef>& bodies, double dt, int threads, in
   for (int k = 0; k < steps; ++k) {
     w.step();
     long deferred = 0, items = 0;
-    s.faults += w.contact_solver().split_faults(&deferred, &items);
-    s.workers = w.contact_solver().workers();
-    s.fractions = w.contact_solver().split_in_fractions();
+    s.faults += w.impl().contact_solver().split_faults(&deferred, &items);
+    s.workers = w.impl().contact_solver().workers();
+    s.fractions = w.impl().contact_solver().split_in_fractions();
     s.deferred = deferred, s.items = items;
   }
   return s;

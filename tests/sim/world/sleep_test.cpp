@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "tests/sim/solver/contact_fixtures.hpp"
+#include "sim/world/world_impl.hpp"
 
 namespace simreel {
 namespace {
@@ -25,7 +26,7 @@ std::vector<BodyDef> stack_and_ball(double ball_speed) {
 
 bool same_state(const World& a, const World& b) {
   for (int i = 0; i < a.body_count(); ++i) {
-    const MotionState &x = a.state(i), &y = b.state(i);
+    const MotionState &x = a.impl().state(i), &y = b.impl().state(i);
     if (std::memcmp(&x, &y, sizeof x) != 0) return false;
   }
   return true;
@@ -206,24 +207,24 @@ TEST(Sleep, SleepingPairsAreNotTouchedPerStep) {
   World w(WorldConfig{}, b);
   while (w.time() < 1.5) w.step();
   ASSERT_EQ(w.sleeping_count(), 400);
-  EXPECT_EQ(w.contacts().size(), 0u);
-  ASSERT_EQ(w.resting_contacts().size(), 400u);
-  const Contact* at = w.resting_contacts().data();
+  EXPECT_EQ(w.impl().contacts().size(), 0u);
+  ASSERT_EQ(w.impl().resting_contacts().size(), 400u);
+  const Contact* at = w.impl().resting_contacts().data();
   const auto* bytes = reinterpret_cast<const unsigned char*>(at);  // (padding included)
   const std::vector<unsigned char> before(bytes, bytes + 400 * sizeof(Contact));
   for (int k = 0; k < 50; ++k) {
     w.step();
-    ASSERT_EQ(w.resting_contacts().data(), at) << "step " << k;
+    ASSERT_EQ(w.impl().resting_contacts().data(), at) << "step " << k;
     ASSERT_EQ(std::memcmp(before.data(), at, before.size()), 0) << "step " << k;
-    ASSERT_EQ(w.contacts().size(), 0u);
+    ASSERT_EQ(w.impl().contacts().size(), 0u);
   }
   w.apply_impulse(7, Vec3(0, 0, 1), w.centroid(7));
   w.step();
   EXPECT_EQ(w.sleeping_count(), 399);
-  ASSERT_EQ(w.contacts().size(), 1u);
-  EXPECT_EQ(w.contacts()[0].body_b, 7);
-  EXPECT_GT(w.contacts()[0].count, 0);
-  EXPECT_EQ(w.resting_contacts().size(), 399u);
+  ASSERT_EQ(w.impl().contacts().size(), 1u);
+  EXPECT_EQ(w.impl().contacts()[0].body_b, 7);
+  EXPECT_GT(w.impl().contacts()[0].count, 0);
+  EXPECT_EQ(w.impl().resting_contacts().size(), 399u);
 }
 
 // A row of 16 dominoes (0.1 x 0.6 x 1 m, 0.5 m apart, listed last to first so that each wakes
@@ -273,7 +274,7 @@ TEST(Sleep, BulletIntoSleepingStackEqualsResumedAndThreaded) {
   };
   int swept = 0;
   const ThreeRuns r = run_three_ways(
-      scene, 2.0, 4, [](World& w) { w.apply_impulse(4, Vec3(60 * w.model(4).mass, 0, 0), w.centroid(4)); },
+      scene, 2.0, 4, [](World& w) { w.apply_impulse(4, Vec3(60 * w.impl().model(4).mass, 0, 0), w.centroid(4)); },
       2.5, [&](const World& w) { swept = std::max(swept, 3 - w.sleeping_count()); });
   // The ball (60 m/s: 0.25 m a step, 2.5 of its widths) was swept, struck the bottom box and woke the stack.
   EXPECT_EQ(swept, 3);

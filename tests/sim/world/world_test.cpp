@@ -4,10 +4,11 @@
 
 #include <cstring>
 
-#include "sim/base/error.hpp"
+#include <simreel/error.hpp>
 #include "sim/mass/primitives.hpp"
 #include "tests/fixtures/reference_scenes.hpp"
-#include "sim/world/world.hpp"
+#include <simreel/world.hpp>
+#include "sim/world/world_impl.hpp"
 
 namespace simreel {
 namespace {
@@ -67,9 +68,9 @@ TEST(World, WorldInverseInertiaIsTheInverseOfTheWorldInertia) {
   World w(WorldConfig{}, {l_body()});
   for (int k = 0; k < 10; ++k) w.step();
   EXPECT_LT((w.inverse_inertia_world(0) * w.inertia_world(0) - Mat3::Identity()).norm(), 1e-14);
-  w.keep_world_inertia(true);
+  w.impl().keep_world_inertia(true);
   w.step();
-  EXPECT_EQ(w.cached_inverse_inertia_world(0), w.inverse_inertia_world(0));
+  EXPECT_EQ(w.impl().cached_inverse_inertia_world(0), w.inverse_inertia_world(0));
 }
 
 TEST(World, ZeroAngularVelocityStaysFiniteInEveryIntegrator) {
@@ -135,7 +136,7 @@ uint64_t state_hash(const World& w) {
   uint64_t h = 1469598103934665603ull;
   for (int i = 0; i < w.body_count(); ++i) {
     unsigned char buf[sizeof(MotionState)];
-    std::memcpy(buf, &w.state(i), sizeof buf);
+    std::memcpy(buf, &w.impl().state(i), sizeof buf);
     for (unsigned char c : buf) h = (h ^ c) * 1099511628211ull;
   }
   return h;
@@ -169,7 +170,7 @@ TEST(World, ABodyStepsTheSameAloneAsInABlock) {
     for (int i = 0; i < 9; ++i) {
       World one(c, {defs[i]});
       for (int k = 0; k < 100; ++k) one.step();
-      const MotionState &a = one.state(0), &b = all.state(i);
+      const MotionState &a = one.impl().state(0), &b = all.impl().state(i);
       const bool same =
           std::memcmp(a.q_WP.coeffs().data(), b.q_WP.coeffs().data(), 4 * sizeof(double)) == 0 &&
           std::memcmp(a.x_W.data(), b.x_W.data(), 3 * sizeof(double)) == 0 &&

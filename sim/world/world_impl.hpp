@@ -32,7 +32,9 @@
 #include <string>
 #include <vector>
 
-#include "sim/dynamics/body.hpp"
+#include <simreel/body.hpp>
+#include <simreel/world.hpp>
+
 #include "sim/collision/broad_phase.hpp"
 #include "sim/collision/time_of_impact.hpp"
 #include "sim/collision/contact.hpp"
@@ -45,91 +47,19 @@
 
 namespace simreel {
 
-struct WorldConfig {
-  double dt = 1.0 / 240.0;               ///< s, fixed step
-  Vec3 gravity = Vec3(0.0, 0.0, -9.81);  ///< m/s^2
-  Integrator integrator = Integrator::automatic;
-  int threads = 1;  ///< worker threads for integration (results identical)
-  /// Whether the worker pool may run stages on the calling thread alone while the machine is too
-  /// busy for its barriers (sim/base/worker_pool.hpp "Back-off": timing only, never results). Off in the
-  /// thread-count tests, so that their runs are split among the threads whatever the load.
-  bool thread_backoff = true;
-  ContactSettings contacts;
-  /// Pairs of body indices that never collide with each other (scene: simulation.ignore_pairs).
-  std::vector<std::pair<int, int>> ignore_pairs;
-  /// Applied forces (scene: forces), by body index; checked by validate_forces.
-  std::vector<ForceDef> forces;
-};
 
-// A non-finite value appeared in the state.
-class StateError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
 
-enum class Stage {
-  forces,
-  update_broad_phase,
-  collide,
-  prepare_contacts,
-  integrate_velocities,
-  warm_start,
-  solve,
-  integrate_positions,
-  relax,
-  restitution,
-  store_impulses,
-  integrate,
-  check,
-  continuous,
-  sleep,
-  clear,
-  derived,
-  count
-};
-const char* to_string(Stage s);
 
-struct Profile {
-  double seconds[(int)Stage::count] = {};  ///< wall time spent per stage
-  long runs[(int)Stage::count] = {};       ///< steps in which the stage did work
-  long skipped[(int)Stage::count] = {};    ///< steps in which it had nothing to do
-  long steps = 0;
-  // What the integrate stage does with each body (fixed when the world is built):
-  int static_bodies = 0;      ///< never visited
-  int isotropic_bodies = 0;   ///< dynamic under `auto` with isotropic inertia: no gyroscopic work
-  int gyroscopic_bodies = 0;  ///< dynamic, full rotational dynamics
-  int kinematic_bodies = 0;   ///< moved at their given velocity
-  int forced_bodies = 0;      ///< dynamic under auto/rk4 with forces: RK4 evaluating forces per stage
-  int forces = 0;             ///< entries of the force list
-  int shapes = 0;             ///< colliding shapes (planes included)
-  long pairs = 0;             ///< candidate pairs from the broad phase, summed over steps
-  long contact_points = 0;    ///< manifold points, summed over steps
-  long solver_bodies = 0;     ///< bodies stepped by the contact solver, summed over steps
-  long sweeps = 0;            ///< the contact solver's solve and relax sweeps, summed over steps
-  long impact_substeps = 0;   ///< substeps with an impact (one more sweep: kImpactSpeed)
-  long body_warm_starts = 0;  ///< substeps warm-started per body (ContactSolver::warm_start)
-  long pool_runs = 0;         ///< parallel stage runs handed to the worker pool (threads > 1)
-  long pool_alone_runs = 0;   ///< of which run on the calling thread alone (sim/base/worker_pool.hpp back-off)
-  long swept_bodies = 0;      ///< fast or bullet bodies swept by the continuous stage, summed over steps
-  long toi_pairs = 0;         ///< shape pairs whose time of impact was computed, summed over steps
-  long toi_hits = 0;          ///< swept bodies moved back to their time of impact, summed over steps
-};
-
-// What contact did over the run (simulate --json).
-struct ContactStats {
-  int contacts_max = 0;        ///< most manifold points in one step
-  double max_penetration = 0;  ///< m, deepest overlap seen at the start of a step
-};
 
 class WorkerPool;
 
-class World {
+class WorldImpl {
  public:
   // Validates every body (positive mass, valid inertia, finite, unit quaternion); throws InputError.
-  World(const WorldConfig& config, std::vector<BodyDef> bodies);
-  ~World();
-  World(const World&) = delete;
-  World& operator=(const World&) = delete;
+  WorldImpl(const WorldConfig& config, std::vector<BodyDef> bodies);
+  ~WorldImpl();
+  WorldImpl(const WorldImpl&) = delete;
+  WorldImpl& operator=(const WorldImpl&) = delete;
 
   void step();
   double time() const { return (double)steps_ * cfg_.dt; }  ///< s, steps * dt (no accumulated rounding)

@@ -8,11 +8,14 @@
 
 #include <optional>
 
-#include "sim/dynamics/integrators.hpp"
-#include "sim/mass/mesh_mass.hpp"
-#include "sim/geometry/polyhedron.hpp"
+#include <simreel/mass_properties.hpp>
+#include <simreel/math.hpp>
+#include <simreel/mesh.hpp>
+#include <simreel/settings.hpp>
 
 namespace simreel {
+
+struct ConvexPolyhedron;  // a collision hull (built by mesh_collider; the engine's own type)
 
 enum class ShapeKind { box, sphere, cylinder, capsule, mesh, plane, ellipsoid };
 const char* to_string(ShapeKind s);
@@ -49,6 +52,23 @@ struct Collider {
   /// collider frame; empty for primitives (built by the World when absent).
   std::vector<std::shared_ptr<const ConvexPolyhedron>> hulls;
 };
+
+// Colliders of uniform density (kg/m^3), their mass properties from the shape: closed forms for
+// the primitives, exact from the triangles for a mesh. Each sits at the body origin (set p_BC and
+// q_BC to place it) with the default material (friction 0.6, restitution 0).
+Collider box_collider(const Vec3& size, double density);                   ///< size: full extents, m
+Collider sphere_collider(double radius, double density);                   ///< m
+Collider cylinder_collider(double radius, double height, double density);  ///< m; axis along z
+Collider capsule_collider(double radius, double height, double density);   ///< m, tip to tip; axis z
+Collider ellipsoid_collider(const Vec3& radii, double density);            ///< m, semi-axes
+/// The plane z = 0 of the collider frame, solid below: static bodies only, massless.
+Collider plane_collider();
+/// A mesh of uniform density: mass, centroid and inertia exactly from the mesh (after welding and
+/// orientation repairs, which `report` describes when given), colliding as its convex hull, or as
+/// one hull per connected part with `parts`; on a static body it collides as its triangles.
+/// Collider frame = mesh axes. Throws InputError for a mesh with no volume.
+Collider mesh_collider(std::shared_ptr<const TriangleMesh> mesh, double density, bool parts = false,
+                       MeshReport* report = nullptr);
 
 // Collider mass properties for a primitive shape from its size and density (kg/m^3).
 MassProperties primitive_mass(const Collider& c, double density);

@@ -3,7 +3,7 @@
 #include <limits>
 #include <string>
 
-#include "sim/base/math.hpp"
+#include <simreel/math.hpp>
 
 namespace simreel {
 

@@ -16,7 +16,7 @@
 #include <string_view>
 #include <vector>
 
-#include "sim/mass/mass_properties.hpp"
+#include <simreel/mass_properties.hpp>
 
 namespace simreel {
 
