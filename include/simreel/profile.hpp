@@ -22,7 +22,6 @@ enum class Stage {
   continuous,
   sleep,
   clear,
-  derived,
   count
 };
 const char* to_string(Stage s);

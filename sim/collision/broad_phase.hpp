@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "sim/collision/shape_table.hpp"
+#include "sim/base/pair_key.hpp"
 
 namespace simreel {
 
@@ -91,7 +92,7 @@ class BroadPhase {
   // changed. sweep: the non-plane shapes to consider; planes: the plane shapes with their world
   // pose (fixed). allowed(a, b): whether shapes a < b may touch (bodies, filters, ignore list). It
   // and `moving` must not change over the broad phase's life (they are applied when the candidates
-  // are made). `pairs` is cleared and refilled with keys (a << 32 | b).
+  // are made). `pairs` is cleared and refilled with keys (pair_key(a, b), sim/base/pair_key.hpp).
   template <typename Allowed>
   void update(const std::vector<Aabb>& boxes, const std::vector<int>& active, const std::vector<int>& sweep,
               const std::vector<int>& planes, const std::vector<Pose>& plane_poses,
@@ -147,14 +148,14 @@ void BroadPhase::find_new(const std::vector<int>& planes, const std::vector<char
       if (q == p || (moved_flag_[q] && q > p)) return;
       if (!moving[p] && !moving[q]) return;
       const int lo = p < q ? p : q, hi = p < q ? q : p;
-      if (allowed(lo, hi)) found_.push_back(((uint64_t)lo << 32) | (uint32_t)hi);
+      if (allowed(lo, hi)) found_.push_back(pair_key(lo, hi));
     });
     if (!moving[p]) continue;
     for (size_t k = 0; k < planes.size(); ++k) {
       if (!reaches_plane((int)k, fat_[p])) continue;
       const int q = planes[k];
       const int lo = p < q ? p : q, hi = p < q ? q : p;
-      if (allowed(lo, hi)) found_.push_back(((uint64_t)lo << 32) | (uint32_t)hi);
+      if (allowed(lo, hi)) found_.push_back(pair_key(lo, hi));
     }
   }
   std::sort(found_.begin(), found_.end());
@@ -202,7 +203,7 @@ void BroadPhase::update(const std::vector<Aabb>& boxes, const std::vector<int>& 
     find_new(planes, moving, allowed);
     // Candidates of a moved shape whose fat boxes no longer overlap leave the list; the others stay.
     auto stale = [&](uint64_t key) {
-      const int a = (int)(key >> 32), b = (int)(key & 0xFFFFFFFFu);
+      const int a = pair_first(key), b = pair_second(key);
       if (!moved_flag_[a] && !moved_flag_[b]) return false;
       if (plane_slot_[a] >= 0) return !reaches_plane(plane_slot_[a], fat_[b]);
       if (plane_slot_[b] >= 0) return !reaches_plane(plane_slot_[b], fat_[a]);
@@ -217,7 +218,7 @@ void BroadPhase::update(const std::vector<Aabb>& boxes, const std::vector<int>& 
   }
   // This step's pairs: the candidates whose boxes overlap (for a plane: reach its side).
   for (uint64_t key : candidates_) {
-    const int a = (int)(key >> 32), b = (int)(key & 0xFFFFFFFFu);
+    const int a = pair_first(key), b = pair_second(key);
     const bool hit = plane_slot_[a] >= 0   ? reaches_plane(plane_slot_[a], boxes[b])
                      : plane_slot_[b] >= 0 ? reaches_plane(plane_slot_[b], boxes[a])
                                            : boxes[a].overlaps(boxes[b]);

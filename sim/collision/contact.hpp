@@ -5,6 +5,7 @@
 #include <cstdint>
 
 #include "sim/collision/narrow/manifold.hpp"
+#include "sim/base/pair_key.hpp"
 
 namespace simreel {
 
@@ -31,7 +32,7 @@ struct Contact {
   Vec3 rolling_impulse = Vec3::Zero();     ///< N m s
   double friction = 0;                     ///< mixed: sqrt(f_a f_b)
   double restitution = 0;                  ///< mixed: max(e_a, e_b)
-  uint64_t key() const { return ((uint64_t)(uint32_t)shape_a << 32) | (uint32_t)shape_b; }
+  uint64_t key() const { return pair_key(shape_a, shape_b); }
 };
 
 }  // namespace simreel

@@ -14,6 +14,7 @@
 
 extern "C" {
 #include <libqhull_r/qhull_ra.h>
+#include "sim/base/pair_key.hpp"
 }
 
 namespace simreel {
@@ -161,7 +162,7 @@ std::vector<RawFace> qhull_faces(const std::vector<Vec3>& pts) {
 }
 
 uint64_t key(int a, int b) {
-  return (uint64_t)(uint32_t)a << 32 | (uint32_t)b;
+  return pair_key(a, b);
 }
 
 // A corner shared by only two faces lies on their common edge: not an extreme point (qhull can

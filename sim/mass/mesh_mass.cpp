@@ -11,6 +11,7 @@
 
 #include "sim/geometry/convex_hull.hpp"
 #include <simreel/error.hpp>
+#include "sim/base/pair_key.hpp"
 
 namespace simreel {
 
@@ -129,7 +130,7 @@ void check_scale(const std::vector<Vec3>& v) {
 }
 
 uint64_t edge_key(int a, int b) {
-  return (uint64_t)(uint32_t)a << 32 | (uint32_t)b;
+  return pair_key(a, b);
 }
 
 // Signed volume integrals of a closed surface about `ref` (density 1).
@@ -301,7 +302,7 @@ Surface surface(const TriangleMesh& in, MeshReport& rep) {
   for (const auto& [key, faces] : s.undirected) {
     if (faces.size() % 2) ++s.boundary;
     if (faces.size() > 2) ++nonmanifold;
-    const int a = (int)(key >> 32), b = (int)(key & 0xffffffffu);
+    const int a = pair_first(key), b = pair_second(key);
     const auto ab = directed.find(edge_key(a, b)), ba = directed.find(edge_key(b, a));
     const int nab = ab == directed.end() ? 0 : ab->second, nba = ba == directed.end() ? 0 : ba->second;
     if (nab != nba) ++s.unbalanced;

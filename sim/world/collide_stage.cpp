@@ -2,7 +2,6 @@
 // substeps, and kinematic bodies.
 #include <algorithm>
 #include <atomic>
-#include <chrono>
 #include <cmath>
 #include <sstream>
 
@@ -10,24 +9,9 @@
 #include <simreel/error.hpp>
 #include "sim/base/worker_pool.hpp"
 #include "sim/world/world_impl.hpp"
+#include "sim/base/pair_key.hpp"
 
 namespace simreel {
-
-namespace {
-
-struct StageTimer {
-  bool on;
-  double* acc;
-  std::chrono::steady_clock::time_point t0;
-  StageTimer(bool enabled, double* sink) : on(enabled), acc(sink) {
-    if (on) t0 = std::chrono::steady_clock::now();
-  }
-  ~StageTimer() {
-    if (on) *acc += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  }
-};
-
-}  // namespace
 
 void WorldImpl::init_contacts() {
   const int n = (int)defs_.size();
@@ -182,7 +166,7 @@ void WorldImpl::stage_collide() {
     for (; rest < resting_keys_.size() && resting_keys_[rest] < key; ++rest) resting_moves = true;
     size_t rest_end = rest;
     while (rest_end < resting_keys_.size() && resting_keys_[rest_end] == key) ++rest_end;
-    const int a = (int)(key >> 32), b = (int)(key & 0xFFFFFFFFu);
+    const int a = pair_first(key), b = pair_second(key);
     const int body_a = shape_body_[a], body_b = shape_body_[b];
     CollideJob job;
     job.key = key;
@@ -262,7 +246,7 @@ void WorldImpl::stage_collide() {
       job.keep = false;
       if (job.stored) {
         // Slots after all others (the records are then packed by the rebuild below).
-        job.mesh = st[(int)(job.key >> 32)].geom.kind == CollideKind::mesh ||
+        job.mesh = st[pair_first(job.key)].geom.kind == CollideKind::mesh ||
                    st[(int)(job.key & 0xFFFFFFFFu)].geom.kind == CollideKind::mesh;
         job.cap = std::max(job.mesh ? kMaxMeshManifolds : 1, job.prev_count);
         job.slot = (int)contacts_next_.size();
@@ -349,7 +333,7 @@ double WorldImpl::collide_job(CollideJob& job) {
 double WorldImpl::collide_pair(const CollideJob& job, Contact& c) const {
   const ShapeTable& st = *shapes_;
   const double spec = cfg_.contacts.speculative_distance, dt = cfg_.dt;
-  const int a = (int)(job.key >> 32), b = (int)(job.key & 0xFFFFFFFFu);
+  const int a = pair_first(job.key), b = pair_second(job.key);
   const Contact* prev = prev_record(job);
   const ShapeRecord& A = st[a];
   const ShapeRecord& B = st[b];
@@ -392,8 +376,6 @@ double WorldImpl::collide_pair(const CollideJob& job, Contact& c) const {
 
 // The soft step over the bodies in contact (sim/solver/contact_solver.hpp), then their new state.
 bool WorldImpl::stage_solve_contacts() {
-  double* sec = profile_.seconds;
-  long* runs = profile_.runs;
   const ContactSettings& cs = cfg_.contacts;
   // Automatic substeps: at least base_substeps_ (substeps of <= 1/240 s), more while a body in
   // contact turns fast, so that none turns more than kContactMaxSubstepAngle per substep (the
@@ -409,7 +391,7 @@ bool WorldImpl::stage_solve_contacts() {
   }
   const double h = cfg_.dt / substeps_;
   {
-    StageTimer t(profiling_, &sec[(int)Stage::prepare_contacts]);
+    StageClock::Scope t(clock_, Stage::prepare_contacts);
     SolverInput in;
     in.model = model_.data();
     in.state = state_.data();
@@ -422,21 +404,21 @@ bool WorldImpl::stage_solve_contacts() {
     in.pool = pool_.get();
     solver_.prepare(in, contact_bodies_, contacts_, solver_index_);
   }
-  runs[(int)Stage::prepare_contacts]++;
+  clock_.ran(Stage::prepare_contacts);
   for (int sub = 0; sub < substeps_; ++sub) {
     {
-      StageTimer t(profiling_, &sec[(int)Stage::integrate_velocities]);
+      StageClock::Scope t(clock_, Stage::integrate_velocities);
       solver_.integrate_velocities(h);
     }
     {
-      StageTimer t(profiling_, &sec[(int)Stage::warm_start]);
+      StageClock::Scope t(clock_, Stage::warm_start);
       if (solver_.warm_start()) ++profile_.body_warm_starts;
     }
     // One more sweep each while the last impact settles (kImpactSettleTime), and one at once on
     // an impact in this substep's first sweeps.
     const int sweeps = cs.iterations + (settle_substeps_ > 0 ? 1 : 0);
     {
-      StageTimer t(profiling_, &sec[(int)Stage::solve]);
+      StageClock::Scope t(clock_, Stage::solve);
       bool struck = false;
       for (int it = 0; it < sweeps; ++it) struck |= solver_.solve(h, true, it == 0);
       profile_.sweeps += sweeps;
@@ -447,28 +429,27 @@ bool WorldImpl::stage_solve_contacts() {
       }
     }
     {
-      StageTimer t(profiling_, &sec[(int)Stage::integrate_positions]);
+      StageClock::Scope t(clock_, Stage::integrate_positions);
       solver_.integrate_positions(h);
     }
     {
-      StageTimer t(profiling_, &sec[(int)Stage::relax]);
+      StageClock::Scope t(clock_, Stage::relax);
       const int relax = cs.iterations + (settle_substeps_ > 0 ? 1 : 0);
       for (int it = 0; it < relax; ++it) solver_.solve(h, false, false);
       profile_.sweeps += relax;
       if (settle_substeps_ > 0) --settle_substeps_;
     }
     {
-      StageTimer t(profiling_, &sec[(int)Stage::restitution]);
+      StageClock::Scope t(clock_, Stage::restitution);
       solver_.restitution(cs.restitution_threshold);
     }
   }
   for (Stage s : {Stage::integrate_velocities, Stage::warm_start, Stage::solve, Stage::integrate_positions,
-                  Stage::relax})
-    runs[(int)s]++;
-  runs[(int)Stage::restitution]++;
+                  Stage::relax, Stage::restitution})
+    clock_.ran(s);
   bool finite = true;
   {
-    StageTimer t(profiling_, &sec[(int)Stage::store_impulses]);
+    StageClock::Scope t(clock_, Stage::store_impulses);
     solver_.store_impulses(contacts_);
     touched_none_.resize(contact_bodies_.size() + 1);
     solver_.finish(model_.data(), state_.data(), touched_none_);
@@ -496,7 +477,7 @@ bool WorldImpl::stage_solve_contacts() {
     profile_.solver_bodies += solved;
     if (pool_) profile_.pool_runs = pool_->runs(), profile_.pool_alone_runs = pool_->alone_runs();
   }
-  runs[(int)Stage::store_impulses]++;
+  clock_.ran(Stage::store_impulses);
   return finite;
 }
 

@@ -18,6 +18,7 @@
 #include "sim/collision/narrow/manifold.hpp"
 #include "sim/dynamics/integrators.hpp"
 #include "sim/world/world_impl.hpp"
+#include "sim/base/pair_key.hpp"
 
 namespace simreel {
 
@@ -266,20 +267,20 @@ bool WorldImpl::stage_continuous() {
           B.lo.z() > A.hi.z() + grow)
         continue;
       const int lo = std::min(a, b), hi = std::max(a, b);
-      if (shapes_may_touch(lo, hi)) ccd_pairs_.push_back(((uint64_t)lo << 32) | (uint32_t)hi);
+      if (shapes_may_touch(lo, hi)) ccd_pairs_.push_back(pair_key(lo, hi));
     }
   }
   for (int p : plane_shapes_)
     for (int k : sweep_shapes_) {
       if (!shape_swept_[k]) continue;
       const int lo = std::min(p, k), hi = std::max(p, k);
-      if (shapes_may_touch(lo, hi)) ccd_pairs_.push_back(((uint64_t)lo << 32) | (uint32_t)hi);
+      if (shapes_may_touch(lo, hi)) ccd_pairs_.push_back(pair_key(lo, hi));
     }
   std::sort(ccd_pairs_.begin(), ccd_pairs_.end());
   profile_.toi_pairs += (long)ccd_pairs_.size();
   // Times of impact, all from the same sweeps.
   for (uint64_t key : ccd_pairs_) {
-    const int a = (int)(key >> 32), b = (int)(key & 0xFFFFFFFFu);
+    const int a = pair_first(key), b = pair_second(key);
     const ShapeRecord& A = st[a];
     const ShapeRecord& B = st[b];
     if (A.geom.kind == CollideKind::mesh || B.geom.kind == CollideKind::mesh) {

@@ -8,6 +8,7 @@
 #include "sim/collision/narrow/mesh.hpp"
 #include "sim/dynamics/integrators.hpp"
 #include "sim/world/world_impl.hpp"
+#include "sim/base/pair_key.hpp"
 
 namespace simreel {
 
@@ -17,7 +18,7 @@ constexpr double kMatchCos = 0.9;  // ~26 degrees
 
 int WorldImpl::collide_mesh_pair(const CollideJob& job, Contact* out, int& points, double& deepest) const {
   const ShapeTable& st = *shapes_;
-  const int a = (int)(job.key >> 32), b = (int)(job.key & 0xFFFFFFFFu);
+  const int a = pair_first(job.key), b = pair_second(job.key);
   const ShapeRecord& A = st[a];
   const ShapeRecord& B = st[b];
   const MotionState& sa = state_[A.body];

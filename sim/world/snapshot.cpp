@@ -9,6 +9,7 @@
 
 #include <simreel/error.hpp>
 #include "sim/world/world_impl.hpp"
+#include "sim/base/hash.hpp"
 
 namespace simreel {
 
@@ -92,14 +93,13 @@ class In {
 };
 
 void fnv(uint64_t& h, const void* p, size_t n) {
-  const unsigned char* b = static_cast<const unsigned char*>(p);
-  for (size_t i = 0; i < n; ++i) h = (h ^ b[i]) * 0x100000001b3ull;
+  h = fnv1a(h, p, n);
 }
 
 }  // namespace
 
 uint64_t WorldImpl::fingerprint() const {
-  uint64_t h = 0xcbf29ce484222325ull;
+  uint64_t h = kFnvOffsetBasis;
   const uint64_t n = defs_.size();
   fnv(h, &n, sizeof n);
   for (const BodyDef& d : defs_) {

@@ -27,8 +27,7 @@ const char* to_string(Stage s) {
                                       "check",
                                       "continuous",
                                       "sleep",
-                                      "clear",
-                                      "derived"};
+                                      "clear"};
   static_assert(sizeof(names) / sizeof(names[0]) == (size_t)Stage::count);
   return (int)s >= 0 && s < Stage::count ? names[(int)s] : "?";
 }
@@ -39,17 +38,6 @@ std::string body_label(const std::vector<BodyDef>& defs, int i) {
   return "body " + std::to_string(i) + " ('" + defs[i].name + "')";
 }
 
-struct Timer {
-  bool on;
-  double* acc;
-  std::chrono::steady_clock::time_point t0;
-  Timer(bool enabled, double* sink) : on(enabled), acc(sink) {
-    if (on) t0 = std::chrono::steady_clock::now();
-  }
-  ~Timer() {
-    if (on) *acc += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  }
-};
 
 }  // namespace
 
@@ -62,7 +50,6 @@ WorldImpl::WorldImpl(const WorldConfig& config, std::vector<BodyDef> bodies)
   model_.resize(n);
   state_.resize(n);
   wrench_.resize(n);
-  inv_I_W_.assign(n, Mat3::Zero());
   spin_warned_.assign(n, 0);
   for (int i = 0; i < n; ++i) {
     const BodyDef& d = defs_[i];
@@ -150,85 +137,48 @@ WorldImpl::~WorldImpl() = default;
 
 // ------------------------------------------------------------------ the step pipeline
 void WorldImpl::step() {
-  double* sec = profile_.seconds;
-  long* runs = profile_.runs;
-  long* skipped = profile_.skipped;
-  if (cfg_.forces.empty()) {
-    skipped[(int)Stage::forces]++;  // gravity is applied in integration: no pass for it
-  } else {
-    bool ran;
-    {
-      Timer t(profiling_, &sec[(int)Stage::forces]);
-      ran = stage_forces();
-    }
-    (ran ? runs : skipped)[(int)Stage::forces]++;
-  }
+  if (cfg_.forces.empty())
+    clock_.skipped(Stage::forces);  // gravity is applied in integration: no pass for it
+  else
+    clock_.run(Stage::forces, [&] { return stage_forces(); });
   bool finite = true;
   bool solved = false;
   if (ccd_enabled_) save_start_poses();  // the sweeps' start (sim/world/continuous.cpp)
   if (collide_enabled_) {
-    {
-      Timer t(profiling_, &sec[(int)Stage::update_broad_phase]);
-      stage_broad_phase();
-    }
-    runs[(int)Stage::update_broad_phase]++;
-    if (pairs_.empty() && contacts_.empty() && resting_.empty()) {
-      skipped[(int)Stage::collide]++;  // nothing close, nothing was: no contact bodies either
-    } else {
-      {
-        Timer t(profiling_, &sec[(int)Stage::collide]);
-        stage_collide();
-      }
-      runs[(int)Stage::collide]++;
-    }
+    clock_.run(Stage::update_broad_phase, [&] { stage_broad_phase(); });
+    if (pairs_.empty() && contacts_.empty() && resting_.empty())
+      clock_.skipped(Stage::collide);  // nothing close, nothing was: no contact bodies either
+    else
+      clock_.run(Stage::collide, [&] { stage_collide(); });
     solved = !contact_bodies_.empty();
     if (solved) finite = stage_solve_contacts();
   } else {
-    skipped[(int)Stage::update_broad_phase]++;
-    skipped[(int)Stage::collide]++;
+    clock_.skipped(Stage::update_broad_phase);
+    clock_.skipped(Stage::collide);
   }
   if (!solved) {
     for (Stage st : {Stage::prepare_contacts, Stage::integrate_velocities, Stage::warm_start, Stage::solve,
                      Stage::integrate_positions, Stage::relax, Stage::restitution, Stage::store_impulses})
-      skipped[(int)st]++;
+      clock_.skipped(st);
   }
   finite = stage_integrate_and_check() && finite;
-  runs[(int)Stage::integrate]++;
-  runs[(int)Stage::check]++;
+  clock_.ran(Stage::integrate);
+  clock_.ran(Stage::check);
   if (!kinematic_.empty()) stage_kinematic();
-  if (ccd_enabled_ && finite) {
-    bool ran;
-    {
-      Timer t(profiling_, &sec[(int)Stage::continuous]);
-      ran = stage_continuous();
-    }
-    (ran ? runs : skipped)[(int)Stage::continuous]++;
-  } else {
-    skipped[(int)Stage::continuous]++;
-  }
-  if (sleep_enabled_) {
-    Timer t(profiling_, &sec[(int)Stage::sleep]);
-    stage_sleep();
-    runs[(int)Stage::sleep]++;
-  } else {
-    skipped[(int)Stage::sleep]++;
-  }
+  if (ccd_enabled_ && finite)
+    clock_.run(Stage::continuous, [&] { return stage_continuous(); });
+  else
+    clock_.skipped(Stage::continuous);
+  if (sleep_enabled_)
+    clock_.run(Stage::sleep, [&] { stage_sleep(); });
+  else
+    clock_.skipped(Stage::sleep);
   ++steps_;
   if (!finite) check_state();  // throws, naming the body and the time
-  if (wrench_dirty_) {
-    Timer t(profiling_, &sec[(int)Stage::clear]);
-    stage_clear();
-    runs[(int)Stage::clear]++;
-  } else {
-    skipped[(int)Stage::clear]++;
-  }
-  if (keep_derived_) {
-    Timer t(profiling_, &sec[(int)Stage::derived]);
-    stage_derived();
-    runs[(int)Stage::derived]++;
-  } else {
-    skipped[(int)Stage::derived]++;
-  }
+  if (wrench_dirty_)
+    clock_.run(Stage::clear, [&] { stage_clear(); });
+  else
+    clock_.skipped(Stage::clear);
   profile_.steps++;
 }
 
@@ -247,9 +197,10 @@ void WorldImpl::for_each_chunk(F& f) {
 }
 
 namespace {
+// Group g's bodies that chunk c of nc integrates (worker_pool.hpp's share of them).
 inline void chunk_range(const std::vector<int>& v, int c, int nc, const int*& begin, int& count) {
-  const long n = (long)v.size();
-  const int b = (int)(n * c / nc), e = (int)(n * (c + 1) / nc);
+  int b, e;
+  share((int)v.size(), c, nc, b, e);
   begin = v.data() + b;
   count = e - b;
 }
@@ -263,8 +214,9 @@ inline void chunk_range(const std::vector<int>& v, int c, int nc, const int*& be
 bool WorldImpl::stage_integrate_and_check() {
   using clock = std::chrono::steady_clock;
   const Wrench* wr = wrench_dirty_ ? wrench_.data() : nullptr;
+  const bool timing = clock_.timing();
   clock::time_point t0, t_mid;
-  if (profiling_) t0 = clock::now();
+  if (timing) t0 = clock::now();
   // Bodies under forces first, on this thread alone (one coupled system: a spring joins two).
   const bool forced_finite = forced_.empty() || integrate_forced();
   // Bodies the contact solver stepped this step are left out (free_ holds the rest).
@@ -288,7 +240,7 @@ bool WorldImpl::stage_integrate_and_check() {
       chunk_range(list(g), c, nc, idx, n);
       integrate(groups_[g].method, idx, n, state_.data(), model_.data(), wr, cfg_.gravity, cfg_.dt);
     }
-    if (c == 0 && profiling_) t_mid = clock::now();
+    if (c == 0 && timing) t_mid = clock::now();
     double sum = 0;
     for (size_t g = 0; g < groups_.size(); ++g) {
       const int* idx;
@@ -303,10 +255,10 @@ bool WorldImpl::stage_integrate_and_check() {
   };
   for (ChunkSum& s : chunk_sum_) s.value = 0;  // the pool may run it as one chunk (sim/base/worker_pool.hpp)
   for_each_chunk(work);
-  if (profiling_) {
+  if (timing) {
     const clock::time_point t1 = clock::now();
-    profile_.seconds[(int)Stage::integrate] += std::chrono::duration<double>(t_mid - t0).count();
-    profile_.seconds[(int)Stage::check] += std::chrono::duration<double>(t1 - t_mid).count();
+    clock_.add_seconds(Stage::integrate, std::chrono::duration<double>(t_mid - t0).count());
+    clock_.add_seconds(Stage::check, std::chrono::duration<double>(t1 - t_mid).count());
   }
   bool finite = forced_finite;
   for (const ChunkSum& s : chunk_sum_) finite = finite && std::isfinite(s.value);
@@ -316,10 +268,6 @@ bool WorldImpl::stage_integrate_and_check() {
 void WorldImpl::stage_clear() {
   for (Wrench& w : wrench_) w = Wrench{};
   wrench_dirty_ = false;
-}
-
-void WorldImpl::stage_derived() {
-  for (int i : dynamic_) inv_I_W_[i] = inverse_inertia_world(i);
 }
 
 void WorldImpl::check_state() const {

@@ -35,6 +35,7 @@
 #include <simreel/body.hpp>
 #include <simreel/world.hpp>
 
+#include "sim/base/stage_clock.hpp"
 #include "sim/collision/broad_phase.hpp"
 #include "sim/collision/time_of_impact.hpp"
 #include "sim/collision/contact.hpp"
@@ -154,11 +155,8 @@ class WorldImpl {
   bool has_forces() const { return !cfg_.forces.empty(); }
   bool impulse_applied(int k) const { return fired_[k] != 0; }  ///< force k (an impulse) was applied
 
-  void set_profiling(bool on) { profiling_ = on; }
+  void set_profiling(bool on) { clock_.set_timing(on); }
   const Profile& profile() const { return profile_; }
-  // Ask for the world inverse inertia to be refreshed every step (stage 5).
-  void keep_world_inertia(bool on) { keep_derived_ = on; }
-  const Mat3& cached_inverse_inertia_world(int i) const { return inv_I_W_[i]; }
 
  private:
   bool stage_integrate_and_check();  ///< false if a non-finite value appeared
@@ -222,7 +220,6 @@ class WorldImpl {
   void stage_clear();
   template <typename F>
   void for_each_chunk(F& f);
-  void stage_derived();
   Wrench& wrench(int i);
 
   WorldConfig cfg_;
@@ -230,7 +227,6 @@ class WorldImpl {
   std::vector<BodyModel> model_;
   std::vector<MotionState> state_;
   std::vector<Wrench> wrench_;
-  std::vector<Mat3> inv_I_W_;
   std::vector<int> dynamic_;  ///< indices of dynamic bodies, ascending
   struct Group {
     Integrator method;
@@ -244,10 +240,9 @@ class WorldImpl {
   std::vector<char> spin_warned_;
   std::vector<std::string> warnings_;
   bool wrench_dirty_ = false;
-  bool keep_derived_ = false;
-  bool profiling_ = false;
   long steps_ = 0;
   Profile profile_;
+  StageClock clock_{profile_};  ///< times and counts the stages into profile_
   std::unique_ptr<WorkerPool> pool_;
 
   // ---- Applied forces (sim/dynamics/forces.hpp, forces_stage.cpp).
@@ -332,7 +327,7 @@ class WorldImpl {
   std::vector<int> fast_;            ///< swept bodies this step, ascending
   std::vector<Aabb> swept_boxes_;    ///< per shape: its box over the whole step
   std::vector<int> ccd_order_;       ///< sweep_shapes_ sorted by swept box lo.x
-  std::vector<uint64_t> ccd_pairs_;  ///< shape pairs (a << 32 | b) to sweep, this step
+  std::vector<uint64_t> ccd_pairs_;  ///< shape pairs (pair_key) to sweep, this step
 };
 
 }  // namespace simreel
