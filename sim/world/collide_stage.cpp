@@ -29,6 +29,7 @@ void WorldImpl::init_contacts() {
     throw InputError("contacts: settings must be non-negative numbers");
   std::vector<std::string> notes;
   shapes_ = std::make_unique<ShapeTable>(defs_, model_, notes);
+  extents_.build(*shapes_, n);
   for (std::string& s : notes) warnings_.push_back(std::move(s));
   for (const auto& [a, b] : cfg_.ignore_pairs) {
     if (a < 0 || b < 0 || a >= n || b >= n) throw InputError("ignore_pairs: body index out of range");
@@ -111,7 +112,7 @@ __attribute__((flatten)) void WorldImpl::stage_broad_phase() {
   }
   active_shapes_.clear();
   for (int b : awake_bodies_)
-    for (int i = shape_first_[b]; i < shape_first_[b + 1]; ++i)
+    for (int i = extents_.shape_begin[b]; i < extents_.shape_begin[b + 1]; ++i)
       if (shape_moving_[i]) active_shapes_.push_back(i);  // (planes are static)
   // A body that fell asleep: its box at rest (v = w = 0 now), then nothing until it wakes.
   active_shapes_.insert(active_shapes_.end(), pending_freeze_.begin(), pending_freeze_.end());
@@ -121,7 +122,7 @@ __attribute__((flatten)) void WorldImpl::stage_broad_phase() {
     const MotionState& s = state_[r.body];
     poses_[i] = ShapeTable::world_pose(r, s);  // kept for collide: the state does not change between
     const Aabb b = ShapeTable::bounds(r.geom, poses_[i]);
-    const double reach = (r.p_PC.norm() + r.geom.bounding_radius) * s.w_P.norm();
+    const double reach = extents_.shape_reach[i] * s.w_P.norm();
     const Vec3 m = Vec3::Constant(spec + (s.v_W.norm() + reach) * dt);
     boxes_[i] = Aabb{b.lo - m, b.hi + m};
   }
@@ -167,7 +168,7 @@ void WorldImpl::stage_collide() {
     size_t rest_end = rest;
     while (rest_end < resting_keys_.size() && resting_keys_[rest_end] == key) ++rest_end;
     const int a = pair_first(key), b = pair_second(key);
-    const int body_a = shape_body_[a], body_b = shape_body_[b];
+    const int body_a = extents_.shape_body[a], body_b = extents_.shape_body[b];
     CollideJob job;
     job.key = key;
     job.body_a = body_a;
@@ -342,8 +343,8 @@ double WorldImpl::collide_pair(const CollideJob& job, Contact& c) const {
   new_contact(c, a, b, prev);
   if (prev) c.cache = prev->cache;
   // How far the two can close this step, bounded: relative speed of their farthest points.
-  const double reach_a = (A.p_PC.norm() + A.geom.bounding_radius) * sa.w_P.norm();
-  const double reach_b = (B.p_PC.norm() + B.geom.bounding_radius) * sb.w_P.norm();
+  const double reach_a = extents_.shape_reach[a] * sa.w_P.norm();
+  const double reach_b = extents_.shape_reach[b] * sb.w_P.norm();
   const double closing = ((sa.v_W - sb.v_W).norm() + reach_a + reach_b) * dt;
   Manifold m;
   Vec3 offset[4] = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};

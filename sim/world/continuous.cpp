@@ -31,25 +31,7 @@ void WorldImpl::init_continuous() {
   if (!ccd_enabled_) return;
   const int n = (int)defs_.size();
   const ShapeTable& st = *shapes_;
-  constexpr double kInf = std::numeric_limits<double>::infinity();
-  min_size_.assign(n, kInf);
-  body_reach_.assign(n, 0.0);
-  shape_reach_.assign(st.size(), 0.0);
-  shape_width_.assign(st.size(), kInf);
   shape_swept_.assign(st.size(), 0);
-  shape_begin_.assign(n + 1, st.size());
-  for (int k = st.size() - 1; k >= 0; --k) shape_begin_[st[k].body] = k;
-  for (int i = n - 1; i >= 0; --i) shape_begin_[i] = std::min(shape_begin_[i], shape_begin_[i + 1]);
-  for (int k = 0; k < st.size(); ++k) {
-    const ShapeRecord& r = st[k];
-    // Planes and static meshes (never swept; their width is unbounded), shapes that touch nothing.
-    if (r.geom.kind == CollideKind::plane || r.geom.kind == CollideKind::mesh || r.group == 0 || r.mask == 0)
-      continue;
-    shape_reach_[k] = r.p_PC.norm() + r.geom.bounding_radius;
-    shape_width_[k] = min_width(r.geom);
-    body_reach_[r.body] = std::max(body_reach_[r.body], shape_reach_[k]);
-    min_size_[r.body] = std::min(min_size_[r.body], shape_width_[k]);
-  }
   bullet_.assign(n, 0);
   for (int i : dynamic_) bullet_[i] = defs_[i].bullet;
   ccd_movers_ = dynamic_;
@@ -77,10 +59,10 @@ bool WorldImpl::fast_pair(int a, int b, double closing) const {
   const ShapeRecord& A = (*shapes_)[a];
   const ShapeRecord& B = (*shapes_)[b];
   const double slop4 = 4 * cfg_.contacts.linear_slop;
-  if (!(shape_width_[a] > slop4) || !(shape_width_[b] > slop4)) return false;  // as in stage_continuous
+  if (!(extents_.shape_width[a] > slop4) || !(extents_.shape_width[b] > slop4)) return false;  // as in stage_continuous
   if (bullet_[A.body] || bullet_[B.body]) return true;
-  const double limit = 0.5 * std::min(model_[A.body].is_static ? kInfWidth : shape_width_[a],
-                                      model_[B.body].is_static ? kInfWidth : shape_width_[b]);
+  const double limit = 0.5 * std::min(model_[A.body].is_static ? kInfWidth : extents_.shape_width[a],
+                                      model_[B.body].is_static ? kInfWidth : extents_.shape_width[b]);
   if (closing <= limit) return false;
   // The shapes' own motion: their centres' relative velocity and their spin about their centres.
   auto centre_velocity = [&](const ShapeRecord& r, Vec3& w) {
@@ -128,12 +110,12 @@ int WorldImpl::collide_ahead(int a, int b, const Pose& xa, const Pose& xb, doubl
   in.R_PA = A.R_PC;
   in.p_PA = A.p_PC;
   in.sa = &sa;
-  in.reach_a = shape_reach_[a];
+  in.reach_a = extents_.sweep_reach(a);
   in.b = &B.geom;
   in.R_PB = B.R_PC;
   in.p_PB = B.p_PC;
   in.sb = &sb;
-  in.reach_b = shape_reach_[b];
+  in.reach_b = extents_.sweep_reach(b);
   in.target = 0.5 * speculative;
   in.tolerance = 0.25 * speculative;
   const ToiOutput out = time_of_impact(in);
@@ -175,7 +157,7 @@ double WorldImpl::mesh_toi(int c, int m, const Sweep& s, const Aabb& box, double
   in.R_PA = C.R_PC;
   in.p_PA = C.p_PC;
   in.sa = &s;
-  in.reach_a = shape_reach_[c];
+  in.reach_a = extents_.sweep_reach(c);
   in.target = target;
   in.tolerance = tolerance;
   const Vec3 grow = Vec3::Constant(target + tolerance);
@@ -209,19 +191,19 @@ bool WorldImpl::stage_continuous() {
     const Vec3 dx = s.x_W - x0_[i];
     const double c = std::min(1.0, std::fabs(q0_[i].dot(s.q_WP)));
     const double angle = 2.0 * std::acos(c);
-    const double motion = dx.norm() + angle * body_reach_[i];
-    if (!(motion > 0) || (!bullet_[i] && motion <= 0.5 * min_size_[i])) continue;
+    const double motion = dx.norm() + angle * extents_.swept_reach[i];
+    if (!(motion > 0) || (!bullet_[i] && motion <= 0.5 * extents_.width[i])) continue;
     bool any = false;
     const Mat3 R0 = q0_[i].toRotationMatrix(), R1 = s.q_WP.toRotationMatrix();
-    for (int k = shape_begin_[i]; k < shape_begin_[i + 1]; ++k) {
+    for (int k = extents_.shape_begin[i]; k < extents_.shape_begin[i + 1]; ++k) {
       const ShapeRecord& r = shapes[k];
       // Planes and shapes that touch nothing are not swept; nor shapes narrower than four slops
       // (0.4 mm by default): the solver lets any contact sink a slop, so their centre is not
       // outside what they touch even at rest (a 20 um tip on a spinning top was pulled back
       // every step and the top stopped precessing).
-      if (!(shape_width_[k] > 4 * cfg_.contacts.linear_slop) || !std::isfinite(shape_width_[k])) continue;
+      if (!(extents_.shape_width[k] > 4 * cfg_.contacts.linear_slop) || !std::isfinite(extents_.shape_width[k])) continue;
       const double m = (dx + (R1 - R0) * r.p_PC).norm() + angle * r.geom.bounding_radius;
-      shape_swept_[k] = bullet_[i] || m > 0.5 * shape_width_[k];
+      shape_swept_[k] = bullet_[i] || m > 0.5 * extents_.shape_width[k];
       any = any || shape_swept_[k];
     }
     if (any) fast_.push_back(i);
@@ -241,7 +223,7 @@ bool WorldImpl::stage_continuous() {
     Aabb b = ShapeTable::bounds(r.geom, shape_pose(r, s.x0, s.q0));
     if (s.moves) {
       const Aabb e = ShapeTable::bounds(r.geom, shape_pose(r, s.x0 + s.dx, s.q1));
-      const double arc = shape_reach_[k] * (1.0 - std::cos(0.5 * s.angle));
+      const double arc = extents_.sweep_reach(k) * (1.0 - std::cos(0.5 * s.angle));
       b.lo = b.lo.cwiseMin(e.lo) - Vec3::Constant(arc);
       b.hi = b.hi.cwiseMax(e.hi) + Vec3::Constant(arc);
     }
@@ -297,12 +279,12 @@ bool WorldImpl::stage_continuous() {
     in.R_PA = A.R_PC;
     in.p_PA = A.p_PC;
     in.sa = &sweeps_[A.body];
-    in.reach_a = shape_reach_[a];
+    in.reach_a = extents_.sweep_reach(a);
     in.b = &B.geom;
     in.R_PB = B.R_PC;
     in.p_PB = B.p_PC;
     in.sb = &sweeps_[B.body];
-    in.reach_b = shape_reach_[b];
+    in.reach_b = extents_.sweep_reach(b);
     in.target = target;
     in.tolerance = tolerance;
     // Touching at the start (a resting or sliding contact, which the solver handles): the swept
@@ -317,9 +299,9 @@ bool WorldImpl::stage_continuous() {
   // should: moving it back would only leave it hovering a target gap off the surface).
   const double keep = target + tolerance + cs.linear_slop;
   for (int i : fast_) {
-    for (int k = shape_begin_[i]; k < shape_begin_[i + 1]; ++k) shape_swept_[k] = 0;
+    for (int k = extents_.shape_begin[i]; k < extents_.shape_begin[i + 1]; ++k) shape_swept_[k] = 0;
     const Sweep& s = sweeps_[i];
-    if (toi_[i] < 1 && (1.0 - toi_[i]) * (s.dx.norm() + s.angle * body_reach_[i]) > keep) {
+    if (toi_[i] < 1 && (1.0 - toi_[i]) * (s.dx.norm() + s.angle * extents_.swept_reach[i]) > keep) {
       state_[i].x_W = s.x_at(toi_[i]);
       state_[i].q_WP = s.q_at(toi_[i]);
       ++profile_.toi_hits;

@@ -29,8 +29,8 @@ int WorldImpl::collide_mesh_pair(const CollideJob& job, Contact* out, int& point
   const ShapeRecord& C = mesh_is_a ? B : A;
   const Pose xm = ShapeTable::world_pose(M, state_[M.body]);
   const Pose xc = shape_moving_[convex] ? poses_[convex] : ShapeTable::world_pose(C, state_[C.body]);
-  const double reach_a = (A.p_PC.norm() + A.geom.bounding_radius) * sa.w_P.norm();
-  const double reach_b = (B.p_PC.norm() + B.geom.bounding_radius) * sb.w_P.norm();
+  const double reach_a = extents_.shape_reach[a] * sa.w_P.norm();
+  const double reach_b = extents_.shape_reach[b] * sb.w_P.norm();
   const double closing = ((sa.v_W - sb.v_W).norm() + reach_a + reach_b) * cfg_.dt;
   const double spec = cfg_.contacts.speculative_distance + closing;
   Manifold m[kMaxMeshManifolds];
@@ -107,7 +107,7 @@ int WorldImpl::collide_mesh_ahead(int c, int mi, double speculative, Manifold ou
   // The shape's box over the prediction (grown by how far a rotation's arc strays from its chord).
   Aabb box = ShapeTable::bounds(C.geom, shape_pose(C, sw.x0, sw.q0));
   const Aabb end = ShapeTable::bounds(C.geom, shape_pose(C, x1, q1));
-  const double arc = shape_reach_[c] * (1.0 - std::cos(0.5 * sw.angle));
+  const double arc = extents_.sweep_reach(c) * (1.0 - std::cos(0.5 * sw.angle));
   box.lo = box.lo.cwiseMin(end.lo) - Vec3::Constant(arc);
   box.hi = box.hi.cwiseMax(end.hi) + Vec3::Constant(arc);
   const double t = mesh_toi(c, mi, sw, box, 0.5 * speculative, 0.25 * speculative, false);

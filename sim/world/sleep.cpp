@@ -28,12 +28,6 @@ void WorldImpl::init_sleep() {
   // with time or with another body's motion without anything touching them.
   for (int i : involved_) may_sleep_[i] = 0;
   for (int i : forced_) may_sleep_[i] = 0;
-  reach_.assign(n, 0.0);
-  const ShapeTable& st = *shapes_;
-  for (int k = 0; k < st.size(); ++k) {
-    const ShapeRecord& r = st[k];
-    reach_[r.body] = std::max(reach_[r.body], r.p_PC.norm() + r.geom.bounding_radius);
-  }
   uf_.assign(n, 0);
   island_min_.assign(n, 0.0);
   island_next_.assign(n, -1);
@@ -53,11 +47,6 @@ void WorldImpl::init_awake() {
     if (!model_[i].is_static) awake_bodies_.push_back(i);
   awake_sorted_ = true;
   pending_freeze_.clear();
-  const ShapeTable& st = *shapes_;
-  shape_first_.assign(n + 1, 0);
-  shape_body_.resize(st.size());
-  for (int k = 0; k < st.size(); ++k) shape_first_[st[k].body + 1]++, shape_body_[k] = st[k].body;
-  for (int b = 0; b < n; ++b) shape_first_[b + 1] += shape_first_[b];
 }
 
 // A sleeping island is a list threaded through island_next_, from its id (its least body, itself
@@ -89,7 +78,7 @@ void WorldImpl::after_restore() {
       awake_bodies_.push_back(i);
       continue;
     }
-    for (int k = shape_first_[i]; k < shape_first_[i + 1]; ++k)
+    for (int k = extents_.shape_begin[i]; k < extents_.shape_begin[i + 1]; ++k)
       if (shape_moving_[k]) pending_freeze_.push_back(k);
     if (ccd_enabled_) x0_[i] = state_[i].x_W, q0_[i] = state_[i].q_WP;  // see save_start_poses
   }
@@ -119,7 +108,7 @@ void WorldImpl::stage_sleep() {
   for (int i : awake_bodies_) {
     if (model_[i].inv_mass == 0) continue;  // kinematic
     const MotionState& s = state_[i];
-    const bool still = may_sleep_[i] && in_contact_[i] && s.v_W.norm() + reach_[i] * s.w_P.norm() < speed;
+    const bool still = may_sleep_[i] && in_contact_[i] && s.v_W.norm() + extents_.reach[i] * s.w_P.norm() < speed;
     still_time_[i] = still ? still_time_[i] + dt : 0.0;
   }
   // 2. Islands: union-find over the contacts between two awake dynamic bodies, the smaller root
@@ -173,7 +162,7 @@ void WorldImpl::stage_sleep() {
     in_contact_[i] = 0;
     ++sleeping_;
     if (ccd_enabled_) x0_[i] = state_[i].x_W, q0_[i] = state_[i].q_WP;  // its sweeps' start while asleep
-    for (int s = shape_first_[i]; s < shape_first_[i + 1]; ++s)
+    for (int s = extents_.shape_begin[i]; s < extents_.shape_begin[i + 1]; ++s)
       if (shape_moving_[s]) pending_freeze_.push_back(s);
   }
   awake_bodies_.resize(kept);

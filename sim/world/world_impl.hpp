@@ -36,6 +36,7 @@
 #include <simreel/world.hpp>
 
 #include "sim/base/stage_clock.hpp"
+#include "sim/collision/body_extents.hpp"
 #include "sim/collision/broad_phase.hpp"
 #include "sim/collision/time_of_impact.hpp"
 #include "sim/collision/contact.hpp"
@@ -167,7 +168,7 @@ class WorldImpl {
   void init_contacts();
   bool shapes_may_touch(int a, int b) const;
   void stage_broad_phase();
-  void init_awake();     ///< awake_bodies_, shape_first_ (after init_contacts)
+  void init_awake();     ///< awake_bodies_ (after init_contacts)
   void after_restore();  ///< caches of the broad phase and the islands
   void stage_collide();
   // One candidate pair of stage_collide: its records go to contacts_next_[slot, slot + count).
@@ -263,6 +264,7 @@ class WorldImpl {
 
   // ---- Contact data (sim/collision/shape_table.hpp, broad_phase.hpp, contact.hpp, contact_solver.hpp).
   std::unique_ptr<ShapeTable> shapes_;
+  BodyExtents extents_;  ///< shape ranges, reaches and widths (built with shapes_)
   bool collide_enabled_ = false;
   std::vector<int> sweep_shapes_, plane_shapes_;  ///< non-plane and plane colliding shapes
   std::vector<Pose> plane_poses_;
@@ -273,14 +275,11 @@ class WorldImpl {
   BroadPhase broad_;
   std::vector<int> active_shapes_;   ///< this step: moving shapes of awake bodies, then pending_freeze_
   std::vector<int> pending_freeze_;  ///< shapes of bodies that fell asleep: one box at rest to make
-  std::vector<int> shape_first_;     ///< per body + 1: its shapes are shape_first_[b] .. [b + 1] - 1
-  std::vector<int> shape_body_;      ///< per shape: its body (ShapeTable's, in a compact array)
   int settle_substeps_ = 0;          ///< substeps left with one more sweep after an impact (saved state)
 
   // ---- Sleeping (sim/world/sleep.cpp).
   bool sleep_enabled_ = false;
   std::vector<char> may_sleep_;     ///< per body: dynamic and under no continuous force
-  std::vector<double> reach_;       ///< per body: m, farthest shape point from the centroid
   std::vector<double> still_time_;  ///< per body: s slow and touching (saved state)
   std::vector<int> asleep_;         ///< per body: -1 awake, else its island's id (saved state)
   std::vector<int> island_next_;    ///< per sleeping body: next body of its island, or -1
@@ -315,11 +314,6 @@ class WorldImpl {
   std::vector<int> ccd_movers_;      ///< dynamic and kinematic bodies, ascending
   std::vector<Vec3> x0_;             ///< per body: centre of mass at the step's start
   std::vector<Quat> q0_;             ///< per body: orientation at the step's start
-  std::vector<double> min_size_;     ///< per body: m, smallest width of its shapes
-  std::vector<double> body_reach_;   ///< per body: m, farthest shape point from the centre of mass
-  std::vector<double> shape_reach_;  ///< per shape: m, the same for the shape alone
-  std::vector<double> shape_width_;  ///< per shape: m, its smallest width (min_width; planes: infinite)
-  std::vector<int> shape_begin_;     ///< per body: its first shape (shapes are in body order); +1: end
   std::vector<char> shape_swept_;    ///< per shape: swept this step
   std::vector<char> bullet_;         ///< per body: dynamic and flagged `bullet`
   std::vector<double> toi_;          ///< per body: earliest time of impact this step (fraction)
