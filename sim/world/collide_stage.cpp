@@ -64,7 +64,6 @@ void WorldImpl::init_contacts() {
   in_contact_.assign(n, 0);
   solver_index_.assign(n, 0);
   free_.resize(groups_.size());
-  init_awake();
   if (!collide_enabled_) return;
   // Bodies overlapping at the start: a warning naming the pair and the depth.
   stage_broad_phase();
@@ -106,17 +105,14 @@ bool WorldImpl::shapes_may_touch(int a, int b) const {
 __attribute__((flatten)) void WorldImpl::stage_broad_phase() {
   const ShapeTable& st = *shapes_;
   const double spec = cfg_.contacts.speculative_distance, dt = cfg_.dt;
-  if (!awake_sorted_) {
-    std::sort(awake_bodies_.begin(), awake_bodies_.end());
-    awake_sorted_ = true;
-  }
   active_shapes_.clear();
-  for (int b : awake_bodies_)
+  for (int b : islands_.awake_bodies())
     for (int i = extents_.shape_begin[b]; i < extents_.shape_begin[b + 1]; ++i)
       if (shape_moving_[i]) active_shapes_.push_back(i);  // (planes are static)
   // A body that fell asleep: its box at rest (v = w = 0 now), then nothing until it wakes.
-  active_shapes_.insert(active_shapes_.end(), pending_freeze_.begin(), pending_freeze_.end());
-  pending_freeze_.clear();
+  std::vector<int>& freeze = islands_.pending_freeze();
+  active_shapes_.insert(active_shapes_.end(), freeze.begin(), freeze.end());
+  freeze.clear();
   for (int i : active_shapes_) {
     const ShapeRecord& r = st[i];
     const MotionState& s = state_[r.body];
@@ -178,7 +174,7 @@ void WorldImpl::stage_collide() {
     job.prev_count = job.stored ? (int)(rest_end - rest) : (int)(old_end - old);
     // A pair that cannot move keeps its records as they were when it fell asleep: neither body
     // has moved since.
-    job.keep = sleeping_ > 0 && inert(body_a) && inert(body_b);
+    job.keep = islands_.sleeping() > 0 && inert(body_a) && inert(body_b);
     job.count = job.points = 0;
     if (job.keep && job.stored) {
       job.mesh = false;  // (not looked at: the shape records are not touched)
@@ -260,8 +256,8 @@ void WorldImpl::stage_collide() {
     if (job.points <= 0) continue;
     points += job.points;
     // Something awake comes within reach of a sleeping body: its island wakes.
-    if (asleep_[body_a] >= 0) wake(body_a), woke = true;
-    if (asleep_[body_b] >= 0) wake(body_b), woke = true;
+    if (islands_.asleep(body_a)) wake(body_a), woke = true;
+    if (islands_.asleep(body_b)) wake(body_b), woke = true;
     in_contact_[body_a] = in_contact_[body_a] || !model_[body_a].is_static;
     in_contact_[body_b] = in_contact_[body_b] || !model_[body_b].is_static;
   }
@@ -306,8 +302,8 @@ void WorldImpl::stage_collide() {
     // Contacts kept for bodies that slept until now (earlier in key order) are theirs again.
     for (const Contact& c : contacts_) {
       if (c.count == 0) continue;
-      if (asleep_[c.body_a] < 0 && !model_[c.body_a].is_static) in_contact_[c.body_a] = 1;
-      if (asleep_[c.body_b] < 0 && !model_[c.body_b].is_static) in_contact_[c.body_b] = 1;
+      if (!islands_.asleep(c.body_a) && !model_[c.body_a].is_static) in_contact_[c.body_a] = 1;
+      if (!islands_.asleep(c.body_b) && !model_[c.body_b].is_static) in_contact_[c.body_b] = 1;
     }
   }
   contact_stats_.contacts_max = std::max(contact_stats_.contacts_max, points);
@@ -473,7 +469,7 @@ bool WorldImpl::stage_solve_contacts() {
     for (size_t g = 0; g < groups_.size(); ++g) {
       free_[g].clear();
       for (int i : groups_[g].bodies)
-        if (!in_contact_[i] && asleep_[i] < 0) free_[g].push_back(i);
+        if (!in_contact_[i] && !islands_.asleep(i)) free_[g].push_back(i);
     }
     profile_.solver_bodies += solved;
     if (pool_) profile_.pool_runs = pool_->runs(), profile_.pool_alone_runs = pool_->alone_runs();

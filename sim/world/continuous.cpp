@@ -172,7 +172,7 @@ double WorldImpl::mesh_toi(int c, int m, const Sweep& s, const Aabb& box, double
 // moves it without waking it first. With 50,000 bodies asleep the copy of every pose was a quarter
 // of the step.
 void WorldImpl::save_start_poses() {
-  for (int i : awake_bodies_) {
+  for (int i : islands_.awake_bodies_unsorted()) {
     x0_[i] = state_[i].x_W;
     q0_[i] = state_[i].q_WP;
   }
@@ -186,7 +186,7 @@ bool WorldImpl::stage_continuous() {
   fast_.clear();
   const ShapeTable& shapes = *shapes_;
   for (int i : dynamic_) {
-    if (asleep_[i] >= 0) continue;
+    if (islands_.asleep(i)) continue;
     const MotionState& s = state_[i];
     const Vec3 dx = s.x_W - x0_[i];
     const double c = std::min(1.0, std::fabs(q0_[i].dot(s.q_WP)));

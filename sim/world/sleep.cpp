@@ -1,14 +1,8 @@
-// Stage "sleep": islands of touching bodies that have all been still for a while stop being
-// stepped (sim/README.md "Sleeping"). Box2D v3 and Jolt do the same with a speed threshold and a
-// time; here only bodies the contact solver stepped count time (a body in free flight keeps its
-// exact integrator and never stops on its own, however slow), and the speed is that of the
-// body's fastest point, |v| + |w| r.
-#include <algorithm>
+// World's sleep stage: which bodies may sleep, the stage over the islands (islands.hpp), and the
+// islands' caches after a restore.
 #include <cmath>
-#include <limits>
 
 #include <simreel/error.hpp>
-#include "sim/collision/shape_table.hpp"
 #include "sim/world/world_impl.hpp"
 
 namespace simreel {
@@ -19,153 +13,44 @@ void WorldImpl::init_sleep() {
   if (!(cs.sleep_speed >= 0) || !(cs.sleep_time >= 0) || !std::isfinite(cs.sleep_speed) ||
       !std::isfinite(cs.sleep_time))
     throw InputError("contacts: sleep_speed and sleep_time must be non-negative numbers");
-  sleeping_ = 0;
-  sleep_enabled_ = cs.sleep && collide_enabled_;
-  if (!sleep_enabled_) return;
-  may_sleep_.assign(n, 0);
-  for (int i : dynamic_) may_sleep_[i] = 1;
+  if (!(cs.sleep && collide_enabled_)) return;
+  std::vector<char> may_sleep(n, 0);
+  for (int i : dynamic_) may_sleep[i] = 1;
   // Bodies under a continuous force (a spring, a thrust, drag) never sleep: the force may change
   // with time or with another body's motion without anything touching them.
-  for (int i : involved_) may_sleep_[i] = 0;
-  for (int i : forced_) may_sleep_[i] = 0;
-  uf_.assign(n, 0);
-  island_min_.assign(n, 0.0);
-  island_next_.assign(n, -1);
-  island_tail_.assign(n, -1);
+  for (int i : involved_) may_sleep[i] = 0;
+  for (int i : forced_) may_sleep[i] = 0;
+  islands_.enable(std::move(may_sleep));
 }
 
-bool WorldImpl::kinematic_at_rest(int i) const {
-  return defs_[i].type == BodyType::kinematic && state_[i].v_W.isZero(0) && state_[i].w_P.isZero(0);
-}
-
-// The bodies that move (dynamic and kinematic), all awake at the start, and each body's shapes
-// (ShapeTable lists them body by body).
-void WorldImpl::init_awake() {
-  const int n = (int)defs_.size();
-  awake_bodies_.clear();
-  for (int i = 0; i < n; ++i)
-    if (!model_[i].is_static) awake_bodies_.push_back(i);
-  awake_sorted_ = true;
-  pending_freeze_.clear();
-}
-
-// A sleeping island is a list threaded through island_next_, from its id (its least body, itself
-// a member) in ascending order: waking it visits its bodies only, and they join awake_bodies_
-// (sorted again before its next use).
-void WorldImpl::wake(int i) {
-  if ((size_t)i >= asleep_.size() || asleep_[i] < 0) return;
-  for (int j = asleep_[i]; j >= 0;) {
-    const int next = island_next_[j];
-    asleep_[j] = -1;
-    still_time_[j] = 0;
-    island_next_[j] = -1;
-    --sleeping_;
-    awake_bodies_.push_back(j);
-    j = next;
-  }
-  awake_sorted_ = false;
-}
-
-// After restore_state: the awake list and the islands' lists from asleep_ (saved); the sleeping
-// bodies' boxes made again at rest, and the broad phase started afresh.
-void WorldImpl::after_restore() {
-  broad_.reset();
-  awake_bodies_.clear();
-  pending_freeze_.clear();
-  for (int i = 0; i < (int)defs_.size(); ++i) {
-    if (model_[i].is_static) continue;
-    if (asleep_[i] < 0) {
-      awake_bodies_.push_back(i);
-      continue;
-    }
-    for (int k = extents_.shape_begin[i]; k < extents_.shape_begin[i + 1]; ++k)
-      if (shape_moving_[k]) pending_freeze_.push_back(k);
-    if (ccd_enabled_) x0_[i] = state_[i].x_W, q0_[i] = state_[i].q_WP;  // see save_start_poses
-  }
-  awake_sorted_ = true;
-  if (!sleep_enabled_) return;
-  for (int j : dynamic_) {
-    island_next_[j] = -1;
-    const int r = asleep_[j];
-    if (r < 0) continue;
-    // An island's id is its least body, itself asleep in it (so it comes first here).
-    if (r > j || asleep_[r] != r)
-      throw InputError("saved state is damaged (sleeping island of body '" + defs_[j].name + "')");
-    if (j != r) island_next_[island_tail_[r]] = j;
-    island_tail_[r] = j;
-  }
-}
-
-// Visits the awake bodies and the step's contacts only (a sleeping pair's records are in resting_,
-// which nothing here needs: both its sides are asleep or static): a world asleep costs nothing.
 void WorldImpl::stage_sleep() {
-  const double dt = cfg_.dt, speed = cfg_.contacts.sleep_speed;
-  if (!awake_sorted_) {
-    std::sort(awake_bodies_.begin(), awake_bodies_.end());
-    awake_sorted_ = true;
-  }
-  // 1. Still time: a body counts it while the solver stepped it and its fastest point is slow.
-  for (int i : awake_bodies_) {
-    if (model_[i].inv_mass == 0) continue;  // kinematic
-    const MotionState& s = state_[i];
-    const bool still = may_sleep_[i] && in_contact_[i] && s.v_W.norm() + extents_.reach[i] * s.w_P.norm() < speed;
-    still_time_[i] = still ? still_time_[i] + dt : 0.0;
-  }
-  // 2. Islands: union-find over the contacts between two awake dynamic bodies, the smaller root
-  // kept (so an island's id, its least body index, does not depend on the contacts' order). A body
-  // carried by a moving kinematic body is not still, whatever its own speed.
-  for (int i : awake_bodies_) uf_[i] = i;
-  auto find = [this](int i) {
-    while (uf_[i] != i) i = uf_[i] = uf_[uf_[i]];
-    return i;
-  };
-  auto awake_dynamic = [this](int i) { return asleep_[i] < 0 && model_[i].inv_mass > 0; };
-  for (const Contact& c : contacts_) {
-    if (c.count == 0) continue;
-    const int a = c.body_a, b = c.body_b;
-    const bool da = awake_dynamic(a), db = awake_dynamic(b);
-    if (da && db) {
-      const int ra = find(a), rb = find(b);
-      if (ra < rb) uf_[rb] = ra;
-      if (rb < ra) uf_[ra] = rb;
-    } else if (da && !inert(b)) {
-      still_time_[a] = 0;
-    } else if (db && !inert(a)) {
-      still_time_[b] = 0;
-    }
-  }
-  // 3. An island sleeps when its least still body has been still for sleep_time.
-  for (int i : awake_bodies_)
-    if (model_[i].inv_mass > 0) island_min_[find(i)] = std::numeric_limits<double>::infinity();
-  for (int i : awake_bodies_)
-    if (model_[i].inv_mass > 0) {
-      const int r = find(i);
-      island_min_[r] = std::min(island_min_[r], still_time_[i]);
-    }
-  // Members join their island's list in ascending order; its id, the least, comes first. They
-  // leave awake_bodies_, and their shapes get one box at rest in the next broad phase.
-  const double t_sleep = std::max(cfg_.contacts.sleep_time, dt) - 1e-12;
-  size_t kept = 0;
-  for (size_t k = 0; k < awake_bodies_.size(); ++k) {
-    const int i = awake_bodies_[k];
-    const int r = model_[i].inv_mass > 0 ? find(i) : -1;
-    if (r < 0 || !(island_min_[r] >= t_sleep)) {
-      awake_bodies_[kept++] = i;
-      continue;
-    }
-    asleep_[i] = r;
-    island_next_[i] = -1;
-    if (i != r) island_next_[island_tail_[r]] = i;
-    island_tail_[r] = i;
-    state_[i].v_W.setZero();
-    state_[i].w_P.setZero();
-    in_contact_[i] = 0;
-    ++sleeping_;
-    if (ccd_enabled_) x0_[i] = state_[i].x_W, q0_[i] = state_[i].q_WP;  // its sweeps' start while asleep
-    for (int s = extents_.shape_begin[i]; s < extents_.shape_begin[i + 1]; ++s)
-      if (shape_moving_[s]) pending_freeze_.push_back(s);
-  }
-  awake_bodies_.resize(kept);
+  Islands::Step in;
+  in.dt = cfg_.dt;
+  in.speed = cfg_.contacts.sleep_speed;
+  in.sleep_time = cfg_.contacts.sleep_time;
+  in.model = model_.data();
+  in.state = state_.data();
+  in.in_contact = in_contact_.data();
+  in.contacts = &contacts_;
+  in.extents = &extents_;
+  in.shape_moving = &shape_moving_;
+  fell_asleep_.clear();
+  islands_.step(in, fell_asleep_);
+  // A sleeping body's sweeps start where it fell asleep (continuous.cpp, save_start_poses).
+  if (ccd_enabled_)
+    for (int i : fell_asleep_) x0_[i] = state_[i].x_W, q0_[i] = state_[i].q_WP;
+}
+
+// After restore_state: the islands from the saved still times and ids (the awake list, the
+// islands' lists, the sleeping bodies' boxes made again at rest), the broad phase started afresh.
+void WorldImpl::after_restore(std::vector<double> still, std::vector<int> asleep) {
+  broad_.reset();
+  std::vector<std::string> names;
+  for (const BodyDef& d : defs_) names.push_back(d.name);
+  islands_.restore(std::move(still), std::move(asleep), model_, names, extents_, shape_moving_);
+  if (ccd_enabled_)
+    for (int i = 0; i < (int)defs_.size(); ++i)
+      if (!model_[i].is_static && islands_.asleep(i)) x0_[i] = state_[i].x_W, q0_[i] = state_[i].q_WP;
 }
 
 }  // namespace simreel

@@ -174,8 +174,8 @@ void WorldImpl::save_state(std::ostream& os) const {
   for (char f : fired_) o.u8((uint8_t)f);
   o.i32(settle_substeps_);
   for (size_t i = 0; i < state_.size(); ++i) {
-    o.f64(still_time_[i]);
-    o.i32(asleep_[i]);
+    o.f64(islands_.still_time(i));
+    o.i32(islands_.island(i));
   }
   if (!os) throw std::runtime_error("could not write the saved state");
 }
@@ -262,7 +262,6 @@ void WorldImpl::restore_state(std::istream& is) {
   int settle = 0;
   std::vector<double> still(state_.size(), 0.0);
   std::vector<int> asleep(state_.size(), -1);
-  int sleeping = 0;
   if (version >= 3) {
     settle = in.i32();
     if (settle < 0 || settle > 100000) throw InputError("saved state is damaged (impact settling)");
@@ -270,16 +269,12 @@ void WorldImpl::restore_state(std::istream& is) {
       still[i] = in.f64();
       asleep[i] = in.i32();
       if (!(still[i] >= 0) || !std::isfinite(still[i]) || asleep[i] < -1 || asleep[i] >= (int)state_.size() ||
-          (asleep[i] >= 0 && (!sleep_enabled_ || !may_sleep_[i])))
+          (asleep[i] >= 0 && !islands_.may_sleep((int)i)))
         throw InputError("saved state is damaged (sleep state of body '" + defs_[i].name + "')");
-      sleeping += asleep[i] >= 0;
     }
   }
   fired_ = std::move(fired);
   settle_substeps_ = settle;
-  still_time_ = std::move(still);
-  asleep_ = std::move(asleep);
-  sleeping_ = sleeping;
   state_ = std::move(state);
   wrench_ = std::move(wrench);
   wrench_dirty_ = dirty;
@@ -288,7 +283,7 @@ void WorldImpl::restore_state(std::istream& is) {
   contacts_ = std::move(contacts);
   resting_.clear();  // the resting records move there again in the next collide
   resting_keys_.clear();
-  after_restore();
+  after_restore(std::move(still), std::move(asleep));
 }
 
 }  // namespace simreel

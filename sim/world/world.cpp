@@ -124,8 +124,7 @@ WorldImpl::WorldImpl(const WorldConfig& config, std::vector<BodyDef> bodies)
   }
   if (cfg_.threads > 1) pool_ = std::make_unique<WorkerPool>(cfg_.threads, cfg_.thread_backoff);
   chunk_sum_.resize(cfg_.threads);
-  asleep_.assign(defs_.size(), -1);  // everyone awake (init_contacts collides once)
-  still_time_.assign(defs_.size(), 0.0);
+  islands_.reset(model_);  // everyone awake (init_contacts collides once)
   init_forces();  // before init_contacts: it takes bodies under forces out of groups_
   init_contacts();
   init_sleep();  // after init_contacts: needs the shapes
@@ -169,7 +168,7 @@ void WorldImpl::step() {
     clock_.run(Stage::continuous, [&] { return stage_continuous(); });
   else
     clock_.skipped(Stage::continuous);
-  if (sleep_enabled_)
+  if (islands_.enabled())
     clock_.run(Stage::sleep, [&] { stage_sleep(); });
   else
     clock_.skipped(Stage::sleep);
@@ -221,15 +220,15 @@ bool WorldImpl::stage_integrate_and_check() {
   const bool forced_finite = forced_.empty() || integrate_forced();
   // Bodies the contact solver stepped this step are left out (free_ holds the rest).
   const bool some_in_contact = !contact_bodies_.empty();
-  if (!some_in_contact && sleeping_ > 0) {
+  if (!some_in_contact && islands_.sleeping() > 0) {
     // Nothing was solved (free_ is stale) but some bodies sleep: the awake ones only.
     for (size_t g = 0; g < groups_.size(); ++g) {
       free_[g].clear();
       for (int i : groups_[g].bodies)
-        if (asleep_[i] < 0) free_[g].push_back(i);
+        if (!islands_.asleep(i)) free_[g].push_back(i);
     }
   }
-  const bool some_left_out = some_in_contact || sleeping_ > 0;
+  const bool some_left_out = some_in_contact || islands_.sleeping() > 0;
   auto list = [&](size_t g) -> const std::vector<int>& {
     return some_left_out ? free_[g] : groups_[g].bodies;
   };

@@ -37,6 +37,7 @@
 
 #include "sim/base/stage_clock.hpp"
 #include "sim/collision/body_extents.hpp"
+#include "sim/world/islands.hpp"
 #include "sim/collision/broad_phase.hpp"
 #include "sim/collision/time_of_impact.hpp"
 #include "sim/collision/contact.hpp"
@@ -146,11 +147,11 @@ class WorldImpl {
   int substeps() const { return substeps_; }              ///< contact solver substeps per step (resolved)
   const ContactSolver& contact_solver() const { return solver_; }  ///< the last step's (tests)
 
-  // ---- Sleeping (sim/world/sleep.cpp): a sleeping body is not stepped; touching it, a force,
+  // ---- Sleeping (islands.hpp): a sleeping body is not stepped; touching it, a force,
   // an impulse or setting its pose or velocity wakes it with the bodies it slept with.
-  bool asleep(int i) const { return asleep_[i] >= 0; }
-  int sleeping_count() const { return sleeping_; }
-  void wake(int i);
+  bool asleep(int i) const { return islands_.asleep(i); }
+  int sleeping_count() const { return islands_.sleeping(); }
+  void wake(int i) { islands_.wake(i); }
 
   // ---- Applied forces (config().forces).
   bool has_forces() const { return !cfg_.forces.empty(); }
@@ -168,8 +169,7 @@ class WorldImpl {
   void init_contacts();
   bool shapes_may_touch(int a, int b) const;
   void stage_broad_phase();
-  void init_awake();     ///< awake_bodies_ (after init_contacts)
-  void after_restore();  ///< caches of the broad phase and the islands
+  void after_restore(std::vector<double> still, std::vector<int> asleep);  ///< caches of the broad phase and the islands
   void stage_collide();
   // One candidate pair of stage_collide: its records go to contacts_next_[slot, slot + count).
   struct CollideJob {
@@ -192,7 +192,7 @@ class WorldImpl {
   const Contact* prev_record(const CollideJob& job) const {
     return job.prev < 0 ? nullptr : job.stored ? &resting_[job.prev] : &contacts_[job.prev];
   }
-  bool resting(int i) const { return model_[i].is_static || asleep_[i] >= 0; }  ///< static or asleep
+  bool resting(int i) const { return model_[i].is_static || islands_.asleep(i); }  ///< static or asleep
   double collide_pair(const CollideJob& job, Contact& c) const;
   // A pair with a static triangle mesh: its manifolds into out[0, kMaxMeshManifolds), each
   // warm-started from last step's records of the pair; returns how many (mesh_pairs.cpp).
@@ -215,9 +215,8 @@ class WorldImpl {
                   int* triangle = nullptr) const;  ///< continuous.cpp
   int collide_mesh_ahead(int c, int m, double speculative, Manifold out[],
                          Vec3 offset[][4]) const;  ///< mesh_pairs.cpp
-  /// static, asleep, or kinematic at rest: neither moves nor wakes (asleep_ first: a compact array)
-  bool inert(int i) const { return asleep_[i] >= 0 || model_[i].is_static || kinematic_at_rest(i); }
-  bool kinematic_at_rest(int i) const;
+  /// static, asleep, or kinematic at rest: neither moves nor wakes (Islands::inert)
+  bool inert(int i) const { return islands_.inert(i, model_[i], state_[i]); }
   void stage_clear();
   template <typename F>
   void for_each_chunk(F& f);
@@ -273,22 +272,12 @@ class WorldImpl {
   std::vector<Pose> poses_;                  ///< per moving shape, world pose this step (broad phase)
   std::vector<std::pair<int, int>> ignore_;  ///< body pairs, (lo, hi), sorted
   BroadPhase broad_;
-  std::vector<int> active_shapes_;   ///< this step: moving shapes of awake bodies, then pending_freeze_
-  std::vector<int> pending_freeze_;  ///< shapes of bodies that fell asleep: one box at rest to make
+  std::vector<int> active_shapes_;   ///< this step: moving shapes of awake bodies, then those to freeze
   int settle_substeps_ = 0;          ///< substeps left with one more sweep after an impact (saved state)
 
-  // ---- Sleeping (sim/world/sleep.cpp).
-  bool sleep_enabled_ = false;
-  std::vector<char> may_sleep_;     ///< per body: dynamic and under no continuous force
-  std::vector<double> still_time_;  ///< per body: s slow and touching (saved state)
-  std::vector<int> asleep_;         ///< per body: -1 awake, else its island's id (saved state)
-  std::vector<int> island_next_;    ///< per sleeping body: next body of its island, or -1
-  std::vector<int> island_tail_;    ///< per island id: its list's last body (scratch)
-  std::vector<int> awake_bodies_;   ///< dynamic and kinematic bodies awake (ascending when sorted)
-  bool awake_sorted_ = true;        ///< false after a wake appended to awake_bodies_
-  int sleeping_ = 0;
-  std::vector<int> uf_;             ///< union-find parents (scratch)
-  std::vector<double> island_min_;  ///< per island root: least still_time_ (scratch)
+  // ---- Islands and sleeping (islands.hpp).
+  Islands islands_;
+  std::vector<int> fell_asleep_;  ///< bodies that fell asleep this step (scratch)
   std::vector<uint64_t> pairs_;
   std::vector<Contact> contacts_, contacts_next_;
   // Records of pairs between sleeping or static bodies (a kinematic body at rest excluded: it may
