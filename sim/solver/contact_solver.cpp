@@ -1,5 +1,7 @@
 #include "sim/solver/contact_solver.hpp"
 
+#include "sim/base/stage_clock.hpp"
+
 #include <chrono>
 
 #include <algorithm>
@@ -1391,6 +1393,54 @@ void ContactSolver::finish(const BodyModel* model, MotionState* state,
     s.v_W = b.v;
     s.w_P = s.q_WP.conjugate() * b.w;
   }
+}
+
+// The step's substeps (Box2D's solver stages), each stage timed into `clock`.
+void ContactSolver::run_substeps(int& settle, StageClock& clock, Profile& profile) {
+  const ContactSettings& cs = in_.settings;
+  const double h = in_.dt / in_.substeps;
+  for (int sub = 0; sub < in_.substeps; ++sub) {
+    {
+      StageClock::Scope t(clock, Stage::integrate_velocities);
+      integrate_velocities(h);
+    }
+    {
+      StageClock::Scope t(clock, Stage::warm_start);
+      if (warm_start()) ++profile.body_warm_starts;
+    }
+    // One more sweep each while the last impact settles (kImpactSettleTime), and one at once on
+    // an impact in this substep's first sweeps.
+    const int sweeps = cs.iterations + (settle > 0 ? 1 : 0);
+    {
+      StageClock::Scope t(clock, Stage::solve);
+      bool struck = false;
+      for (int it = 0; it < sweeps; ++it) struck |= solve(h, true, it == 0);
+      profile.sweeps += sweeps;
+      if (struck && settle == 0) solve(h, true, false), ++profile.sweeps;
+      if (struck) {
+        settle = (int)std::ceil(kImpactSettleTime / h - 1e-9) + 1;
+        ++profile.impact_substeps;
+      }
+    }
+    {
+      StageClock::Scope t(clock, Stage::integrate_positions);
+      integrate_positions(h);
+    }
+    {
+      StageClock::Scope t(clock, Stage::relax);
+      const int relax = cs.iterations + (settle > 0 ? 1 : 0);
+      for (int it = 0; it < relax; ++it) solve(h, false, false);
+      profile.sweeps += relax;
+      if (settle > 0) --settle;
+    }
+    {
+      StageClock::Scope t(clock, Stage::restitution);
+      restitution(cs.restitution_threshold);
+    }
+  }
+  for (Stage s : {Stage::integrate_velocities, Stage::warm_start, Stage::solve, Stage::integrate_positions,
+                  Stage::relax, Stage::restitution})
+    clock.ran(s);
 }
 
 }  // namespace simreel

@@ -36,6 +36,8 @@
 namespace simreel {
 
 class WorkerPool;
+class StageClock;
+struct Profile;
 
 // The wide sweeps (sim/solver/contact_wide.cpp) read only the first two cache lines, v to dq: a bundle's
 // eight bodies are read at random, and each line a body adds waits on memory (the large pyramid's
@@ -171,12 +173,11 @@ class ContactSolver {
   // `bodies` lists the dynamic and kinematic bodies in contact, ascending. Reuses storage.
   void prepare(const SolverInput& in, const std::vector<int>& bodies, const std::vector<Contact>& contacts,
                std::vector<int>& solver_index);
-  void integrate_velocities(double h);
-  bool warm_start();  ///< true: made per body (the step's later substeps, when it may be)
-  // One Gauss-Seidel sweep over the manifolds; returns whether one was struck (kImpactSpeed).
-  bool solve(double h, bool use_bias, bool first_iteration);
-  void integrate_positions(double h);
-  void restitution(double threshold);  ///< call after each substep's relax
+  // The step's substeps after prepare (Box2D's solver stages): per substep h = dt / substeps,
+  // integrate velocities, warm start, solve, integrate positions, relax, restitution, each timed
+  // into `clock`; sweeps, impact substeps and per-body warm starts counted into `profile`.
+  // `settle`: substeps left with one more sweep after an impact (saved state, carried by World).
+  void run_substeps(int& settle, StageClock& clock, Profile& profile);
   void store_impulses(std::vector<Contact>& contacts) const;
   // Writes the solved motion of the dynamic bodies that received an impulse back to the state and
   // clears their flag in `touched_none`; the others (set to 1) touched nothing after all this
@@ -196,6 +197,13 @@ class ContactSolver {
   int constraint_count() const { return (int)cons_.size(); }
 
  private:
+  // The stages run_substeps runs, in order.
+  void integrate_velocities(double h);
+  bool warm_start();  ///< true: made per body (the step's later substeps, when it may be)
+  // One Gauss-Seidel sweep over the manifolds; returns whether one was struck (kImpactSpeed).
+  bool solve(double h, bool use_bias, bool first_iteration);
+  void integrate_positions(double h);
+  void restitution(double threshold);  ///< call after each substep's relax
   SolverInput in_;
   std::vector<int> bodies_;      ///< body index of solver body k + 1
   std::vector<SolverBody> sb_;   ///< [0] is the static body: never written (zero mass and inertia)

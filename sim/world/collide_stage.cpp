@@ -386,7 +386,6 @@ bool WorldImpl::stage_solve_contacts() {
     const double need = std::ceil(w_max * cfg_.dt / kContactMaxSubstepAngle - 1e-9);
     substeps_ = std::max(substeps_, (int)std::min(need, (double)kContactMaxSubsteps));
   }
-  const double h = cfg_.dt / substeps_;
   {
     StageClock::Scope t(clock_, Stage::prepare_contacts);
     SolverInput in;
@@ -402,48 +401,7 @@ bool WorldImpl::stage_solve_contacts() {
     solver_.prepare(in, contact_bodies_, contacts_, solver_index_);
   }
   clock_.ran(Stage::prepare_contacts);
-  for (int sub = 0; sub < substeps_; ++sub) {
-    {
-      StageClock::Scope t(clock_, Stage::integrate_velocities);
-      solver_.integrate_velocities(h);
-    }
-    {
-      StageClock::Scope t(clock_, Stage::warm_start);
-      if (solver_.warm_start()) ++profile_.body_warm_starts;
-    }
-    // One more sweep each while the last impact settles (kImpactSettleTime), and one at once on
-    // an impact in this substep's first sweeps.
-    const int sweeps = cs.iterations + (settle_substeps_ > 0 ? 1 : 0);
-    {
-      StageClock::Scope t(clock_, Stage::solve);
-      bool struck = false;
-      for (int it = 0; it < sweeps; ++it) struck |= solver_.solve(h, true, it == 0);
-      profile_.sweeps += sweeps;
-      if (struck && settle_substeps_ == 0) solver_.solve(h, true, false), ++profile_.sweeps;
-      if (struck) {
-        settle_substeps_ = (int)std::ceil(kImpactSettleTime / h - 1e-9) + 1;
-        ++profile_.impact_substeps;
-      }
-    }
-    {
-      StageClock::Scope t(clock_, Stage::integrate_positions);
-      solver_.integrate_positions(h);
-    }
-    {
-      StageClock::Scope t(clock_, Stage::relax);
-      const int relax = cs.iterations + (settle_substeps_ > 0 ? 1 : 0);
-      for (int it = 0; it < relax; ++it) solver_.solve(h, false, false);
-      profile_.sweeps += relax;
-      if (settle_substeps_ > 0) --settle_substeps_;
-    }
-    {
-      StageClock::Scope t(clock_, Stage::restitution);
-      solver_.restitution(cs.restitution_threshold);
-    }
-  }
-  for (Stage s : {Stage::integrate_velocities, Stage::warm_start, Stage::solve, Stage::integrate_positions,
-                  Stage::relax, Stage::restitution})
-    clock_.ran(s);
+  solver_.run_substeps(settle_substeps_, clock_, profile_);
   bool finite = true;
   {
     StageClock::Scope t(clock_, Stage::store_impulses);
