@@ -5,39 +5,23 @@
 #include <simreel/error.hpp>
 #include <simreel/mass_properties.hpp>
 #include "sim/mass/primitives.hpp"
+#include "sim/base/enum_names.hpp"
 
 namespace simreel {
 
+namespace {
+constexpr EnumNames<ShapeKind, 7> kShapeKinds{{"box", "sphere", "cylinder", "capsule", "mesh", "plane", "ellipsoid"}};
+static_assert(kShapeKinds.complete());
+constexpr EnumNames<BodyType, 3> kBodyTypes{{"static", "kinematic", "dynamic"}};
+static_assert(kBodyTypes.complete());
+}  // namespace
+
 const char* to_string(ShapeKind s) {
-  switch (s) {
-    case ShapeKind::box:
-      return "box";
-    case ShapeKind::sphere:
-      return "sphere";
-    case ShapeKind::cylinder:
-      return "cylinder";
-    case ShapeKind::capsule:
-      return "capsule";
-    case ShapeKind::mesh:
-      return "mesh";
-    case ShapeKind::plane:
-      return "plane";
-    case ShapeKind::ellipsoid:
-      return "ellipsoid";
-  }
-  return "?";
+  return kShapeKinds(s);
 }
 
 const char* to_string(BodyType t) {
-  switch (t) {
-    case BodyType::static_body:
-      return "static";
-    case BodyType::kinematic:
-      return "kinematic";
-    case BodyType::dynamic:
-      return "dynamic";
-  }
-  return "?";
+  return kBodyTypes(t);
 }
 
 MassProperties primitive_mass(const Collider& c, double rho) {

@@ -3,25 +3,17 @@
 #include <string>
 
 #include <simreel/error.hpp>
+#include "sim/base/enum_names.hpp"
 
 namespace simreel {
 
+namespace {
+constexpr EnumNames<ForceKind, 6> kForceKinds{{"force", "torque", "impulse", "angular_impulse", "spring", "drag"}};
+static_assert(kForceKinds.complete());
+}  // namespace
+
 const char* to_string(ForceKind k) {
-  switch (k) {
-    case ForceKind::force:
-      return "force";
-    case ForceKind::torque:
-      return "torque";
-    case ForceKind::impulse:
-      return "impulse";
-    case ForceKind::angular_impulse:
-      return "angular_impulse";
-    case ForceKind::spring:
-      return "spring";
-    case ForceKind::drag:
-      return "drag";
-  }
-  return "?";
+  return kForceKinds(k);
 }
 
 namespace {

@@ -2,30 +2,21 @@
 
 #include <algorithm>
 #include <cmath>
+#include "sim/base/enum_names.hpp"
 
 namespace simreel {
 
+namespace {
+constexpr EnumNames<Integrator, 5> kIntegrators{{"auto", "seed", "euler_gyro", "rk4", "splitting"}};
+static_assert(kIntegrators.complete());
+}  // namespace
+
 const char* to_string(Integrator i) {
-  switch (i) {
-    case Integrator::automatic:
-      return "auto";
-    case Integrator::seed:
-      return "seed";
-    case Integrator::euler_gyro:
-      return "euler_gyro";
-    case Integrator::rk4:
-      return "rk4";
-    case Integrator::splitting:
-      return "splitting";
-  }
-  return "?";
+  return kIntegrators(i);
 }
 
 std::optional<Integrator> integrator_from_name(std::string_view n) {
-  for (Integrator i : {Integrator::automatic, Integrator::seed, Integrator::euler_gyro, Integrator::rk4,
-                       Integrator::splitting})
-    if (n == to_string(i)) return i;
-  return std::nullopt;
+  return kIntegrators.parse(n);
 }
 
 const char* integrator_names() {

@@ -12,25 +12,21 @@
 #include "sim/geometry/convex_hull.hpp"
 #include <simreel/error.hpp>
 #include "sim/base/pair_key.hpp"
+#include "sim/base/enum_names.hpp"
 
 namespace simreel {
 
+namespace {
+constexpr EnumNames<MassMode, 3> kMassModes{{"solid", "shell", "hull"}};
+static_assert(kMassModes.complete());
+}  // namespace
+
 const char* to_string(MassMode m) {
-  switch (m) {
-    case MassMode::solid:
-      return "solid";
-    case MassMode::shell:
-      return "shell";
-    case MassMode::hull:
-      return "hull";
-  }
-  return "?";
+  return kMassModes(m);
 }
 
 std::optional<MassMode> mass_mode_from_name(std::string_view n) {
-  for (MassMode m : {MassMode::solid, MassMode::shell, MassMode::hull})
-    if (n == to_string(m)) return m;
-  return std::nullopt;
+  return kMassModes.parse(n);
 }
 
 namespace {

@@ -8,28 +8,20 @@
 #include <simreel/error.hpp>
 #include <simreel/mass_properties.hpp>
 #include "sim/base/worker_pool.hpp"
+#include "sim/base/enum_names.hpp"
 
 namespace simreel {
 
+namespace {
+constexpr EnumNames<Stage, (std::size_t)Stage::count> kStages{
+    {"forces", "update_broad_phase", "collide", "prepare_contacts", "integrate_velocities", "warm_start", "solve",
+     "integrate_positions", "relax", "restitution", "store_impulses", "integrate", "check", "continuous", "sleep",
+     "clear"}};
+static_assert(kStages.complete());
+}  // namespace
+
 const char* to_string(Stage s) {
-  static const char* const names[] = {"forces",
-                                      "update_broad_phase",
-                                      "collide",
-                                      "prepare_contacts",
-                                      "integrate_velocities",
-                                      "warm_start",
-                                      "solve",
-                                      "integrate_positions",
-                                      "relax",
-                                      "restitution",
-                                      "store_impulses",
-                                      "integrate",
-                                      "check",
-                                      "continuous",
-                                      "sleep",
-                                      "clear"};
-  static_assert(sizeof(names) / sizeof(names[0]) == (size_t)Stage::count);
-  return (int)s >= 0 && s < Stage::count ? names[(int)s] : "?";
+  return kStages(s);
 }
 
 namespace {

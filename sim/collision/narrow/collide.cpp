@@ -136,30 +136,18 @@
 // vertex); hulls with more than 128 vertices, faces or edges transform them on the fly (slower, same
 // result). Stack use: hull_hull ~40 KB (fixed arrays), EPA ~20 KB, the rest under 4 KB.
 #include "sim/collision/narrow/internal.hpp"
+#include "sim/base/enum_names.hpp"
 
 namespace simreel {
 
+namespace {
+constexpr EnumNames<CollideKind, (std::size_t)CollideKind::count> kCollideKinds{
+    {"plane", "sphere", "capsule", "cylinder", "ellipsoid", "box", "hull", "mesh"}};
+static_assert(kCollideKinds.complete());
+}  // namespace
+
 const char* to_string(CollideKind k) {
-  switch (k) {
-    case CollideKind::plane:
-      return "plane";
-    case CollideKind::sphere:
-      return "sphere";
-    case CollideKind::capsule:
-      return "capsule";
-    case CollideKind::cylinder:
-      return "cylinder";
-    case CollideKind::ellipsoid:
-      return "ellipsoid";
-    case CollideKind::box:
-      return "box";
-    case CollideKind::hull:
-      return "hull";
-    case CollideKind::mesh:
-      return "mesh";
-    default:
-      return "?";
-  }
+  return kCollideKinds(k);
 }
 
 namespace collide_detail {
