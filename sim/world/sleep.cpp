@@ -18,8 +18,8 @@ void WorldImpl::init_sleep() {
   for (int i : dynamic_) may_sleep[i] = 1;
   // Bodies under a continuous force (a spring, a thrust, drag) never sleep: the force may change
   // with time or with another body's motion without anything touching them.
-  for (int i : involved_) may_sleep[i] = 0;
-  for (int i : forced_) may_sleep[i] = 0;
+  for (int i : forces_.involved()) may_sleep[i] = 0;
+  for (int i : forces_.forced()) may_sleep[i] = 0;
   islands_.enable(std::move(may_sleep));
 }
 

@@ -170,8 +170,8 @@ void WorldImpl::save_state(std::ostream& os) const {
     o.f64(c.friction);
     o.f64(c.restitution);
   });
-  o.u32((uint32_t)fired_.size());
-  for (char f : fired_) o.u8((uint8_t)f);
+  o.u32((uint32_t)forces_.fired_flags().size());
+  for (char f : forces_.fired_flags()) o.u8((uint8_t)f);
   o.i32(settle_substeps_);
   for (size_t i = 0; i < state_.size(); ++i) {
     o.f64(islands_.still_time(i));
@@ -248,7 +248,7 @@ void WorldImpl::restore_state(std::istream& is) {
   }
   // Version 2: which impulses were applied. Version 1 had no forces (its fingerprint matched a
   // world without any): none applied.
-  std::vector<char> fired(fired_.size(), 0);
+  std::vector<char> fired(forces_.fired_flags().size(), 0);
   if (version >= 2) {
     if (in.u32() != fired.size()) throw InputError("saved state is damaged (force count)");
     for (char& f : fired) {
@@ -273,7 +273,7 @@ void WorldImpl::restore_state(std::istream& is) {
         throw InputError("saved state is damaged (sleep state of body '" + defs_[i].name + "')");
     }
   }
-  fired_ = std::move(fired);
+  forces_.restore_fired(std::move(fired));
   settle_substeps_ = settle;
   state_ = std::move(state);
   wrench_ = std::move(wrench);

@@ -209,7 +209,10 @@ bool WorldImpl::stage_integrate_and_check() {
   clock::time_point t0, t_mid;
   if (timing) t0 = clock::now();
   // Bodies under forces first, on this thread alone (one coupled system: a spring joins two).
-  const bool forced_finite = forced_.empty() || integrate_forced();
+  const bool forced_finite =
+      forces_.forced().empty() || forces_.integrate(time(), (double)(steps_ + 1) * cfg_.dt, cfg_.dt, cfg_.gravity,
+                                                    state_.data(), model_.data(), in_contact_.data(),
+                                                    !contact_bodies_.empty());
   // Bodies the contact solver stepped this step are left out (free_ holds the rest).
   const bool some_in_contact = !contact_bodies_.empty();
   if (!some_in_contact && islands_.sleeping() > 0) {
@@ -405,8 +408,8 @@ double WorldImpl::potential_energy() const {
   for (int i : dynamic_) e -= model_[i].mass * cfg_.gravity.dot(state_[i].x_W);
   // Springs acting now store k (L - L0)^2 / 2 (their dashpots and all other forces do work).
   const double t = time();
-  for (int k : continuous_) {
-    const ForceDef& f = cfg_.forces[k];
+  for (int k : forces_.continuous()) {
+    const ForceDef& f = forces_.list()[k];
     if (f.kind != ForceKind::spring || !(f.from <= t && t < f.to)) continue;
     const Vec3 a = f.at_centroid ? state_[f.body].x_W : body_point_W(state_[f.body], model_[f.body], f.at_B);
     const Vec3 b = f.body_b < 0      ? f.anchor_W

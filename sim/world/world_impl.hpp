@@ -37,6 +37,7 @@
 
 #include "sim/base/stage_clock.hpp"
 #include "sim/collision/body_extents.hpp"
+#include "sim/world/applied_forces.hpp"
 #include "sim/world/islands.hpp"
 #include "sim/collision/broad_phase.hpp"
 #include "sim/collision/time_of_impact.hpp"
@@ -155,7 +156,7 @@ class WorldImpl {
 
   // ---- Applied forces (config().forces).
   bool has_forces() const { return !cfg_.forces.empty(); }
-  bool impulse_applied(int k) const { return fired_[k] != 0; }  ///< force k (an impulse) was applied
+  bool impulse_applied(int k) const { return forces_.fired(k); }  ///< force k (an impulse) was applied
 
   void set_profiling(bool on) { clock_.set_timing(on); }
   const Profile& profile() const { return profile_; }
@@ -164,8 +165,6 @@ class WorldImpl {
   bool stage_integrate_and_check();  ///< false if a non-finite value appeared
   void init_forces();
   bool stage_forces();      ///< false: nothing to do this step
-  bool integrate_forced();  ///< false if a non-finite value appeared
-  void rk4_forced(double a, double b);
   void init_contacts();
   bool shapes_may_touch(int a, int b) const;
   void stage_broad_phase();
@@ -246,20 +245,7 @@ class WorldImpl {
   std::unique_ptr<WorkerPool> pool_;
 
   // ---- Applied forces (sim/dynamics/forces.hpp, forces_stage.cpp).
-  std::vector<int> continuous_;            ///< indices into cfg_.forces: everything but impulses
-  std::vector<int> impulses_;              ///< indices into cfg_.forces: impulses, in list order
-  std::vector<char> fired_;                ///< per force: an impulse already applied (saved state)
-  std::vector<int> forced_;                ///< dynamic auto/rk4 bodies under continuous forces, ascending
-  std::vector<int> forced_slot_;           ///< per body: its index in forced_, or -1
-  std::vector<char> forced_auto_;          ///< per forced_ entry: integrator auto (substeps)
-  std::vector<int> involved_;              ///< every body a continuous force reads, ascending
-  std::vector<int> forced_now_;            ///< forced_ bodies not in contact this step
-  std::vector<MotionState> eval_state_;    ///< per body: the state the forces are evaluated at
-  std::vector<Wrench> stage_wrench_;       ///< per body: forces at an RK4 stage
-  std::vector<Wrench> user_wrench_;        ///< per forced_ entry: apply_* calls from outside this step
-  std::vector<double> rate1_, rate2_;      ///< per body: force rates (force_rates)
-  std::vector<double> y0_, ys_, k_, acc_;  ///< RK4 buffers, 13 doubles per forced_ entry
-  std::vector<double> cuts_;               ///< window edges within this step
+  AppliedForces forces_;
 
   // ---- Contact data (sim/collision/shape_table.hpp, broad_phase.hpp, contact.hpp, contact_solver.hpp).
   std::unique_ptr<ShapeTable> shapes_;
