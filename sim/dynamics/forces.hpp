@@ -12,8 +12,8 @@
 //
 // Points are in the body frame relative to the body origin (the body's `position`), not to its
 // centre of mass. World::step evaluates them in its `forces` stage through apply_force /
-// apply_torque / apply_impulse, and again at every stage of the free-flight RK4 (sim/README.md,
-// "Forces"), so that a force depending on the state or on time is integrated to fourth order.
+// apply_torque / apply_impulse, and again at every stage of the free-flight RK4 (docs/forces.md),
+// so that a force depending on the state or on time is integrated to fourth order.
 #pragma once
 #include <cmath>
 #include <limits>

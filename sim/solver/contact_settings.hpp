@@ -1,4 +1,4 @@
-// Contact solver settings (scene key `simulation.contacts`; sim/README.md "Contacts" explains each
+// Contact solver settings (scene key `simulation.contacts`; docs/contacts.md explains each
 // and why its default was chosen).
 #pragma once
 
@@ -13,7 +13,7 @@ constexpr int kContactMaxSubsteps = 16;
 
 // Impacts: a substep in which a point that was apart at its start is struck at more than
 // kImpactSpeed gets one more solve sweep, and the substeps of the next kImpactSettleTime one more
-// solve and relax sweep each (sim/README.md "Impacts"). Gauss-Seidel moves an impulse one contact
+// solve and relax sweep each (docs/contacts.md "Impacts"). Gauss-Seidel moves an impulse one contact
 // per sweep: with one sweep, the R3 pile's top layers landing (5 m/s) pushed the layers below
 // 2.9 mm into each other; with these, 0.91 mm, for 25 struck substeps in its 10 s (1/60 s of
 // settling: 1.03 mm; two more sweeps instead of one: no better).
@@ -34,11 +34,11 @@ struct ContactSettings {
   /// m/s: sliding friction below this slip speed is viscous, mu N v / slip_speed, instead of sticking
   /// (the regularised Coulomb law of tippe-top models: a spinning contact patch never sticks); 0 = off
   double slip_speed = 0;
-  // Continuous collision (sim/README.md "Continuous collision"): bodies moving more than half their
+  // Continuous collision (docs/continuous-collision.md): bodies moving more than half their
   // smallest width in a step, and bodies flagged `bullet`, are swept and stopped before they pass
   // through anything. Scene: simulation.contacts.continuous.
   bool continuous = true;
-  // Sleeping (sim/README.md "Sleeping"): a group of touching bodies whose every point has moved
+  // Sleeping (docs/sleeping.md): a group of touching bodies whose every point has moved
   // slower than sleep_speed for sleep_time stops being stepped until something wakes it.
   bool sleep = true;          ///< scene: simulation.sleep
   double sleep_speed = 0.01;  ///< m/s, |v| + |w| r (r: the body's farthest shape point)

@@ -1,5 +1,5 @@
 // World's applied forces (sim/dynamics/forces.hpp; the pipeline is in world.cpp): the `forces` stage and
-// the forced RK4 of the `integrate` stage. sim/README.md, "Forces", explains the scheme and its
+// the forced RK4 of the `integrate` stage. docs/forces.md explains the scheme and its
 // measured accuracy.
 #include <algorithm>
 #include <cmath>

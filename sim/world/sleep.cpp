@@ -1,5 +1,5 @@
 // Stage "sleep": islands of touching bodies that have all been still for a while stop being
-// stepped (sim/README.md "Sleeping"). Box2D v3 and Jolt do the same with a speed threshold and a
+// stepped (docs/sleeping.md). Box2D v3 and Jolt do the same with a speed threshold and a
 // time; here only bodies the contact solver stepped count time (a body in free flight keeps its
 // exact integrator and never stops on its own, however slow), and the speed is that of the
 // body's fastest point, |v| + |w| r.
