@@ -1,4 +1,4 @@
-// Accuracy of applied forces against dt (sim/README.md, "Forces"): each case integrated two ways,
+// Accuracy of applied forces against dt (docs/forces.md): each case integrated two ways,
 //   stages: the force list (WorldConfig::forces), evaluated at every RK4 stage (what simreel does);
 //   stages_rk4: the same with `integrator: rk4` (no automatic substeps: one RK4 step per dt);
 //   held:   the same force computed by the caller at the start of each step and passed in with

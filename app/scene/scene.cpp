@@ -642,7 +642,8 @@ struct Loader {
     }
     if (n["color"]) look.color = color(n["color"], c.child("color"));
     if (n["integrator"]) b.integrator = integrator(n["integrator"], c.child("integrator"));
-    if (n["bullet"]) b.bullet = boolean(n["bullet"], c.child("bullet"));  // swept every step (sim/README.md)
+    // `bullet`: swept every step it moves (docs/continuous-collision.md)
+    if (n["bullet"]) b.bullet = boolean(n["bullet"], c.child("bullet"));
     if (n["ghost"]) look.ghost = parse_ghost(n["ghost"], c.child("ghost"));
     const YAML::Node cols = n["colliders"];
     if (!cols) c.fail(n, "body '" + b.name + "' needs 'colliders' (a list of shapes)");

@@ -41,7 +41,7 @@ struct Collider {
   Vec3 p_BC = Vec3::Zero();                  ///< m, collider frame origin in the body frame
   Quat q_BC = Quat::Identity();
   std::string label;  ///< for messages: "collider 2 (mesh assets/t.obj)"
-  // ---- Contact (sim/README.md "Contacts"). A pair uses sqrt(f_a f_b) and max(e_a, e_b).
+  // ---- Contact (docs/contacts.md). A pair uses sqrt(f_a f_b) and max(e_a, e_b).
   double friction = 0.6;     ///< Coulomb coefficient, >= 0
   double restitution = 0.0;  ///< in [0, 1]: normal speed kept after an impact above the threshold
   bool collide = true;       ///< false: mass only, never touches anything
@@ -81,8 +81,8 @@ struct BodyDef {
   Vec3 w_W = Vec3::Zero();       ///< rad/s, angular velocity, world frame
   BodyType type = BodyType::dynamic;
   std::optional<Integrator> integrator;  ///< overrides the world's for this body (side-by-side demos)
-  /// Swept for time of impact every step it moves, however slowly (sim/README.md "Continuous
-  /// collision"; other bodies only when they move more than half their smallest width in a step).
+  /// Swept for time of impact every step it moves, however slowly (docs/continuous-collision.md;
+  /// other bodies only when they move more than half their smallest width in a step).
   bool bullet = false;
   std::vector<Collider> colliders;
   /// Mass properties stated rather than drawn (scene key `mass_properties`): mass, centre of mass

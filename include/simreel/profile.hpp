@@ -1,6 +1,6 @@
 // What a World measured while it stepped: the time and run count of each pipeline stage (when
 // profiling is on), what the integrate stage does with each body, and contact figures. The stages,
-// in the order World::step runs them, are described in the docs' page on the step.
+// in the order World::step runs them, are described in docs/step.md.
 #pragma once
 
 namespace simreel {

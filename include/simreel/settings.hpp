@@ -1,6 +1,6 @@
 // The settings a World is built with: the step, gravity, the free-flight integrator, the contact
-// solver's settings, ignored pairs and applied forces (scene keys under `simulation:`; the docs
-// explain each and why its default was chosen).
+// solver's settings, ignored pairs and applied forces (scene keys under `simulation:`;
+// docs/contacts.md and docs/integrators.md explain each and why its default was chosen).
 #pragma once
 #include <optional>
 #include <string_view>
@@ -12,7 +12,7 @@
 
 namespace simreel {
 
-// Free-flight integrators (docs: order, conservation, cost, use of each):
+// Free-flight integrators (docs/integrators.md: order, conservation, cost, use of each):
 //   seed        1st order, no gyroscopic term: never precesses (kept for comparison)
 //   euler_gyro  1st order, implicit gyroscopic term (Catto 2015, Bullet): stable, damps energy
 //   rk4         4th order on (q, w_P), renormalised
@@ -41,11 +41,11 @@ struct ContactSettings {
   /// m/s: sliding friction below this slip speed is viscous, mu N v / slip_speed, instead of sticking
   /// (the regularised Coulomb law of tippe-top models: a spinning contact patch never sticks); 0 = off
   double slip_speed = 0;
-  // Continuous collision (sim/README.md "Continuous collision"): bodies moving more than half their
+  // Continuous collision (docs/continuous-collision.md): bodies moving more than half their
   // smallest width in a step, and bodies flagged `bullet`, are swept and stopped before they pass
   // through anything. Scene: simulation.contacts.continuous.
   bool continuous = true;
-  // Sleeping (sim/README.md "Sleeping"): a group of touching bodies whose every point has moved
+  // Sleeping (docs/sleeping.md): a group of touching bodies whose every point has moved
   // slower than sleep_speed for sleep_time stops being stepped until something wakes it.
   bool sleep = true;          ///< scene: simulation.sleep
   double sleep_speed = 0.01;  ///< m/s, |v| + |w| r (r: the body's farthest shape point)

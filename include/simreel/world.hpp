@@ -7,8 +7,8 @@
 // inertia, moments ascending.
 //
 // step() runs the pipeline: applied forces, broad phase, narrow phase, the contact solver's
-// substeps, free-flight integration, the NaN guard, continuous collision, sleeping (the docs' page
-// on the step describes each stage). A World's state lives behind a private implementation, so
+// substeps, free-flight integration, the NaN guard, continuous collision, sleeping (docs/step.md
+// describes each stage). A World's state lives behind a private implementation, so
 // that a program built on this header does not recompile when the engine's internals change.
 #pragma once
 #include <cstdint>

@@ -1,8 +1,8 @@
 // Continuous collision: the time of impact of two convex shapes carried by two moving bodies
 // within a step, by conservative advancement on GJK distances (B. Mirtich, "Impulse-based dynamic
 // simulation of rigid body systems", PhD thesis, Berkeley 1996, ch. 3; the bound below is his).
-// The stage that uses it (World::stage_continuous, sim/world/continuous.cpp; sim/README.md "Continuous
-// collision") sweeps each fast body from its pose at the step's start to its pose at the end.
+// The stage that uses it (World::stage_continuous, sim/world/continuous.cpp; docs/continuous-collision.md)
+// sweeps each fast body from its pose at the step's start to its pose at the end.
 //
 // A body's sweep: its centre of mass moves on the straight line x0 -> x1 and its orientation
 // turns at a constant rate from q0 to q1 (slerp, the shorter way: a body turning more than half a

@@ -15,8 +15,8 @@ constexpr double kRimMinSine = 0.04471;
 // A capsule whose axis is within this sine of the surface lies on its side (two points).
 constexpr double kCapsuleMinSine = 1e-6;
 // A sphere whose centre is this close to the body's centre of mass keeps its contact point under
-// the centre of mass: the step's constraint is exact for it (sim/README.md "Rolling on a long
-// curve"), nothing to track.
+// the centre of mass: the step's constraint is exact for it (docs/contacts.md "Rolling on a
+// curved surface"), nothing to track.
 constexpr double kSphereOffset = 1e-9;  ///< m
 
 // Whether the other shape is flat where it touches: a plane, or a box face whose normal is n. The

@@ -1,4 +1,4 @@
-// Contacts whose point runs over a smooth surface (sim/README.md "Rolling on a curved surface"):
+// Contacts whose point runs over a smooth surface (docs/contacts.md "Rolling on a curved surface"):
 // a cylinder's rim, an ellipsoid (the rattleback), a sphere whose centre is off the centre of mass
 // (the tippe top) or a capsule's end, touching a flat surface (a plane, a box face) with one point.
 // Such a point is not a material point: as the body turns it runs over the surface (round the rim,

@@ -1,7 +1,7 @@
 // Evaluating the applied forces (their records: include/simreel/forces.hpp) by a switch on the
 // kind: no virtual call and no allocation per step. World::step evaluates them in its `forces`
 // stage through apply_force / apply_torque / apply_impulse, and again at every stage of the
-// free-flight RK4 (sim/README.md, "Forces"), so that a force depending on the state or on time is
+// free-flight RK4 (docs/forces.md), so that a force depending on the state or on time is
 // integrated to fourth order.
 #pragma once
 #include <cmath>

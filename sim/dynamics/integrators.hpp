@@ -1,6 +1,6 @@
 // Time integrators: each advances a range of bodies by one fixed step h under a uniform
 // acceleration g and each body's wrench (held constant over the step). All work in the principal
-// frame P, where the inertia tensor is diagonal. sim/README.md tabulates order, conservation,
+// frame P, where the inertia tensor is diagonal. docs/integrators.md tabulates order, conservation,
 // measured cost and use; in short:
 //   seed        1st order, the article's scheme: no gyroscopic term, never precesses. Comparison.
 //   euler_gyro  1st order, implicit gyroscopic term (Catto 2015, Bullet): stable, damps energy.

@@ -1,8 +1,8 @@
 // A static triangle mesh as a collider: the surface exactly as given (open or closed, any number
 // of parts), for static bodies (terrain, a bowl, a half-pipe). Built once at load: vertices
 // welded by exact position, degenerate triangles dropped, each edge's neighbour found, and each
-// edge and vertex marked active or not for internal-edge handling (sim/README.md, "Static
-// triangle meshes"); a bounding-volume tree (sim/geometry/bvh.hpp) over the triangles.
+// edge and vertex marked active or not for internal-edge handling (docs/collision.md, "Internal
+// edges"); a bounding-volume tree (sim/geometry/bvh.hpp) over the triangles.
 //
 // One-sided: a triangle's front is the side its vertices wind counter-clockwise around (the
 // outward side of a closed mesh), and contacts push shapes out of the front.

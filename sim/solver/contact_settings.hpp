@@ -1,5 +1,5 @@
 // The contact solver's fixed constants (the settings users choose are ContactSettings in
-// include/simreel/settings.hpp; sim/README.md "Contacts" explains each and why its default was chosen).
+// include/simreel/settings.hpp; docs/contacts.md explains each and why its default was chosen).
 #pragma once
 #include <simreel/settings.hpp>
 
@@ -14,7 +14,7 @@ constexpr int kContactMaxSubsteps = 16;
 
 // Impacts: a substep in which a point that was apart at its start is struck at more than
 // kImpactSpeed gets one more solve sweep, and the substeps of the next kImpactSettleTime one more
-// solve and relax sweep each (sim/README.md "Impacts"). Gauss-Seidel moves an impulse one contact
+// solve and relax sweep each (docs/contacts.md "Impacts"). Gauss-Seidel moves an impulse one contact
 // per sweep: with one sweep, the R3 pile's top layers landing (5 m/s) pushed the layers below
 // 2.9 mm into each other; with these, 0.91 mm, for 25 struck substeps in its 10 s (1/60 s of
 // settling: 1.03 mm; two more sweeps instead of one: no better).

@@ -136,7 +136,7 @@ struct SweepConstraint {
   Softness soft;
   double tangent_impulse[2], twist_impulse;  ///< N s, N m s (the live values)
   SweepPoint p[4];
-  // The block solve of the normal points (count >= 2; sim/README.md "Block solve"): (K + D)^-1 for
+  // The block solve of the normal points (count >= 2; docs/contacts.md "Block solve"): (K + D)^-1 for
   // the solve (D = diag(K_ii) impulse_scale / mass_scale, the softness) and (K + eps diag(K))^-1
   // for the relax, K the points' coupling J M^-1 J^T; symmetric, the lower triangle row by row.
   double block_soft[10], block_rigid[10];

@@ -343,7 +343,7 @@ SIMREEL_WIDE_TARGETS bool solve(Bundle& k, SolverBody* sb, const SolveParams& q)
       !any((k.tangent_impulse0 != 0.0) | (k.tangent_impulse1 != 0.0) | (k.twist_impulse != 0.0)))
     return false;
 
-  // The block solve: the fixed point the passes converge to, at once (sim/README.md "Block
+  // The block solve: the fixed point the passes converge to, at once (docs/contacts.md "Block
   // solve"). In the solve every row is soft, D_ii = d K_ii (d = impulse_scale / mass_scale); in
   // the relax every row is rigid with bias s / h for a point a little apart, and D_ii = eps K_ii
   // (kBlockRegularisation):

@@ -1,5 +1,5 @@
 // The applied forces as a subsystem (their records: include/simreel/forces.hpp; their evaluation:
-// sim/dynamics/forces.hpp; docs: "Forces"). Owns the force list sorted by use (impulses once, the
+// sim/dynamics/forces.hpp; docs/forces.md). Owns the force list sorted by use (impulses once, the
 // continuous forces every step), which bodies the forces read and which they move, which impulses
 // were applied (saved state), and the forced RK4 with its buffers: the dynamic bodies under `auto`
 // or `rk4` that a continuous force acts on are stepped here, every force evaluated again at every

@@ -1,4 +1,4 @@
-// Stage "continuous": no tunnelling (sim/README.md "Continuous collision"). After the step has
+// Stage "continuous": no tunnelling (docs/continuous-collision.md). After the step has
 // moved every body (contact solver, free-flight integrators, kinematic bodies), each dynamic body
 // that moved more than half its smallest width, or is flagged `bullet` and moved at all, is swept
 // from its pose at the step's start to its pose now, against every shape its swept box meets

@@ -1,6 +1,7 @@
 // World's applied forces (applied_forces.hpp; the pipeline is in world.cpp): the `forces` stage,
 // which hands the forces to the article's interface (apply_force, apply_impulse, ...: the same
-// calls a program makes), and the bodies the forced RK4 takes from their integrator groups.
+// calls a program makes), and the bodies the forced RK4 takes from their integrator groups
+// (docs/forces.md).
 #include <algorithm>
 
 #include "sim/world/world_impl.hpp"

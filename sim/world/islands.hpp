@@ -1,4 +1,4 @@
-// Islands and sleeping (docs: "Sleeping"): groups of touching bodies that have all been still for
+// Islands and sleeping (docs/sleeping.md): groups of touching bodies that have all been still for
 // a while stop being stepped until something wakes them. Box2D v3 and Jolt do the same with a
 // speed threshold and a time; here only bodies the contact solver stepped count time (a body in
 // free flight keeps its exact integrator and never stops on its own, however slow), and the speed

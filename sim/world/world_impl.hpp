@@ -16,7 +16,7 @@
 //   integrate            the free-flight integrators over the dynamic bodies touching nothing this
 //                        step (static bodies are never visited), kinematic bodies at their velocity;
 //                        bodies under forces with `auto` or `rk4` by one RK4 over all of them that
-//                        evaluates the forces again at every stage (sim/README.md, "Forces")
+//                        evaluates the forces again at every stage (docs/forces.md)
 //   check                NaN/inf guard over the new state; stops the run naming the body and time
 //   clear                zero the force/torque accumulators (skipped unless something was applied)
 //   derived              world inverse inertia for consumers that need it every step
@@ -24,7 +24,7 @@
 // Thread count never changes results: free-flight bodies are split into fixed contiguous chunks
 // and each body is advanced independently; the narrow phase writes each pair into its own slot;
 // the contact solver goes colour by colour through a colouring of its constraints that depends on
-// the contact list alone (sim/solver/constraint_graph.hpp, sim/README.md "Threads").
+// the contact list alone (sim/solver/constraint_graph.hpp, docs/threads.md).
 #pragma once
 #include <iosfwd>
 #include <memory>
@@ -76,7 +76,7 @@ class WorldImpl {
   const BodyModel& model(int i) const { return model_[i]; }
   const MotionState& state(int i) const { return state_[i]; }
 
-  // ---- The article's RigidBody interface, by body index (sim/README.md maps the names).
+  // ---- The article's RigidBody interface, by body index (docs/bodies.md maps the names).
   const Vec3& local_centroid(int i) const { return model_[i].c_B; }  ///< m, body frame
   const Vec3& centroid(int i) const { return state_[i].x_W; }        ///< m, world
   Vec3 origin_position(int i) const;                                 ///< UpdatePositionFromGlobalCentroid

@@ -1,5 +1,5 @@
 // Contacts between a static triangle mesh (CollideKind::mesh, sim/geometry/trimesh.hpp) and a convex shape.
-// Design (sim/README.md, "Static triangle meshes"): the triangles whose boxes overlap the shape's
+// Design (docs/collision.md, "Static triangle meshes"): the triangles whose boxes overlap the shape's
 // box, from the mesh's tree; each triangle against the shape (closed form for spheres and
 // capsules; GJK/EPA, then face clipping, for the others); internal-edge handling on each result;
 // the results grouped by normal into at most kMaxMeshManifolds manifolds of up to four points.

@@ -1,4 +1,4 @@
-// Narrow phase against a static triangle mesh (design: sim/README.md, "Static triangle meshes").
+// Narrow phase against a static triangle mesh (design: docs/collision.md, "Static triangle meshes").
 //
 // PER TRIANGLE (world frame: vertices p0 p1 p2 counter-clockwise about the front normal n)
 //   sphere    closest point on the triangle (Ericson, Real-Time Collision Detection, 5.1.5), which

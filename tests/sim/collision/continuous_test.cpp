@@ -125,7 +125,7 @@ TEST(Ccd, ThousandShotsNeverPassADynamicPlate) {
   EXPECT_EQ(t.through, 0);
   // Off-centre hits set the plate spinning at up to ~45 rad/s with the ball sliding across it at
   // tens of m/s; the solver keeps each manifold's anchors for the whole step, so the ball sinks in
-  // (sim/README.md "Continuous collision", limits) and the sweep's last defence holds its centre
+  // (docs/continuous-collision.md "Limits") and the sweep's last defence holds its centre
   // out of the plate: the overlap stays below the radius (2.5 cm measured in a few shots).
   EXPECT_LT(t.depth, kRadius) << "deepest overlap";
   // Contact impulses are equal and opposite, and moving a body back to its time of impact keeps
