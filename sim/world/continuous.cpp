@@ -27,27 +27,34 @@ constexpr double kInfWidth = std::numeric_limits<double>::infinity();
 }  // namespace
 
 void WorldImpl::init_continuous() {
-  ccd_enabled_ = collide_enabled_ && cfg_.contacts.continuous;
-  if (!ccd_enabled_) return;
-  const int n = (int)defs_.size();
-  const ShapeTable& st = *shapes_;
+  ccd_.init(collide_enabled_ && cfg_.contacts.continuous, defs_, dynamic_, kinematic_, state_, *shapes_,
+            sweep_shapes_, shape_moving_);
+}
+
+void ContinuousCollision::init(bool enabled, const std::vector<BodyDef>& defs, const std::vector<int>& dynamic,
+                               const std::vector<int>& kinematic, const std::vector<MotionState>& state,
+                               const ShapeTable& st, const std::vector<int>& sweep_shapes,
+                               const std::vector<char>& shape_moving) {
+  enabled_ = enabled;
+  if (!enabled_) return;
+  const int n = (int)defs.size();
   shape_swept_.assign(st.size(), 0);
   bullet_.assign(n, 0);
-  for (int i : dynamic_) bullet_[i] = defs_[i].bullet;
-  ccd_movers_ = dynamic_;
-  ccd_movers_.insert(ccd_movers_.end(), kinematic_.begin(), kinematic_.end());
-  std::sort(ccd_movers_.begin(), ccd_movers_.end());
+  for (int i : dynamic) bullet_[i] = defs[i].bullet;
+  movers_ = dynamic;
+  movers_.insert(movers_.end(), kinematic.begin(), kinematic.end());
+  std::sort(movers_.begin(), movers_.end());
   x0_.assign(n, Vec3::Zero());
   q0_.assign(n, Quat::Identity());
-  for (int i = 0; i < n; ++i) x0_[i] = state_[i].x_W, q0_[i] = state_[i].q_WP;
+  for (int i = 0; i < n; ++i) x0_[i] = state[i].x_W, q0_[i] = state[i].q_WP;
   toi_.assign(n, 1.0);
   sweeps_.assign(n, Sweep{});
   for (int i = 0; i < n; ++i) sweeps_[i] = make_sweep(x0_[i], q0_[i], x0_[i], q0_[i]);
   swept_boxes_.assign(st.size(), Aabb{});
-  for (int k : sweep_shapes_)
-    if (!shape_moving_[k])
-      swept_boxes_[k] = ShapeTable::bounds(st[k].geom, ShapeTable::world_pose(st[k], state_[st[k].body]));
-  ccd_order_ = sweep_shapes_;
+  for (int k : sweep_shapes)
+    if (!shape_moving[k])
+      swept_boxes_[k] = ShapeTable::bounds(st[k].geom, ShapeTable::world_pose(st[k], state[st[k].body]));
+  order_ = sweep_shapes;
 }
 
 // A fast pair (one of its shapes can close on the other by more than half its own smallest width
@@ -55,12 +62,12 @@ void WorldImpl::init_continuous() {
 // bound on how far the pair can close, about the bodies' centres) bounds the shapes' own relative
 // motion, so slow pairs are turned away without more work.
 bool WorldImpl::fast_pair(int a, int b, double closing) const {
-  if (!ccd_enabled_) return false;
+  if (!ccd_.enabled()) return false;
   const ShapeRecord& A = (*shapes_)[a];
   const ShapeRecord& B = (*shapes_)[b];
   const double slop4 = 4 * cfg_.contacts.linear_slop;
   if (!(extents_.shape_width[a] > slop4) || !(extents_.shape_width[b] > slop4)) return false;  // as in stage_continuous
-  if (bullet_[A.body] || bullet_[B.body]) return true;
+  if (ccd_.bullet(A.body) || ccd_.bullet(B.body)) return true;
   const double limit = 0.5 * std::min(model_[A.body].is_static ? kInfWidth : extents_.shape_width[a],
                                       model_[B.body].is_static ? kInfWidth : extents_.shape_width[b]);
   if (closing <= limit) return false;
@@ -147,9 +154,9 @@ int WorldImpl::collide_ahead(int a, int b, const Pose& xa, const Pose& xb, doubl
 // triangles of static mesh shape m whose boxes meet c's box over the sweep, `box`, grown by the
 // target gap. guarded: stage_continuous's fallbacks for triangles touched at the start; else a
 // triangle touched at the start gives -1 (collide_mesh_pair then collides as usual).
-double WorldImpl::mesh_toi(int c, int m, const Sweep& s, const Aabb& box, double target, double tolerance,
-                       bool guarded, int* triangle) const {
-  const ShapeTable& st = *shapes_;
+double ContinuousCollision::mesh_toi(const ShapeTable& st, const BodyExtents& extents, const MotionState* state,
+                                     int c, int m, const Sweep& s, const Aabb& box, double target, double tolerance,
+                                     bool guarded, int* triangle) {
   const ShapeRecord& C = st[c];
   const ShapeRecord& M = st[m];
   ToiInput in;
@@ -157,73 +164,64 @@ double WorldImpl::mesh_toi(int c, int m, const Sweep& s, const Aabb& box, double
   in.R_PA = C.R_PC;
   in.p_PA = C.p_PC;
   in.sa = &s;
-  in.reach_a = extents_.sweep_reach(c);
+  in.reach_a = extents.sweep_reach(c);
   in.target = target;
   in.tolerance = tolerance;
   const Vec3 grow = Vec3::Constant(target + tolerance);
-  const ToiOutput out = mesh_time_of_impact(in, M.geom, ShapeTable::world_pose(M, state_[M.body]),
+  const ToiOutput out = mesh_time_of_impact(in, M.geom, ShapeTable::world_pose(M, state[M.body]),
                                             box.lo - grow, box.hi + grow, guarded, triangle);
   if (out.state == ToiOutput::touching) return -1;
   return out.state == ToiOutput::hit ? out.t : 1.0;
 }
 
-// Only the awake bodies (dynamic and kinematic): a sleeping body's start pose was saved when it fell
-// asleep (stage_sleep) or was restored (after_restore) and holds while it sleeps, since nothing
-// moves it without waking it first. With 50,000 bodies asleep the copy of every pose was a quarter
-// of the step.
-void WorldImpl::save_start_poses() {
-  for (int i : islands_.awake_bodies_unsorted()) {
-    x0_[i] = state_[i].x_W;
-    q0_[i] = state_[i].q_WP;
-  }
-}
-
-bool WorldImpl::stage_continuous() {
+template <class MayTouch>
+bool ContinuousCollision::step(const Step& in, MayTouch&& may_touch) {
+  MotionState* state = in.state;
+  const BodyExtents& ext = *in.extents;
   // Which bodies are swept: a dynamic body one of whose shapes moved more than half its smallest
   // width (Box2D's and Box3D's rule, there per body: here a 20 um tip on a large top does not make
   // the whole top fast), or a bullet that moved at all. The body's farthest point bounds every
   // shape's motion, so most bodies are turned away by one test.
   fast_.clear();
-  const ShapeTable& shapes = *shapes_;
-  for (int i : dynamic_) {
-    if (islands_.asleep(i)) continue;
-    const MotionState& s = state_[i];
+  const ShapeTable& shapes = *in.shapes;
+  for (int i : *in.dynamic) {
+    if (in.islands->asleep(i)) continue;
+    const MotionState& s = state[i];
     const Vec3 dx = s.x_W - x0_[i];
     const double c = std::min(1.0, std::fabs(q0_[i].dot(s.q_WP)));
     const double angle = 2.0 * std::acos(c);
-    const double motion = dx.norm() + angle * extents_.swept_reach[i];
-    if (!(motion > 0) || (!bullet_[i] && motion <= 0.5 * extents_.width[i])) continue;
+    const double motion = dx.norm() + angle * ext.swept_reach[i];
+    if (!(motion > 0) || (!bullet_[i] && motion <= 0.5 * ext.width[i])) continue;
     bool any = false;
     const Mat3 R0 = q0_[i].toRotationMatrix(), R1 = s.q_WP.toRotationMatrix();
-    for (int k = extents_.shape_begin[i]; k < extents_.shape_begin[i + 1]; ++k) {
+    for (int k = ext.shape_begin[i]; k < ext.shape_begin[i + 1]; ++k) {
       const ShapeRecord& r = shapes[k];
       // Planes and shapes that touch nothing are not swept; nor shapes narrower than four slops
       // (0.4 mm by default): the solver lets any contact sink a slop, so their centre is not
       // outside what they touch even at rest (a 20 um tip on a spinning top was pulled back
       // every step and the top stopped precessing).
-      if (!(extents_.shape_width[k] > 4 * cfg_.contacts.linear_slop) || !std::isfinite(extents_.shape_width[k])) continue;
+      if (!(ext.shape_width[k] > 4 * in.linear_slop) || !std::isfinite(ext.shape_width[k])) continue;
       const double m = (dx + (R1 - R0) * r.p_PC).norm() + angle * r.geom.bounding_radius;
-      shape_swept_[k] = bullet_[i] || m > 0.5 * extents_.shape_width[k];
+      shape_swept_[k] = bullet_[i] || m > 0.5 * ext.shape_width[k];
       any = any || shape_swept_[k];
     }
     if (any) fast_.push_back(i);
   }
   if (fast_.empty()) return false;
-  profile_.swept_bodies += (long)fast_.size();
+  in.profile->swept_bodies += (long)fast_.size();
   // Every moving body's sweep, and every shape's box over the step (its boxes at the start and at
   // the end, grown by how far a rotation's arc strays from its chord: r (1 - cos(angle / 2))).
-  for (int i : ccd_movers_) sweeps_[i] = make_sweep(x0_[i], q0_[i], state_[i].x_W, state_[i].q_WP);
-  const ShapeTable& st = *shapes_;
-  const ContactSettings& cs = cfg_.contacts;
-  const double target = std::max(cs.linear_slop, 1e-5), tolerance = 0.25 * target;
-  for (int k : sweep_shapes_) {
-    if (!shape_moving_[k]) continue;
+  for (int i : movers_) sweeps_[i] = make_sweep(x0_[i], q0_[i], state[i].x_W, state[i].q_WP);
+  const ShapeTable& st = shapes;
+  const double target = std::max(in.linear_slop, 1e-5), tolerance = 0.25 * target;
+  for (int k : *in.sweep_shapes) {
+    if (!(*in.shape_moving)[k]) continue;
     const ShapeRecord& r = st[k];
     const Sweep& s = sweeps_[r.body];
     Aabb b = ShapeTable::bounds(r.geom, shape_pose(r, s.x0, s.q0));
     if (s.moves) {
       const Aabb e = ShapeTable::bounds(r.geom, shape_pose(r, s.x0 + s.dx, s.q1));
-      const double arc = extents_.sweep_reach(k) * (1.0 - std::cos(0.5 * s.angle));
+      const double arc = ext.sweep_reach(k) * (1.0 - std::cos(0.5 * s.angle));
       b.lo = b.lo.cwiseMin(e.lo) - Vec3::Constant(arc);
       b.hi = b.hi.cwiseMax(e.hi) + Vec3::Constant(arc);
     }
@@ -231,17 +229,17 @@ bool WorldImpl::stage_continuous() {
   }
   // Candidate pairs: sort and sweep along x over the swept boxes, keeping pairs with a swept body.
   const std::vector<Aabb>& bx = swept_boxes_;
-  std::sort(ccd_order_.begin(), ccd_order_.end(), [&](int a, int b) {
+  std::sort(order_.begin(), order_.end(), [&](int a, int b) {
     return bx[a].lo.x() < bx[b].lo.x() || (bx[a].lo.x() == bx[b].lo.x() && a < b);
   });
-  ccd_pairs_.clear();
+  pairs_.clear();
   const double grow = target + tolerance;
-  for (size_t i = 0; i < ccd_order_.size(); ++i) {
-    const int a = ccd_order_[i];
+  for (size_t i = 0; i < order_.size(); ++i) {
+    const int a = order_[i];
     const Aabb& A = bx[a];
     const bool sa = shape_swept_[a];
-    for (size_t j = i + 1; j < ccd_order_.size(); ++j) {
-      const int b = ccd_order_[j];
+    for (size_t j = i + 1; j < order_.size(); ++j) {
+      const int b = order_[j];
       const Aabb& B = bx[b];
       if (B.lo.x() > A.hi.x() + grow) break;
       if (!sa && !shape_swept_[b]) continue;
@@ -249,19 +247,19 @@ bool WorldImpl::stage_continuous() {
           B.lo.z() > A.hi.z() + grow)
         continue;
       const int lo = std::min(a, b), hi = std::max(a, b);
-      if (shapes_may_touch(lo, hi)) ccd_pairs_.push_back(pair_key(lo, hi));
+      if (may_touch(lo, hi)) pairs_.push_back(pair_key(lo, hi));
     }
   }
-  for (int p : plane_shapes_)
-    for (int k : sweep_shapes_) {
+  for (int p : *in.plane_shapes)
+    for (int k : *in.sweep_shapes) {
       if (!shape_swept_[k]) continue;
       const int lo = std::min(p, k), hi = std::max(p, k);
-      if (shapes_may_touch(lo, hi)) ccd_pairs_.push_back(pair_key(lo, hi));
+      if (may_touch(lo, hi)) pairs_.push_back(pair_key(lo, hi));
     }
-  std::sort(ccd_pairs_.begin(), ccd_pairs_.end());
-  profile_.toi_pairs += (long)ccd_pairs_.size();
+  std::sort(pairs_.begin(), pairs_.end());
+  in.profile->toi_pairs += (long)pairs_.size();
   // Times of impact, all from the same sweeps.
-  for (uint64_t key : ccd_pairs_) {
+  for (uint64_t key : pairs_) {
     const int a = pair_first(key), b = pair_second(key);
     const ShapeRecord& A = st[a];
     const ShapeRecord& B = st[b];
@@ -270,7 +268,7 @@ bool WorldImpl::stage_continuous() {
       // swept side: it is static).
       const int c = A.geom.kind == CollideKind::mesh ? b : a;
       const double t =
-          mesh_toi(c, a == c ? b : a, sweeps_[st[c].body], swept_boxes_[c], target, tolerance, true);
+          mesh_toi(st, ext, state, c, a == c ? b : a, sweeps_[st[c].body], swept_boxes_[c], target, tolerance, true);
       if (t < 1 && t > 0) toi_[st[c].body] = std::min(toi_[st[c].body], t);
       continue;
     }
@@ -279,12 +277,12 @@ bool WorldImpl::stage_continuous() {
     in.R_PA = A.R_PC;
     in.p_PA = A.p_PC;
     in.sa = &sweeps_[A.body];
-    in.reach_a = extents_.sweep_reach(a);
+    in.reach_a = ext.sweep_reach(a);
     in.b = &B.geom;
     in.R_PB = B.R_PC;
     in.p_PB = B.p_PC;
     in.sb = &sweeps_[B.body];
-    in.reach_b = extents_.sweep_reach(b);
+    in.reach_b = ext.sweep_reach(b);
     in.target = target;
     in.tolerance = tolerance;
     // Touching at the start (a resting or sliding contact, which the solver handles): the swept
@@ -297,18 +295,33 @@ bool WorldImpl::stage_continuous() {
   // Each swept body that hits goes back to its earliest time of impact, its velocity unchanged;
   // unless it ended within a slop of that pose (the solver stopped it at the surface, as it
   // should: moving it back would only leave it hovering a target gap off the surface).
-  const double keep = target + tolerance + cs.linear_slop;
+  const double keep = target + tolerance + in.linear_slop;
   for (int i : fast_) {
-    for (int k = extents_.shape_begin[i]; k < extents_.shape_begin[i + 1]; ++k) shape_swept_[k] = 0;
+    for (int k = ext.shape_begin[i]; k < ext.shape_begin[i + 1]; ++k) shape_swept_[k] = 0;
     const Sweep& s = sweeps_[i];
-    if (toi_[i] < 1 && (1.0 - toi_[i]) * (s.dx.norm() + s.angle * extents_.swept_reach[i]) > keep) {
-      state_[i].x_W = s.x_at(toi_[i]);
-      state_[i].q_WP = s.q_at(toi_[i]);
-      ++profile_.toi_hits;
+    if (toi_[i] < 1 && (1.0 - toi_[i]) * (s.dx.norm() + s.angle * ext.swept_reach[i]) > keep) {
+      state[i].x_W = s.x_at(toi_[i]);
+      state[i].q_WP = s.q_at(toi_[i]);
+      ++in.profile->toi_hits;
     }
     toi_[i] = 1.0;
   }
   return true;
+}
+
+bool WorldImpl::stage_continuous() {
+  ContinuousCollision::Step in;
+  in.state = state_.data();
+  in.shapes = shapes_.get();
+  in.extents = &extents_;
+  in.islands = &islands_;
+  in.dynamic = &dynamic_;
+  in.sweep_shapes = &sweep_shapes_;
+  in.plane_shapes = &plane_shapes_;
+  in.shape_moving = &shape_moving_;
+  in.linear_slop = cfg_.contacts.linear_slop;
+  in.profile = &profile_;
+  return ccd_.step(in, [this](int a, int b) { return shapes_may_touch(a, b); });
 }
 
 }  // namespace simreel

@@ -110,7 +110,8 @@ int WorldImpl::collide_mesh_ahead(int c, int mi, double speculative, Manifold ou
   const double arc = extents_.sweep_reach(c) * (1.0 - std::cos(0.5 * sw.angle));
   box.lo = box.lo.cwiseMin(end.lo) - Vec3::Constant(arc);
   box.hi = box.hi.cwiseMax(end.hi) + Vec3::Constant(arc);
-  const double t = mesh_toi(c, mi, sw, box, 0.5 * speculative, 0.25 * speculative, false);
+  const double t = ContinuousCollision::mesh_toi(*shapes_, extents_, state_.data(), c, mi, sw, box, 0.5 * speculative,
+                                                 0.25 * speculative, false);
   if (t < 0) return -1;
   if (t >= 1) return 0;
   const Vec3 xt = sw.x_at(t);

@@ -36,9 +36,9 @@ void WorldImpl::stage_sleep() {
   in.shape_moving = &shape_moving_;
   fell_asleep_.clear();
   islands_.step(in, fell_asleep_);
-  // A sleeping body's sweeps start where it fell asleep (continuous.cpp, save_start_poses).
-  if (ccd_enabled_)
-    for (int i : fell_asleep_) x0_[i] = state_[i].x_W, q0_[i] = state_[i].q_WP;
+  // A sleeping body's sweeps start where it fell asleep (continuous.hpp, save_start_poses).
+  if (ccd_.enabled())
+    for (int i : fell_asleep_) ccd_.save_start_pose(i, state_[i]);
 }
 
 // After restore_state: the islands from the saved still times and ids (the awake list, the
@@ -48,9 +48,9 @@ void WorldImpl::after_restore(std::vector<double> still, std::vector<int> asleep
   std::vector<std::string> names;
   for (const BodyDef& d : defs_) names.push_back(d.name);
   islands_.restore(std::move(still), std::move(asleep), model_, names, extents_, shape_moving_);
-  if (ccd_enabled_)
+  if (ccd_.enabled())
     for (int i = 0; i < (int)defs_.size(); ++i)
-      if (!model_[i].is_static && islands_.asleep(i)) x0_[i] = state_[i].x_W, q0_[i] = state_[i].q_WP;
+      if (!model_[i].is_static && islands_.asleep(i)) ccd_.save_start_pose(i, state_[i]);
 }
 
 }  // namespace simreel

@@ -134,7 +134,7 @@ void WorldImpl::step() {
     clock_.run(Stage::forces, [&] { return stage_forces(); });
   bool finite = true;
   bool solved = false;
-  if (ccd_enabled_) save_start_poses();  // the sweeps' start (sim/world/continuous.cpp)
+  if (ccd_.enabled()) ccd_.save_start_poses(islands_.awake_bodies_unsorted(), state_.data());  // sweeps' start
   if (collide_enabled_) {
     clock_.run(Stage::update_broad_phase, [&] { stage_broad_phase(); });
     if (pairs_.empty() && contacts_.empty() && resting_.empty())
@@ -156,7 +156,7 @@ void WorldImpl::step() {
   clock_.ran(Stage::integrate);
   clock_.ran(Stage::check);
   if (!kinematic_.empty()) stage_kinematic();
-  if (ccd_enabled_ && finite)
+  if (ccd_.enabled() && finite)
     clock_.run(Stage::continuous, [&] { return stage_continuous(); });
   else
     clock_.skipped(Stage::continuous);

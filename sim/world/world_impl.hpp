@@ -38,6 +38,7 @@
 #include "sim/base/stage_clock.hpp"
 #include "sim/collision/body_extents.hpp"
 #include "sim/world/applied_forces.hpp"
+#include "sim/world/continuous.hpp"
 #include "sim/world/islands.hpp"
 #include "sim/collision/broad_phase.hpp"
 #include "sim/collision/time_of_impact.hpp"
@@ -204,14 +205,10 @@ class WorldImpl {
   void init_sleep();
   void stage_sleep();
   void init_continuous();
-  void save_start_poses();
   bool stage_continuous();  ///< false: nothing was fast
   bool fast_pair(int a, int b, double closing) const;
   int collide_ahead(int a, int b, const Pose& xa, const Pose& xb, double speculative, double closing,
                     PairCache& cache, Manifold& m, Vec3 offset[4]) const;
-  double mesh_toi(int c, int m, const Sweep& s, const Aabb& box, double target, double tolerance,
-                  bool guarded,
-                  int* triangle = nullptr) const;  ///< continuous.cpp
   int collide_mesh_ahead(int c, int m, double speculative, Manifold out[],
                          Vec3 offset[][4]) const;  ///< mesh_pairs.cpp
   /// static, asleep, or kinematic at rest: neither moves nor wakes (Islands::inert)
@@ -283,20 +280,8 @@ class WorldImpl {
   ContactSolver solver_;
   ContactStats contact_stats_;
 
-  // ---- Continuous collision (sim/world/continuous.cpp, sim/collision/time_of_impact.hpp). Scratch only: nothing here
-  // outlives a step, so a saved state needs none of it.
-  bool ccd_enabled_ = false;
-  std::vector<int> ccd_movers_;      ///< dynamic and kinematic bodies, ascending
-  std::vector<Vec3> x0_;             ///< per body: centre of mass at the step's start
-  std::vector<Quat> q0_;             ///< per body: orientation at the step's start
-  std::vector<char> shape_swept_;    ///< per shape: swept this step
-  std::vector<char> bullet_;         ///< per body: dynamic and flagged `bullet`
-  std::vector<double> toi_;          ///< per body: earliest time of impact this step (fraction)
-  std::vector<Sweep> sweeps_;        ///< per body, this step
-  std::vector<int> fast_;            ///< swept bodies this step, ascending
-  std::vector<Aabb> swept_boxes_;    ///< per shape: its box over the whole step
-  std::vector<int> ccd_order_;       ///< sweep_shapes_ sorted by swept box lo.x
-  std::vector<uint64_t> ccd_pairs_;  ///< shape pairs (pair_key) to sweep, this step
+  // ---- Continuous collision (continuous.hpp): start poses and sweeps; nothing a saved state needs.
+  ContinuousCollision ccd_;
 };
 
 }  // namespace simreel
