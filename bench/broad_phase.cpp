@@ -1,4 +1,4 @@
-// Broad phase at scale (issue 15): the update_broad_phase stage's cost per step for N unit cubes,
+// Broad phase at scale: the update_broad_phase stage's cost per step for N unit cubes,
 // N = 1,000, 10,000 and 50,000, in three states:
 //   rest_asleep  cubes resting on the ground plane (a square grid, 1.5 m apart, centres at
 //                z = 0.5), sleeping on, measured once every cube is asleep;

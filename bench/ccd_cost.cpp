@@ -1,4 +1,4 @@
-// What continuous collision costs (issue 15, docs/continuous-collision.md): the same scene
+// What continuous collision costs (docs/continuous-collision.md): the same scene
 // stepped with `contacts.continuous` on and off, runs interleaved, the least of N each.
 //   pile1000: the R3 pile (1000 unit cubes dropped on the ground, 1/240 s, 10 s), sleeping off:
 //             nothing moves half a cube in a step, so the stage only copies poses and tests each

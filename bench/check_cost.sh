@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# What `simreel check` costs (issue 11): a 10 s scene checked at five moments should cost about
+# What `simreel check` costs: a 10 s scene checked at five moments should cost about
 # the simulation plus five frames, not a full render. Times, in one run and interleaved (this VM
 # drifts), the minimum of 3 runs of:
 #   simulate  the physics alone

@@ -1,5 +1,5 @@
 // Convex hull speed and memory (sim/geometry/convex_hull.hpp): prints CSV "case,points,seconds,peak_rss_mb".
-// Cases: a CAD-like gear point set of about 43k points (the size of issue 14's tm_cycloidal.ply)
+// Cases: a CAD-like gear point set of about 43k points (the size of the real meshes' tm_cycloidal.ply)
 // and 500k random points in a ball. Peak RSS is the process's (getrusage), so run one case per
 // process for a clean figure: bench_hull_bench gear | ball (default: both).
 #include <sys/resource.h>

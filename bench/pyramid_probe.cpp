@@ -1,4 +1,4 @@
-// The large pyramid (issue 15) with one setting at a time, for tuning the contact solver: process
+// The large pyramid with one setting at a time, for tuning the contact solver: process
 // CPU seconds of the stepping (one thread), the largest cube displacement between the run's middle
 // and its end (the "settled" criterion: < 1 cm), the top cube's sink, the fastest cube at the end,
 // the deepest contact, the substeps taken and the solver's per-stage seconds.

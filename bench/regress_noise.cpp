@@ -1,4 +1,4 @@
-// Issue 11: the noise floor of compare_images between renders that should look the same, and
+// The noise floor of compare_images between renders that should look the same, and
 // what it gives for small real changes. bench/regress_noise.sh renders the frames and calls this.
 //
 //   bench_regress_noise header

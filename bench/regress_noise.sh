@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 11: how far apart compare_images (app/regress/metrics.hpp) finds frames that should be the
+# How far apart compare_images (app/regress/metrics.hpp) finds frames that should be the
 # same, and how far apart it finds frames with a small real change. Run from the repository root
 # after building simreel and bench_regress_noise:
 #

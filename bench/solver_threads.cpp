@@ -1,4 +1,4 @@
-// Thread scaling of the contact stages (issue 15, "Two threads solve large islands in parallel"):
+// Thread scaling of the contact stages (two threads solving large islands in parallel):
 // the large pyramid (tests/fixtures/reference_scenes r3_pyramid(100): 5,050 unit cubes, sleeping off, 200
 // steps of 1/60 s) and the R3 pile (1000 cubes, dt 1/240, sleeping off, --pile-steps steps),
 // stepped with 1 and with 2 threads in turn, --repeats times each (1, 2, 1, 2, ...), so both

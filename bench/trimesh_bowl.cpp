@@ -1,4 +1,4 @@
-// Issue 15: 10,000 spheres poured into a static triangle-mesh bowl. Prints CSV on stdout: the
+// 10,000 spheres poured into a static triangle-mesh bowl. Prints CSV on stdout: the
 // step rate, the peak memory (resident set, from getrusage) before and after, and how many
 // spheres escaped the bowl (through its surface or over its rim), plus the deepest overlap.
 // Usage: bench_trimesh_bowl [SPHERES=10000] [SECONDS=3]

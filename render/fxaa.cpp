@@ -14,11 +14,10 @@ namespace {
 // the brightest neighbour and at least 0.0833 of full scale (8-bit luma: 21); sub-pixel blending
 // at 3/4 strength; the edge search walks out in growing steps to 22 px each way. On the 100-box
 // benchmark frame the "high quality" thresholds (0.125, 0.0312) flagged 12.7% of the pixels and
-// cost 6.8 ms; these flag 4.4% and cost 3.5 ms, with the same look on body edges. Since then:
-// flags skipped eight at a time, integer luma arithmetic up to the blend weights, and an AVX2
-// clone picked at load time (same output: no FMA, the integer passes vectorise): 2.5 ms. Session 9:
-// the edge search by gathers, the luma pass and the blend by AVX2 intrinsics (Avx2Ops): 3.35 ->
-// 2.9 ms on a slower day.
+// cost 6.8 ms; these flag 4.4% and cost 3.5 ms, with the same look on body edges. The passes skip
+// flags eight at a time, use integer luma arithmetic up to the blend weights, and run an AVX2
+// clone picked at load time (same output: no FMA, the integer passes vectorise), with the edge
+// search by gathers and the luma pass and blend in AVX2 intrinsics (Avx2Ops).
 constexpr int kThresholdMin = 21;
 constexpr int kThresholdRel = 43;  // 0.166 in 1/256
 constexpr float kSubpix = 0.75f;

@@ -16,7 +16,7 @@
 // boxes is a candidate, so the output is exactly the allowed pairs whose boxes overlap: it does not
 // depend on the fat boxes, the tree's shape, the order of updates, the thread count or a resume.
 //
-// Why a tree and not the sort and sweep it replaced (issue 15; bench/results/broad_phase_*.csv):
+// Why a tree and not a sort and sweep (bench/results/broad_phase_*.csv):
 // the sweep re-sorted and re-swept every shape whenever any box left its fat box, and a sweep
 // along x visits a whole slab of the scene per shape (~N^(2/3) in a 3D crowd): 10,000 moving cubes
 // took 37 ms of CPU a step in it. The tree touches only the shapes that moved, in O(log N) each.

@@ -588,7 +588,7 @@ MeshReport analyze_mesh(const TriangleMesh& mesh, const MeshMassOptions& opt) {
       rep.closed = topo.closed;
       rep.consistently_oriented = topo.consistently_oriented;
       weigh_solid(m, opt.density, rep);
-      // Asked for: no warning that the hull was weighed (issue 13: it read as a defect).
+      // Asked for: no warning that the hull was weighed (it would read as a defect).
       break;
     }
   }

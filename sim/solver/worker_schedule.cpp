@@ -6,7 +6,7 @@
 // one thread, bit for bit. Between colours they must wait: a body's impulses come in colour order.
 // A barrier per colour makes every worker wait for the slowest at every colour; the large pyramid
 // has 32 colours of some 500 constraints, phases of ~17 us, and the faster of two workers waited
-// there about a tenth of the sweeps' time (session 14).
+// there about a tenth of the sweeps' time.
 //
 // But a worker only has to wait for the items of the others that touch the bodies its own items
 // touch. So, per colour, a worker first solves its items that touch a body another worker's items

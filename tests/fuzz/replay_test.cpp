@@ -1,5 +1,5 @@
 // Every hostile input found so far, replayed in the default build (no fuzzer, no sanitizers
-// needed): tests/data/hostile/ (issue 16's hand-made files) through import_mesh and every mass
+// needed): tests/data/hostile/ (hand-made hostile files) through import_mesh and every mass
 // mode, and tests/fuzz/crashes/HARNESS/ (what the fuzzers found, then fixed) through the harness's
 // own code (tests/fuzz/targets.hpp). Each must end in an InputError or a finite success: a crash,
 // an abort (finding()) or any other exception fails the test.

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes the hostile inputs of issue 16 into this folder (run it here; the files are committed).
+"""Writes the hostile inputs into this folder (run it here; the files are committed).
 
 Each file is small and reproduces one finding; tests/fuzz/replay_test.cpp replays every file in this
 folder through the normal reader API (an InputError or a mesh, never a crash), and

@@ -1,5 +1,5 @@
 // Continuous collision against static triangle meshes (sim/collision/time_of_impact.hpp mesh_time_of_impact,
-// sim/world/continuous.cpp, sim/world/mesh_pairs.cpp collide_mesh_ahead; issue 15): a 5 cm sphere shot at
+// sim/world/continuous.cpp, sim/world/mesh_pairs.cpp collide_mesh_ahead): a 5 cm sphere shot at
 // 100 m/s at a 1 cm thick closed mesh wall, and at an open one-sided mesh sheet from its front,
 // never passes through; from behind the sheet it passes untouched (one-sided, as the narrow phase);
 // it stops on the face as Coulomb's impact law says (the manifold taken ahead is the face's);

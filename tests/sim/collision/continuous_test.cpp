@@ -1,4 +1,4 @@
-// Continuous collision (sim/collision/time_of_impact.hpp, sim/world/continuous.cpp; issue 15): no tunnelling. A 5 cm sphere
+// Continuous collision (sim/collision/time_of_impact.hpp, sim/world/continuous.cpp): no tunnelling. A 5 cm sphere
 // shot at 100 m/s at a 1 cm wall (static) and at a 1 cm plate (dynamic, in free space) from
 // seeded directions never passes through; it stops or rebounds as Newton's and Coulomb's impact
 // laws say; momentum is kept when the plate is dynamic; a spinning box bullet, and a thin plate

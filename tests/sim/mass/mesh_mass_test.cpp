@@ -1,4 +1,4 @@
-// Issue 14's mesh defects, each on a small self-made mesh: the cavity rule (2), shell mode on a
+// Mesh defects, each on a small self-made mesh: the cavity rule (2), shell mode on a
 // surface solid mode refuses (5), consistent orientation of open meshes (6), closedness with a
 // zero-area sliver at a T-junction (7), and the words used for what cannot be a solid (8).
 #include <gtest/gtest.h>

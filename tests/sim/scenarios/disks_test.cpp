@@ -1,4 +1,4 @@
-// Issue 15, the rolling disks: Euler's disk in steady motion (Moffatt, Nature 404, 2000) and a
+// The rolling disks: Euler's disk in steady motion (Moffatt, Nature 404, 2000) and a
 // coin rolling in a circle on its rim. The references are the steady-motion relations derived
 // below for a disk of finite thickness (rigid body, rolling without slipping on a level plane).
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// Newton's cradle (issue 15, "Contacts II", hard cases): a row of equal balls 1 mm apart, restitution
+// Newton's cradle, a hard case for contacts: a row of equal balls 1 mm apart, restitution
 // 1. Closed form: with gaps, the collisions happen one pair at a time, and an elastic head-on
 // collision of two equal masses exchanges their velocities; so the struck row passes the velocity
 // from ball to ball and exactly the last ball leaves, at the speed of the one that struck (k balls

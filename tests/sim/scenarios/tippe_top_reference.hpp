@@ -1,4 +1,4 @@
-// An independent reference for the tippe top (issue 15, "Contacts II"): the eccentric-sphere model
+// An independent reference for the tippe top: the eccentric-sphere model
 // of Ueda, Sasaki and Watanabe (2005) and of Cohen (1977), integrated as an ODE. It shares nothing
 // with simreel's contact code: no collision, no solver, no World, only Eigen's vectors.
 //

@@ -1,4 +1,4 @@
-// The tippe top (issue 15, "Contacts II", hard cases): a sphere whose centre of mass lies off its
+// The tippe top, a hard case for contacts: a sphere whose centre of mass lies off its
 // centre, spun fast on a plane with sliding friction, turns over. Checked three ways:
 //   - Jellett's quantity, lambda = L . (G - P) (L about the centre of mass G, P the contact point),
 //     is a constant of the motion for this body whatever the friction (the contact force acts at

@@ -1,4 +1,4 @@
-// Small builders for the contact tests (issue 10): bodies made directly from BodyDefs, with the
+// Small builders for the contact tests: bodies made directly from BodyDefs, with the
 // primitives' closed-form mass functions, plus the measurements the tests share (energy, a state
 // hash, a least-squares line, a parabola through three samples) and a probe that tells whether the
 // narrow phase in the build handles a pair (sim/collision/narrow/dev_stub.cpp, the development stand-in,

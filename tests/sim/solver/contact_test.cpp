@@ -1,4 +1,4 @@
-// Contact physics against closed forms (issue 10, "Tests a physicist would accept"). Every test
+// Contact physics against closed forms, as a physicist would accept them. Every test
 // builds its World from BodyDefs (tests/sim/solver/contact_fixtures.hpp), samples the trajectory every
 // step, and states its closed form, its tolerance and the reason for that tolerance.
 //
