@@ -153,3 +153,110 @@ TEST(PublicApi, WorldMoves) {
   EXPECT_EQ(moved.steps(), 2);
   EXPECT_NEAR(moved.linear_velocity(0).z(), -9.81 * 2 / 240.0, 1e-12);
 }
+
+// The article's interface, each call against what it must do: a pose set is read back (the
+// centroid kept by set_orientation), velocities set wake a sleeper, a body-frame force equals the
+// world-frame force rotated, a central force leaves the spin alone, an angular impulse changes
+// the spin by I^-1 dL (1e-12: a few roundings of O(1) values).
+TEST(PublicApi, ArticleInterfaceCalls) {
+  BodyDef d;
+  d.add_collider(box_collider(Vec3(0.3, 0.2, 0.1), 1000));
+  d.p_WB = Vec3(1, 2, 3);
+  WorldConfig cfg;
+  cfg.gravity = Vec3::Zero();
+  World w(cfg, {d});
+  EXPECT_EQ(w.type(0), BodyType::dynamic);
+  EXPECT_FALSE(w.has_forces());
+  EXPECT_FALSE(w.has_contacts());  // one body: nothing to touch
+
+  const Vec3 c = w.centroid(0);
+  const Quat q(Eigen::AngleAxisd(0.7, Vec3(1, 1, 0).normalized()));
+  w.set_orientation(0, Quat(2 * q.coeffs()));  // not unit: normalised
+  EXPECT_LT(w.orientation(0).angularDistance(q), 1e-15);
+  EXPECT_EQ(w.centroid(0), c);
+  w.normalize_orientation(0);
+  EXPECT_LT(w.orientation(0).angularDistance(q), 1e-15);
+
+  w.set_angular_velocity(0, Vec3(0.1, -0.2, 0.3));
+  EXPECT_LT((w.angular_velocity(0) - Vec3(0.1, -0.2, 0.3)).norm(), 1e-15);
+
+  // An angular impulse: dw = I_W^-1 dL.
+  const Vec3 w0 = w.angular_velocity(0), dL(0.01, 0.02, -0.03);
+  w.apply_angular_impulse(0, dL);
+  EXPECT_LT((w.angular_velocity(0) - (w0 + w.inverse_inertia_world(0) * dL)).norm(), 1e-12);
+
+  // A force in the body frame at a body point is the world force at the world point.
+  World a(cfg, {d}), b(cfg, {d});
+  for (World* x : {&a, &b}) x->set_orientation(0, q);
+  const Vec3 f_B(1, -2, 0.5), p_B(0.1, 0.05, -0.02);
+  a.apply_force_local(0, f_B, p_B);
+  b.apply_force(0, b.local_to_world_vec(0, f_B), b.local_to_world(0, p_B));
+  a.step();
+  b.step();
+  EXPECT_LT((a.linear_velocity(0) - b.linear_velocity(0)).norm(), 1e-15);
+  EXPECT_LT((a.angular_velocity(0) - b.angular_velocity(0)).norm(), 1e-13);
+  EXPECT_GT(a.angular_velocity(0).norm(), 1e-6);  // the off-centre point gave it a torque
+
+  // A central force: velocity f dt / m, no spin.
+  World e(cfg, {d});
+  e.apply_central_force(0, Vec3(0, 0, 6));
+  e.step();
+  EXPECT_NEAR(e.linear_velocity(0).z(), 6 / e.mass(0) / 240.0, 1e-15);
+  EXPECT_EQ(e.angular_velocity(0), Vec3::Zero());
+  EXPECT_NO_THROW(e.check_state());
+}
+
+// check_spin names a body that turns more than the given angle a step, once.
+TEST(PublicApi, CheckSpinWarnsOnce) {
+  BodyDef d;
+  d.name = "spinner";
+  d.add_collider(sphere_collider(0.1, 1000));
+  d.w_W = Vec3(0, 0, 240);  // 1 rad a 1/240 s step
+  World w(WorldConfig{}, {d});
+  const size_t before = w.warnings().size();
+  w.check_spin(0.5);
+  w.check_spin(0.5);
+  ASSERT_EQ(w.warnings().size(), before + 0) << "the constructor already named it";
+  bool named = false;
+  for (const std::string& s : w.warnings()) named = named || s.find("spinner") != std::string::npos;
+  EXPECT_TRUE(named);
+}
+
+// A resting box falls asleep; wake() makes it step again. The fingerprint is the model's: the
+// same scene gives the same one, another scene another.
+TEST(PublicApi, WakeAndFingerprint) {
+  BodyDef box;
+  box.add_collider(box_collider(Vec3(0.2, 0.2, 0.2), 500));
+  box.p_WB = Vec3(0, 0, 0.1);
+  World w(WorldConfig{}, {ground_body(), box});
+  for (int k = 0; k < 480 && !w.asleep(1); ++k) w.step();
+  ASSERT_TRUE(w.asleep(1));
+  EXPECT_EQ(w.sleeping_count(), 1);
+  w.wake(1);
+  EXPECT_FALSE(w.asleep(1));
+  EXPECT_EQ(w.sleeping_count(), 0);
+
+  World same(WorldConfig{}, {ground_body(), box});
+  EXPECT_EQ(same.fingerprint(), w.fingerprint());
+  BodyDef ball;
+  ball.add_collider(sphere_collider(0.1, 500));
+  World other(WorldConfig{}, {ground_body(), ball});
+  EXPECT_NE(other.fingerprint(), w.fingerprint());
+}
+
+// Mass composition: two unit cubes side by side compose to the 2 x 1 x 1 box's closed form
+// (placed, parallel_axis and compose through the public header; exact formulas, rounding only).
+TEST(PublicApi, ComposeTwoCubesIsABox) {
+  Collider a = box_collider(Vec3::Ones(), 1000), b = a;
+  a.p_BC = Vec3(-0.5, 0, 0);
+  b.p_BC = Vec3(0.5, 0, 0);
+  const MassProperties m = compose({a, b});
+  const MassProperties box = box_collider(Vec3(2, 1, 1), 1000).props_C;
+  EXPECT_NEAR(m.mass, box.mass, 1e-9);
+  EXPECT_LT(m.com.norm(), 1e-15);
+  EXPECT_LT((m.inertia - box.inertia).norm(), 1e-9 * box.inertia.norm());
+  const Mat3 pa = parallel_axis(2.0, Vec3(0, 0, 3));
+  EXPECT_EQ(pa, Vec3(18, 18, 0).asDiagonal().toDenseMatrix());
+  const MassProperties moved = placed(a.props_C, Mat3::Identity(), Vec3(1, 2, 3));
+  EXPECT_EQ(moved.com, Vec3(1, 2, 3));
+}
