@@ -1,12 +1,13 @@
-// Render and encode throughput (issue 4): a 300-frame 1280x720 clip of 100 tumbling boxes over a
+// Render and encode throughput: a 300-frame 1280x720 clip of 100 tumbling boxes over a
 // checker ground, with shadows and anti-aliasing, timed
 //   - render only (frames/s of the GL passes, for several anti-aliasing settings),
 //   - end to end in-process (simulate + draw + encode to H.264 MP4 on the encoder thread),
 //   - against the ceiling: the `ffmpeg` command-line tool encoding the same raw RGBA frames with
 //     the same encoder settings (libx264 veryfast, CRF 20, yuv420p), i.e. encoding alone.
-// And memory per body (issue 16): the peak resident memory of a process that loads N copies of
-// one 100,000-triangle mesh (N = 1, 10, 100, 1000), or N boxes, spheres of one size or of N
-// sizes, and draws one frame of them; each case in a child process of its own (rows `memory_*`).
+// And memory per body: the peak resident memory of a process that loads N copies of one
+// 100,000-triangle mesh (N = 1, 10, 100, 1000), or N boxes, spheres of one size or of N sizes,
+// and draws one frame of them; each case in a fresh process of its own, this program started
+// again with `memory-case` (rows `memory_*`).
 // CSV on stdout. Usage:
 //   bench_render_throughput [FRAMES [overlays|teaching|memory|pairs|post|render [NAME,...]|png K PATH]]
 // (FRAMES default 300; `memory`: only the memory rows; `pairs`: only the end-to-end / ceiling
@@ -15,6 +16,7 @@
 // PATH, to look at). ffmpeg must be on PATH for the ceiling row; the raw frames need FRAMES
 // x 3.7 MB in the temp folder). The number of end-to-end / ceiling pairs is SIMREEL_BENCH_PAIRS
 // (default 7).
+#include <spawn.h>
 #include <stdlib.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
@@ -104,7 +106,7 @@ struct Setup {
   }
 };
 
-// The same clip as a scene with teaching overlays (issue 12): an angular velocity arrow on every
+// The same clip as a scene with teaching overlays: an angular velocity arrow on every
 // box, scaled by the pre-pass (which simulates the clip once more first), and a three-line HUD.
 Scene overlay_scene(const Boxes& b, int frames, int parts = 3) {  // parts: 1 arrows, 2 HUD, 3 both
   Scene sc;
@@ -245,26 +247,66 @@ MemoryCase load_and_draw(Copies what, int n) {
   return out;
 }
 
-// Runs load_and_draw in a child process; its peak resident memory (MB) and what it reported.
+// Runs load_and_draw in a fresh process: this program again (/proc/self/exe), started by
+// posix_spawn with the arguments `<frames> memory-case <copies> <n>`, which draws the one case and
+// prints what it measured on its stdout, a pipe to us. Never fork-and-continue: by the time these
+// rows run, llvmpipe's and the encoder's threads are up, and a forked child that draws can block
+// forever on a lock one of them held at the fork. Returns the child's peak resident memory (MB),
+// which the child reads itself (VmHWM of /proc/self/status: its own memory since the exec; wait4's
+// ru_maxrss would also count the parent's, whose memory a spawned child shares until its exec),
+// and what it reported, or -1.
 std::pair<double, MemoryCase> in_child(Copies what, int n) {
   int fd[2];
   if (pipe(fd) != 0) return {-1, {}};
-  const pid_t pid = fork();
-  if (pid == 0) {
-    close(fd[0]);
-    MemoryCase c = load_and_draw(what, n);
-    if (write(fd[1], &c, sizeof c) != (ssize_t)sizeof c) _exit(2);
-    _exit(0);
-  }
+  posix_spawn_file_actions_t fa;
+  posix_spawn_file_actions_init(&fa);
+  posix_spawn_file_actions_adddup2(&fa, fd[1], STDOUT_FILENO);
+  posix_spawn_file_actions_addclose(&fa, fd[0]);
+  posix_spawn_file_actions_addclose(&fa, fd[1]);
+  const std::string count = std::to_string(n);
+  std::vector<std::string> argv = {"bench_render_throughput", "1", "memory-case", name_of(what), count};
+  std::vector<char*> args;
+  for (std::string& a : argv) args.push_back(a.data());
+  args.push_back(nullptr);
+  pid_t pid = -1;
+  const int rc = posix_spawn(&pid, "/proc/self/exe", &fa, nullptr, args.data(), environ);
+  posix_spawn_file_actions_destroy(&fa);
   close(fd[1]);
-  MemoryCase c;
-  const bool got = read(fd[0], &c, sizeof c) == (ssize_t)sizeof c;
+  if (rc != 0) {
+    close(fd[0]);
+    return {-1, {}};
+  }
+  std::string out;
+  char buf[256];
+  for (ssize_t k; (k = read(fd[0], buf, sizeof buf)) > 0;) out.append(buf, (size_t)k);
   close(fd[0]);
   int st = 0;
-  rusage u{};
-  wait4(pid, &st, 0, &u);
-  if (!got || !WIFEXITED(st) || WEXITSTATUS(st) != 0) return {-1, {}};
-  return {u.ru_maxrss / 1024.0, c};
+  if (waitpid(pid, &st, 0) != pid || !WIFEXITED(st) || WEXITSTATUS(st) != 0) return {-1, {}};
+  MemoryCase c;
+  long hwm_kb = -1;
+  if (std::sscanf(out.c_str(), "%lf %ld %zu %ld %ld", &c.seconds, &c.meshes, &c.mesh_bytes, &c.triangles,
+                  &hwm_kb) != 5 ||
+      hwm_kb <= 0)
+    return {-1, {}};
+  return {hwm_kb / 1024.0, c};
+}
+
+// The child's side of in_child: one case, its figures on stdout.
+int memory_case(const char* copies, int n) {
+  for (Copies c : {Copies::mesh, Copies::box, Copies::box_sizes, Copies::sphere, Copies::sphere_sizes})
+    if (std::string(copies) == name_of(c)) {
+      const MemoryCase m = load_and_draw(c, n);
+      long hwm_kb = -1;
+      if (FILE* f = std::fopen("/proc/self/status", "r")) {
+        char line[256];
+        while (std::fgets(line, sizeof line, f))
+          if (std::sscanf(line, "VmHWM: %ld", &hwm_kb) == 1) break;
+        std::fclose(f);
+      }
+      std::printf("%.9g %ld %zu %ld %ld\n", m.seconds, m.meshes, m.mesh_bytes, m.triangles, hwm_kb);
+      return 0;
+    }
+  return 2;
 }
 
 void memory_rows() {
@@ -401,20 +443,16 @@ void teaching_overlay_rows(const Boxes& bodies, int frames, const std::filesyste
   std::fflush(stdout);
 }
 
-// Runs `argv` (searched on PATH) as a child process and waits for it: its wall seconds, or -1 if it
-// could not run or failed; `cpu` gets the CPU seconds of the child's threads (user + system, from
-// wait4's rusage).
+// Runs `argv` (searched on PATH) as a child process (posix_spawnp: nothing runs between the fork
+// and the exec) and waits for it: its wall seconds, or -1 if it could not run or failed; `cpu`
+// gets the CPU seconds of the child's threads (user + system, from wait4's rusage).
 double ffmpeg_child(const std::vector<std::string>& argv, double& cpu) {
   std::vector<char*> args;
   for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
   args.push_back(nullptr);
   const double t0 = bench::now_s();
-  const pid_t pid = fork();
-  if (pid < 0) return -1;
-  if (pid == 0) {
-    execvp(args[0], args.data());
-    _exit(127);
-  }
+  pid_t pid = -1;
+  if (posix_spawnp(&pid, args[0], nullptr, nullptr, args.data(), environ) != 0) return -1;
   int st = 0;
   rusage u{};
   if (wait4(pid, &st, 0, &u) != pid) return -1;
@@ -492,10 +530,12 @@ void post_rows(const Boxes& bodies, int frames) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // `memory-case COPIES N`: one memory row's case, drawn in this fresh process (in_child).
+  if (argc > 4 && std::string(argv[2]) == "memory-case") return memory_case(argv[3], std::atoi(argv[4]));
   const int frames = argc > 1 ? std::atoi(argv[1]) : 300;
   // `overlays`: only the render-only rows with and without overlays (a quick look at their cost).
   const bool only_overlays = argc > 2 && std::string(argv[2]) == "overlays";
-  // `teaching`: only issue 12's end-to-end row (HUD, inset plot, 100 arrows against the plain clip).
+  // `teaching`: only the teaching end-to-end row (HUD, inset plot, 100 arrows against the plain clip).
   const bool only_teaching = argc > 2 && std::string(argv[2]) == "teaching";
   // `pairs`: only the end-to-end / ceiling pairs (after one untimed-for-the-target render-only run
   // of the defaults, which writes the ceiling's raw frames).

@@ -50,10 +50,11 @@ int main() {
     }
     const double weight = world.mass(i) * g;
     const double rel = std::abs(support.z() - weight) / weight;
-    std::printf("%s: mass %.3f kg, weight %.3f N, ground pushes %.3f N up at %d points (%.2e of the weight "
-                "off), %s\n",
-                world.def(i).name.c_str(), world.mass(i), weight, support.z(), points, rel,
-                world.asleep(i) ? "asleep" : "awake");
+    std::printf(
+        "%s: mass %.3f kg, weight %.3f N, ground pushes %.3f N up at %d points (%.2e of the weight "
+        "off), %s\n",
+        world.def(i).name.c_str(), world.mass(i), weight, support.z(), points, rel,
+        world.asleep(i) ? "asleep" : "awake");
     if (!(rel < 1e-6) || points < 4) ++failures;
   }
   std::printf(failures ? "FAILED: a box is not held by its weight\n" : "every box rests on its weight\n");

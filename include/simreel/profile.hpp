@@ -46,10 +46,10 @@ struct Profile {
   long impact_substeps = 0;   ///< substeps with an impact (one more sweep: kImpactSpeed)
   long body_warm_starts = 0;  ///< substeps warm-started per body (ContactSolver::warm_start)
   long pool_runs = 0;         ///< parallel stage runs handed to the worker pool (threads > 1)
-  long pool_alone_runs = 0;   ///< of which run on the calling thread alone (sim/base/worker_pool.hpp back-off)
-  long swept_bodies = 0;      ///< fast or bullet bodies swept by the continuous stage, summed over steps
-  long toi_pairs = 0;         ///< shape pairs whose time of impact was computed, summed over steps
-  long toi_hits = 0;          ///< swept bodies moved back to their time of impact, summed over steps
+  long pool_alone_runs = 0;  ///< of which run on the calling thread alone (sim/base/worker_pool.hpp back-off)
+  long swept_bodies = 0;     ///< fast or bullet bodies swept by the continuous stage, summed over steps
+  long toi_pairs = 0;        ///< shape pairs whose time of impact was computed, summed over steps
+  long toi_hits = 0;         ///< swept bodies moved back to their time of impact, summed over steps
 };
 
 // What contact did over the run (simulate --json).

@@ -54,8 +54,8 @@ struct ContactSettings {
 
 // What a World is built with (World's constructor takes it with the bodies).
 struct WorldConfig {
-  double dt = 1.0 / 240.0;               ///< s, fixed step
-  Vec3 gravity = Vec3(0.0, 0.0, -9.81);  ///< m/s^2
+  double dt = 1.0 / 240.0;                        ///< s, fixed step
+  Vec3 gravity = Vec3(0.0, 0.0, -9.81);           ///< m/s^2
   Integrator integrator = Integrator::automatic;  ///< for bodies whose BodyDef names none
   int threads = 1;  ///< worker threads for the step's parallel stages (results identical whatever the count)
   /// Whether the workers may run a stage on the calling thread alone while the machine is too busy

@@ -51,34 +51,34 @@ class World {
   const BodyDef& def(int i) const;  ///< as given (colliders, name, start state)
 
   // ---- Mass properties (fixed when the world is built).
-  double mass(int i) const;                         ///< kg (static and kinematic: their colliders' mass)
-  const Vec3& local_centroid(int i) const;          ///< m, centre of mass in the body frame B
-  const Vec3& principal_moments(int i) const;       ///< kg m^2, ascending
-  const Quat& principal_axes(int i) const;          ///< q_BP: the principal frame P in the body frame B
-  Mat3 inertia_world(int i) const;                  ///< R I_local R^T, kg m^2, about the centroid
-  Mat3 inverse_inertia_world(int i) const;          ///< R I_local^-1 R^T, 1/(kg m^2)
+  double mass(int i) const;                    ///< kg (static and kinematic: their colliders' mass)
+  const Vec3& local_centroid(int i) const;     ///< m, centre of mass in the body frame B
+  const Vec3& principal_moments(int i) const;  ///< kg m^2, ascending
+  const Quat& principal_axes(int i) const;     ///< q_BP: the principal frame P in the body frame B
+  Mat3 inertia_world(int i) const;             ///< R I_local R^T, kg m^2, about the centroid
+  Mat3 inverse_inertia_world(int i) const;     ///< R I_local^-1 R^T, 1/(kg m^2)
 
   // ---- Pose and motion.
-  const Vec3& centroid(int i) const;                  ///< m, centre of mass, world
-  Vec3 origin_position(int i) const;                  ///< m, the body origin, world
-  void set_origin_position(int i, const Vec3& p_W);   ///< moves the body so its origin is at p_W
-  Quat orientation(int i) const;                      ///< q_WB, body to world
-  void set_orientation(int i, const Quat& q_WB);      ///< keeps the centroid, normalises
-  Quat principal_orientation(int i) const;            ///< q_WP, principal frame to world
-  Mat3 rotation(int i) const;                         ///< R_WB
-  Mat3 inverse_rotation(int i) const;                 ///< R_BW
-  Vec3 local_to_world(int i, const Vec3& p_B) const;  ///< point, m
-  Vec3 world_to_local(int i, const Vec3& p_W) const;  ///< point, m
+  const Vec3& centroid(int i) const;                      ///< m, centre of mass, world
+  Vec3 origin_position(int i) const;                      ///< m, the body origin, world
+  void set_origin_position(int i, const Vec3& p_W);       ///< moves the body so its origin is at p_W
+  Quat orientation(int i) const;                          ///< q_WB, body to world
+  void set_orientation(int i, const Quat& q_WB);          ///< keeps the centroid, normalises
+  Quat principal_orientation(int i) const;                ///< q_WP, principal frame to world
+  Mat3 rotation(int i) const;                             ///< R_WB
+  Mat3 inverse_rotation(int i) const;                     ///< R_BW
+  Vec3 local_to_world(int i, const Vec3& p_B) const;      ///< point, m
+  Vec3 world_to_local(int i, const Vec3& p_W) const;      ///< point, m
   Vec3 local_to_world_vec(int i, const Vec3& v_B) const;  ///< direction: rotation only
   Vec3 world_to_local_vec(int i, const Vec3& v_W) const;
-  const Vec3& linear_velocity(int i) const;               ///< m/s, of the centroid, world
-  void set_linear_velocity(int i, const Vec3& v_W);       ///< wakes the body
-  Vec3 angular_velocity(int i) const;                     ///< rad/s, world
-  void set_angular_velocity(int i, const Vec3& w_W);      ///< wakes the body
-  Vec3 angular_velocity_body(int i) const;                ///< rad/s, in the body frame B
-  const Vec3& angular_velocity_principal(int i) const;    ///< rad/s, in the principal frame P
-  Vec3 angular_momentum(int i) const;  ///< kg m^2/s about the centroid, world
-  void normalize_orientation(int i);   ///< re-orthonormalise through the quaternion
+  const Vec3& linear_velocity(int i) const;             ///< m/s, of the centroid, world
+  void set_linear_velocity(int i, const Vec3& v_W);     ///< wakes the body
+  Vec3 angular_velocity(int i) const;                   ///< rad/s, world
+  void set_angular_velocity(int i, const Vec3& w_W);    ///< wakes the body
+  Vec3 angular_velocity_body(int i) const;              ///< rad/s, in the body frame B
+  const Vec3& angular_velocity_principal(int i) const;  ///< rad/s, in the principal frame P
+  Vec3 angular_momentum(int i) const;                   ///< kg m^2/s about the centroid, world
+  void normalize_orientation(int i);                    ///< re-orthonormalise through the quaternion
 
   // ---- Pushing bodies. Forces and torques act over the next step and are then cleared; impulses
   // act at once. Each wakes the body.
@@ -88,15 +88,15 @@ class World {
   void apply_torque(int i, const Vec3& tau_W);                       ///< N m, world
   void apply_impulse(int i, const Vec3& J_W, const Vec3& at_W);      ///< N s at a world point
   void apply_angular_impulse(int i, const Vec3& dL_W);               ///< N m s
-  bool has_forces() const;              ///< the config's force list is not empty
-  bool impulse_applied(int k) const;    ///< config().forces[k] (an impulse) has been applied
+  bool has_forces() const;                                           ///< the config's force list is not empty
+  bool impulse_applied(int k) const;  ///< config().forces[k] (an impulse) has been applied
 
   // ---- Whole-world quantities (dynamic bodies only).
-  double kinetic_energy() const;          ///< J
-  double potential_energy() const;        ///< J, uniform gravity (zero at the world origin) + springs
-  Vec3 total_momentum() const;            ///< kg m/s
-  Vec3 total_angular_momentum() const;    ///< kg m^2/s about the system's centre of mass
-  void check_state() const;               ///< throws StateError naming the body and time if not finite
+  double kinetic_energy() const;        ///< J
+  double potential_energy() const;      ///< J, uniform gravity (zero at the world origin) + springs
+  Vec3 total_momentum() const;          ///< kg m/s
+  Vec3 total_angular_momentum() const;  ///< kg m^2/s about the system's centre of mass
+  void check_state() const;             ///< throws StateError naming the body and time if not finite
   /// Bodies turning more than `max_angle` rad per step; each named once in warnings().
   void check_spin(double max_angle = 0.5);
   const std::vector<std::string>& warnings() const;

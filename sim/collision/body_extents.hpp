@@ -14,9 +14,11 @@ struct BodyExtents {
   // Builds the table for `bodies` bodies from the shape table (which lists shapes body by body).
   void build(const ShapeTable& shapes, int bodies);
 
-  std::vector<int> shape_begin;     ///< per body and one past: body b's shapes are [shape_begin[b], shape_begin[b+1])
-  std::vector<int> shape_body;      ///< per shape: its body (the shape table's, compact for the hot loops)
-  std::vector<double> shape_reach;  ///< per shape: m, |p_PC| + bounding radius: its farthest point from the centre of mass
+  std::vector<int>
+      shape_begin;  ///< per body and one past: body b's shapes are [shape_begin[b], shape_begin[b+1])
+  std::vector<int> shape_body;  ///< per shape: its body (the shape table's, compact for the hot loops)
+  std::vector<double>
+      shape_reach;  ///< per shape: m, |p_PC| + bounding radius: its farthest point from the centre of mass
   /// per shape: m, its smallest width; infinite for what is never swept: planes, static meshes and
   /// shapes that touch nothing (group or mask 0)
   std::vector<double> shape_width;

@@ -56,7 +56,8 @@ void AppliedForces::init(std::vector<ForceDef> forces, const std::vector<BodyDef
   // wrench over the step.
   for (int i = 0; i < n; ++i) {
     const Integrator m = defs[i].integrator.value_or(integrator);
-    if (defs[i].type == BodyType::dynamic && acted[i] && (m == Integrator::automatic || m == Integrator::rk4)) {
+    if (defs[i].type == BodyType::dynamic && acted[i] &&
+        (m == Integrator::automatic || m == Integrator::rk4)) {
       forced_slot_[i] = (int)forced_.size();
       forced_.push_back(i);
       forced_auto_.push_back(m == Integrator::automatic);
@@ -112,7 +113,8 @@ bool AppliedForces::integrate(double t0, double t1, double dt, const Vec3& gravi
     const double b = c < cuts_.size() ? cuts_[c] : t1;
     const int m = std::max(1, (int)std::ceil(n * (b - a) / dt - 1e-9));
     for (int s = 0; s < m; ++s)
-      rk4(s == 0 ? a : a + (b - a) * s / m, s + 1 == m ? b : a + (b - a) * (s + 1) / m, gravity, state, model);
+      rk4(s == 0 ? a : a + (b - a) * s / m, s + 1 == m ? b : a + (b - a) * (s + 1) / m, gravity, state,
+          model);
     a = b;
   }
   double sum = 0;

@@ -19,8 +19,8 @@ class AppliedForces {
  public:
   // Checks the list against the bodies (InputError naming the entry) and sorts it by use.
   // `integrator`: the world's, for bodies whose BodyDef names none.
-  void init(std::vector<ForceDef> forces, const std::vector<BodyDef>& defs, const std::vector<BodyModel>& model,
-            Integrator integrator);
+  void init(std::vector<ForceDef> forces, const std::vector<BodyDef>& defs,
+            const std::vector<BodyModel>& model, Integrator integrator);
 
   int count() const { return (int)forces_.size(); }
   const std::vector<ForceDef>& list() const { return forces_; }
@@ -61,8 +61,8 @@ class AppliedForces {
 
   // The forced bodies that touched nothing this step (in_contact 0, or none in contact at all),
   // integrated together from t0 to t1 by classical RK4; false if a non-finite value appeared.
-  bool integrate(double t0, double t1, double dt, const Vec3& gravity, MotionState* state, const BodyModel* model,
-                 const char* in_contact, bool some_in_contact);
+  bool integrate(double t0, double t1, double dt, const Vec3& gravity, MotionState* state,
+                 const BodyModel* model, const char* in_contact, bool some_in_contact);
 
  private:
   void rk4(double a, double b, const Vec3& gravity, MotionState* state, const BodyModel* model);

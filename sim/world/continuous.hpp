@@ -23,8 +23,9 @@ class ContinuousCollision {
   // Off unless `enabled`; else the movers (dynamic and kinematic bodies), the bullets, the start
   // poses from `state`, and the static shapes' boxes (they never move).
   void init(bool enabled, const std::vector<BodyDef>& defs, const std::vector<int>& dynamic,
-            const std::vector<int>& kinematic, const std::vector<MotionState>& state, const ShapeTable& shapes,
-            const std::vector<int>& sweep_shapes, const std::vector<char>& shape_moving);
+            const std::vector<int>& kinematic, const std::vector<MotionState>& state,
+            const ShapeTable& shapes, const std::vector<int>& sweep_shapes,
+            const std::vector<char>& shape_moving);
   bool enabled() const { return enabled_; }
   bool bullet(int i) const { return bullet_[i] != 0; }
 
@@ -61,23 +62,23 @@ class ContinuousCollision {
   // the triangles of static mesh shape m whose boxes meet `box` (c's box over the sweep), grown by
   // the target gap. guarded: the stage's fallbacks for triangles touched at the start; else a
   // triangle touched at the start gives -1 (the mesh pair then collides as usual).
-  static double mesh_toi(const ShapeTable& shapes, const BodyExtents& extents, const MotionState* state, int c,
-                         int m, const Sweep& s, const Aabb& box, double target, double tolerance, bool guarded,
-                         int* triangle = nullptr);
+  static double mesh_toi(const ShapeTable& shapes, const BodyExtents& extents, const MotionState* state,
+                         int c, int m, const Sweep& s, const Aabb& box, double target, double tolerance,
+                         bool guarded, int* triangle = nullptr);
 
  private:
   bool enabled_ = false;
-  std::vector<int> movers_;          ///< dynamic and kinematic bodies, ascending
-  std::vector<Vec3> x0_;             ///< per body: centre of mass at the step's start
-  std::vector<Quat> q0_;             ///< per body: orientation at the step's start
-  std::vector<char> shape_swept_;    ///< per shape: swept this step
-  std::vector<char> bullet_;         ///< per body: dynamic and flagged `bullet`
-  std::vector<double> toi_;          ///< per body: earliest time of impact this step (fraction)
-  std::vector<Sweep> sweeps_;        ///< per body, this step
-  std::vector<int> fast_;            ///< swept bodies this step, ascending
-  std::vector<Aabb> swept_boxes_;    ///< per shape: its box over the whole step
-  std::vector<int> order_;           ///< sweep shapes sorted by swept box lo.x
-  std::vector<uint64_t> pairs_;      ///< shape pairs (pair_key) to sweep, this step
+  std::vector<int> movers_;        ///< dynamic and kinematic bodies, ascending
+  std::vector<Vec3> x0_;           ///< per body: centre of mass at the step's start
+  std::vector<Quat> q0_;           ///< per body: orientation at the step's start
+  std::vector<char> shape_swept_;  ///< per shape: swept this step
+  std::vector<char> bullet_;       ///< per body: dynamic and flagged `bullet`
+  std::vector<double> toi_;        ///< per body: earliest time of impact this step (fraction)
+  std::vector<Sweep> sweeps_;      ///< per body, this step
+  std::vector<int> fast_;          ///< swept bodies this step, ascending
+  std::vector<Aabb> swept_boxes_;  ///< per shape: its box over the whole step
+  std::vector<int> order_;         ///< sweep shapes sorted by swept box lo.x
+  std::vector<uint64_t> pairs_;    ///< shape pairs (pair_key) to sweep, this step
 };
 
 }  // namespace simreel

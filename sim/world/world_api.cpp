@@ -14,63 +14,167 @@ World::~World() = default;
 World::World(World&&) noexcept = default;
 World& World::operator=(World&&) noexcept = default;
 
-void World::step() { impl_->step(); }
-double World::time() const { return impl_->time(); }
-long World::steps() const { return impl_->steps(); }
-const WorldConfig& World::config() const { return impl_->config(); }
-int World::body_count() const { return impl_->body_count(); }
-int World::dynamic_count() const { return impl_->dynamic_count(); }
-BodyType World::type(int i) const { return impl_->type(i); }
-const BodyDef& World::def(int i) const { return impl_->def(i); }
+void World::step() {
+  impl_->step();
+}
+double World::time() const {
+  return impl_->time();
+}
+long World::steps() const {
+  return impl_->steps();
+}
+const WorldConfig& World::config() const {
+  return impl_->config();
+}
+int World::body_count() const {
+  return impl_->body_count();
+}
+int World::dynamic_count() const {
+  return impl_->dynamic_count();
+}
+BodyType World::type(int i) const {
+  return impl_->type(i);
+}
+const BodyDef& World::def(int i) const {
+  return impl_->def(i);
+}
 
-double World::mass(int i) const { return impl_->model(i).mass; }
-const Vec3& World::local_centroid(int i) const { return impl_->local_centroid(i); }
-const Vec3& World::principal_moments(int i) const { return impl_->model(i).I_P; }
-const Quat& World::principal_axes(int i) const { return impl_->model(i).q_BP; }
-Mat3 World::inertia_world(int i) const { return impl_->inertia_world(i); }
-Mat3 World::inverse_inertia_world(int i) const { return impl_->inverse_inertia_world(i); }
+double World::mass(int i) const {
+  return impl_->model(i).mass;
+}
+const Vec3& World::local_centroid(int i) const {
+  return impl_->local_centroid(i);
+}
+const Vec3& World::principal_moments(int i) const {
+  return impl_->model(i).I_P;
+}
+const Quat& World::principal_axes(int i) const {
+  return impl_->model(i).q_BP;
+}
+Mat3 World::inertia_world(int i) const {
+  return impl_->inertia_world(i);
+}
+Mat3 World::inverse_inertia_world(int i) const {
+  return impl_->inverse_inertia_world(i);
+}
 
-const Vec3& World::centroid(int i) const { return impl_->centroid(i); }
-Vec3 World::origin_position(int i) const { return impl_->origin_position(i); }
-void World::set_origin_position(int i, const Vec3& p_W) { impl_->set_origin_position(i, p_W); }
-Quat World::orientation(int i) const { return impl_->orientation(i); }
-void World::set_orientation(int i, const Quat& q_WB) { impl_->set_orientation(i, q_WB); }
-Quat World::principal_orientation(int i) const { return impl_->state(i).q_WP; }
-Mat3 World::rotation(int i) const { return impl_->rotation(i); }
-Mat3 World::inverse_rotation(int i) const { return impl_->inverse_rotation(i); }
-Vec3 World::local_to_world(int i, const Vec3& p_B) const { return impl_->local_to_world(i, p_B); }
-Vec3 World::world_to_local(int i, const Vec3& p_W) const { return impl_->world_to_local(i, p_W); }
-Vec3 World::local_to_world_vec(int i, const Vec3& v_B) const { return impl_->local_to_world_vec(i, v_B); }
-Vec3 World::world_to_local_vec(int i, const Vec3& v_W) const { return impl_->world_to_local_vec(i, v_W); }
-const Vec3& World::linear_velocity(int i) const { return impl_->linear_velocity(i); }
-void World::set_linear_velocity(int i, const Vec3& v_W) { impl_->set_linear_velocity(i, v_W); }
-Vec3 World::angular_velocity(int i) const { return impl_->angular_velocity(i); }
-void World::set_angular_velocity(int i, const Vec3& w_W) { impl_->set_angular_velocity(i, w_W); }
-Vec3 World::angular_velocity_body(int i) const { return impl_->model(i).q_BP * impl_->state(i).w_P; }
-const Vec3& World::angular_velocity_principal(int i) const { return impl_->state(i).w_P; }
-Vec3 World::angular_momentum(int i) const { return impl_->angular_momentum(i); }
-void World::normalize_orientation(int i) { impl_->normalize_orientation(i); }
+const Vec3& World::centroid(int i) const {
+  return impl_->centroid(i);
+}
+Vec3 World::origin_position(int i) const {
+  return impl_->origin_position(i);
+}
+void World::set_origin_position(int i, const Vec3& p_W) {
+  impl_->set_origin_position(i, p_W);
+}
+Quat World::orientation(int i) const {
+  return impl_->orientation(i);
+}
+void World::set_orientation(int i, const Quat& q_WB) {
+  impl_->set_orientation(i, q_WB);
+}
+Quat World::principal_orientation(int i) const {
+  return impl_->state(i).q_WP;
+}
+Mat3 World::rotation(int i) const {
+  return impl_->rotation(i);
+}
+Mat3 World::inverse_rotation(int i) const {
+  return impl_->inverse_rotation(i);
+}
+Vec3 World::local_to_world(int i, const Vec3& p_B) const {
+  return impl_->local_to_world(i, p_B);
+}
+Vec3 World::world_to_local(int i, const Vec3& p_W) const {
+  return impl_->world_to_local(i, p_W);
+}
+Vec3 World::local_to_world_vec(int i, const Vec3& v_B) const {
+  return impl_->local_to_world_vec(i, v_B);
+}
+Vec3 World::world_to_local_vec(int i, const Vec3& v_W) const {
+  return impl_->world_to_local_vec(i, v_W);
+}
+const Vec3& World::linear_velocity(int i) const {
+  return impl_->linear_velocity(i);
+}
+void World::set_linear_velocity(int i, const Vec3& v_W) {
+  impl_->set_linear_velocity(i, v_W);
+}
+Vec3 World::angular_velocity(int i) const {
+  return impl_->angular_velocity(i);
+}
+void World::set_angular_velocity(int i, const Vec3& w_W) {
+  impl_->set_angular_velocity(i, w_W);
+}
+Vec3 World::angular_velocity_body(int i) const {
+  return impl_->model(i).q_BP * impl_->state(i).w_P;
+}
+const Vec3& World::angular_velocity_principal(int i) const {
+  return impl_->state(i).w_P;
+}
+Vec3 World::angular_momentum(int i) const {
+  return impl_->angular_momentum(i);
+}
+void World::normalize_orientation(int i) {
+  impl_->normalize_orientation(i);
+}
 
-void World::apply_force(int i, const Vec3& f_W, const Vec3& at_W) { impl_->apply_force(i, f_W, at_W); }
-void World::apply_force_local(int i, const Vec3& f_B, const Vec3& at_B) { impl_->apply_force_local(i, f_B, at_B); }
-void World::apply_central_force(int i, const Vec3& f_W) { impl_->apply_central_force(i, f_W); }
-void World::apply_torque(int i, const Vec3& tau_W) { impl_->apply_torque(i, tau_W); }
-void World::apply_impulse(int i, const Vec3& J_W, const Vec3& at_W) { impl_->apply_impulse(i, J_W, at_W); }
-void World::apply_angular_impulse(int i, const Vec3& dL_W) { impl_->apply_angular_impulse(i, dL_W); }
-bool World::has_forces() const { return impl_->has_forces(); }
-bool World::impulse_applied(int k) const { return impl_->impulse_applied(k); }
+void World::apply_force(int i, const Vec3& f_W, const Vec3& at_W) {
+  impl_->apply_force(i, f_W, at_W);
+}
+void World::apply_force_local(int i, const Vec3& f_B, const Vec3& at_B) {
+  impl_->apply_force_local(i, f_B, at_B);
+}
+void World::apply_central_force(int i, const Vec3& f_W) {
+  impl_->apply_central_force(i, f_W);
+}
+void World::apply_torque(int i, const Vec3& tau_W) {
+  impl_->apply_torque(i, tau_W);
+}
+void World::apply_impulse(int i, const Vec3& J_W, const Vec3& at_W) {
+  impl_->apply_impulse(i, J_W, at_W);
+}
+void World::apply_angular_impulse(int i, const Vec3& dL_W) {
+  impl_->apply_angular_impulse(i, dL_W);
+}
+bool World::has_forces() const {
+  return impl_->has_forces();
+}
+bool World::impulse_applied(int k) const {
+  return impl_->impulse_applied(k);
+}
 
-double World::kinetic_energy() const { return impl_->kinetic_energy(); }
-double World::potential_energy() const { return impl_->potential_energy(); }
-Vec3 World::total_momentum() const { return impl_->total_momentum(); }
-Vec3 World::total_angular_momentum() const { return impl_->total_angular_momentum(); }
-void World::check_state() const { impl_->check_state(); }
-void World::check_spin(double max_angle) { impl_->check_spin(max_angle); }
-const std::vector<std::string>& World::warnings() const { return impl_->warnings(); }
+double World::kinetic_energy() const {
+  return impl_->kinetic_energy();
+}
+double World::potential_energy() const {
+  return impl_->potential_energy();
+}
+Vec3 World::total_momentum() const {
+  return impl_->total_momentum();
+}
+Vec3 World::total_angular_momentum() const {
+  return impl_->total_angular_momentum();
+}
+void World::check_state() const {
+  impl_->check_state();
+}
+void World::check_spin(double max_angle) {
+  impl_->check_spin(max_angle);
+}
+const std::vector<std::string>& World::warnings() const {
+  return impl_->warnings();
+}
 
-bool World::has_contacts() const { return impl_->has_contacts(); }
-int World::substeps() const { return impl_->substeps(); }
-const ContactStats& World::contact_stats() const { return impl_->contact_stats(); }
+bool World::has_contacts() const {
+  return impl_->has_contacts();
+}
+int World::substeps() const {
+  return impl_->substeps();
+}
+const ContactStats& World::contact_stats() const {
+  return impl_->contact_stats();
+}
 
 namespace {
 
@@ -126,15 +230,31 @@ int World::body_contacts(int i, std::vector<ContactData>& out) const {
   return (int)(out.size() - before);
 }
 
-bool World::asleep(int i) const { return impl_->asleep(i); }
-int World::sleeping_count() const { return impl_->sleeping_count(); }
-void World::wake(int i) { impl_->wake(i); }
+bool World::asleep(int i) const {
+  return impl_->asleep(i);
+}
+int World::sleeping_count() const {
+  return impl_->sleeping_count();
+}
+void World::wake(int i) {
+  impl_->wake(i);
+}
 
-void World::save_state(std::ostream& os) const { impl_->save_state(os); }
-void World::restore_state(std::istream& is) { impl_->restore_state(is); }
-uint64_t World::fingerprint() const { return impl_->fingerprint(); }
+void World::save_state(std::ostream& os) const {
+  impl_->save_state(os);
+}
+void World::restore_state(std::istream& is) {
+  impl_->restore_state(is);
+}
+uint64_t World::fingerprint() const {
+  return impl_->fingerprint();
+}
 
-void World::set_profiling(bool on) { impl_->set_profiling(on); }
-const Profile& World::profile() const { return impl_->profile(); }
+void World::set_profiling(bool on) {
+  impl_->set_profiling(on);
+}
+const Profile& World::profile() const {
+  return impl_->profile();
+}
 
 }  // namespace simreel

@@ -82,7 +82,8 @@ TEST(PublicApi, PrincipalFrameAndBodyFrameAngularVelocity) {
   const Quat q_WB = w.orientation(0);
   EXPECT_LT((w.principal_orientation(0) * w.principal_axes(0).conjugate()).angularDistance(q_WB), 1e-14);
   EXPECT_LT((w.angular_velocity_body(0) - q_WB.conjugate() * w.angular_velocity(0)).norm(), 1e-12);
-  EXPECT_LT((w.angular_velocity_principal(0) - w.principal_orientation(0).conjugate() * w.angular_velocity(0)).norm(),
+  EXPECT_LT((w.angular_velocity_principal(0) - w.principal_orientation(0).conjugate() * w.angular_velocity(0))
+                .norm(),
             1e-12);
   const Vec3 I = w.principal_moments(0);
   EXPECT_LE(I.x(), I.y());
