@@ -61,8 +61,8 @@ void add_scene_overrides(CLI::App& app, RunOptions& o, bool video);
 // Table rows: --json --quiet.
 void add_summary_flags(CLI::App& app, RunOptions& o);
 
-// The overrides applied to the scene, then prepare_run (app/runner/run.hpp): limits and frames exactly at
-// k / fps. Throws UsageError / InputError naming the key.
+// The overrides applied to the scene, then prepare_run (app/scene/frame_plan.hpp): limits and frames
+// exactly at k / fps. Throws UsageError / InputError naming the key.
 void apply_overrides(const RunOptions& o, Scene& s);
 
 // The run's summary on stdout: JSON with --json (even with --quiet), else text unless --quiet.

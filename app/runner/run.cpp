@@ -2,9 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <sstream>
-#include <stdexcept>
 #include <string>
 
 #include "app/scene/text.hpp"
@@ -12,115 +10,6 @@
 #include <nlohmann/json.hpp>
 
 namespace simreel {
-
-namespace {
-// A count as a long, saturated: plans are made before prepare_run refuses absurd counts (a
-// scene's test.frames is checked at load), and a double over LONG_MAX must not become a long.
-long saturated(double v) {
-  return v >= 4e18 ? (long)4e18 : v > 0 ? (long)v : 0;
-}
-}  // namespace
-
-FramePlan plan_frames(double duration, double dt, double fps) {
-  FramePlan p;
-  p.dt = dt;
-  p.fps = fps;
-  // The 1e-9 slack keeps exact multiples (20 s / (1/240)) from gaining a step to rounding.
-  p.total_steps = saturated(std::ceil(duration / dt - 1e-9));
-  p.frames = saturated(std::floor(duration * fps + 1e-9)) + 1;
-  return p;
-}
-
-long FramePlan::step(long k) const {
-  if (sim_time) return std::min(saturated(std::round(sim_time((double)k / fps) / dt)), total_steps);
-  return std::min(saturated(std::ceil((double)k / fps / dt - 1e-9)), total_steps);
-}
-
-double estimate_physics_seconds(const Scene& s, double steps) {
-  int dynamic = 0, colliding = 0;
-  bool moving_collider = false;
-  for (const BodyDef& b : s.bodies) {
-    if (b.type == BodyType::dynamic) ++dynamic;
-    for (const Collider& c : b.colliders)
-      if (c.collide) {
-        ++colliding;
-        moving_collider = moving_collider || b.type != BodyType::static_body;
-      }
-  }
-  const bool contacts = colliding >= 2 && moving_collider;
-  return steps * (1e-6 + dynamic * (contacts ? 1.5e-6 : 0.03e-6));
-}
-
-namespace {
-
-std::string count(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.3g", v);
-  return std::string(b);
-}
-
-std::string span(double sec) {
-  char b[48];
-  if (sec < 120)
-    std::snprintf(b, sizeof b, "%.2g s", sec);
-  else if (sec < 7200)
-    std::snprintf(b, sizeof b, "%.2g min", sec / 60);
-  else if (sec < 2 * 86400)
-    std::snprintf(b, sizeof b, "%.2g h", sec / 3600);
-  else
-    std::snprintf(b, sizeof b, "%.2g days", sec / 86400);
-  return std::string(b);
-}
-
-void check_limits(const Scene& s) {
-  const double steps = s.duration / s.timestep, frames = s.duration * s.video.fps;
-  if (!(steps <= kMaxSteps))
-    throw std::invalid_argument("simulation.duration / simulation.timestep asks for " + count(steps) +
-                                " steps, over the limit of " + count(kMaxSteps));
-  if (!(frames <= kMaxFrames))
-    throw std::invalid_argument("simulation.duration x video.fps asks for " + count(frames) +
-                                " frames, over the limit of " + count(kMaxFrames));
-}
-
-}  // namespace
-
-void prepare_run(Scene& s) {
-  check_limits(s);
-  // Steps per frame interval: when 1/fps is a whole number of steps (to 1e-9), frames already
-  // fall on the grid; otherwise shorten the step to the next whole number of steps per frame.
-  const double interval = 1.0 / s.video.fps, per = interval / s.timestep;
-  const double whole = std::round(per);
-  if (!(whole >= 1 && std::fabs(per - whole) <= 1e-9 * per)) {
-    const double n = std::ceil(per);
-    const double dt = interval / n;
-    char note[256];
-    std::snprintf(
-        note, sizeof note,
-        "timestep %.6g s does not divide the frame interval 1/%g s%s: using %.6g s (%g steps a frame) so "
-        "frame k falls exactly at t = k / fps",
-        s.timestep, s.video.fps, per < 1 ? " (it is longer than the interval)" : "", dt, n);
-    s.notes.push_back(note);
-    s.timestep = dt;
-    check_limits(s);  // a shorter step is more steps
-  }
-  prepare_time(s);  // app/scene/scene_time.hpp
-  // Legal but long: say so before starting, with what it may take and how to stop it.
-  const double steps = s.duration / s.timestep, frames = s.duration * s.video.fps;
-  const double est = estimate_physics_seconds(s, steps);
-  if (steps > kLongSteps || frames > kLongFrames || est > kLongSeconds) {
-    int dynamic = 0;
-    for (const BodyDef& b : s.bodies) dynamic += b.type == BodyType::dynamic;
-    char note[512];
-    std::snprintf(note, sizeof note,
-                  "a long run: simulation.duration %g s / simulation.timestep %g s is %s steps of %d dynamic "
-                  "%s, and %s frames at video.fps %g; the physics alone may take %s (a rough estimate "
-                  "from bodies x steps), a full render about %s more at 10 ms a frame. Ctrl-C (or SIGTERM) "
-                  "stops it early and keeps what is done: the CSV rows, a playable video of the frames drawn",
-                  s.duration, s.timestep, count(steps).c_str(), dynamic, dynamic == 1 ? "body" : "bodies",
-                  count(frames).c_str(), s.video.fps, span(est).c_str(), span(frames * 0.01).c_str());
-    s.notes.push_back(note);
-  }
-}
 
 Drift::Drift(const World& w)
     : E0_(w.kinetic_energy() + w.potential_energy()), L0_(w.total_angular_momentum()) {

@@ -2,7 +2,7 @@
 
 #include "app/scene/scene_yaml.hpp"
 
-#include "app/runner/frame_loop.hpp"
+#include "app/scene/frame_plan.hpp"
 
 #include <yaml-cpp/anchor.h>
 #include <yaml-cpp/eventhandler.h>

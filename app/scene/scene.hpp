@@ -77,7 +77,7 @@ struct BodyLook {
 // The scene-level `test:` block: what `simreel check` compares (its options override it).
 struct TestSpec {
   std::string frames =
-      "0%, 25%, 50%, 75%, 100%";  ///< frame spec (app/runner/frame_loop.hpp): by time, so fps may change
+      "0%, 25%, 50%, 75%, 100%";  ///< frame spec (app/scene/frame_plan.hpp): by time, so fps may change
   int width = 480, height = 270;  ///< px: goldens small enough for git
 };
 

@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <stdexcept>
 
-#include "app/runner/run.hpp"
+#include "app/scene/frame_plan.hpp"
 #include "app/scene/scene.hpp"
 #include "app/scene/scene_yaml.hpp"
 

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "app/runner/run.hpp"
+#include "app/scene/frame_plan.hpp"
 #include "app/scene/scene.hpp"
 
 namespace simreel {

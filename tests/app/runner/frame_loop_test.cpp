@@ -1,5 +1,5 @@
-// The one frame loop (app/runner/frame_loop.hpp): the frame spec grammar, and that what a command asks to
-// see never changes the run it sees.
+// The one frame loop (app/runner/frame_loop.hpp): the frame spec grammar (app/scene/frame_plan.hpp),
+// and that what a command asks to see never changes the run it sees.
 #include "app/runner/frame_loop.hpp"
 
 #include <gtest/gtest.h>

@@ -1,7 +1,7 @@
-// A run's plan and limits (app/runner/run.hpp, app/runner/frame_loop.hpp): frames follow their closed form,
+// A run's plan and limits (app/scene/frame_plan.hpp): frames follow their closed form,
 // nothing is sized by the number of frames, the frame targets read as the list they stand for,
 // and long but legal runs are announced before they start.
-#include "app/runner/run.hpp"
+#include "app/scene/frame_plan.hpp"
 
 #include <gtest/gtest.h>
 #include <malloc.h>
