@@ -25,6 +25,10 @@ void Drift::sample(const World& w) {
   max_rise_ = std::max(max_rise_, E - prev_E_);
   prev_E_ = E;
   max_dL_ = std::max(max_dL_, (w.total_angular_momentum() - L0_).norm());
+  if (w.joint_count() > 0) {
+    max_gap_ = std::max(max_gap_, w.joint_gap());
+    max_angle_ = std::max(max_angle_, w.joint_angular_gap());
+  }
 }
 
 double Drift::energy_rel() const {
@@ -43,6 +47,8 @@ WorldConfig world_config(const Scene& s, int threads) {
   c.contacts = s.contacts;
   c.ignore_pairs = s.ignore_pairs;
   c.forces = s.forces;
+  c.joints = s.joints;
+  c.joint_settings = s.joint_settings;
   return c;
 }
 
@@ -56,6 +62,9 @@ RunSummary make_summary(const Scene& scene, const World& world, const Drift& dri
   s.steps = world.steps();
   s.bodies = world.body_count();
   s.dynamic_bodies = world.dynamic_count();
+  s.joints = world.joint_count();
+  s.joint_error_max = drift.joint_gap();
+  s.joint_angle_error_max = drift.joint_angle_gap();
   s.frames = frames;
   s.step_seconds = step_seconds;
   s.energy_rel_drift = drift.energy_rel();
@@ -74,6 +83,9 @@ std::string summary_text(const RunSummary& s) {
   std::ostringstream o;
   o << s.scene << ": " << s.steps << " steps of " << s.timestep << " s (" << to_string(s.integrator) << "), "
     << s.bodies << " bodies (" << s.dynamic_bodies << " dynamic), " << s.frames << " frames\n";
+  if (s.joints > 0)
+    o << "  joints: " << s.joints << ", largest gap " << s.joint_error_max << " m and "
+      << s.joint_angle_error_max << " rad (0 up to round-off: mechanisms move in joint coordinates)\n";
   o << "  stepping: " << s.step_seconds << " s wall";
   if (s.steps > 0 && s.step_seconds > 0) o << " (" << s.step_seconds / s.steps * 1e6 << " us/step)";
   o << "\n";
@@ -118,6 +130,11 @@ std::string summary_json(const RunSummary& s) {
   o["steps"] = s.steps;
   o["bodies"] = s.bodies;
   o["dynamic_bodies"] = s.dynamic_bodies;
+  if (s.joints > 0) {  // absent without joints: a joint-free scene's summary keeps its keys
+    o["joints"] = s.joints;
+    o["joint_error_max"] = s.joint_error_max;
+    o["joint_angle_error_max"] = s.joint_angle_error_max;
+  }
   o["frames"] = s.frames;
   o["step_seconds"] = s.step_seconds;
   o["energy_rel_drift"] = s.energy_rel_drift;

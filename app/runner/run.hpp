@@ -20,9 +20,11 @@ class Drift {
   // J, the largest rise of total mechanical energy between two samples; rises within rounding
   // (1e-9 of the energy scale) count as none, so a scene that only loses energy reports 0.
   double energy_gained() const { return max_rise_ > 1e-9 * scale_ ? max_rise_ : 0.0; }
+  double joint_gap() const { return max_gap_; }          ///< m, largest anchor gap of any joint
+  double joint_angle_gap() const { return max_angle_; }  ///< rad, largest axis misalignment
 
  private:
-  double E0_, scale_, max_dE_ = 0, max_dL_ = 0, prev_E_ = 0, max_rise_ = 0;
+  double E0_, scale_, max_dE_ = 0, max_dL_ = 0, prev_E_ = 0, max_rise_ = 0, max_gap_ = 0, max_angle_ = 0;
   Vec3 L0_;
 };
 
@@ -42,6 +44,9 @@ struct RunSummary {
   double max_penetration = 0;         ///< m, over the run
   int sleeping = 0;                   ///< bodies asleep at the end
   double energy_gained = 0;           ///< J, largest rise between two frames
+  int joints = 0;                     ///< joints in the scene
+  double joint_error_max = 0;         ///< m, largest gap between a joint's two anchors at a frame
+  double joint_angle_error_max = 0;   ///< rad, largest angle between a joint's two axes at a frame
   std::vector<std::string> warnings;  ///< what went wrong or was odd in the run
   std::vector<std::string> notes;     ///< the scene's notes (already printed on stderr before the run)
   const Profile* profile = nullptr;   ///< set with --profile

@@ -101,6 +101,8 @@ struct Scene {
   ViewsSpec views;                   ///< `panes:` and `variants:` (app/scene/scene_views.hpp)
   std::vector<std::pair<int, int>> ignore_pairs;  ///< simulation.ignore_pairs, as body indices
   std::vector<ForceDef> forces;    ///< the `forces:` list, by body index (app/scene/scene_forces.cpp)
+  std::vector<JointDef> joints;    ///< the `joints:` list, by body index (app/scene/scene_joints.cpp)
+  JointSettings joint_settings;    ///< simulation.joints
   std::vector<std::string> notes;  ///< what was done with mesh defects and ignored keys, with file and body
 };
 

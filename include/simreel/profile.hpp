@@ -17,6 +17,7 @@ enum class Stage {
   relax,
   restitution,
   store_impulses,
+  joints,
   integrate,
   check,
   continuous,
@@ -37,6 +38,8 @@ struct Profile {
   int gyroscopic_bodies = 0;  ///< dynamic, full rotational dynamics
   int kinematic_bodies = 0;   ///< moved at their given velocity
   int forced_bodies = 0;      ///< dynamic under auto/rk4 with forces: RK4 evaluating forces per stage
+  int jointed_bodies = 0;     ///< dynamic bodies in mechanisms: moved by their joints' coordinates
+  long joint_steps = 0;       ///< the mechanisms' internal integration steps, summed over steps
   int forces = 0;             ///< entries of the force list
   int shapes = 0;             ///< colliding shapes (planes included)
   long pairs = 0;             ///< candidate pairs from the broad phase, summed over steps

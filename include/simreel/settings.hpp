@@ -8,6 +8,7 @@
 #include <vector>
 
 #include <simreel/forces.hpp>
+#include <simreel/joints.hpp>
 #include <simreel/math.hpp>
 
 namespace simreel {
@@ -67,6 +68,9 @@ struct WorldConfig {
   std::vector<std::pair<int, int>> ignore_pairs;
   /// Applied forces (scene: forces), by body index; checked when the World is built (InputError).
   std::vector<ForceDef> forces;
+  /// Joints between bodies (scene: joints), by body index; checked when the World is built.
+  std::vector<JointDef> joints;
+  JointSettings joint_settings;  ///< scene: simulation.joints
 };
 
 }  // namespace simreel

@@ -7,6 +7,7 @@
 #include <simreel/contacts.hpp>
 #include <simreel/error.hpp>
 #include <simreel/forces.hpp>
+#include <simreel/joints.hpp>
 #include <simreel/mass_properties.hpp>
 #include <simreel/math.hpp>
 #include <simreel/mesh.hpp>

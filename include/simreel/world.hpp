@@ -15,6 +15,7 @@
 #include <iosfwd>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <simreel/body.hpp>
@@ -111,6 +112,18 @@ class World {
   /// points into body i and the forces are those on it. Returns how many it appended.
   int body_contacts(int i, std::vector<ContactData>& out) const;
   const ContactStats& contact_stats() const;
+
+  // ---- Joints (config().joints, docs/joints.md). Coordinates are zero in the start pose.
+  int joint_count() const;
+  int find_joint(std::string_view name) const;  ///< index, or -1
+  /// Coordinate k of joint j: rad (revolute; universal k = 0, 1; spherical: the rotation angle from
+  /// the start pose) or m (prismatic).
+  double joint_position(int j, int k = 0) const;
+  double joint_speed(int j, int k = 0) const;  ///< its rate, rad/s or m/s (spherical: |relative w|)
+  /// The largest distance between the two anchor points of any joint, m (0 up to round-off: the
+  /// mechanisms move in joint coordinates), and the largest angle between hinge or slider axes, rad.
+  double joint_gap() const;
+  double joint_angular_gap() const;
 
   // ---- Sleeping: a sleeping body is not stepped; touching it, a force, an impulse or setting its
   // pose or velocity wakes it with the bodies it slept with.

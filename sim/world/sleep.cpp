@@ -20,6 +20,10 @@ void WorldImpl::init_sleep() {
   // with time or with another body's motion without anything touching them.
   for (int i : forces_.involved()) may_sleep[i] = 0;
   for (int i : forces_.forced()) may_sleep[i] = 0;
+  // Mechanisms are stepped in joint coordinates whatever their speed (sleeping them with their
+  // contacts is for when contacts reach them).
+  for (int i : dynamic_)
+    if (joints_.jointed(i)) may_sleep[i] = 0;
   islands_.enable(std::move(may_sleep));
 }
 

@@ -125,6 +125,15 @@ uint64_t WorldImpl::fingerprint() const {
       fnv(h, v, sizeof v);
     }
   }
+  // The joints' types and bodies, likewise only when there are some.
+  if (!cfg_.joints.empty()) {
+    const uint64_t nj = cfg_.joints.size();
+    fnv(h, &nj, sizeof nj);
+    for (const JointDef& j : cfg_.joints) {
+      const int v[3] = {(int)j.type, j.parent, j.child};
+      fnv(h, v, sizeof v);
+    }
+  }
   return h;
 }
 
@@ -176,6 +185,13 @@ void WorldImpl::save_state(std::ostream& os) const {
   for (size_t i = 0; i < state_.size(); ++i) {
     o.f64(islands_.still_time(i));
     o.i32(islands_.island(i));
+  }
+  // The mechanisms' coordinates, velocities and proposed next internal step: present only in a
+  // scene with joints (its fingerprint says so), so older files keep their bytes.
+  for (const Mechanism& m : joints_.mechanisms()) {
+    for (double x : m.q) o.f64(x);
+    for (double x : m.v) o.f64(x);
+    o.f64(m.h);
   }
   if (!os) throw std::runtime_error("could not write the saved state");
 }
@@ -272,6 +288,25 @@ void WorldImpl::restore_state(std::istream& is) {
           (asleep[i] >= 0 && !islands_.may_sleep((int)i)))
         throw InputError("saved state is damaged (sleep state of body '" + defs_[i].name + "')");
     }
+  }
+  std::vector<std::vector<double>> mq, mv;
+  std::vector<double> mh;
+  for (const Mechanism& m : joints_.mechanisms()) {
+    mq.emplace_back(m.q.size());
+    mv.emplace_back(m.v.size());
+    for (double& x : mq.back()) x = in.f64();
+    for (double& x : mv.back()) x = in.f64();
+    mh.push_back(in.f64());
+    bool ok = std::isfinite(mh.back()) && mh.back() >= 0;
+    for (double x : mq.back()) ok = ok && std::isfinite(x);
+    for (double x : mv.back()) ok = ok && std::isfinite(x);
+    if (!ok) throw InputError("saved state is damaged (joint coordinates)");
+  }
+  for (size_t k = 0; k < mq.size(); ++k) {
+    Mechanism& m = joints_.mechanisms()[k];
+    m.q = std::move(mq[k]);
+    m.v = std::move(mv[k]);
+    m.h = mh[k];
   }
   forces_.restore_fired(std::move(fired));
   settle_substeps_ = settle;

@@ -15,7 +15,7 @@ namespace simreel {
 namespace {
 constexpr EnumNames<Stage, (std::size_t)Stage::count> kStages{
     {"forces", "update_broad_phase", "collide", "prepare_contacts", "integrate_velocities", "warm_start", "solve",
-     "integrate_positions", "relax", "restitution", "store_impulses", "integrate", "check", "continuous", "sleep",
+     "integrate_positions", "relax", "restitution", "store_impulses", "joints", "integrate", "check", "continuous", "sleep",
      "clear"}};
 static_assert(kStages.complete());
 }  // namespace
@@ -117,6 +117,7 @@ WorldImpl::WorldImpl(const WorldConfig& config, std::vector<BodyDef> bodies)
   if (cfg_.threads > 1) pool_ = std::make_unique<WorkerPool>(cfg_.threads, cfg_.thread_backoff);
   chunk_sum_.resize(cfg_.threads);
   islands_.reset(model_);  // everyone awake (init_contacts collides once)
+  init_joints();  // before init_forces and init_contacts: it takes jointed bodies out of groups_
   init_forces();  // before init_contacts: it takes bodies under forces out of groups_
   init_contacts();
   init_sleep();  // after init_contacts: needs the shapes
@@ -125,6 +126,44 @@ WorldImpl::WorldImpl(const WorldConfig& config, std::vector<BodyDef> bodies)
 }
 
 WorldImpl::~WorldImpl() = default;
+
+void WorldImpl::init_joints() {
+  if (cfg_.joints.empty()) return;
+  joints_.build(cfg_.joints, cfg_.joint_settings, defs_, model_, state_, warnings_);
+  // Two jointed bodies never collide unless the joint says so (a hinge's two leaves overlap).
+  for (const JointDef& j : joints_.joints())
+    if (!j.collide_connected && j.parent >= 0 && j.child >= 0) cfg_.ignore_pairs.emplace_back(j.parent, j.child);
+  std::vector<std::string> no_contact;
+  for (int i : dynamic_) {
+    if (!joints_.jointed(i)) continue;
+    profile_.jointed_bodies++;
+    for (const ForceDef& f : cfg_.forces)
+      if (f.body == i || f.body_b == i)
+        throw InputError(body_label(defs_, i) + ": forces on jointed bodies are not supported yet");
+    // Contacts on a mechanism need its joint-space inertia in the contact solver, which does not
+    // have it yet: its bodies' shapes give mass and are drawn, but collide with nothing.
+    bool colliding = false;
+    for (Collider& c : defs_[i].colliders) {
+      colliding = colliding || c.collide;
+      c.collide = false;
+    }
+    if (colliding) no_contact.push_back(defs_[i].name);
+  }
+  if (!no_contact.empty()) {
+    std::string s = "joints: contacts on jointed bodies are not supported yet; the shapes of ";
+    for (size_t k = 0; k < no_contact.size(); ++k) s += (k ? ", '" : "'") + no_contact[k] + "'";
+    warnings_.push_back(s + " collide with nothing");
+  }
+  for (Group& g : groups_)
+    g.bodies.erase(std::remove_if(g.bodies.begin(), g.bodies.end(), [&](int i) { return joints_.jointed(i); }),
+                   g.bodies.end());
+}
+
+void WorldImpl::require_unjointed(int i, const char* what) const {
+  if (joints_.jointed(i))
+    throw InputError(body_label(defs_, i) + " is jointed: it moves with its joints' coordinates and cannot " + what +
+                     " alone");
+}
 
 // ------------------------------------------------------------------ the step pipeline
 void WorldImpl::step() {
@@ -152,6 +191,13 @@ void WorldImpl::step() {
                      Stage::integrate_positions, Stage::relax, Stage::restitution, Stage::store_impulses})
       clock_.skipped(st);
   }
+  if (joints_.empty()) {
+    clock_.skipped(Stage::joints);
+  } else {
+    clock_.run(Stage::joints, [&] {
+      finite = joints_.step(cfg_.dt, cfg_.gravity, wrench_dirty_ ? wrench_.data() : nullptr, state_.data()) && finite;
+    });
+  }
   finite = stage_integrate_and_check() && finite;
   clock_.ran(Stage::integrate);
   clock_.ran(Stage::check);
@@ -171,6 +217,7 @@ void WorldImpl::step() {
   else
     clock_.skipped(Stage::clear);
   profile_.steps++;
+  if (!joints_.empty()) profile_.joint_steps = joints_.internal_steps();
 }
 
 // Runs f(chunk, chunks) once per thread, chunk 0 on the calling thread. Every group is split the
@@ -301,6 +348,7 @@ Quat WorldImpl::orientation(int i) const {
 }
 
 void WorldImpl::set_orientation(int i, const Quat& q_WB) {
+  require_unjointed(i, "set its orientation");
   const Vec3 p = origin_position(i);
   const Vec3 w = angular_velocity(i);
   state_[i].q_WP = (q_WB.normalized() * model_[i].q_BP).normalized();
@@ -313,6 +361,7 @@ Vec3 WorldImpl::origin_position(int i) const {
 }
 
 void WorldImpl::set_origin_position(int i, const Vec3& p_W) {
+  require_unjointed(i, "set its position");
   wake(i);
   state_[i].x_W = p_W + orientation(i) * model_[i].c_B;
 }
@@ -331,6 +380,7 @@ Vec3 WorldImpl::world_to_local_vec(int i, const Vec3& v_W) const {
 }
 
 void WorldImpl::set_angular_velocity(int i, const Vec3& w_W) {
+  require_unjointed(i, "set its angular velocity");
   wake(i);
   state_[i].w_P = model_[i].is_static ? Vec3::Zero() : Vec3(state_[i].q_WP.conjugate() * w_W);
 }
@@ -376,6 +426,7 @@ void WorldImpl::apply_torque(int i, const Vec3& tau_W) {
 }
 
 void WorldImpl::apply_impulse(int i, const Vec3& J_W, const Vec3& at_W) {
+  require_unjointed(i, "take an impulse");
   wake(i);
   if (model_[i].inv_mass == 0) return;
   state_[i].v_W += model_[i].inv_mass * J_W;
@@ -383,6 +434,7 @@ void WorldImpl::apply_impulse(int i, const Vec3& J_W, const Vec3& at_W) {
 }
 
 void WorldImpl::apply_angular_impulse(int i, const Vec3& dL_W) {
+  require_unjointed(i, "take an impulse");
   wake(i);
   if (model_[i].inv_mass == 0) return;
   state_[i].w_P += model_[i].inv_I_P.cwiseProduct(state_[i].q_WP.conjugate() * dL_W);

@@ -233,6 +233,24 @@ int World::body_contacts(int i, std::vector<ContactData>& out) const {
 bool World::asleep(int i) const {
   return impl_->asleep(i);
 }
+int World::joint_count() const {
+  return impl_->joints().joint_count();
+}
+int World::find_joint(std::string_view name) const {
+  return impl_->joints().find(name);
+}
+double World::joint_position(int j, int k) const {
+  return impl_->joints().position(j, k);
+}
+double World::joint_speed(int j, int k) const {
+  return impl_->joints().speed(j, k);
+}
+double World::joint_gap() const {
+  return joint_count() == 0 ? 0.0 : impl_->joints().gap(&impl_->state(0));
+}
+double World::joint_angular_gap() const {
+  return joint_count() == 0 ? 0.0 : impl_->joints().angular_gap(&impl_->state(0));
+}
 int World::sleeping_count() const {
   return impl_->sleeping_count();
 }

@@ -49,6 +49,7 @@
 #include "sim/dynamics/integrators.hpp"
 #include "sim/collision/shape_table.hpp"
 #include "sim/dynamics/state.hpp"
+#include "sim/joints/articulation.hpp"
 
 namespace simreel {
 
@@ -92,6 +93,7 @@ class WorldImpl {
   Vec3 world_to_local_vec(int i, const Vec3& v_W) const;
   const Vec3& linear_velocity(int i) const { return state_[i].v_W; }  ///< m/s, of the centroid
   void set_linear_velocity(int i, const Vec3& v_W) {
+    require_unjointed(i, "set its velocity");
     wake(i);
     state_[i].v_W = v_W;
   }
@@ -155,6 +157,10 @@ class WorldImpl {
   int sleeping_count() const { return islands_.sleeping(); }
   void wake(int i) { islands_.wake(i); }
 
+  // ---- Joints (sim/joints/articulation.hpp): mechanisms in joint coordinates.
+  const Articulations& joints() const { return joints_; }
+  bool jointed(int i) const { return joints_.jointed(i); }
+
   // ---- Applied forces (config().forces).
   bool has_forces() const { return !cfg_.forces.empty(); }
   bool impulse_applied(int k) const { return forces_.fired(k); }  ///< force k (an impulse) was applied
@@ -214,6 +220,10 @@ class WorldImpl {
   /// static, asleep, or kinematic at rest: neither moves nor wakes (Islands::inert)
   bool inert(int i) const { return islands_.inert(i, model_[i], state_[i]); }
   void stage_clear();
+  void init_joints();
+  // Jointed bodies move with their mechanism's coordinates: a pose or velocity set on one alone
+  // would be overwritten by the next step (InputError naming the body and `what`).
+  void require_unjointed(int i, const char* what) const;
   template <typename F>
   void for_each_chunk(F& f);
   Wrench& wrench(int i);
@@ -243,6 +253,9 @@ class WorldImpl {
 
   // ---- Applied forces (sim/dynamics/forces.hpp, forces_stage.cpp).
   AppliedForces forces_;
+
+  // ---- Joints (sim/joints/articulation.hpp): the mechanisms and their coordinates.
+  Articulations joints_;
 
   // ---- Contact data (sim/collision/shape_table.hpp, broad_phase.hpp, contact.hpp, contact_solver.hpp).
   std::unique_ptr<ShapeTable> shapes_;

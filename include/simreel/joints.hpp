@@ -1,0 +1,59 @@
+// Joints: bodies connected into mechanisms (docs/joints.md). A joint ties a child body to a parent
+// body, or to the fixed world, at an anchor point; it leaves the child some freedoms (a hinge one
+// rotation, a slider one translation, a ball joint every rotation) and removes the rest exactly.
+//
+// Every joint is described at t = 0, in world coordinates: the anchor and axes are where the
+// bodies are placed then, and each joint coordinate (angle in rad, offset in m) is zero in that
+// start pose. A mechanism whose joints form a tree is simulated in joint coordinates, so its joints
+// never open; its bodies' positions and velocities are read out as every other body's.
+#pragma once
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include <simreel/math.hpp>
+
+namespace simreel {
+
+//   revolute   a hinge: rotation about `axis` through `anchor` (1 coordinate, rad)
+//   prismatic  a slider: translation along `axis` (1 coordinate, m); no rotation
+//   spherical  a ball joint at `anchor`: every rotation (3 freedoms; coordinate: a rotation)
+//   fixed      a weld: no relative motion (0 coordinates)
+//   universal  a Cardan joint at `anchor`: rotation about `axis` (fixed in the parent), then about
+//              `axis2` (fixed in the child, perpendicular to `axis` at t = 0); 2 coordinates, rad
+enum class JointType { revolute, prismatic, spherical, fixed, universal };
+const char* to_string(JointType t);
+std::optional<JointType> joint_type_from_name(std::string_view name);
+const char* joint_type_names();  ///< "revolute, prismatic, spherical, fixed, universal"
+
+/// A spring along a joint's coordinate: generalised force -stiffness (q - rest) - damping q'.
+/// Revolute and universal: N m/rad, N m s/rad, rad; prismatic: N/m, N s/m, m.
+struct JointSpring {
+  double stiffness = 0;
+  double damping = 0;
+  double rest = 0;
+};
+
+struct JointDef {
+  std::string name;                 ///< for messages and read-outs; unique
+  JointType type = JointType::revolute;
+  int parent = -1;                  ///< body index, or -1 for the fixed world
+  int child = -1;                   ///< body index (dynamic)
+  Vec3 anchor_W = Vec3::Zero();     ///< m, world point at t = 0
+  Vec3 axis_W = Vec3::UnitZ();      ///< revolute, prismatic, universal: world direction at t = 0
+  Vec3 axis2_W = Vec3::UnitX();     ///< universal: the child's axis at t = 0
+  std::optional<JointSpring> spring;
+  bool collide_connected = false;   ///< false: the two bodies never collide with each other
+};
+
+// How mechanisms are integrated (scene key `simulation.joints`). Joint coordinates are advanced by
+// an embedded Runge-Kutta 5(4) pair (Dormand-Prince) whose step adapts to keep each step's
+// estimated error under `tolerance`, relative to the coordinate's size with the same value as an
+// absolute floor (rad, m, rad/s, m/s): the frame step is split into as many internal steps as that
+// needs, and the last one is carried to the next frame.
+struct JointSettings {
+  double tolerance = 1e-10;
+  int max_steps = 100000;  ///< internal steps per frame step before the run stops with an error
+};
+
+}  // namespace simreel

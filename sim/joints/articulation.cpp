@@ -1,0 +1,771 @@
+#include "sim/joints/articulation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <sstream>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Dense>
+
+#include <simreel/error.hpp>
+
+#include "sim/base/enum_names.hpp"
+
+namespace simreel {
+
+namespace {
+constexpr EnumNames<JointType, 5> kJointTypes{{"revolute", "prismatic", "spherical", "fixed", "universal"}};
+static_assert(kJointTypes.complete());
+
+// A joint's rotation R_J (child joint frame F' to parent joint frame F) and offset p_J (F' origin in
+// F) at its coordinates q (Featherstone's X_J). Quaternions are normalised here: between the
+// integrator's stages they drift off unit length by the step's error.
+inline void joint_motion(const Link& l, const double* q, Mat3& R, Vec3& p) {
+  switch (l.kind) {
+    case LinkJoint::revolute:
+      R = Eigen::AngleAxisd(q[0], l.axis_F).toRotationMatrix();
+      p.setZero();
+      return;
+    case LinkJoint::prismatic:
+      R.setIdentity();
+      p = l.axis_F * q[0];
+      return;
+    case LinkJoint::spherical:
+      R = Quat(q[0], q[1], q[2], q[3]).normalized().toRotationMatrix();
+      p.setZero();
+      return;
+    case LinkJoint::fixed:
+      R.setIdentity();
+      p.setZero();
+      return;
+    case LinkJoint::free:
+      R = Quat(q[3], q[4], q[5], q[6]).normalized().toRotationMatrix();
+      p = Vec3(q[0], q[1], q[2]);
+      return;
+  }
+}
+
+inline Quat joint_rotation(const Link& l, const double* q) {
+  switch (l.kind) {
+    case LinkJoint::revolute:
+      return Quat(Eigen::AngleAxisd(q[0], l.axis_F));
+    case LinkJoint::spherical:
+      return Quat(q[0], q[1], q[2], q[3]).normalized();
+    case LinkJoint::free:
+      return Quat(q[3], q[4], q[5], q[6]).normalized();
+    case LinkJoint::prismatic:
+    case LinkJoint::fixed:
+      break;
+  }
+  return Quat::Identity();
+}
+
+// dq/dt of one link's coordinates from its velocities: unit quaternions turn as q' = q (0, w) / 2
+// with w in the rotated frame; a free root's position moves with its centre-of-mass velocity,
+// given in the link frame.
+inline void coordinate_rates(const Link& l, const double* q, const double* v, double* dq) {
+  switch (l.kind) {
+    case LinkJoint::revolute:
+    case LinkJoint::prismatic:
+      dq[0] = v[0];
+      return;
+    case LinkJoint::fixed:
+      return;
+    case LinkJoint::spherical:
+    case LinkJoint::free: {
+      const double* qq = l.kind == LinkJoint::free ? q + 3 : q;
+      double* dd = l.kind == LinkJoint::free ? dq + 3 : dq;
+      const double w = qq[0], x = qq[1], y = qq[2], z = qq[3];
+      const double a = v[0], b = v[1], c = v[2];
+      dd[0] = 0.5 * (-x * a - y * b - z * c);
+      dd[1] = 0.5 * (w * a + y * c - z * b);
+      dd[2] = 0.5 * (w * b + z * a - x * c);
+      dd[3] = 0.5 * (w * c + x * b - y * a);
+      if (l.kind == LinkJoint::free) {
+        const Vec3 vW = Quat(w, x, y, z).normalized() * Vec3(v[3], v[4], v[5]);
+        dq[0] = vW.x();
+        dq[1] = vW.y();
+        dq[2] = vW.z();
+      }
+      return;
+    }
+  }
+}
+
+void normalize_quaternions(const Mechanism& m, double* q) {
+  for (const Link& l : m.links) {
+    if (l.kind != LinkJoint::spherical && l.kind != LinkJoint::free) continue;
+    double* qq = q + l.iq + (l.kind == LinkJoint::free ? 3 : 0);
+    const double n = std::sqrt(qq[0] * qq[0] + qq[1] * qq[1] + qq[2] * qq[2] + qq[3] * qq[3]);
+    for (int k = 0; k < 4; ++k) qq[k] /= n;
+  }
+}
+
+// Dormand & Prince, "A family of embedded Runge-Kutta formulae", J. Comp. Appl. Math. 6 (1980):
+// the RK5(4)7M tableau; b is the 5th-order solution, e = b - b* the error estimate's weights.
+constexpr double kC[7] = {0, 1.0 / 5, 3.0 / 10, 4.0 / 5, 8.0 / 9, 1, 1};
+constexpr double kA[7][6] = {
+    {},
+    {1.0 / 5},
+    {3.0 / 40, 9.0 / 40},
+    {44.0 / 45, -56.0 / 15, 32.0 / 9},
+    {19372.0 / 6561, -25360.0 / 2187, 64448.0 / 6561, -212.0 / 729},
+    {9017.0 / 3168, -355.0 / 33, 46732.0 / 5247, 49.0 / 176, -5103.0 / 18656},
+    {35.0 / 384, 0, 500.0 / 1113, 125.0 / 192, -2187.0 / 6784, 11.0 / 84}};
+constexpr double kB[7] = {35.0 / 384, 0, 500.0 / 1113, 125.0 / 192, -2187.0 / 6784, 11.0 / 84, 0};
+constexpr double kBstar[7] = {5179.0 / 57600, 0, 7571.0 / 16695, 393.0 / 640, -92097.0 / 339200, 187.0 / 2100,
+                              1.0 / 40};
+}  // namespace
+
+const char* to_string(JointType t) {
+  return kJointTypes(t);
+}
+std::optional<JointType> joint_type_from_name(std::string_view name) {
+  return kJointTypes.parse(name);
+}
+const char* joint_type_names() {
+  return "revolute, prismatic, spherical, fixed, universal";
+}
+
+// ------------------------------------------------------------------ one mechanism
+void Mechanism::allocate() {
+  work_.resize(links.size());
+  for (size_t i = 0; i < links.size(); ++i) {
+    const int n = links[i].nv;
+    work_[i].U.resize(6, n);
+    work_[i].Dinv.resize(n, n);
+    work_[i].u.resize(n);
+  }
+  const size_t ny = (size_t)(nq + nv);
+  y0_.assign(ny, 0);
+  y1_.assign(ny, 0);
+  ys_.assign(ny, 0);
+  err_.assign(ny, 0);
+  for (auto& k : k_) k.assign(ny, 0);
+  out_q_.resize(links.size());
+  out_x_.resize(links.size());
+  out_v_.resize(links.size());
+}
+
+void Mechanism::kinematics(const double* q) {
+  for (size_t i = 0; i < links.size(); ++i) {
+    const Link& l = links[i];
+    Work& w = work_[i];
+    Mat3 RJ = Mat3::Identity();
+    Vec3 pJ = Vec3::Zero();
+    joint_motion(l, q + l.iq, RJ, pJ);
+    // This link's frame in its parent's: T_pF * X_J(q) * T_cF^-1.
+    Mat3 R;
+    Vec3 t;
+    if (l.kind == LinkJoint::free) {
+      R = RJ;
+      t = pJ;
+    } else {
+      R = l.R_pF * RJ * l.R_cF.transpose();
+      t = l.p_pF + l.R_pF * (pJ - RJ * (l.R_cF.transpose() * l.p_cF));
+    }
+    w.X = motion_transform(R.transpose(), t);
+    w.R_W = l.parent < 0 ? R : Mat3(work_[l.parent].R_W * R);
+  }
+}
+
+void Mechanism::derivative(const double* y, double* dy, const Vec3& g, const Wrench* wr, const MotionState* st) {
+  (void)st;
+  const double* q = y;
+  const double* v = y + nq;
+  double* dq = dy;
+  double* dv = dy + nq;
+  kinematics(q);
+  const size_t n = links.size();
+  // Pass 1, root to leaves: velocities, velocity-product accelerations, rigid-body inertias and
+  // bias forces (Featherstone, Table 7.1).
+  for (size_t i = 0; i < n; ++i) {
+    const Link& l = links[i];
+    Work& w = work_[i];
+    coordinate_rates(l, q + l.iq, v + l.iv, dq + l.iq);
+    Vec6 vJ;
+    if (l.nv == 1)
+      vJ = l.s1 * v[l.iv];  // the common case, without the dynamic-size products
+    else if (l.nv > 0)
+      vJ = l.S * Eigen::Map<const VecX6>(v + l.iv, l.nv);
+    else
+      vJ.setZero();
+    w.vel = l.parent < 0 ? vJ : Vec6(w.X * work_[l.parent].vel + vJ);
+    w.c = cross_motion(w.vel, vJ);
+    w.IA = spatial_inertia(l.mass, l.I_P);
+    w.pA = cross_force(w.vel, w.IA * w.vel);
+    if (wr && l.body >= 0) {
+      const Wrench& f = wr[l.body];
+      w.pA.head<3>() -= w.R_W.transpose() * f.tau_W;
+      w.pA.tail<3>() -= w.R_W.transpose() * f.f_W;
+    }
+  }
+  // Pass 2, leaves to root: articulated inertias and bias forces.
+  for (size_t i = n; i-- > 0;) {
+    const Link& l = links[i];
+    Work& w = work_[i];
+    Mat6 Ia = w.IA;
+    Vec6 pa = w.pA;
+    if (l.nv == 1) {
+      w.U1.noalias() = w.IA * l.s1;
+      w.Dinv1 = 1 / l.s1.dot(w.U1);
+      w.u1 = -l.s1.dot(w.pA);
+      if (l.stiffness != 0 || l.damping != 0) w.u1 += -l.stiffness * (q[l.iq] - l.rest) - l.damping * v[l.iv];
+      Ia.noalias() -= (w.Dinv1 * w.U1) * w.U1.transpose();
+      pa += w.U1 * (w.Dinv1 * w.u1);
+    } else if (l.nv > 0) {
+      w.U.noalias() = w.IA * l.S;
+      const MatXX6 D = l.S.transpose() * w.U;
+      w.Dinv = D.inverse();
+      w.u = -l.S.transpose() * w.pA;
+      if (l.nv == 1 && (l.stiffness != 0 || l.damping != 0))
+        w.u(0) += -l.stiffness * (q[l.iq] - l.rest) - l.damping * v[l.iv];
+      Ia.noalias() -= w.U * w.Dinv * w.U.transpose();
+      pa += w.U * (w.Dinv * w.u);
+    }
+    pa.noalias() += Ia * w.c;
+    if (l.parent >= 0) {
+      Work& p = work_[l.parent];
+      p.IA.noalias() += w.X.transpose() * Ia * w.X;
+      p.pA.noalias() += w.X.transpose() * pa;
+    }
+  }
+  // Pass 3, root to leaves: accelerations. The world accelerates at -g, which puts gravity on
+  // every link at once (Featherstone 5.3).
+  Vec6 a_world;
+  a_world << 0, 0, 0, -g.x(), -g.y(), -g.z();
+  for (size_t i = 0; i < n; ++i) {
+    const Link& l = links[i];
+    Work& w = work_[i];
+    const Vec6 ap = w.X * (l.parent < 0 ? a_world : work_[l.parent].acc) + w.c;
+    w.acc = ap;
+    if (l.nv == 1) {
+      const double qdd = w.Dinv1 * (w.u1 - w.U1.dot(ap));
+      dv[l.iv] = qdd;
+      w.acc += l.s1 * qdd;
+    } else if (l.nv > 0) {
+      Eigen::Map<VecX6> qdd(dv + l.iv, l.nv);
+      qdd = w.Dinv * (w.u - w.U.transpose() * ap);
+      w.acc += l.S * qdd;
+    }
+  }
+}
+
+bool Mechanism::advance(double dt, const Vec3& g, const Wrench* wr, const MotionState* st, const JointSettings& js) {
+  const int ny = nq + nv;
+  std::copy(q.begin(), q.end(), y0_.begin());
+  std::copy(v.begin(), v.end(), y0_.begin() + nq);
+  if (!(h > 0)) h = dt;
+  const double tol = js.tolerance;
+  double t = 0;
+  int steps = 0;
+  bool have_k1 = false;
+  while (t < dt) {
+    if (++steps > js.max_steps) return false;
+    const bool last = h >= dt - t;
+    const double hs = last ? dt - t : h;
+    if (!have_k1) derivative(y0_.data(), k_[0].data(), g, wr, st);
+    have_k1 = true;
+    for (int s = 1; s < 7; ++s) {
+      for (int j = 0; j < ny; ++j) {
+        double acc = 0;
+        for (int r = 0; r < s; ++r) acc += kA[s][r] * k_[r][j];
+        ys_[j] = y0_[j] + hs * acc;
+      }
+      derivative(ys_.data(), k_[s].data(), g, wr, st);
+    }
+    // The 7th stage is evaluated at the 5th-order solution (its row of A is b): ys_ holds y1.
+    double e2 = 0;
+    for (int j = 0; j < ny; ++j) {
+      double e = 0;
+      for (int r = 0; r < 7; ++r) e += (kB[r] - kBstar[r]) * k_[r][j];
+      e *= hs;
+      y1_[j] = ys_[j];
+      const double sc = tol * (1 + std::max(std::abs(y0_[j]), std::abs(y1_[j])));
+      e2 += (e / sc) * (e / sc);
+    }
+    const double err = std::sqrt(e2 / std::max(ny, 1));
+    if (!std::isfinite(err)) return false;
+    // Step-size control (Hairer, Norsett & Wanner I, II.4): safety 0.9, growth within [0.2, 5].
+    const double fac = std::clamp(0.9 * std::pow(std::max(err, 1e-10), -0.2), 0.2, 5.0);
+    if (err <= 1) {
+      t = last ? dt : t + hs;
+      normalize_quaternions(*this, y1_.data());
+      std::swap(y0_, y1_);
+      have_k1 = false;
+      ++steps_taken;
+      // A step cut short to land on the frame does not set the next proposal.
+      if (!last || hs >= h) h = hs * fac;
+    } else {
+      h = hs * std::min(fac, 1.0);
+      ++steps_rejected;
+    }
+  }
+  std::copy(y0_.begin(), y0_.begin() + nq, q.begin());
+  std::copy(y0_.begin() + nq, y0_.end(), v.begin());
+  return true;
+}
+
+void Mechanism::link_velocities(const double* qq, const double* vv, std::vector<Vec6>& out) {
+  kinematics(qq);
+  out.resize(links.size());
+  for (size_t i = 0; i < links.size(); ++i) {
+    const Link& l = links[i];
+    Vec6 vJ = Vec6::Zero();
+    if (l.nv > 0) vJ = l.S * Eigen::Map<const VecX6>(vv + l.iv, l.nv);
+    out[i] = l.parent < 0 ? vJ : Vec6(work_[i].X * out[l.parent] + vJ);
+  }
+}
+
+void Mechanism::write_bodies(MotionState* st) const {
+  // Poses by quaternion products (not the matrices of the derivative), so that a body's
+  // orientation carries no rotation-matrix round trip.
+  std::vector<Quat>& qW = out_q_;
+  std::vector<Vec3>& xW = out_x_;
+  std::vector<Vec6>& vel = out_v_;
+  for (size_t i = 0; i < links.size(); ++i) {
+    const Link& l = links[i];
+    const double* qq = q.data() + l.iq;
+    Quat qpi;
+    Vec3 t;
+    if (l.kind == LinkJoint::free) {
+      qpi = joint_rotation(l, qq);
+      t = Vec3(qq[0], qq[1], qq[2]);
+    } else {
+      const Quat qJ = joint_rotation(l, qq);
+      const Vec3 pJ = l.kind == LinkJoint::prismatic ? Vec3(l.axis_F * qq[0]) : Vec3::Zero();
+      qpi = l.q_pF * qJ * l.q_cF.conjugate();
+      t = l.p_pF + l.q_pF * (pJ - qJ * (l.q_cF.conjugate() * l.p_cF));
+    }
+    if (l.parent < 0) {
+      qW[i] = qpi;
+      xW[i] = t;
+    } else {
+      qW[i] = qW[l.parent] * qpi;
+      xW[i] = xW[l.parent] + qW[l.parent] * t;
+    }
+    qW[i].normalize();
+    // Velocity: v_i = X v_parent + S q' (the transform from the same pose).
+    const Mat3 E = qpi.conjugate().toRotationMatrix();
+    Vec6 vJ = Vec6::Zero();
+    if (l.nv > 0) vJ = l.S * Eigen::Map<const VecX6>(v.data() + l.iv, l.nv);
+    vel[i] = l.parent < 0 ? vJ : Vec6(motion_transform(E, t) * vel[l.parent] + vJ);
+    if (l.body < 0) continue;
+    MotionState& s = st[l.body];
+    s.q_WP = qW[i];
+    s.x_W = xW[i];
+    s.w_P = vel[i].head<3>();
+    s.v_W = qW[i] * Vec3(vel[i].tail<3>());
+  }
+}
+
+// ------------------------------------------------------------------ building the mechanisms
+void Articulations::build(const std::vector<JointDef>& joints, const JointSettings& settings,
+                          const std::vector<BodyDef>& defs, const std::vector<BodyModel>& model,
+                          std::vector<MotionState>& state, std::vector<std::string>& warnings) {
+  joints_ = joints;
+  settings_ = settings;
+  const int nb = (int)defs.size();
+  link_of_.assign(nb, {-1, -1});
+  if (joints_.empty()) return;
+  if (!(settings.tolerance > 0) || !(settings.tolerance < 1e-2))
+    throw InputError("joints: tolerance must be a number in (0, 0.01)");
+  if (settings.max_steps < 1) throw InputError("joints: max_steps must be at least 1");
+  auto name_of = [&](int j) { return "joint '" + joints_[j].name + "'"; };
+  auto body_name = [&](int b) { return b < 0 ? std::string("world") : "'" + defs[b].name + "'"; };
+  // The world, or a static body (which never moves): the tree's fixed base.
+  auto fixed_base = [&](int b) { return b < 0 || model[b].is_static; };
+  std::vector<int> parent_joint(nb, -1);  // per body: the joint it is the child of
+  for (int j = 0; j < (int)joints_.size(); ++j) {
+    JointDef& d = joints_[j];
+    if (d.name.empty()) d.name = "joint" + std::to_string(j);
+    for (int k = 0; k < j; ++k)
+      if (joints_[k].name == d.name) throw InputError(name_of(j) + ": the name is used by an earlier joint");
+    if (d.child < -1 || d.child >= nb || d.parent < -1 || d.parent >= nb)
+      throw InputError(name_of(j) + ": body index out of range");
+    if (d.child == d.parent) throw InputError(name_of(j) + ": joins body " + body_name(d.child) + " to itself");
+    if (fixed_base(d.parent) && fixed_base(d.child))
+      throw InputError(name_of(j) + ": joins two bodies that cannot move (" + body_name(d.parent) + " and " +
+                       body_name(d.child) + ")");
+    // Written the other way round: the moving body is the child, and its coordinate is its motion
+    // relative to the fixed one.
+    if (fixed_base(d.child)) std::swap(d.parent, d.child);
+    if (model[d.child].is_kinematic || (d.parent >= 0 && model[d.parent].is_kinematic))
+      throw InputError(name_of(j) + ": kinematic bodies cannot be jointed yet (body " +
+                       body_name(model[d.child].is_kinematic ? d.child : d.parent) + ")");
+    if (!all_finite(d.anchor_W)) throw InputError(name_of(j) + ": anchor must be finite");
+    const bool axial = d.type == JointType::revolute || d.type == JointType::prismatic ||
+                       d.type == JointType::universal;
+    if (axial) {
+      if (!all_finite(d.axis_W) || d.axis_W.norm() < 1e-12) throw InputError(name_of(j) + ": axis must not be zero");
+      d.axis_W.normalize();
+    }
+    if (d.type == JointType::universal) {
+      if (!all_finite(d.axis2_W) || d.axis2_W.norm() < 1e-12)
+        throw InputError(name_of(j) + ": axis2 must not be zero");
+      d.axis2_W.normalize();
+      if (std::abs(d.axis_W.dot(d.axis2_W)) > 1e-6)
+        throw InputError(name_of(j) + ": axis2 must be perpendicular to axis");
+    }
+    if (d.spring) {
+      if (d.type == JointType::spherical || d.type == JointType::fixed)
+        throw InputError(name_of(j) + ": a spring needs a joint with one coordinate per axis (not " +
+                         to_string(d.type) + ")");
+      if (!std::isfinite(d.spring->stiffness) || !std::isfinite(d.spring->damping) ||
+          !std::isfinite(d.spring->rest) || d.spring->stiffness < 0 || d.spring->damping < 0)
+        throw InputError(name_of(j) + ": spring stiffness and damping must be non-negative numbers");
+    }
+    if (parent_joint[d.child] >= 0)
+      throw InputError(name_of(j) + ": body " + body_name(d.child) + " is already the child of " +
+                       name_of(parent_joint[d.child]) +
+                       "; closed loops (a body with two parents) are not supported yet");
+    parent_joint[d.child] = j;
+  }
+  // No cycles: walking up from any body reaches a base or a body with no parent joint.
+  for (int b = 0; b < nb; ++b) {
+    int x = b, hops = 0;
+    while (x >= 0 && parent_joint[x] >= 0) {
+      const int p = joints_[parent_joint[x]].parent;
+      if (fixed_base(p)) break;
+      x = p;
+      if (++hops > nb)
+        throw InputError(name_of(parent_joint[b]) + ": the joints through body " + body_name(b) +
+                         " form a closed loop; closed loops are not supported yet");
+    }
+  }
+  // Children of each body, in joint order.
+  std::vector<std::vector<int>> child_joints(nb);
+  std::vector<int> base_joints;
+  for (int j = 0; j < (int)joints_.size(); ++j) {
+    const JointDef& d = joints_[j];
+    if (fixed_base(d.parent))
+      base_joints.push_back(j);
+    else
+      child_joints[d.parent].push_back(j);
+  }
+  joint_link_.assign(joints_.size(), {-1, -1});
+  sides_.assign(joints_.size(), Side{});
+  std::vector<char> done(nb, 0);
+
+  auto P_pose = [&](int b, Quat& qWP, Vec3& xW) {
+    if (b < 0 || model[b].is_static) {
+      qWP = Quat::Identity();
+      xW.setZero();
+    } else {
+      qWP = state[b].q_WP;
+      xW = state[b].x_W;
+    }
+  };
+  auto add_body_link = [&](Mechanism& m, int body, int parent_link, LinkJoint kind) -> int {
+    Link l;
+    l.body = body;
+    l.parent = parent_link;
+    l.kind = kind;
+    l.mass = model[body].mass;
+    l.I_P = model[body].I_P;
+    m.links.push_back(l);
+    link_of_[body] = {(int)mechanisms_.size(), (int)m.links.size() - 1};
+    return (int)m.links.size() - 1;
+  };
+  // The links of joint j under parent link pl (-1: the base), then its child's subtree.
+  std::function<void(Mechanism&, int, int)> add_joint = [&](Mechanism& m, int j, int pl) {
+    const JointDef& d = joints_[j];
+    Quat qWp, qWc;
+    Vec3 xp, xc;
+    P_pose(d.parent, qWp, xp);
+    P_pose(d.child, qWc, xc);
+    const Vec3 pp = qWp.conjugate() * (d.anchor_W - xp), pc = qWc.conjugate() * (d.anchor_W - xc);
+    Side& sd = sides_[j];
+    sd.p_p = d.parent >= 0 && !model[d.parent].is_static ? pp : d.anchor_W;
+    sd.p_c = pc;
+    sd.a_p = d.parent >= 0 && !model[d.parent].is_static ? Vec3(qWp.conjugate() * d.axis_W) : d.axis_W;
+    sd.a_c = qWc.conjugate() * d.axis_W;
+    const int pl_link = pl;
+    auto place = [&](Link& l, bool parent_side, bool child_side) {
+      if (parent_side) {
+        l.q_pF = pl_link < 0 ? Quat::Identity() : qWp.conjugate();
+        l.p_pF = pl_link < 0 ? d.anchor_W : pp;
+      }
+      if (child_side) {
+        l.q_cF = qWc.conjugate();
+        l.p_cF = pc;
+      }
+      l.R_pF = l.q_pF.toRotationMatrix();
+      l.R_cF = l.q_cF.toRotationMatrix();
+    };
+    int child_link = -1;
+    switch (d.type) {
+      case JointType::revolute:
+      case JointType::prismatic:
+      case JointType::spherical:
+      case JointType::fixed: {
+        const LinkJoint k = d.type == JointType::revolute    ? LinkJoint::revolute
+                            : d.type == JointType::prismatic ? LinkJoint::prismatic
+                            : d.type == JointType::spherical ? LinkJoint::spherical
+                                                             : LinkJoint::fixed;
+        child_link = add_body_link(m, d.child, pl, k);
+        Link& l = m.links.back();
+        l.axis_F = d.axis_W;
+        l.joint = j;
+        if (d.spring) {
+          l.stiffness = d.spring->stiffness;
+          l.damping = d.spring->damping;
+          l.rest = d.spring->rest;
+        }
+        place(l, true, true);
+        joint_link_[j] = {(int)mechanisms_.size(), child_link};
+        break;
+      }
+      case JointType::universal: {
+        // Two hinges with a massless link between them, whose frame is the joint frame at t = 0.
+        Link v;
+        v.parent = pl;
+        v.kind = LinkJoint::revolute;
+        v.axis_F = d.axis_W;
+        v.joint = j;
+        v.dof = 0;
+        place(v, true, false);
+        m.links.push_back(v);
+        const int vl = (int)m.links.size() - 1;
+        joint_link_[j] = {(int)mechanisms_.size(), vl};
+        child_link = add_body_link(m, d.child, vl, LinkJoint::revolute);
+        Link& l = m.links.back();
+        l.axis_F = d.axis2_W;
+        l.joint = j;
+        l.dof = 1;
+        place(l, false, true);
+        if (d.spring) {
+          for (Link* x : {&m.links[vl], &l}) {
+            x->stiffness = d.spring->stiffness;
+            x->damping = d.spring->damping;
+            x->rest = d.spring->rest;
+          }
+        }
+        break;
+      }
+    }
+    done[d.child] = 1;
+    for (int cj : child_joints[d.child]) add_joint(m, cj, child_link);
+  };
+  auto finish = [&](Mechanism& m) {
+    for (Link& l : m.links) {
+      const Mat3& R = l.R_cF;
+      const Vec3& p = l.p_cF;
+      switch (l.kind) {
+        case LinkJoint::revolute: {
+          l.nq = l.nv = 1;
+          const Vec3 a = R * l.axis_F;
+          l.S.resize(6, 1);
+          l.S << a, p.cross(a);
+          break;
+        }
+        case LinkJoint::prismatic:
+          l.nq = l.nv = 1;
+          l.S.resize(6, 1);
+          l.S << Vec3::Zero(), R * l.axis_F;
+          break;
+        case LinkJoint::spherical:
+          l.nq = 4;
+          l.nv = 3;
+          l.S.resize(6, 3);
+          for (int k = 0; k < 3; ++k) {
+            const Vec3 a = R.col(k);
+            l.S.col(k) << a, p.cross(a);
+          }
+          break;
+        case LinkJoint::fixed:
+          l.nq = l.nv = 0;
+          l.S.resize(6, 0);
+          break;
+        case LinkJoint::free:
+          l.nq = 7;
+          l.nv = 6;
+          l.S = Mat6::Identity();
+          break;
+      }
+      if (l.nv == 1) l.s1 = l.S.col(0);
+      l.iq = m.nq;
+      l.iv = m.nv;
+      m.nq += l.nq;
+      m.nv += l.nv;
+    }
+    m.q.assign(m.nq, 0);
+    m.v.assign(m.nv, 0);
+    for (const Link& l : m.links) {
+      if (l.kind == LinkJoint::spherical) m.q[l.iq] = 1;
+      if (l.kind == LinkJoint::free) {
+        const MotionState& s = state[l.body];
+        m.q[l.iq + 0] = s.x_W.x();
+        m.q[l.iq + 1] = s.x_W.y();
+        m.q[l.iq + 2] = s.x_W.z();
+        m.q[l.iq + 3] = s.q_WP.w();
+        m.q[l.iq + 4] = s.q_WP.x();
+        m.q[l.iq + 5] = s.q_WP.y();
+        m.q[l.iq + 6] = s.q_WP.z();
+      }
+    }
+    m.allocate();
+  };
+  // Mechanisms on a fixed base, one per joint from the base (joint order), then floating ones.
+  for (int j : base_joints) {
+    Mechanism m;
+    add_joint(m, j, -1);
+    finish(m);
+    mechanisms_.push_back(std::move(m));
+  }
+  for (int j = 0; j < (int)joints_.size(); ++j) {
+    const int root = joints_[j].parent;
+    if (fixed_base(root) || parent_joint[root] >= 0 || done[root]) continue;
+    Mechanism m;
+    add_body_link(m, root, -1, LinkJoint::free);
+    done[root] = 1;
+    for (int cj : child_joints[root]) add_joint(m, cj, 0);
+    finish(m);
+    mechanisms_.push_back(std::move(m));
+  }
+  // Start velocities: the joint velocities whose body motion is closest to the given one in the
+  // kinetic-energy metric (sum over links of (V - V0)^T M (V - V0)); this keeps the mechanism's
+  // momentum along every joint freedom. A warning when the given motion was not a joint motion.
+  for (Mechanism& m : mechanisms_) {
+    const int n = (int)m.links.size();
+    std::vector<Vec6> V0(n, Vec6::Zero());
+    bool moving = false;
+    for (int i = 0; i < n; ++i) {
+      const Link& l = m.links[i];
+      if (l.body < 0) continue;
+      const MotionState& s = state[l.body];
+      V0[i] << s.w_P, s.q_WP.conjugate() * s.v_W;
+      moving = moving || !V0[i].isZero(0);
+    }
+    if (!moving) continue;
+    Eigen::MatrixXd J(6 * n, m.nv);
+    std::vector<Vec6> col;
+    std::vector<double> e(m.nv, 0);
+    for (int k = 0; k < m.nv; ++k) {
+      std::fill(e.begin(), e.end(), 0.0);
+      e[k] = 1;
+      m.link_velocities(m.q.data(), e.data(), col);
+      for (int i = 0; i < n; ++i) J.block<6, 1>(6 * i, k) = col[i];
+    }
+    Eigen::VectorXd W(6 * n), b(6 * n);
+    for (int i = 0; i < n; ++i) {
+      const Link& l = m.links[i];
+      W.segment<3>(6 * i) = l.I_P;
+      W.segment<3>(6 * i + 3).setConstant(l.mass);
+      b.segment<6>(6 * i) = V0[i];
+    }
+    const Eigen::MatrixXd A = J.transpose() * W.asDiagonal() * J;
+    const Eigen::VectorXd qd = A.ldlt().solve(J.transpose() * (W.asDiagonal() * b));
+    for (int k = 0; k < m.nv; ++k) m.v[k] = qd[k];
+    const Eigen::VectorXd r = J * qd - b;
+    const double e_given = 0.5 * b.dot(W.asDiagonal() * b), e_lost = 0.5 * r.dot(W.asDiagonal() * r);
+    if (e_lost > 1e-12 * std::max(e_given, 1e-300)) {
+      std::ostringstream os;
+      os << "joints: the start velocities of ";
+      bool first = true;
+      for (const Link& l : m.links)
+        if (l.body >= 0) {
+          os << (first ? "" : ", ") << "'" << defs[l.body].name << "'";
+          first = false;
+        }
+      os << " are not all motions their joints allow; they were projected onto the joints' freedoms (" << e_lost
+         << " J of " << e_given << " J of kinetic energy removed)";
+      warnings.push_back(os.str());
+    }
+  }
+  for (Mechanism& m : mechanisms_) m.write_bodies(state.data());
+}
+
+int Articulations::find(std::string_view name) const {
+  for (int j = 0; j < (int)joints_.size(); ++j)
+    if (joints_[j].name == name) return j;
+  return -1;
+}
+
+bool Articulations::step(double dt, const Vec3& g, const Wrench* wr, MotionState* st) {
+  bool ok = true;
+  for (Mechanism& m : mechanisms_) {
+    ok = m.advance(dt, g, wr, st, settings_) && ok;
+    m.write_bodies(st);
+  }
+  return ok;
+}
+
+double Articulations::position(int j, int k) const {
+  const auto [mi, li] = joint_link_[j];
+  const Mechanism& m = mechanisms_[mi];
+  const Link& l = m.links[li + (joints_[j].type == JointType::universal ? k : 0)];
+  const double* q = m.q.data() + l.iq;
+  switch (l.kind) {
+    case LinkJoint::revolute:
+    case LinkJoint::prismatic:
+      return q[0];
+    case LinkJoint::spherical:
+      return 2 * std::atan2(Vec3(q[1], q[2], q[3]).norm(), std::abs(q[0]));
+    case LinkJoint::fixed:
+    case LinkJoint::free:
+      break;
+  }
+  return 0;
+}
+
+double Articulations::speed(int j, int k) const {
+  const auto [mi, li] = joint_link_[j];
+  const Mechanism& m = mechanisms_[mi];
+  const Link& l = m.links[li + (joints_[j].type == JointType::universal ? k : 0)];
+  const double* v = m.v.data() + l.iv;
+  switch (l.kind) {
+    case LinkJoint::revolute:
+    case LinkJoint::prismatic:
+      return v[0];
+    case LinkJoint::spherical:
+      return Vec3(v[0], v[1], v[2]).norm();
+    case LinkJoint::fixed:
+    case LinkJoint::free:
+      break;
+  }
+  return 0;
+}
+
+double Articulations::gap(const MotionState* st) const {
+  double worst = 0;
+  for (size_t j = 0; j < joints_.size(); ++j) {
+    const JointDef& d = joints_[j];
+    const Side& s = sides_[j];
+    const bool moving_parent = d.parent >= 0 && jointed(d.parent);
+    const Vec3 ap = moving_parent ? Vec3(st[d.parent].x_W + st[d.parent].q_WP * s.p_p) : s.p_p;
+    const Vec3 ac = st[d.child].x_W + st[d.child].q_WP * s.p_c;
+    if (d.type == JointType::prismatic) {
+      // The slider's child anchor may move along the axis only.
+      const Vec3 axis = moving_parent ? Vec3(st[d.parent].q_WP * s.a_p) : s.a_p;
+      const Vec3 r = ac - ap;
+      worst = std::max(worst, (r - axis * axis.dot(r)).norm());
+    } else {
+      worst = std::max(worst, (ac - ap).norm());
+    }
+  }
+  return worst;
+}
+
+double Articulations::angular_gap(const MotionState* st) const {
+  double worst = 0;
+  for (size_t j = 0; j < joints_.size(); ++j) {
+    const JointDef& d = joints_[j];
+    if (d.type != JointType::revolute && d.type != JointType::prismatic) continue;
+    const Side& s = sides_[j];
+    const bool moving_parent = d.parent >= 0 && jointed(d.parent);
+    const Vec3 a = moving_parent ? Vec3(st[d.parent].q_WP * s.a_p) : s.a_p;
+    const Vec3 b = st[d.child].q_WP * s.a_c;
+    worst = std::max(worst, std::atan2(a.cross(b).norm(), a.dot(b)));
+  }
+  return worst;
+}
+
+long Articulations::internal_steps() const {
+  long n = 0;
+  for (const Mechanism& m : mechanisms_) n += m.steps_taken;
+  return n;
+}
+
+}  // namespace simreel

@@ -1,0 +1,318 @@
+// Mechanisms in joint coordinates (sim/joints/articulation.hpp) against closed forms.
+#include "sim/joints/articulation.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "tests/fixtures/joint_reference.hpp"
+
+namespace simreel {
+namespace {
+
+
+struct Bodies {
+  std::vector<BodyDef> defs;
+  std::vector<BodyModel> model;
+  std::vector<MotionState> state;
+  int add(const std::string& name, double m, const Vec3& I, const Vec3& x, const Quat& q = Quat::Identity()) {
+    BodyDef d;
+    d.name = name;
+    d.p_WB = x;
+    defs.push_back(d);
+    BodyModel bm;
+    bm.mass = m;
+    bm.inv_mass = 1 / m;
+    bm.I_P = I;
+    bm.inv_I_P = I.cwiseInverse();
+    model.push_back(bm);
+    MotionState s;
+    s.x_W = x;
+    s.q_WP = q;
+    state.push_back(s);
+    return (int)defs.size() - 1;
+  }
+};
+
+// A bob of mass m and inertia 1e-3 kg m^2 about its centre, 1 m below-and-rotated from a pivot at
+// the origin, hinged about y, released at rest at theta0.
+struct Pendulum {
+  Bodies b;
+  Articulations art;
+  double m = 1, Icm = 1e-3, d = 1, g = 9.81;
+  explicit Pendulum(double theta0, const JointSettings& js = {}) {
+    const Vec3 x(d * std::sin(theta0), 0, -d * std::cos(theta0));
+    b.add("bob", m, Vec3::Constant(Icm), x);
+    JointDef j;
+    j.name = "pivot";
+    j.type = JointType::revolute;
+    j.parent = -1;
+    j.child = 0;
+    j.anchor_W = Vec3::Zero();
+    j.axis_W = Vec3::UnitY();
+    std::vector<std::string> warnings;
+    art.build({j}, js, b.defs, b.model, b.state, warnings);
+    EXPECT_TRUE(warnings.empty());
+  }
+  double period(double theta0) const {
+    return ref::pendulum_period(theta0, Icm + m * d * d, m, g, d);
+  }
+  double energy() const {
+    const MotionState& s = b.state[0];
+    const double Iw = Icm;  // isotropic
+    return 0.5 * m * s.v_W.squaredNorm() + 0.5 * Iw * s.w_P.squaredNorm() + m * g * s.x_W.z();
+  }
+};
+
+// The period of a pendulum released at theta0: run exactly one closed-form period T in N equal
+// steps and read the joint speed there. At a turning point the speed crosses zero with slope
+// theta'' = -(m g d / I_p) sin(theta0), so dT = -speed(T) / theta''.
+TEST(Articulation, PendulumPeriodMatchesEllipticIntegral) {
+  for (double deg : {10.0, 90.0, 170.0}) {
+    const double th0 = deg * std::numbers::pi / 180;
+    Pendulum p(th0);
+    const double T = p.period(th0);
+    const int N = (int)std::ceil(T * 60);
+    const double dt = T / N;
+    for (int i = 0; i < N; ++i) ASSERT_TRUE(p.art.step(dt, Vec3(0, 0, -p.g), nullptr, p.b.state.data()));
+    const double Ip = p.Icm + p.m * p.d * p.d;
+    const double acc = -(p.m * p.g * p.d / Ip) * std::sin(th0);
+    const double dT = -p.art.speed(0) / acc;
+    // The tolerance is the target for the first period: 1e-7 at 170 deg, 1e-8 below.
+    EXPECT_LT(std::abs(dT / T), deg > 100 ? 1e-7 : 1e-8) << deg << " deg: dT/T " << dT / T;
+    EXPECT_NEAR(p.art.position(0), 0.0, 1e-7) << deg;  // back where it started
+    std::printf("theta0 %5.1f deg: T %.12f s, dT/T %.2e, steps %ld\n", deg, T, dT / T, p.art.internal_steps());
+  }
+}
+
+TEST(Articulation, PendulumKeepsEnergyOverSixtySeconds) {
+  for (double deg : {90.0, 170.0}) {
+    const double th0 = deg * std::numbers::pi / 180;
+    Pendulum p(th0);
+    const double E0 = p.energy();
+    double worst = 0;
+    for (int i = 0; i < 3600; ++i) {
+      ASSERT_TRUE(p.art.step(1.0 / 60, Vec3(0, 0, -p.g), nullptr, p.b.state.data()));
+      worst = std::max(worst, std::abs(p.energy() - E0));
+    }
+    const double mgL = p.m * p.g * p.d;
+    std::printf("theta0 %5.1f deg: max |dE| %.2e m g L, gap %.1e m, steps %ld\n", deg, worst / mgL,
+                p.art.gap(p.b.state.data()), p.art.internal_steps());
+    EXPECT_LT(worst / mgL, 1e-7) << deg;
+    EXPECT_LT(p.art.gap(p.b.state.data()), 1e-12);
+  }
+}
+
+// Kinetic + potential energy of the bodies of `b` (isotropic or principal inertia).
+double energy(const Bodies& b, double g) {
+  double E = 0;
+  for (size_t i = 0; i < b.state.size(); ++i) {
+    const MotionState& s = b.state[i];
+    const BodyModel& m = b.model[i];
+    E += 0.5 * m.mass * s.v_W.squaredNorm() + 0.5 * s.w_P.dot(m.I_P.cwiseProduct(s.w_P)) + m.mass * g * s.x_W.z();
+  }
+  return E;
+}
+
+// A chain of n links (rods of length l, mass ml, hinged about y) hanging from the origin, the last
+// link carrying `ratio` times a link's mass at its end, released straight at `tilt` rad.
+struct Chain {
+  Bodies b;
+  Articulations art;
+  Chain(int n, double ratio, double tilt, double l = 0.1, double ml = 0.01) {
+    const Vec3 dir(std::sin(tilt), 0, -std::cos(tilt));
+    std::vector<JointDef> joints;
+    for (int i = 0; i < n; ++i) {
+      double m = ml;
+      double c = 0.5 * l;  // centre of mass from the link's top pivot
+      double I = ml * l * l / 12;
+      if (i == n - 1) {  // the end mass, a point at the link's end
+        const double M = ratio * ml;
+        c = (ml * 0.5 * l + M * l) / (ml + M);
+        I = ml * l * l / 12 + ml * std::pow(0.5 * l - c, 2) + M * std::pow(l - c, 2);
+        m = ml + M;
+      }
+      // Principal frame: a rod's transverse moments; its axial moment is tiny but positive.
+      b.add("link" + std::to_string(i), m, Vec3(I, I, 1e-9 * I), dir * (i * l + c));
+      JointDef j;
+      j.type = JointType::revolute;
+      j.parent = i - 1;
+      j.child = i;
+      j.anchor_W = dir * (i * l);
+      j.axis_W = Vec3::UnitY();
+      joints.push_back(j);
+    }
+    std::vector<std::string> warnings;
+    art.build(joints, {}, b.defs, b.model, b.state, warnings);
+  }
+};
+
+// A chain of 100 links with an end mass 1000 times a link's, released from 30
+// degrees. Joint coordinates leave no gap by construction (the read-out measures the anchors from
+// the bodies' states: round-off only), and the energy must hold to 1e-6 of M g N l over 10 s.
+TEST(Articulation, HeavyEndedChainSwingsWithoutGapsOrEnergyLoss) {
+  const int n = 100;
+  for (double ratio : {1000.0}) {
+    Chain c(n, ratio, std::numbers::pi / 6);
+    const double g = 9.81;
+    const double E0 = energy(c.b, g);
+    double M = 0;
+    for (const BodyModel& m : c.b.model) M += m.mass;
+    const double scale = M * g * n * 0.1;
+    double worst = 0, worst_gap = 0;
+    for (int i = 0; i < 600; ++i) {
+      ASSERT_TRUE(c.art.step(1.0 / 60, Vec3(0, 0, -g), nullptr, c.b.state.data())) << ratio << " at step " << i;
+      worst = std::max(worst, std::abs(energy(c.b, g) - E0));
+      worst_gap = std::max(worst_gap, c.art.gap(c.b.state.data()));
+    }
+    std::printf("chain 1:%g: max |dE| %.2e M g N l, worst gap %.2e m, internal steps %ld\n", ratio, worst / scale,
+                worst_gap, c.art.internal_steps());
+    EXPECT_LT(worst / scale, 1e-6) << ratio;
+    EXPECT_LT(worst_gap, 1e-10) << ratio;
+  }
+}
+
+// Two links joined by a hinge, floating without gravity and spun: total momentum and angular
+// momentum are invariants (no external force), the free root's and the hinge's coordinates
+// together carry them.
+TEST(Articulation, FloatingMechanismKeepsMomentum) {
+  Bodies b;
+  b.add("a", 2.0, Vec3(0.1, 0.2, 0.25), Vec3(0, 0, 0));
+  b.add("b", 1.0, Vec3(0.05, 0.07, 0.09), Vec3(1, 0, 0));
+  b.state[0].v_W = Vec3(0.3, -0.2, 0.1);
+  b.state[0].w_P = Vec3(0.5, 1.5, -2.0);
+  // b moves with a, plus its turn about the hinge at (0.5, 0, 0): 3 z x (0.5, 0, 0).
+  b.state[1].v_W = b.state[0].v_W + (b.state[0].q_WP * b.state[0].w_P).cross(Vec3(1, 0, 0)) + Vec3(0, 1.5, 0);
+  b.state[1].w_P = b.state[0].w_P + Vec3(0, 0, 3.0);  // the hinge turns at 3 rad/s about z
+  JointDef j;
+  j.type = JointType::revolute;
+  j.parent = 0;
+  j.child = 1;
+  j.anchor_W = Vec3(0.5, 0, 0);
+  j.axis_W = Vec3::UnitZ();
+  Articulations art;
+  std::vector<std::string> warnings;
+  art.build({j}, {}, b.defs, b.model, b.state, warnings);
+  EXPECT_TRUE(warnings.empty()) << warnings[0];
+  auto momenta = [&](Vec3& p, Vec3& L) {
+    p.setZero();
+    L.setZero();
+    for (int i = 0; i < 2; ++i) {
+      const MotionState& s = b.state[i];
+      p += b.model[i].mass * s.v_W;
+      L += b.model[i].mass * s.x_W.cross(s.v_W) + s.q_WP * b.model[i].I_P.cwiseProduct(s.w_P);
+    }
+  };
+  Vec3 p0, L0, p1, L1;
+  momenta(p0, L0);
+  const double E0 = energy(b, 0);
+  for (int i = 0; i < 600; ++i) ASSERT_TRUE(art.step(1.0 / 60, Vec3::Zero(), nullptr, b.state.data()));
+  momenta(p1, L1);
+  // Not exact to round-off: Runge-Kutta keeps linear invariants only in the coordinates it
+  // integrates, and momentum is linear in the bodies' velocities, not in q'. Each internal step
+  // errs by at most the tolerance (1e-10): 1e-8 after a few hundred.
+  EXPECT_LT((p1 - p0).norm(), 1e-8 * p0.norm()) << (p1 - p0).transpose();
+  EXPECT_LT((L1 - L0).norm(), 1e-8 * L0.norm()) << (L1 - L0).transpose();
+  EXPECT_LT(std::abs(energy(b, 0) - E0), 1e-8 * E0);
+  EXPECT_LT(art.gap(b.state.data()), 1e-12);
+  EXPECT_LT(art.angular_gap(b.state.data()), 1e-12);
+}
+
+// A symmetric top on a ball joint (Lagrange's top): L_z (about the vertical through the pivot) and
+// L_3 (about the figure axis) are exact invariants, and so is the energy.
+TEST(Articulation, HeavyTopKeepsItsInvariants) {
+  Bodies b;
+  const double m = 1, l = 0.1, I1 = 2e-3, I3 = 4e-3, g = 9.81, th = 0.3;
+  const Vec3 axis(std::sin(th), 0, std::cos(th));
+  // Principal frame: z along the figure axis.
+  const Quat q(Eigen::AngleAxisd(th, Vec3::UnitY()));
+  b.add("top", m, Vec3(I1, I1, I3), axis * l, q);
+  b.state[0].w_P = Vec3(0, 0, 150);  // spin about the figure axis, rad/s
+  b.state[0].v_W = (q * b.state[0].w_P).cross(axis * l);
+  JointDef j;
+  j.type = JointType::spherical;
+  j.parent = -1;
+  j.child = 0;
+  Articulations art;
+  std::vector<std::string> warnings;
+  JointSettings js;
+  js.tolerance = 1e-11;  // 150 rad/s for 60 s: 1e-8 over 1.3e5 internal steps needs less than 1e-10 each
+  art.build({j}, js, b.defs, b.model, b.state, warnings);
+  ASSERT_TRUE(warnings.empty()) << warnings[0];
+  auto invariants = [&](double& Lz, double& L3, double& E) {
+    const MotionState& s = b.state[0];
+    // About the pivot: I_pivot = I_cm + m (|r|^2 - r r^T); L = I_pivot w.
+    const Vec3 wW = s.q_WP * s.w_P;
+    const Vec3 L = s.q_WP * b.model[0].I_P.cwiseProduct(s.w_P) + m * s.x_W.cross(s.v_W);
+    Lz = L.z();
+    L3 = L.dot(s.q_WP * Vec3::UnitZ());
+    E = 0.5 * m * s.v_W.squaredNorm() + 0.5 * s.w_P.dot(b.model[0].I_P.cwiseProduct(s.w_P)) + m * g * s.x_W.z();
+    (void)wW;
+  };
+  double Lz0, L30, E0, Lz, L3, E;
+  invariants(Lz0, L30, E0);
+  double worst_z = 0, worst_3 = 0, worst_E = 0;
+  for (int i = 0; i < 3600; ++i) {
+    ASSERT_TRUE(art.step(1.0 / 60, Vec3(0, 0, -g), nullptr, b.state.data()));
+    invariants(Lz, L3, E);
+    worst_z = std::max(worst_z, std::abs(Lz - Lz0) / std::abs(L30));
+    worst_3 = std::max(worst_3, std::abs(L3 - L30) / std::abs(L30));
+    worst_E = std::max(worst_E, std::abs(E - E0) / E0);
+  }
+  std::printf("top: L_z %.1e, L_3 %.1e, E %.1e (relative), internal steps %ld\n", worst_z, worst_3, worst_E,
+              art.internal_steps());
+  EXPECT_LT(worst_z, 1e-8);
+  EXPECT_LT(worst_3, 1e-8);
+  EXPECT_LT(worst_E, 1e-8);
+  EXPECT_LT(art.gap(b.state.data()), 1e-12);
+}
+
+// The anchors' double pendulum: two 1 kg bobs (1e-3 kg m^2 about their centres) on 1 m massless
+// rods, released horizontal. Against the independent reference (Lagrange's equations integrated
+// by 6th-order Gauss-Legendre at 1/2000 s, good to 1e-13) for the first 2 s, before chaos
+// amplifies the difference beyond any tolerance; energy over 60 s.
+TEST(Articulation, DoublePendulumFollowsTheReferenceAndKeepsEnergy) {
+  Bodies b;
+  const double m = 1, Icm = 1e-3, L = 1, g = 9.81;
+  b.add("upper", m, Vec3::Constant(Icm), Vec3(L, 0, 0));
+  b.add("lower", m, Vec3::Constant(Icm), Vec3(2 * L, 0, 0));
+  std::vector<JointDef> joints(2);
+  joints[0].parent = -1;
+  joints[0].child = 0;
+  joints[0].axis_W = Vec3::UnitY();
+  joints[1].parent = 0;
+  joints[1].child = 1;
+  joints[1].anchor_W = Vec3(L, 0, 0);
+  joints[1].axis_W = Vec3::UnitY();
+  Articulations art;
+  std::vector<std::string> warnings;
+  art.build(joints, {}, b.defs, b.model, b.state, warnings);
+  const ref::PendulumLink link{m, L, Icm, L};
+  const ref::DoublePendulum dp(link, link, g);
+  ref::DoublePendulumTrajectory traj(dp, ref::DoublePendulumState{std::numbers::pi / 2, std::numbers::pi / 2, 0, 0});
+  // The reference's angles are from the downward vertical, counterclockwise in (x, up); a positive
+  // turn about +y moves a hanging bob towards -x, so theta = pi/2 - (sum of the joint angles).
+  const double E0 = energy(b, g);
+  double worst_state = 0, worst_E = 0;
+  for (int i = 1; i <= 3600; ++i) {
+    ASSERT_TRUE(art.step(1.0 / 60, Vec3(0, 0, -g), nullptr, b.state.data()));
+    worst_E = std::max(worst_E, std::abs(energy(b, g) - E0));
+    if (i <= 120) {
+      const ref::DoublePendulumState r = traj.sample(i / 60.0);
+      const double th1 = std::numbers::pi / 2 - art.position(0);
+      const double th2 = std::numbers::pi / 2 - art.position(0) - art.position(1);
+      const double w1 = -art.speed(0), w2 = -art.speed(0) - art.speed(1);
+      worst_state = std::max({worst_state, std::abs(th1 - r.theta1), std::abs(th2 - r.theta2),
+                              std::abs(w1 - r.omega1) / 10, std::abs(w2 - r.omega2) / 10});
+    }
+  }
+  const double scale = m * g * L;
+  std::printf("double pendulum: state error over 2 s %.1e rad, max |dE| over 60 s %.1e m g L, steps %ld\n",
+              worst_state, worst_E / scale, art.internal_steps());
+  EXPECT_LT(worst_state, 1e-6);  // the bound: 1e-6 rad (and 1e-5 rad/s for the rates)
+  EXPECT_LT(worst_E / scale, 1e-6);
+}
+
+}  // namespace
+}  // namespace simreel
