@@ -387,11 +387,11 @@ EndToEnd end_to_end_run(const Boxes& bodies, int frames, const char* aa, const S
   return e;
 }
 
-// Issue 12's speed target, in a function of its own: a HUD, an inset plot and 100 arrows on the
-// 100-box clip cost at most 15% more end-to-end time than the plain clip. Plain and overlaid runs
-// alternate, `pairs` pairs, each end to end as `simreel render` runs (FXAA and the screen layer on
-// the writer's thread, the overlays' pre-pass and fonts inside the timed span); the row is the
-// median of the pairs' wall-clock ratios, with the CPU-seconds ratios beside it.
+// The teaching overlays' speed target, in a function of its own: a HUD, an inset plot and 100
+// arrows on the 100-box clip cost at most 15% more end-to-end time than the plain clip. Plain and
+// overlaid runs alternate, `pairs` pairs, each end to end as `simreel render` runs (FXAA and the
+// screen layer on the writer's thread, the overlays' pre-pass and fonts inside the timed span); the
+// row is the median of the pairs' wall-clock ratios, with the CPU-seconds ratios beside it.
 void teaching_overlay_rows(const Boxes& bodies, int frames, const std::filesystem::path& dir, int pairs,
                            const std::function<void(const char*, double, const std::string&)>& row) {
   Scene sc = overlay_scene(bodies, frames, 3);  // an arrow per box, a title and a 3-line HUD

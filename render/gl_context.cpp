@@ -17,6 +17,8 @@
 #include <EGL/eglext.h>
 #endif
 
+#include "sim/base/enum_names.hpp"
+
 namespace simreel {
 namespace {
 
@@ -167,14 +169,17 @@ void GlContext::make_current() {
   current = this;
 }
 
+namespace {
+constexpr EnumNames<GlBackend, 2> kGlBackends{{"osmesa", "egl"}};
+static_assert(kGlBackends.complete());
+}  // namespace
+
 const char* to_string(GlBackend b) {
-  return b == GlBackend::egl ? "egl" : "osmesa";
+  return kGlBackends(b);
 }
 
 std::optional<GlBackend> gl_backend_from_name(const std::string& name) {
-  if (name == "osmesa") return GlBackend::osmesa;
-  if (name == "egl") return GlBackend::egl;
-  return std::nullopt;
+  return kGlBackends.parse(name);
 }
 
 bool gl_backend_built(GlBackend b) {

@@ -2,6 +2,8 @@
 
 #include <cctype>
 
+#include "sim/base/enum_names.hpp"
+
 namespace simreel {
 
 namespace {
@@ -27,20 +29,13 @@ const Symbol kSymbols[] = {
     {"sqrt", "√"},       {"parallel", "∥"}, {"perp", "⊥"},       {"ell", "ℓ"},
 };
 
-struct AccentName {
-  const char* name;
-  TexAccent accent;
-};
-const AccentName kAccents[] = {{"vec", TexAccent::vec},
-                               {"dot", TexAccent::dot},
-                               {"ddot", TexAccent::ddot},
-                               {"hat", TexAccent::hat},
-                               {"bar", TexAccent::bar}};
+// The accents' command names; none has no command (its empty name parses to none, as any other
+// word does).
+constexpr EnumNames<TexAccent, 6> kAccents{{"", "vec", "dot", "ddot", "hat", "bar"}};
+static_assert(kAccents.complete());
 
 TexAccent accent_of(std::string_view name) {
-  for (const AccentName& a : kAccents)
-    if (name == a.name) return a.accent;
-  return TexAccent::none;
+  return kAccents.parse(name).value_or(TexAccent::none);
 }
 
 // Bytes of the UTF-8 character starting with lead byte c.

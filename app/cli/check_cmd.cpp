@@ -24,6 +24,7 @@
 #include "app/regress/metrics.hpp"
 #include "app/report/report.hpp"
 #include "app/scene/text.hpp"
+#include "sim/base/enum_names.hpp"
 #include <simreel/error.hpp>
 
 namespace simreel {
@@ -31,7 +32,12 @@ namespace simreel {
 namespace {
 
 enum class Update { missing, changed, all, none };
+constexpr EnumNames<Update, 4> kUpdates{{"missing", "changed", "all", "none"}};
+static_assert(kUpdates.complete());
+
 enum class Tolerance { automatic, exact, portable };
+constexpr EnumNames<Tolerance, 3> kTolerances{{"auto", "exact", "portable"}};
+static_assert(kTolerances.complete());
 
 struct Checked {
   FrameTarget target;
@@ -134,18 +140,9 @@ int cmd_check(const std::vector<std::string>& args) {
   if (!o.goldens) throw UsageError("check needs --goldens DIR");
   const std::string goldens = *o.goldens;
   Update update = std::getenv("CI") || !isatty(1) ? Update::none : Update::missing;
-  if (o.update) {  // names checked by the table
-    const std::string& u = *o.update;
-    update = u == "missing"   ? Update::missing
-             : u == "changed" ? Update::changed
-             : u == "all"     ? Update::all
-                              : Update::none;
-  }
+  if (o.update) update = kUpdates.parse(*o.update).value_or(Update::none);  // names checked by the table
   Tolerance tolerance = Tolerance::automatic;
-  if (o.tolerance)
-    tolerance = *o.tolerance == "exact"      ? Tolerance::exact
-                : *o.tolerance == "portable" ? Tolerance::portable
-                                             : Tolerance::automatic;
+  if (o.tolerance) tolerance = kTolerances.parse(*o.tolerance).value_or(Tolerance::automatic);
   ViewOptions vo;
   if (o.gl) {
     vo.gl = *o.gl;

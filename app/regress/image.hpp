@@ -1,4 +1,4 @@
-// Decoded images for visual regression (issue 11): PNG in and out through libpng, and a hash of the
+// Decoded images for visual regression: PNG in and out through libpng, and a hash of the
 // decoded pixels so that a golden frame's identity does not depend on how its file was compressed.
 #pragma once
 #include <cstdint>

@@ -1,4 +1,4 @@
-// Image comparison for visual regression (issue 11): a rendered frame against its golden.
+// Image comparison for visual regression: a rendered frame against its golden.
 //
 // A pixel differs when its colour distance in YIQ exceeds a threshold (pixelmatch's measure,
 // after Kotsarenko & Ramos 2010); differing pixels that look like anti-aliasing in either image

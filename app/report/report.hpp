@@ -1,4 +1,4 @@
-// The review report of `simreel check` / `simreel diff` (issue 11): one self-contained HTML page
+// The review report of `simreel check` / `simreel diff`: one self-contained HTML page
 // (images as data: URIs, CSS and JS inline, nothing fetched) that a reviewer opens from a CI
 // artifact. Failures first, each frame a card with the physics-versus-rendering attribution, the
 // image metrics and a viewer (side by side, slider, blink, heat map with the cluster boxes).

@@ -25,6 +25,7 @@
 #include "sim/geometry/convex_hull.hpp"
 #include <simreel/error.hpp>
 #include <simreel/mass_properties.hpp>
+#include "sim/base/enum_names.hpp"
 #include "sim/dynamics/mesh_collider.hpp"
 #include "sim/mass/primitives.hpp"
 
@@ -238,26 +239,21 @@ int whole(const YAML::Node& n, const Ctx& c, int lo, int hi) {
   return (int)v;
 }
 
+constexpr EnumNames<AntiAliasing, 4> kAntiAliasings{{"none", "fxaa", "msaa2", "msaa4"}};
+static_assert(kAntiAliasings.complete());
+
+// A body's `type:`, named as BodyType's to_string names it.
+constexpr EnumNames<BodyType, 3> kBodyTypes{{"static", "kinematic", "dynamic"}};
+static_assert(kBodyTypes.complete());
+
 }  // namespace
 
 const char* to_string(AntiAliasing a) {
-  switch (a) {
-    case AntiAliasing::none:
-      return "none";
-    case AntiAliasing::fxaa:
-      return "fxaa";
-    case AntiAliasing::msaa2:
-      return "msaa2";
-    case AntiAliasing::msaa4:
-      return "msaa4";
-  }
-  return "?";
+  return kAntiAliasings(a);
 }
 
 std::optional<AntiAliasing> antialiasing_from_name(const std::string& name) {
-  for (AntiAliasing a : {AntiAliasing::none, AntiAliasing::fxaa, AntiAliasing::msaa2, AntiAliasing::msaa4})
-    if (name == to_string(a)) return a;
-  return std::nullopt;
+  return kAntiAliasings.parse(name);
 }
 
 namespace {
@@ -613,16 +609,12 @@ struct Loader {
     if (n["type"]) {
       const Ctx tc = c.child("type");
       const std::string t = text(n["type"], tc);
-      const std::vector<std::string> types = {"dynamic", "static", "kinematic"};
-      if (t == "dynamic") {
-        b.type = BodyType::dynamic;
-      } else if (t == "static") {
-        b.type = BodyType::static_body;
-      } else if (t == "kinematic") {
-        b.type = BodyType::kinematic;
+      if (const auto type = kBodyTypes.parse(t)) {
+        b.type = *type;
       } else {
         std::string msg = "unknown body type '" + t + "' (dynamic, static or kinematic)";
-        if (auto sug = nearest(t, types)) msg += "; did you mean '" + *sug + "'?";
+        if (auto sug = nearest(t, {"dynamic", "static", "kinematic"}))
+          msg += "; did you mean '" + *sug + "'?";
         tc.fail(n["type"], msg);
       }
     }

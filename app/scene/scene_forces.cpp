@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "app/scene/scene.hpp"
+#include "sim/base/enum_names.hpp"
 #include <simreel/error.hpp>
 
 namespace simreel {
@@ -39,24 +40,31 @@ void check_keys_of(const YAML::Node& map, const Ctx& c, const std::vector<std::s
   }
 }
 
-struct Kind {
-  const char* name;
-  ForceKind kind;
-  std::vector<std::string> keys;
-};
-const std::vector<Kind>& kinds() {
-  static const std::vector<Kind> k = {
-      {"force", ForceKind::force, {"type", "body", "bodies", "vector", "frame", "at", "from", "to"}},
-      {"torque", ForceKind::torque, {"type", "body", "bodies", "vector", "frame", "from", "to"}},
-      {"impulse", ForceKind::impulse, {"type", "body", "bodies", "vector", "frame", "at", "time"}},
-      {"angular_impulse", ForceKind::angular_impulse, {"type", "body", "bodies", "vector", "frame", "time"}},
-      {"spring",
-       ForceKind::spring,
-       {"type", "body", "bodies", "point", "points", "anchor", "stiffness", "rest_length", "damping", "from",
-        "to"}},
-      {"drag", ForceKind::drag, {"type", "body", "bodies", "linear", "quadratic", "from", "to"}},
-  };
-  return k;
+constexpr EnumNames<ForceKind, 6> kForceTypes{
+    {"force", "torque", "impulse", "angular_impulse", "spring", "drag"}};
+static_assert(kForceTypes.complete());
+
+constexpr EnumNames<ForceFrame, 2> kForceFrames{{"world", "body"}};
+static_assert(kForceFrames.complete());
+
+// The keys each type takes.
+std::vector<std::string> keys_of(ForceKind k) {
+  switch (k) {
+    case ForceKind::force:
+      return {"type", "body", "bodies", "vector", "frame", "at", "from", "to"};
+    case ForceKind::torque:
+      return {"type", "body", "bodies", "vector", "frame", "from", "to"};
+    case ForceKind::impulse:
+      return {"type", "body", "bodies", "vector", "frame", "at", "time"};
+    case ForceKind::angular_impulse:
+      return {"type", "body", "bodies", "vector", "frame", "time"};
+    case ForceKind::spring:
+      return {"type",      "body",        "bodies",  "point", "points", "anchor",
+              "stiffness", "rest_length", "damping", "from",  "to"};
+    case ForceKind::drag:
+      return {"type", "body", "bodies", "linear", "quadratic", "from", "to"};
+  }
+  return {};
 }
 
 class Reader {
@@ -74,19 +82,17 @@ class Reader {
       c.fail(n, "missing key 'type' (force, torque, impulse, angular_impulse, spring or drag)");
     }
     const std::string type = text(n["type"], c.child("type"));
-    const auto& ks = kinds();
-    const auto kt = std::find_if(ks.begin(), ks.end(), [&](const Kind& k) { return type == k.name; });
-    if (kt == ks.end()) {
-      std::vector<std::string> names;
-      for (const Kind& k : ks) names.push_back(k.name);
+    const std::optional<ForceKind> kind = kForceTypes.parse(type);
+    if (!kind) {
+      const std::vector<std::string> names(kForceTypes.names.begin(), kForceTypes.names.end());
       std::string msg =
           "unknown force type '" + type + "' (force, torque, impulse, angular_impulse, spring, drag)";
       if (auto s = nearest(type, names)) msg += "; did you mean '" + *s + "'?";
       c.child("type").fail(n["type"], msg);
     }
-    check_keys_of(n, c, kt->keys, type);
+    check_keys_of(n, c, keys_of(*kind), type);
     ForceDef f;
-    f.kind = kt->kind;
+    f.kind = *kind;
     const bool has_body = (bool)n["body"], has_bodies = (bool)n["bodies"];
     if (has_body && has_bodies)
       c.child("bodies").fail(n["bodies"], "give either 'body' (one name) or 'bodies' (a list), not both");
@@ -95,10 +101,8 @@ class Reader {
     if (n["frame"]) {
       const Ctx fc = c.child("frame");
       const std::string fr = text(n["frame"], fc);
-      if (fr == "world") {
-        f.frame = ForceFrame::world;
-      } else if (fr == "body") {
-        f.frame = ForceFrame::body;
+      if (const auto frame = kForceFrames.parse(fr)) {
+        f.frame = *frame;
       } else {
         std::string msg = "unknown frame '" + fr + "' (world or body)";
         if (auto s = nearest(fr, {"world", "body"})) msg += "; did you mean '" + *s + "'?";

@@ -8,6 +8,7 @@
 
 #include "app/scene/scene.hpp"
 #include "app/scene/scene_yaml.hpp"
+#include "sim/base/enum_names.hpp"
 #include <simreel/error.hpp>
 
 namespace simreel {
@@ -45,23 +46,10 @@ std::string line_text(const YAML::Node& n, const Ctx& w) {
   return n.Scalar();
 }
 
-const std::vector<std::pair<std::string, ShowKind>>& kinds() {
-  static const std::vector<std::pair<std::string, ShowKind>> k = {
-      {"axes", ShowKind::axes},
-      {"angular_velocity", ShowKind::angular_velocity},
-      {"angular_momentum", ShowKind::angular_momentum},
-      {"velocity", ShowKind::velocity},
-      {"center_of_mass", ShowKind::center_of_mass},
-      {"trail", ShowKind::trail},
-      {"inertia_box", ShowKind::inertia_box},
-      {"inertia_ellipsoid", ShowKind::inertia_ellipsoid},
-      {"cones", ShowKind::cones},
-      {"poinsot", ShowKind::poinsot},
-      {"forces", ShowKind::forces},
-      {"contacts", ShowKind::contacts},
-  };
-  return k;
-}
+constexpr EnumNames<ShowKind, 12> kShowKinds{{"axes", "angular_velocity", "angular_momentum", "velocity",
+                                              "center_of_mass", "trail", "inertia_box", "inertia_ellipsoid",
+                                              "cones", "poinsot", "forces", "contacts"}};
+static_assert(kShowKinds.complete());
 
 // The keys each kind takes.
 std::vector<std::string> keys_of(ShowKind k) {
@@ -93,8 +81,6 @@ std::vector<std::string> keys_of(ShowKind k) {
 }
 
 ShowItem show_item(const YAML::Node& n, const Ctx& w, double duration) {
-  std::vector<std::string> names;
-  for (const auto& [name, kind] : kinds()) names.push_back(name);
   std::string name;
   YAML::Node opts;
   if (n.IsScalar()) {
@@ -105,8 +91,9 @@ ShowItem show_item(const YAML::Node& n, const Ctx& w, double duration) {
   } else {
     w.fail(n, "expected an item name (axes, angular_velocity, ...) or { name: { options } }, got " + show(n));
   }
-  const auto it = std::find(names.begin(), names.end(), name);
-  if (it == names.end()) {
+  const std::optional<ShowKind> kind = kShowKinds.parse(name);
+  if (!kind) {
+    const std::vector<std::string> names(kShowKinds.names.begin(), kShowKinds.names.end());
     std::string msg = "unknown item '" + name + "'";
     if (auto s = nearest(name, names))
       msg += "; did you mean '" + *s + "'?";
@@ -118,7 +105,7 @@ ShowItem show_item(const YAML::Node& n, const Ctx& w, double duration) {
     w.fail(n, msg);
   }
   ShowItem item;
-  item.kind = kinds()[(size_t)(it - names.begin())].second;
+  item.kind = *kind;
   if (item.kind == ShowKind::inertia_box || item.kind == ShowKind::inertia_ellipsoid) item.opacity = 0.35;
   if (item.kind == ShowKind::cones) item.opacity = 0.3;
   if (item.kind == ShowKind::poinsot) item.opacity = 0.3, item.length = duration, item.width = 3;
@@ -528,9 +515,7 @@ HudField parse_quantity(const std::string& field_in, const Scene& s, int default
 }
 
 const char* to_string(ShowKind k) {
-  for (const auto& [name, kind] : kinds())
-    if (kind == k) return name.c_str();
-  return "?";
+  return kShowKinds(k);
 }
 
 const std::vector<std::string>& hud_scalar_names() {

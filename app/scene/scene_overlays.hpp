@@ -1,4 +1,4 @@
-// A scene's teaching overlays (issue 12): per body `show:` items and the scene-level `overlays:`
+// A scene's teaching overlays: per body `show:` items and the scene-level `overlays:`
 // block, as parsed from YAML (documented key by key in scenes/README.md). What they look like is
 // app/view/overlays.hpp's business; this file knows no GL.
 //

@@ -325,8 +325,8 @@ TEST(Cli, InterruptedRenderLeavesAPlayableVideoOfTheFramesDone) {
 // A frame is a pure function of the state, the camera and the settings: frames of a partial
 // render (--frames) and a preview (--at) equal the same frames of a full render byte for byte,
 // with the same names, for a static camera over a cached ground and for a following camera. The
-// sphere flies away so the depth range changes on the way (the renderer of issue 10 kept a depth
-// range from earlier frames: its frames 12 and 25 differed between a full and a partial render).
+// sphere flies away so the depth range changes on the way (a depth range kept from earlier frames
+// would make frames such as 12 and 25 differ between a full and a partial render).
 TEST(Cli, PartialRenderFramesEqualTheFullRendersFrames) {
   for (const char* camera : {"camera: { position: [6, -6, 3], look_at: [0, 0, 0.5] }\n",
                              "camera: { position: [6, -6, 3], look_at: [0, 0, 0.5], follow: b }\n"}) {
@@ -479,7 +479,7 @@ std::set<std::string> readme_options(const std::string& readme, const std::strin
   return names;
 }
 
-// Issue 13: the README's usage block lists every option of every command and no other: the same
+// The README's usage block lists every option of every command and no other: the same
 // set as each command's --help (which the option tables generate).
 TEST(Cli, ReadmeUsageBlockAndHelpListTheSameOptions) {
   const std::string readme = slurp("README.md");
@@ -770,7 +770,7 @@ TEST(Cli, SignalsStopBetweenStepsAndFinishTheOutputs) {
     EXPECT_EQ(e.path().filename().string().find(".partial"), std::string::npos) << e.path();
 }
 
-// Issue 16: hostile meshes give exit 2 and a message naming the file, from `inspect` and through a
+// Hostile meshes give exit 2 and a message naming the file, from `inspect` and through a
 // scene; never a crash (the PLY headers below used to kill every command inside assimp).
 TEST(Cli, HostileMeshesExitWith2AndSayWhy) {
   const std::string dup = "tests/data/hostile/ply_duplicate_property.ply";

@@ -247,8 +247,8 @@ std::pair<double, int> peak_mb(const std::vector<std::string>& args) {
   return {u.ru_maxrss / 1024.0, WIFEXITED(st) ? WEXITSTATUS(st) : -1};
 }
 
-// The case, end to end: 1e7 frames (fps 1000 for 1e4 s), three of them rendered, peaks
-// where a 3-frame scene does (551 MB before, from the frame table and the list of targets).
+// A very long scene, end to end: 1e7 frames (fps 1000 for 1e4 s), three of them rendered, peaks
+// where a 3-frame scene does (a frame table and a list of targets for every frame take 551 MB).
 TEST(PrepareRun, TenMillionFrameSceneRendersThreeFramesInTheMemoryOfAShortOne) {
   auto scene = [](double duration, double fps) {
     char text[400];

@@ -255,7 +255,7 @@ TEST(MeshImport, GltfThroughAssimpAppliesNodeTransformsAndBaseColour) {
   EXPECT_NEAR((*im.color)[2], 0.6f, 1e-6);
 }
 
-// Issue 14, defect 3: an L-shaped prism whose caps are single non-convex 7-gons, each with a
+// An L-shaped prism whose caps are single non-convex 7-gons, each with a
 // corner in line with its neighbours, and decimal coordinates. Read by simreel's own reader (ear
 // clipping in the polygon's plane, double precision): exact, no zero-area triangles, no welding.
 TEST(MeshImport, NonConvexPolygonsAreEarClippedInDoublePrecision) {
@@ -286,7 +286,7 @@ TEST(MeshImport, NonConvexPolygonsAreEarClippedInDoublePrecision) {
   EXPECT_LT((r.props.com - Vec3(0.075, 0.125, 0.15)).norm(), 1e-15);
 }
 
-// Defect 4: a binary PLY with a Blender-style header line (no "comment") and a tetrahedron as
+// A binary PLY with a Blender-style header line (no "comment") and a tetrahedron as
 // triangle strips: -1 restarts a strip, windings alternate, a repeated-corner join is left out.
 TEST(MeshImport, PlyTriangleStripsAndExporterHeaderLines) {
   std::string b =
@@ -321,7 +321,7 @@ TEST(MeshImport, PlyTriangleStripsAndExporterHeaderLines) {
   EXPECT_NEAR(r.volume, 0.001 / 6, 1e-13 * 0.001);
 }
 
-// Defect 4: OFF faces (and vertices) that run over several lines, colours after them.
+// OFF faces (and vertices) that run over several lines, colours after them.
 TEST(MeshImport, OffRecordsSplitAcrossLines) {
   std::string off = "OFF\n8 6 0\n";
   for (int i = 0; i < 8; ++i) {
@@ -378,7 +378,7 @@ TEST(MeshImport, BrokenFilesNameFileAndLine) {
             std::string::npos);
 }
 
-// ---- issue 16: hostile input ------------------------------------------------------------------
+// ---- Hostile input ----------------------------------------------------------------------------
 
 std::string hostile(const std::string& name) {
   return "tests/data/hostile/" + name;

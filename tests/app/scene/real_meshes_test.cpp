@@ -1,4 +1,4 @@
-// Issue 14: simreel's import and solid mass properties over the public meshes in
+// Simreel's import and solid mass properties over the public meshes in
 // SIMREEL_REAL_MESHES_DIR (../shared/meshes/real; this test is only built when it exists, label
 // real_meshes), against exact references: GMP integer sums on the very doubles simreel weighed
 // (tests/sim/mass/exact_mass.hpp). Closed meshes must match to 1e-12 relative; open ones (SOURCES.md

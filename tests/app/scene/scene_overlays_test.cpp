@@ -1,4 +1,4 @@
-// Parsing of the teaching overlays (issue 12): bodies' `show:` items and the `overlays:` block.
+// Parsing of the teaching overlays: bodies' `show:` items and the `overlays:` block.
 // The item names and their form are a contract; every mistake names the file, line and key.
 #include <gtest/gtest.h>
 
@@ -32,7 +32,7 @@ const char* kHead =
     "simulation: { duration: 2 }\nbodies:\n  - name: handle\n"  // a 3 s trail is fine in 2 s
     "    colliders: [ { shape: box, size: [1, 2, 3], density: 10 } ]\n";
 
-// The example of issue 12, word for word.
+// The contract's example, word for word: its item names and forms must keep loading.
 TEST(SceneOverlays, TheContractExampleLoads) {
   const Scene s = load_scene(write_scene(
       "contract.yaml",

@@ -186,7 +186,7 @@ TEST(Scene, QuaternionMustBeUnit) {
 // `msg` holds `part` (the message is printed on failure).
 #define EXPECT_HAS(msg, part) EXPECT_NE((msg).find(part), std::string::npos) << (msg)
 
-// ---- Contacts (issue 10): ground, body types, contact keys on colliders, planes, ellipsoids.
+// ---- Contacts: ground, body types, contact keys on colliders, planes, ellipsoids.
 
 TEST(Scene, GroundIsAStaticPlaneBodyAndTheDrawnGround) {
   const Scene s =
@@ -213,7 +213,7 @@ TEST(Scene, GroundIsAStaticPlaneBodyAndTheDrawnGround) {
   EXPECT_EQ(s.render.ground_tile, 2);
   EXPECT_FALSE(s.looks[1].drawn);  // ... not again as a collider
   EXPECT_TRUE(s.looks[0].drawn);
-  World w(world_config(s, 1), s.bodies);  // runs today
+  World w(world_config(s, 1), s.bodies);  // the world takes it and steps
   EXPECT_EQ(w.dynamic_count(), 1);
   w.step();
 
@@ -345,7 +345,7 @@ TEST(Scene, PlanesOnStaticBodiesOnly) {
   EXPECT_EQ(p.friction, 0.4);
   EXPECT_EQ(s.looks[0].colliders[0].plane_size, 6);
   EXPECT_TRUE(s.looks[0].drawn);          // a plane of the scene's own is drawn (a finite square)
-  World w(world_config(s, 1), s.bodies);  // a plane-only static body runs today
+  World w(world_config(s, 1), s.bodies);  // a plane-only static body steps
   EXPECT_EQ(w.dynamic_count(), 1);
 
   const std::string d = error_of("bodies:\n  - name: b\n    colliders:\n      - { shape: plane }\n");
@@ -542,7 +542,7 @@ TEST(Scene, CopiesOfOneMeshShareTheirHullsAndScalesAreExact) {
   EXPECT_NEAR(twice.props_C.mass / small.props_C.mass, 8.0, 1e-9);
 }
 
-// ---- issue 16: YAML that yaml-cpp would read silently, and values that make no body -----------
+// ---- YAML that yaml-cpp would read silently, and values that make no body ---------------------
 
 // The message from the file's name on (the scratch folder differs per run).
 std::string rel(const std::string& m) {

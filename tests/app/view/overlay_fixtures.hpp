@@ -1,4 +1,4 @@
-// Shared by the overlay tests (issue 12): a scene drawn as the render and check commands draw it,
+// Shared by the overlay tests: a scene drawn as the render and check commands draw it,
 // stepped to any frame, and pixel helpers.
 #pragma once
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// The `forces` and `contacts` show items (issue 12): contact forces from the solver's impulses add
+// The `forces` and `contacts` show items: contact forces from the solver's impulses add
 // up to what statics says they must, arrows start and end where the forces put them, scales come
 // from the pre-pass, springs run from end to end and torques turn the right way.
 #include <gtest/gtest.h>

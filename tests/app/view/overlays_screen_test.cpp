@@ -1,4 +1,4 @@
-// The 2D layer of a scene's overlays (issue 12): captions fade in and out over their time range,
+// The 2D layer of a scene's overlays: captions fade in and out over their time range,
 // labels follow their body and stay in the frame, the legend fills itself from the show items, a
 // title too wide for the frame is set smaller, inset plots carry the run's values, and all of it is
 // composited after anti-aliasing (crisp whatever the AA mode).

@@ -1,4 +1,4 @@
-// Teaching overlays drawn as `simreel render` and `check` draw them (issue 12): arrows end at the
+// Teaching overlays drawn as `simreel render` and `check` draw them: arrows end at the
 // projected point of their quantity, trails pass through the positions `simreel simulate --csv`
 // reports, HUD text sits where the font puts it and is not blurred by FXAA, and frames with
 // overlays are the same bytes across runs, thread counts and partial renders.
