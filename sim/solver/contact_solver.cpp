@@ -144,6 +144,7 @@ template <typename FS, typename FW>
 void ContactSolver::by_colour(int w, int nw, FS&& scalar, FW&& wide) {
   const std::vector<int>& used = graph_.used();
   constexpr int kOverflow = ConstraintGraph::kOverflow;
+  constexpr int kGroups = WorkerSchedule::kGroups;
   const bool overflow = graph_.overflow_count() > 0;
   auto items = [&](int g, int begin, int end) {
     if (begin >= end) return;
@@ -169,7 +170,7 @@ void ContactSolver::by_colour(int w, int nw, FS&& scalar, FW&& wide) {
     if (u > 0)
       for (int v = 0; v < nw; ++v)
         if (v != w) waited += pool_->await_progress(v, base + (unsigned)u);
-    const WorkRange* r = &range_[(size_t)used[u] * kGroups * nw + w];
+    const WorkerSchedule::WorkRange* r = schedule_.ranges(used[u], w, nw);
     for (int g = 0; g < kGroups; ++g) {
       items(g, r[g * nw].lo, r[g * nw].a);
       items(g, r[g * nw].b, r[g * nw].hi);
@@ -177,8 +178,8 @@ void ContactSolver::by_colour(int w, int nw, FS&& scalar, FW&& wide) {
     pool_->advance(w);
     for (int g = 0; g < kGroups; ++g) items(g, r[g * nw].a, r[g * nw].b);
   }
-  worker_time_[w].busy +=
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() - waited;
+  const double busy = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() - waited;
+  schedule_.add_busy(w, busy);
   if (overflow) {
     pool_->barrier();
     if (w == 0) scalar(scalar_start_[kOverflow], scalar_start_[kOverflow + 1]);
@@ -308,7 +309,7 @@ __attribute__((flatten)) void ContactSolver::prepare(const SolverInput& in, cons
   pool_ = (in.pool && ncons >= kMinParallelConstraints) ? in.pool : nullptr;
   workers_ = pool_ ? pool_->size() : 1;
   struck_.resize(workers_);
-  if (workers_ > 1) split_colours();
+  if (workers_ > 1) schedule_.split(schedule_layout());
 
   on_workers([&](int w, int nw) {
     int b, e;

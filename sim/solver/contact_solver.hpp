@@ -30,6 +30,7 @@
 #include "sim/collision/tracked_contacts.hpp"
 #include "sim/solver/contact_settings.hpp"
 #include "sim/solver/contact_wide.hpp"
+#include "sim/solver/worker_schedule.hpp"
 #include "sim/collision/shape_table.hpp"
 #include "sim/dynamics/state.hpp"
 
@@ -187,7 +188,7 @@ class ContactSolver {
   const ConstraintGraph& graph() const { return graph_; }  ///< this step's colouring
   int workers() const { return workers_; }                 ///< this step's (1: no split)
   /// The split chosen last (sim/solver/worker_schedule.cpp): fractions of each colour, else spans of bodies.
-  bool split_in_fractions() const { return split_by_fraction_; }
+  bool split_in_fractions() const { return schedule_.by_fractions(); }
   // Checks the workers' split of the colours (sim/solver/worker_schedule.cpp) as by_colour uses it: each
   // colour's items shared out whole, and no item solved after the worker's count went on touches
   // a body another worker's items touch. Returns the number of faults; if given, *deferred the
@@ -254,44 +255,16 @@ class ContactSolver {
     bool value = false;
   };
   std::vector<Flag> struck_;
+  std::vector<int> lane_slot_;  ///< per lane (4 bundle + lane): its slot, or -1 (padding)
   // Two or more workers: which part of each colour each takes, and which of it first
-  // (sim/solver/worker_schedule.cpp). Per colour c, group g (0: scalar_ entries, 1: bundles resting, 2:
-  // bundles apart) and worker w, range_[(c * kGroups + g) * workers_ + w]: the worker solves
-  // [lo, a) and [b, hi) (the items touching a body that another worker's items touch), then tells
-  // the others it has (WorkerPool::advance), then [a, b).
-  static constexpr int kGroups = 3;
-  struct WorkRange {
-    int lo = 0, a = 0, b = 0, hi = 0;
-  };
-  std::vector<WorkRange> range_, range_alt_;  ///< the split used; the other one tried
-  std::vector<int> lane_slot_;                ///< per lane (4 bundle + lane): its slot, or -1 (padding)
-  struct BodyPair {
-    int a, b;  ///< solver bodies
-  };
-  std::vector<BodyPair> lane_body_, scalar_body_;  ///< per lane, per scalar_ entry (split_colours)
-  std::vector<uint32_t> body_workers_;   ///< per solver body: bit w set if worker w's items touch it
-  std::vector<double> key_weight_;       ///< per solver body: the work of the items keyed by it
-  std::vector<double> worker_fraction_;  ///< per worker: its fraction of the weighted items
-  std::vector<int> threshold_;           ///< workers_ + 1 entries: worker w takes keys [t_w, t_w+1)
-  std::vector<int> worker_count_;        ///< per worker: scratch (split_colours)
-  std::vector<double> model_start_, model_publish_;  ///< per worker: scratch (finish_split)
-  long split_steps_ = 0;                             ///< steps split among workers
-  bool split_by_fraction_ = false;  ///< the last choice: split_by_fractions, else split_by_spans
-  struct alignas(64) WorkerTime {   // per worker, its own cache line
-    double busy = 0;                ///< s in by_colour this step, not waiting
-  };
-  std::vector<WorkerTime> worker_time_;
-  void split_colours();  ///< range_ from worker_fraction_, after it is rebalanced (prepare)
-  void split_by_spans(std::vector<WorkRange>& range);
-  void split_by_fractions(std::vector<WorkRange>& range) const;
-  double finish_split(std::vector<WorkRange>& range);  ///< a, b of each range; the modelled time
-  int group_begin(int c, int g) const;                 ///< colour c's group g: its items [begin, end)
-  int group_end(int c, int g) const;
+  // (sim/solver/worker_schedule.hpp), made in prepare from this step's layout.
+  WorkerSchedule schedule_;
+  WorkerSchedule::Layout schedule_layout() const;  ///< the colouring, lanes and scalar entries
 
   template <typename F>
   void on_workers(F&& f) const;  ///< f(worker, workers) on every worker, or f(0, 1)
   // Inside on_workers: per colour, scalar(begin, end) over this worker's share of the colour's
-  // scalar_ entries and wide(begin, end) over its share of the colour's bundles (range_), waiting
+  // scalar_ entries and wide(begin, end) over its share of the colour's bundles (schedule_), waiting
   // before each colour until the other workers have solved the last colour's items they share
   // bodies with; then, after a barrier, the overflow set (scalar) on worker 0.
   template <typename FS, typename FW>

@@ -1,5 +1,5 @@
-// How the workers share the colours of the constraint graph (ContactSolver::by_colour), and how
-// little they wait for each other.
+// How the workers share the colours of the constraint graph (WorkerSchedule, worker_schedule.hpp;
+// used by ContactSolver::by_colour), and how little they wait for each other.
 //
 // Within a colour no two constraints share a moving body, so the workers may solve a colour's
 // items (scalar constraints, bundles of four) in any split and any order: the result is that of
@@ -39,6 +39,7 @@
 #include <vector>
 
 #include "sim/solver/contact_solver.hpp"
+#include "sim/solver/worker_schedule.hpp"
 
 namespace simreel {
 
@@ -56,8 +57,13 @@ constexpr int kChooseEvery = 8;
 
 }  // namespace
 
-void ContactSolver::split_colours() {
-  const int nw = workers_;
+void WorkerSchedule::split(const Layout& in) {
+  const int nw = in.workers;
+  const ConstraintGraph& graph = *in.graph;
+  const std::vector<int>& lane_slot = *in.lane_slot;
+  const std::vector<int>& scalar = *in.scalar;
+  const std::vector<int>& edge_a = *in.edge_a;
+  const std::vector<int>& edge_b = *in.edge_b;
   // The fractions, from the busy times of the last step's sweeps: a worker's time per unit of
   // fraction is its cost rate, and equal times want fractions in inverse proportion to it.
   if ((int)worker_fraction_.size() != nw) {
@@ -86,40 +92,32 @@ void ContactSolver::split_colours() {
   }
   // Each lane's and each scalar entry's two solver bodies (0: the static body, or a padding lane),
   // read in order by the passes below.
-  lane_body_.resize(lane_slot_.size());
-  for (size_t l = 0; l < lane_slot_.size(); ++l) {
-    const int i = lane_slot_[l] >= 0 ? graph_.constraint_at(lane_slot_[l]) : -1;
-    lane_body_[l] = i >= 0 ? BodyPair{edge_a_[i], edge_b_[i]} : BodyPair{0, 0};
+  lane_body_.resize(lane_slot.size());
+  for (size_t l = 0; l < lane_slot.size(); ++l) {
+    const int i = lane_slot[l] >= 0 ? graph.constraint_at(lane_slot[l]) : -1;
+    lane_body_[l] = i >= 0 ? BodyPair{edge_a[i], edge_b[i]} : BodyPair{0, 0};
   }
-  scalar_body_.resize(scalar_.size());
-  for (size_t n = 0; n < scalar_.size(); ++n) {
-    const int i = graph_.constraint_at(scalar_[n]);
-    scalar_body_[n] = BodyPair{edge_a_[i], edge_b_[i]};
+  scalar_body_.resize(scalar.size());
+  for (size_t n = 0; n < scalar.size(); ++n) {
+    const int i = graph.constraint_at(scalar[n]);
+    scalar_body_[n] = BodyPair{edge_a[i], edge_b[i]};
   }
   // Two ways to share the colours; the one the model says ends sooner, tried every kChooseEvery
   // steps (the way a scene suits changes slowly; each costs ~0.08 ms a step on the pyramid).
   if (split_steps_++ % kChooseEvery == 0) {
-    split_by_spans(range_);
-    const double spans = finish_split(range_);
-    split_by_fractions(range_alt_);
-    const double fractions = finish_split(range_alt_);
+    split_by_spans(in, range_);
+    const double spans = finish_split(in, range_);
+    split_by_fractions(in, range_alt_);
+    const double fractions = finish_split(in, range_alt_);
     split_by_fraction_ = fractions < spans;
     if (split_by_fraction_) range_.swap(range_alt_);
   } else {
     if (split_by_fraction_)
-      split_by_fractions(range_);
+      split_by_fractions(in, range_);
     else
-      split_by_spans(range_);
-    finish_split(range_);
+      split_by_spans(in, range_);
+    finish_split(in, range_);
   }
-}
-
-int ContactSolver::group_begin(int c, int g) const {
-  return g == 0 ? scalar_start_[c] : (g == 1 ? bundle_start_[c] : bundle_split_[c]);
-}
-
-int ContactSolver::group_end(int c, int g) const {
-  return g == 0 ? scalar_start_[c + 1] : (g == 1 ? bundle_split_[c] : bundle_start_[c + 1]);
 }
 
 // Spans of bodies: an item's key is the higher solver body of its first constraint, and worker w
@@ -128,18 +126,19 @@ int ContactSolver::group_end(int c, int g) const {
 // span. Few shared bodies where each colour spreads over the bodies (the large pyramid, whose
 // rows wrap round the colours); a colour that lies in one span (a pile's layer, when its bodies
 // are numbered layer by layer) is solved by one worker while the others wait.
-void ContactSolver::split_by_spans(std::vector<WorkRange>& range) {
-  const int nw = workers_;
-  const int nb = (int)sb_.size();
+void WorkerSchedule::split_by_spans(const Layout& in, std::vector<WorkRange>& range) {
+  const int nw = in.workers;
+  const int nb = in.bodies;
+  const ConstraintGraph& graph = *in.graph;
   auto key = [&](int g, int n) {
     const BodyPair& p = g == 0 ? scalar_body_[n] : lane_body_[n * wide::kLanes];
     return std::max(p.a, p.b);
   };
   key_weight_.assign(nb, 0.0);
   double total = 0;
-  for (const int c : graph_.used())
+  for (const int c : graph.used())
     for (int g = 0; g < kGroups; ++g)
-      for (int n = group_begin(c, g); n < group_end(c, g); ++n) {
+      for (int n = in.group_begin(c, g); n < in.group_end(c, g); ++n) {
         key_weight_[key(g, n)] += kItemWeight[g];
         total += kItemWeight[g];
       }
@@ -157,9 +156,9 @@ void ContactSolver::split_by_spans(std::vector<WorkRange>& range) {
   for (; w < nw; ++w) threshold_[w] = nb;
   threshold_[nw] = nb;
   range.assign((size_t)ConstraintGraph::kColours * kGroups * nw, WorkRange{});
-  for (const int c : graph_.used())
+  for (const int c : graph.used())
     for (int g = 0; g < kGroups; ++g) {
-      const int lo = group_begin(c, g), hi = group_end(c, g);
+      const int lo = in.group_begin(c, g), hi = in.group_end(c, g);
       std::fill(worker_count_.begin(), worker_count_.end(), 0);
       for (int n = lo; n < hi; ++n) {
         const int k = key(g, n);
@@ -181,12 +180,12 @@ void ContactSolver::split_by_spans(std::vector<WorkRange>& range) {
 // colours' items are numbered alike (a pile's layers) the workers' parts line up from colour to
 // colour; where a colour's items spread over all the bodies, the borders move from colour to
 // colour and more bodies are shared.
-void ContactSolver::split_by_fractions(std::vector<WorkRange>& range) const {
-  const int nw = workers_;
+void WorkerSchedule::split_by_fractions(const Layout& in, std::vector<WorkRange>& range) const {
+  const int nw = in.workers;
   range.assign((size_t)ConstraintGraph::kColours * kGroups * nw, WorkRange{});
-  for (const int c : graph_.used())
+  for (const int c : in.graph->used())
     for (int g = 0; g < kGroups; ++g) {
-      const int lo = group_begin(c, g), hi = group_end(c, g);
+      const int lo = in.group_begin(c, g), hi = in.group_end(c, g);
       WorkRange* r = &range[((size_t)c * kGroups + g) * nw];
       double upto = 0;
       for (int w = 0, at = lo; w < nw; ++w) {
@@ -202,9 +201,10 @@ void ContactSolver::split_by_fractions(std::vector<WorkRange>& range) const {
 // and how long the split takes by a model: items weighted by kItemWeight, each worker solving a
 // colour's first part, advancing, then its last part, and starting the next colour once its own
 // work and the others' first parts of this colour are done. Returns the modelled time.
-double ContactSolver::finish_split(std::vector<WorkRange>& range) {
-  const int nw = workers_;
-  body_workers_.assign(sb_.size(), 0);
+double WorkerSchedule::finish_split(const Layout& in, std::vector<WorkRange>& range) {
+  const int nw = in.workers;
+  const ConstraintGraph& graph = *in.graph;
+  body_workers_.assign(in.bodies, 0);
   const bool every_item_shared = nw > 32;  // more workers than bits: wait as at a barrier
   // An item's body pairs: one for a scalar entry, four for a bundle.
   auto pairs = [&](int g, int n) {
@@ -213,7 +213,7 @@ double ContactSolver::finish_split(std::vector<WorkRange>& range) {
                : std::make_pair(&lane_body_[n * wide::kLanes], &lane_body_[n * wide::kLanes] + wide::kLanes);
   };
   if (!every_item_shared)
-    for (const int c : graph_.used())
+    for (const int c : graph.used())
       for (int g = 0; g < kGroups; ++g) {
         const WorkRange* r = &range[((size_t)c * kGroups + g) * nw];
         for (int w = 0; w < nw; ++w)
@@ -235,7 +235,7 @@ double ContactSolver::finish_split(std::vector<WorkRange>& range) {
   // In each worker's range, the longest run of items touching no shared body, [a, b), is solved
   // after the others (those at either end, mostly: the borders).
   std::fill(model_start_.begin(), model_start_.end(), 0.0);
-  for (const int c : graph_.used()) {
+  for (const int c : graph.used()) {
     for (int w = 0; w < nw; ++w) {
       double first = 0, last = 0;
       for (int g = 0; g < kGroups; ++g) {
@@ -260,11 +260,29 @@ double ContactSolver::finish_split(std::vector<WorkRange>& range) {
   return *std::max_element(model_start_.begin(), model_start_.end());
 }
 
+WorkerSchedule::Layout ContactSolver::schedule_layout() const {
+  WorkerSchedule::Layout in;
+  in.graph = &graph_;
+  in.lane_slot = &lane_slot_;
+  in.edge_a = &edge_a_;
+  in.edge_b = &edge_b_;
+  in.scalar = &scalar_;
+  in.scalar_start = &scalar_start_;
+  in.bundle_start = &bundle_start_;
+  in.bundle_split = &bundle_split_;
+  in.bodies = (int)sb_.size();
+  in.workers = workers_;
+  return in;
+}
+
 int ContactSolver::split_faults(long* deferred, long* items) const {
   if (deferred) *deferred = 0;
   if (items) *items = 0;
   const int nw = workers_;
   if (nw < 2) return 0;
+  constexpr int kGroups = WorkerSchedule::kGroups;
+  using WorkRange = WorkerSchedule::WorkRange;
+  const WorkerSchedule::Layout layout = schedule_layout();
   int faults = 0;
   // Which workers touch each body, from the ranges alone.
   std::vector<uint64_t> touch(sb_.size(), 0);
@@ -276,10 +294,10 @@ int ContactSolver::split_faults(long* deferred, long* items) const {
   };
   for (const int c : graph_.used())
     for (int g = 0; g < kGroups; ++g) {
-      const int lo = group_begin(c, g), hi = group_end(c, g);
+      const int lo = layout.group_begin(c, g), hi = layout.group_end(c, g);
       int at = lo;
       for (int w = 0; w < nw; ++w) {
-        const WorkRange& r = range_[((size_t)c * kGroups + g) * nw + w];
+        const WorkRange& r = schedule_.ranges(c, w, nw)[g * nw];
         if (r.lo != at || r.lo > r.a || r.a > r.b || r.b > r.hi) ++faults;
         at = r.hi;
         for (int n = r.lo; n < r.hi; ++n)
@@ -294,7 +312,7 @@ int ContactSolver::split_faults(long* deferred, long* items) const {
   for (const int c : graph_.used())
     for (int g = 0; g < kGroups; ++g)
       for (int w = 0; w < nw; ++w) {
-        const WorkRange& r = range_[((size_t)c * kGroups + g) * nw + w];
+        const WorkRange& r = schedule_.ranges(c, w, nw)[g * nw];
         if (deferred) *deferred += r.b - r.a;
         if (items) *items += r.hi - r.lo;
         for (int n = r.a; n < r.b; ++n)

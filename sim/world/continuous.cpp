@@ -57,30 +57,32 @@ void ContinuousCollision::init(bool enabled, const std::vector<BodyDef>& defs, c
   order_ = sweep_shapes;
 }
 
+// The contact set's fast pairs (contact_set.hpp), the narrow phase's side of continuous collision.
 // A fast pair (one of its shapes can close on the other by more than half its own smallest width
 // this step, or a bullet is in it): collide_ahead instead of collide. `closing` (the broad phase's
 // bound on how far the pair can close, about the bodies' centres) bounds the shapes' own relative
 // motion, so slow pairs are turned away without more work.
-bool WorldImpl::fast_pair(int a, int b, double closing) const {
-  if (!ccd_.enabled()) return false;
-  const ShapeRecord& A = (*shapes_)[a];
-  const ShapeRecord& B = (*shapes_)[b];
-  const double slop4 = 4 * cfg_.contacts.linear_slop;
-  if (!(extents_.shape_width[a] > slop4) || !(extents_.shape_width[b] > slop4)) return false;  // as in stage_continuous
-  if (ccd_.bullet(A.body) || ccd_.bullet(B.body)) return true;
-  const double limit = 0.5 * std::min(model_[A.body].is_static ? kInfWidth : extents_.shape_width[a],
-                                      model_[B.body].is_static ? kInfWidth : extents_.shape_width[b]);
+bool ContactSet::fast_pair(const Step& in, int a, int b, double closing) {
+  if (!in.ccd->enabled()) return false;
+  const ShapeRecord& A = (*in.shapes)[a];
+  const ShapeRecord& B = (*in.shapes)[b];
+  const BodyExtents& ext = *in.extents;
+  const double slop4 = 4 * in.linear_slop;
+  if (!(ext.shape_width[a] > slop4) || !(ext.shape_width[b] > slop4)) return false;  // as in stage_continuous
+  if (in.ccd->bullet(A.body) || in.ccd->bullet(B.body)) return true;
+  const double limit = 0.5 * std::min(in.model[A.body].is_static ? kInfWidth : ext.shape_width[a],
+                                      in.model[B.body].is_static ? kInfWidth : ext.shape_width[b]);
   if (closing <= limit) return false;
   // The shapes' own motion: their centres' relative velocity and their spin about their centres.
   auto centre_velocity = [&](const ShapeRecord& r, Vec3& w) {
-    const MotionState& s = state_[r.body];
+    const MotionState& s = in.state[r.body];
     w = s.q_WP * s.w_P;
     return Vec3(s.v_W + w.cross(s.q_WP * r.p_PC));
   };
   Vec3 wa, wb;
   const Vec3 va = centre_velocity(A, wa), vb = centre_velocity(B, wb);
   const double own =
-      ((va - vb).norm() + wa.norm() * A.geom.bounding_radius + wb.norm() * B.geom.bounding_radius) * cfg_.dt;
+      ((va - vb).norm() + wa.norm() * A.geom.bounding_radius + wb.norm() * B.geom.bounding_radius) * in.dt;
   return own > limit;
 }
 
@@ -98,16 +100,17 @@ bool WorldImpl::fast_pair(int a, int b, double closing) const {
 // solver reads it into the anchors; ContactPoint::offset_W). A pair that never
 // comes that close in the prediction has no points (the continuous stage after the solve catches
 // what the prediction missed); a pair touching already is collided as usual.
-int WorldImpl::collide_ahead(int a, int b, const Pose& xa, const Pose& xb, double speculative, double closing,
-                         PairCache& cache, Manifold& m, Vec3 offset[4]) const {
-  const ShapeTable& st = *shapes_;
+int ContactSet::collide_ahead(const Step& step, int a, int b, const Pose& xa, const Pose& xb,
+                              double speculative, double closing, PairCache& cache, Manifold& m,
+                              Vec3 offset[4]) {
+  const ShapeTable& st = *step.shapes;
   const ShapeRecord& A = st[a];
   const ShapeRecord& B = st[b];
-  const double dt = cfg_.dt;
+  const double dt = step.dt;
   auto predict = [&](int i) {
-    const MotionState& s = state_[i];
+    const MotionState& s = step.state[i];
     Vec3 x1 = s.x_W + dt * s.v_W;
-    if (model_[i].inv_mass > 0) x1 += (0.5 * dt * dt) * cfg_.gravity;
+    if (step.model[i].inv_mass > 0) x1 += (0.5 * dt * dt) * step.gravity;
     const Quat q1 = (rotation_increment(s.q_WP * s.w_P, dt) * s.q_WP).normalized();
     return make_sweep(s.x_W, s.q_WP, x1, q1);
   };
@@ -117,24 +120,24 @@ int WorldImpl::collide_ahead(int a, int b, const Pose& xa, const Pose& xb, doubl
   in.R_PA = A.R_PC;
   in.p_PA = A.p_PC;
   in.sa = &sa;
-  in.reach_a = extents_.sweep_reach(a);
+  in.reach_a = step.extents->sweep_reach(a);
   in.b = &B.geom;
   in.R_PB = B.R_PC;
   in.p_PB = B.p_PC;
   in.sb = &sb;
-  in.reach_b = extents_.sweep_reach(b);
+  in.reach_b = step.extents->sweep_reach(b);
   in.target = 0.5 * speculative;
   in.tolerance = 0.25 * speculative;
   const ToiOutput out = time_of_impact(in);
   if (out.state == ToiOutput::touching || !(speculative > 0))
-    return collide(A.geom, xa, B.geom, xb, speculative + closing, cache, m);
+    return simreel::collide(A.geom, xa, B.geom, xb, speculative + closing, cache, m);
   m.count = 0;
   if (out.state == ToiOutput::separated) return 0;
   const double t = out.t;
   const Vec3 xA = sa.x_at(t), xB = sb.x_at(t);
   const Quat qA = sa.q_at(t), qB = sb.q_at(t);
-  const int n =
-      collide(A.geom, shape_pose(A, xA, qA), B.geom, shape_pose(B, xB, qB), 2.0 * speculative, cache, m);
+  const int n = simreel::collide(A.geom, shape_pose(A, xA, qA), B.geom, shape_pose(B, xB, qB),
+                                 2.0 * speculative, cache, m);
   // Back to the start: each surface point keeps its place in its body.
   const Mat3 RA0 = sa.q0.toRotationMatrix(), RB0 = sb.q0.toRotationMatrix();
   const Mat3 RAt = qA.toRotationMatrix(), RBt = qB.toRotationMatrix();

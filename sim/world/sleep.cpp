@@ -34,8 +34,8 @@ void WorldImpl::stage_sleep() {
   in.sleep_time = cfg_.contacts.sleep_time;
   in.model = model_.data();
   in.state = state_.data();
-  in.in_contact = in_contact_.data();
-  in.contacts = &contacts_;
+  in.in_contact = contacts_.in_contact();
+  in.contacts = &contacts_.active();
   in.extents = &extents_;
   in.shape_moving = &shape_moving_;
   fell_asleep_.clear();

@@ -152,11 +152,11 @@ void WorldImpl::save_state(std::ostream& os) const {
     o.vec(wrench_[i].f_W);
     o.vec(wrench_[i].tau_W);
   }
-  o.i32(contact_stats_.contacts_max);
-  o.f64(contact_stats_.max_penetration);
-  // contacts_ and resting_ merged in key order: the one list stage_collide keeps.
-  o.u32((uint32_t)(contacts_.size() + resting_.size()));
-  for_each_contact([&o](const Contact& c) {
+  o.i32(contacts_.stats().contacts_max);
+  o.f64(contacts_.stats().max_penetration);
+  // The active and resting records merged in key order: the one list the contact set keeps.
+  o.u32((uint32_t)contacts_.size());
+  contacts_.for_each([&o](const Contact& c) {
     o.i32(c.shape_a);
     o.i32(c.shape_b);
     o.i32(c.body_a);
@@ -314,10 +314,7 @@ void WorldImpl::restore_state(std::istream& is) {
   wrench_ = std::move(wrench);
   wrench_dirty_ = dirty;
   steps_ = steps;
-  contact_stats_ = stats;
-  contacts_ = std::move(contacts);
-  resting_.clear();  // the resting records move there again in the next collide
-  resting_keys_.clear();
+  contacts_.restore(std::move(contacts), stats);
   after_restore(std::move(still), std::move(asleep));
 }
 

@@ -176,11 +176,11 @@ void WorldImpl::step() {
   if (ccd_.enabled()) ccd_.save_start_poses(islands_.awake_bodies_unsorted(), state_.data());  // sweeps' start
   if (collide_enabled_) {
     clock_.run(Stage::update_broad_phase, [&] { stage_broad_phase(); });
-    if (pairs_.empty() && contacts_.empty() && resting_.empty())
+    if (contacts_.idle())
       clock_.skipped(Stage::collide);  // nothing close, nothing was: no contact bodies either
     else
-      clock_.run(Stage::collide, [&] { stage_collide(); });
-    solved = !contact_bodies_.empty();
+      clock_.run(Stage::collide, [&] { contacts_.collide(collide_step(), islands_, profile_); });
+    solved = !contacts_.bodies().empty();
     if (solved) finite = stage_solve_contacts();
   } else {
     clock_.skipped(Stage::update_broad_phase);
@@ -258,10 +258,10 @@ bool WorldImpl::stage_integrate_and_check() {
   // Bodies under forces first, on this thread alone (one coupled system: a spring joins two).
   const bool forced_finite =
       forces_.forced().empty() || forces_.integrate(time(), (double)(steps_ + 1) * cfg_.dt, cfg_.dt, cfg_.gravity,
-                                                    state_.data(), model_.data(), in_contact_.data(),
-                                                    !contact_bodies_.empty());
+                                                    state_.data(), model_.data(), contacts_.in_contact(),
+                                                    !contacts_.bodies().empty());
   // Bodies the contact solver stepped this step are left out (free_ holds the rest).
-  const bool some_in_contact = !contact_bodies_.empty();
+  const bool some_in_contact = !contacts_.bodies().empty();
   if (!some_in_contact && islands_.sleeping() > 0) {
     // Nothing was solved (free_ is stale) but some bodies sleep: the awake ones only.
     for (size_t g = 0; g < groups_.size(); ++g) {

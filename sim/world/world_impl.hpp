@@ -8,7 +8,7 @@
 //                        (skipped when there are none; gravity is applied inside integration)
 //   update_broad_phase   world boxes of the awake colliding shapes, dynamic tree -> candidate pairs
 //   collide              narrow phase on each pair -> manifolds matched to last step's by feature
-//                        id (warm-start impulses carried over)
+//                        id (warm-start impulses carried over): the contact set (contact_set.hpp)
 //   prepare_contacts     solver bodies (world frame, fresh R I^-1 R^T) and constraints for the
 //                        bodies in contact this step
 //   per substep: integrate_velocities, warm_start, solve, integrate_positions, relax
@@ -30,6 +30,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <simreel/body.hpp>
@@ -38,6 +39,7 @@
 #include "sim/base/stage_clock.hpp"
 #include "sim/collision/body_extents.hpp"
 #include "sim/world/applied_forces.hpp"
+#include "sim/world/contact_set.hpp"
 #include "sim/world/continuous.hpp"
 #include "sim/world/islands.hpp"
 #include "sim/collision/broad_phase.hpp"
@@ -133,20 +135,17 @@ class WorldImpl {
   const ShapeTable& shapes() const { return *shapes_; }
   /// The records that may act this step (at least one side awake, or kinematic), by (shape a,
   /// shape b); a pair with a static triangle mesh may have several, consecutive.
-  const std::vector<Contact>& contacts() const { return contacts_; }
+  const std::vector<Contact>& contacts() const { return contacts_.active(); }
   /// The records of pairs whose two sides are asleep or static, by (shape a, shape b): kept as
-  /// they were when the pair fell asleep, untouched until a side wakes (stage_collide).
-  const std::vector<Contact>& resting_contacts() const { return resting_; }
+  /// they were when the pair fell asleep, untouched until a side wakes (ContactSet::collide).
+  const std::vector<Contact>& resting_contacts() const { return contacts_.resting(); }
   /// f(const Contact&) for the records of both lists, merged in key order (the one list the
   /// sequential pass keeps; what a saved state holds).
   template <class F>
   void for_each_contact(F&& f) const {
-    for (size_t i = 0, r = 0; i < contacts_.size() || r < resting_.size();)
-      f(r == resting_.size() || (i < contacts_.size() && contacts_[i].key() < resting_[r].key())
-            ? contacts_[i++]
-            : resting_[r++]);
+    contacts_.for_each(std::forward<F>(f));
   }
-  const ContactStats& contact_stats() const { return contact_stats_; }
+  const ContactStats& contact_stats() const { return contacts_.stats(); }
   bool has_contacts() const { return collide_enabled_; }  ///< false: contact stages always skipped
   int substeps() const { return substeps_; }              ///< contact solver substeps per step (resolved)
   const ContactSolver& contact_solver() const { return solver_; }  ///< the last step's (tests)
@@ -176,47 +175,13 @@ class WorldImpl {
   bool shapes_may_touch(int a, int b) const;
   void stage_broad_phase();
   void after_restore(std::vector<double> still, std::vector<int> asleep);  ///< caches of the broad phase and the islands
-  void stage_collide();
-  // One candidate pair of stage_collide: its records go to contacts_next_[slot, slot + count).
-  struct CollideJob {
-    uint64_t key;        ///< the shape pair
-    int body_a, body_b;  ///< the shapes' bodies
-    int prev;            ///< its first record in last step's contacts_ (resting_ if stored), or -1
-    int prev_count;      ///< its records there (a pair with a static triangle mesh may have several)
-    int slot;            ///< its first slot in contacts_next_
-    int cap;             ///< slots reserved: 1, or kMaxMeshManifolds for a pair with a mesh
-    int count;           ///< records written
-    int points;          ///< contact points in them (0 for records kept as they were)
-    bool keep;           ///< both sides inert: last step's records are kept as they are
-    bool stored;         ///< last step's records are in resting_ (kept there, no slots, while keep)
-    bool mesh;           ///< one side is a static triangle mesh (mesh_pairs.cpp)
-  };
-  // A pair's narrow phase into its slots (records, points, deepest overlap in m); reads only the
-  // state, the shapes, this step's poses and boxes, and last step's contact list: pairs run in
-  // parallel.
-  double collide_job(CollideJob& job);
-  const Contact* prev_record(const CollideJob& job) const {
-    return job.prev < 0 ? nullptr : job.stored ? &resting_[job.prev] : &contacts_[job.prev];
-  }
-  bool resting(int i) const { return model_[i].is_static || islands_.asleep(i); }  ///< static or asleep
-  double collide_pair(const CollideJob& job, Contact& c) const;
-  // A pair with a static triangle mesh: its manifolds into out[0, kMaxMeshManifolds), each
-  // warm-started from last step's records of the pair; returns how many (mesh_pairs.cpp).
-  int collide_mesh_pair(const CollideJob& job, Contact* out, int& points, double& deepest) const;
-  // A fresh record in c for shapes a < b: bodies, mixed friction and restitution, and the impulses
-  // warm-started from `prev` (last step's record of the same manifold) when there is one.
-  void new_contact(Contact& c, int a, int b, const Contact* prev) const;
+  ContactSet::Step collide_step() const;  ///< what the collide stage reads of the world this step
   bool stage_solve_contacts();  ///< false if a non-finite value appeared
   void stage_kinematic();
   void init_sleep();
   void stage_sleep();
   void init_continuous();
   bool stage_continuous();  ///< false: nothing was fast
-  bool fast_pair(int a, int b, double closing) const;
-  int collide_ahead(int a, int b, const Pose& xa, const Pose& xb, double speculative, double closing,
-                    PairCache& cache, Manifold& m, Vec3 offset[4]) const;
-  int collide_mesh_ahead(int c, int m, double speculative, Manifold out[],
-                         Vec3 offset[][4]) const;  ///< mesh_pairs.cpp
   /// static, asleep, or kinematic at rest: neither moves nor wakes (Islands::inert)
   bool inert(int i) const { return islands_.inert(i, model_[i], state_[i]); }
   void stage_clear();
@@ -233,7 +198,8 @@ class WorldImpl {
   std::vector<BodyModel> model_;
   std::vector<MotionState> state_;
   std::vector<Wrench> wrench_;
-  std::vector<int> dynamic_;  ///< indices of dynamic bodies, ascending
+  std::vector<int> dynamic_;    ///< indices of dynamic bodies, ascending
+  std::vector<int> kinematic_;  ///< indices of kinematic bodies, ascending
   struct Group {
     Integrator method;
     std::vector<int> bodies;  ///< ascending
@@ -274,24 +240,19 @@ class WorldImpl {
   // ---- Islands and sleeping (islands.hpp).
   Islands islands_;
   std::vector<int> fell_asleep_;  ///< bodies that fell asleep this step (scratch)
-  std::vector<uint64_t> pairs_;
-  std::vector<Contact> contacts_, contacts_next_;
-  // Records of pairs between sleeping or static bodies (a kinematic body at rest excluded: it may
-  // move without being woken), key order: no work per step while they sleep (stage_collide).
-  std::vector<Contact> resting_, resting_next_;
-  std::vector<uint64_t> resting_keys_, resting_keys_next_;  ///< resting_[i].key(), compact for the merge
-  std::vector<CollideJob> collide_jobs_;  ///< this step's pairs, in key order (stage_collide)
-  std::vector<ChunkSum> collide_sums_;    ///< per thread: deepest overlap (stage_collide)
-  std::vector<char> in_contact_;          ///< per body, this step
-  std::vector<int> contact_bodies_;       ///< dynamic and kinematic bodies in contact, ascending
-  std::vector<int> solver_index_;         ///< per body, this step (0: not in the solver)
-  std::vector<char> touched_none_;        ///< per solver body: received no impulse this step
-  int substeps_ = 1;                      ///< contact solver substeps this step
-  int base_substeps_ = 1;                 ///< the least (settings, or 1/240 s substeps)
-  std::vector<std::vector<int>> free_;    ///< per group: its bodies not in contact this step
-  std::vector<int> kinematic_;
+
+  // ---- The contact set (contact_set.hpp): candidate pairs, the narrow phase, the kept records,
+  // the bodies in contact (saved state: the records and the statistics).
+  ContactSet contacts_;
+
+  // ---- The contact solver's step (sim/solver/contact_solver.hpp), and the bodies it leaves to the
+  // free-flight integrators.
+  std::vector<int> solver_index_;       ///< per body, this step (0: not in the solver)
+  std::vector<char> touched_none_;      ///< per solver body: received no impulse this step
+  int substeps_ = 1;                    ///< contact solver substeps this step
+  int base_substeps_ = 1;               ///< the least (settings, or 1/240 s substeps)
+  std::vector<std::vector<int>> free_;  ///< per group: its bodies not in contact this step
   ContactSolver solver_;
-  ContactStats contact_stats_;
 
   // ---- Continuous collision (continuous.hpp): start poses and sweeps; nothing a saved state needs.
   ContinuousCollision ccd_;

@@ -216,7 +216,7 @@ TEST(ContactThreads, PileResumedOnOtherThreadsEqualsStraightRun) {
 // and the two-thread run is saved again halfway and resumed on three threads; all three must end
 // with the one-thread run's bits. The threaded runs never back off (WorldConfig::thread_backoff),
 // so every stage with enough work is split (each scene has at least 64 pairs to collide and 128
-// constraints to solve: sim/world/collide_stage.cpp, sim/solver/contact_solver.hpp) however busy the machine,
+// constraints to solve: sim/world/contact_set.cpp, sim/solver/contact_solver.hpp) however busy the machine,
 // which makes them slow there: hence the short window at the scene's moment of interest. `seen` is
 // called on the one-thread world after every step, to check that the scene does what it is for.
 template <class Seen>

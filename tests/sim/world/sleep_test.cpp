@@ -195,7 +195,7 @@ TEST(Sleep, ResumeIntoAWorldThatRanEqualsStraightRun) {
   for (auto& w : others) EXPECT_TRUE(same_state(straight, *w));
 }
 
-// A sleeping pair costs nothing per step (stage_collide): 400 boxes asleep on the ground leave the
+// A sleeping pair costs nothing per step (ContactSet::collide): 400 boxes asleep on the ground leave the
 // step's contact list empty, and their 400 records lie in the resting list untouched, byte for
 // byte at the same address, step after step (before, every step copied each of them to a new
 // list). An impulse on one box brings its one record back into the step's list, and the box,
