@@ -165,8 +165,10 @@ void Mechanism::kinematics(const double* q) {
       R = l.R_pF * RJ * l.R_cF.transpose();
       t = l.p_pF + l.R_pF * (pJ - RJ * (l.R_cF.transpose() * l.p_cF));
     }
-    w.X = motion_transform(R.transpose(), t);
+    w.E = R.transpose();
+    w.r = t;
     w.R_W = l.parent < 0 ? R : Mat3(work_[l.parent].R_W * R);
+    w.x_W = l.parent < 0 ? t : Vec3(work_[l.parent].x_W + work_[l.parent].R_W * t);
   }
 }
 
@@ -191,7 +193,7 @@ void Mechanism::derivative(const double* y, double* dy, const Vec3& g, const Wre
       vJ = l.S * Eigen::Map<const VecX6>(v + l.iv, l.nv);
     else
       vJ.setZero();
-    w.vel = l.parent < 0 ? vJ : Vec6(w.X * work_[l.parent].vel + vJ);
+    w.vel = l.parent < 0 ? vJ : Vec6(transform_motion(w.E, w.r, work_[l.parent].vel) + vJ);
     w.c = cross_motion(w.vel, vJ);
     w.IA = spatial_inertia(l.mass, l.I_P);
     w.pA = cross_force(w.vel, w.IA * w.vel);
@@ -227,8 +229,8 @@ void Mechanism::derivative(const double* y, double* dy, const Vec3& g, const Wre
     pa.noalias() += Ia * w.c;
     if (l.parent >= 0) {
       Work& p = work_[l.parent];
-      p.IA.noalias() += w.X.transpose() * Ia * w.X;
-      p.pA.noalias() += w.X.transpose() * pa;
+      p.IA += transform_inertia_back(w.E, w.r, Ia);
+      p.pA += transform_force_back(w.E, w.r, pa);
     }
   }
   // Pass 3, root to leaves: accelerations. The world accelerates at -g, which puts gravity on
@@ -238,7 +240,7 @@ void Mechanism::derivative(const double* y, double* dy, const Vec3& g, const Wre
   for (size_t i = 0; i < n; ++i) {
     const Link& l = links[i];
     Work& w = work_[i];
-    const Vec6 ap = w.X * (l.parent < 0 ? a_world : work_[l.parent].acc) + w.c;
+    const Vec6 ap = transform_motion(w.E, w.r, l.parent < 0 ? a_world : work_[l.parent].acc) + w.c;
     w.acc = ap;
     if (l.nv == 1) {
       const double qdd = w.Dinv1 * (w.u1 - w.U1.dot(ap));
@@ -250,6 +252,7 @@ void Mechanism::derivative(const double* y, double* dy, const Vec3& g, const Wre
       w.acc += l.S * qdd;
     }
   }
+  if (!loops.empty()) constrain_accelerations(dv);
 }
 
 bool Mechanism::advance(double dt, const Vec3& g, const Wrench* wr, const MotionState* st, const JointSettings& js) {
@@ -262,7 +265,10 @@ bool Mechanism::advance(double dt, const Vec3& g, const Wrench* wr, const Motion
   int steps = 0;
   bool have_k1 = false;
   while (t < dt) {
-    if (++steps > js.max_steps) return false;
+    if (++steps > js.max_steps) {
+      exceeded = true;
+      return false;
+    }
     const bool last = h >= dt - t;
     const double hs = last ? dt - t : h;
     if (!have_k1) derivative(y0_.data(), k_[0].data(), g, wr, st);
@@ -291,9 +297,17 @@ bool Mechanism::advance(double dt, const Vec3& g, const Wrench* wr, const Motion
     const double fac = std::clamp(0.9 * std::pow(std::max(err, 1e-10), -0.2), 0.2, 5.0);
     if (err <= 1) {
       t = last ? dt : t + hs;
-      normalize_quaternions(*this, y1_.data());
+      if (!loops.empty()) {
+        normalize_quaternions(*this, y1_.data());
+        project_positions(y1_.data());
+        project_velocities(y1_.data(), y1_.data() + nq);
+      }
       std::swap(y0_, y1_);
-      have_k1 = false;
+      // First same as last: the 7th stage was evaluated at the new state, unless the loops'
+      // projection moved it. (Quaternions drift off unit length by the tolerance only; they are
+      // renormalised once the frame step is done.)
+      if (loops.empty()) std::swap(k_[0], k_[6]);
+      have_k1 = loops.empty();
       ++steps_taken;
       // A step cut short to land on the frame does not set the next proposal.
       if (!last || hs >= h) h = hs * fac;
@@ -302,6 +316,7 @@ bool Mechanism::advance(double dt, const Vec3& g, const Wrench* wr, const Motion
       ++steps_rejected;
     }
   }
+  normalize_quaternions(*this, y0_.data());
   std::copy(y0_.begin(), y0_.begin() + nq, q.begin());
   std::copy(y0_.begin() + nq, y0_.end(), v.begin());
   return true;
@@ -314,7 +329,7 @@ void Mechanism::link_velocities(const double* qq, const double* vv, std::vector<
     const Link& l = links[i];
     Vec6 vJ = Vec6::Zero();
     if (l.nv > 0) vJ = l.S * Eigen::Map<const VecX6>(vv + l.iv, l.nv);
-    out[i] = l.parent < 0 ? vJ : Vec6(work_[i].X * out[l.parent] + vJ);
+    out[i] = l.parent < 0 ? vJ : Vec6(transform_motion(work_[i].E, work_[i].r, out[l.parent]) + vJ);
   }
 }
 
@@ -377,6 +392,7 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
   // The world, or a static body (which never moves): the tree's fixed base.
   auto fixed_base = [&](int b) { return b < 0 || model[b].is_static; };
   std::vector<int> parent_joint(nb, -1);  // per body: the joint it is the child of
+  std::vector<int> loop_joints;           // joints that close a loop (constraints, not tree edges)
   for (int j = 0; j < (int)joints_.size(); ++j) {
     JointDef& d = joints_[j];
     if (d.name.empty()) d.name = "joint" + std::to_string(j);
@@ -416,29 +432,46 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
           !std::isfinite(d.spring->rest) || d.spring->stiffness < 0 || d.spring->damping < 0)
         throw InputError(name_of(j) + ": spring stiffness and damping must be non-negative numbers");
     }
-    if (parent_joint[d.child] >= 0)
-      throw InputError(name_of(j) + ": body " + body_name(d.child) + " is already the child of " +
-                       name_of(parent_joint[d.child]) +
-                       "; closed loops (a body with two parents) are not supported yet");
-    parent_joint[d.child] = j;
-  }
-  // No cycles: walking up from any body reaches a base or a body with no parent joint.
-  for (int b = 0; b < nb; ++b) {
-    int x = b, hops = 0;
-    while (x >= 0 && parent_joint[x] >= 0) {
-      const int p = joints_[parent_joint[x]].parent;
-      if (fixed_base(p)) break;
-      x = p;
-      if (++hops > nb)
-        throw InputError(name_of(parent_joint[b]) + ": the joints through body " + body_name(b) +
-                         " form a closed loop; closed loops are not supported yet");
+    // A joint whose child already has a parent, or whose parent descends from its child, closes
+    // a loop: it becomes a constraint on the tree's coordinates instead of a tree edge.
+    bool closes = parent_joint[d.child] >= 0;
+    for (int x = d.parent; !closes && !fixed_base(x); x = parent_joint[x] >= 0 ? joints_[parent_joint[x]].parent : -1) {
+      if (x == d.child) closes = true;
+      if (parent_joint[x] < 0) break;
     }
+    if (closes) {
+      if (d.type != JointType::revolute && d.type != JointType::spherical)
+        throw InputError(name_of(j) + ": closes a loop; a loop may be closed by a revolute or spherical joint only "
+                         "(a " + std::string(to_string(d.type)) + " joint cannot close one yet)");
+      if (d.spring) throw InputError(name_of(j) + ": a joint that closes a loop cannot carry a spring yet");
+      loop_joints.push_back(j);
+      continue;
+    }
+    parent_joint[d.child] = j;
   }
   // Children of each body, in joint order.
   std::vector<std::vector<int>> child_joints(nb);
   std::vector<int> base_joints;
+  std::vector<char> is_loop(joints_.size(), 0);
+  for (int j : loop_joints) is_loop[j] = 1;
+  // Mechanisms: bodies joined by any joint (loops included) move together; union-find over them.
+  std::vector<int> group(nb);
+  for (int b = 0; b < nb; ++b) group[b] = b;
+  std::function<int(int)> root_of = [&](int b) { return group[b] == b ? b : group[b] = root_of(group[b]); };
+  for (const JointDef& d : joints_)
+    if (!fixed_base(d.parent)) group[root_of(d.parent)] = root_of(d.child);
+  std::vector<int> mech_of_group(nb, -1);
+  auto mechanism_for = [&](int body) {
+    int& m = mech_of_group[root_of(body)];
+    if (m < 0) {
+      m = (int)mechanisms_.size();
+      mechanisms_.emplace_back();
+    }
+    return m;
+  };
   for (int j = 0; j < (int)joints_.size(); ++j) {
     const JointDef& d = joints_[j];
+    if (is_loop[j]) continue;
     if (fixed_base(d.parent))
       base_joints.push_back(j);
     else
@@ -457,6 +490,7 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
       xW = state[b].x_W;
     }
   };
+  int building = -1;  // the mechanism add_body_link appends to
   auto add_body_link = [&](Mechanism& m, int body, int parent_link, LinkJoint kind) -> int {
     Link l;
     l.body = body;
@@ -465,7 +499,7 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
     l.mass = model[body].mass;
     l.I_P = model[body].I_P;
     m.links.push_back(l);
-    link_of_[body] = {(int)mechanisms_.size(), (int)m.links.size() - 1};
+    link_of_[body] = {building, (int)m.links.size() - 1};
     return (int)m.links.size() - 1;
   };
   // The links of joint j under parent link pl (-1: the base), then its child's subtree.
@@ -514,7 +548,7 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
           l.rest = d.spring->rest;
         }
         place(l, true, true);
-        joint_link_[j] = {(int)mechanisms_.size(), child_link};
+        joint_link_[j] = {building, child_link};
         break;
       }
       case JointType::universal: {
@@ -528,7 +562,7 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
         place(v, true, false);
         m.links.push_back(v);
         const int vl = (int)m.links.size() - 1;
-        joint_link_[j] = {(int)mechanisms_.size(), vl};
+        joint_link_[j] = {building, vl};
         child_link = add_body_link(m, d.child, vl, LinkJoint::revolute);
         Link& l = m.links.back();
         l.axis_F = d.axis2_W;
@@ -607,23 +641,58 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
     }
     m.allocate();
   };
-  // Mechanisms on a fixed base, one per joint from the base (joint order), then floating ones.
+  // Each mechanism's subtrees: those on a fixed base (joint order), then those rooted at a body
+  // that floats freely; a mechanism holds several when loops join them.
   for (int j : base_joints) {
-    Mechanism m;
-    add_joint(m, j, -1);
-    finish(m);
-    mechanisms_.push_back(std::move(m));
+    building = mechanism_for(joints_[j].child);
+    add_joint(mechanisms_[building], j, -1);
   }
   for (int j = 0; j < (int)joints_.size(); ++j) {
     const int root = joints_[j].parent;
-    if (fixed_base(root) || parent_joint[root] >= 0 || done[root]) continue;
-    Mechanism m;
-    add_body_link(m, root, -1, LinkJoint::free);
+    if (is_loop[j] || fixed_base(root) || parent_joint[root] >= 0 || done[root]) continue;
+    building = mechanism_for(root);
+    Mechanism& m = mechanisms_[building];
+    const int rl = add_body_link(m, root, -1, LinkJoint::free);
     done[root] = 1;
-    for (int cj : child_joints[root]) add_joint(m, cj, 0);
-    finish(m);
-    mechanisms_.push_back(std::move(m));
+    for (int cj : child_joints[root]) add_joint(m, cj, rl);
   }
+  for (Mechanism& m : mechanisms_) finish(m);
+  // Loop-closing joints: their anchors (and a hinge's axes) in the two links' frames.
+  for (int j : loop_joints) {
+    const JointDef& d = joints_[j];
+    const auto [mi, lb] = link_of_[d.child];
+    Mechanism& m = mechanisms_[mi];
+    Mechanism::Loop L;
+    L.joint = j;
+    L.lb = lb;
+    L.la = fixed_base(d.parent) ? -1 : link_of_[d.parent].second;
+    Quat qa, qb;
+    Vec3 xa, xb;
+    P_pose(d.parent, qa, xa);
+    P_pose(d.child, qb, xb);
+    L.pa = qa.conjugate() * (d.anchor_W - xa);
+    L.pb = qb.conjugate() * (d.anchor_W - xb);
+    L.hinge = d.type == JointType::revolute;
+    if (L.hinge) {
+      const Vec3 a = qa.conjugate() * d.axis_W;
+      L.t1 = a.unitOrthogonal();
+      L.t2 = a.cross(L.t1);
+      L.ab = qb.conjugate() * d.axis_W;
+    }
+    L.q_a0 = qa;
+    L.q_b0 = qb;
+    L.axis_W0 = d.axis_W;
+    m.loops.push_back(L);
+    m.loop_rows += L.hinge ? 5 : 3;
+    Side& sd = sides_[j];
+    sd.p_p = L.la < 0 ? d.anchor_W : L.pa;
+    sd.p_c = L.pb;
+    sd.a_p = L.la < 0 ? d.axis_W : Vec3(qa.conjugate() * d.axis_W);
+    sd.a_c = qb.conjugate() * d.axis_W;
+    joint_link_[j] = {mi, -1 - (int)(m.loops.size() - 1)};  // negative: a loop's index
+  }
+  for (Mechanism& m : mechanisms_)
+    if (!m.loops.empty()) m.allocate_loops();
   // Start velocities: the joint velocities whose body motion is closest to the given one in the
   // kinetic-energy metric (sum over links of (V - V0)^T M (V - V0)); this keeps the mechanism's
   // momentum along every joint freedom. A warning when the given motion was not a joint motion.
@@ -658,7 +727,8 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
     const Eigen::MatrixXd A = J.transpose() * W.asDiagonal() * J;
     const Eigen::VectorXd qd = A.ldlt().solve(J.transpose() * (W.asDiagonal() * b));
     for (int k = 0; k < m.nv; ++k) m.v[k] = qd[k];
-    const Eigen::VectorXd r = J * qd - b;
+    if (!m.loops.empty()) m.project_velocities(m.q.data(), m.v.data());
+    const Eigen::VectorXd r = J * Eigen::Map<const Eigen::VectorXd>(m.v.data(), m.nv) - b;
     const double e_given = 0.5 * b.dot(W.asDiagonal() * b), e_lost = 0.5 * r.dot(W.asDiagonal() * r);
     if (e_lost > 1e-12 * std::max(e_given, 1e-300)) {
       std::ostringstream os;
@@ -683,20 +753,27 @@ int Articulations::find(std::string_view name) const {
   return -1;
 }
 
-bool Articulations::step(double dt, const Vec3& g, const Wrench* wr, MotionState* st) {
+bool Articulations::step_range(int begin, int end, double dt, const Vec3& g, const Wrench* wr, MotionState* st) {
   bool ok = true;
-  for (Mechanism& m : mechanisms_) {
+  for (int k = begin; k < end; ++k) {
+    Mechanism& m = mechanisms_[k];
     ok = m.advance(dt, g, wr, st, settings_) && ok;
     m.write_bodies(st);
   }
   return ok;
 }
 
-double Articulations::position(int j, int k) const {
+const Link& Articulations::coordinate_link(int j, int k, const Mechanism*& m) const {
   const auto [mi, li] = joint_link_[j];
-  const Mechanism& m = mechanisms_[mi];
-  const Link& l = m.links[li + (joints_[j].type == JointType::universal ? k : 0)];
-  const double* q = m.q.data() + l.iq;
+  m = &mechanisms_[mi];
+  return m->links[li + (joints_[j].type == JointType::universal ? k : 0)];
+}
+
+double Articulations::position(int j, int k) const {
+  if (joint_link_[j].second < 0) return mechanisms_[joint_link_[j].first].loop_angle(-1 - joint_link_[j].second);
+  const Mechanism* m;
+  const Link& l = coordinate_link(j, k, m);
+  const double* q = m->q.data() + l.iq;
   switch (l.kind) {
     case LinkJoint::revolute:
     case LinkJoint::prismatic:
@@ -711,10 +788,10 @@ double Articulations::position(int j, int k) const {
 }
 
 double Articulations::speed(int j, int k) const {
-  const auto [mi, li] = joint_link_[j];
-  const Mechanism& m = mechanisms_[mi];
-  const Link& l = m.links[li + (joints_[j].type == JointType::universal ? k : 0)];
-  const double* v = m.v.data() + l.iv;
+  if (joint_link_[j].second < 0) return mechanisms_[joint_link_[j].first].loop_speed(-1 - joint_link_[j].second);
+  const Mechanism* m;
+  const Link& l = coordinate_link(j, k, m);
+  const double* v = m->v.data() + l.iv;
   switch (l.kind) {
     case LinkJoint::revolute:
     case LinkJoint::prismatic:
@@ -760,6 +837,15 @@ double Articulations::angular_gap(const MotionState* st) const {
     worst = std::max(worst, std::atan2(a.cross(b).norm(), a.dot(b)));
   }
   return worst;
+}
+
+int Articulations::exceeded_joint() const {
+  for (size_t mi = 0; mi < mechanisms_.size(); ++mi) {
+    if (!mechanisms_[mi].exceeded) continue;
+    for (size_t j = 0; j < joint_link_.size(); ++j)
+      if (joint_link_[j].first == (int)mi) return (int)j;
+  }
+  return -1;
 }
 
 long Articulations::internal_steps() const {

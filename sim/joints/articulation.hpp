@@ -16,6 +16,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Cholesky>
+
 #include <simreel/body.hpp>
 #include <simreel/joints.hpp>
 
@@ -58,6 +60,32 @@ class Mechanism {
   std::vector<double> q, v;  ///< joint coordinates and velocities (saved state)
   double h = 0;              ///< s, the next internal step the controller proposes (saved state)
 
+  // A joint that closes a loop (docs/joints.md, "Closed loops"): constraint rows on the tree's
+  // coordinates holding two links' anchor points together (3 rows) and, for a hinge, the axes
+  // parallel (2 more). Accelerations satisfy the rows exactly at every evaluation (Lagrange
+  // multipliers through the joint-space mass matrix), and after every internal step positions and
+  // velocities are projected back onto them, so the loop's residual stays at round-off.
+  struct Loop {
+    int joint = -1;
+    int la = -1, lb = -1;      ///< links (la = -1: the fixed base)
+    Vec3 pa, pb;               ///< the anchor in each link's frame (the base's: world)
+    bool hinge = false;        ///< revolute: two angular rows too
+    Vec3 t1, t2;               ///< perpendiculars to the hinge axis, fixed in a (world for the base)
+    Vec3 ab;                   ///< the hinge axis in b's frame
+    Quat q_a0, q_b0;           ///< the links' start orientations (read-outs of the angle)
+    Vec3 axis_W0;              ///< the hinge axis at t = 0
+  };
+  std::vector<Loop> loops;
+  int loop_rows = 0;
+  void allocate_loops();
+  // Positions (Newton on the rows, the correction in the mass metric) and velocities (the
+  // kinetic-energy-closest motion that keeps the rows) back onto the loops.
+  void project_positions(double* q);
+  void project_velocities(const double* q, double* v);
+  // A loop's hinge angle (rad, zero at the start) and rate, from the last written poses.
+  double loop_angle(int k) const;
+  double loop_speed(int k) const;
+
   void allocate();  ///< scratch for nq, nv and the links
   // y' = f(y) for y = [q; q'], the external wrenches (world, about each body's centre of mass)
   // held constant over the step.
@@ -69,12 +97,27 @@ class Mechanism {
   // The velocities of every body, link frame ([w; v] at the centre of mass), at q and q'.
   void link_velocities(const double* q, const double* v, std::vector<Vec6>& out);
   long steps_taken = 0, steps_rejected = 0;  ///< internal steps over the run
+  bool exceeded = false;  ///< a frame step needed more internal steps than JointSettings::max_steps
 
  private:
   void kinematics(const double* q);  ///< X_, R_W_ for every link at q
+  // Loop rows at the current kinematics: positions C(q); velocities for link velocities V (link
+  // frames); accelerations for V and true link accelerations A. out has loop_rows entries.
+  void loop_position_rows(double* out) const;
+  void loop_velocity_rows(const std::vector<Vec6>& V, double* out) const;
+  void loop_acceleration_rows(const std::vector<Vec6>& V, const std::vector<Vec6>& A, double* out) const;
+  void mass_matrix();    ///< M_ at the current kinematics (composite-rigid-body algorithm)
+  void loop_jacobian();  ///< G_ at the current kinematics; then Y_ = M^-1 G^T and A_ = G Y_
+  void unit_velocities(int k, std::vector<Vec6>& V) const;  ///< link velocities for q' = e_k
+  void constrain_accelerations(double* qdd);  ///< after the ABA: add M^-1 G^T lambda
+  void solve_rows();  ///< dv_ = M^-1 G^T lambda for (G M^-1 G^T) lambda = rhs_ (after loop_jacobian)
+  void displace(double* q, const double* dv) const;  ///< q moved by the velocity-space step dv
   struct Work {
-    Mat6 X;        ///< motion transform parent link -> this link
+    Mat3 E;        ///< motion transform parent link -> this link (Featherstone's X = (E, r)):
+    Vec3 r;        ///< E rotates parent coordinates into this link's, r is this link's origin in the parent's
     Mat3 R_W;      ///< this link's frame to world
+    Vec3 x_W;      ///< this link's origin in the world
+    Mat6 Ic;       ///< composite inertia (mass_matrix)
     Vec6 vel, c, pA, acc;
     Mat6 IA;
     Mat6X U;
@@ -86,6 +129,11 @@ class Mechanism {
   std::vector<Work> work_;
   std::vector<double> y0_, y1_, ys_, err_;
   std::vector<double> k_[7];
+  // Loop scratch, sized once (allocate_loops).
+  Eigen::MatrixXd M_, G_, Y_, A_;
+  Eigen::VectorXd rows_, rhs_, lambda_, dv_;
+  Eigen::LLT<Eigen::MatrixXd> llt_, llt_rows_;
+  std::vector<Vec6> V_, Acc_;
   mutable std::vector<Quat> out_q_;  ///< write_bodies' scratch: no allocation per step
   mutable std::vector<Vec3> out_x_;
   mutable std::vector<Vec6> out_v_;
@@ -107,7 +155,13 @@ class Articulations {
 
   // Advances every mechanism by dt and writes its bodies' motion states; false if a state stopped
   // being finite (or a mechanism needed more internal steps than the settings allow).
-  bool step(double dt, const Vec3& g, const Wrench* wr, MotionState* st);
+  bool step(double dt, const Vec3& g, const Wrench* wr, MotionState* st) {
+    return step_range(0, (int)mechanisms_.size(), dt, g, wr, st);
+  }
+  // Mechanisms [begin, end) only: each is independent of the others (its own bodies, state and
+  // scratch), so threads may take disjoint ranges with the same results.
+  bool step_range(int begin, int end, double dt, const Vec3& g, const Wrench* wr, MotionState* st);
+  int mechanism_count() const { return (int)mechanisms_.size(); }
 
   // A joint's coordinate k (rad or m; a spherical joint: its rotation angle from the start pose)
   // and its rate (rad/s or m/s; spherical: |relative angular velocity|).
@@ -121,8 +175,12 @@ class Articulations {
   const std::vector<Mechanism>& mechanisms() const { return mechanisms_; }
   std::vector<Mechanism>& mechanisms() { return mechanisms_; }
   long internal_steps() const;
+  /// The first joint of a mechanism that exceeded its internal step budget, or -1.
+  int exceeded_joint() const;
 
  private:
+  // The link that carries coordinate k of joint j (universal: k = 0, 1), and its mechanism.
+  const Link& coordinate_link(int j, int k, const Mechanism*& m) const;
   std::vector<JointDef> joints_;
   JointSettings settings_;
   std::vector<Mechanism> mechanisms_;

@@ -43,6 +43,41 @@ inline Mat6 motion_transform(const Mat3& E, const Vec3& r) {
   return X;
 }
 
+// The same transform applied without forming the 6x6 matrix: X v.
+inline Vec6 transform_motion(const Mat3& E, const Vec3& r, const Vec6& v) {
+  const Vec3 w = v.head<3>();
+  Vec6 out;
+  out << E * w, E * (Vec3(v.tail<3>()) - r.cross(w));
+  return out;
+}
+
+// X^T f: a force on frame B's side carried back to frame A (Featherstone eq. 2.25 transposed).
+inline Vec6 transform_force_back(const Mat3& E, const Vec3& r, const Vec6& f) {
+  const Vec3 ff = E.transpose() * f.tail<3>();
+  Vec6 out;
+  out << E.transpose() * f.head<3>() + r.cross(ff), ff;
+  return out;
+}
+
+// X^T I X for a symmetric spatial inertia I = [A B; B^T C] given in frame B, carried to frame A,
+// by 3x3 blocks (about half the work of two 6x6 products). With A', B', C' the blocks rotated into
+// A's axes (E^T . E) and S = r x:  [A' - B'S + S B'^T - S C' S,  B' + S C';  B'^T - C' S,  C'].
+inline Mat6 transform_inertia_back(const Mat3& E, const Vec3& r, const Mat6& I) {
+  const Mat3 Et = E.transpose();
+  const Mat3 A = Et * I.topLeftCorner<3, 3>() * E;
+  const Mat3 B = Et * I.topRightCorner<3, 3>() * E;
+  const Mat3 C = Et * I.bottomRightCorner<3, 3>() * E;
+  const Mat3 S = skew(r);
+  const Mat3 SC = S * C;
+  const Mat3 BS = B * S;
+  Mat6 out;
+  out.topLeftCorner<3, 3>() = A - BS - BS.transpose() - SC * S;
+  out.topRightCorner<3, 3>() = B + SC;
+  out.bottomLeftCorner<3, 3>() = (B + SC).transpose();
+  out.bottomRightCorner<3, 3>() = C;
+  return out;
+}
+
 // A rigid body's spatial inertia about its centre of mass, in its principal axes.
 inline Mat6 spatial_inertia(double mass, const Vec3& I_P) {
   Mat6 M = Mat6::Zero();

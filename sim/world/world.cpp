@@ -159,6 +159,26 @@ void WorldImpl::init_joints() {
                    g.bodies.end());
 }
 
+// Mechanisms split into fixed contiguous ranges, one per thread (each mechanism is independent of
+// the others: the same results whatever the thread count).
+bool WorldImpl::stage_joints() {
+  const Wrench* wr = wrench_dirty_ ? wrench_.data() : nullptr;
+  const int n = joints_.mechanism_count();
+  if (!pool_ || n < 2) return joints_.step(cfg_.dt, cfg_.gravity, wr, state_.data());
+  for (ChunkSum& s : chunk_sum_) s.value = 0;
+  auto work = [&](int c, int nc) {
+    int b, e;
+    share(n, c, nc, b, e);
+    chunk_sum_[c].value = joints_.step_range(b, e, cfg_.dt, cfg_.gravity, wr, state_.data()) ? 0.0 : 1.0;
+  };
+  for_each_chunk(work);
+  profile_.pool_runs = pool_->runs();
+  profile_.pool_alone_runs = pool_->alone_runs();
+  bool ok = true;
+  for (const ChunkSum& s : chunk_sum_) ok = ok && s.value == 0;
+  return ok;
+}
+
 void WorldImpl::require_unjointed(int i, const char* what) const {
   if (joints_.jointed(i))
     throw InputError(body_label(defs_, i) + " is jointed: it moves with its joints' coordinates and cannot " + what +
@@ -194,9 +214,7 @@ void WorldImpl::step() {
   if (joints_.empty()) {
     clock_.skipped(Stage::joints);
   } else {
-    clock_.run(Stage::joints, [&] {
-      finite = joints_.step(cfg_.dt, cfg_.gravity, wrench_dirty_ ? wrench_.data() : nullptr, state_.data()) && finite;
-    });
+    clock_.run(Stage::joints, [&] { finite = stage_joints() && finite; });
   }
   finite = stage_integrate_and_check() && finite;
   clock_.ran(Stage::integrate);
@@ -212,6 +230,13 @@ void WorldImpl::step() {
     clock_.skipped(Stage::sleep);
   ++steps_;
   if (!finite) check_state();  // throws, naming the body and the time
+  if (!finite && joints_.exceeded_joint() >= 0) {
+    std::ostringstream os;
+    os << "joints: the mechanism of joint '" << joints_.joint(joints_.exceeded_joint()).name << "' needed more than "
+       << cfg_.joint_settings.max_steps << " internal steps in the step ending at t = " << time()
+       << " s (raise simulation.joints.max_steps, or the tolerance)";
+    throw StateError(os.str());
+  }
   if (wrench_dirty_)
     clock_.run(Stage::clear, [&] { stage_clear(); });
   else

@@ -186,6 +186,7 @@ class WorldImpl {
   bool inert(int i) const { return islands_.inert(i, model_[i], state_[i]); }
   void stage_clear();
   void init_joints();
+  bool stage_joints();  ///< false if a mechanism's state stopped being finite
   // Jointed bodies move with their mechanism's coordinates: a pose or velocity set on one alone
   // would be overwritten by the next step (InputError naming the body and `what`).
   void require_unjointed(int i, const char* what) const;

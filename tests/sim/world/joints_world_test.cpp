@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <memory>
 #include <numbers>
 #include <sstream>
 #include <vector>
@@ -124,6 +125,39 @@ TEST(Joints, SameBitsOnOneAndTwoThreads) {
   EXPECT_EQ(saved(a), saved(b));
 }
 
+// Six mechanisms shared between two threads: the same bits as one thread.
+TEST(Joints, ManyMechanismsSameBitsOnOneAndTwoThreads) {
+  auto build = [](int threads) {
+    BarPendulum p(0.3, threads);
+    p.bodies.pop_back();  // no floor
+    p.cfg.joints.clear();
+    const BodyDef bar = p.bodies[0];
+    p.bodies.clear();
+    for (int k = 0; k < 6; ++k) {
+      BodyDef b = bar;
+      b.name = "bar" + std::to_string(k);
+      b.q_WB = Quat(Eigen::AngleAxisd(0.2 + 0.4 * k, Vec3::UnitY()));
+      b.p_WB = Vec3(k, 0, 2) + b.q_WB * Vec3(0, 0, -BarPendulum::L / 2);
+      p.bodies.push_back(b);
+      JointDef j;
+      j.name = "pivot" + std::to_string(k);
+      j.parent = -1;
+      j.child = k;
+      j.anchor_W = Vec3(k, 0, 2);
+      j.axis_W = Vec3::UnitY();
+      p.cfg.joints.push_back(j);
+    }
+    return std::make_unique<World>(p.cfg, p.bodies);
+  };
+  auto a = build(1), b = build(2);
+  for (int i = 0; i < 120; ++i) {
+    a->step();
+    b->step();
+  }
+  EXPECT_EQ(saved(*a), saved(*b));
+  EXPECT_GT(b->profile().pool_runs, 0);
+}
+
 // Shapes on jointed bodies give mass and are drawn, but do not collide yet: said once.
 TEST(Joints, JointedShapesWarnThatTheyDoNotCollide) {
   BarPendulum p(0.5);
@@ -133,6 +167,22 @@ TEST(Joints, JointedShapesWarnThatTheyDoNotCollide) {
   EXPECT_TRUE(said);
   EXPECT_THROW(w.set_linear_velocity(0, Vec3(1, 0, 0)), InputError);
   EXPECT_THROW(w.apply_impulse(0, Vec3(1, 0, 0), Vec3::Zero()), InputError);
+}
+
+// A mechanism that needs more internal steps than allowed stops the run naming the joint, rather
+// than losing the step's motion.
+TEST(Joints, InternalStepBudgetStopsTheRunNamingTheJoint) {
+  BarPendulum p(2.5);
+  p.cfg.joint_settings.tolerance = 1e-13;
+  p.cfg.joint_settings.max_steps = 2;
+  World w(p.cfg, p.bodies);
+  try {
+    for (int i = 0; i < 60; ++i) w.step();
+    FAIL() << "no error";
+  } catch (const StateError& e) {
+    EXPECT_NE(std::string(e.what()).find("joint 'pivot' needed more than 2 internal steps"), std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(Joints, BadJointsAreNamed) {
@@ -152,8 +202,12 @@ TEST(Joints, BadJointsAreNamed) {
             std::string::npos);
   EXPECT_NE(error_of([](BarPendulum& p) { p.cfg.joints[0].child = 1; }).find("two bodies that cannot move"),
             std::string::npos);
-  EXPECT_NE(error_of([](BarPendulum& p) { p.cfg.joints.push_back(p.cfg.joints[0]); p.cfg.joints[1].name = "b"; })
-                .find("already the child of joint 'pivot'"),
+  // A second joint on the same child closes a loop: only revolute and spherical joints may.
+  EXPECT_NE(error_of([](BarPendulum& p) {
+              p.cfg.joints.push_back(p.cfg.joints[0]);
+              p.cfg.joints[1].name = "b";
+              p.cfg.joints[1].type = JointType::prismatic;
+            }).find("'b': closes a loop; a loop may be closed by a revolute or spherical joint only"),
             std::string::npos);
   EXPECT_NE(error_of([](BarPendulum& p) { p.cfg.joints[0].child = 7; }).find("out of range"), std::string::npos);
 }

@@ -1,0 +1,265 @@
+// Closed loops on a mechanism's tree coordinates (articulation.hpp, Mechanism::Loop).
+//
+// The tree's equations M q'' = tau - C gain constraint forces G^T lambda, with G the rows'
+// Jacobian: the accelerations that keep the rows, G q'' + G' q' = 0, are
+//   q'' = q''_0 + M^-1 G^T lambda,   (G M^-1 G^T) lambda = -(G q''_0 + G' q')
+// where q''_0 is the tree's own (ABA) and G q''_0 + G' q' is read directly as the rows'
+// acceleration under q''_0 (the anchors' classical accelerations): no derivative of G is formed.
+// The rows' matrix G M^-1 G^T is solved with a diagonal shift of 1e-12 of its largest entry, so
+// redundant rows (a planar loop's out-of-plane rows: zero rows of G) are harmless: their
+// multipliers meet only zero columns of M^-1 G^T. The index-1 form lets round-off and the integrator's
+// error drift off the rows, so after every internal step positions are Newton-projected back and
+// velocities projected in the mass metric (Hairer, Lubich & Roche, "The Numerical Solution of
+// Differential-Algebraic Systems by Runge-Kutta Methods", 1989, ch. 7).
+#include "sim/joints/articulation.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace simreel {
+
+namespace {
+// A body point's velocity and classical acceleration, world frame, from the link's spatial
+// velocity V = [w; v0] and acceleration A = [alpha; a0] (link frame, at its origin):
+// v = v0 + w x p,  a = a0 + alpha x p + w x v  (Featherstone 2.11: classical = spatial + w x v).
+inline Vec3 point_velocity(const Vec6& V, const Vec3& p) {
+  return V.tail<3>() + V.head<3>().cross(p);
+}
+inline Vec3 point_acceleration(const Vec6& V, const Vec6& A, const Vec3& p) {
+  return A.tail<3>() + A.head<3>().cross(p) + V.head<3>().cross(point_velocity(V, p));
+}
+}  // namespace
+
+void Mechanism::allocate_loops() {
+  M_.setZero(nv, nv);
+  G_.setZero(loop_rows, nv);
+  Y_.setZero(nv, loop_rows);
+  A_.setZero(loop_rows, loop_rows);
+  rows_.setZero(loop_rows);
+  lambda_.setZero(loop_rows);
+  dv_.setZero(nv);
+  rhs_.setZero(loop_rows);
+  llt_ = Eigen::LLT<Eigen::MatrixXd>(nv);
+  llt_rows_ = Eigen::LLT<Eigen::MatrixXd>(loop_rows);
+  V_.assign(links.size(), Vec6::Zero());
+  Acc_.assign(links.size(), Vec6::Zero());
+}
+
+void Mechanism::loop_position_rows(double* out) const {
+  int r = 0;
+  for (const Loop& L : loops) {
+    const Mat3 Ra = L.la < 0 ? Mat3::Identity() : work_[L.la].R_W;
+    const Vec3 xa = L.la < 0 ? Vec3::Zero() : work_[L.la].x_W;
+    const Work& b = work_[L.lb];
+    const Vec3 gap = (b.x_W + b.R_W * L.pb) - (xa + Ra * L.pa);
+    out[r++] = gap.x();
+    out[r++] = gap.y();
+    out[r++] = gap.z();
+    if (L.hinge) {
+      // Rows whose rates are t1 . (w_b - w_a) and t2 . (w_b - w_a) at zero (velocity rows below):
+      // d/dt (t . a_b) = (w_b - w_a) . (a x t), and a x t1 = t2, a x t2 = -t1.
+      const Vec3 a_b = b.R_W * L.ab, t1 = Ra * L.t1, t2 = Ra * L.t2;
+      out[r++] = -t2.dot(a_b);
+      out[r++] = t1.dot(a_b);
+    }
+  }
+}
+
+void Mechanism::loop_velocity_rows(const std::vector<Vec6>& V, double* out) const {
+  int r = 0;
+  for (const Loop& L : loops) {
+    const Mat3 Ra = L.la < 0 ? Mat3::Identity() : work_[L.la].R_W;
+    const Vec3 va = L.la < 0 ? Vec3::Zero() : Vec3(Ra * point_velocity(V[L.la], L.pa));
+    const Vec3 vb = work_[L.lb].R_W * point_velocity(V[L.lb], L.pb);
+    const Vec3 dv = vb - va;
+    out[r++] = dv.x();
+    out[r++] = dv.y();
+    out[r++] = dv.z();
+    if (L.hinge) {
+      const Vec3 wa = L.la < 0 ? Vec3::Zero() : Vec3(Ra * V[L.la].head<3>());
+      const Vec3 dw = work_[L.lb].R_W * V[L.lb].head<3>() - wa;
+      out[r++] = (Ra * L.t1).dot(dw);
+      out[r++] = (Ra * L.t2).dot(dw);
+    }
+  }
+}
+
+void Mechanism::loop_acceleration_rows(const std::vector<Vec6>& V, const std::vector<Vec6>& A, double* out) const {
+  int r = 0;
+  for (const Loop& L : loops) {
+    const Mat3 Ra = L.la < 0 ? Mat3::Identity() : work_[L.la].R_W;
+    const Vec3 aa = L.la < 0 ? Vec3::Zero() : Vec3(Ra * point_acceleration(V[L.la], A[L.la], L.pa));
+    const Vec3 ab = work_[L.lb].R_W * point_acceleration(V[L.lb], A[L.lb], L.pb);
+    const Vec3 da = ab - aa;
+    out[r++] = da.x();
+    out[r++] = da.y();
+    out[r++] = da.z();
+    if (L.hinge) {
+      // d/dt [t . (w_b - w_a)] with t turning with a: t . (al_b - al_a) + (w_a x t) . (w_b - w_a).
+      const Vec3 wa = L.la < 0 ? Vec3::Zero() : Vec3(Ra * V[L.la].head<3>());
+      const Vec3 ala = L.la < 0 ? Vec3::Zero() : Vec3(Ra * A[L.la].head<3>());
+      const Vec3 dw = work_[L.lb].R_W * V[L.lb].head<3>() - wa;
+      const Vec3 dal = work_[L.lb].R_W * A[L.lb].head<3>() - ala;
+      for (const Vec3& tl : {L.t1, L.t2}) {
+        const Vec3 t = Ra * tl;
+        out[r++] = t.dot(dal) + wa.cross(t).dot(dw);
+      }
+    }
+  }
+}
+
+// Composite-rigid-body algorithm (Featherstone, Table 6.2): each link's composite inertia, then
+// M_ij = S_i^T X^T ... Ic_j S_j walking from each link to the root.
+void Mechanism::mass_matrix() {
+  const int n = (int)links.size();
+  for (int i = 0; i < n; ++i) work_[i].Ic = spatial_inertia(links[i].mass, links[i].I_P);
+  for (int i = n; i-- > 0;)
+    if (links[i].parent >= 0)
+      work_[links[i].parent].Ic += transform_inertia_back(work_[i].E, work_[i].r, work_[i].Ic);
+  M_.setZero();
+  for (int i = 0; i < n; ++i) {
+    const Link& l = links[i];
+    for (int c = 0; c < l.nv; ++c) {
+      Vec6 F = work_[i].Ic * l.S.col(c);
+      for (int c2 = 0; c2 < l.nv; ++c2) M_(l.iv + c2, l.iv + c) = l.S.col(c2).dot(F);
+      for (int j = i; links[j].parent >= 0;) {
+        F = transform_force_back(work_[j].E, work_[j].r, F);
+        j = links[j].parent;
+        const Link& lj = links[j];
+        for (int c2 = 0; c2 < lj.nv; ++c2) {
+          M_(lj.iv + c2, l.iv + c) = lj.S.col(c2).dot(F);
+          M_(l.iv + c, lj.iv + c2) = M_(lj.iv + c2, l.iv + c);
+        }
+      }
+    }
+  }
+}
+
+void Mechanism::unit_velocities(int k, std::vector<Vec6>& V) const {
+  for (size_t i = 0; i < links.size(); ++i) {
+    const Link& l = links[i];
+    Vec6 vJ = Vec6::Zero();
+    if (k >= l.iv && k < l.iv + l.nv) vJ = l.S.col(k - l.iv);
+    V[i] = l.parent < 0 ? vJ : Vec6(transform_motion(work_[i].E, work_[i].r, V[l.parent]) + vJ);
+  }
+}
+
+void Mechanism::loop_jacobian() {
+  for (int k = 0; k < nv; ++k) {
+    unit_velocities(k, V_);
+    loop_velocity_rows(V_, rows_.data());
+    G_.col(k) = rows_;
+  }
+  mass_matrix();
+  llt_.compute(M_);
+  Y_ = G_.transpose();
+  llt_.solveInPlace(Y_);
+  A_.noalias() = G_ * Y_;
+  A_.diagonal().array() += 1e-12 * std::max(A_.diagonal().maxCoeff(), 1e-300);
+  llt_rows_.compute(A_);
+}
+
+void Mechanism::solve_rows() {
+  lambda_ = rhs_;
+  llt_rows_.solveInPlace(lambda_);
+  dv_.noalias() = Y_ * lambda_;
+}
+
+void Mechanism::constrain_accelerations(double* qdd) {
+  // True link accelerations under the tree's q'' (the ABA's include the base's fictitious -g).
+  for (size_t i = 0; i < links.size(); ++i) {
+    const Link& l = links[i];
+    const Work& w = work_[i];
+    Vec6 a = l.parent < 0 ? Vec6::Zero() : transform_motion(w.E, w.r, Acc_[l.parent]);
+    a += w.c;
+    if (l.nv > 0) a += l.S * Eigen::Map<const VecX6>(qdd + l.iv, l.nv);
+    Acc_[i] = a;
+    V_[i] = w.vel;
+  }
+  loop_acceleration_rows(V_, Acc_, rows_.data());
+  rhs_ = -rows_;
+  loop_jacobian();  // overwrites V_ and rows_
+  solve_rows();
+  for (int k = 0; k < nv; ++k) qdd[k] += dv_[k];
+}
+
+void Mechanism::displace(double* q, const double* dv) const {
+  for (const Link& l : links) {
+    double* qq = q + l.iq;
+    const double* d = dv + l.iv;
+    switch (l.kind) {
+      case LinkJoint::revolute:
+      case LinkJoint::prismatic:
+        qq[0] += d[0];
+        break;
+      case LinkJoint::fixed:
+        break;
+      case LinkJoint::spherical:
+      case LinkJoint::free: {
+        // The rotation vector's exact increment q (x) exp(d / 2), then the position by R v.
+        const int o = l.kind == LinkJoint::free ? 3 : 0;
+        const Quat q0(qq[o], qq[o + 1], qq[o + 2], qq[o + 3]);
+        const Vec3 w(d[0], d[1], d[2]);
+        const double ang = w.norm();
+        const Quat dq = ang > 0 ? Quat(Eigen::AngleAxisd(ang, w / ang)) : Quat::Identity();
+        if (l.kind == LinkJoint::free) {
+          const Vec3 dx = q0.normalized() * Vec3(d[3], d[4], d[5]);
+          qq[0] += dx.x();
+          qq[1] += dx.y();
+          qq[2] += dx.z();
+        }
+        const Quat q1 = (q0 * dq).normalized();
+        qq[o] = q1.w();
+        qq[o + 1] = q1.x();
+        qq[o + 2] = q1.y();
+        qq[o + 3] = q1.z();
+        break;
+      }
+    }
+  }
+}
+
+void Mechanism::project_positions(double* q) {
+  // Newton's method on C(q) = 0 with the minimum-mass-norm step; converges quadratically from the
+  // integrator's error (1e-10 and below) in one or two iterations.
+  for (int it = 0; it < 8; ++it) {
+    kinematics(q);
+    loop_position_rows(rows_.data());
+    if (rows_.lpNorm<Eigen::Infinity>() < 1e-14) return;
+    rhs_ = -rows_;
+    loop_jacobian();
+    solve_rows();
+    displace(q, dv_.data());
+  }
+}
+
+void Mechanism::project_velocities(const double* q, double* v) {
+  kinematics(q);
+  loop_jacobian();
+  Eigen::Map<Eigen::VectorXd> vv(v, nv);
+  rhs_.noalias() = -(G_ * vv);
+  solve_rows();
+  vv += dv_;
+}
+
+double Mechanism::loop_angle(int k) const {
+  const Loop& L = loops[k];
+  const Quat qa = L.la < 0 ? Quat::Identity() : out_q_[L.la];
+  const Quat qb = out_q_[L.lb];
+  // Each link's rotation since the start, then b's relative to a's, about the start axis.
+  const Quat ra = qa * L.q_a0.conjugate(), rb = qb * L.q_b0.conjugate();
+  const Quat rel = ra.conjugate() * rb;
+  if (!L.hinge) return 2 * std::atan2(rel.vec().norm(), std::abs(rel.w()));
+  return 2 * std::atan2(rel.vec().dot(L.axis_W0), rel.w());
+}
+
+double Mechanism::loop_speed(int k) const {
+  const Loop& L = loops[k];
+  const Vec3 wa = L.la < 0 ? Vec3::Zero() : Vec3(out_q_[L.la] * out_v_[L.la].head<3>());
+  const Vec3 wb = out_q_[L.lb] * out_v_[L.lb].head<3>();
+  if (!L.hinge) return (wb - wa).norm();
+  const Quat qa = L.la < 0 ? Quat::Identity() : out_q_[L.la];
+  return (wb - wa).dot(qa * (L.q_a0.conjugate() * L.axis_W0));
+}
+
+}  // namespace simreel
