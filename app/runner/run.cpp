@@ -106,6 +106,10 @@ std::string summary_text(const RunSummary& s) {
     o << "  bodies: " << s.profile->gyroscopic_bodies << " with gyroscopic dynamics, "
       << s.profile->isotropic_bodies << " isotropic (no gyroscopic work), " << s.profile->static_bodies
       << " static (never integrated), " << s.profile->kinematic_bodies << " kinematic\n";
+    if (s.profile->jointed_bodies > 0)
+      o << "  joints: " << s.profile->jointed_bodies << " bodies moved by their mechanisms' coordinates, "
+        << s.profile->joint_steps << " internal Runge-Kutta steps ("
+        << (double)s.profile->joint_steps / std::max(1L, s.profile->steps) << " a step)\n";
     if (s.profile->shapes > 0)
       o << "  contacts: " << s.profile->shapes << " shapes; summed over steps: " << s.profile->pairs
         << " candidate pairs, " << s.profile->contact_points << " contact points, "
@@ -164,6 +168,8 @@ std::string summary_json(const RunSummary& s) {
                      {"solver_bodies", s.profile->solver_bodies},
                      {"impact_substeps", s.profile->impact_substeps}};
     p["applied_forces"] = {{"records", s.profile->forces}, {"rk4_bodies", s.profile->forced_bodies}};
+    if (s.profile->jointed_bodies > 0)
+      p["joints"] = {{"jointed_bodies", s.profile->jointed_bodies}, {"internal_steps", s.profile->joint_steps}};
     o["profile"] = std::move(p);
   }
   if (!s.output.empty()) o["output"] = s.output;
