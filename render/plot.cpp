@@ -117,10 +117,13 @@ void InsetPlot::draw(const double* t, const float* const* series, int n, double 
   auto y_of = [&](float v) { return std::clamp((float)px_y(v), ylo, yhi); };
   for (size_t c = 0; c < L_.colors.size(); ++c) {
     const float* v = series[c];
+    // A value not known yet (NaN: a period before it is measured) leaves a gap.
     for (int k = 0; k < last; ++k)
-      out.lines.push_back({(float)px_x(t[k]), y_of(v[k]), (float)px_x(t[k + 1]), y_of(v[k + 1]),
-                           L_.line_width, L_.colors[c]});
-    if (now && last >= 0 && t_now > t[last] && t_now <= L_.t1)
+      if (std::isfinite(v[k]) && std::isfinite(v[k + 1]))
+        out.lines.push_back({(float)px_x(t[k]), y_of(v[k]), (float)px_x(t[k + 1]), y_of(v[k + 1]),
+                             L_.line_width, L_.colors[c]});
+    if (now && last >= 0 && t_now > t[last] && t_now <= L_.t1 && std::isfinite(v[last]) &&
+        std::isfinite(now[c]))
       out.lines.push_back({(float)px_x(t[last]), y_of(v[last]), (float)px_x(t_now), y_of(now[c]),
                            L_.line_width, L_.colors[c]});
   }

@@ -46,9 +46,9 @@ std::string line_text(const YAML::Node& n, const Ctx& w) {
   return n.Scalar();
 }
 
-constexpr EnumNames<ShowKind, 12> kShowKinds{{"axes", "angular_velocity", "angular_momentum", "velocity",
+constexpr EnumNames<ShowKind, 13> kShowKinds{{"axes", "angular_velocity", "angular_momentum", "velocity",
                                               "center_of_mass", "trail", "inertia_box", "inertia_ellipsoid",
-                                              "cones", "poinsot", "forces", "contacts"}};
+                                              "cones", "poinsot", "forces", "contacts", "joints"}};
 static_assert(kShowKinds.complete());
 
 // The keys each kind takes.
@@ -76,6 +76,8 @@ std::vector<std::string> keys_of(ShowKind k) {
               "xray",  "gravity", "anchor",       "arrows", "springs"};
     case ShowKind::contacts:
       return {"color", "scale", "width", "opacity", "xray", "points", "normals", "arrows"};
+    case ShowKind::joints:
+      return {"color", "scale", "width", "opacity", "xray"};
   }
   return {};
 }
@@ -112,6 +114,7 @@ ShowItem show_item(const YAML::Node& n, const Ctx& w, double duration) {
   if (item.kind == ShowKind::trail) item.width = 3;
   if (item.kind == ShowKind::contacts) item.xray = 0.6;  // contact forces lie inside the bodies
   if (item.kind == ShowKind::forces) item.xray = 0.35;
+  if (item.kind == ShowKind::joints) item.xray = 0.5;  // a pivot sits half inside its body
   if (!opts || opts.IsNull()) return item;
   const Ctx c = w.child(name);
   check_keys(opts, c, keys_of(item.kind));
@@ -249,7 +252,7 @@ HudLine hud_line(const YAML::Node& n, const Ctx& w, const Scene& s) {
 }
 
 // A quantity's name in the TeX subset: omega_body.y -> \omega_2, |L| -> |L|, v.x -> v_x.
-std::string default_plot_label(const HudField& f) {
+std::string default_plot_label(const HudField& f, const Scene& s) {
   std::string base = f.name;
   bool body_axes = false;
   if (f.name == "omega") base = "\\omega";
@@ -259,6 +262,15 @@ std::string default_plot_label(const HudField& f) {
   if (f.name == "tilt") return "\\theta";
   if (f.name == "precession") return "\\Omega";
   if (f.name == "L_drift") return "|L - L_0|/|L_0|";
+  if (f.joint >= 0) {
+    const bool slider = s.joints[f.joint].type == JointType::prismatic;
+    std::string q = slider ? "x" : "\\theta";
+    if (f.name.starts_with("speed")) q = slider ? "\\dot x" : "\\dot\\theta";
+    if (f.name.starts_with("period")) q = "T";
+    if (f.coord == 1) q += "_2";
+    if (s.joints.size() > 1) q += " (" + s.joints[f.joint].name + ")";
+    return q;
+  }
   if (f.norm) return "|" + base + "|";
   if (f.component >= 0) {
     if (f.name == "position") return std::string(1, (char)('x' + f.component));
@@ -405,7 +417,7 @@ void load_plots(const YAML::Node& n, const Ctx& w, Scene& s) {
         bad("a vector: plot a component (" + name + ".x) or its magnitude (|" + name + "|)");
       f.printf = "%.6g";
       p.quantities.push_back(f);
-      p.labels.push_back(default_plot_label(f));
+      p.labels.push_back(default_plot_label(f, s));
     }
     if (const YAML::Node l = e["labels"]) {
       const Ctx lc = c.child("labels");
@@ -447,13 +459,55 @@ void load_plots(const YAML::Node& n, const Ctx& w, Scene& s) {
 
 }  // namespace
 
+namespace {
+
+// A joint quantity's joint and coordinate (f.name one of hud_joint_names(); `prefix` the text
+// before the dot, empty for none).
+void resolve_joint(HudField& f, const std::string& prefix, const Scene& s,
+                   const std::function<void(const std::string&)>& bad) {
+  const std::string list = "angle, speed, period, angle2, speed2, period2";
+  if (f.component >= 0 || f.norm) bad("'" + f.name + "' is a number of a joint: no component or |...|");
+  f.coord = f.name.back() == '2' ? 1 : 0;
+  if (prefix.empty()) {
+    for (size_t j = 0; j < s.joints.size() && f.joint < 0; ++j)
+      if (s.joints[j].type != JointType::fixed) f.joint = (int)j;
+    if (f.joint < 0)
+      bad("'" + f.name + "' is a joint's coordinate (" + list + "), and the scene has no joint with one");
+  } else {
+    std::vector<std::string> names;
+    for (const JointDef& j : s.joints) names.push_back(j.name);
+    const auto it = std::find(names.begin(), names.end(), prefix);
+    if (it == names.end()) {
+      std::string msg = "no joint is named '" + prefix + "'";
+      if (auto sug = nearest(prefix, names)) msg += "; did you mean '" + *sug + "'?";
+      for (const BodyDef& b : s.bodies)
+        if (b.name == prefix) {
+          msg += " ('" + prefix + "' is a body; " + list + " are a joint's)";
+          break;
+        }
+      if (names.empty()) msg += " (the scene has no joints)";
+      bad(msg);
+    }
+    f.joint = (int)(it - names.begin());
+  }
+  const JointDef& j = s.joints[f.joint];
+  const std::string what = "joint '" + j.name + "' is " + to_string(j.type);
+  if (j.type == JointType::fixed) bad(what + ": it has no coordinate");
+  if (f.coord == 1 && j.type != JointType::universal)
+    bad(what + ": '" + f.name + "' is a universal joint's second coordinate");
+  if (f.name.starts_with("period") && j.type == JointType::spherical)
+    bad(what + ": its angle never changes sign, so it has no period to measure");
+}
+
+}  // namespace
+
 HudField parse_quantity(const std::string& field_in, const Scene& s, int default_body,
                         const std::function<void(const std::string&)>& bad) {
   std::string field = field_in;
   HudField f;
   if (field.size() >= 2 && field.front() == '|' && field.back() == '|')
     f.norm = true, field = field.substr(1, field.size() - 2);
-  // [body.]name[.x|.y|.z]
+  // [body.]name[.x|.y|.z] or [joint.]name
   std::vector<std::string> parts;
   for (size_t a = 0;;) {
     const size_t dot = field.find('.', a);
@@ -468,26 +522,33 @@ HudField parse_quantity(const std::string& field_in, const Scene& s, int default
   const auto& scalars = hud_scalar_names();
   const auto& vectors = hud_body_names();
   const auto& angles = hud_body_scalar_names();
+  const auto& per_joint = hud_joint_names();
   std::vector<std::string> all = scalars;
   all.insert(all.end(), vectors.begin(), vectors.end());
   all.insert(all.end(), angles.begin(), angles.end());
+  all.insert(all.end(), per_joint.begin(), per_joint.end());
   std::string body;
   if (parts.size() == 2)
     body = parts[0], f.name = parts[1];
   else if (parts.size() == 1)
     f.name = parts[0];
   else
-    bad("'{" + field + "}' is not a quantity ([body.]name[.x|.y|.z])");
+    bad("'{" + field + "}' is not a quantity ([body.]name[.x|.y|.z] or [joint.]name)");
   const bool scalar = std::find(scalars.begin(), scalars.end(), f.name) != scalars.end();
   const bool body_scalar = std::find(angles.begin(), angles.end(), f.name) != angles.end();
   const bool vector = body_scalar || std::find(vectors.begin(), vectors.end(), f.name) != vectors.end();
-  if (!scalar && !vector) {
+  const bool joint = std::find(per_joint.begin(), per_joint.end(), f.name) != per_joint.end();
+  if (!scalar && !vector && !joint) {
     std::string msg = "unknown quantity '" + f.name + "'";
     if (auto sug = nearest(f.name, all)) msg += "; did you mean '" + *sug + "'?";
     msg +=
         " (t, video_t, frame, E, E_drift, L_drift; per body omega, omega_body, L, v, position, tilt, "
-        "precession)";
+        "precession; per joint angle, speed, period, angle2, speed2, period2)";
     bad(msg);
+  }
+  if (joint) {
+    resolve_joint(f, body, s, bad);
+    return f;
   }
   if (scalar && (!body.empty() || f.component >= 0 || f.norm))
     bad("'" + f.name + "' is a number of the whole scene: no body, component or |...|");
@@ -505,6 +566,12 @@ HudField parse_quantity(const std::string& field_in, const Scene& s, int default
       if (it == names.end()) {
         std::string msg = "no body is named '" + body + "'";
         if (auto sug = nearest(body, names)) msg += "; did you mean '" + *sug + "'?";
+        for (const JointDef& j : s.joints)
+          if (j.name == body) {
+            msg += " ('" + body +
+                   "' is a joint: its quantities are angle, speed, period, angle2, speed2, period2)";
+            break;
+          }
         bad(msg);
       }
       f.body = (int)(it - names.begin());
@@ -530,6 +597,19 @@ const std::vector<std::string>& hud_body_scalar_names() {
   static const std::vector<std::string> v = {"tilt", "precession"};
   return v;
 }
+const std::vector<std::string>& hud_joint_names() {
+  static const std::vector<std::string> v = {"angle", "speed", "period", "angle2", "speed2", "period2"};
+  return v;
+}
+
+bool joint_sides(const JointDef& j, const std::vector<BodyDef>& bodies, int& parent, int& child) {
+  auto fixed = [&](int b) {
+    return b < 0 || b >= (int)bodies.size() || bodies[b].type == BodyType::static_body;
+  };
+  parent = j.parent, child = j.child;
+  if (fixed(child)) std::swap(parent, child);
+  return !fixed(child);
+}
 
 bool OverlaySpec::any() const {
   if (!hud.empty() || !title.empty() || !captions.empty() || !labels.empty() || legend.shown ||
@@ -546,7 +626,19 @@ std::vector<ShowItem> read_show_list(const YAML::Node& sh, const scene_yaml::Ctx
   if (s.bodies[body].type != BodyType::dynamic && sh.size() > 0)
     w.fail(sh, "body '" + s.bodies[body].name + "' does not move: show items are for moving bodies");
   std::vector<ShowItem> items;
-  for (size_t k = 0; k < sh.size(); ++k) items.push_back(show_item(sh[k], w.index(k), s.duration));
+  for (size_t k = 0; k < sh.size(); ++k) {
+    items.push_back(show_item(sh[k], w.index(k), s.duration));
+    if (items.back().kind != ShowKind::joints) continue;
+    bool held = false;
+    for (const JointDef& j : s.joints) {
+      int parent, child;
+      held = held || (joint_sides(j, s.bodies, parent, child) && child == (int)body);
+    }
+    if (!held)
+      w.index(k).fail(sh[k],
+                      "body '" + s.bodies[body].name +
+                          "' is no joint's child: `joints` draws the joint that holds a body to its parent");
+  }
   return items;
 }
 

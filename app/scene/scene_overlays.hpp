@@ -18,6 +18,8 @@
 #include <string>
 #include <vector>
 
+#include <simreel/body.hpp>
+#include <simreel/joints.hpp>
 #include <simreel/math.hpp>
 
 namespace YAML {
@@ -44,6 +46,7 @@ enum class ShowKind {
   poinsot,            ///< the energy ellipsoid rolling on the invariable plane, polhode and herpolhode
   forces,             ///< the scene's forces on the body: arrows, torques, springs, drag (and gravity)
   contacts,           ///< contact points, normals and contact forces on the body
+  joints,             ///< the joint holding the body to its parent: the pivot (a ball) and the axis
 };
 const char* to_string(ShowKind k);
 
@@ -73,14 +76,16 @@ struct ShowItem {
   bool spring_lines = false;  ///< forces: ... or as straight lines (`springs: line`: strings, cords)
 };
 
-// One field of a HUD line: {name}, {body.name}, {name.x}, {|name|}, each with an optional
-// Python-style spec after ':' ([+][width][.precision][f|e|g|d]).
+// One field of a HUD line: {name}, {body.name}, {name.x}, {|name|}, {joint.name}, each with an
+// optional Python-style spec after ':' ([+][width][.precision][f|e|g|d]).
 struct HudField {
-  std::string name;    ///< t, frame, E, E_drift, L_drift; omega, omega_body, L, v, position
+  std::string name;    ///< t, frame, E, E_drift, L_drift; omega, omega_body, L, v, position; angle, ...
   int body = -1;       ///< per-body quantities: the body's index
   int component = -1;  ///< 0 1 2 for .x .y .z; -1 the whole vector or a scalar
   bool norm = false;   ///< |name|
   std::string printf;  ///< the spec as a printf conversion, e.g. "%+.1e"
+  int joint = -1;      ///< per-joint quantities (angle, speed, period and their 2nd-coordinate forms)
+  int coord = 0;       ///< ... the joint coordinate: 0, or 1 for angle2, speed2, period2
 };
 struct HudLine {
   std::vector<std::string> text;  ///< literal text before each field, then the text after the last
@@ -148,9 +153,10 @@ void load_overlays(const YAML::Node& root, const std::string& path, Scene& s);
 std::vector<ShowItem> read_show_list(const YAML::Node& list, const scene_yaml::Ctx& c, const Scene& s,
                                      size_t body);
 
-// A quantity as a HUD field or plot names it: "[|][body.]name[.x|.y|.z][|]". `default_body`: the
-// body of per-body names without a prefix (-1: the first moving body). Throws InputError through
-// `fail` with the message.
+// A quantity as a HUD field or plot names it: "[|][body.]name[.x|.y|.z][|]" or "[joint.]name".
+// `default_body`: the body of per-body names without a prefix (-1: the first moving body); a
+// per-joint name without a prefix takes the scene's first joint that has a coordinate. Throws
+// InputError through `fail` with the message.
 HudField parse_quantity(const std::string& field, const Scene& s, int default_body,
                         const std::function<void(const std::string&)>& fail);
 
@@ -158,5 +164,11 @@ HudField parse_quantity(const std::string& field, const Scene& s, int default_bo
 const std::vector<std::string>& hud_scalar_names();
 const std::vector<std::string>& hud_body_names();
 const std::vector<std::string>& hud_body_scalar_names();  ///< tilt, precession: a number per body
+/// angle, speed, period, angle2, speed2, period2: a number per joint (rad or m, rad/s or m/s, s)
+const std::vector<std::string>& hud_joint_names();
+
+// The moving side of a joint as the World takes it: a joint written [child, world] (or with a
+// static body as its child) is turned round. Sets parent and child; false if neither moves.
+bool joint_sides(const JointDef& j, const std::vector<BodyDef>& bodies, int& parent, int& child);
 
 }  // namespace simreel

@@ -45,6 +45,8 @@ int default_color(ShowKind k) {
       return 6;  // vermillion
     case ShowKind::contacts:
       return 1;  // orange
+    case ShowKind::joints:
+      return 0;  // black: reads on the sky and on light and dark bodies alike
   }
   return 0;
 }
@@ -128,8 +130,12 @@ void SceneOverlays::prepass(const Scene& scene, int threads, bool magnitudes, st
     if (it.spec.kind == ShowKind::contacts && !it.spec.scale) contact_bodies.push_back(it.body);
   // Contact forces sampled about 60 times a simulated second (a landing lasts a few steps).
   const long contact_every = std::max(1L, std::lround(1.0 / (60.0 * dt_)));
+  JointPeriods periods;  // the plots' {NAME.period}, measured over the pre-pass's own steps
+  for (const Plot& p : plots_)
+    for (const HudField& f : p.spec.quantities) periods.track(f);
   FrameLoop::Hooks h;
   h.step = [&](const World& w) {
+    if (!periods.empty()) periods.record(w);
     if (magnitudes) accumulate(w, mags);
     const long s = w.steps();
     if (!contact_bodies.empty() && s % contact_every == 0)
@@ -141,7 +147,7 @@ void SceneOverlays::prepass(const Scene& scene, int threads, bool magnitudes, st
       if (s % p.every != 0) continue;
       p.t.push_back(w.time());
       for (size_t q = 0; q < p.spec.quantities.size(); ++q)
-        p.values[q].push_back((float)quantity_value(p.spec.quantities[q], w, -1, E0, L0));
+        p.values[q].push_back((float)quantity_value(p.spec.quantities[q], w, -1, E0, L0, 0, &periods));
     }
   };
   loop.run({}, h, true);
@@ -191,8 +197,32 @@ SceneOverlays::SceneOverlays(const Scene& scene, const World& world, const std::
         need_scales = need_scales || !s.scale || !s.torque_scale;
       }
       need_scales = need_scales || (is_arrow(s.kind) && !s.scale);
-      items_.push_back({(int)i, s, 0, 0, {-1, -1}});
+      Item it{(int)i, s, 0, 0, {-1, -1}};
+      if (s.kind == ShowKind::joints) {
+        // The joint holding body i to its parent (the scene's check: there is one). Where the
+        // bodies are at t = 0 (their start poses) maps the joint's world anchor and axes into
+        // the frames they move with.
+        for (const JointDef& j : scene.joints) {
+          JointLook L;
+          if (!joint_sides(j, scene.bodies, L.parent, L.child) || L.child != (int)i) continue;
+          L.type = j.type;
+          const BodyDef& c = scene.bodies[L.child];
+          L.anchor_C = c.q_WB.conjugate() * (j.anchor_W - c.p_WB);
+          L.axis2_C = c.q_WB.conjugate() * j.axis2_W.normalized();
+          L.axis_P = j.axis_W.normalized();
+          if (L.parent >= 0) L.axis_P = scene.bodies[L.parent].q_WB.conjugate() * L.axis_P;
+          it.joint = (int)joints_.size();
+          joints_.push_back(L);
+          break;
+        }
+        if (it.joint < 0) continue;
+      }
+      items_.push_back(it);
     }
+  for (const HudLine& l : o.hud)
+    for (const HudField& f : l.fields) periods_.track(f);
+  for (const PlotSpec& ps : o.plots)
+    for (const HudField& f : ps.quantities) periods_.track(f);
   bool contacts_auto = false;
   for (const Item& it : items_)
     contacts_auto = contacts_auto || (it.spec.kind == ShowKind::contacts && !it.spec.scale);
@@ -250,6 +280,9 @@ SceneOverlays::SceneOverlays(const Scene& scene, const World& world, const std::
       const double big = it.spec.scale ? 0 : mags[it.body].omega;
       it.scale = it.spec.scale ? *it.spec.scale : big > 0 ? kArrowReach * R / big : 0;
       for (int k : it.trails) trails_[k].k = it.scale;
+    } else if (it.spec.kind == ShowKind::joints) {
+      it.scale = it.spec.scale ? *it.spec.scale : 0.8 * R;  // the axis's drawn length
+      it.radius = 0.015 * R * it.spec.width;                // its shaft
     } else if (it.spec.kind == ShowKind::cones) {
       it.scale = it.spec.scale ? *it.spec.scale : kArrowReach * R;  // slant: an auto-scaled omega's length
     }
@@ -306,6 +339,43 @@ Vec3 SceneOverlays::to_world(const Trail& t, const World& w, const Vec3& v) cons
   return v;
 }
 
+void SceneOverlays::build_joint(const Item& it, const World& w, const CameraView& cam, OverlayList& out) {
+  const JointLook& L = joints_[it.joint];
+  const ShowItem& s = it.spec;
+  const Rgba color = item_color(s);
+  const float xray = (float)s.xray;
+  // The pivot: the anchor, carried by the child. Sizes have floors in px so that a joint reads on
+  // a thin bar and in a small frame: the ball's radius at least 6 px at 720 lines (and 3 px), the
+  // shaft's 1.5 px at 720 lines (and 0.75 px), both times `width`.
+  const Vec3 p = w.local_to_world(L.child, L.anchor_C);
+  const double px = pixel_size_at(cam, height_, std::max((p - cam.eye).norm(), 1e-3));
+  const double R = body_radius_[L.child], lines = height_ / 720.0;
+  const double ball = std::max(0.06 * R, std::max(6.0 * lines, 3.0) * px) * s.width;
+  const double shaft = std::max(it.radius, std::max(1.5 * lines, 0.75) * px * s.width);
+  out.ellipsoid(p, Mat3::Identity(), Vec3::Constant(ball), color, xray);
+  // The axis: an arrow through the pivot, `scale` long, pointing along +axis (the coordinate grows
+  // turning right-handed about it, or sliding along it). A hinge's and a slider's axis are fixed in
+  // the parent; a universal joint's second axis is fixed in the child.
+  auto axis = [&](const Vec3& a) {
+    const double len = std::max(it.scale, 4 * ball);
+    out.arrow(p - 0.5 * len * a, len * a, shaft, color, xray);
+  };
+  const Vec3 a = L.parent >= 0 ? w.local_to_world_vec(L.parent, L.axis_P) : L.axis_P;
+  switch (L.type) {
+    case JointType::revolute:
+    case JointType::prismatic:
+      axis(a);
+      break;
+    case JointType::universal:
+      axis(a);
+      axis(w.local_to_world_vec(L.child, L.axis2_C));
+      break;
+    case JointType::spherical:
+    case JointType::fixed:
+      break;
+  }
+}
+
 double SceneOverlays::arrow_scale(int body, ShowKind kind, bool torque) const {
   for (const Item& it : items_)
     if (it.body == body && it.spec.kind == kind) return torque ? it.torque_scale : it.scale;
@@ -313,6 +383,7 @@ double SceneOverlays::arrow_scale(int body, ShowKind kind, bool torque) const {
 }
 
 void SceneOverlays::record(const World& w) {
+  if (!periods_.empty()) periods_.record(w);
   const long s = w.steps();
   for (Trail& t : trails_) {
     if (s <= t.last) continue;
@@ -391,6 +462,9 @@ void SceneOverlays::build(const World& w, long frame, DrawList& dl) {
         break;
       case ShowKind::contacts:
         build_contacts(it, w, dl.camera, dl.overlay);
+        break;
+      case ShowKind::joints:
+        build_joint(it, w, dl.camera, dl.overlay);
         break;
       case ShowKind::trail:
       case ShowKind::poinsot:  // below, after every other item: translucent

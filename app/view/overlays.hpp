@@ -6,11 +6,13 @@
 // magnitude is drawn kArrowReach times the body's radius, unless the item gives `scale:`.
 // Trails record a body point at a fixed cadence of physics steps through FrameLoop::Hooks::step,
 // into ring buffers sized up front: a frame's trail is a function of the steps before it, the
-// same in a partial render (--frames A:B, --at) as in the full one.
+// same in a partial render (--frames A:B, --at) as in the full one. Joints' measured periods (HUD
+// and plot `{NAME.period}`, JointPeriods below) are recorded through the same hook.
 // Frames are a function of (state, history of steps, camera, settings): no per-frame allocation
 // once the buffers have grown (text glyphs are rasterised once, on first use).
 #pragma once
 #include <algorithm>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -64,6 +66,40 @@ void visit_contacts(const World& w, int body, F&& f) {
     for (int j = 0; j < c.count; ++j) f(c.points[j].p_W, c.normal_W, c.points[j].force_W);
 }
 
+// `{NAME.period}`: the most recent full period of a joint coordinate, measured from the physics
+// steps. At each step the coordinate's rate is read (World::joint_speed); where it changes sign
+// between two steps the coordinate has turned, and the turning time is interpolated linearly
+// between the two steps (s_a > 0 >= s_b: t_a + h s_a / (s_a - s_b); a step at exactly 0 followed
+// by motion counts, so a release from rest is a turning point at t = 0). The period is the time
+// between the latest turning point and the one before it in the same direction (maximum to
+// maximum, minimum to minimum): it updates every half swing, and is NaN (the HUD prints an em
+// dash) until two turns in one direction have been seen. Resolution: linear interpolation puts
+// each turn within |q'''| h^2 / (8 |q''|) of the true one (h the physics step); at a pendulum's
+// turn q''' = -w0^2 cos(theta) q' vanishes, so the error is at most w0^2 h^3 / 8 per turn
+// (w0^2 = m g d / I_pivot) and w0^2 h^3 / 4 on a period: 1.8e-7 s for w0^2 = 10 / s^2 at 1/240 s.
+class JointPeriods {
+ public:
+  // Measures the coordinate a period field names (f.joint, f.coord); others are ignored.
+  void track(const HudField& f);
+  bool empty() const { return meters_.empty(); }
+  // FrameLoop::Hooks::step: every physics step in order (a step seen twice is skipped).
+  void record(const World& w);
+  // s, the latest full period of joint j's coordinate k; NaN until measured (or not tracked).
+  double period(int joint, int coord) const;
+  // The turning times seen so far (for tests): +1 the coordinate's maxima, -1 its minima.
+  const std::vector<double>& turns(int joint, int coord, int direction) const;
+
+ private:
+  struct Meter {
+    int joint = -1, coord = 0;
+    long last_step = -1;
+    double t = 0, s = 0;           // the previous step's time and rate
+    std::vector<double> up, down;  // turning times at maxima (rate + to -) and at minima
+    double period = std::numeric_limits<double>::quiet_NaN();
+  };
+  std::vector<Meter> meters_;
+};
+
 // Okabe-Ito colour-blind-safe palette (B. Wong, Nature Methods 8, 441, 2011), as linear RGB.
 Rgba okabe_ito(int index, float alpha = 1);  ///< 0 black, 1 orange, 2 sky blue, 3 bluish green, 4 yellow,
                                              ///< 5 blue, 6 vermillion, 7 reddish purple
@@ -80,11 +116,14 @@ class SceneOverlays {
   ~SceneOverlays();
   bool empty() const { return items_.empty() && !has_screen_; }
   bool has_trails() const { return !trails_.empty(); }
+  // Whether record() must see every physics step: trails, or a joint's measured period.
+  bool records_steps() const { return !trails_.empty() || !periods_.empty(); }
+  const JointPeriods& periods() const { return periods_; }
   // Samples trail k can hold (its ring's size), and the physics steps between its samples.
   size_t trail_capacity(int k) const { return trails_[k].points.size(); }
   long trail_every(int k) const { return trails_[k].every; }
 
-  // FrameLoop::Hooks::step: records the trails.
+  // FrameLoop::Hooks::step: records the trails and the joints' periods.
   void record(const World& w);
   // The world's present state into dl.overlay and dl.screen (dl.camera set already). frame: the
   // frame's number in the clip (HUD {frame}).
@@ -108,6 +147,14 @@ class SceneOverlays {
     double radius = 0;         // m, arrow shaft
     int trails[2] = {-1, -1};  // poinsot: its polhode and herpolhode
     double torque_scale = 0;   // forces: m per N m
+    int joint = -1;            // joints: index into joints_
+  };
+  // A joint as the `joints` item draws it: the anchor in the child's frame (it moves with the
+  // child), the axis fixed in the parent (or the world) and, universal, axis2 fixed in the child.
+  struct JointLook {
+    int parent = -1, child = -1;
+    JointType type = JointType::revolute;
+    Vec3 anchor_C, axis_P, axis2_C;
   };
   struct Plot {
     PlotSpec spec;
@@ -142,6 +189,7 @@ class SceneOverlays {
   void build_screen(const World& w, long frame, const CameraView& cam, ScreenLayer& out);
   void build_forces(const Item& it, const World& w, const CameraView& cam, OverlayList& out);
   void build_contacts(const Item& it, const World& w, const CameraView& cam, OverlayList& out);
+  void build_joint(const Item& it, const World& w, const CameraView& cam, OverlayList& out);
   void prepass(const Scene& scene, int threads, bool magnitudes, std::vector<Magnitudes>& mags,
                std::vector<double>& contact_forces);
   void make_screen(const Scene& scene, const World& world);
@@ -156,6 +204,8 @@ class SceneOverlays {
   std::vector<double> body_radius_;
   std::vector<Item> items_;
   std::vector<Trail> trails_;
+  std::vector<JointLook> joints_;
+  JointPeriods periods_;  // the HUD's and plot cursors' {NAME.period}
   std::vector<HudLine> hud_;
   std::string hud_corner_, title_;
   std::vector<Caption> captions_;
@@ -175,12 +225,14 @@ class SceneOverlays {
 };
 
 // A HUD line with its fields filled from the world; `out` keeps its storage. `fps`: the video's,
-// for {video_t} = frame / fps (app/scene/scene_time.hpp; 0: the simulated time).
+// for {video_t} = frame / fps (app/scene/scene_time.hpp; 0: the simulated time). `periods`: what
+// {NAME.period} reads (none: not measured). A value not known yet (NaN) prints as an em dash.
 void format_hud_line(const HudLine& line, const World& w, long frame, double E0, const Vec3& L0,
-                     std::string& out, double fps = 0);
-// The value of a scalar quantity (a HUD field with a component, |...| or a scene scalar).
+                     std::string& out, double fps = 0, const JointPeriods* periods = nullptr);
+// The value of a scalar quantity (a HUD field with a component, |...|, a scene scalar or a joint's
+// number: World::joint_position, joint_speed, or the period from `periods`, NaN without).
 double quantity_value(const HudField& f, const World& w, long frame, double E0, const Vec3& L0,
-                      double fps = 0);
+                      double fps = 0, const JointPeriods* periods = nullptr);
 
 // A linear RGB colour as the screen layer's display (sRGB-encoded) bytes.
 Rgba8 to_display(const Rgba& linear);

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <numbers>
 
 #include "app/view/overlays.hpp"
@@ -68,8 +69,57 @@ bool body_scalar(const HudField& f, const World& w, double& out) {
 
 }  // namespace
 
-double quantity_value(const HudField& f, const World& w, long frame, double E0, const Vec3& L0, double fps) {
+void JointPeriods::track(const HudField& f) {
+  if (f.joint < 0 || !f.name.starts_with("period")) return;
+  for (const Meter& m : meters_)
+    if (m.joint == f.joint && m.coord == f.coord) return;
+  Meter m;
+  m.joint = f.joint, m.coord = f.coord;
+  meters_.push_back(m);
+}
+
+void JointPeriods::record(const World& w) {
+  const long step = w.steps();
+  const double t = w.time();
+  for (Meter& m : meters_) {
+    if (step <= m.last_step) continue;
+    const double s = w.joint_speed(m.joint, m.coord);
+    if (m.last_step >= 0) {
+      // A turn between the previous step (rate m.s) and this one: + to - at a maximum, - to + at a
+      // minimum; the rate's zero interpolated linearly between the two.
+      const int dir = m.s >= 0 && s < 0 ? 1 : m.s <= 0 && s > 0 ? -1 : 0;
+      if (dir) {
+        const double tc = m.t + (t - m.t) * (m.s / (m.s - s));
+        std::vector<double>& v = dir > 0 ? m.up : m.down;
+        v.push_back(tc);
+        if (v.size() >= 2) m.period = v.back() - v[v.size() - 2];
+      }
+    }
+    m.last_step = step, m.t = t, m.s = s;
+  }
+}
+
+double JointPeriods::period(int joint, int coord) const {
+  for (const Meter& m : meters_)
+    if (m.joint == joint && m.coord == coord) return m.period;
+  return std::numeric_limits<double>::quiet_NaN();
+}
+
+const std::vector<double>& JointPeriods::turns(int joint, int coord, int direction) const {
+  static const std::vector<double> none;
+  for (const Meter& m : meters_)
+    if (m.joint == joint && m.coord == coord) return direction > 0 ? m.up : m.down;
+  return none;
+}
+
+double quantity_value(const HudField& f, const World& w, long frame, double E0, const Vec3& L0, double fps,
+                      const JointPeriods* periods) {
   if (f.name == "frame") return (double)frame;
+  if (f.joint >= 0) {
+    if (f.name.starts_with("angle")) return w.joint_position(f.joint, f.coord);
+    if (f.name.starts_with("speed")) return w.joint_speed(f.joint, f.coord);
+    return periods ? periods->period(f.joint, f.coord) : std::numeric_limits<double>::quiet_NaN();
+  }
   if (f.body < 0) {
     const double E = w.kinetic_energy() + w.potential_energy();
     if (f.name == "t") return w.time();
@@ -90,7 +140,7 @@ double quantity_value(const HudField& f, const World& w, long frame, double E0, 
 }
 
 void format_hud_line(const HudLine& line, const World& w, long frame, double E0, const Vec3& L0,
-                     std::string& out, double fps) {
+                     std::string& out, double fps, const JointPeriods* periods) {
   out.clear();
   char buf[96];
   for (size_t k = 0; k < line.fields.size(); ++k) {
@@ -103,7 +153,12 @@ void format_hud_line(const HudLine& line, const World& w, long frame, double E0,
       continue;
     }
     if (f.body < 0 || f.norm || f.component >= 0 || f.name == "tilt" || f.name == "precession") {
-      std::snprintf(buf, sizeof buf, fmt, quantity_value(f, w, frame, E0, L0, fps));
+      const double v = quantity_value(f, w, frame, E0, L0, fps, periods);
+      if (std::isnan(v)) {
+        out += "\u2014";  // not known yet (a period before two turns)
+        continue;
+      }
+      std::snprintf(buf, sizeof buf, fmt, v);
       out += buf;
       continue;
     }
@@ -247,6 +302,9 @@ void SceneOverlays::fill_legend(const Scene& scene) {
           if (s.arrows) add("contact force", c);
           if (s.points || s.normals) add("contact point, normal", okabe_ito(0));
           break;
+        case ShowKind::joints:
+          add("joint: pivot, axis", c);
+          break;
       }
     }
   // One entry per text and colour; a text drawn in several colours names each body.
@@ -307,7 +365,7 @@ void SceneOverlays::build_screen(const World& w, long frame, const CameraView& c
     out.lines.reserve(max_lines_);  // once: curves grow
   for (Plot& p : plots_) {
     for (size_t q = 0; q < p.spec.quantities.size(); ++q)
-      p.now[q] = (float)quantity_value(p.spec.quantities[q], w, frame, E0_, L0_);
+      p.now[q] = (float)quantity_value(p.spec.quantities[q], w, frame, E0_, L0_, 0, &periods_);
     p.plot->draw(p.t.data(), p.series.data(), (int)p.t.size(), t, out, p.now.data());
   }
 
@@ -315,7 +373,7 @@ void SceneOverlays::build_screen(const World& w, long frame, const CameraView& c
     Typeface& f = *font_;
     int widest = 0;
     for (size_t k = 0; k < hud_.size(); ++k) {
-      format_hud_line(hud_[k], w, frame, E0_, L0_, lines_[k], fps_);
+      format_hud_line(hud_[k], w, frame, E0_, L0_, lines_[k], fps_, &periods_);
       widest = std::max(widest, f.width(lines_[k]));
     }
     const int pad = f.pixel_size() / 2, lh = f.line_height();

@@ -92,7 +92,7 @@ const uint8_t* SceneView::draw(Renderer& r, const World& world, uint8_t* out, lo
 }
 
 std::function<void(const World&)> SceneView::step_hook() {
-  if (!overlays || !overlays->has_trails()) return {};
+  if (!overlays || !overlays->records_steps()) return {};
   SceneOverlays* o = overlays.get();
   return [o](const World& w) { o->record(w); };
 }

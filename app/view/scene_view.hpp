@@ -43,7 +43,8 @@ struct SceneView {
   const uint8_t* draw(Renderer& r, const World& world, uint8_t* out = nullptr, long frame = -1);
   // The screen layer of the last draw(): for a caller that runs the post stage itself.
   const ScreenLayer& screen() const { return dl_.screen; }
-  // For FrameLoop::Hooks::step: records trails at every physics step (empty if none are shown).
+  // For FrameLoop::Hooks::step: records trails and joints' periods at every physics step (empty if
+  // the overlays have neither).
   std::function<void(const World&)> step_hook();
 
  private:

@@ -120,6 +120,26 @@ bodies:
       colliders: [ { shape: sphere, radius: 0.15, density: 1000 } ] }
 YAML
 render contacts 1.2
+# Joints: a double pendulum (as scenes/double_pendulum.yaml) whose bars show their joints, and a
+# bob on a universal joint (both axes drawn).
+cat > "$tmp/joints.yaml" <<YAML
+simulation: { duration: 2 }
+video: { width: 320, height: 180 }
+camera: { position: [1.45, -1.9, 2.45], look_at: [0.85, 0, 1.78], fov: 40 }
+bodies:
+  - { name: upper, position: [0.3, 0, 2.0], color: [0.85, 0.35, 0.2], show: [ { joints: { scale: 0.3 } } ],
+      colliders: [ { shape: box, size: [0.6, 0.05, 0.03], density: 7850 } ] }
+  - { name: lower, position: [0.9, 0, 2.0], color: [0.2, 0.45, 0.85], show: [ { joints: { scale: 0.3 } } ],
+      colliders: [ { shape: box, size: [0.6, 0.05, 0.03], density: 7850 } ] }
+  - { name: bob, position: [1.7, 0.10565, 1.77342], euler: [25, 0, 0], angular_velocity: [0, 0, 2],
+      color: [0.3, 0.65, 0.35], show: [ { joints: { scale: 0.3 } } ],
+      colliders: [ { shape: capsule, radius: 0.035, height: 0.5, density: 2000 } ] }
+joints:
+  - { name: shoulder, type: revolute, bodies: [world, upper], anchor: [0, 0, 2.0], axis: [0, 1, 0] }
+  - { name: elbow, type: revolute, bodies: [upper, lower], anchor: [0.6, 0, 2.0], axis: [0, 1, 0] }
+  - { name: cardan, type: universal, bodies: [world, bob], anchor: [1.7, 0, 2.0], axis: [0, 0, 1], axis2: [1, 0, 0] }
+YAML
+render joints 0.4
 # The 2D layer: a caption, a label, a legend, an inset plot, TeX in every text.
 handle_at() {  # $1: width, $2: height, $3: show items, $4: overlays (YAML)
   handle "$3" "$4" | sed -e "s/width: 320, height: 180/width: $1, height: $2/" \

@@ -258,6 +258,116 @@ TEST(SceneOverlays, MistakesInTheNewKeysNameFileLineAndKey) {
       std::string::npos);
 }
 
+// A mechanism of every joint type, for the per-joint quantities and the `joints` item.
+const char* kJoints =
+    "simulation: { duration: 1 }\n"
+    "bodies:\n"
+    "  - { name: arm, position: [0.5, 0, 2], colliders: [ { shape: box, size: [1, 0.1, 0.1] } ] }\n"
+    "  - { name: cart, position: [3, 0, 2], colliders: [ { shape: box, size: [0.2, 0.2, 0.2] } ] }\n"
+    "  - { name: top, position: [6, 0, 2], colliders: [ { shape: sphere, radius: 0.2 } ] }\n"
+    "  - { name: gimbal, position: [9, 0, 2], colliders: [ { shape: sphere, radius: 0.2 } ] }\n"
+    "  - { name: welded, position: [12, 0, 2], colliders: [ { shape: sphere, radius: 0.2 } ] }\n"
+    "  - { name: loose, position: [15, 0, 2], colliders: [ { shape: sphere, radius: 0.2 } ] }\n"
+    "joints:\n"
+    "  - { name: pivot, type: revolute, bodies: [world, arm], anchor: [0, 0, 2], axis: [0, 1, 0] }\n"
+    "  - { name: rail, type: prismatic, bodies: [cart, world], anchor: [3, 0, 2], axis: [1, 0, 0] }\n"
+    "  - { name: ball, type: spherical, bodies: [world, top], anchor: [6, 0, 2.5] }\n"
+    "  - { name: cardan, type: universal, bodies: [world, gimbal], anchor: [9, 0, 2.5], axis: [0, 0, 1],\n"
+    "      axis2: [1, 0, 0] }\n"
+    "  - { name: weld, type: fixed, bodies: [arm, welded], anchor: [12, 0, 2] }\n";
+
+TEST(SceneOverlays, JointQuantitiesNameAJointAndACoordinate) {
+  const Scene s = load_scene(write_scene(
+      "joint_hud.yaml", std::string(kJoints) +
+                            "overlays:\n"
+                            "  hud: ['{pivot.angle:+.3f} {pivot.speed} {period} {rail.angle} {ball.speed} "
+                            "{cardan.angle2} {cardan.speed2:.2e} {cardan.period2} {angle}']\n"
+                            "  plots: [ { quantities: [pivot.angle, cardan.speed2, rail.period] } ]\n"));
+  const std::vector<HudField>& f = s.overlays.hud[0].fields;
+  ASSERT_EQ(f.size(), 9u);
+  const int want_joint[] = {0, 0, 0, 1, 2, 3, 3, 3, 0};  // no prefix: the first joint
+  const int want_coord[] = {0, 0, 0, 0, 0, 1, 1, 1, 0};
+  for (size_t k = 0; k < f.size(); ++k) {
+    EXPECT_EQ(f[k].joint, want_joint[k]) << k;
+    EXPECT_EQ(f[k].coord, want_coord[k]) << k;
+    EXPECT_EQ(f[k].body, -1) << k;
+  }
+  EXPECT_EQ(f[0].name, "angle");
+  EXPECT_EQ(f[0].printf, "%+.3f");
+  EXPECT_EQ(f[2].name, "period");
+  EXPECT_EQ(f[6].printf, "%.2e");
+  const PlotSpec& p = s.overlays.plots[0];
+  ASSERT_EQ(p.quantities.size(), 3u);
+  EXPECT_EQ(p.labels, (std::vector<std::string>{"\\theta (pivot)", "\\dot\\theta_2 (cardan)", "T (rail)"}));
+}
+
+TEST(SceneOverlays, JointMistakesNameTheJointAndSuggest) {
+  const std::string head = std::string(kJoints) + "overlays:\n  hud: ['";
+  auto has = [&](const std::string& field, const std::string& what) {
+    const std::string e = error_of(head + field + "']\n");
+    EXPECT_NE(e.find(what), std::string::npos) << field << ": " << e;
+  };
+  has("{pivto.angle}",
+      "bad_overlay.yaml:17:9: overlays.hud[0]: '{pivto.angle}': no joint is named 'pivto'; did you "
+      "mean 'pivot'?");
+  has("{arm.angle}",
+      "no joint is named 'arm' ('arm' is a body; angle, speed, period, angle2, speed2, period2 are a "
+      "joint's)");
+  has("{pivot.omega}", "no body is named 'pivot' ('pivot' is a joint: its quantities are angle, speed");
+  has("{pivot.angel}", "unknown quantity 'angel'; did you mean 'angle'?");
+  has("{pivot.angle.x}", "'angle' is a number of a joint: no component or |...|");
+  has("{|pivot.speed|}", "'speed' is a number of a joint: no component or |...|");
+  has("{pivot.angle2}", "joint 'pivot' is revolute: 'angle2' is a universal joint's second coordinate");
+  has("{ball.period}",
+      "joint 'ball' is spherical: its angle never changes sign, so it has no period to measure");
+  has("{weld.angle}", "joint 'weld' is fixed: it has no coordinate");
+  // No joints at all.
+  const std::string e = error_of(std::string(kHead) + "overlays:\n  hud: ['{angle}', '{p.speed}']\n");
+  EXPECT_NE(
+      e.find("'angle' is a joint's coordinate (angle, speed, period, angle2, speed2, period2), and the scene "
+             "has no joint with one"),
+      std::string::npos)
+      << e;
+  // In a plot, as in the HUD.
+  const std::string pe =
+      error_of(std::string(kJoints) + "overlays:\n  plots: [ { quantities: [pivto.speed] } ]\n");
+  EXPECT_NE(pe.find("overlays.plots[0].quantities[0]: 'pivto.speed': no joint is named 'pivto'; did you mean "
+                    "'pivot'?"),
+            std::string::npos)
+      << pe;
+}
+
+TEST(SceneOverlays, TheJointsItemIsForABodyAJointHolds) {
+  // Shown on a joint's child, with its options; a joint written [child, world] counts for its child.
+  std::string yaml = kJoints;
+  const auto put = [&](const std::string& body, const std::string& show) {
+    std::string y = yaml;
+    const std::string at = "{ name: " + body + ",";
+    y.insert(y.find(at) + at.size(), " show: " + show + ",");
+    return y;
+  };
+  const Scene s = load_scene(
+      write_scene("joint_item.yaml",
+                  put("cart", "[ { joints: { color: [1, 0, 1], scale: 0.3, width: 2, xray: 0.2 } } ]")));
+  ASSERT_EQ(s.overlays.show[1].size(), 1u);
+  const ShowItem& it = s.overlays.show[1][0];
+  EXPECT_EQ(it.kind, ShowKind::joints);
+  EXPECT_EQ(*it.scale, 0.3);
+  EXPECT_EQ(it.width, 2);
+  EXPECT_EQ(it.xray, 0.2);
+  EXPECT_EQ(load_scene(write_scene("joint_item2.yaml", put("arm", "[joints]"))).overlays.show[0][0].xray,
+            0.5);
+  EXPECT_NE(
+      error_of(put("loose", "[joints]"))
+          .find("bodies[5].show[0]: body 'loose' is no joint's child: `joints` draws the joint that holds a "
+                "body to its parent"),
+      std::string::npos)
+      << error_of(put("loose", "[joints]"));
+  EXPECT_NE(
+      error_of(put("arm", "[ { joints: { points: false } } ]")).find("joints.points: unknown key 'points'"),
+      std::string::npos);
+}
+
 TEST(SceneOverlays, ASceneWithoutOverlaysHasNone) {
   const Scene s = load_scene(write_scene("plain.yaml", kHead));
   EXPECT_FALSE(s.overlays.any());

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <numbers>
+#include <string>
 
 #include "app/view/overlays.hpp"
 #include "tests/app/view/overlay_fixtures.hpp"
@@ -247,6 +248,133 @@ TEST(OverlaysScreen, TiltAndPrecessionOfABodysAxis) {
   ASSERT_EQ(std::sscanf(line.c_str(), "%lf %lf", &tilt, &precession), 2) << line;
   EXPECT_NEAR(tilt, 30, 1e-6);
   EXPECT_NEAR(precession, 0, 1e-6);
+}
+
+// Per-joint quantities read the World's joint coordinates: at any frame the HUD prints
+// World::joint_position and joint_speed (a universal joint's second coordinate for angle2,
+// speed2), and a plot's samples are those values at their steps.
+TEST(OverlaysScreen, JointQuantitiesAreTheWorldsJointCoordinates) {
+  Drawn d(write_scene(
+      "joint_q.yaml",
+      "simulation: { duration: 2 }\n"
+      "video: { width: 160, height: 90, fps: 10 }\n"
+      "render: { shadows: false }\n"
+      "bodies:\n"
+      "  - { name: upper, position: [0.3, 0, 2], colliders: [ { shape: box, size: [0.6, 0.05, 0.03] } ] }\n"
+      "  - { name: lower, position: [0.9, 0, 2], colliders: [ { shape: box, size: [0.6, 0.05, 0.03] } ] }\n"
+      "  - { name: bob, position: [3.3, 0.2, 1.6], angular_velocity: [0, 0, 1],\n"
+      "      colliders: [ { shape: sphere, radius: 0.1 } ] }\n"
+      "joints:\n"
+      "  - { name: shoulder, type: revolute, bodies: [world, upper], anchor: [0, 0, 2], axis: [0, 1, 0] }\n"
+      "  - { name: elbow, type: revolute, bodies: [upper, lower], anchor: [0.6, 0, 2], axis: [0, 1, 0] }\n"
+      "  - { name: cardan, type: universal, bodies: [world, bob], anchor: [3, 0, 2], axis: [0, 0, 1],\n"
+      "      axis2: [1, 0, 0] }\n"
+      "overlays:\n"
+      "  hud: ['{shoulder.angle:.17g} {elbow.speed:.17g} {cardan.angle:.17g} {cardan.angle2:.17g} "
+      "{cardan.speed2:.17g}']\n"
+      "  plots: [ { quantities: [elbow.angle, cardan.speed2] } ]\n"));
+  const SceneOverlays& o = *d.view->overlays;
+  for (long k : {0L, 7L, 15L}) {
+    d.draw_frame(k);
+    const World& w = d.loop->world();
+    std::string line;
+    format_hud_line(d.scene.overlays.hud[0], w, k, 0, Vec3::Zero(), line, 10, &o.periods());
+    char want[512];
+    std::snprintf(want, sizeof want, "%.17g %.17g %.17g %.17g %.17g", w.joint_position(0), w.joint_speed(1),
+                  w.joint_position(2, 0), w.joint_position(2, 1), w.joint_speed(2, 1));
+    EXPECT_EQ(line, want) << "frame " << k;
+    if (k > 0) {
+      EXPECT_GT(std::fabs(w.joint_position(1)), 1e-3) << "the elbow has turned";
+    }
+  }
+  const std::vector<double>& t = o.plot_times(0);
+  ASSERT_GT(t.size(), 50u);
+  FrameLoop loop(d.scene, 1);
+  size_t k = 0;
+  FrameLoop::Hooks h;
+  h.step = [&](const World& w) {
+    if (k < t.size() && std::fabs(w.time() - t[k]) < 1e-12) {
+      EXPECT_EQ(o.plot_values(0, 0)[k], (float)w.joint_position(1));
+      EXPECT_EQ(o.plot_values(0, 1)[k], (float)w.joint_speed(2, 1));
+      ++k;
+    }
+  };
+  loop.run({}, h, true);
+  EXPECT_EQ(k, t.size());
+}
+
+// The complete elliptic integral of the first kind, K(k) = pi / (2 AGM(1, sqrt(1 - k^2))).
+double elliptic_K(double k) {
+  double a = 1, b = std::sqrt(1 - k * k);
+  for (int i = 0; i < 40 && std::fabs(a - b) > 1e-16 * a; ++i) {
+    const double m = 0.5 * (a + b);
+    b = std::sqrt(a * b), a = m;
+  }
+  return std::numbers::pi / (2 * a);
+}
+
+// {pivot.period} of the pendulum demo (scenes/pendulum.yaml): every period measured from the
+// turns, maximum to maximum and minimum to minimum, is the exact period of a compound pendulum
+// released from rest at 120 degrees, T = 4 sqrt(I_p / (m g d)) K(sin 60 deg), within the method's
+// resolution w0^2 h^3 / 4 (JointPeriods, app/view/overlays.hpp). The reference is the closed form
+// from the scene's dimensions, not the World's mass properties.
+TEST(OverlaysScreen, PendulumDemoPeriodIsTheEllipticPeriod) {
+  const Scene scene = load_scene("scenes/pendulum.yaml");
+  const double pi = std::numbers::pi, g = 9.81;
+  const double r = 0.015, L = 1.0, R = 0.08, l_bob = 1.0;  // rod radius and length, bob radius and distance
+  const double m_rod = 2700 * pi * r * r * L, m_bob = 7850 * 4.0 / 3.0 * pi * R * R * R, m = m_rod + m_bob;
+  const double d = (m_rod * L / 2 + m_bob * l_bob) / m;
+  const double I = m_rod * ((3 * r * r + L * L) / 12 + L * L / 4) + m_bob * (0.4 * R * R + l_bob * l_bob);
+  const double w0sq = m * g * d / I, h = scene.timestep;
+  const double T = 4 / std::sqrt(w0sq) * elliptic_K(std::sin(pi / 3));
+  const double resolution = w0sq * h * h * h / 4;
+  EXPECT_NEAR(T, 2.732730, 5e-7) << "the figure in the scene's comment";
+  EXPECT_NEAR(2 * pi / std::sqrt(w0sq), 1.990508, 5e-7) << "the small-angle period in the scene's comment";
+  EXPECT_LT(resolution, 2e-7);
+
+  FrameLoop loop(scene, 1);
+  ASSERT_NEAR(loop.world().mass(0), m, 1e-9 * m) << "the scene's pendulum is the one the reference describes";
+  const HudField& f = scene.overlays.hud[2].fields[0];
+  ASSERT_EQ(f.name, "period");
+  JointPeriods P;
+  P.track(f);
+  FrameLoop::Hooks hk;
+  hk.step = [&](const World& w) { P.record(w); };
+  loop.run({}, hk, true);
+  const std::vector<double>&up = P.turns(0, 0, 1), &down = P.turns(0, 0, -1);
+  // Released from rest at t = 0: a maximum of the coordinate there, then every T; minima between.
+  ASSERT_EQ(up.size(), 5u);
+  ASSERT_EQ(down.size(), 4u);
+  EXPECT_EQ(up[0], 0.0);
+  for (size_t k = 1; k < up.size(); ++k) EXPECT_NEAR(up[k] - up[k - 1], T, resolution) << "maxima " << k;
+  for (size_t k = 1; k < down.size(); ++k)
+    EXPECT_NEAR(down[k] - down[k - 1], T, resolution) << "minima " << k;
+  EXPECT_NEAR(down[0], T / 2, resolution) << "the swing is symmetric";
+  EXPECT_NEAR(P.period(0, 0), T, resolution);
+  double lo = 1e9, hi = -1e9;
+  for (const std::vector<double>* v : {&up, &down})
+    for (size_t k = 1; k < v->size(); ++k)
+      lo = std::min(lo, (*v)[k] - (*v)[k - 1]), hi = std::max(hi, (*v)[k] - (*v)[k - 1]);
+  std::printf("pendulum period: measured %.10f to %.10f s (latest %.10f), exact %.10f s, resolution %.2e s\n",
+              lo, hi, P.period(0, 0), T, resolution);
+}
+
+// The HUD's period is measured over the physics steps the frame loop runs, whichever frames are
+// drawn: an em dash until two turns in one direction, then the period (the same figure at a frame
+// drawn alone as in a full run).
+TEST(OverlaysScreen, TheHudPeriodIsADashUntilMeasured) {
+  Drawn d("scenes/pendulum.yaml");
+  const HudLine& line = d.scene.overlays.hud[2];
+  std::string out;
+  d.draw_frame(30);  // 1 s: one maximum (the release) and one minimum seen
+  format_hud_line(line, d.loop->world(), 30, 0, Vec3::Zero(), out, 30, &d.view->overlays->periods());
+  EXPECT_EQ(out, "T measured \u2014 s");
+  d.draw_frame(270);  // 9 s
+  format_hud_line(line, d.loop->world(), 270, 0, Vec3::Zero(), out, 30, &d.view->overlays->periods());
+  EXPECT_EQ(out, "T measured 2.73273 s");
+  // Without the measured periods the value is not known.
+  format_hud_line(line, d.loop->world(), 270, 0, Vec3::Zero(), out, 30);
+  EXPECT_EQ(out, "T measured \u2014 s");
 }
 
 }  // namespace

@@ -339,6 +339,80 @@ TEST(Overlays, PoinsotContactPointPolhodeAndHerpolhodeLieOnTheEllipsoidAndThePla
   EXPECT_GE(on_plane + on_ellipsoid, total);  // near the contact point the polhode is on the plane too
 }
 
+// A double pendulum seen from the front and a little to the side; the lower bar shows its joint
+// (the elbow) or not.
+std::string jointed(const std::string& show) {
+  return "simulation: { duration: 1 }\n"
+         "video: { width: 320, height: 240, fps: 20 }\n"
+         "render: { shadows: false, antialiasing: none }\n"
+         "camera: { position: [1.4, -3, 2.6], look_at: [0.6, 0, 1.7], fov: 40 }\n"
+         "bodies:\n"
+         "  - { name: upper, position: [0.3, 0, 2], color: [0.1, 0.1, 0.1],\n"
+         "      colliders: [ { shape: box, size: [0.6, 0.03, 0.03], density: 7850 } ] }\n"
+         "  - { name: lower, position: [0.9, 0, 2], color: [0.1, 0.1, 0.1],\n"
+         "      colliders: [ { shape: box, size: [0.6, 0.03, 0.03], density: 7850 } ]" +
+         show +
+         " }\n"
+         "joints:\n"
+         "  - { name: shoulder, type: revolute, bodies: [world, upper], anchor: [0, 0, 2], axis: [0, 1, 0] "
+         "}\n"
+         "  - { name: elbow, type: revolute, bodies: [upper, lower], anchor: [0.6, 0, 2], axis: [0, 1, 0] "
+         "}\n";
+}
+
+// `joints`: a ball at the pivot, where the child carries the anchor (its point at t = 0, in the
+// child's frame), and the hinge axis as an arrow through it along +axis, `scale` long. What the
+// item adds to the frame (the pixels that differ from the frame without it) is the ball around
+// the projected pivot and the arrow, whose far end lands on the projected tip.
+TEST(Overlays, TheJointsItemDrawsThePivotWhereTheChildCarriesIt) {
+  Drawn with(write_scene("joint_on.yaml",
+                         jointed(",\n      show: [ { joints: { color: [1, 0, 1], scale: 0.4 } } ]"))),
+      without(write_scene("joint_off.yaml", jointed("")));
+  const long k = 12;  // 0.6 s: the elbow has fallen and turned
+  with.draw_frame(k);
+  without.draw_frame(k);
+  const World& w = with.loop->world();
+  const BodyDef& lower = w.def(1);
+  const Vec3 anchor_W(0.6, 0, 2);
+  const Vec3 pivot = w.local_to_world(1, lower.q_WB.conjugate() * (anchor_W - lower.p_WB));
+  ASSERT_GT((pivot - anchor_W).norm(), 0.2) << "the elbow has moved";
+  const Vec3 axis = w.local_to_world_vec(0, Vec3::UnitY());  // the hinge's axis, fixed in the parent
+  const CameraView& cam = with.view->camera;
+  const Eigen::Vector2d c = project_to_pixel(cam, with.w(), with.h(), pivot);
+  const Eigen::Vector2d tip = project_to_pixel(cam, with.w(), with.h(), pivot + 0.2 * axis);
+  const Eigen::Vector2d tail = project_to_pixel(cam, with.w(), with.h(), pivot - 0.2 * axis);
+  const Eigen::Vector2d start = project_to_pixel(cam, with.w(), with.h(), anchor_W);
+  // The ball: at least 3 px in radius (0.06 body radii here is less).
+  const double ball_px = 3.0;
+  const Eigen::Vector2d dir = (tip - c).normalized();
+  int near_pivot = 0, in_disk = 0, stray = 0, near_start = 0;
+  double far = -1e9;
+  for (int y = 0; y < with.h(); ++y)
+    for (int x = 0; x < with.w(); ++x) {
+      const Eigen::Vector2d p(x + 0.5, y + 0.5);
+      const bool disk = (p - c).norm() <= ball_px - 0.5;
+      in_disk += disk;
+      if (with.px(x, y) == without.px(x, y)) continue;
+      near_pivot += disk;
+      near_start += (p - start).norm() < 2;
+      // Every pixel drawn lies on the ball or along the arrow from tail to tip.
+      const double along = (p - c).dot(dir),
+                   side = std::fabs((p - c).dot(Eigen::Vector2d(-dir.y(), dir.x())));
+      const bool on_arrow = along > -(tail - c).norm() - 2 && along < (tip - c).norm() + 2 && side < 4;
+      if (!on_arrow && (p - c).norm() > ball_px + 1.5) ++stray;
+      far = std::max(far, along);
+    }
+  EXPECT_EQ(near_pivot, in_disk) << "the ball covers the projected pivot";
+  EXPECT_GT(in_disk, 15);
+  EXPECT_EQ(stray, 0);
+  EXPECT_EQ(near_start, 0) << "nothing where the elbow was at t = 0";
+  EXPECT_NEAR(far, (tip - c).norm(), 1.5) << "the arrow ends at the projected tip";
+  EXPECT_GT((tip - c).norm(), 8) << "the axis is seen from the side";
+  // The parent's frame is untouched: the shoulder is not the lower bar's joint.
+  const Eigen::Vector2d shoulder = project_to_pixel(cam, with.w(), with.h(), Vec3(0, 0, 2));
+  EXPECT_EQ(with.px((int)shoulder.x(), (int)shoulder.y()), without.px((int)shoulder.x(), (int)shoulder.y()));
+}
+
 TEST(Overlays, ScenesWithoutOverlaysHaveNone) {
   Drawn d(write_scene("none.yaml", "bodies: [ { name: a, colliders: [ { shape: sphere, radius: 1 } ] } ]\n"));
   EXPECT_EQ(d.view->overlays, nullptr);
