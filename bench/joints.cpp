@@ -140,6 +140,15 @@ class Sim {
   virtual double energy(int c) = 0;   ///< J
   virtual double gap_sum(int c) = 0;  ///< m, summed distances between each joint's two anchor points
   virtual double internal_steps() { return NAN; }
+
+ protected:
+  // The energy of a reduced-coordinate engine's scene c from its joint angles and rates.
+  double energy_from_angles(int c, const Scene& s) {
+    const size_t n = s.links.size();
+    std::vector<double> phi(n), phid(n);
+    angles(c, phi.data(), phid.data());
+    return planar_energy(s, phi.data(), phid.data());
+  }
 };
 
 // ---------------------------------------------------------------- simreel
@@ -311,12 +320,7 @@ class MujocoSim : public Sim {
       phid[k] = ad;
     }
   }
-  double energy(int c) override {
-    const size_t n = scenes_[c].links.size();
-    std::vector<double> phi(n), phid(n);
-    angles(c, phi.data(), phid.data());
-    return planar_energy(scenes_[c], phi.data(), phid.data());
-  }
+  double energy(int c) override { return energy_from_angles(c, scenes_[c]); }
   double gap_sum(int c) override {  // from MuJoCo's own body frames (mj_kinematics)
     mj_kinematics(m_, d_);
     const Scene& s = scenes_[c];
@@ -484,12 +488,7 @@ class BulletMultiBodySim : public Sim {
       phid[k] = ad;
     }
   }
-  double energy(int c) override {
-    const size_t n = scenes_[c].links.size();
-    std::vector<double> phi(n), phid(n);
-    angles(c, phi.data(), phid.data());
-    return planar_energy(scenes_[c], phi.data(), phid.data());
-  }
+  double energy(int c) override { return energy_from_angles(c, scenes_[c]); }
   double gap_sum(int c) override {  // from Bullet's own link frames (forwardKinematics)
     btMultiBody& mb = *mbs_[c];
     btAlignedObjectArray<btQuaternion> w2l;

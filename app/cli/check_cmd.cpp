@@ -11,21 +11,21 @@
 #include <set>
 #include <sstream>
 
-#include "app/runner/camera_fit.hpp"
+#include <simreel/error.hpp>
+#include "app/cli/cli.hpp"
+#include "app/cli/commands.hpp"
 #include "app/cli/fingerprint.hpp"
 #include "app/cli/goldens.hpp"
 #include "app/cli/junit.hpp"
 #include "app/cli/metrics_report.hpp"
-#include "app/cli/cli.hpp"
-#include "app/cli/commands.hpp"
-#include "app/runner/frame_loop.hpp"
-#include "app/view/panes.hpp"
 #include "app/regress/image.hpp"
 #include "app/regress/metrics.hpp"
 #include "app/report/report.hpp"
+#include "app/runner/camera_fit.hpp"
+#include "app/runner/frame_loop.hpp"
 #include "app/scene/text.hpp"
+#include "app/view/panes.hpp"
 #include "sim/base/enum_names.hpp"
-#include <simreel/error.hpp>
 
 namespace simreel {
 

@@ -4,11 +4,11 @@
 #include <string>
 #include <vector>
 
+#include <simreel/error.hpp>
+#include <simreel/mass_properties.hpp>
 #include "app/cli/commands.hpp"
 #include "app/scene/scene.hpp"
 #include "app/scene/text.hpp"
-#include <simreel/error.hpp>
-#include <simreel/mass_properties.hpp>
 
 namespace simreel {
 

@@ -7,10 +7,10 @@
 #include <functional>
 #include <vector>
 
+#include <simreel/world.hpp>
 #include "app/runner/run.hpp"
 #include "app/scene/frame_plan.hpp"
 #include "app/scene/scene.hpp"
-#include <simreel/world.hpp>
 
 namespace simreel {
 

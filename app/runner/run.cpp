@@ -169,7 +169,8 @@ std::string summary_json(const RunSummary& s) {
                      {"impact_substeps", s.profile->impact_substeps}};
     p["applied_forces"] = {{"records", s.profile->forces}, {"rk4_bodies", s.profile->forced_bodies}};
     if (s.profile->jointed_bodies > 0)
-      p["joints"] = {{"jointed_bodies", s.profile->jointed_bodies}, {"internal_steps", s.profile->joint_steps}};
+      p["joints"] = {{"jointed_bodies", s.profile->jointed_bodies},
+                     {"internal_steps", s.profile->joint_steps}};
     o["profile"] = std::move(p);
   }
   if (!s.output.empty()) o["output"] = s.output;

@@ -4,8 +4,8 @@
 #include <string>
 #include <vector>
 
-#include "app/scene/scene.hpp"
 #include <simreel/world.hpp>
+#include "app/scene/scene.hpp"
 
 namespace simreel {
 

@@ -19,14 +19,14 @@
 #include <set>
 #include <sstream>
 
+#include <simreel/error.hpp>
+#include <simreel/mass_properties.hpp>
 #include "app/scene/mesh_import.hpp"
 #include "app/scene/scene_forces.hpp"
 #include "app/scene/scene_joints.hpp"
-#include "sim/geometry/convex_hull.hpp"
-#include <simreel/error.hpp>
-#include <simreel/mass_properties.hpp>
 #include "sim/base/enum_names.hpp"
 #include "sim/dynamics/mesh_collider.hpp"
+#include "sim/geometry/convex_hull.hpp"
 #include "sim/mass/primitives.hpp"
 
 namespace simreel {
@@ -721,13 +721,14 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
   if (!root.IsMap())
     top.fail(root, "a scene is a mapping with keys simulation, video, camera, render, ground, bodies");
   check_keys(root, top,
-             {"simulation", "video", "camera", "render", "ground", "bodies", "test", "forces", "joints", "overlays",
-              "time", "panes", "variants"});
+             {"simulation", "video", "camera", "render", "ground", "bodies", "test", "forces", "joints",
+              "overlays", "time", "panes", "variants"});
 
   if (const YAML::Node sim = root["simulation"]) {
     const Ctx c = top.child("simulation");
-    check_keys(sim, c,
-               {"duration", "timestep", "integrator", "gravity", "contacts", "ignore_pairs", "sleep", "joints"});
+    check_keys(
+        sim, c,
+        {"duration", "timestep", "integrator", "gravity", "contacts", "ignore_pairs", "sleep", "joints"});
     if (const YAML::Node jn = sim["joints"]) {
       const Ctx jc = c.child("joints");
       if (!jn.IsMap()) jc.fail(jn, "expected { tolerance: 1e-10, max_steps: 100000 }, got " + show(jn));
@@ -735,11 +736,13 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
       if (jn["tolerance"]) {
         s.joint_settings.tolerance = positive(jn["tolerance"], jc.child("tolerance"));
         if (s.joint_settings.tolerance >= 1e-2)
-          jc.child("tolerance").fail(jn["tolerance"], "must be below 0.01 (a relative error per internal step)");
+          jc.child("tolerance")
+              .fail(jn["tolerance"], "must be below 0.01 (a relative error per internal step)");
       }
       if (jn["max_steps"]) {
         const double m = positive(jn["max_steps"], jc.child("max_steps"));
-        if (m != std::floor(m) || m > 1e9) jc.child("max_steps").fail(jn["max_steps"], "must be a whole number");
+        if (m != std::floor(m) || m > 1e9)
+          jc.child("max_steps").fail(jn["max_steps"], "must be a whole number");
         s.joint_settings.max_steps = (int)m;
       }
     }

@@ -5,15 +5,15 @@
 #include <string>
 #include <vector>
 
+#include <simreel/body.hpp>
 #include "app/scene/ghost.hpp"
 #include "app/scene/scene_overlays.hpp"
 #include "app/scene/scene_time.hpp"
 #include "app/scene/scene_views.hpp"
 #include "render/render_settings.hpp"
-#include <simreel/body.hpp>
-#include "sim/solver/contact_settings.hpp"
 #include "sim/dynamics/forces.hpp"
 #include "sim/dynamics/integrators.hpp"
+#include "sim/solver/contact_settings.hpp"
 
 namespace simreel {
 
@@ -96,9 +96,9 @@ struct Scene {
   std::optional<GroundSpec> ground;  ///< the top-level `ground` (its body is the last of `bodies`)
   ContactSettings contacts;          ///< simulation.contacts
   TestSpec test;                     ///< test: what `simreel check` compares
-  OverlaySpec overlays;              ///< bodies' `show:` and the `overlays:` block (app/scene/scene_overlays.hpp)
-  TimeSpec time;                     ///< `time:`: playback speed, segments, holds (app/scene/scene_time.hpp)
-  ViewsSpec views;                   ///< `panes:` and `variants:` (app/scene/scene_views.hpp)
+  OverlaySpec overlays;  ///< bodies' `show:` and the `overlays:` block (app/scene/scene_overlays.hpp)
+  TimeSpec time;         ///< `time:`: playback speed, segments, holds (app/scene/scene_time.hpp)
+  ViewsSpec views;       ///< `panes:` and `variants:` (app/scene/scene_views.hpp)
   std::vector<std::pair<int, int>> ignore_pairs;  ///< simulation.ignore_pairs, as body indices
   std::vector<ForceDef> forces;    ///< the `forces:` list, by body index (app/scene/scene_forces.cpp)
   std::vector<JointDef> joints;    ///< the `joints:` list, by body index (app/scene/scene_joints.cpp)

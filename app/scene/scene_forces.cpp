@@ -11,9 +11,9 @@
 #include <cmath>
 #include <sstream>
 
+#include <simreel/error.hpp>
 #include "app/scene/scene.hpp"
 #include "sim/base/enum_names.hpp"
-#include <simreel/error.hpp>
 
 namespace simreel {
 

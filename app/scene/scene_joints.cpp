@@ -6,9 +6,9 @@
 #include <cmath>
 #include <sstream>
 
+#include <simreel/error.hpp>
 #include "app/scene/scene.hpp"
 #include "app/scene/scene_yaml.hpp"
-#include <simreel/error.hpp>
 
 namespace simreel {
 
@@ -16,7 +16,8 @@ namespace {
 
 using namespace scene_yaml;
 
-constexpr const char* kKeys[] = {"name", "type", "bodies", "anchor", "axis", "axis2", "spring", "collide_connected",
+constexpr const char* kKeys[] = {"name",   "type",  "bodies",  "anchor",
+                                 "axis",   "axis2", "spring",  "collide_connected",
                                  "limits", "motor", "friction"};
 
 // A body name (or `world`) -> body index, -1 for the world; a did-you-mean for a typo.
@@ -37,8 +38,8 @@ int body_index(const YAML::Node& n, const Ctx& c, const std::vector<BodyDef>& bo
 
 }  // namespace
 
-std::vector<JointDef> load_joints(const YAML::Node& list, const std::string& file, const std::vector<BodyDef>& bodies,
-                                  std::vector<std::string>& notes) {
+std::vector<JointDef> load_joints(const YAML::Node& list, const std::string& file,
+                                  const std::vector<BodyDef>& bodies, std::vector<std::string>& notes) {
   const Ctx top(file, "joints");
   if (!list.IsSequence()) top.fail(list, "expected a list of joints, got " + show(list));
   std::vector<JointDef> out;
@@ -47,13 +48,17 @@ std::vector<JointDef> load_joints(const YAML::Node& list, const std::string& fil
     const YAML::Node n = list[k];
     const Ctx c = top.index((int)k);
     if (!n.IsMap())
-      c.fail(n, "expected a mapping like { type: revolute, bodies: [world, arm], anchor: [0, 0, 2], axis: [0, 1, 0] }, "
-                "got " + show(n));
+      c.fail(n,
+             "expected a mapping like { type: revolute, bodies: [world, arm], anchor: [0, 0, 2], axis: [0, "
+             "1, 0] }, "
+             "got " +
+                 show(n));
     check_keys(n, c, keys);
     JointDef j;
     j.name = n["name"] ? text(n["name"], c.child("name")) : "joint" + std::to_string(k);
     for (const JointDef& o : out)
-      if (o.name == j.name) c.child("name").fail(n["name"], "the name '" + j.name + "' is used by an earlier joint");
+      if (o.name == j.name)
+        c.child("name").fail(n["name"], "the name '" + j.name + "' is used by an earlier joint");
     if (!n["type"]) c.fail(n, std::string("missing key 'type' (") + joint_type_names() + ")");
     {
       const Ctx tc = c.child("type");
@@ -63,17 +68,19 @@ std::vector<JointDef> load_joints(const YAML::Node& list, const std::string& fil
         std::vector<std::string> names;
         for (const char* s : {"revolute", "prismatic", "spherical", "fixed", "universal"}) names.push_back(s);
         std::string msg = "unknown joint type '" + t + "' (" + joint_type_names() + ")";
-        if (t == "distance" || t == "wheel") msg = "joint type '" + t + "' is not supported yet (" +
-                                                   std::string(joint_type_names()) + ")";
-        else if (auto s = nearest(t, names)) msg += "; did you mean '" + *s + "'?";
+        if (t == "distance" || t == "wheel")
+          msg = "joint type '" + t + "' is not supported yet (" + std::string(joint_type_names()) + ")";
+        else if (auto s = nearest(t, names))
+          msg += "; did you mean '" + *s + "'?";
         tc.fail(n["type"], msg);
       }
       j.type = *jt;
     }
     for (const char* later : {"limits", "motor", "friction"})
       if (n[later])
-        c.child(later).fail(n[later], std::string("joint ") + later +
-                                          " are not supported yet (springs are: spring: { stiffness, damping, rest })");
+        c.child(later).fail(n[later],
+                            std::string("joint ") + later +
+                                " are not supported yet (springs are: spring: { stiffness, damping, rest })");
     if (!n["bodies"]) c.fail(n, "missing key 'bodies' ([parent, child]; 'world' is the fixed frame)");
     {
       const YAML::Node b = n["bodies"];
@@ -82,25 +89,32 @@ std::vector<JointDef> load_joints(const YAML::Node& list, const std::string& fil
       j.parent = body_index(b[0], bc.index(0), bodies);
       j.child = body_index(b[1], bc.index(1), bodies);
       if (j.parent == j.child)
-        bc.fail(b, j.parent < 0 ? "joins the world to itself" : "joins body '" + bodies[j.child].name + "' to itself");
+        bc.fail(b, j.parent < 0 ? "joins the world to itself"
+                                : "joins body '" + bodies[j.child].name + "' to itself");
       auto fixed = [&](int i) { return i < 0 || bodies[i].type == BodyType::static_body; };
-      if (fixed(j.parent) && fixed(j.child)) bc.fail(b, "joins two bodies that cannot move (static or world)");
+      if (fixed(j.parent) && fixed(j.child))
+        bc.fail(b, "joins two bodies that cannot move (static or world)");
       for (int i : {j.parent, j.child})
         if (i >= 0 && bodies[i].type == BodyType::kinematic)
-          bc.fail(b, "body '" + bodies[i].name + "' is kinematic: jointing kinematic bodies is not supported yet");
+          bc.fail(b, "body '" + bodies[i].name +
+                         "' is kinematic: jointing kinematic bodies is not supported yet");
     }
     if (!n["anchor"]) c.fail(n, "missing key 'anchor' ([x, y, z] in m, a world point at t = 0)");
     j.anchor_W = vec<3>(n["anchor"], c.child("anchor"));
-    const bool axial = j.type == JointType::revolute || j.type == JointType::prismatic || j.type == JointType::universal;
+    const bool axial =
+        j.type == JointType::revolute || j.type == JointType::prismatic || j.type == JointType::universal;
     if (n["axis"]) {
-      if (!axial) c.child("axis").fail(n["axis"], std::string("a ") + to_string(j.type) + " joint has no axis");
+      if (!axial)
+        c.child("axis").fail(n["axis"], std::string("a ") + to_string(j.type) + " joint has no axis");
       j.axis_W = vec<3>(n["axis"], c.child("axis"));
       if (j.axis_W.norm() < 1e-12) c.child("axis").fail(n["axis"], "the axis must not be zero");
     } else if (axial) {
-      c.fail(n, std::string("a ") + to_string(j.type) + " joint needs 'axis' ([x, y, z], a world direction at t = 0)");
+      c.fail(n, std::string("a ") + to_string(j.type) +
+                    " joint needs 'axis' ([x, y, z], a world direction at t = 0)");
     }
     if (n["axis2"]) {
-      if (j.type != JointType::universal) c.child("axis2").fail(n["axis2"], "only a universal joint has axis2");
+      if (j.type != JointType::universal)
+        c.child("axis2").fail(n["axis2"], "only a universal joint has axis2");
       j.axis2_W = vec<3>(n["axis2"], c.child("axis2"));
       if (j.axis2_W.norm() < 1e-12) c.child("axis2").fail(n["axis2"], "axis2 must not be zero");
       if (std::abs(j.axis_W.normalized().dot(j.axis2_W.normalized())) > 1e-6)
@@ -120,7 +134,8 @@ std::vector<JointDef> load_joints(const YAML::Node& list, const std::string& fil
       if (s["rest"]) sp.rest = number(s["rest"], sc.child("rest"));
       j.spring = sp;
     }
-    if (n["collide_connected"]) j.collide_connected = boolean(n["collide_connected"], c.child("collide_connected"));
+    if (n["collide_connected"])
+      j.collide_connected = boolean(n["collide_connected"], c.child("collide_connected"));
     // An anchor far from both bodies is legal (a long massless arm) but usually a typo: a note.
     double nearest_d = 1e300;
     for (int i : {j.parent, j.child})

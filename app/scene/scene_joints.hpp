@@ -16,7 +16,7 @@ namespace simreel {
 // body included), `world` (or `ground` when no body has that name) is the fixed frame. Throws
 // InputError "FILE:LINE:COL: joints[K].KEY: what is wrong" for anything a user could get wrong;
 // an anchor far from both of its bodies is a note.
-std::vector<JointDef> load_joints(const YAML::Node& list, const std::string& file, const std::vector<BodyDef>& bodies,
-                                  std::vector<std::string>& notes);
+std::vector<JointDef> load_joints(const YAML::Node& list, const std::string& file,
+                                  const std::vector<BodyDef>& bodies, std::vector<std::string>& notes);
 
 }  // namespace simreel

@@ -35,15 +35,15 @@ struct JointSpring {
 };
 
 struct JointDef {
-  std::string name;                 ///< for messages and read-outs; unique
+  std::string name;  ///< for messages and read-outs; unique
   JointType type = JointType::revolute;
-  int parent = -1;                  ///< body index, or -1 for the fixed world
-  int child = -1;                   ///< body index (dynamic)
-  Vec3 anchor_W = Vec3::Zero();     ///< m, world point at t = 0
-  Vec3 axis_W = Vec3::UnitZ();      ///< revolute, prismatic, universal: world direction at t = 0
-  Vec3 axis2_W = Vec3::UnitX();     ///< universal: the child's axis at t = 0
+  int parent = -1;               ///< body index, or -1 for the fixed world
+  int child = -1;                ///< body index (dynamic)
+  Vec3 anchor_W = Vec3::Zero();  ///< m, world point at t = 0
+  Vec3 axis_W = Vec3::UnitZ();   ///< revolute, prismatic, universal: world direction at t = 0
+  Vec3 axis2_W = Vec3::UnitX();  ///< universal: the child's axis at t = 0
   std::optional<JointSpring> spring;
-  bool collide_connected = false;   ///< false: the two bodies never collide with each other
+  bool collide_connected = false;  ///< false: the two bodies never collide with each other
 };
 
 // How mechanisms are integrated (scene key `simulation.joints`). Joint coordinates are advanced by

@@ -105,17 +105,16 @@ void normalize_quaternions(const Mechanism& m, double* q) {
 // Dormand & Prince, "A family of embedded Runge-Kutta formulae", J. Comp. Appl. Math. 6 (1980):
 // the RK5(4)7M tableau; b is the 5th-order solution, e = b - b* the error estimate's weights.
 constexpr double kC[7] = {0, 1.0 / 5, 3.0 / 10, 4.0 / 5, 8.0 / 9, 1, 1};
-constexpr double kA[7][6] = {
-    {},
-    {1.0 / 5},
-    {3.0 / 40, 9.0 / 40},
-    {44.0 / 45, -56.0 / 15, 32.0 / 9},
-    {19372.0 / 6561, -25360.0 / 2187, 64448.0 / 6561, -212.0 / 729},
-    {9017.0 / 3168, -355.0 / 33, 46732.0 / 5247, 49.0 / 176, -5103.0 / 18656},
-    {35.0 / 384, 0, 500.0 / 1113, 125.0 / 192, -2187.0 / 6784, 11.0 / 84}};
+constexpr double kA[7][6] = {{},
+                             {1.0 / 5},
+                             {3.0 / 40, 9.0 / 40},
+                             {44.0 / 45, -56.0 / 15, 32.0 / 9},
+                             {19372.0 / 6561, -25360.0 / 2187, 64448.0 / 6561, -212.0 / 729},
+                             {9017.0 / 3168, -355.0 / 33, 46732.0 / 5247, 49.0 / 176, -5103.0 / 18656},
+                             {35.0 / 384, 0, 500.0 / 1113, 125.0 / 192, -2187.0 / 6784, 11.0 / 84}};
 constexpr double kB[7] = {35.0 / 384, 0, 500.0 / 1113, 125.0 / 192, -2187.0 / 6784, 11.0 / 84, 0};
-constexpr double kBstar[7] = {5179.0 / 57600, 0, 7571.0 / 16695, 393.0 / 640, -92097.0 / 339200, 187.0 / 2100,
-                              1.0 / 40};
+constexpr double kBstar[7] = {5179.0 / 57600, 0,       7571.0 / 16695, 393.0 / 640, -92097.0 / 339200,
+                              187.0 / 2100,   1.0 / 40};
 }  // namespace
 
 const char* to_string(JointType t) {
@@ -172,7 +171,8 @@ void Mechanism::kinematics(const double* q) {
   }
 }
 
-void Mechanism::derivative(const double* y, double* dy, const Vec3& g, const Wrench* wr, const MotionState* st) {
+void Mechanism::derivative(const double* y, double* dy, const Vec3& g, const Wrench* wr,
+                           const MotionState* st) {
   (void)st;
   const double* q = y;
   const double* v = y + nq;
@@ -255,7 +255,8 @@ void Mechanism::derivative(const double* y, double* dy, const Vec3& g, const Wre
   if (!loops.empty()) constrain_accelerations(dv);
 }
 
-bool Mechanism::advance(double dt, const Vec3& g, const Wrench* wr, const MotionState* st, const JointSettings& js) {
+bool Mechanism::advance(double dt, const Vec3& g, const Wrench* wr, const MotionState* st,
+                        const JointSettings& js) {
   const int ny = nq + nv;
   std::copy(q.begin(), q.end(), y0_.begin());
   std::copy(v.begin(), v.end(), y0_.begin() + nq);
@@ -400,7 +401,8 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
       if (joints_[k].name == d.name) throw InputError(name_of(j) + ": the name is used by an earlier joint");
     if (d.child < -1 || d.child >= nb || d.parent < -1 || d.parent >= nb)
       throw InputError(name_of(j) + ": body index out of range");
-    if (d.child == d.parent) throw InputError(name_of(j) + ": joins body " + body_name(d.child) + " to itself");
+    if (d.child == d.parent)
+      throw InputError(name_of(j) + ": joins body " + body_name(d.child) + " to itself");
     if (fixed_base(d.parent) && fixed_base(d.child))
       throw InputError(name_of(j) + ": joins two bodies that cannot move (" + body_name(d.parent) + " and " +
                        body_name(d.child) + ")");
@@ -411,10 +413,11 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
       throw InputError(name_of(j) + ": kinematic bodies cannot be jointed yet (body " +
                        body_name(model[d.child].is_kinematic ? d.child : d.parent) + ")");
     if (!all_finite(d.anchor_W)) throw InputError(name_of(j) + ": anchor must be finite");
-    const bool axial = d.type == JointType::revolute || d.type == JointType::prismatic ||
-                       d.type == JointType::universal;
+    const bool axial =
+        d.type == JointType::revolute || d.type == JointType::prismatic || d.type == JointType::universal;
     if (axial) {
-      if (!all_finite(d.axis_W) || d.axis_W.norm() < 1e-12) throw InputError(name_of(j) + ": axis must not be zero");
+      if (!all_finite(d.axis_W) || d.axis_W.norm() < 1e-12)
+        throw InputError(name_of(j) + ": axis must not be zero");
       d.axis_W.normalize();
     }
     if (d.type == JointType::universal) {
@@ -435,14 +438,17 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
     // A joint whose child already has a parent, or whose parent descends from its child, closes
     // a loop: it becomes a constraint on the tree's coordinates instead of a tree edge.
     bool closes = parent_joint[d.child] >= 0;
-    for (int x = d.parent; !closes && !fixed_base(x); x = parent_joint[x] >= 0 ? joints_[parent_joint[x]].parent : -1) {
+    for (int x = d.parent; !closes && !fixed_base(x);
+         x = parent_joint[x] >= 0 ? joints_[parent_joint[x]].parent : -1) {
       if (x == d.child) closes = true;
       if (parent_joint[x] < 0) break;
     }
     if (closes) {
       if (d.type != JointType::revolute && d.type != JointType::spherical)
-        throw InputError(name_of(j) + ": closes a loop; a loop may be closed by a revolute or spherical joint only "
-                         "(a " + std::string(to_string(d.type)) + " joint cannot close one yet)");
+        throw InputError(name_of(j) +
+                         ": closes a loop; a loop may be closed by a revolute or spherical joint only "
+                         "(a " +
+                         std::string(to_string(d.type)) + " joint cannot close one yet)");
       if (d.spring) throw InputError(name_of(j) + ": a joint that closes a loop cannot carry a spring yet");
       loop_joints.push_back(j);
       continue;
@@ -739,8 +745,8 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
           os << (first ? "" : ", ") << "'" << defs[l.body].name << "'";
           first = false;
         }
-      os << " are not all motions their joints allow; they were projected onto the joints' freedoms (" << e_lost
-         << " J of " << e_given << " J of kinetic energy removed)";
+      os << " are not all motions their joints allow; they were projected onto the joints' freedoms ("
+         << e_lost << " J of " << e_given << " J of kinetic energy removed)";
       warnings.push_back(os.str());
     }
   }
@@ -753,7 +759,8 @@ int Articulations::find(std::string_view name) const {
   return -1;
 }
 
-bool Articulations::step_range(int begin, int end, double dt, const Vec3& g, const Wrench* wr, MotionState* st) {
+bool Articulations::step_range(int begin, int end, double dt, const Vec3& g, const Wrench* wr,
+                               MotionState* st) {
   bool ok = true;
   for (int k = begin; k < end; ++k) {
     Mechanism& m = mechanisms_[k];
@@ -770,7 +777,8 @@ const Link& Articulations::coordinate_link(int j, int k, const Mechanism*& m) co
 }
 
 double Articulations::position(int j, int k) const {
-  if (joint_link_[j].second < 0) return mechanisms_[joint_link_[j].first].loop_angle(-1 - joint_link_[j].second);
+  if (joint_link_[j].second < 0)
+    return mechanisms_[joint_link_[j].first].loop_angle(-1 - joint_link_[j].second);
   const Mechanism* m;
   const Link& l = coordinate_link(j, k, m);
   const double* q = m->q.data() + l.iq;
@@ -788,7 +796,8 @@ double Articulations::position(int j, int k) const {
 }
 
 double Articulations::speed(int j, int k) const {
-  if (joint_link_[j].second < 0) return mechanisms_[joint_link_[j].first].loop_speed(-1 - joint_link_[j].second);
+  if (joint_link_[j].second < 0)
+    return mechanisms_[joint_link_[j].first].loop_speed(-1 - joint_link_[j].second);
   const Mechanism* m;
   const Link& l = coordinate_link(j, k, m);
   const double* v = m->v.data() + l.iv;

@@ -33,10 +33,10 @@ struct Link {
   int body = -1;    ///< world body index; -1: a massless link inside a composite joint
   int parent = -1;  ///< link index in the mechanism (smaller than this one), -1: the world
   LinkJoint kind = LinkJoint::fixed;
-  int nq = 0, nv = 0;  ///< its joint's coordinates and velocities
-  int iq = 0, iv = 0;  ///< their offsets in the mechanism's q and q'
-  int joint = -1;      ///< public joint index, -1 for a free root
-  int dof = 0;         ///< which coordinate of the public joint this link's is (universal: 0 or 1)
+  int nq = 0, nv = 0;           ///< its joint's coordinates and velocities
+  int iq = 0, iv = 0;           ///< their offsets in the mechanism's q and q'
+  int joint = -1;               ///< public joint index, -1 for a free root
+  int dof = 0;                  ///< which coordinate of the public joint this link's is (universal: 0 or 1)
   Vec3 axis_F = Vec3::UnitZ();  ///< revolute, prismatic: unit axis in the joint frame
   // The joint frame F (origin at the anchor) in the parent's link frame (the world's for a root),
   // and in this link's frame at q = 0. A link frame is the body's principal frame P: origin at the
@@ -46,10 +46,10 @@ struct Link {
   Quat q_cF = Quat::Identity();
   Vec3 p_cF = Vec3::Zero();
   Mat3 R_pF = Mat3::Identity(), R_cF = Mat3::Identity();  ///< the same rotations as matrices
-  double mass = 0;              ///< kg
-  Vec3 I_P = Vec3::Zero();      ///< kg m^2, principal moments
-  Mat6X S;                      ///< motion subspace in the link frame (6 x nv), constant
-  Vec6 s1 = Vec6::Zero();       ///< S when nv = 1 (hinges and sliders: the common case)
+  double mass = 0;                                        ///< kg
+  Vec3 I_P = Vec3::Zero();                                ///< kg m^2, principal moments
+  Mat6X S;                                      ///< motion subspace in the link frame (6 x nv), constant
+  Vec6 s1 = Vec6::Zero();                       ///< S when nv = 1 (hinges and sliders: the common case)
   double stiffness = 0, damping = 0, rest = 0;  ///< a 1-coordinate joint's spring
 };
 
@@ -67,13 +67,13 @@ class Mechanism {
   // velocities are projected back onto them, so the loop's residual stays at round-off.
   struct Loop {
     int joint = -1;
-    int la = -1, lb = -1;      ///< links (la = -1: the fixed base)
-    Vec3 pa, pb;               ///< the anchor in each link's frame (the base's: world)
-    bool hinge = false;        ///< revolute: two angular rows too
-    Vec3 t1, t2;               ///< perpendiculars to the hinge axis, fixed in a (world for the base)
-    Vec3 ab;                   ///< the hinge axis in b's frame
-    Quat q_a0, q_b0;           ///< the links' start orientations (read-outs of the angle)
-    Vec3 axis_W0;              ///< the hinge axis at t = 0
+    int la = -1, lb = -1;  ///< links (la = -1: the fixed base)
+    Vec3 pa, pb;           ///< the anchor in each link's frame (the base's: world)
+    bool hinge = false;    ///< revolute: two angular rows too
+    Vec3 t1, t2;           ///< perpendiculars to the hinge axis, fixed in a (world for the base)
+    Vec3 ab;               ///< the hinge axis in b's frame
+    Quat q_a0, q_b0;       ///< the links' start orientations (read-outs of the angle)
+    Vec3 axis_W0;          ///< the hinge axis at t = 0
   };
   std::vector<Loop> loops;
   int loop_rows = 0;
@@ -109,15 +109,15 @@ class Mechanism {
   void mass_matrix();    ///< M_ at the current kinematics (composite-rigid-body algorithm)
   void loop_jacobian();  ///< G_ at the current kinematics; then Y_ = M^-1 G^T and A_ = G Y_
   void unit_velocities(int k, std::vector<Vec6>& V) const;  ///< link velocities for q' = e_k
-  void constrain_accelerations(double* qdd);  ///< after the ABA: add M^-1 G^T lambda
+  void constrain_accelerations(double* qdd);                ///< after the ABA: add M^-1 G^T lambda
   void solve_rows();  ///< dv_ = M^-1 G^T lambda for (G M^-1 G^T) lambda = rhs_ (after loop_jacobian)
   void displace(double* q, const double* dv) const;  ///< q moved by the velocity-space step dv
   struct Work {
-    Mat3 E;        ///< motion transform parent link -> this link (Featherstone's X = (E, r)):
-    Vec3 r;        ///< E rotates parent coordinates into this link's, r is this link's origin in the parent's
-    Mat3 R_W;      ///< this link's frame to world
-    Vec3 x_W;      ///< this link's origin in the world
-    Mat6 Ic;       ///< composite inertia (mass_matrix)
+    Mat3 E;    ///< motion transform parent link -> this link (Featherstone's X = (E, r)):
+    Vec3 r;    ///< E rotates parent coordinates into this link's, r is this link's origin in the parent's
+    Mat3 R_W;  ///< this link's frame to world
+    Vec3 x_W;  ///< this link's origin in the world
+    Mat6 Ic;   ///< composite inertia (mass_matrix)
     Vec6 vel, c, pA, acc;
     Mat6 IA;
     Mat6X U;
@@ -144,8 +144,9 @@ class Articulations {
   // Validates the joints (InputError naming the joint) and builds the mechanisms from the bodies'
   // start states; jointed bodies' initial velocities are projected onto their joints' freedoms
   // (with a warning when that changed them).
-  void build(const std::vector<JointDef>& joints, const JointSettings& settings, const std::vector<BodyDef>& defs,
-             const std::vector<BodyModel>& model, std::vector<MotionState>& state, std::vector<std::string>& warnings);
+  void build(const std::vector<JointDef>& joints, const JointSettings& settings,
+             const std::vector<BodyDef>& defs, const std::vector<BodyModel>& model,
+             std::vector<MotionState>& state, std::vector<std::string>& warnings);
   bool empty() const { return mechanisms_.empty(); }
   int joint_count() const { return (int)joints_.size(); }
   const JointDef& joint(int j) const { return joints_[j]; }

@@ -84,7 +84,8 @@ void Mechanism::loop_velocity_rows(const std::vector<Vec6>& V, double* out) cons
   }
 }
 
-void Mechanism::loop_acceleration_rows(const std::vector<Vec6>& V, const std::vector<Vec6>& A, double* out) const {
+void Mechanism::loop_acceleration_rows(const std::vector<Vec6>& V, const std::vector<Vec6>& A,
+                                       double* out) const {
   int r = 0;
   for (const Loop& L : loops) {
     const Mat3 Ra = L.la < 0 ? Mat3::Identity() : work_[L.la].R_W;

@@ -11,7 +11,6 @@
 namespace simreel {
 namespace {
 
-
 struct Bodies {
   std::vector<BodyDef> defs;
   std::vector<BodyModel> model;
@@ -55,9 +54,7 @@ struct Pendulum {
     art.build({j}, js, b.defs, b.model, b.state, warnings);
     EXPECT_TRUE(warnings.empty());
   }
-  double period(double theta0) const {
-    return ref::pendulum_period(theta0, Icm + m * d * d, m, g, d);
-  }
+  double period(double theta0) const { return ref::pendulum_period(theta0, Icm + m * d * d, m, g, d); }
   double energy() const {
     const MotionState& s = b.state[0];
     const double Iw = Icm;  // isotropic
@@ -82,7 +79,8 @@ TEST(Articulation, PendulumPeriodMatchesEllipticIntegral) {
     // The tolerance is the target for the first period: 1e-7 at 170 deg, 1e-8 below.
     EXPECT_LT(std::abs(dT / T), deg > 100 ? 1e-7 : 1e-8) << deg << " deg: dT/T " << dT / T;
     EXPECT_NEAR(p.art.position(0), 0.0, 1e-7) << deg;  // back where it started
-    std::printf("theta0 %5.1f deg: T %.12f s, dT/T %.2e, steps %ld\n", deg, T, dT / T, p.art.internal_steps());
+    std::printf("theta0 %5.1f deg: T %.12f s, dT/T %.2e, steps %ld\n", deg, T, dT / T,
+                p.art.internal_steps());
   }
 }
 
@@ -110,7 +108,8 @@ double energy(const Bodies& b, double g) {
   for (size_t i = 0; i < b.state.size(); ++i) {
     const MotionState& s = b.state[i];
     const BodyModel& m = b.model[i];
-    E += 0.5 * m.mass * s.v_W.squaredNorm() + 0.5 * s.w_P.dot(m.I_P.cwiseProduct(s.w_P)) + m.mass * g * s.x_W.z();
+    E += 0.5 * m.mass * s.v_W.squaredNorm() + 0.5 * s.w_P.dot(m.I_P.cwiseProduct(s.w_P)) +
+         m.mass * g * s.x_W.z();
   }
   return E;
 }
@@ -162,12 +161,13 @@ TEST(Articulation, HeavyEndedChainSwingsWithoutGapsOrEnergyLoss) {
     const double scale = M * g * n * 0.1;
     double worst = 0, worst_gap = 0;
     for (int i = 0; i < 600; ++i) {
-      ASSERT_TRUE(c.art.step(1.0 / 60, Vec3(0, 0, -g), nullptr, c.b.state.data())) << ratio << " at step " << i;
+      ASSERT_TRUE(c.art.step(1.0 / 60, Vec3(0, 0, -g), nullptr, c.b.state.data()))
+          << ratio << " at step " << i;
       worst = std::max(worst, std::abs(energy(c.b, g) - E0));
       worst_gap = std::max(worst_gap, c.art.gap(c.b.state.data()));
     }
-    std::printf("chain 1:%g: max |dE| %.2e M g N l, worst gap %.2e m, internal steps %ld\n", ratio, worst / scale,
-                worst_gap, c.art.internal_steps());
+    std::printf("chain 1:%g: max |dE| %.2e M g N l, worst gap %.2e m, internal steps %ld\n", ratio,
+                worst / scale, worst_gap, c.art.internal_steps());
     EXPECT_LT(worst / scale, 1e-6) << ratio;
     EXPECT_LT(worst_gap, 1e-10) << ratio;
   }
@@ -247,7 +247,8 @@ TEST(Articulation, HeavyTopKeepsItsInvariants) {
     const Vec3 L = s.q_WP * b.model[0].I_P.cwiseProduct(s.w_P) + m * s.x_W.cross(s.v_W);
     Lz = L.z();
     L3 = L.dot(s.q_WP * Vec3::UnitZ());
-    E = 0.5 * m * s.v_W.squaredNorm() + 0.5 * s.w_P.dot(b.model[0].I_P.cwiseProduct(s.w_P)) + m * g * s.x_W.z();
+    E = 0.5 * m * s.v_W.squaredNorm() + 0.5 * s.w_P.dot(b.model[0].I_P.cwiseProduct(s.w_P)) +
+        m * g * s.x_W.z();
     (void)wW;
   };
   double Lz0, L30, E0, Lz, L3, E;
@@ -290,7 +291,8 @@ TEST(Articulation, DoublePendulumFollowsTheReferenceAndKeepsEnergy) {
   art.build(joints, {}, b.defs, b.model, b.state, warnings);
   const ref::PendulumLink link{m, L, Icm, L};
   const ref::DoublePendulum dp(link, link, g);
-  ref::DoublePendulumTrajectory traj(dp, ref::DoublePendulumState{std::numbers::pi / 2, std::numbers::pi / 2, 0, 0});
+  ref::DoublePendulumTrajectory traj(
+      dp, ref::DoublePendulumState{std::numbers::pi / 2, std::numbers::pi / 2, 0, 0});
   // The reference's angles are from the downward vertical, counterclockwise in (x, up); a positive
   // turn about +y moves a hanging bob towards -x, so theta = pi/2 - (sum of the joint angles).
   const double E0 = energy(b, g);
@@ -395,8 +397,9 @@ TEST(Articulation, FourBarLinkageClosesItsLoopAndKeepsEnergy) {
     swing = std::max(swing, std::abs(art.position(0)));
   }
   EXPECT_GT(swing, 1.0);  // the crank really swings (rad)
-  std::printf("four-bar: crank swing %.2f rad, loop gap %.1e m, |dE| %.1e M g l, Freudenstein %.1e m, steps %ld\n",
-              swing, worst_gap, worst_E / scale, worst_fr, art.internal_steps());
+  std::printf(
+      "four-bar: crank swing %.2f rad, loop gap %.1e m, |dE| %.1e M g l, Freudenstein %.1e m, steps %ld\n",
+      swing, worst_gap, worst_E / scale, worst_fr, art.internal_steps());
   EXPECT_LT(worst_gap, 1e-6);
   EXPECT_LT(worst_E / scale, 1e-6);
   EXPECT_LT(worst_fr, 1e-6);
@@ -453,8 +456,8 @@ TEST(Articulation, SliderSpringSagsAndRingsAsTheQuarterCar) {
   // r = exp(-zeta wn pi / wd), so two successive ones give the sag: s = -(x_1 r + x_2) / (1 + r).
   const double r = std::exp(-zeta * wn * std::numbers::pi / wd);
   const double sag = -(q_turn[1] * r + q_turn[2]) / (1 + r);
-  std::printf("quarter car: sag %.6f m (m g / k %.6f), period %.6f s (2 pi / w_d %.6f)\n", sag, car.static_sag(g),
-              period, 2 * std::numbers::pi / wd);
+  std::printf("quarter car: sag %.6f m (m g / k %.6f), period %.6f s (2 pi / w_d %.6f)\n", sag,
+              car.static_sag(g), period, 2 * std::numbers::pi / wd);
   EXPECT_NEAR(sag / car.static_sag(g), 1, 1e-3);
   EXPECT_NEAR(period / (2 * std::numbers::pi / wd), 1, 5e-3);
 }
@@ -477,7 +480,8 @@ TEST(Articulation, HingeSpringOscillatesAtItsFrequency) {
   const double w = ref::spring_joint_omega(k, I);
   // One full period in N equal steps: back at angle 0 with speed 1, to the integrator's accuracy.
   const int N = 120;
-  for (int i = 0; i < N; ++i) ASSERT_TRUE(art.step(2 * std::numbers::pi / w / N, Vec3::Zero(), nullptr, b.state.data()));
+  for (int i = 0; i < N; ++i)
+    ASSERT_TRUE(art.step(2 * std::numbers::pi / w / N, Vec3::Zero(), nullptr, b.state.data()));
   EXPECT_NEAR(art.position(0), 0, 1e-8);
   EXPECT_NEAR(art.speed(0), 1, 1e-8);
 }
@@ -549,9 +553,10 @@ TEST(Articulation, HeavyTopNutatesBetweenTheCubicsRootsAndPrecessesAtTheMeanRate
   }
   ASSERT_EQ(minima, 4);
   const double rate = az4 / t4;
-  std::printf("top: theta in [%.9f, %.9f] (cubic: [%.9f, %.9f]); nutation period %.9f s (%.9f); precession "
-              "%.9f rad/s (%.9f)\n",
-              lo, hi, ref.theta_min, ref.theta_max, t4 / 4, ref.nutation_period, rate, ref.mean_precession_rate);
+  std::printf(
+      "top: theta in [%.9f, %.9f] (cubic: [%.9f, %.9f]); nutation period %.9f s (%.9f); precession "
+      "%.9f rad/s (%.9f)\n",
+      lo, hi, ref.theta_min, ref.theta_max, t4 / 4, ref.nutation_period, rate, ref.mean_precession_rate);
   EXPECT_NEAR(lo, ref.theta_min, 1e-5);
   EXPECT_NEAR(hi, ref.theta_max, 1e-5);
   EXPECT_NEAR(t4 / 4 / ref.nutation_period, 1, 1e-6);

@@ -163,7 +163,8 @@ TEST(Joints, JointedShapesWarnThatTheyDoNotCollide) {
   BarPendulum p(0.5);
   World w(p.cfg, p.bodies);
   bool said = false;
-  for (const std::string& s : w.warnings()) said = said || s.find("'bar' collide with nothing") != std::string::npos;
+  for (const std::string& s : w.warnings())
+    said = said || s.find("'bar' collide with nothing") != std::string::npos;
   EXPECT_TRUE(said);
   EXPECT_THROW(w.set_linear_velocity(0, Vec3(1, 0, 0)), InputError);
   EXPECT_THROW(w.apply_impulse(0, Vec3(1, 0, 0), Vec3::Zero()), InputError);
@@ -180,7 +181,8 @@ TEST(Joints, InternalStepBudgetStopsTheRunNamingTheJoint) {
     for (int i = 0; i < 60; ++i) w.step();
     FAIL() << "no error";
   } catch (const StateError& e) {
-    EXPECT_NE(std::string(e.what()).find("joint 'pivot' needed more than 2 internal steps"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("joint 'pivot' needed more than 2 internal steps"),
+              std::string::npos)
         << e.what();
   }
 }
@@ -198,7 +200,9 @@ TEST(Joints, BadJointsAreNamed) {
   };
   EXPECT_NE(error_of([](BarPendulum& p) { p.cfg.joints[0].parent = 0; }).find("joins body 'bar' to itself"),
             std::string::npos);
-  EXPECT_NE(error_of([](BarPendulum& p) { p.cfg.joints[0].axis_W = Vec3::Zero(); }).find("'pivot': axis must not be zero"),
+  EXPECT_NE(error_of([](BarPendulum& p) {
+              p.cfg.joints[0].axis_W = Vec3::Zero();
+            }).find("'pivot': axis must not be zero"),
             std::string::npos);
   EXPECT_NE(error_of([](BarPendulum& p) { p.cfg.joints[0].child = 1; }).find("two bodies that cannot move"),
             std::string::npos);
@@ -209,7 +213,8 @@ TEST(Joints, BadJointsAreNamed) {
               p.cfg.joints[1].type = JointType::prismatic;
             }).find("'b': closes a loop; a loop may be closed by a revolute or spherical joint only"),
             std::string::npos);
-  EXPECT_NE(error_of([](BarPendulum& p) { p.cfg.joints[0].child = 7; }).find("out of range"), std::string::npos);
+  EXPECT_NE(error_of([](BarPendulum& p) { p.cfg.joints[0].child = 7; }).find("out of range"),
+            std::string::npos);
 }
 
 // Kater's reversible pendulum: a steel bar with a brass weight off centre, hung from a pivot h1
