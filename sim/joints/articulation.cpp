@@ -140,7 +140,6 @@ void Mechanism::allocate() {
   y0_.assign(ny, 0);
   y1_.assign(ny, 0);
   ys_.assign(ny, 0);
-  err_.assign(ny, 0);
   for (auto& k : k_) k.assign(ny, 0);
   out_q_.resize(links.size());
   out_x_.resize(links.size());

@@ -127,7 +127,7 @@ class Mechanism {
     double Dinv1 = 0, u1 = 0;
   };
   std::vector<Work> work_;
-  std::vector<double> y0_, y1_, ys_, err_;
+  std::vector<double> y0_, y1_, ys_;
   std::vector<double> k_[7];
   // Loop scratch, sized once (allocate_loops).
   Eigen::MatrixXd M_, G_, Y_, A_;
