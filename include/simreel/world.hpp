@@ -120,6 +120,9 @@ class World {
   /// the start pose) or m (prismatic).
   double joint_position(int j, int k = 0) const;
   double joint_speed(int j, int k = 0) const;  ///< its rate, rad/s or m/s (spherical: |relative w|)
+  /// The generalised force that coordinate k of joint j's limits, motor and friction apply,
+  /// N m or N, at the end of the last step (0 for a joint without them).
+  double joint_force(int j, int k = 0) const;
   /// The largest distance between the two anchor points of any joint, m (0 up to round-off: the
   /// mechanisms move in joint coordinates), and the largest angle between hinge or slider axes, rad.
   double joint_gap() const;

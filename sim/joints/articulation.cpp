@@ -141,6 +141,12 @@ void Mechanism::allocate() {
   y1_.assign(ny, 0);
   ys_.assign(ny, 0);
   for (auto& k : k_) k.assign(ny, 0);
+  tau_.assign(nv, 0);
+  if (!dofs.empty()) {
+    for (auto* e : {&g0_, &g1_, &ga_, &gc_}) e->assign(5 * dofs.size(), 0);
+    vtarget_.assign(dofs.size(), 0);
+    kd_.assign(ny, 0);
+  }
   out_q_.resize(links.size());
   out_x_.resize(links.size());
   out_v_.resize(links.size());
@@ -179,6 +185,13 @@ void Mechanism::derivative(const double* y, double* dy, const Vec3& g, const Wre
   double* dv = dy + nq;
   kinematics(q);
   const size_t n = links.size();
+  // Saturated motors and sliding friction: constant generalised forces while their mode lasts.
+  for (const Dof& d : dofs) {
+    double f = 0;
+    if (d.motor != 0 && !d.hold) f += d.push * d.max_force;
+    if (d.friction > 0 && !d.stick) f -= d.slide * d.friction;
+    tau_[d.iv] = f;
+  }
   // Pass 1, root to leaves: velocities, velocity-product accelerations, rigid-body inertias and
   // bias forces (Featherstone, Table 7.1).
   for (size_t i = 0; i < n; ++i) {
@@ -213,6 +226,7 @@ void Mechanism::derivative(const double* y, double* dy, const Vec3& g, const Wre
       w.Dinv1 = 1 / l.s1.dot(w.U1);
       w.u1 = -l.s1.dot(w.pA);
       if (l.stiffness != 0 || l.damping != 0) w.u1 += -l.stiffness * (q[l.iq] - l.rest) - l.damping * v[l.iv];
+      if (l.dof_index >= 0) w.u1 += tau_[l.iv];
       Ia.noalias() -= (w.Dinv1 * w.U1) * w.U1.transpose();
       pa += w.U1 * (w.Dinv1 * w.u1);
     } else if (l.nv > 0) {
@@ -251,16 +265,55 @@ void Mechanism::derivative(const double* y, double* dy, const Vec3& g, const Wre
       w.acc += l.S * qdd;
     }
   }
-  if (!loops.empty()) constrain_accelerations(dv);
+  if (has_rows()) {
+    constrain_accelerations(q, v, dv);
+    for (Dof& d : dofs) d.force = d.lambda + tau_[d.iv];
+  }
 }
+
+double Mechanism::rk_step(double hs, const Vec3& g, const Wrench* wr, const MotionState* st, double tol) {
+  const int ny = nq + nv;
+  for (int s = 1; s < 7; ++s) {
+    for (int j = 0; j < ny; ++j) {
+      double acc = 0;
+      for (int r = 0; r < s; ++r) acc += kA[s][r] * k_[r][j];
+      ys_[j] = y0_[j] + hs * acc;
+    }
+    derivative(ys_.data(), k_[s].data(), g, wr, st);
+  }
+  // The 7th stage is evaluated at the 5th-order solution (its row of A is b): ys_ holds y1.
+  double e2 = 0;
+  for (int j = 0; j < ny; ++j) {
+    double e = 0;
+    for (int r = 0; r < 7; ++r) e += (kB[r] - kBstar[r]) * k_[r][j];
+    e *= hs;
+    y1_[j] = ys_[j];
+    const double sc = tol * (1 + std::max(std::abs(y0_[j]), std::abs(y1_[j])));
+    e2 += (e / sc) * (e / sc);
+  }
+  return std::sqrt(e2 / std::max(ny, 1));
+}
+
+namespace {
+// Some event function went from >= 0 at the step's start to < 0.
+bool crossed(const std::vector<double>& g0, const std::vector<double>& g1) {
+  for (size_t i = 0; i < g0.size(); ++i)
+    if (g0[i] >= 0 && g1[i] < 0) return true;
+  return false;
+}
+}  // namespace
 
 bool Mechanism::advance(double dt, const Vec3& g, const Wrench* wr, const MotionState* st,
                         const JointSettings& js) {
-  const int ny = nq + nv;
   std::copy(q.begin(), q.end(), y0_.begin());
   std::copy(v.begin(), v.end(), y0_.begin() + nq);
   if (!(h > 0)) h = dt;
   const double tol = js.tolerance;
+  const bool events_on = !dofs.empty();
+  if (events_on && !started) {
+    start_modes(y0_.data(), g, wr);
+    started = true;
+  }
   double t = 0;
   int steps = 0;
   bool have_k1 = false;
@@ -269,54 +322,95 @@ bool Mechanism::advance(double dt, const Vec3& g, const Wrench* wr, const Motion
       exceeded = true;
       return false;
     }
-    const bool last = h >= dt - t;
-    const double hs = last ? dt - t : h;
-    if (!have_k1) derivative(y0_.data(), k_[0].data(), g, wr, st);
+    bool last = h >= dt - t;
+    double hs = last ? dt - t : h;
+    if (!have_k1) {
+      derivative(y0_.data(), k_[0].data(), g, wr, st);
+      if (events_on) event_values(y0_.data(), g0_.data());
+    }
     have_k1 = true;
-    for (int s = 1; s < 7; ++s) {
-      for (int j = 0; j < ny; ++j) {
-        double acc = 0;
-        for (int r = 0; r < s; ++r) acc += kA[s][r] * k_[r][j];
-        ys_[j] = y0_[j] + hs * acc;
-      }
-      derivative(ys_.data(), k_[s].data(), g, wr, st);
-    }
-    // The 7th stage is evaluated at the 5th-order solution (its row of A is b): ys_ holds y1.
-    double e2 = 0;
-    for (int j = 0; j < ny; ++j) {
-      double e = 0;
-      for (int r = 0; r < 7; ++r) e += (kB[r] - kBstar[r]) * k_[r][j];
-      e *= hs;
-      y1_[j] = ys_[j];
-      const double sc = tol * (1 + std::max(std::abs(y0_[j]), std::abs(y1_[j])));
-      e2 += (e / sc) * (e / sc);
-    }
-    const double err = std::sqrt(e2 / std::max(ny, 1));
+    const double err = rk_step(hs, g, wr, st, tol);
     if (!std::isfinite(err)) return false;
     // Step-size control (Hairer, Norsett & Wanner I, II.4): safety 0.9, growth within [0.2, 5].
     const double fac = std::clamp(0.9 * std::pow(std::max(err, 1e-10), -0.2), 0.2, 5.0);
-    if (err <= 1) {
-      t = last ? dt : t + hs;
-      if (!loops.empty()) {
-        normalize_quaternions(*this, y1_.data());
-        project_positions(y1_.data());
-        project_velocities(y1_.data(), y1_.data() + nq);
-      }
-      std::swap(y0_, y1_);
-      // First same as last: the 7th stage was evaluated at the new state, unless the loops'
-      // projection moved it. (Quaternions drift off unit length by the tolerance only; they are
-      // renormalised once the frame step is done.)
-      if (loops.empty()) std::swap(k_[0], k_[6]);
-      have_k1 = loops.empty();
-      ++steps_taken;
-      // A step cut short to land on the frame does not set the next proposal.
-      if (!last || hs >= h) h = hs * fac;
-    } else {
+    if (err > 1) {
       h = hs * std::min(fac, 1.0);
       ++steps_rejected;
+      continue;
     }
+    bool event = false;
+    if (events_on) {
+      event_values(ys_.data(), g1_.data());
+      if (crossed(g0_, g1_)) {
+        // Locate the first crossing by re-taking the step (Illinois regula falsi on the step length
+        // over the earliest-crossing function): the step ends just past it, by under 1e-12 of the
+        // step, so the state there is as accurate as any accepted step's.
+        event = true;
+        const double h_full = hs;
+        double a = 0, b = hs;
+        int side = 0;
+        double fa_scale = 1, fb_scale = 1;
+        for (int it = 0; it < 100 && b - a > 1e-12 * h_full; ++it) {
+          // The function whose linear crossing comes first, interpolated between a and b.
+          double tc = b;
+          for (size_t k = 0; k < g0_.size(); ++k) {
+            if (!(g0_[k] >= 0 && g1_[k] < 0)) continue;
+            const double fa = (a == 0 ? g0_[k] : ga_[k]) * fa_scale, fb = g1_[k] * fb_scale;
+            const double c = a + (b - a) * fa / (fa - fb);
+            tc = std::min(tc, c);
+          }
+          tc = std::clamp(tc, a + 1e-3 * (b - a), b - 1e-3 * (b - a));
+          if (!std::isfinite(rk_step(tc, g, wr, st, tol))) return false;
+          event_values(ys_.data(), gc_.data());
+          if (crossed(g0_, gc_)) {
+            b = tc;
+            std::swap(g1_, gc_);
+            fa_scale = side == -1 ? fa_scale * 0.5 : 1;  // Illinois: the kept end's value halves
+            fb_scale = 1;
+            side = -1;
+          } else {
+            a = tc;
+            std::swap(ga_, gc_);
+            fb_scale = side == 1 ? fb_scale * 0.5 : 1;
+            fa_scale = 1;
+            side = 1;
+          }
+        }
+        if (side == 1) {  // the last trial was not the step kept
+          if (!std::isfinite(rk_step(b, g, wr, st, tol))) return false;
+          event_values(ys_.data(), g1_.data());
+        }
+        last = last && b == h_full;
+        hs = b;
+      }
+    }
+    t = last ? dt : t + hs;
+    ++steps_taken;
+    if (event) {
+      apply_events(y1_.data(), g0_.data(), g1_.data(), g, wr);
+      ++events;
+    }
+    if (!loops.empty()) {
+      normalize_quaternions(*this, y1_.data());
+      project_positions(y1_.data());
+      project_velocities(y1_.data(), y1_.data() + nq);
+    } else if (any_active()) {
+      project_dofs(y1_.data());
+    }
+    std::swap(y0_, y1_);
+    // First same as last: the 7th stage was evaluated at the new state, unless a projection or a
+    // mode change moved it. (Quaternions drift off unit length by the tolerance only; they are
+    // renormalised once the frame step is done.)
+    have_k1 = !event && loops.empty() && !any_active();
+    if (have_k1) {
+      std::swap(k_[0], k_[6]);
+      std::swap(g0_, g1_);
+    }
+    // A step cut short to land on the frame or an event does not set the next proposal.
+    if (!event && (!last || hs >= h)) h = hs * fac;
   }
   normalize_quaternions(*this, y0_.data());
+  if (events_on) derivative(y0_.data(), kd_.data(), g, wr, st);  // the forces read out at the frame
   std::copy(y0_.begin(), y0_.begin() + nq, q.begin());
   std::copy(y0_.begin() + nq, y0_.end(), v.begin());
   return true;
@@ -407,7 +501,12 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
                        body_name(d.child) + ")");
     // Written the other way round: the moving body is the child, and its coordinate is its motion
     // relative to the fixed one.
-    if (fixed_base(d.child)) std::swap(d.parent, d.child);
+    if (fixed_base(d.child)) {
+      std::swap(d.parent, d.child);
+      // The parent's motion relative to the child about (along) the axis by q is the child's
+      // about (along) the reversed axis by q: the coordinate keeps the meaning the joint gave it.
+      if (d.type == JointType::revolute || d.type == JointType::prismatic) d.axis_W = -d.axis_W;
+    }
     if (model[d.child].is_kinematic || (d.parent >= 0 && model[d.parent].is_kinematic))
       throw InputError(name_of(j) + ": kinematic bodies cannot be jointed yet (body " +
                        body_name(model[d.child].is_kinematic ? d.child : d.parent) + ")");
@@ -434,6 +533,39 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
           !std::isfinite(d.spring->rest) || d.spring->stiffness < 0 || d.spring->damping < 0)
         throw InputError(name_of(j) + ": spring stiffness and damping must be non-negative numbers");
     }
+    const bool one_coordinate =
+        d.type == JointType::revolute || d.type == JointType::prismatic || d.type == JointType::universal;
+    if (d.limits) {
+      const JointLimits& L = *d.limits;
+      if (!one_coordinate)
+        throw InputError(name_of(j) + ": a " + to_string(d.type) + " joint has no coordinate for limits");
+      if (!std::isfinite(L.lower) || !std::isfinite(L.upper) || !(L.lower < L.upper))
+        throw InputError(name_of(j) + ": limits must be finite with lower < upper");
+      if (L.lower > 0 || L.upper < 0)
+        throw InputError(name_of(j) + ": joint coordinates are 0 in the start pose, so the limits must contain 0");
+      if (!(L.restitution >= 0 && L.restitution <= 1))
+        throw InputError(name_of(j) + ": limit restitution must be in [0, 1]");
+    }
+    if (d.motor) {
+      const JointMotor& M = *d.motor;
+      if (d.type != JointType::revolute && d.type != JointType::prismatic)
+        throw InputError(name_of(j) + ": a motor needs a revolute or prismatic joint (not " + to_string(d.type) +
+                         ")");
+      if (!(M.max_force > 0) || !std::isfinite(M.max_force))
+        throw InputError(name_of(j) + ": a motor needs a positive, finite max force (torque)");
+      if (M.mode == JointMotor::Mode::speed && !std::isfinite(M.speed))
+        throw InputError(name_of(j) + ": the motor's speed must be finite");
+      if (M.mode == JointMotor::Mode::position &&
+          (!std::isfinite(M.position) || !(M.speed > 0) || !(M.time_constant > 0) || !std::isfinite(M.time_constant)))
+        throw InputError(name_of(j) +
+                         ": a position motor needs a finite position, a positive speed cap and a positive time constant");
+    }
+    if (d.friction != 0) {
+      if (!one_coordinate)
+        throw InputError(name_of(j) + ": a " + to_string(d.type) + " joint has no coordinate for friction");
+      if (!(d.friction > 0) || !std::isfinite(d.friction))
+        throw InputError(name_of(j) + ": friction must be a non-negative number");
+    }
     // A joint whose child already has a parent, or whose parent descends from its child, closes
     // a loop: it becomes a constraint on the tree's coordinates instead of a tree edge.
     bool closes = parent_joint[d.child] >= 0;
@@ -449,6 +581,8 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
                          "(a " +
                          std::string(to_string(d.type)) + " joint cannot close one yet)");
       if (d.spring) throw InputError(name_of(j) + ": a joint that closes a loop cannot carry a spring yet");
+      if (d.limits || d.motor || d.friction > 0)
+        throw InputError(name_of(j) + ": a joint that closes a loop cannot carry limits, a motor or friction yet");
       loop_joints.push_back(j);
       continue;
     }
@@ -629,6 +763,35 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
       m.nq += l.nq;
       m.nv += l.nv;
     }
+    // Limits, motors and friction: one Dof per coordinate that has any.
+    for (size_t li = 0; li < m.links.size(); ++li) {
+      Link& l = m.links[li];
+      if (l.nv != 1 || l.joint < 0) continue;
+      const JointDef& d = joints_[l.joint];
+      if (!d.limits && !d.motor && !(d.friction > 0)) continue;
+      Mechanism::Dof f;
+      f.link = (int)li;
+      f.iq = l.iq;
+      f.iv = l.iv;
+      f.joint = l.joint;
+      f.coord = l.dof;
+      if (d.limits) {
+        f.has_lo = f.has_hi = true;
+        f.lo = d.limits->lower;
+        f.hi = d.limits->upper;
+        f.restitution = d.limits->restitution;
+      }
+      if (d.motor) {
+        f.motor = d.motor->mode == JointMotor::Mode::speed ? 1 : 2;
+        f.speed = d.motor->speed;
+        f.position = d.motor->position;
+        f.time_constant = d.motor->time_constant;
+        f.max_force = d.motor->max_force;
+      }
+      f.friction = d.friction;
+      l.dof_index = (int)m.dofs.size();
+      m.dofs.push_back(f);
+    }
     m.q.assign(m.nq, 0);
     m.v.assign(m.nv, 0);
     for (const Link& l : m.links) {
@@ -697,7 +860,7 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
     joint_link_[j] = {mi, -1 - (int)(m.loops.size() - 1)};  // negative: a loop's index
   }
   for (Mechanism& m : mechanisms_)
-    if (!m.loops.empty()) m.allocate_loops();
+    if (m.has_rows()) m.allocate_loops();
   // Start velocities: the joint velocities whose body motion is closest to the given one in the
   // kinetic-energy metric (sum over links of (V - V0)^T M (V - V0)); this keeps the mechanism's
   // momentum along every joint freedom. A warning when the given motion was not a joint motion.
@@ -811,6 +974,13 @@ double Articulations::speed(int j, int k) const {
       break;
   }
   return 0;
+}
+
+double Articulations::force(int j, int k) const {
+  if (joint_link_[j].second < 0) return 0;
+  const Mechanism* m;
+  const Link& l = coordinate_link(j, k, m);
+  return l.dof_index >= 0 ? m->dofs[l.dof_index].force : 0.0;
 }
 
 double Articulations::gap(const MotionState* st) const {

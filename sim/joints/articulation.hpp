@@ -51,6 +51,7 @@ struct Link {
   Mat6X S;                                      ///< motion subspace in the link frame (6 x nv), constant
   Vec6 s1 = Vec6::Zero();                       ///< S when nv = 1 (hinges and sliders: the common case)
   double stiffness = 0, damping = 0, rest = 0;  ///< a 1-coordinate joint's spring
+  int dof_index = -1;                           ///< its Mechanism::Dof (limits, motor, friction), or -1
 };
 
 class Mechanism {
@@ -77,7 +78,50 @@ class Mechanism {
   };
   std::vector<Loop> loops;
   int loop_rows = 0;
-  void allocate_loops();
+
+  // A one-coordinate link's limits, motor and Coulomb friction (docs/joints.md, "Limits, motors
+  // and friction"): a hybrid system. Each holds a mode fixed over an internal step (so the
+  // integrator sees a smooth right-hand side); a mode changes only at an event, located in time by
+  // re-taking the step to the crossing of an event function (a coordinate reaching a stop, a rate
+  // reaching the motor's target or zero, a constraint force reaching its bound). In a mode where
+  // the coordinate is held (on a stop, at the motor's rate, stuck by friction) it is one more
+  // constraint row, q''_k = a*, whose multiplier is the force holding it.
+  struct Dof {
+    int link = -1, iq = 0, iv = 0, joint = -1, coord = 0;
+    bool has_lo = false, has_hi = false;
+    double lo = 0, hi = 0, restitution = 0;
+    int motor = 0;  ///< 0 none, 1 speed, 2 position
+    double speed = 0, position = 0, time_constant = 0.1, max_force = 0;
+    double friction = 0;
+    // Mode (saved state).
+    int at_stop = 0;     ///< -1 resting on the lower stop, +1 on the upper, 0 free
+    bool hold = false;   ///< the motor holds the rate at its target
+    int push = 0;        ///< a saturated motor pushes with push * max_force
+    bool stick = false;  ///< friction holds the coordinate still
+    int slide = 0;       ///< sliding: friction acts as -slide * friction
+    double lambda = 0;   ///< the holding row's multiplier (last evaluation)
+    double force = 0;    ///< N m or N: the generalised force of stop, motor and friction (last evaluation)
+    double lower_bound() const;  ///< the holding row's multiplier bounds in the current mode
+    double upper_bound() const;
+    bool active() const { return at_stop != 0 || hold || stick; }
+    double target_rate(double q) const;  ///< the motor's target rate at coordinate q
+  };
+  std::vector<Dof> dofs;
+  bool started = false;  ///< the modes were settled at the first step (saved state)
+  bool has_rows() const { return !loops.empty() || !dofs.empty(); }
+  bool any_active() const {
+    for (const Dof& d : dofs)
+      if (d.active()) return true;
+    return false;
+  }
+  long events = 0;  ///< mode changes over the run
+  // Puts the modes in agreement with the state (a stop reached moving into it takes its impact;
+  // a held coordinate whose holding force is out of bounds is released); at the start and after
+  // every event.
+  void settle_modes(double* y, const Vec3& g, const Wrench* wr);
+  void start_modes(double* y, const Vec3& g, const Wrench* wr);  ///< modes from the state at the first step
+
+  void allocate_loops();  ///< scratch of the constraint rows (loops and Dofs)
   // Positions (Newton on the rows, the correction in the mass metric) and velocities (the
   // kinetic-energy-closest motion that keeps the rows) back onto the loops.
   void project_positions(double* q);
@@ -107,11 +151,31 @@ class Mechanism {
   void loop_velocity_rows(const std::vector<Vec6>& V, double* out) const;
   void loop_acceleration_rows(const std::vector<Vec6>& V, const std::vector<Vec6>& A, double* out) const;
   void mass_matrix();    ///< M_ at the current kinematics (composite-rigid-body algorithm)
-  void loop_jacobian();  ///< G_ at the current kinematics; then Y_ = M^-1 G^T and A_ = G Y_
+  // G_ at the current kinematics (loop rows, then one row per Dof: e_k when it is a row, else
+  // zero); then Y_ = M^-1 G^T and A_ = G Y_. A Dof is a row when it is held (active()), or for
+  // impulses when vtarget_ names a target rate for it.
+  void loop_jacobian(bool impulse_rows = false);
   void unit_velocities(int k, std::vector<Vec6>& V) const;  ///< link velocities for q' = e_k
-  void constrain_accelerations(double* qdd);                ///< after the ABA: add M^-1 G^T lambda
+  // After the ABA: add M^-1 G^T lambda for the loops' and the held coordinates' rows.
+  void constrain_accelerations(const double* q, const double* v, double* qdd);
   void solve_rows();  ///< dv_ = M^-1 G^T lambda for (G M^-1 G^T) lambda = rhs_ (after loop_jacobian)
   void displace(double* q, const double* dv) const;  ///< q moved by the velocity-space step dv
+  // One Dormand-Prince step of size hs from y0_ (k_[0] evaluated there): the 5th-order result in
+  // ys_ (and y1_), the error norm returned.
+  double rk_step(double hs, const Vec3& g, const Wrench* wr, const MotionState* st, double tol);
+  // Event functions of the modes at a state whose derivative was just evaluated (positive while
+  // the mode holds), into out (one slot per function, fixed layout).
+  void event_values(const double* y, double* out) const;
+  // Applies the mode changes whose event functions went from >= 0 (g0) to < 0 (g1) at state y.
+  void apply_events(double* y, const double* g0, const double* g1, const Vec3& g, const Wrench* wr);
+  // Velocity jump at stop impacts: rows (the loops, the coordinates on a stop, the impacting ones)
+  // reach their target rates by impulses through the mass matrix.
+  void impulse(const double* q, double* v, const std::vector<double>& target);
+  void project_dofs(double* y);  ///< held coordinates back exactly on their rows after a step
+  std::vector<double> tau_;           ///< generalised forces of saturated motors and sliding friction
+  std::vector<double> g0_, g1_, ga_, gc_;  ///< event functions: step start and end, bracket, trial
+  std::vector<double> vtarget_;       ///< impulse targets (NaN: not a row)
+  std::vector<double> kd_;            ///< scratch derivative for settle_modes
   struct Work {
     Mat3 E;    ///< motion transform parent link -> this link (Featherstone's X = (E, r)):
     Vec3 r;    ///< E rotates parent coordinates into this link's, r is this link's origin in the parent's
@@ -172,6 +236,8 @@ class Articulations {
   // the two sides' axes (rad; hinge axes, slider directions, welds), read from the bodies' states.
   double gap(const MotionState* st) const;
   double angular_gap(const MotionState* st) const;
+  // The generalised force of coordinate k of joint j's stops, motor and friction (N m or N).
+  double force(int j, int k = 0) const;
 
   const std::vector<Mechanism>& mechanisms() const { return mechanisms_; }
   std::vector<Mechanism>& mechanisms() { return mechanisms_; }

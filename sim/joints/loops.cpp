@@ -31,16 +31,17 @@ inline Vec3 point_acceleration(const Vec6& V, const Vec6& A, const Vec3& p) {
 }  // namespace
 
 void Mechanism::allocate_loops() {
+  const int nr = loop_rows + (int)dofs.size();
   M_.setZero(nv, nv);
-  G_.setZero(loop_rows, nv);
-  Y_.setZero(nv, loop_rows);
-  A_.setZero(loop_rows, loop_rows);
-  rows_.setZero(loop_rows);
-  lambda_.setZero(loop_rows);
+  G_.setZero(nr, nv);
+  Y_.setZero(nv, nr);
+  A_.setZero(nr, nr);
+  rows_.setZero(nr);
+  lambda_.setZero(nr);
   dv_.setZero(nv);
-  rhs_.setZero(loop_rows);
+  rhs_.setZero(nr);
   llt_ = Eigen::LLT<Eigen::MatrixXd>(nv);
-  llt_rows_ = Eigen::LLT<Eigen::MatrixXd>(loop_rows);
+  llt_rows_ = Eigen::LLT<Eigen::MatrixXd>(nr);
   V_.assign(links.size(), Vec6::Zero());
   Acc_.assign(links.size(), Vec6::Zero());
 }
@@ -145,18 +146,28 @@ void Mechanism::unit_velocities(int k, std::vector<Vec6>& V) const {
   }
 }
 
-void Mechanism::loop_jacobian() {
-  for (int k = 0; k < nv; ++k) {
-    unit_velocities(k, V_);
-    loop_velocity_rows(V_, rows_.data());
-    G_.col(k) = rows_;
+void Mechanism::loop_jacobian(bool impulse_rows) {
+  if (loop_rows > 0)
+    for (int k = 0; k < nv; ++k) {
+      unit_velocities(k, V_);
+      loop_velocity_rows(V_, rows_.data());
+      G_.col(k).head(loop_rows) = rows_.head(loop_rows);
+    }
+  for (size_t d = 0; d < dofs.size(); ++d) {
+    const bool row = impulse_rows ? !std::isnan(vtarget_[d]) : dofs[d].active();
+    G_.row(loop_rows + (int)d).setZero();
+    if (row) G_(loop_rows + (int)d, dofs[d].iv) = 1;
   }
   mass_matrix();
   llt_.compute(M_);
   Y_ = G_.transpose();
   llt_.solveInPlace(Y_);
   A_.noalias() = G_ * Y_;
-  A_.diagonal().array() += 1e-12 * std::max(A_.diagonal().maxCoeff(), 1e-300);
+  // Rows of coordinates that are not held are zero: a unit diagonal gives them zero multipliers
+  // exactly (their right-hand sides are zero).
+  for (size_t d = 0; d < dofs.size(); ++d)
+    if (G_.row(loop_rows + (int)d).isZero(0)) A_(loop_rows + (int)d, loop_rows + (int)d) = 1;
+  if (loop_rows > 0) A_.diagonal().array() += 1e-12 * std::max(A_.diagonal().maxCoeff(), 1e-300);
   llt_rows_.compute(A_);
 }
 
@@ -166,22 +177,44 @@ void Mechanism::solve_rows() {
   dv_.noalias() = Y_ * lambda_;
 }
 
-void Mechanism::constrain_accelerations(double* qdd) {
-  // True link accelerations under the tree's q'' (the ABA's include the base's fictitious -g).
-  for (size_t i = 0; i < links.size(); ++i) {
-    const Link& l = links[i];
-    const Work& w = work_[i];
-    Vec6 a = l.parent < 0 ? Vec6::Zero() : transform_motion(w.E, w.r, Acc_[l.parent]);
-    a += w.c;
-    if (l.nv > 0) a += l.S * Eigen::Map<const VecX6>(qdd + l.iv, l.nv);
-    Acc_[i] = a;
-    V_[i] = w.vel;
+void Mechanism::constrain_accelerations(const double* q, const double* v, double* qdd) {
+  const bool held = any_active();
+  if (loops.empty() && !held) {
+    for (Dof& d : dofs) d.lambda = 0;
+    return;
   }
-  loop_acceleration_rows(V_, Acc_, rows_.data());
-  rhs_ = -rows_;
+  if (!loops.empty()) {
+    // True link accelerations under the tree's q'' (the ABA's include the base's fictitious -g).
+    for (size_t i = 0; i < links.size(); ++i) {
+      const Link& l = links[i];
+      const Work& w = work_[i];
+      Vec6 a = l.parent < 0 ? Vec6::Zero() : transform_motion(w.E, w.r, Acc_[l.parent]);
+      a += w.c;
+      if (l.nv > 0) a += l.S * Eigen::Map<const VecX6>(qdd + l.iv, l.nv);
+      Acc_[i] = a;
+      V_[i] = w.vel;
+    }
+    loop_acceleration_rows(V_, Acc_, rows_.data());
+    rhs_.head(loop_rows) = -rows_.head(loop_rows);
+  }
+  // A held coordinate's row: q''_k = a*, the rate its mode keeps (a position motor's target rate
+  // changes with q; every other held rate is constant).
+  for (size_t d = 0; d < dofs.size(); ++d) {
+    const Dof& f = dofs[d];
+    double r = 0;
+    if (f.active()) {
+      double a = 0;
+      if (f.at_stop == 0 && f.hold && f.motor == 2 &&
+          std::abs(f.position - q[f.iq]) < f.speed * f.time_constant)
+        a = -v[f.iv] / f.time_constant;
+      r = a - qdd[f.iv];
+    }
+    rhs_(loop_rows + (int)d) = r;
+  }
   loop_jacobian();  // overwrites V_ and rows_
   solve_rows();
   for (int k = 0; k < nv; ++k) qdd[k] += dv_[k];
+  for (size_t d = 0; d < dofs.size(); ++d) dofs[d].lambda = dofs[d].active() ? lambda_(loop_rows + (int)d) : 0.0;
 }
 
 void Mechanism::displace(double* q, const double* dv) const {
@@ -226,6 +259,11 @@ void Mechanism::project_positions(double* q) {
   for (int it = 0; it < 8; ++it) {
     kinematics(q);
     loop_position_rows(rows_.data());
+    // A coordinate on a stop is held there; any other held coordinate keeps its value.
+    for (size_t d = 0; d < dofs.size(); ++d) {
+      const Dof& f = dofs[d];
+      rows_(loop_rows + (int)d) = f.at_stop < 0 ? q[f.iq] - f.lo : f.at_stop > 0 ? q[f.iq] - f.hi : 0.0;
+    }
     if (rows_.lpNorm<Eigen::Infinity>() < 1e-14) return;
     rhs_ = -rows_;
     loop_jacobian();
@@ -239,6 +277,10 @@ void Mechanism::project_velocities(const double* q, double* v) {
   loop_jacobian();
   Eigen::Map<Eigen::VectorXd> vv(v, nv);
   rhs_.noalias() = -(G_ * vv);
+  for (size_t d = 0; d < dofs.size(); ++d) {
+    const Dof& f = dofs[d];
+    if (f.active()) rhs_(loop_rows + (int)d) += f.at_stop != 0 || f.stick ? 0.0 : f.target_rate(q[f.iq]);
+  }
   solve_rows();
   vv += dv_;
 }

@@ -132,6 +132,11 @@ uint64_t WorldImpl::fingerprint() const {
     for (const JointDef& j : cfg_.joints) {
       const int v[3] = {(int)j.type, j.parent, j.child};
       fnv(h, v, sizeof v);
+      // Which coordinates carry limits, a motor or friction (their saved modes), when any do.
+      if (j.limits || j.motor || j.friction != 0) {
+        const int w[3] = {j.limits ? 1 : 0, j.motor ? 1 + (int)j.motor->mode : 0, j.friction != 0 ? 1 : 0};
+        fnv(h, w, sizeof w);
+      }
     }
   }
   return h;
@@ -192,6 +197,16 @@ void WorldImpl::save_state(std::ostream& os) const {
     for (double x : m.q) o.f64(x);
     for (double x : m.v) o.f64(x);
     o.f64(m.h);
+    // The modes of limits, motors and friction (only when the mechanism has any).
+    if (!m.dofs.empty()) {
+      o.u8(m.started ? 1 : 0);
+      for (const Mechanism::Dof& d : m.dofs) {
+        o.i32(d.at_stop);
+        o.i32(d.push);
+        o.i32(d.slide);
+        o.u8((uint8_t)((d.hold ? 1 : 0) | (d.stick ? 2 : 0)));
+      }
+    }
   }
   if (!os) throw std::runtime_error("could not write the saved state");
 }
@@ -291,6 +306,7 @@ void WorldImpl::restore_state(std::istream& is) {
   }
   std::vector<std::vector<double>> mq, mv;
   std::vector<double> mh;
+  std::vector<std::vector<int>> modes;
   for (const Mechanism& m : joints_.mechanisms()) {
     mq.emplace_back(m.q.size());
     mv.emplace_back(m.v.size());
@@ -300,6 +316,19 @@ void WorldImpl::restore_state(std::istream& is) {
     bool ok = std::isfinite(mh.back()) && mh.back() >= 0;
     for (double x : mq.back()) ok = ok && std::isfinite(x);
     for (double x : mv.back()) ok = ok && std::isfinite(x);
+    if (!m.dofs.empty()) {
+      const uint8_t started = in.u8();
+      ok = ok && started <= 1;
+      modes.emplace_back();
+      modes.back().push_back(started);
+      for (size_t d = 0; d < m.dofs.size(); ++d) {
+        const int at = in.i32(), push = in.i32(), slide = in.i32(), flags = in.u8();
+        ok = ok && at >= -1 && at <= 1 && push >= -1 && push <= 1 && slide >= -1 && slide <= 1 && flags <= 3;
+        for (int x : {at, push, slide, flags}) modes.back().push_back(x);
+      }
+    } else {
+      modes.emplace_back();
+    }
     if (!ok) throw InputError("saved state is damaged (joint coordinates)");
   }
   for (size_t k = 0; k < mq.size(); ++k) {
@@ -307,6 +336,18 @@ void WorldImpl::restore_state(std::istream& is) {
     m.q = std::move(mq[k]);
     m.v = std::move(mv[k]);
     m.h = mh[k];
+    if (!m.dofs.empty()) {
+      const std::vector<int>& md = modes[k];
+      m.started = md[0] != 0;
+      for (size_t d = 0; d < m.dofs.size(); ++d) {
+        Mechanism::Dof& f = m.dofs[d];
+        f.at_stop = md[1 + 4 * d];
+        f.push = md[2 + 4 * d];
+        f.slide = md[3 + 4 * d];
+        f.hold = (md[4 + 4 * d] & 1) != 0;
+        f.stick = (md[4 + 4 * d] & 2) != 0;
+      }
+    }
   }
   forces_.restore_fired(std::move(fired));
   settle_substeps_ = settle;

@@ -245,6 +245,9 @@ double World::joint_position(int j, int k) const {
 double World::joint_speed(int j, int k) const {
   return impl_->joints().speed(j, k);
 }
+double World::joint_force(int j, int k) const {
+  return impl_->joints().force(j, k);
+}
 double World::joint_gap() const {
   return joint_count() == 0 ? 0.0 : impl_->joints().gap(&impl_->state(0));
 }
