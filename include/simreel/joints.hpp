@@ -34,6 +34,32 @@ struct JointSpring {
   double rest = 0;
 };
 
+/// Stops on a joint's coordinate (revolute, prismatic, and each coordinate of a universal joint):
+/// lower <= q <= upper, rad or m, with 0 (the start pose) inside. Reaching a stop is an impact:
+/// the coordinate's rate reverses to -restitution times itself (the rest of the mechanism takes
+/// the impulse through its inertia), and a rate left under 1e-6 (rad/s, m/s) rests on the stop.
+struct JointLimits {
+  double lower = 0;
+  double upper = 0;
+  double restitution = 0;  ///< in [0, 1]
+};
+
+/// A motor on a revolute or prismatic joint's coordinate, with a bounded force: while it can, it
+/// holds the coordinate's rate at its target exactly; when the load needs more than max_force it
+/// pushes with max_force.
+///   speed     target rate `speed` (rad/s, m/s)
+///   position  drives the coordinate to `position` (rad, m): target rate
+///             clamp((position - q) / time_constant, -speed, speed), so the approach is exponential
+///             with that time constant once within speed * time_constant of the target
+struct JointMotor {
+  enum class Mode { speed, position };
+  Mode mode = Mode::speed;
+  double speed = 0;           ///< rad/s or m/s; position mode: the largest approach rate (inf: none)
+  double position = 0;        ///< rad or m (position mode)
+  double time_constant = 0.1; ///< s (position mode)
+  double max_force = 0;       ///< N m (revolute) or N (prismatic), > 0
+};
+
 struct JointDef {
   std::string name;  ///< for messages and read-outs; unique
   JointType type = JointType::revolute;
@@ -43,6 +69,11 @@ struct JointDef {
   Vec3 axis_W = Vec3::UnitZ();   ///< revolute, prismatic, universal: world direction at t = 0
   Vec3 axis2_W = Vec3::UnitX();  ///< universal: the child's axis at t = 0
   std::optional<JointSpring> spring;
+  std::optional<JointLimits> limits;  ///< revolute, prismatic, universal (both coordinates)
+  std::optional<JointMotor> motor;    ///< revolute, prismatic
+  /// Coulomb friction on the coordinate: N m (revolute, universal) or N (prismatic); it holds the
+  /// joint still while the load needs no more, and otherwise acts against the motion.
+  double friction = 0;
   bool collide_connected = false;  ///< false: the two bodies never collide with each other
 };
 
