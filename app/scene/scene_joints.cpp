@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include <simreel/error.hpp>
@@ -34,6 +35,84 @@ int body_index(const YAML::Node& n, const Ctx& c, const std::vector<BodyDef>& bo
   if (auto s = nearest(name, names)) msg += "; did you mean '" + *s + "'?";
   c.fail(n, msg);
   return -1;
+}
+
+// `limits: [lower, upper]` or `{ lower, upper, restitution }` (rad, or m for a slider).
+JointLimits load_limits(const YAML::Node& l, const Ctx& c, JointType type) {
+  if (type == JointType::spherical || type == JointType::fixed)
+    c.fail(l, std::string("a ") + to_string(type) + " joint has no coordinate for limits");
+  JointLimits out;
+  if (l.IsSequence()) {
+    if (l.size() != 2)
+      c.fail(l, "expected [lower, upper] or { lower, upper, restitution }, got a list of " +
+                    std::to_string(l.size()));
+    out.lower = number(l[0], c.index(0));
+    out.upper = number(l[1], c.index(1));
+  } else if (l.IsMap()) {
+    check_keys(l, c, {"lower", "upper", "restitution"});
+    for (const char* k : {"lower", "upper"})
+      if (!l[k]) c.fail(l, std::string("missing key '") + k + "' (limits: { lower, upper, restitution })");
+    out.lower = number(l["lower"], c.child("lower"));
+    out.upper = number(l["upper"], c.child("upper"));
+    if (l["restitution"]) out.restitution = unit_interval(l["restitution"], c.child("restitution"));
+  } else {
+    c.fail(l, "expected [lower, upper] or { lower, upper, restitution }, got " + show(l));
+  }
+  std::ostringstream range;
+  range << "[" << out.lower << ", " << out.upper << "]";
+  if (out.lower > out.upper) c.fail(l, "limits out of order: lower must be below upper, got " + range.str());
+  if (out.lower == out.upper)
+    c.fail(l, "lower equals upper, got " + range.str() +
+                  ": the joint could not move (a joint that cannot move is `type: fixed`)");
+  if (out.lower > 0 || out.upper < 0)
+    c.fail(l, "joint coordinates are 0 in the start pose, so the limits must contain 0, got " + range.str());
+  return out;
+}
+
+// `motor: { speed, max_torque }` or `{ position, max_torque, speed, time_constant }` (max_force on
+// a slider).
+JointMotor load_motor(const YAML::Node& m, const Ctx& c, JointType type) {
+  if (type == JointType::spherical || type == JointType::fixed)
+    c.fail(m, std::string("a ") + to_string(type) + " joint has no coordinate for a motor");
+  if (type == JointType::universal)
+    c.fail(m,
+           "a motor drives one coordinate: revolute and prismatic joints only (a universal joint has two)");
+  const bool slider = type == JointType::prismatic;
+  const char* max_key = slider ? "max_force" : "max_torque";
+  const char* wrong_key = slider ? "max_torque" : "max_force";
+  const std::string force_unit = slider ? "N" : "N m";
+  const std::string rate_unit = slider ? "m/s" : "rad/s";
+  const std::string pos_unit = slider ? "m" : "rad";
+  if (!m.IsMap())
+    c.fail(m, std::string("expected { speed: RATE, ") + max_key + ": MAX } or { position: TARGET, " +
+                  max_key + ": MAX }, got " + show(m));
+  check_keys(m, c, {"speed", "position", "time_constant", "max_torque", "max_force"});
+  if (m[wrong_key])
+    c.child(wrong_key).fail(m[wrong_key], std::string("a ") + to_string(type) + " joint's motor takes '" +
+                                              max_key + "' (" + force_unit + "), not '" + wrong_key + "' (" +
+                                              (slider ? "N m" : "N") + ")");
+  if (!m[max_key])
+    c.fail(m, std::string("a motor needs '") + max_key + "' (" + force_unit +
+                  ", > 0): the most it may push with");
+  JointMotor out;
+  out.max_force = positive(m[max_key], c.child(max_key));
+  if (m["position"]) {
+    out.mode = JointMotor::Mode::position;
+    out.position = number(m["position"], c.child("position"));
+    out.speed = m["speed"] ? positive(m["speed"], c.child("speed")) : std::numeric_limits<double>::infinity();
+    if (m["time_constant"]) out.time_constant = positive(m["time_constant"], c.child("time_constant"));
+  } else if (m["speed"]) {
+    out.mode = JointMotor::Mode::speed;
+    out.speed = number(m["speed"], c.child("speed"));
+    if (m["time_constant"])
+      c.child("time_constant")
+          .fail(m["time_constant"],
+                "is for a position motor (with 'position'); a speed motor holds its speed");
+  } else {
+    c.fail(m, "a motor needs 'speed' (a target rate, " + rate_unit + ") or 'position' (a target, " +
+                  pos_unit + ")");
+  }
+  return out;
 }
 
 }  // namespace
@@ -76,11 +155,6 @@ std::vector<JointDef> load_joints(const YAML::Node& list, const std::string& fil
       }
       j.type = *jt;
     }
-    for (const char* later : {"limits", "motor", "friction"})
-      if (n[later])
-        c.child(later).fail(n[later],
-                            std::string("joint ") + later +
-                                " are not supported yet (springs are: spring: { stiffness, damping, rest })");
     if (!n["bodies"]) c.fail(n, "missing key 'bodies' ([parent, child]; 'world' is the fixed frame)");
     {
       const YAML::Node b = n["bodies"];
@@ -133,6 +207,14 @@ std::vector<JointDef> load_joints(const YAML::Node& list, const std::string& fil
       if (s["damping"]) sp.damping = non_negative(s["damping"], sc.child("damping"));
       if (s["rest"]) sp.rest = number(s["rest"], sc.child("rest"));
       j.spring = sp;
+    }
+    if (const YAML::Node l = n["limits"]) j.limits = load_limits(l, c.child("limits"), j.type);
+    if (const YAML::Node m = n["motor"]) j.motor = load_motor(m, c.child("motor"), j.type);
+    if (const YAML::Node f = n["friction"]) {
+      const Ctx fc = c.child("friction");
+      if (j.type == JointType::spherical || j.type == JointType::fixed)
+        fc.fail(f, std::string("a ") + to_string(j.type) + " joint has no coordinate for friction");
+      j.friction = non_negative(f, fc);
     }
     if (n["collide_connected"])
       j.collide_connected = boolean(n["collide_connected"], c.child("collide_connected"));
