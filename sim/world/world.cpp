@@ -355,6 +355,8 @@ void WorldImpl::check_state() const {
 
 void WorldImpl::check_spin(double max_angle) {
   for (int i : dynamic_) {
+    // A jointed body's rotation is resolved by its mechanism's adaptive internal steps.
+    if (joints_.jointed(i)) continue;
     const double a = state_[i].w_P.norm() * cfg_.dt;
     if (a > max_angle && !spin_warned_[i]) {
       spin_warned_[i] = 1;
