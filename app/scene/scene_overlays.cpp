@@ -6,10 +6,10 @@
 #include <cmath>
 #include <sstream>
 
+#include <simreel/error.hpp>
 #include "app/scene/scene.hpp"
 #include "app/scene/scene_yaml.hpp"
 #include "sim/base/enum_names.hpp"
-#include <simreel/error.hpp>
 
 namespace simreel {
 
@@ -262,6 +262,7 @@ std::string default_plot_label(const HudField& f, const Scene& s) {
   if (f.name == "tilt") return "\\theta";
   if (f.name == "precession") return "\\Omega";
   if (f.name == "L_drift") return "|L - L_0|/|L_0|";
+  if (f.name == "joint_gap") return "gap (m)";
   if (f.joint >= 0) {
     const bool slider = s.joints[f.joint].type == JointType::prismatic;
     std::string q = slider ? "x" : "\\theta";
@@ -586,7 +587,7 @@ const char* to_string(ShowKind k) {
 }
 
 const std::vector<std::string>& hud_scalar_names() {
-  static const std::vector<std::string> v = {"t", "video_t", "frame", "E", "E_drift", "L_drift"};
+  static const std::vector<std::string> v = {"t", "video_t", "frame", "E", "E_drift", "L_drift", "joint_gap"};
   return v;
 }
 const std::vector<std::string>& hud_body_names() {

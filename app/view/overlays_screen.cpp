@@ -126,6 +126,7 @@ double quantity_value(const HudField& f, const World& w, long frame, double E0, 
     if (f.name == "video_t") return fps > 0 ? (double)frame / fps : w.time();
     if (f.name == "E") return E;
     if (f.name == "E_drift") return E0 != 0 ? (E - E0) / std::fabs(E0) : E - E0;
+    if (f.name == "joint_gap") return w.joint_gap();
     if (f.name == "L_drift") {
       const double n0 = L0.norm();
       return n0 > 0 ? (w.total_angular_momentum() - L0).norm() / n0

@@ -54,10 +54,10 @@ struct JointLimits {
 struct JointMotor {
   enum class Mode { speed, position };
   Mode mode = Mode::speed;
-  double speed = 0;           ///< rad/s or m/s; position mode: the largest approach rate (inf: none)
-  double position = 0;        ///< rad or m (position mode)
-  double time_constant = 0.1; ///< s (position mode)
-  double max_force = 0;       ///< N m (revolute) or N (prismatic), > 0
+  double speed = 0;            ///< rad/s or m/s; position mode: the largest approach rate (inf: none)
+  double position = 0;         ///< rad or m (position mode)
+  double time_constant = 0.1;  ///< s (position mode)
+  double max_force = 0;        ///< N m (revolute) or N (prismatic), > 0
 };
 
 struct JointDef {

@@ -145,8 +145,8 @@ void Mechanism::allocate() {
   if (!dofs.empty()) {
     for (auto* e : {&g0_, &g1_, &ga_, &gc_}) e->assign(5 * dofs.size(), 0);
     vtarget_.assign(dofs.size(), 0);
-    kd_.assign(ny, 0);
   }
+  kd_.assign(ny, 0);
   out_q_.resize(links.size());
   out_x_.resize(links.size());
   out_v_.resize(links.size());
@@ -542,23 +542,25 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
       if (!std::isfinite(L.lower) || !std::isfinite(L.upper) || !(L.lower < L.upper))
         throw InputError(name_of(j) + ": limits must be finite with lower < upper");
       if (L.lower > 0 || L.upper < 0)
-        throw InputError(name_of(j) + ": joint coordinates are 0 in the start pose, so the limits must contain 0");
+        throw InputError(name_of(j) +
+                         ": joint coordinates are 0 in the start pose, so the limits must contain 0");
       if (!(L.restitution >= 0 && L.restitution <= 1))
         throw InputError(name_of(j) + ": limit restitution must be in [0, 1]");
     }
     if (d.motor) {
       const JointMotor& M = *d.motor;
       if (d.type != JointType::revolute && d.type != JointType::prismatic)
-        throw InputError(name_of(j) + ": a motor needs a revolute or prismatic joint (not " + to_string(d.type) +
-                         ")");
+        throw InputError(name_of(j) + ": a motor needs a revolute or prismatic joint (not " +
+                         to_string(d.type) + ")");
       if (!(M.max_force > 0) || !std::isfinite(M.max_force))
         throw InputError(name_of(j) + ": a motor needs a positive, finite max force (torque)");
       if (M.mode == JointMotor::Mode::speed && !std::isfinite(M.speed))
         throw InputError(name_of(j) + ": the motor's speed must be finite");
-      if (M.mode == JointMotor::Mode::position &&
-          (!std::isfinite(M.position) || !(M.speed > 0) || !(M.time_constant > 0) || !std::isfinite(M.time_constant)))
-        throw InputError(name_of(j) +
-                         ": a position motor needs a finite position, a positive speed cap and a positive time constant");
+      if (M.mode == JointMotor::Mode::position && (!std::isfinite(M.position) || !(M.speed > 0) ||
+                                                   !(M.time_constant > 0) || !std::isfinite(M.time_constant)))
+        throw InputError(
+            name_of(j) +
+            ": a position motor needs a finite position, a positive speed cap and a positive time constant");
     }
     if (d.friction != 0) {
       if (!one_coordinate)
@@ -582,7 +584,8 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
                          std::string(to_string(d.type)) + " joint cannot close one yet)");
       if (d.spring) throw InputError(name_of(j) + ": a joint that closes a loop cannot carry a spring yet");
       if (d.limits || d.motor || d.friction > 0)
-        throw InputError(name_of(j) + ": a joint that closes a loop cannot carry limits, a motor or friction yet");
+        throw InputError(name_of(j) +
+                         ": a joint that closes a loop cannot carry limits, a motor or friction yet");
       loop_joints.push_back(j);
       continue;
     }
@@ -859,8 +862,8 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
     sd.a_c = qb.conjugate() * d.axis_W;
     joint_link_[j] = {mi, -1 - (int)(m.loops.size() - 1)};  // negative: a loop's index
   }
-  for (Mechanism& m : mechanisms_)
-    if (m.has_rows()) m.allocate_loops();
+  // Row scratch for every mechanism: the contact rows use its mass matrix too.
+  for (Mechanism& m : mechanisms_) m.allocate_loops();
   // Start velocities: the joint velocities whose body motion is closest to the given one in the
   // kinetic-energy metric (sum over links of (V - V0)^T M (V - V0)); this keeps the mechanism's
   // momentum along every joint freedom. A warning when the given motion was not a joint motion.
@@ -926,6 +929,14 @@ bool Articulations::step_range(int begin, int end, double dt, const Vec3& g, con
   bool ok = true;
   for (int k = begin; k < end; ++k) {
     Mechanism& m = mechanisms_[k];
+    if (m.contact_stepped) {  // the contact solver took this step (sim/joints/contact_rows.hpp)
+      m.contact_stepped = false;
+      bool finite = true;
+      for (double x : m.q) finite = finite && std::isfinite(x);
+      for (double x : m.v) finite = finite && std::isfinite(x);
+      ok = finite && ok;
+      continue;
+    }
     ok = m.advance(dt, g, wr, st, settings_) && ok;
     m.write_bodies(st);
   }

@@ -140,8 +140,29 @@ class Mechanism {
   void write_bodies(MotionState* st) const;
   // The velocities of every body, link frame ([w; v] at the centre of mass), at q and q'.
   void link_velocities(const double* q, const double* v, std::vector<Vec6>& out);
+  // Contacts on the mechanism's bodies (sim/joints/contact_rows.hpp): while a frame step has
+  // any, the mechanism is stepped inside the contact solver's substeps instead of by advance().
+  // contact_begin: the working state from q, v, each link's world Jacobian at the step's start
+  // (angular and centre-of-mass rows) and the joint-space inverse inertia that keeps the loops and
+  // the held coordinates, P = M^-1 - M^-1 G^T (G M^-1 G^T)^-1 G M^-1.
+  void contact_begin(const Vec3& g);
+  // Generalised row of a contact on link `link`: the rate n . (v + w x r) of the body point at r
+  // (world offset from its centre of mass) along n, into J (nv); W = P J^T.
+  void contact_row(int link, const Vec3& r, const Vec3& n, double* J) const;
+  void contact_response(const double* J, double* W) const;
+  double* contact_v() { return y0_.data() + nq; }  ///< the working joint velocities
+  // A substep: q' += h q'' (modes held), then q moved by h q' (exact rotations); the links' poses.
+  // Modes: a stop reached, a rate captured or a holding force out of bounds over a substep
+  // switches its mode at the substep's end (first order in the substep while in contact).
+  void contact_velocities(double h, const Vec3& g);
+  void contact_positions(double h, const Vec3& g);
+  const Mat3& link_R(int i) const { return work_[i].R_W; }  ///< after contact_positions / contact_begin
+  const Vec3& link_x(int i) const { return work_[i].x_W; }
+  void contact_end();  ///< q, v from the working state
+
   long steps_taken = 0, steps_rejected = 0;  ///< internal steps over the run
-  bool exceeded = false;  ///< a frame step needed more internal steps than JointSettings::max_steps
+  bool exceeded = false;         ///< a frame step needed more internal steps than JointSettings::max_steps
+  bool contact_stepped = false;  ///< this frame step was taken by the contact solver (ArticulatedContacts)
 
  private:
   void kinematics(const double* q);  ///< X_, R_W_ for every link at q
@@ -150,7 +171,7 @@ class Mechanism {
   void loop_position_rows(double* out) const;
   void loop_velocity_rows(const std::vector<Vec6>& V, double* out) const;
   void loop_acceleration_rows(const std::vector<Vec6>& V, const std::vector<Vec6>& A, double* out) const;
-  void mass_matrix();    ///< M_ at the current kinematics (composite-rigid-body algorithm)
+  void mass_matrix();  ///< M_ at the current kinematics (composite-rigid-body algorithm)
   // G_ at the current kinematics (loop rows, then one row per Dof: e_k when it is a row, else
   // zero); then Y_ = M^-1 G^T and A_ = G Y_. A Dof is a row when it is held (active()), or for
   // impulses when vtarget_ names a target rate for it.
@@ -171,11 +192,14 @@ class Mechanism {
   // Velocity jump at stop impacts: rows (the loops, the coordinates on a stop, the impacting ones)
   // reach their target rates by impulses through the mass matrix.
   void impulse(const double* q, double* v, const std::vector<double>& target);
-  void project_dofs(double* y);  ///< held coordinates back exactly on their rows after a step
-  std::vector<double> tau_;           ///< generalised forces of saturated motors and sliding friction
+  void project_dofs(double* y);            ///< held coordinates back exactly on their rows after a step
+  std::vector<double> tau_;                ///< generalised forces of saturated motors and sliding friction
   std::vector<double> g0_, g1_, ga_, gc_;  ///< event functions: step start and end, bracket, trial
-  std::vector<double> vtarget_;       ///< impulse targets (NaN: not a row)
-  std::vector<double> kd_;            ///< scratch derivative for settle_modes
+  std::vector<double> vtarget_;            ///< impulse targets (NaN: not a row)
+  std::vector<double> kd_;                 ///< scratch derivative for settle_modes
+  Eigen::MatrixXd Jl_;      ///< 6 n x nv: each link's world [angular; centre-of-mass] Jacobian (contacts)
+  Eigen::MatrixXd P_;       ///< nv x nv: constrained inverse inertia (contacts)
+  std::vector<double> dq_;  ///< nv scratch
   struct Work {
     Mat3 E;    ///< motion transform parent link -> this link (Featherstone's X = (E, r)):
     Vec3 r;    ///< E rotates parent coordinates into this link's, r is this link's origin in the parent's
@@ -217,6 +241,10 @@ class Articulations {
   const std::vector<JointDef>& joints() const { return joints_; }
   bool jointed(int body) const { return body < (int)link_of_.size() && link_of_[body].first >= 0; }
   int find(std::string_view name) const;  ///< joint index, -1 if none
+  /// (mechanism, link) of a jointed body, (-1, -1) otherwise.
+  std::pair<int, int> link_of(int body) const {
+    return body < (int)link_of_.size() ? link_of_[body] : std::pair<int, int>{-1, -1};
+  }
 
   // Advances every mechanism by dt and writes its bodies' motion states; false if a state stopped
   // being finite (or a mechanism needed more internal steps than the settings allow).

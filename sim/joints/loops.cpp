@@ -40,8 +40,6 @@ void Mechanism::allocate_loops() {
   lambda_.setZero(nr);
   dv_.setZero(nv);
   rhs_.setZero(nr);
-  llt_ = Eigen::LLT<Eigen::MatrixXd>(nv);
-  llt_rows_ = Eigen::LLT<Eigen::MatrixXd>(nr);
   V_.assign(links.size(), Vec6::Zero());
   Acc_.assign(links.size(), Vec6::Zero());
 }
@@ -214,7 +212,8 @@ void Mechanism::constrain_accelerations(const double* q, const double* v, double
   loop_jacobian();  // overwrites V_ and rows_
   solve_rows();
   for (int k = 0; k < nv; ++k) qdd[k] += dv_[k];
-  for (size_t d = 0; d < dofs.size(); ++d) dofs[d].lambda = dofs[d].active() ? lambda_(loop_rows + (int)d) : 0.0;
+  for (size_t d = 0; d < dofs.size(); ++d)
+    dofs[d].lambda = dofs[d].active() ? lambda_(loop_rows + (int)d) : 0.0;
 }
 
 void Mechanism::displace(double* q, const double* dv) const {

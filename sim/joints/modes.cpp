@@ -115,11 +115,10 @@ void Mechanism::impulse(const double* q, double* v, const std::vector<double>& t
   vv += dv_;
   for (size_t d = 0; d < dofs.size(); ++d)
     if (!std::isnan(target[d])) v[dofs[d].iv] = target[d];
-  // Rates an impulse moved: a coordinate that friction or the motor held slips; a saturated motor
-  // or sliding friction takes the direction of the new rate.
+  // Rates an impulse moved (the rebounding coordinates' too): a coordinate that friction or the
+  // motor held slips; a saturated motor or sliding friction takes the direction of the new rate.
   for (size_t i = 0; i < dofs.size(); ++i) {
     Dof& d = dofs[i];
-    if (!std::isnan(target[i])) continue;
     const double vk = v[d.iv];
     if (d.motor != 0) {
       const double vt = d.target_rate(q[d.iq]);

@@ -1,5 +1,8 @@
 #include "sim/solver/contact_solver.hpp"
 
+#include "sim/joints/articulation.hpp"
+#include "sim/joints/contact_rows.hpp"
+
 #include "sim/base/stage_clock.hpp"
 
 #include <chrono>
@@ -8,10 +11,13 @@
 #include <cmath>
 #include <numbers>
 
-#include "sim/dynamics/integrators.hpp"
 #include "sim/base/worker_pool.hpp"
+#include "sim/dynamics/integrators.hpp"
 
 namespace simreel {
+
+ContactSolver::ContactSolver() : art_(std::make_unique<ArticulatedContacts>()) {}
+ContactSolver::~ContactSolver() = default;
 
 Softness make_softness(double hertz, double zeta, double h) {
   if (hertz == 0) return Softness{0, 1, 0};
@@ -269,6 +275,7 @@ __attribute__((flatten)) void ContactSolver::prepare(const SolverInput& in, cons
   // order) and stored in solve order. The records (large) are reused from the last step: every
   // field read later is written by make_constraint.
   wanted_.clear();
+  articulated_.clear();
   edge_a_.clear();
   edge_b_.clear();
   track_candidate_of_.clear();
@@ -278,7 +285,12 @@ __attribute__((flatten)) void ContactSolver::prepare(const SolverInput& in, cons
   any_restitution_ = false;
   for (int ci = 0; ci < (int)contacts.size(); ++ci) {
     const Contact& c = contacts[ci];
-    if (c.count == 0 || (solver_index[c.body_a] == 0 && solver_index[c.body_b] == 0)) continue;
+    if (c.count == 0) continue;
+    if (in.articulations && (in.articulations->jointed(c.body_a) || in.articulations->jointed(c.body_b))) {
+      articulated_.push_back(ci);
+      continue;
+    }
+    if (solver_index[c.body_a] == 0 && solver_index[c.body_b] == 0) continue;
     // Maybe a tracked contact (make_constraint decides): one point, a round shape on either side.
     auto round = [](CollideKind kind) {
       return kind == CollideKind::cylinder || kind == CollideKind::sphere || kind == CollideKind::capsule ||
@@ -381,6 +393,13 @@ __attribute__((flatten)) void ContactSolver::prepare(const SolverInput& in, cons
   warm_starts_ = 0;
   impulse_change_.resize(nb);
   impulse_change_[0] = BodyImpulse{};  // the static body
+  art_->prepare(in.articulations, in, contacts, articulated_, solver_index, sb_, soft_, static_soft_);
+  if (!art_->empty()) {
+    // The free bodies' rows read their bodies' velocities as they are; the per-body warm start and
+    // the rotation matrices assume every row is theirs.
+    body_warm_ = false;
+    need_dR_ = true;
+  }
 }
 
 // One constraint from contact ci (c), at `slot`; `cand` its index in track_scratch_ or -1. Flattened as
@@ -1339,6 +1358,7 @@ void ContactSolver::restitution_one(SweepConstraint& k, ContactConstraint& f, do
 }
 
 void ContactSolver::store_impulses(std::vector<Contact>& contacts) const {
+  art_->store(contacts);
   on_workers([&](int w, int nw) {
     int begin, end;
     share((int)scalar_.size(), w, nw, begin, end);
@@ -1370,8 +1390,7 @@ void ContactSolver::store_impulses(std::vector<Contact>& contacts) const {
   });
 }
 
-void ContactSolver::finish(const BodyModel* model, MotionState* state,
-                           std::vector<char>& touched_none) const {
+void ContactSolver::finish(const BodyModel* model, MotionState* state, std::vector<char>& touched_none) {
   for (int k = 1; k < (int)sb_.size(); ++k) touched_none[k] = 1;
   touched_none[0] = 0;
   for (int i : scalar_) {
@@ -1384,6 +1403,8 @@ void ContactSolver::finish(const BodyModel* model, MotionState* state,
     for (int l = 0; l < wide::kLanes; ++l) {
       if (k.touched[l]) touched_none[k.a[l]] = touched_none[k.b[l]] = 0;
     }
+  art_->touched(touched_none);
+  art_->finish(state);
   for (int k = 1; k < (int)sb_.size(); ++k) {
     const int i = bodies_[k - 1];
     if (model[i].inv_mass == 0 || touched_none[k]) continue;
@@ -1401,13 +1422,16 @@ void ContactSolver::run_substeps(int& settle, StageClock& clock, Profile& profil
   const ContactSettings& cs = in_.settings;
   const double h = in_.dt / in_.substeps;
   for (int sub = 0; sub < in_.substeps; ++sub) {
+    const bool art = !art_->empty();
     {
       StageClock::Scope t(clock, Stage::integrate_velocities);
       integrate_velocities(h);
+      if (art) art_->integrate_velocities(h);
     }
     {
       StageClock::Scope t(clock, Stage::warm_start);
       if (warm_start()) ++profile.body_warm_starts;
+      if (art) art_->warm_start(sb_);
     }
     // One more sweep each while the last impact settles (kImpactSettleTime), and one at once on
     // an impact in this substep's first sweeps.
@@ -1415,9 +1439,15 @@ void ContactSolver::run_substeps(int& settle, StageClock& clock, Profile& profil
     {
       StageClock::Scope t(clock, Stage::solve);
       bool struck = false;
-      for (int it = 0; it < sweeps; ++it) struck |= solve(h, true, it == 0);
+      for (int it = 0; it < sweeps; ++it) {
+        struck |= solve(h, true, it == 0);
+        if (art) art_->solve(sb_, h, true);
+      }
       profile.sweeps += sweeps;
-      if (struck && settle == 0) solve(h, true, false), ++profile.sweeps;
+      if (struck && settle == 0) {
+        solve(h, true, false), ++profile.sweeps;
+        if (art) art_->solve(sb_, h, true);
+      }
       if (struck) {
         settle = (int)std::ceil(kImpactSettleTime / h - 1e-9) + 1;
         ++profile.impact_substeps;
@@ -1426,17 +1456,22 @@ void ContactSolver::run_substeps(int& settle, StageClock& clock, Profile& profil
     {
       StageClock::Scope t(clock, Stage::integrate_positions);
       integrate_positions(h);
+      if (art) art_->integrate_positions(h, sb_);
     }
     {
       StageClock::Scope t(clock, Stage::relax);
       const int relax = cs.iterations + (settle > 0 ? 1 : 0);
-      for (int it = 0; it < relax; ++it) solve(h, false, false);
+      for (int it = 0; it < relax; ++it) {
+        solve(h, false, false);
+        if (art) art_->solve(sb_, h, false);
+      }
       profile.sweeps += relax;
       if (settle > 0) --settle;
     }
     {
       StageClock::Scope t(clock, Stage::restitution);
       restitution(cs.restitution_threshold);
+      if (art) art_->restitution(sb_, cs.restitution_threshold);
     }
   }
   for (Stage s : {Stage::integrate_velocities, Stage::warm_start, Stage::solve, Stage::integrate_positions,

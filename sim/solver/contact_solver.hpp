@@ -23,20 +23,23 @@
 #pragma once
 #include <array>
 #include <cstddef>
+#include <memory>
 #include <vector>
 
-#include "sim/solver/constraint_graph.hpp"
 #include "sim/collision/contact.hpp"
+#include "sim/collision/shape_table.hpp"
 #include "sim/collision/tracked_contacts.hpp"
+#include "sim/dynamics/state.hpp"
+#include "sim/solver/constraint_graph.hpp"
 #include "sim/solver/contact_settings.hpp"
 #include "sim/solver/contact_wide.hpp"
 #include "sim/solver/worker_schedule.hpp"
-#include "sim/collision/shape_table.hpp"
-#include "sim/dynamics/state.hpp"
 
 namespace simreel {
 
 class WorkerPool;
+class Articulations;
+class ArticulatedContacts;
 class StageClock;
 struct Profile;
 
@@ -109,8 +112,8 @@ struct ContactConstraint {
   int count = 0;
   Softness soft;
   ConstraintPoint p[4];
-  // A contact whose point runs over a smooth surface (a rim, an ellipsoid, ...: sim/collision/tracked_contacts.hpp):
-  // its index in the solver's tracked list, or -1.
+  // A contact whose point runs over a smooth surface (a rim, an ellipsoid, ...:
+  // sim/collision/tracked_contacts.hpp): its index in the solver's tracked list, or -1.
   int track = -1;
 };
 
@@ -155,6 +158,9 @@ struct SolverInput {
   int substeps = 1;
   ContactSettings settings;
   WorkerPool* pool = nullptr;  ///< threads for the stages (null: the calling thread alone)
+  /// The scene's mechanisms (null: no joints): contacts with a jointed body are solved in joint
+  /// coordinates (sim/joints/contact_rows.hpp).
+  Articulations* articulations = nullptr;
 };
 
 // Threads: each stage is split among the pool's workers. Per-body stages (integrate velocities
@@ -170,6 +176,8 @@ struct SolverInput {
 // same order whatever the thread count: results are bit for bit those of one thread.
 class ContactSolver {
  public:
+  ContactSolver();
+  ~ContactSolver();
   // Solver body index of each body this step: 0 for static bodies and bodies not in contact.
   // `bodies` lists the dynamic and kinematic bodies in contact, ascending. Reuses storage.
   void prepare(const SolverInput& in, const std::vector<int>& bodies, const std::vector<Contact>& contacts,
@@ -183,7 +191,9 @@ class ContactSolver {
   // Writes the solved motion of the dynamic bodies that received an impulse back to the state and
   // clears their flag in `touched_none`; the others (set to 1) touched nothing after all this
   // step and are left for the free-flight integrators. Kinematic bodies are advanced by World.
-  void finish(const BodyModel* model, MotionState* state, std::vector<char>& touched_none) const;
+  // Mechanisms with contacts that pushed them take the substeps' result too
+  // (Mechanism::contact_stepped).
+  void finish(const BodyModel* model, MotionState* state, std::vector<char>& touched_none);
 
   const ConstraintGraph& graph() const { return graph_; }  ///< this step's colouring
   int workers() const { return workers_; }                 ///< this step's (1: no split)
@@ -244,6 +254,9 @@ class ContactSolver {
   bool body_warm_ = false;
   int warm_starts_ = 0;
   std::vector<BodyImpulse> impulse_change_;  ///< per solver body ([0], the static body: zeros)
+  // Contacts with a jointed body (contact order), solved in joint coordinates.
+  std::vector<int> articulated_;
+  std::unique_ptr<ArticulatedContacts> art_;
 
   // Threads.
   WorkerPool* pool_ = nullptr;  ///< null, or not used this step (too little work to split)

@@ -149,7 +149,15 @@ ContactSet::Step WorldImpl::collide_step() const {
 // The soft step over the bodies in contact (sim/solver/contact_solver.hpp), then their new state.
 bool WorldImpl::stage_solve_contacts() {
   const ContactSettings& cs = cfg_.contacts;
-  const std::vector<int>& contact_bodies = contacts_.bodies();
+  // Jointed bodies in contact are stepped with their mechanisms (sim/joints/contact_rows.hpp).
+  const std::vector<int>* all = &contacts_.bodies();
+  if (!joints_.empty()) {
+    solver_bodies_.clear();
+    for (int i : *all)
+      if (!joints_.jointed(i)) solver_bodies_.push_back(i);
+    all = &solver_bodies_;
+  }
+  const std::vector<int>& contact_bodies = *all;
   char* in_contact = contacts_.in_contact();
   // Automatic substeps: at least base_substeps_ (substeps of <= 1/240 s), more while a body in
   // contact turns fast, so that none turns more than kContactMaxSubstepAngle per substep (the
@@ -159,7 +167,7 @@ bool WorldImpl::stage_solve_contacts() {
   substeps_ = base_substeps_;
   if (cfg_.contacts.substeps == 0) {
     double w_max = 0;
-    for (int i : contact_bodies) w_max = std::max(w_max, state_[i].w_P.norm());
+    for (int i : contacts_.bodies()) w_max = std::max(w_max, state_[i].w_P.norm());
     const double need = std::ceil(w_max * cfg_.dt / kContactMaxSubstepAngle - 1e-9);
     substeps_ = std::max(substeps_, (int)std::min(need, (double)kContactMaxSubsteps));
   }
@@ -175,6 +183,7 @@ bool WorldImpl::stage_solve_contacts() {
     in.shapes = shapes_.get();
     in.settings = cs;
     in.pool = pool_.get();
+    in.articulations = joints_.empty() ? nullptr : &joints_;
     solver_.prepare(in, contact_bodies, contacts_.active(), solver_index_);
   }
   clock_.ran(Stage::prepare_contacts);

@@ -15,10 +15,10 @@
 #include <cmath>
 #include <limits>
 
+#include "sim/base/pair_key.hpp"
 #include "sim/collision/narrow/manifold.hpp"
 #include "sim/dynamics/integrators.hpp"
 #include "sim/world/world_impl.hpp"
-#include "sim/base/pair_key.hpp"
 
 namespace simreel {
 
@@ -31,10 +31,10 @@ void WorldImpl::init_continuous() {
             sweep_shapes_, shape_moving_);
 }
 
-void ContinuousCollision::init(bool enabled, const std::vector<BodyDef>& defs, const std::vector<int>& dynamic,
-                               const std::vector<int>& kinematic, const std::vector<MotionState>& state,
-                               const ShapeTable& st, const std::vector<int>& sweep_shapes,
-                               const std::vector<char>& shape_moving) {
+void ContinuousCollision::init(bool enabled, const std::vector<BodyDef>& defs,
+                               const std::vector<int>& dynamic, const std::vector<int>& kinematic,
+                               const std::vector<MotionState>& state, const ShapeTable& st,
+                               const std::vector<int>& sweep_shapes, const std::vector<char>& shape_moving) {
   enabled_ = enabled;
   if (!enabled_) return;
   const int n = (int)defs.size();
@@ -157,9 +157,9 @@ int ContactSet::collide_ahead(const Step& step, int a, int b, const Pose& xa, co
 // triangles of static mesh shape m whose boxes meet c's box over the sweep, `box`, grown by the
 // target gap. guarded: stage_continuous's fallbacks for triangles touched at the start; else a
 // triangle touched at the start gives -1 (collide_mesh_pair then collides as usual).
-double ContinuousCollision::mesh_toi(const ShapeTable& st, const BodyExtents& extents, const MotionState* state,
-                                     int c, int m, const Sweep& s, const Aabb& box, double target, double tolerance,
-                                     bool guarded, int* triangle) {
+double ContinuousCollision::mesh_toi(const ShapeTable& st, const BodyExtents& extents,
+                                     const MotionState* state, int c, int m, const Sweep& s, const Aabb& box,
+                                     double target, double tolerance, bool guarded, int* triangle) {
   const ShapeRecord& C = st[c];
   const ShapeRecord& M = st[m];
   ToiInput in;
@@ -270,8 +270,8 @@ bool ContinuousCollision::step(const Step& in, MayTouch&& may_touch) {
       // A static triangle mesh: its triangles within the swept shape's box (the mesh is never the
       // swept side: it is static).
       const int c = A.geom.kind == CollideKind::mesh ? b : a;
-      const double t =
-          mesh_toi(st, ext, state, c, a == c ? b : a, sweeps_[st[c].body], swept_boxes_[c], target, tolerance, true);
+      const double t = mesh_toi(st, ext, state, c, a == c ? b : a, sweeps_[st[c].body], swept_boxes_[c],
+                                target, tolerance, true);
       if (t < 1 && t > 0) toi_[st[c].body] = std::min(toi_[st[c].body], t);
       continue;
     }
@@ -318,7 +318,8 @@ bool WorldImpl::stage_continuous() {
   in.shapes = shapes_.get();
   in.extents = &extents_;
   in.islands = &islands_;
-  in.dynamic = &dynamic_;
+  // A jointed body moves with its mechanism's coordinates: it is an obstacle, never swept back.
+  in.dynamic = joints_.empty() ? &dynamic_ : &unjointed_dynamic_;
   in.sweep_shapes = &sweep_shapes_;
   in.plane_shapes = &plane_shapes_;
   in.shape_moving = &shape_moving_;

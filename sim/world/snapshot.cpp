@@ -8,8 +8,8 @@
 #include <string>
 
 #include <simreel/error.hpp>
-#include "sim/world/world_impl.hpp"
 #include "sim/base/hash.hpp"
+#include "sim/world/world_impl.hpp"
 
 namespace simreel {
 

@@ -7,16 +7,16 @@
 
 #include <simreel/error.hpp>
 #include <simreel/mass_properties.hpp>
-#include "sim/base/worker_pool.hpp"
 #include "sim/base/enum_names.hpp"
+#include "sim/base/worker_pool.hpp"
 
 namespace simreel {
 
 namespace {
 constexpr EnumNames<Stage, (std::size_t)Stage::count> kStages{
-    {"forces", "update_broad_phase", "collide", "prepare_contacts", "integrate_velocities", "warm_start", "solve",
-     "integrate_positions", "relax", "restitution", "store_impulses", "joints", "integrate", "check", "continuous", "sleep",
-     "clear"}};
+    {"forces", "update_broad_phase", "collide", "prepare_contacts", "integrate_velocities", "warm_start",
+     "solve", "integrate_positions", "relax", "restitution", "store_impulses", "joints", "integrate", "check",
+     "continuous", "sleep", "clear"}};
 static_assert(kStages.complete());
 }  // namespace
 
@@ -29,7 +29,6 @@ namespace {
 std::string body_label(const std::vector<BodyDef>& defs, int i) {
   return "body " + std::to_string(i) + " ('" + defs[i].name + "')";
 }
-
 
 }  // namespace
 
@@ -70,7 +69,8 @@ WorldImpl::WorldImpl(const WorldConfig& config, std::vector<BodyDef> bodies)
       if (!d.mass_override)
         for (size_t k = 0; k < d.colliders.size(); ++k)
           if (d.colliders[k].shape != ShapeKind::plane && d.colliders[k].props_C.mass == 0 &&
-              d.colliders[k].props_C.inertia.hasNaN() && !(m.is_static && d.colliders[k].shape == ShapeKind::mesh))
+              d.colliders[k].props_C.inertia.hasNaN() &&
+              !(m.is_static && d.colliders[k].shape == ShapeKind::mesh))
             throw InputError(body_label(defs_, i) + ": collider " + std::to_string(k) +
                              " has no mass properties: make it with box_collider(size, density), "
                              "sphere_collider(radius, density), ..., mesh_collider(mesh, density), or set "
@@ -117,8 +117,8 @@ WorldImpl::WorldImpl(const WorldConfig& config, std::vector<BodyDef> bodies)
   if (cfg_.threads > 1) pool_ = std::make_unique<WorkerPool>(cfg_.threads, cfg_.thread_backoff);
   chunk_sum_.resize(cfg_.threads);
   islands_.reset(model_);  // everyone awake (init_contacts collides once)
-  init_joints();  // before init_forces and init_contacts: it takes jointed bodies out of groups_
-  init_forces();  // before init_contacts: it takes bodies under forces out of groups_
+  init_joints();           // before init_forces and init_contacts: it takes jointed bodies out of groups_
+  init_forces();           // before init_contacts: it takes bodies under forces out of groups_
   init_contacts();
   init_sleep();  // after init_contacts: needs the shapes
   init_continuous();
@@ -132,31 +132,22 @@ void WorldImpl::init_joints() {
   joints_.build(cfg_.joints, cfg_.joint_settings, defs_, model_, state_, warnings_);
   // Two jointed bodies never collide unless the joint says so (a hinge's two leaves overlap).
   for (const JointDef& j : joints_.joints())
-    if (!j.collide_connected && j.parent >= 0 && j.child >= 0) cfg_.ignore_pairs.emplace_back(j.parent, j.child);
-  std::vector<std::string> no_contact;
+    if (!j.collide_connected && j.parent >= 0 && j.child >= 0)
+      cfg_.ignore_pairs.emplace_back(j.parent, j.child);
   for (int i : dynamic_) {
-    if (!joints_.jointed(i)) continue;
+    if (!joints_.jointed(i)) {
+      unjointed_dynamic_.push_back(i);
+      continue;
+    }
     profile_.jointed_bodies++;
     for (const ForceDef& f : cfg_.forces)
       if (f.body == i || f.body_b == i)
         throw InputError(body_label(defs_, i) + ": forces on jointed bodies are not supported yet");
-    // Contacts on a mechanism need its joint-space inertia in the contact solver, which does not
-    // have it yet: its bodies' shapes give mass and are drawn, but collide with nothing.
-    bool colliding = false;
-    for (Collider& c : defs_[i].colliders) {
-      colliding = colliding || c.collide;
-      c.collide = false;
-    }
-    if (colliding) no_contact.push_back(defs_[i].name);
-  }
-  if (!no_contact.empty()) {
-    std::string s = "joints: contacts on jointed bodies are not supported yet; the shapes of ";
-    for (size_t k = 0; k < no_contact.size(); ++k) s += (k ? ", '" : "'") + no_contact[k] + "'";
-    warnings_.push_back(s + " collide with nothing");
   }
   for (Group& g : groups_)
-    g.bodies.erase(std::remove_if(g.bodies.begin(), g.bodies.end(), [&](int i) { return joints_.jointed(i); }),
-                   g.bodies.end());
+    g.bodies.erase(
+        std::remove_if(g.bodies.begin(), g.bodies.end(), [&](int i) { return joints_.jointed(i); }),
+        g.bodies.end());
 }
 
 // Mechanisms split into fixed contiguous ranges, one per thread (each mechanism is independent of
@@ -181,8 +172,8 @@ bool WorldImpl::stage_joints() {
 
 void WorldImpl::require_unjointed(int i, const char* what) const {
   if (joints_.jointed(i))
-    throw InputError(body_label(defs_, i) + " is jointed: it moves with its joints' coordinates and cannot " + what +
-                     " alone");
+    throw InputError(body_label(defs_, i) + " is jointed: it moves with its joints' coordinates and cannot " +
+                     what + " alone");
 }
 
 // ------------------------------------------------------------------ the step pipeline
@@ -193,7 +184,8 @@ void WorldImpl::step() {
     clock_.run(Stage::forces, [&] { return stage_forces(); });
   bool finite = true;
   bool solved = false;
-  if (ccd_.enabled()) ccd_.save_start_poses(islands_.awake_bodies_unsorted(), state_.data());  // sweeps' start
+  if (ccd_.enabled())
+    ccd_.save_start_poses(islands_.awake_bodies_unsorted(), state_.data());  // sweeps' start
   if (collide_enabled_) {
     clock_.run(Stage::update_broad_phase, [&] { stage_broad_phase(); });
     if (contacts_.idle())
@@ -232,8 +224,9 @@ void WorldImpl::step() {
   if (!finite) check_state();  // throws, naming the body and the time
   if (!finite && joints_.exceeded_joint() >= 0) {
     std::ostringstream os;
-    os << "joints: the mechanism of joint '" << joints_.joint(joints_.exceeded_joint()).name << "' needed more than "
-       << cfg_.joint_settings.max_steps << " internal steps in the step ending at t = " << time()
+    os << "joints: the mechanism of joint '" << joints_.joint(joints_.exceeded_joint()).name
+       << "' needed more than " << cfg_.joint_settings.max_steps
+       << " internal steps in the step ending at t = " << time()
        << " s (raise simulation.joints.max_steps, or the tolerance)";
     throw StateError(os.str());
   }
@@ -282,9 +275,9 @@ bool WorldImpl::stage_integrate_and_check() {
   if (timing) t0 = clock::now();
   // Bodies under forces first, on this thread alone (one coupled system: a spring joins two).
   const bool forced_finite =
-      forces_.forced().empty() || forces_.integrate(time(), (double)(steps_ + 1) * cfg_.dt, cfg_.dt, cfg_.gravity,
-                                                    state_.data(), model_.data(), contacts_.in_contact(),
-                                                    !contacts_.bodies().empty());
+      forces_.forced().empty() ||
+      forces_.integrate(time(), (double)(steps_ + 1) * cfg_.dt, cfg_.dt, cfg_.gravity, state_.data(),
+                        model_.data(), contacts_.in_contact(), !contacts_.bodies().empty());
   // Bodies the contact solver stepped this step are left out (free_ holds the rest).
   const bool some_in_contact = !contacts_.bodies().empty();
   if (!some_in_contact && islands_.sleeping() > 0) {

@@ -200,6 +200,8 @@ class WorldImpl {
   std::vector<MotionState> state_;
   std::vector<Wrench> wrench_;
   std::vector<int> dynamic_;    ///< indices of dynamic bodies, ascending
+  std::vector<int> unjointed_dynamic_;  ///< the dynamic bodies no joint holds (with joints only)
+  std::vector<int> solver_bodies_;      ///< this step's bodies in contact that the free solver steps
   std::vector<int> kinematic_;  ///< indices of kinematic bodies, ascending
   struct Group {
     Integrator method;
