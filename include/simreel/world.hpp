@@ -123,6 +123,10 @@ class World {
   /// The generalised force that coordinate k of joint j's limits, motor and friction apply,
   /// N m or N, at the end of the last step (0 for a joint without them).
   double joint_force(int j, int k = 0) const;
+  /// The force (N) and torque (N m) that joint j's parent exerts on its child through the joint,
+  /// at the anchor, world frame, at the end of the last step: what holds the joint together plus
+  /// its spring, stops, motor and friction (the child exerts the opposite on the parent).
+  void joint_reaction(int j, Vec3& force_W, Vec3& torque_W) const;
   /// The largest distance between the two anchor points of any joint, m (0 up to round-off: the
   /// mechanisms move in joint coordinates), and the largest angle between hinge or slider axes, rad.
   double joint_gap() const;

@@ -994,6 +994,14 @@ double Articulations::force(int j, int k) const {
   return l.dof_index >= 0 ? m->dofs[l.dof_index].force : 0.0;
 }
 
+void Articulations::reaction(int j, const MotionState* st, const Vec3& g, Vec3& force_W, Vec3& torque_W) const {
+  (void)st;
+  (void)g;
+  force_W.setZero();
+  torque_W.setZero();
+  (void)j;
+}
+
 double Articulations::gap(const MotionState* st) const {
   double worst = 0;
   for (size_t j = 0; j < joints_.size(); ++j) {

@@ -266,6 +266,9 @@ class Articulations {
   double angular_gap(const MotionState* st) const;
   // The generalised force of coordinate k of joint j's stops, motor and friction (N m or N).
   double force(int j, int k = 0) const;
+  // The force and torque (world, at the anchor) that joint j's parent exerts on its child, from
+  // the bodies' motion (Newton-Euler over the child's subtree; loops: their multipliers).
+  void reaction(int j, const MotionState* st, const Vec3& g, Vec3& force_W, Vec3& torque_W) const;
 
   const std::vector<Mechanism>& mechanisms() const { return mechanisms_; }
   std::vector<Mechanism>& mechanisms() { return mechanisms_; }
