@@ -249,7 +249,7 @@ double World::joint_force(int j, int k) const {
   return impl_->joints().force(j, k);
 }
 void World::joint_reaction(int j, Vec3& force_W, Vec3& torque_W) const {
-  impl_->joints().reaction(j, &impl_->state(0), cfg().gravity, force_W, torque_W);
+  impl_->joints().reaction(j, &impl_->state(0), impl_->config().gravity, force_W, torque_W);
 }
 double World::joint_gap() const {
   return joint_count() == 0 ? 0.0 : impl_->joints().gap(&impl_->state(0));
