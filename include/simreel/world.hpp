@@ -125,7 +125,8 @@ class World {
   double joint_force(int j, int k = 0) const;
   /// The force (N) and torque (N m) that joint j's parent exerts on its child through the joint,
   /// at the anchor, world frame, at the end of the last step: what holds the joint together plus
-  /// its spring, stops, motor and friction (the child exerts the opposite on the parent).
+  /// its spring, stops, motor and friction (the child exerts the opposite on the parent), from the
+  /// mechanism's equations at its current state (a contact's push on the mechanism is not in it).
   void joint_reaction(int j, Vec3& force_W, Vec3& torque_W) const;
   /// The largest distance between the two anchor points of any joint, m (0 up to round-off: the
   /// mechanisms move in joint coordinates), and the largest angle between hinge or slider axes, rad.

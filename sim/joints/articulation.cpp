@@ -994,12 +994,20 @@ double Articulations::force(int j, int k) const {
   return l.dof_index >= 0 ? m->dofs[l.dof_index].force : 0.0;
 }
 
-void Articulations::reaction(int j, const MotionState* st, const Vec3& g, Vec3& force_W, Vec3& torque_W) const {
-  (void)st;
-  (void)g;
-  force_W.setZero();
-  torque_W.setZero();
-  (void)j;
+void Articulations::reaction(int j, const MotionState* st, const Vec3& g, Vec3& force_W,
+                             Vec3& torque_W) const {
+  const auto [mi, li] = joint_link_[j];
+  Mechanism& m = const_cast<Mechanism&>(mechanisms_[mi]);  // scratch only; q and v are not changed
+  Vec3 T;
+  m.joint_wrench(li, g, force_W, T);
+  if (li < 0) {  // a loop's force acts at its anchor
+    torque_W = T;
+    return;
+  }
+  // About the anchor: the child's anchor point now (the joint's two anchors coincide).
+  const JointDef& d = joints_[j];
+  const Vec3 anchor = st[d.child].x_W + st[d.child].q_WP * sides_[j].p_c;
+  torque_W = T + (m.link_x(li) - anchor).cross(force_W);
 }
 
 double Articulations::gap(const MotionState* st) const {

@@ -160,6 +160,12 @@ class Mechanism {
   const Vec3& link_x(int i) const { return work_[i].x_W; }
   void contact_end();  ///< q, v from the working state
 
+  // The spatial force (link frame of `link`, about its origin) that link's joint transmits from
+  // its parent, at the current q, v (Newton-Euler from the ABA's accelerations, the loops' forces
+  // taken as external); for loop k (link = -1 - k), its multipliers as the force on b at the anchor
+  // and the torque about the hinge's perpendiculars, world. Scratch only: the state is unchanged.
+  void joint_wrench(int link, const Vec3& g, Vec3& force_W, Vec3& torque_about_origin_W);
+
   long steps_taken = 0, steps_rejected = 0;  ///< internal steps over the run
   bool exceeded = false;         ///< a frame step needed more internal steps than JointSettings::max_steps
   bool contact_stepped = false;  ///< this frame step was taken by the contact solver (ArticulatedContacts)
@@ -200,6 +206,7 @@ class Mechanism {
   Eigen::MatrixXd Jl_;      ///< 6 n x nv: each link's world [angular; centre-of-mass] Jacobian (contacts)
   Eigen::MatrixXd P_;       ///< nv x nv: constrained inverse inertia (contacts)
   std::vector<double> dq_;  ///< nv scratch
+  std::vector<Vec6> rf_;    ///< joint_wrench scratch
   struct Work {
     Mat3 E;    ///< motion transform parent link -> this link (Featherstone's X = (E, r)):
     Vec3 r;    ///< E rotates parent coordinates into this link's, r is this link's origin in the parent's

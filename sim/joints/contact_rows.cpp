@@ -87,6 +87,67 @@ void Mechanism::contact_end() {
   std::copy(y0_.begin() + nq, y0_.end(), v.begin());
 }
 
+void Mechanism::joint_wrench(int link, const Vec3& g, Vec3& force_W, Vec3& torque_W) {
+  std::copy(q.begin(), q.end(), ys_.begin());
+  std::copy(v.begin(), v.end(), ys_.begin() + nq);
+  derivative(ys_.data(), kd_.data(), g, nullptr, nullptr);  // kinematics, velocities, loop multipliers
+  const int n = (int)links.size();
+  const double* qdd = kd_.data() + nq;
+  if (link < 0) {  // a loop: its rows' multipliers (the gap rows are world force components on b)
+    const int k = -1 - link;
+    int r = 0;
+    for (int i = 0; i < k; ++i) r += loops[i].hinge ? 5 : 3;
+    const Loop& L = loops[k];
+    force_W = Vec3(lambda_(r), lambda_(r + 1), lambda_(r + 2));
+    torque_W.setZero();
+    if (L.hinge) {
+      const Mat3 Ra = L.la < 0 ? Mat3::Identity() : work_[L.la].R_W;
+      torque_W = lambda_(r + 3) * (Ra * L.t1) + lambda_(r + 4) * (Ra * L.t2);
+    }
+    return;
+  }
+  // True-with-gravity accelerations (the base accelerates at -g) from the final q'' (the rows'
+  // corrections included), then f_i = I a_i + v x* I v_i - (loop forces on i) + sum of children.
+  if ((int)rf_.size() != n) rf_.assign(n, Vec6::Zero());
+  if (V_.size() != links.size()) V_.assign(links.size(), Vec6::Zero());
+  if (Acc_.size() != links.size()) Acc_.assign(links.size(), Vec6::Zero());
+  Vec6 a_world;
+  a_world << 0, 0, 0, -g.x(), -g.y(), -g.z();
+  for (int i = 0; i < n; ++i) {
+    const Link& l = links[i];
+    const Work& w = work_[i];
+    Vec6 a = transform_motion(w.E, w.r, l.parent < 0 ? a_world : Acc_[l.parent]) + w.c;
+    if (l.nv > 0) a += l.S * Eigen::Map<const VecX6>(qdd + l.iv, l.nv);
+    Acc_[i] = a;
+    const Mat6 I = spatial_inertia(l.mass, l.I_P);
+    rf_[i] = I * a + cross_force(w.vel, I * w.vel);
+  }
+  int r = 0;
+  for (const Loop& L : loops) {
+    // The loop's force on b (and the opposite on a), into each link's frame about its origin.
+    const Vec3 F(lambda_(r), lambda_(r + 1), lambda_(r + 2));
+    Vec3 T = Vec3::Zero();
+    const Mat3 Ra = L.la < 0 ? Mat3::Identity() : work_[L.la].R_W;
+    if (L.hinge) T = lambda_(r + 3) * (Ra * L.t1) + lambda_(r + 4) * (Ra * L.t2);
+    r += L.hinge ? 5 : 3;
+    auto add = [&](int li, const Vec3& p_local, double sign) {
+      if (li < 0) return;
+      const Mat3& R = work_[li].R_W;
+      const Vec3 p = R * p_local;  // from the link's origin, world
+      Vec6 f;
+      f << R.transpose() * (sign * (T + p.cross(F))), R.transpose() * (sign * F);
+      rf_[li] -= f;  // external: the joint carries what the loop does not
+    };
+    add(L.lb, L.pb, 1);
+    add(L.la, L.pa, -1);
+  }
+  for (int i = n; i-- > 0;)
+    if (links[i].parent >= 0) rf_[links[i].parent] += transform_force_back(work_[i].E, work_[i].r, rf_[i]);
+  const Mat3& R = work_[link].R_W;
+  force_W = R * rf_[link].tail<3>();
+  torque_W = R * rf_[link].head<3>();
+}
+
 // ------------------------------------------------------------------ the rows
 void ArticulatedContacts::prepare(Articulations* articulations, const SolverInput& in,
                                   const std::vector<Contact>& contacts, const std::vector<int>& candidates,
