@@ -17,9 +17,9 @@ namespace {
 
 using namespace scene_yaml;
 
-constexpr const char* kKeys[] = {"name",   "type",  "bodies",  "anchor",
-                                 "axis",   "axis2", "spring",  "collide_connected",
-                                 "limits", "motor", "friction"};
+constexpr const char* kKeys[] = {"name",   "type",  "bodies",   "anchor",
+                                 "axis",   "axis2", "spring",   "collide_connected",
+                                 "limits", "motor", "friction", "steering"};
 
 // A body name (or `world`) -> body index, -1 for the world; a did-you-mean for a typo.
 int body_index(const YAML::Node& n, const Ctx& c, const std::vector<BodyDef>& bodies) {
@@ -77,7 +77,7 @@ JointMotor load_motor(const YAML::Node& m, const Ctx& c, JointType type) {
   if (type == JointType::universal)
     c.fail(m,
            "a motor drives one coordinate: revolute and prismatic joints only (a universal joint has two)");
-  const bool slider = type == JointType::prismatic;
+  const bool slider = type == JointType::prismatic;  // a wheel's motor drives its axle: N m
   const char* max_key = slider ? "max_force" : "max_torque";
   const char* wrong_key = slider ? "max_torque" : "max_force";
   const std::string force_unit = slider ? "N" : "N m";
@@ -145,9 +145,10 @@ std::vector<JointDef> load_joints(const YAML::Node& list, const std::string& fil
       const auto jt = joint_type_from_name(t);
       if (!jt) {
         std::vector<std::string> names;
-        for (const char* s : {"revolute", "prismatic", "spherical", "fixed", "universal"}) names.push_back(s);
+        for (const char* s : {"revolute", "prismatic", "spherical", "fixed", "universal", "wheel"})
+          names.push_back(s);
         std::string msg = "unknown joint type '" + t + "' (" + joint_type_names() + ")";
-        if (t == "distance" || t == "wheel")
+        if (t == "distance")
           msg = "joint type '" + t + "' is not supported yet (" + std::string(joint_type_names()) + ")";
         else if (auto s = nearest(t, names))
           msg += "; did you mean '" + *s + "'?";
@@ -175,8 +176,8 @@ std::vector<JointDef> load_joints(const YAML::Node& list, const std::string& fil
     }
     if (!n["anchor"]) c.fail(n, "missing key 'anchor' ([x, y, z] in m, a world point at t = 0)");
     j.anchor_W = vec<3>(n["anchor"], c.child("anchor"));
-    const bool axial =
-        j.type == JointType::revolute || j.type == JointType::prismatic || j.type == JointType::universal;
+    const bool axial = j.type == JointType::revolute || j.type == JointType::prismatic ||
+                       j.type == JointType::universal || j.type == JointType::wheel;
     if (n["axis"]) {
       if (!axial)
         c.child("axis").fail(n["axis"], std::string("a ") + to_string(j.type) + " joint has no axis");
@@ -187,14 +188,16 @@ std::vector<JointDef> load_joints(const YAML::Node& list, const std::string& fil
                     " joint needs 'axis' ([x, y, z], a world direction at t = 0)");
     }
     if (n["axis2"]) {
-      if (j.type != JointType::universal)
-        c.child("axis2").fail(n["axis2"], "only a universal joint has axis2");
+      if (j.type != JointType::universal && j.type != JointType::wheel)
+        c.child("axis2").fail(n["axis2"], "only a universal or wheel joint has axis2");
       j.axis2_W = vec<3>(n["axis2"], c.child("axis2"));
       if (j.axis2_W.norm() < 1e-12) c.child("axis2").fail(n["axis2"], "axis2 must not be zero");
       if (std::abs(j.axis_W.normalized().dot(j.axis2_W.normalized())) > 1e-6)
         c.child("axis2").fail(n["axis2"], "axis2 must be perpendicular to axis");
     } else if (j.type == JointType::universal) {
       c.fail(n, "a universal joint needs 'axis2' (the child's axis, perpendicular to 'axis')");
+    } else if (j.type == JointType::wheel) {
+      c.fail(n, "a wheel joint needs 'axis2' (the wheel's axle, perpendicular to the suspension 'axis')");
     }
     if (const YAML::Node s = n["spring"]) {
       const Ctx sc = c.child("spring");
@@ -210,6 +213,13 @@ std::vector<JointDef> load_joints(const YAML::Node& list, const std::string& fil
     }
     if (const YAML::Node l = n["limits"]) j.limits = load_limits(l, c.child("limits"), j.type);
     if (const YAML::Node m = n["motor"]) j.motor = load_motor(m, c.child("motor"), j.type);
+    if (const YAML::Node m = n["steering"]) {
+      const Ctx sc = c.child("steering");
+      if (j.type != JointType::wheel) sc.fail(m, "only a wheel joint steers");
+      j.steering = load_motor(m, sc, JointType::revolute);
+      if (j.steering->mode != JointMotor::Mode::position)
+        sc.fail(m, "steering turns the wheel to an angle: { position: rad, max_torque: N m }");
+    }
     if (const YAML::Node f = n["friction"]) {
       const Ctx fc = c.child("friction");
       if (j.type == JointType::spherical || j.type == JointType::fixed)

@@ -21,10 +21,14 @@ namespace simreel {
 //   fixed      a weld: no relative motion (0 coordinates)
 //   universal  a Cardan joint at `anchor`: rotation about `axis` (fixed in the parent), then about
 //              `axis2` (fixed in the child, perpendicular to `axis` at t = 0); 2 coordinates, rad
-enum class JointType { revolute, prismatic, spherical, fixed, universal };
+//   wheel      a wheel on a suspension: the child (the wheel) slides along `axis` (the suspension
+//              travel, m: coordinate 0, where `spring` and `limits` act), turns about `axis` if it
+//              has `steering` (rad: coordinate 1), and spins about `axis2` (its axle,
+//              perpendicular to `axis`: the last coordinate, rad, where `motor` and `friction` act)
+enum class JointType { revolute, prismatic, spherical, fixed, universal, wheel };
 const char* to_string(JointType t);
 std::optional<JointType> joint_type_from_name(std::string_view name);
-const char* joint_type_names();  ///< "revolute, prismatic, spherical, fixed, universal"
+const char* joint_type_names();  ///< "revolute, prismatic, spherical, fixed, universal, wheel"
 
 /// A spring along a joint's coordinate: generalised force -stiffness (q - rest) - damping q'.
 /// Revolute and universal: N m/rad, N m s/rad, rad; prismatic: N/m, N s/m, m.
@@ -74,6 +78,9 @@ struct JointDef {
   /// Coulomb friction on the coordinate: N m (revolute, universal) or N (prismatic); it holds the
   /// joint still while the load needs no more, and otherwise acts against the motion.
   double friction = 0;
+  /// wheel: a steering coordinate about `axis`, driven to its position by this motor (position
+  /// mode; without it the wheel does not steer).
+  std::optional<JointMotor> steering;
   bool collide_connected = false;  ///< false: the two bodies never collide with each other
 };
 

@@ -15,7 +15,8 @@
 namespace simreel {
 
 namespace {
-constexpr EnumNames<JointType, 5> kJointTypes{{"revolute", "prismatic", "spherical", "fixed", "universal"}};
+constexpr EnumNames<JointType, 6> kJointTypes{
+    {"revolute", "prismatic", "spherical", "fixed", "universal", "wheel"}};
 static_assert(kJointTypes.complete());
 
 // A joint's rotation R_J (child joint frame F' to parent joint frame F) and offset p_J (F' origin in
@@ -124,7 +125,7 @@ std::optional<JointType> joint_type_from_name(std::string_view name) {
   return kJointTypes.parse(name);
 }
 const char* joint_type_names() {
-  return "revolute, prismatic, spherical, fixed, universal";
+  return "revolute, prismatic, spherical, fixed, universal, wheel";
 }
 
 // ------------------------------------------------------------------ one mechanism
@@ -511,14 +512,15 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
       throw InputError(name_of(j) + ": kinematic bodies cannot be jointed yet (body " +
                        body_name(model[d.child].is_kinematic ? d.child : d.parent) + ")");
     if (!all_finite(d.anchor_W)) throw InputError(name_of(j) + ": anchor must be finite");
-    const bool axial =
-        d.type == JointType::revolute || d.type == JointType::prismatic || d.type == JointType::universal;
+    const bool wheel = d.type == JointType::wheel;
+    const bool axial = d.type == JointType::revolute || d.type == JointType::prismatic ||
+                       d.type == JointType::universal || wheel;
     if (axial) {
       if (!all_finite(d.axis_W) || d.axis_W.norm() < 1e-12)
         throw InputError(name_of(j) + ": axis must not be zero");
       d.axis_W.normalize();
     }
-    if (d.type == JointType::universal) {
+    if (d.type == JointType::universal || wheel) {
       if (!all_finite(d.axis2_W) || d.axis2_W.norm() < 1e-12)
         throw InputError(name_of(j) + ": axis2 must not be zero");
       d.axis2_W.normalize();
@@ -533,8 +535,8 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
           !std::isfinite(d.spring->rest) || d.spring->stiffness < 0 || d.spring->damping < 0)
         throw InputError(name_of(j) + ": spring stiffness and damping must be non-negative numbers");
     }
-    const bool one_coordinate =
-        d.type == JointType::revolute || d.type == JointType::prismatic || d.type == JointType::universal;
+    const bool one_coordinate = d.type == JointType::revolute || d.type == JointType::prismatic ||
+                                d.type == JointType::universal || wheel;
     if (d.limits) {
       const JointLimits& L = *d.limits;
       if (!one_coordinate)
@@ -549,8 +551,8 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
     }
     if (d.motor) {
       const JointMotor& M = *d.motor;
-      if (d.type != JointType::revolute && d.type != JointType::prismatic)
-        throw InputError(name_of(j) + ": a motor needs a revolute or prismatic joint (not " +
+      if (d.type != JointType::revolute && d.type != JointType::prismatic && !wheel)
+        throw InputError(name_of(j) + ": a motor needs a revolute, prismatic or wheel joint (not " +
                          to_string(d.type) + ")");
       if (!(M.max_force > 0) || !std::isfinite(M.max_force))
         throw InputError(name_of(j) + ": a motor needs a positive, finite max force (torque)");
@@ -561,6 +563,16 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
         throw InputError(
             name_of(j) +
             ": a position motor needs a finite position, a positive speed cap and a positive time constant");
+    }
+    if (d.steering) {
+      const JointMotor& M = *d.steering;
+      if (!wheel) throw InputError(name_of(j) + ": only a wheel joint steers");
+      if (M.mode != JointMotor::Mode::position || !std::isfinite(M.position) || !(M.speed > 0) ||
+          !(M.time_constant > 0) || !(M.max_force > 0) || !std::isfinite(M.max_force))
+        throw InputError(
+            name_of(j) +
+            ": steering is a position motor: a finite angle, a positive speed cap, time constant "
+            "and max torque");
     }
     if (d.friction != 0) {
       if (!one_coordinate)
@@ -693,6 +705,43 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
         joint_link_[j] = {building, child_link};
         break;
       }
+      case JointType::wheel: {
+        // A slider along the suspension axis and (when it steers) a hinge about it, on massless
+        // links whose frames are the joint frame at t = 0; then the wheel's hinge about its axle.
+        Link sl;
+        sl.parent = pl;
+        sl.kind = LinkJoint::prismatic;
+        sl.axis_F = d.axis_W;
+        sl.joint = j;
+        sl.dof = 0;
+        if (d.spring) {
+          sl.stiffness = d.spring->stiffness;
+          sl.damping = d.spring->damping;
+          sl.rest = d.spring->rest;
+        }
+        place(sl, true, false);
+        m.links.push_back(sl);
+        int prev = (int)m.links.size() - 1;
+        joint_link_[j] = {building, prev};
+        if (d.steering) {
+          Link st;
+          st.parent = prev;
+          st.kind = LinkJoint::revolute;
+          st.axis_F = d.axis_W;
+          st.joint = j;
+          st.dof = 1;
+          place(st, false, false);
+          m.links.push_back(st);
+          prev = (int)m.links.size() - 1;
+        }
+        child_link = add_body_link(m, d.child, prev, LinkJoint::revolute);
+        Link& l = m.links.back();
+        l.axis_F = d.axis2_W;
+        l.joint = j;
+        l.dof = d.steering ? 2 : 1;
+        place(l, false, true);
+        break;
+      }
       case JointType::universal: {
         // Two hinges with a massless link between them, whose frame is the joint frame at t = 0.
         Link v;
@@ -771,27 +820,39 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
       Link& l = m.links[li];
       if (l.nv != 1 || l.joint < 0) continue;
       const JointDef& d = joints_[l.joint];
-      if (!d.limits && !d.motor && !(d.friction > 0)) continue;
+      // Which of the joint's options act on this coordinate: all of them on a one-coordinate joint
+      // (a universal's limits and friction on both); on a wheel, the stops on the suspension, the
+      // steering motor on the steering hinge, the motor and friction on the axle.
+      std::optional<JointLimits> limits = d.limits;
+      std::optional<JointMotor> motor = d.motor;
+      double friction = d.friction;
+      if (d.type == JointType::wheel) {
+        const bool suspension = l.dof == 0, axle = l.kind == LinkJoint::revolute && l.body >= 0;
+        if (!suspension) limits.reset();
+        motor = axle ? d.motor : suspension ? std::nullopt : d.steering;
+        if (!axle) friction = 0;
+      }
+      if (!limits && !motor && !(friction > 0)) continue;
       Mechanism::Dof f;
       f.link = (int)li;
       f.iq = l.iq;
       f.iv = l.iv;
       f.joint = l.joint;
       f.coord = l.dof;
-      if (d.limits) {
+      if (limits) {
         f.has_lo = f.has_hi = true;
-        f.lo = d.limits->lower;
-        f.hi = d.limits->upper;
-        f.restitution = d.limits->restitution;
+        f.lo = limits->lower;
+        f.hi = limits->upper;
+        f.restitution = limits->restitution;
       }
-      if (d.motor) {
-        f.motor = d.motor->mode == JointMotor::Mode::speed ? 1 : 2;
-        f.speed = d.motor->speed;
-        f.position = d.motor->position;
-        f.time_constant = d.motor->time_constant;
-        f.max_force = d.motor->max_force;
+      if (motor) {
+        f.motor = motor->mode == JointMotor::Mode::speed ? 1 : 2;
+        f.speed = motor->speed;
+        f.position = motor->position;
+        f.time_constant = motor->time_constant;
+        f.max_force = motor->max_force;
       }
-      f.friction = d.friction;
+      f.friction = friction;
       l.dof_index = (int)m.dofs.size();
       m.dofs.push_back(f);
     }
@@ -946,7 +1007,8 @@ bool Articulations::step_range(int begin, int end, double dt, const Vec3& g, con
 const Link& Articulations::coordinate_link(int j, int k, const Mechanism*& m) const {
   const auto [mi, li] = joint_link_[j];
   m = &mechanisms_[mi];
-  return m->links[li + (joints_[j].type == JointType::universal ? k : 0)];
+  const JointType t = joints_[j].type;
+  return m->links[li + (t == JointType::universal || t == JointType::wheel ? k : 0)];
 }
 
 double Articulations::position(int j, int k) const {
@@ -1018,8 +1080,8 @@ double Articulations::gap(const MotionState* st) const {
     const bool moving_parent = d.parent >= 0 && jointed(d.parent);
     const Vec3 ap = moving_parent ? Vec3(st[d.parent].x_W + st[d.parent].q_WP * s.p_p) : s.p_p;
     const Vec3 ac = st[d.child].x_W + st[d.child].q_WP * s.p_c;
-    if (d.type == JointType::prismatic) {
-      // The slider's child anchor may move along the axis only.
+    if (d.type == JointType::prismatic || d.type == JointType::wheel) {
+      // The slider's (suspension's) child anchor may move along the axis only.
       const Vec3 axis = moving_parent ? Vec3(st[d.parent].q_WP * s.a_p) : s.a_p;
       const Vec3 r = ac - ap;
       worst = std::max(worst, (r - axis * axis.dot(r)).norm());

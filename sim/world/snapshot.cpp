@@ -133,8 +133,9 @@ uint64_t WorldImpl::fingerprint() const {
       const int v[3] = {(int)j.type, j.parent, j.child};
       fnv(h, v, sizeof v);
       // Which coordinates carry limits, a motor or friction (their saved modes), when any do.
-      if (j.limits || j.motor || j.friction != 0) {
-        const int w[3] = {j.limits ? 1 : 0, j.motor ? 1 + (int)j.motor->mode : 0, j.friction != 0 ? 1 : 0};
+      if (j.limits || j.motor || j.friction != 0 || j.steering) {
+        const int w[4] = {j.limits ? 1 : 0, j.motor ? 1 + (int)j.motor->mode : 0, j.friction != 0 ? 1 : 0,
+                          j.steering ? 1 : 0};
         fnv(h, w, sizeof w);
       }
     }

@@ -251,12 +251,41 @@ TEST(SceneJoints, FrictionIsAFiniteNonNegativeNumber) {
   EXPECT_JOINT_ERROR(kUniversal, "\n      friction: .nan", 12, "joints[0].friction: must be a finite number");
 }
 
-TEST(SceneJoints, DistanceAndWheelJointsAreNotSupportedYet) {
-  for (const char* t : {"distance", "wheel"}) {
-    const std::string base = std::string("name: j, type: ") + t + ", bodies: [world, arm], anchor: [0, 0, 2]";
-    EXPECT_JOINT_ERROR(base.c_str(), "axis: [0, 1, 0]", 10,
-                       "joints[0].type: joint type '" + std::string(t) + "' is not supported yet");
-  }
+TEST(SceneJoints, DistanceJointsAreNotSupportedYet) {
+  const std::string base = "name: j, type: distance, bodies: [world, arm], anchor: [0, 0, 2]";
+  EXPECT_JOINT_ERROR(base.c_str(), "axis: [0, 1, 0]", 10,
+                     "joints[0].type: joint type 'distance' is not supported yet");
+}
+
+// A wheel: suspension along axis (spring, stops), steering to an angle, the axle's motor and
+// friction; its errors name the key.
+TEST(SceneJoints, WheelJointsLoadWithSuspensionSteeringAndDrive) {
+  const Scene s = load_scene(write_scene(
+      "joints_wheel.yaml",
+      std::string(kBodies) +
+          "  - { name: corner, type: wheel, bodies: [world, top], anchor: [6, 0, 2], axis: [0, 0, 1], axis2: "
+          "[0, 1, 0],\n"
+          "      spring: { stiffness: 20000, damping: 1000 }, limits: [-0.1, 0.1], friction: 0.5,\n"
+          "      motor: { speed: 30, max_torque: 200 }, steering: { position: 0.3, max_torque: 100 } }\n"));
+  ASSERT_EQ(s.joints.size(), 1u);
+  const JointDef& w = s.joints[0];
+  EXPECT_EQ(w.type, JointType::wheel);
+  EXPECT_EQ(w.axis2_W, Vec3(0, 1, 0));
+  ASSERT_TRUE(w.spring && w.limits && w.motor && w.steering);
+  EXPECT_EQ(w.spring->stiffness, 20000);
+  EXPECT_EQ(w.limits->upper, 0.1);
+  EXPECT_EQ(w.motor->speed, 30);
+  EXPECT_EQ(w.motor->max_force, 200);
+  EXPECT_EQ(w.steering->mode, JointMotor::Mode::position);
+  EXPECT_EQ(w.steering->position, 0.3);
+  EXPECT_EQ(w.friction, 0.5);
+  const char* wheel = "name: j, type: wheel, bodies: [world, top], anchor: [6, 0, 2], axis: [0, 0, 1]";
+  EXPECT_JOINT_ERROR(wheel, "friction: 0", 10, "a wheel joint needs 'axis2'");
+  EXPECT_JOINT_ERROR(kRevolute, "steering: { position: 0.3, max_torque: 1 }", 11,
+                     "only a wheel joint steers");
+  const std::string with_axle = std::string(wheel) + ", axis2: [0, 1, 0]";
+  EXPECT_JOINT_ERROR(with_axle.c_str(), "steering: { speed: 1, max_torque: 1 }", 11,
+                     "steering turns the wheel to an angle");
 }
 
 }  // namespace
