@@ -46,9 +46,9 @@ std::string line_text(const YAML::Node& n, const Ctx& w) {
   return n.Scalar();
 }
 
-constexpr EnumNames<ShowKind, 13> kShowKinds{{"axes", "angular_velocity", "angular_momentum", "velocity",
-                                              "center_of_mass", "trail", "inertia_box", "inertia_ellipsoid",
-                                              "cones", "poinsot", "forces", "contacts", "joints"}};
+constexpr EnumNames<ShowKind, 14> kShowKinds{
+    {"axes", "angular_velocity", "angular_momentum", "velocity", "center_of_mass", "trail", "inertia_box",
+     "inertia_ellipsoid", "cones", "poinsot", "forces", "contacts", "joints", "joint_forces"}};
 static_assert(kShowKinds.complete());
 
 // The keys each kind takes.
@@ -78,6 +78,8 @@ std::vector<std::string> keys_of(ShowKind k) {
       return {"color", "scale", "width", "opacity", "xray", "points", "normals", "arrows"};
     case ShowKind::joints:
       return {"color", "scale", "width", "opacity", "xray"};
+    case ShowKind::joint_forces:
+      return {"color", "scale", "torque_scale", "width", "opacity", "xray"};
   }
   return {};
 }
@@ -114,7 +116,8 @@ ShowItem show_item(const YAML::Node& n, const Ctx& w, double duration) {
   if (item.kind == ShowKind::trail) item.width = 3;
   if (item.kind == ShowKind::contacts) item.xray = 0.6;  // contact forces lie inside the bodies
   if (item.kind == ShowKind::forces) item.xray = 0.35;
-  if (item.kind == ShowKind::joints) item.xray = 0.5;  // a pivot sits half inside its body
+  if (item.kind == ShowKind::joints) item.xray = 0.5;         // a pivot sits half inside its body
+  if (item.kind == ShowKind::joint_forces) item.xray = 0.35;  // as `forces`: arrows start at the pivot
   if (!opts || opts.IsNull()) return item;
   const Ctx c = w.child(name);
   check_keys(opts, c, keys_of(item.kind));
@@ -629,16 +632,19 @@ std::vector<ShowItem> read_show_list(const YAML::Node& sh, const scene_yaml::Ctx
   std::vector<ShowItem> items;
   for (size_t k = 0; k < sh.size(); ++k) {
     items.push_back(show_item(sh[k], w.index(k), s.duration));
-    if (items.back().kind != ShowKind::joints) continue;
+    const ShowKind kind = items.back().kind;
+    if (kind != ShowKind::joints && kind != ShowKind::joint_forces) continue;
     bool held = false;
     for (const JointDef& j : s.joints) {
       int parent, child;
       held = held || (joint_sides(j, s.bodies, parent, child) && child == (int)body);
     }
     if (!held)
-      w.index(k).fail(sh[k],
-                      "body '" + s.bodies[body].name +
-                          "' is no joint's child: `joints` draws the joint that holds a body to its parent");
+      w.index(k).fail(sh[k], "body '" + s.bodies[body].name + "' is no joint's child: " +
+                                 (kind == ShowKind::joints
+                                      ? "`joints` draws the joint that holds a body to its parent"
+                                      : "`joint_forces` draws the force and torque through the joint that "
+                                        "holds a body to its parent"));
   }
   return items;
 }

@@ -46,7 +46,8 @@ enum class ShowKind {
   poinsot,            ///< the energy ellipsoid rolling on the invariable plane, polhode and herpolhode
   forces,             ///< the scene's forces on the body: arrows, torques, springs, drag (and gravity)
   contacts,           ///< contact points, normals and contact forces on the body
-  joints,             ///< the joint holding the body to its parent: the pivot (a ball) and the axis
+  joints,             ///< the joint holding the body to its parent: the pivot (a ball), the axis, the limits
+  joint_forces,       ///< the force and torque the parent exerts on the body through that joint
 };
 const char* to_string(ShowKind k);
 
@@ -64,7 +65,7 @@ struct ShowItem {
   Vec3 point = Vec3::Zero();    ///< trail: m, the body point traced (in `frame` at t = 0)
   bool point_in_world = false;  ///< trail `frame: world`: `point` is where the point is at t = 0
   double length = 3;            ///< trail: s of history shown
-  /// forces: m per N m for torques (none: automatic, as `scale`).
+  /// forces, joint_forces: m per N m for torques (none: automatic, as `scale`).
   std::optional<double> torque_scale;
   bool gravity = false;  ///< forces: also draw the weight m g at the centre of mass
   bool at_tip =

@@ -47,6 +47,8 @@ int default_color(ShowKind k) {
       return 1;  // orange
     case ShowKind::joints:
       return 0;  // black: reads on the sky and on light and dark bodies alike
+    case ShowKind::joint_forces:
+      return 6;  // vermillion, as `forces`
   }
   return 0;
 }
@@ -128,6 +130,11 @@ void SceneOverlays::prepass(const Scene& scene, int threads, bool magnitudes, st
   std::vector<int> contact_bodies;
   for (const Item& it : items_)
     if (it.spec.kind == ShowKind::contacts && !it.spec.scale) contact_bodies.push_back(it.body);
+  // The reactions through the joints of the `joint_forces` items that scale themselves.
+  std::vector<std::pair<int, int>> reactions;  // (body, joint)
+  for (const Item& it : items_)
+    if (it.spec.kind == ShowKind::joint_forces && (!it.spec.scale || !it.spec.torque_scale))
+      reactions.push_back({it.body, joints_[it.joint].index});
   // Contact forces sampled about 60 times a simulated second (a landing lasts a few steps).
   const long contact_every = std::max(1L, std::lround(1.0 / (60.0 * dt_)));
   JointPeriods periods;  // the plots' {NAME.period}, measured over the pre-pass's own steps
@@ -136,7 +143,15 @@ void SceneOverlays::prepass(const Scene& scene, int threads, bool magnitudes, st
   FrameLoop::Hooks h;
   h.step = [&](const World& w) {
     if (!periods.empty()) periods.record(w);
-    if (magnitudes) accumulate(w, mags);
+    if (magnitudes) {
+      accumulate(w, mags);
+      for (const auto& [b, j] : reactions) {
+        Vec3 F, tau;
+        w.joint_reaction(j, F, tau);
+        mags[b].joint_force = std::max(mags[b].joint_force, F.norm());
+        mags[b].joint_torque = std::max(mags[b].joint_torque, tau.norm());
+      }
+    }
     const long s = w.steps();
     if (!contact_bodies.empty() && s % contact_every == 0)
       for (int b : contact_bodies)
@@ -198,24 +213,11 @@ SceneOverlays::SceneOverlays(const Scene& scene, const World& world, const std::
       }
       need_scales = need_scales || (is_arrow(s.kind) && !s.scale);
       Item it{(int)i, s, 0, 0, {-1, -1}};
-      if (s.kind == ShowKind::joints) {
-        // The joint holding body i to its parent (the scene's check: there is one). Where the
-        // bodies are at t = 0 (their start poses) maps the joint's world anchor and axes into
-        // the frames they move with.
-        for (const JointDef& j : scene.joints) {
-          JointLook L;
-          if (!joint_sides(j, scene.bodies, L.parent, L.child) || L.child != (int)i) continue;
-          L.type = j.type;
-          const BodyDef& c = scene.bodies[L.child];
-          L.anchor_C = c.q_WB.conjugate() * (j.anchor_W - c.p_WB);
-          L.axis2_C = c.q_WB.conjugate() * j.axis2_W.normalized();
-          L.axis_P = j.axis_W.normalized();
-          if (L.parent >= 0) L.axis_P = scene.bodies[L.parent].q_WB.conjugate() * L.axis_P;
-          it.joint = (int)joints_.size();
-          joints_.push_back(L);
-          break;
-        }
+      if (s.kind == ShowKind::joints || s.kind == ShowKind::joint_forces) {
+        // The joint holding body i to its parent (the scene's check: there is one).
+        it.joint = add_joint_look(scene, world, (int)i);
         if (it.joint < 0) continue;
+        need_scales = need_scales || (s.kind == ShowKind::joint_forces && (!s.scale || !s.torque_scale));
       }
       items_.push_back(it);
     }
@@ -283,6 +285,25 @@ SceneOverlays::SceneOverlays(const Scene& scene, const World& world, const std::
     } else if (it.spec.kind == ShowKind::joints) {
       it.scale = it.spec.scale ? *it.spec.scale : 0.8 * R;  // the axis's drawn length
       it.radius = 0.015 * R * it.spec.width;                // its shaft
+    } else if (it.spec.kind == ShowKind::joint_forces) {
+      // As `forces`: the largest over the run is kForceReach body radii long. A reaction is
+      // computed, so a component that is zero in exact arithmetic (a planar pendulum's hinge
+      // torque) comes out as round-off: a largest force under kReactionFloor of the body's force
+      // scale m (|g| + v^2 / R + omega^2 R), or a largest torque under kReactionFloor of that
+      // force's (or the largest force's) moment at R, counts as none rather than being magnified
+      // to kForceReach radii.
+      const Magnitudes& m = mags[it.body];
+      const double fref = world.mass(it.body) * (g.norm() + m.v * m.v / R + m.omega * m.omega * R);
+      const double tref = std::max(fref, m.joint_force) * R;
+      it.scale = it.spec.scale ? *it.spec.scale
+                 : m.joint_force > kReactionFloor * fref && m.joint_force > 0
+                     ? kForceReach * R / m.joint_force
+                     : 0;
+      it.torque_scale = it.spec.torque_scale ? *it.spec.torque_scale
+                        : m.joint_torque > kReactionFloor * tref && m.joint_torque > 0
+                            ? kForceReach * R / m.joint_torque
+                            : 0;
+      it.radius = 0.028 * R * it.spec.width;
     } else if (it.spec.kind == ShowKind::cones) {
       it.scale = it.spec.scale ? *it.spec.scale : kArrowReach * R;  // slant: an auto-scaled omega's length
     }
@@ -339,6 +360,62 @@ Vec3 SceneOverlays::to_world(const Trail& t, const World& w, const Vec3& v) cons
   return v;
 }
 
+int SceneOverlays::add_joint_look(const Scene& scene, const World& world, int body) {
+  for (size_t k = 0; k < joints_.size(); ++k)
+    if (joints_[k].child == body) return (int)k;  // `joints` and `joint_forces` on one body
+  // The joint holding `body` to its parent. Where the bodies are at t = 0 (their start poses) maps
+  // the joint's world anchor and axes into the frames they move with.
+  for (size_t jx = 0; jx < scene.joints.size(); ++jx) {
+    const JointDef& j = scene.joints[jx];
+    JointLook L;
+    if (!joint_sides(j, scene.bodies, L.parent, L.child) || L.child != body) continue;
+    L.index = (int)jx;
+    L.type = j.type;
+    const BodyDef& c = scene.bodies[L.child];
+    L.anchor_C = c.q_WB.conjugate() * (j.anchor_W - c.p_WB);
+    L.axis2_C = c.q_WB.conjugate() * j.axis2_W.normalized();
+    // The parent's start pose (the world's frame for the world).
+    Quat q_P = Quat::Identity();
+    Vec3 p_P = Vec3::Zero();
+    if (L.parent >= 0) q_P = scene.bodies[L.parent].q_WB, p_P = scene.bodies[L.parent].p_WB;
+    const Vec3 axis_W = j.axis_W.normalized(), axis2_W = j.axis2_W.normalized();
+    L.axis_P = q_P.conjugate() * axis_W;
+    L.axis2_P = q_P.conjugate() * axis2_W;
+    L.anchor_P = q_P.conjugate() * (j.anchor_W - p_P);
+    // A hinge or slider written [child, world] is turned round with its axis reversed, so that
+    // its coordinate keeps its meaning (sim/joints): the child turns (slides) about -axis.
+    if (L.child != j.child && (j.type == JointType::revolute || j.type == JointType::prismatic)) L.sign = -1;
+    L.limits = j.limits;
+    // The child's start direction: from the anchor to its centre of mass at t = 0, in the plane
+    // perpendicular to the axis; where that is degenerate (the centre of mass on the axis), a
+    // perpendicular of the axis.
+    const Vec3 com_W = c.p_WB + c.q_WB * world.world_to_local(L.child, world.centroid(L.child));
+    const Vec3 d = com_W - j.anchor_W;
+    auto across = [&](const Vec3& a) {
+      Vec3 u = d - d.dot(a) * a;
+      if (!(u.norm() > 1e-9 * std::max(1.0, d.norm()))) {
+        Vec3 e2;
+        orthonormal_basis(a, u, e2);
+      }
+      return Vec3(q_P.conjugate() * u.normalized());
+    };
+    L.start_P = across(axis_W);
+    L.start2_P = across(axis2_W);
+    joints_.push_back(L);
+    return (int)joints_.size() - 1;
+  }
+  return -1;
+}
+
+namespace {
+
+// The unit vector at angle t (rad) from u, turning right-handed about a (a, u unit, perpendicular).
+Vec3 at_angle(const Vec3& a, const Vec3& u, double t) {
+  return std::cos(t) * u + std::sin(t) * a.cross(u);
+}
+
+}  // namespace
+
 void SceneOverlays::build_joint(const Item& it, const World& w, const CameraView& cam, OverlayList& out) {
   const JointLook& L = joints_[it.joint];
   const ShowItem& s = it.spec;
@@ -356,11 +433,10 @@ void SceneOverlays::build_joint(const Item& it, const World& w, const CameraView
   // The axis: an arrow through the pivot, `scale` long, pointing along +axis (the coordinate grows
   // turning right-handed about it, or sliding along it). A hinge's and a slider's axis are fixed in
   // the parent; a universal joint's second axis is fixed in the child.
-  auto axis = [&](const Vec3& a) {
-    const double len = std::max(it.scale, 4 * ball);
-    out.arrow(p - 0.5 * len * a, len * a, shaft, color, xray);
-  };
-  const Vec3 a = L.parent >= 0 ? w.local_to_world_vec(L.parent, L.axis_P) : L.axis_P;
+  const double len = std::max(it.scale, 4 * ball);
+  auto axis = [&](const Vec3& a) { out.arrow(p - 0.5 * len * a, len * a, shaft, color, xray); };
+  const Quat q_P = L.parent >= 0 ? w.orientation(L.parent) : Quat::Identity();
+  const Vec3 a = q_P * L.axis_P;
   switch (L.type) {
     case JointType::revolute:
     case JointType::prismatic:
@@ -370,6 +446,62 @@ void SceneOverlays::build_joint(const Item& it, const World& w, const CameraView
       axis(a);
       axis(w.local_to_world_vec(L.child, L.axis2_C));
       break;
+    case JointType::spherical:
+    case JointType::fixed:
+      break;
+  }
+  if (!L.limits) return;
+  // Limits. A hinge's range: an arc about the axis at the pivot, half the axis's length in radius,
+  // fixed in the parent, from `lower` to `upper` measured from the child's start direction (a tick
+  // across each end), and the present angle as a needle from the pivot to a dot on the arc. A
+  // universal joint draws both: the first about `axis`, the second about `axis2` as it turns with
+  // the first angle.
+  const double lower = L.limits->lower, upper = L.limits->upper, r = 0.5 * len;
+  auto range = [&](const Vec3& c, const Vec3& ax, const Vec3& u, double q) {
+    const double t1 = std::min(upper, lower + 2 * M_PI);  // a range over a turn: the full circle once
+    const int n = std::max(2, (int)std::ceil((t1 - lower) / (M_PI / 36)));  // 5 degrees a segment
+    Vec3 prev = c + r * at_angle(ax, u, lower);
+    for (int k = 1; k <= n; ++k) {
+      const Vec3 next = c + r * at_angle(ax, u, lower + (t1 - lower) * k / n);
+      out.rod(prev, next, shaft, color, xray);
+      prev = next;
+    }
+    for (double t : {lower, upper}) {
+      const Vec3 e = at_angle(ax, u, t);
+      out.rod(c + 0.7 * r * e, c + 1.3 * r * e, shaft, color, xray);
+    }
+    const Vec3 e = at_angle(ax, u, q);
+    out.rod(c, c + r * e, 0.6 * shaft, color, xray);
+    out.ellipsoid(c + r * e, Mat3::Identity(), Vec3::Constant(0.55 * ball), color, xray);
+  };
+  switch (L.type) {
+    case JointType::revolute:
+      range(p, L.sign * a, q_P * L.start_P, w.joint_position(L.index, 0));
+      break;
+    case JointType::universal: {
+      const double q0 = w.joint_position(L.index, 0);
+      range(p, a, q_P * L.start_P, q0);
+      // The second angle turns about axis2 where the first has carried it: the parent's frame
+      // turned by q0 about axis.
+      const Quat q_I = q_P * Quat(Eigen::AngleAxisd(q0, L.axis_P));
+      range(p, q_I * L.axis2_P, q_I * L.start2_P, w.joint_position(L.index, 1));
+      break;
+    }
+    case JointType::prismatic: {
+      // A slider's range: a bar along the axis, fixed in the parent, from `lower` to `upper` from
+      // where the child carried the anchor at t = 0, a tick across each end (facing the camera);
+      // the pivot (the ball) slides along it.
+      const Vec3 o = L.parent >= 0 ? w.local_to_world(L.parent, L.anchor_P) : L.anchor_P;
+      const Vec3 e = L.sign * a, lo = o + lower * e, hi = o + upper * e;
+      out.rod(lo, hi, 1.8 * shaft, color, xray);
+      for (const Vec3& end : {lo, hi}) {
+        Vec3 side = e.cross(cam.eye - end);
+        if (!(side.norm() > 1e-12)) continue;
+        side.normalize();
+        out.rod(end - 2.5 * ball * side, end + 2.5 * ball * side, shaft, color, xray);
+      }
+      break;
+    }
     case JointType::spherical:
     case JointType::fixed:
       break;
@@ -465,6 +597,9 @@ void SceneOverlays::build(const World& w, long frame, DrawList& dl) {
         break;
       case ShowKind::joints:
         build_joint(it, w, dl.camera, dl.overlay);
+        break;
+      case ShowKind::joint_forces:
+        build_joint_forces(it, w, dl.camera, dl.overlay);
         break;
       case ShowKind::trail:
       case ShowKind::poinsot:  // below, after every other item: translucent

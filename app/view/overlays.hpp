@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -30,7 +31,9 @@ inline constexpr double kForceReach = 3.0;  ///< an auto-scaled applied force's 
 inline constexpr double kContactReach =
     1.0;  ///< an auto-scaled contact force's typical length, in body radii
 inline constexpr double kContactQuantile = 0.9;  ///< ... is the contact forces' 90th percentile
-inline constexpr long kMaxTrailPoints = 16384;   ///< a trail's samples at most (long trails sample sparser)
+inline constexpr double kReactionFloor =
+    1e-6;  ///< joint_forces: a largest reaction under this fraction of its scale is round-off, not drawn
+inline constexpr long kMaxTrailPoints = 16384;  ///< a trail's samples at most (long trails sample sparser)
 
 // The largest magnitudes over a run, per body.
 struct Magnitudes {
@@ -39,6 +42,8 @@ struct Magnitudes {
   double v = 0;       ///< m/s
   double force = 0;   ///< N, the largest applied force drawn as an arrow (force, spring and drag entries)
   double torque = 0;  ///< N m, the largest torque entry
+  double joint_force = 0;   ///< N, the largest reaction force through the joint holding the body
+  double joint_torque = 0;  ///< N m, ... and the largest reaction torque (World::joint_reaction)
 };
 // The pre-pass: every step of the scene from its initial state, through FrameLoop.
 std::vector<Magnitudes> measure_magnitudes(const Scene& scene, int threads);
@@ -129,8 +134,8 @@ class SceneOverlays {
   // frame's number in the clip (HUD {frame}).
   void build(const World& w, long frame, DrawList& dl);
 
-  // The scale in use for a body's arrow item (m per unit), for tests. Forces: m per N; torques
-  // (kind forces, torque = true): m per N m; contacts: m per N.
+  // The scale in use for a body's arrow item (m per unit), for tests. Forces, joint forces: m per N;
+  // torques (kind forces or joint_forces, torque = true): m per N m; contacts: m per N.
   double arrow_scale(int body, ShowKind kind, bool torque = false) const;
   // Inset plot k, as drawn (for tests), and its samples.
   const InsetPlot& plot(int k) const { return *plots_[k].plot; }
@@ -147,14 +152,21 @@ class SceneOverlays {
     double radius = 0;         // m, arrow shaft
     int trails[2] = {-1, -1};  // poinsot: its polhode and herpolhode
     double torque_scale = 0;   // forces: m per N m
-    int joint = -1;            // joints: index into joints_
+    int joint = -1;            // joints, joint_forces: index into joints_
   };
-  // A joint as the `joints` item draws it: the anchor in the child's frame (it moves with the
-  // child), the axis fixed in the parent (or the world) and, universal, axis2 fixed in the child.
+  // A joint as the `joints` and `joint_forces` items draw it: the anchor in the child's frame (it
+  // moves with the child), the axis fixed in the parent (or the world) and, universal, axis2 fixed
+  // in the child. With limits, what the range is drawn from (all in the parent's frame, as the
+  // bodies were at t = 0): the child's start direction from the pivot, perpendicular to the axis
+  // (universal: also to axis2, with axis2 at t = 0), and a slider's anchor at t = 0.
   struct JointLook {
+    int index = -1;  // the scene's (and the World's) joint index
     int parent = -1, child = -1;
     JointType type = JointType::revolute;
     Vec3 anchor_C, axis_P, axis2_C;
+    double sign = 1;  // -1: written [child, world], the coordinate turns (slides) about -axis
+    std::optional<JointLimits> limits;
+    Vec3 start_P = Vec3::Zero(), start2_P = Vec3::Zero(), axis2_P = Vec3::Zero(), anchor_P = Vec3::Zero();
   };
   struct Plot {
     PlotSpec spec;
@@ -190,6 +202,8 @@ class SceneOverlays {
   void build_forces(const Item& it, const World& w, const CameraView& cam, OverlayList& out);
   void build_contacts(const Item& it, const World& w, const CameraView& cam, OverlayList& out);
   void build_joint(const Item& it, const World& w, const CameraView& cam, OverlayList& out);
+  void build_joint_forces(const Item& it, const World& w, const CameraView& cam, OverlayList& out);
+  int add_joint_look(const Scene& scene, const World& world, int body);  // index into joints_, or -1
   void prepass(const Scene& scene, int threads, bool magnitudes, std::vector<Magnitudes>& mags,
                std::vector<double>& contact_forces);
   void make_screen(const Scene& scene, const World& world);

@@ -1,5 +1,6 @@
-// The `forces` and `contacts` show items (app/view/overlays.hpp): the scene's applied forces, torques,
-// springs and drag, and the contact solver's points, normals and forces, as 3D overlay geometry.
+// The `forces`, `contacts` and `joint_forces` show items (app/view/overlays.hpp): the scene's applied
+// forces, torques, springs and drag, the contact solver's points, normals and forces, and the force
+// and torque through a joint, as 3D overlay geometry.
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
@@ -162,6 +163,25 @@ void SceneOverlays::build_contacts(const Item& it, const World& w, const CameraV
     if (s.normals) out.rod(p, p + normal * n, std::max(0.35 * radius, 0.5 * px), ink, xray);
     if (s.arrows && it.scale > 0) out.arrow(p, F * it.scale, radius, color, xray);
   });
+}
+
+// The force and torque the parent exerts on the child through the joint (World::joint_reaction),
+// at the anchor: the force as an arrow from it, the torque as `forces` draws torques.
+void SceneOverlays::build_joint_forces(const Item& it, const World& w, const CameraView& cam,
+                                       OverlayList& out) {
+  const JointLook& L = joints_[it.joint];
+  const ShowItem& s = it.spec;
+  if (!(it.scale > 0) && !(it.torque_scale > 0)) return;
+  const Rgba color = item_color(s);
+  const float xray = (float)s.xray;
+  const Vec3 p = w.local_to_world(L.child, L.anchor_C);
+  const double px = pixel_size_at(cam, height_, std::max((p - cam.eye).norm(), 1e-3));
+  const double radius = std::max(it.radius, 1.2 * px * s.width);  // at least 2.4 px thick, as `forces`
+  Vec3 F, tau;
+  w.joint_reaction(L.index, F, tau);
+  if (it.scale > 0) out.arrow(p, F * it.scale, radius, color, xray);
+  if (it.torque_scale > 0)
+    torque_arrow(out, p, tau * it.torque_scale, radius, 0.45 * body_radius_[L.child], color, xray);
 }
 
 }  // namespace simreel

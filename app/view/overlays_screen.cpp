@@ -303,8 +303,20 @@ void SceneOverlays::fill_legend(const Scene& scene) {
           if (s.arrows) add("contact force", c);
           if (s.points || s.normals) add("contact point, normal", okabe_ito(0));
           break;
-        case ShowKind::joints:
-          add("joint: pivot, axis", c);
+        case ShowKind::joints: {
+          bool limited = false;  // the joint holding body b draws its range
+          for (const JointDef& j : scene.joints) {
+            int parent, child;
+            if (joint_sides(j, scene.bodies, parent, child) && child == (int)b) {
+              limited = j.limits.has_value();
+              break;
+            }
+          }
+          add(limited ? "joint: pivot, axis, range" : "joint: pivot, axis", c);
+          break;
+        }
+        case ShowKind::joint_forces:
+          add("joint reaction: force, torque", c);
           break;
       }
     }

@@ -120,8 +120,9 @@ bodies:
       colliders: [ { shape: sphere, radius: 0.15, density: 1000 } ] }
 YAML
 render contacts 1.2
-# Joints: a double pendulum (as scenes/double_pendulum.yaml) whose bars show their joints, and a
-# bob on a universal joint (both axes drawn).
+# Joints: a double pendulum (as scenes/double_pendulum.yaml) whose bars show their joints, the elbow
+# with limits (its range an arc, fixed in the upper bar, the angle a needle), a cart sliding down a
+# rail with limits (its range a bar), and a bob on a universal joint (both axes drawn).
 cat > "$tmp/joints.yaml" <<YAML
 simulation: { duration: 2 }
 video: { width: 320, height: 180 }
@@ -134,12 +135,30 @@ bodies:
   - { name: bob, position: [1.7, 0.10565, 1.77342], euler: [25, 0, 0], angular_velocity: [0, 0, 2],
       color: [0.3, 0.65, 0.35], show: [ { joints: { scale: 0.3 } } ],
       colliders: [ { shape: capsule, radius: 0.035, height: 0.5, density: 2000 } ] }
+  - { name: cart, position: [1.05, 0, 1.5], color: [0.75, 0.7, 0.6], show: [ { joints: { scale: 0.3 } } ],
+      colliders: [ { shape: box, size: [0.12, 0.08, 0.07], density: 500 } ] }
 joints:
   - { name: shoulder, type: revolute, bodies: [world, upper], anchor: [0, 0, 2.0], axis: [0, 1, 0] }
-  - { name: elbow, type: revolute, bodies: [upper, lower], anchor: [0.6, 0, 2.0], axis: [0, 1, 0] }
+  - { name: elbow, type: revolute, bodies: [upper, lower], anchor: [0.6, 0, 2.0], axis: [0, 1, 0], limits: [-1.2, 2.0] }
   - { name: cardan, type: universal, bodies: [world, bob], anchor: [1.7, 0, 2.0], axis: [0, 0, 1], axis2: [1, 0, 0] }
+  - { name: rail, type: prismatic, bodies: [world, cart], anchor: [1.05, 0, 1.5], axis: [0.95, 0, -0.31], limits: [-0.2, 0.35] }
 YAML
 render joints 0.4
+# Joint forces: a rod set slanted on a vertical shaft and spun, a rotor out of balance. Through its
+# hinge the shaft holds it up (the force: its weight, upwards) and turns its angular momentum round
+# (the torque dL/dt = omega x L, across the shaft, turning with the rod).
+cat > "$tmp/joint_forces.yaml" <<YAML
+simulation: { duration: 1 }
+video: { width: 320, height: 180 }
+camera: { position: [0.95, -1.25, 1.45], look_at: [-0.08, 0, 1.12], fov: 40 }
+bodies:
+  - { name: rotor, position: [0, 0, 1.0], euler: [30, 0, 0], angular_velocity: [0, 0, 6], color: [0.3, 0.65, 0.35],
+      show: [ joints, { joint_forces: { scale: 0.013, torque_scale: 0.15 } } ],
+      colliders: [ { shape: capsule, radius: 0.03, height: 0.8, density: 2000 } ] }
+joints:
+  - { name: shaft, type: revolute, bodies: [world, rotor], anchor: [0, 0, 1.0], axis: [0, 0, 1] }
+YAML
+render joint_forces 0.25
 # The 2D layer: a caption, a label, a legend, an inset plot, TeX in every text.
 handle_at() {  # $1: width, $2: height, $3: show items, $4: overlays (YAML)
   handle "$3" "$4" | sed -e "s/width: 320, height: 180/width: $1, height: $2/" \

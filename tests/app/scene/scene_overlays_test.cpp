@@ -368,6 +368,53 @@ TEST(SceneOverlays, TheJointsItemIsForABodyAJointHolds) {
       std::string::npos);
 }
 
+TEST(SceneOverlays, TheJointForcesItemIsForABodyAJointHolds) {
+  std::string yaml = kJoints;
+  const auto put = [&](const std::string& body, const std::string& show) {
+    std::string y = yaml;
+    const std::string at = "{ name: " + body + ",";
+    y.insert(y.find(at) + at.size(), " show: " + show + ",");
+    return y;
+  };
+  const Scene s = load_scene(
+      write_scene("joint_forces_item.yaml", put("gimbal",
+                                                "[ joints, { joint_forces: { color: [1, 0, 1], scale: 0.01, "
+                                                "torque_scale: 0.2, width: 2, xray: 0 } } ]")));
+  ASSERT_EQ(s.overlays.show[3].size(), 2u);
+  const ShowItem& it = s.overlays.show[3][1];
+  EXPECT_EQ(it.kind, ShowKind::joint_forces);
+  EXPECT_EQ(std::string(to_string(it.kind)), "joint_forces");
+  EXPECT_EQ(*it.scale, 0.01);
+  EXPECT_EQ(*it.torque_scale, 0.2);
+  EXPECT_EQ(it.width, 2);
+  EXPECT_EQ(it.xray, 0);
+  // Defaults: automatic scales, xray 0.35 (as `forces`); on a joint written [child, world] too.
+  const ShowItem d =
+      load_scene(write_scene("joint_forces_item2.yaml", put("cart", "[joint_forces]"))).overlays.show[1][0];
+  EXPECT_FALSE(d.scale);
+  EXPECT_FALSE(d.torque_scale);
+  EXPECT_EQ(d.xray, 0.35);
+  EXPECT_NE(
+      error_of(put("loose", "[joint_forces]"))
+          .find("bodies[5].show[0]: body 'loose' is no joint's child: `joint_forces` draws the force and "
+                "torque through the joint that holds a body to its parent"),
+      std::string::npos)
+      << error_of(put("loose", "[joint_forces]"));
+  EXPECT_NE(error_of(put("arm", "[ { joint_forces: { gravity: true } } ]"))
+                .find("joint_forces.gravity: unknown key 'gravity'"),
+            std::string::npos);
+  EXPECT_NE(error_of(put("arm", "[ { joint_forces: { torque_scale: 0 } } ]"))
+                .find("joint_forces.torque_scale: must lie in"),
+            std::string::npos);
+  // An unknown item's suggestions know it.
+  EXPECT_NE(error_of(put("arm", "[ joint_force ]"))
+                .find("unknown item 'joint_force'; did you mean 'joint_forces'?"),
+            std::string::npos)
+      << error_of(put("arm", "[ joint_force ]"));
+  EXPECT_NE(error_of(put("arm", "[ zzz ]")).find("joints, joint_forces)"), std::string::npos)
+      << error_of(put("arm", "[ zzz ]"));
+}
+
 TEST(SceneOverlays, ASceneWithoutOverlaysHasNone) {
   const Scene s = load_scene(write_scene("plain.yaml", kHead));
   EXPECT_FALSE(s.overlays.any());

@@ -1,5 +1,5 @@
-// The `forces` and `contacts` show items: contact forces from the solver's impulses add
-// up to what statics says they must, arrows start and end where the forces put them, scales come
+// The `forces`, `contacts` and `joint_forces` show items: contact forces from the solver's impulses
+// add up to what statics says they must, arrows start and end where the forces put them, scales come
 // from the pre-pass, springs run from end to end and torques turn the right way.
 #include <gtest/gtest.h>
 
@@ -204,6 +204,100 @@ TEST(OverlaysForces, SpringsAsLinesAreOneSegmentFromEndToEnd) {
   };
   EXPECT_LT((centre(0, 1) - w.centroid(0)).norm(), 1e-5);
   EXPECT_LT((centre(2, 5) - Vec3(1, 0, 2)).norm(), 1e-5);
+}
+
+// A bar hinged to the world at its end with a torsion spring, released horizontal, seen from the
+// front (the hinge axis +y points away from the camera).
+std::string sprung_hinge(const std::string& show) {
+  return "simulation: { duration: 1.5 }\n"
+         "video: { width: 320, height: 240, fps: 20 }\n"
+         "render: { shadows: false, antialiasing: none }\n"
+         "camera: { position: [0.2, -2.6, 1.8], look_at: [0.2, 0, 1.8], fov: 40 }\n"
+         "bodies:\n"
+         "  - { name: arm, position: [0.3, 0, 2], color: [0.1, 0.1, 0.1],\n"
+         "      colliders: [ { shape: box, size: [0.6, 0.03, 0.03], density: 7850 } ]" +
+         show +
+         " }\n"
+         "joints:\n"
+         "  - { name: hinge, type: revolute, bodies: [world, arm], anchor: [0, 0, 2], axis: [0, 1, 0],\n"
+         "      spring: { stiffness: 20 } }\n";
+}
+
+// `joint_forces`: World::joint_reaction's force as an arrow from the anchor (where the child carries
+// it) and its torque as a double-headed arrow from there, each scaled so that the run's largest
+// (from the pre-pass, every step) is kForceReach body radii long, round-off aside (kReactionFloor).
+// Nothing is drawn where the reaction is zero: the test holds whatever the World reports.
+TEST(OverlaysForces, JointForcesDrawTheReactionAtTheAnchorAtThePrePassScale) {
+  Drawn with(write_scene("reaction_on.yaml",
+                         sprung_hinge(",\n      show: [ { joint_forces: { color: [1, 0, 1] } } ]"))),
+      without(write_scene("reaction_off.yaml", sprung_hinge("")));
+  // The largest reaction, speed and rate of turn over the run, step by step.
+  double bigF = 0, bigT = 0, v = 0, om = 0;
+  {
+    FrameLoop loop(with.scene, 1);
+    FrameLoop::Hooks h;
+    h.step = [&](const World& w) {
+      Vec3 F, T;
+      w.joint_reaction(0, F, T);
+      bigF = std::max(bigF, F.norm());
+      bigT = std::max(bigT, T.norm());
+      v = std::max(v, w.linear_velocity(0).norm());
+      om = std::max(om, w.angular_velocity(0).norm());
+    };
+    loop.run({}, h, true);
+  }
+  const double R = 0.5 * Vec3(0.6, 0.03, 0.03).norm(), m = 0.6 * 0.03 * 0.03 * 7850;
+  const double fref = m * (9.81 + v * v / R + om * om * R), tref = std::max(fref, bigF) * R;
+  const SceneOverlays& o = *with.view->overlays;
+  const double s = o.arrow_scale(0, ShowKind::joint_forces),
+               st = o.arrow_scale(0, ShowKind::joint_forces, true);
+  if (bigF > kReactionFloor * fref) {
+    EXPECT_NEAR(s, kForceReach * R / bigF, 1e-6 * s);
+  } else {
+    EXPECT_EQ(s, 0);
+  }
+  if (bigT > kReactionFloor * tref) {
+    EXPECT_NEAR(st, kForceReach * R / bigT, 1e-6 * st);
+  } else {
+    EXPECT_EQ(st, 0);
+  }
+  const long k = 6;  // 0.3 s
+  with.draw_frame(k);
+  without.draw_frame(k);
+  const World& w = with.loop->world();
+  Vec3 F, T;
+  w.joint_reaction(0, F, T);
+  const Vec3 p = w.local_to_world(0, Vec3(-0.3, 0, 0));  // the anchor, carried by the bar
+  EXPECT_LT((p - Vec3(0, 0, 2)).norm(), 1e-9);
+  DrawList dl;
+  dl.camera = with.view->camera;
+  with.view->overlays->build(w, k, dl);
+  std::vector<Vec3> tips;  // every cone's tip (arrow heads)
+  for (const OverlayInstance& c : dl.overlay.instances[(int)OverlayShape::cone])
+    tips.push_back((c.model.cast<double>() * Eigen::Vector4d(0, 0, 1, 1)).head<3>());
+  auto nearest_tip = [&](const Vec3& x) {
+    double best = 1e9;
+    for (const Vec3& t : tips) best = std::min(best, (t - x).norm());
+    return best;
+  };
+  const CameraView& cam = with.view->camera;
+  int drawn = 0;
+  for (int y = 0; y < with.h(); ++y)
+    for (int x = 0; x < with.w(); ++x) drawn += with.px(x, y) != without.px(x, y);
+  if (s > 0 && (s * F).norm() > 0.02) {
+    EXPECT_LT(nearest_tip(p + s * F), 1e-5) << "the force's head ends at the anchor + scale F";
+    const Eigen::Vector2d mid = project_to_pixel(cam, with.w(), with.h(), p + 0.5 * s * F);
+    EXPECT_NE(with.px((int)mid.x(), (int)mid.y()), without.px((int)mid.x(), (int)mid.y())) << "its shaft";
+  }
+  if (st > 0 && (st * T).norm() > 0.02) {
+    EXPECT_LT(nearest_tip(p + st * T), 1e-5) << "the torque's head";
+  }
+  if (!(s > 0) && !(st > 0)) {
+    EXPECT_TRUE(dl.overlay.empty()) << "a zero reaction draws nothing";
+    EXPECT_EQ(drawn, 0);
+  } else {
+    EXPECT_GT(drawn, 20);
+  }
 }
 
 }  // namespace

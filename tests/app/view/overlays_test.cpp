@@ -413,6 +413,231 @@ TEST(Overlays, TheJointsItemDrawsThePivotWhereTheChildCarriesIt) {
   EXPECT_EQ(with.px((int)shoulder.x(), (int)shoulder.y()), without.px((int)shoulder.x(), (int)shoulder.y()));
 }
 
+// Whether a pixel within `r` px of p differs between the frames drawn with and without an item.
+int differ_near(const Drawn& with, const Drawn& without, const Eigen::Vector2d& p, int r) {
+  int n = 0;
+  for (int y = (int)p.y() - r; y <= (int)p.y() + r; ++y)
+    for (int x = (int)p.x() - r; x <= (int)p.x() + r; ++x)
+      if (x >= 0 && y >= 0 && x < with.w() && y < with.h()) n += with.px(x, y) != without.px(x, y);
+  return n;
+}
+
+Vec3 at_angle(const Vec3& a, const Vec3& u, double t) {
+  return std::cos(t) * u + std::sin(t) * a.cross(u);
+}
+
+// A bar hinged to the world at its left end, seen along the hinge axis (+y, away from the camera),
+// released horizontal: it falls turning right-handed about +y (x towards -z), the angle growing.
+std::string hinge_with_limits(const std::string& show) {
+  return "simulation: { duration: 1 }\n"
+         "video: { width: 320, height: 240, fps: 20 }\n"
+         "render: { shadows: false, antialiasing: none }\n"
+         "camera: { position: [0.1, -2.2, 1.9], look_at: [0.1, 0, 1.9], fov: 40 }\n"
+         "bodies:\n"
+         "  - { name: arm, position: [0.3, 0, 2], color: [0.1, 0.1, 0.1],\n"
+         "      colliders: [ { shape: box, size: [0.6, 0.03, 0.03], density: 7850 } ]" +
+         show +
+         " }\n"
+         "joints:\n"
+         "  - { name: hinge, type: revolute, bodies: [world, arm], anchor: [0, 0, 2], axis: [0, 1, 0],\n"
+         "      limits: [-0.5, 2.0] }\n";
+}
+
+// `joints` on a hinge with limits: the range as an arc about the axis at the pivot, fixed in the
+// parent (here the world), from `lower` to `upper` measured from the child's start direction (the
+// pivot to its centre of mass at t = 0: +x here), half the axis's length in radius, with a tick
+// across each end, and the present angle as a needle to a dot on the arc. What the item adds to
+// the frame is there along the range and not outside it.
+TEST(Overlays, AHingesLimitsAreAnArcFromLowerToUpperWithTheAngleOnIt) {
+  Drawn with(
+      write_scene("limits_on.yaml",
+                  hinge_with_limits(",\n      show: [ { joints: { color: [1, 0, 1], scale: 0.6 } } ]"))),
+      without(write_scene("limits_off.yaml", hinge_with_limits("")));
+  const long k = 4;  // 0.2 s: the bar has fallen part way
+  with.draw_frame(k);
+  without.draw_frame(k);
+  const World& w = with.loop->world();
+  const double q = w.joint_position(0);
+  ASSERT_GT(q, 0.3) << "the bar has turned";
+  ASSERT_LT(q, 1.5);
+  const Vec3 pivot(0, 0, 2), a = Vec3::UnitY(), u = Vec3::UnitX();
+  const double r = 0.3, lower = -0.5, upper = 2.0;  // r: half the axis's 0.6 m
+  const CameraView& cam = with.view->camera;
+  auto at = [&](double t, double radius) {
+    return project_to_pixel(cam, with.w(), with.h(), pivot + radius * at_angle(a, u, t));
+  };
+  ASSERT_GT((at(0, r) - at(0, 0)).norm(), 25) << "the arc is large enough to sample";
+  // Along the arc, every 0.1 rad from lower to upper: drawn.
+  for (double t = lower; t <= upper + 1e-9; t += 0.1)
+    EXPECT_GT(differ_near(with, without, at(t, r), 1), 0) << t;
+  // Outside the range (between upper and lower + 2 pi): nothing, on the circle or off it.
+  for (double t = upper + 0.35; t < lower + 2 * M_PI - 0.35; t += 0.1) {
+    EXPECT_EQ(differ_near(with, without, at(t, r), 2), 0) << t;
+    EXPECT_EQ(differ_near(with, without, at(t, 1.25 * r), 2), 0) << t;
+  }
+  // The end ticks cross the arc: drawn 1.2 r out at lower and upper, not halfway between them (away
+  // from the bar).
+  EXPECT_GT(differ_near(with, without, at(lower, 1.2 * r), 1), 0);
+  EXPECT_GT(differ_near(with, without, at(upper, 1.2 * r), 1), 0);
+  EXPECT_GT(differ_near(with, without, at(lower, 0.8 * r), 1), 0);
+  EXPECT_EQ(differ_near(with, without, at(0.5 * (lower + upper), 1.2 * r), 2), 0);
+  // The present angle: the needle halfway out (over the bar, drawn faded through it by xray) and
+  // the dot on the arc, which lie along the bar: the pivot to the centre of mass.
+  const Vec3 c = w.centroid(0) - pivot;
+  EXPECT_NEAR(std::atan2(-c.z(), c.x()), q, 1e-9) << "the angle is the bar's turn from +x about +y";
+  EXPECT_GT(differ_near(with, without, at(q, 0.5 * r), 0), 0);
+  EXPECT_GT(differ_near(with, without, at(q, r), 0), 0);
+}
+
+// The range in the draw list: the arc's ends at lower and upper, measured from the child's start
+// direction carried by the parent (the elbow's range turns with the upper bar), and the dot where
+// the child points now; a universal joint's second range is about axis2 as the first angle has
+// turned it.
+TEST(Overlays, AJointsRangeTurnsWithTheParentAndItsDotWithTheChild) {
+  const std::string scene =
+      "simulation: { duration: 1 }\n"
+      "video: { width: 160, height: 120, fps: 20 }\n"
+      "render: { shadows: false }\n"
+      "camera: { position: [1.4, -3, 2.6], look_at: [0.6, 0, 1.7], fov: 40 }\n"
+      "bodies:\n"
+      "  - { name: upper, position: [0.3, 0, 2], colliders: [ { shape: box, size: [0.6, 0.03, 0.03], "
+      "density: "
+      "7850 } ] }\n"
+      "  - { name: lower, position: [0.9, 0, 2], show: [ { joints: { scale: 0.4 } } ],\n"
+      "      colliders: [ { shape: box, size: [0.6, 0.03, 0.03], density: 7850 } ] }\n"
+      "  - { name: bob, position: [3, 0.15, 1.7], angular_velocity: [0, 0, 1], linear_velocity: [-0.15, 0, "
+      "0], show: [ { joints: { scale: 0.5 } "
+      "} ],\n"
+      "      colliders: [ { shape: capsule, radius: 0.035, height: 0.5, density: 2000 } ] }\n"
+      "joints:\n"
+      "  - { name: shoulder, type: revolute, bodies: [world, upper], anchor: [0, 0, 2], axis: [0, 1, 0] }\n"
+      "  - { name: elbow, type: revolute, bodies: [upper, lower], anchor: [0.6, 0, 2], axis: [0, 1, 0],\n"
+      "      limits: [-2.5, 1.0] }\n"
+      "  - { name: cardan, type: universal, bodies: [world, bob], anchor: [3, 0, 2], axis: [0, 0, 1],\n"
+      "      axis2: [1, 0, 0], limits: [-1.2, 0.9] }\n";
+  Drawn d(write_scene("ranges.yaml", scene));
+  const long k = 3;  // 0.15 s: before the bob, whose swing brings it close to its axis, spins up
+  d.draw_frame(k);
+  const World& w = d.loop->world();
+  DrawList dl;
+  dl.camera = d.view->camera;
+  d.view->overlays->build(w, k, dl);
+  std::vector<Vec3> dots, ends, dirs;  // rods' ends, and each rod's direction
+  for (const OverlayInstance& s : dl.overlay.instances[(int)OverlayShape::sphere])
+    dots.push_back(s.model.block<3, 1>(0, 3).cast<double>());
+  for (const OverlayInstance& c : dl.overlay.instances[(int)OverlayShape::cylinder]) {
+    const Vec3 from = c.model.block<3, 1>(0, 3).cast<double>(),
+               along = c.model.block<3, 1>(0, 2).cast<double>();
+    for (const Vec3& x : {from, Vec3(from + along)}) ends.push_back(x), dirs.push_back(along.normalized());
+  }
+  auto has = [](const std::vector<Vec3>& v, const Vec3& p) {
+    double best = 1e9;
+    for (const Vec3& x : v) best = std::min(best, (x - p).norm());
+    return best;
+  };
+  // Every end of an arc's segment (a rod across the radius, not along it as the axes, ticks and
+  // needles) at radius r from the pivot in the plane perpendicular to `a` lies within [lower,
+  // upper] from u.
+  auto within = [&](const Vec3& p, const Vec3& a, const Vec3& u, double r, double lo, double hi) {
+    int n = 0;
+    for (size_t k = 0; k < ends.size(); ++k) {
+      const Vec3 v = ends[k] - p;
+      if (std::fabs(v.dot(a)) > 1e-5 || std::fabs(v.norm() - r) > 1e-5) continue;
+      if (std::fabs(dirs[k].dot(v.normalized())) > 0.2) continue;
+      const double t = std::atan2(v.dot(a.cross(u)), v.dot(u));
+      EXPECT_GE(t, lo - 1e-5);
+      EXPECT_LE(t, hi + 1e-5);
+      ++n;
+    }
+    EXPECT_GE(n, (int)((hi - lo) / (M_PI / 36))) << "5 degrees a segment";
+  };
+  // The elbow: the pivot carried by the lower bar; its start direction +x, carried by the upper bar.
+  {
+    const Vec3 p = w.local_to_world(1, Vec3(-0.3, 0, 0));
+    const Vec3 a = w.local_to_world_vec(0, Vec3::UnitY()), u = w.local_to_world_vec(0, Vec3::UnitX());
+    ASSERT_GT(std::fabs(w.joint_position(0)), 0.1) << "the upper bar has turned";
+    const double r = 0.2, q = w.joint_position(1);
+    EXPECT_LT(has(ends, p + r * at_angle(a, u, -2.5)), 1e-5) << "the arc's lower end";
+    EXPECT_LT(has(ends, p + r * at_angle(a, u, 1.0)), 1e-5) << "the arc's upper end";
+    within(p, a, u, r, -2.5, 1.0);
+    // The dot: where the lower bar points now (independently: its centre of mass from the pivot).
+    const Vec3 c = w.centroid(1) - p;
+    EXPECT_LT(has(dots, p + r * (c - c.dot(a) * a).normalized()), 1e-5);
+    EXPECT_LT(has(dots, p + r * at_angle(a, u, q)), 1e-5);
+  }
+  // The universal joint: about z (in the world) from the bob's start direction (+y, its centre of
+  // mass 0.15 off the anchor's vertical), and about axis2 where the first angle turned it.
+  {
+    const Vec3 p(3, 0, 2), a = Vec3::UnitZ(), u = Vec3::UnitY();
+    const double r = 0.25, q0 = w.joint_position(2, 0), q1 = w.joint_position(2, 1);
+    ASSERT_GT(std::fabs(q0), 0.1) << "the bob has turned about z";
+    ASSERT_LT(q0, 0.8) << "short of the stop";
+    ASSERT_GT(std::fabs(q1), 0.05) << "and swung about axis2";
+    EXPECT_LT(has(ends, p + r * at_angle(a, u, -1.2)), 1e-5);
+    EXPECT_LT(has(ends, p + r * at_angle(a, u, 0.9)), 1e-5);
+    within(p, a, u, r, -1.2, 0.9);
+    EXPECT_LT(has(dots, p + r * at_angle(a, u, q0)), 1e-5);
+    // The second: axis2 as the bob carries it; from the start direction (the centre of mass at
+    // t = 0 from the anchor, across x: (0, 0.15, -0.3) normalised) turned by q0 about z.
+    const Vec3 a2 = w.local_to_world_vec(2, Vec3::UnitX());
+    EXPECT_LT((a2 - at_angle(a, Vec3::UnitX(), q0)).norm(), 1e-9) << "axis2 turned by the first angle";
+    const Vec3 u2 = Eigen::AngleAxisd(q0, a) * Vec3(0, 0.15, -0.3).normalized();
+    EXPECT_LT(has(ends, p + r * at_angle(a2, u2, -1.2)), 1e-5);
+    EXPECT_LT(has(ends, p + r * at_angle(a2, u2, 0.9)), 1e-5);
+    within(p, a2, u2, r, -1.2, 0.9);
+    // Its dot: where the bob points now, across axis2 (independently, from its centre of mass).
+    const Vec3 c = w.centroid(2) - p;
+    EXPECT_LT(has(dots, p + r * (c - c.dot(a2) * a2).normalized()), 1e-5);
+  }
+}
+
+// A cart on an inclined slider with limits, seen from the front: the bar along the axis from
+// lower to upper (from where the cart carried the anchor at t = 0), with a tick across each end.
+std::string slider_with_limits(const std::string& show) {
+  return "simulation: { duration: 1 }\n"
+         "video: { width: 320, height: 240, fps: 20 }\n"
+         "render: { shadows: false, antialiasing: none }\n"
+         "camera: { position: [0.15, -2.2, 1.4], look_at: [0.15, 0, 1.4], fov: 40 }\n"
+         "bodies:\n"
+         "  - { name: cart, position: [0, 0, 1.5], color: [0.1, 0.1, 0.1],\n"
+         "      colliders: [ { shape: box, size: [0.1, 0.1, 0.1], density: 500 } ]" +
+         show +
+         " }\n"
+         "joints:\n"
+         "  - { name: rail, type: prismatic, bodies: [world, cart], anchor: [0, 0, 1.5], axis: [0.8, 0, "
+         "-0.6],\n"
+         "      limits: [-0.4, 0.7] }\n";
+}
+
+TEST(Overlays, ASlidersLimitsAreABarAlongItsAxis) {
+  Drawn with(write_scene(
+      "slider_on.yaml", slider_with_limits(",\n      show: [ { joints: { color: [1, 0, 1], width: 2 } } ]"))),
+      without(write_scene("slider_off.yaml", slider_with_limits("")));
+  const long k = 6;  // 0.3 s: g 0.6 along the axis, q = 0.26 m
+  with.draw_frame(k);
+  without.draw_frame(k);
+  const World& w = with.loop->world();
+  const double q = w.joint_position(0);
+  ASSERT_NEAR(q, 0.5 * 9.81 * 0.6 * 0.09, 1e-3);
+  const Vec3 o(0, 0, 1.5), e = Vec3(0.8, 0, -0.6);
+  const CameraView& cam = with.view->camera;
+  auto at = [&](double s, double side) {  // side: m across the axis, in the image plane (x-z)
+    return project_to_pixel(cam, with.w(), with.h(), o + s * e + side * Vec3(0.6, 0, 0.8));
+  };
+  // Along the bar, clear of the cart and of the axis arrow through it: drawn.
+  for (double s : {-0.38, -0.3, -0.2, -0.1, 0.5, 0.6, 0.68})
+    EXPECT_GT(differ_near(with, without, at(s, 0), 0), 0) << s;
+  // Beyond its ends: nothing.
+  for (double s : {-0.55, -0.5, 0.8, 0.85}) EXPECT_EQ(differ_near(with, without, at(s, 0), 2), 0) << s;
+  // The ticks across each end reach past the bar's thickness; halfway along the bar, nothing there.
+  const double off = 0.03;
+  for (double sd : {-1.0, 1.0}) {
+    EXPECT_GT(differ_near(with, without, at(-0.4, sd * off), 0), 0) << sd;
+    EXPECT_GT(differ_near(with, without, at(0.7, sd * off), 0), 0) << sd;
+    EXPECT_EQ(differ_near(with, without, at(-0.2, sd * off), 1), 0) << sd;
+  }
+}
+
 TEST(Overlays, ScenesWithoutOverlaysHaveNone) {
   Drawn d(write_scene("none.yaml", "bodies: [ { name: a, colliders: [ { shape: sphere, radius: 1 } ] } ]\n"));
   EXPECT_EQ(d.view->overlays, nullptr);
