@@ -443,6 +443,7 @@ void SceneOverlays::build_joint(const Item& it, const World& w, const CameraView
       axis(a);
       break;
     case JointType::universal:
+    case JointType::wheel:  // the suspension (and steering) axis, and the axle turning with the wheel
       axis(a);
       axis(w.local_to_world_vec(L.child, L.axis2_C));
       break;
@@ -487,7 +488,8 @@ void SceneOverlays::build_joint(const Item& it, const World& w, const CameraView
       range(p, q_I * L.axis2_P, q_I * L.start2_P, w.joint_position(L.index, 1));
       break;
     }
-    case JointType::prismatic: {
+    case JointType::prismatic:
+    case JointType::wheel: {  // a wheel's stops are on its suspension travel
       // A slider's range: a bar along the axis, fixed in the parent, from `lower` to `upper` from
       // where the child carried the anchor at t = 0, a tick across each end (facing the camera);
       // the pivot (the ball) slides along it.
