@@ -682,6 +682,24 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
       l.R_pF = l.q_pF.toRotationMatrix();
       l.R_cF = l.q_cF.toRotationMatrix();
     };
+    auto set_spring = [&](Link& l) {
+      if (!d.spring) return;
+      l.stiffness = d.spring->stiffness;
+      l.damping = d.spring->damping;
+      l.rest = d.spring->rest;
+    };
+    // A massless link inside a composite joint, its frame the joint frame at t = 0; its index.
+    auto massless = [&](int parent, LinkJoint kind, const Vec3& axis, int dof, bool parent_side) {
+      Link v;
+      v.parent = parent;
+      v.kind = kind;
+      v.axis_F = axis;
+      v.joint = j;
+      v.dof = dof;
+      place(v, parent_side, false);
+      m.links.push_back(v);
+      return (int)m.links.size() - 1;
+    };
     int child_link = -1;
     switch (d.type) {
       case JointType::revolute:
@@ -696,11 +714,7 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
         Link& l = m.links.back();
         l.axis_F = d.axis_W;
         l.joint = j;
-        if (d.spring) {
-          l.stiffness = d.spring->stiffness;
-          l.damping = d.spring->damping;
-          l.rest = d.spring->rest;
-        }
+        set_spring(l);
         place(l, true, true);
         joint_link_[j] = {building, child_link};
         break;
@@ -708,32 +722,10 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
       case JointType::wheel: {
         // A slider along the suspension axis and (when it steers) a hinge about it, on massless
         // links whose frames are the joint frame at t = 0; then the wheel's hinge about its axle.
-        Link sl;
-        sl.parent = pl;
-        sl.kind = LinkJoint::prismatic;
-        sl.axis_F = d.axis_W;
-        sl.joint = j;
-        sl.dof = 0;
-        if (d.spring) {
-          sl.stiffness = d.spring->stiffness;
-          sl.damping = d.spring->damping;
-          sl.rest = d.spring->rest;
-        }
-        place(sl, true, false);
-        m.links.push_back(sl);
-        int prev = (int)m.links.size() - 1;
+        int prev = massless(pl, LinkJoint::prismatic, d.axis_W, 0, true);
+        set_spring(m.links[prev]);
         joint_link_[j] = {building, prev};
-        if (d.steering) {
-          Link st;
-          st.parent = prev;
-          st.kind = LinkJoint::revolute;
-          st.axis_F = d.axis_W;
-          st.joint = j;
-          st.dof = 1;
-          place(st, false, false);
-          m.links.push_back(st);
-          prev = (int)m.links.size() - 1;
-        }
+        if (d.steering) prev = massless(prev, LinkJoint::revolute, d.axis_W, 1, false);
         child_link = add_body_link(m, d.child, prev, LinkJoint::revolute);
         Link& l = m.links.back();
         l.axis_F = d.axis2_W;
@@ -744,15 +736,7 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
       }
       case JointType::universal: {
         // Two hinges with a massless link between them, whose frame is the joint frame at t = 0.
-        Link v;
-        v.parent = pl;
-        v.kind = LinkJoint::revolute;
-        v.axis_F = d.axis_W;
-        v.joint = j;
-        v.dof = 0;
-        place(v, true, false);
-        m.links.push_back(v);
-        const int vl = (int)m.links.size() - 1;
+        const int vl = massless(pl, LinkJoint::revolute, d.axis_W, 0, true);
         joint_link_[j] = {building, vl};
         child_link = add_body_link(m, d.child, vl, LinkJoint::revolute);
         Link& l = m.links.back();
@@ -760,13 +744,8 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
         l.joint = j;
         l.dof = 1;
         place(l, false, true);
-        if (d.spring) {
-          for (Link* x : {&m.links[vl], &l}) {
-            x->stiffness = d.spring->stiffness;
-            x->damping = d.spring->damping;
-            x->rest = d.spring->rest;
-          }
-        }
+        set_spring(m.links[vl]);
+        set_spring(l);
         break;
       }
     }

@@ -6,33 +6,13 @@
 #include <cmath>
 #include <numbers>
 
+#include "tests/fixtures/joint_bodies.hpp"
 #include "tests/fixtures/joint_reference.hpp"
 
 namespace simreel {
 namespace {
 
-struct Bodies {
-  std::vector<BodyDef> defs;
-  std::vector<BodyModel> model;
-  std::vector<MotionState> state;
-  int add(const std::string& name, double m, const Vec3& I, const Vec3& x, const Quat& q = Quat::Identity()) {
-    BodyDef d;
-    d.name = name;
-    d.p_WB = x;
-    defs.push_back(d);
-    BodyModel bm;
-    bm.mass = m;
-    bm.inv_mass = 1 / m;
-    bm.I_P = I;
-    bm.inv_I_P = I.cwiseInverse();
-    model.push_back(bm);
-    MotionState s;
-    s.x_W = x;
-    s.q_WP = q;
-    state.push_back(s);
-    return (int)defs.size() - 1;
-  }
-};
+using test::Bodies;
 
 // A bob of mass m and inertia 1e-3 kg m^2 about its centre, 1 m below-and-rotated from a pivot at
 // the origin, hinged about y, released at rest at theta0.

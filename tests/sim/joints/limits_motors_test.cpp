@@ -22,6 +22,7 @@
 #include <limits>
 #include <numbers>
 
+#include "tests/fixtures/joint_bodies.hpp"
 #include "tests/fixtures/joint_reference.hpp"
 
 namespace simreel {
@@ -29,47 +30,7 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-struct Bodies {
-  std::vector<BodyDef> defs;
-  std::vector<BodyModel> model;
-  std::vector<MotionState> state;
-  int add(const std::string& name, double m, const Vec3& I, const Vec3& x, const Quat& q = Quat::Identity()) {
-    BodyDef d;
-    d.name = name;
-    d.p_WB = x;
-    defs.push_back(d);
-    BodyModel bm;
-    bm.mass = m;
-    bm.inv_mass = 1 / m;
-    bm.I_P = I;
-    bm.inv_I_P = I.cwiseInverse();
-    model.push_back(bm);
-    MotionState s;
-    s.x_W = x;
-    s.q_WP = q;
-    state.push_back(s);
-    return (int)defs.size() - 1;
-  }
-  // Kinetic + potential energy (gravity g along -z).
-  double energy(double g) const {
-    double E = 0;
-    for (size_t i = 0; i < state.size(); ++i) {
-      const MotionState& s = state[i];
-      E += 0.5 * model[i].mass * s.v_W.squaredNorm() + 0.5 * s.w_P.dot(model[i].I_P.cwiseProduct(s.w_P)) +
-           model[i].mass * g * s.x_W.z();
-    }
-    return E;
-  }
-  // Angular momentum about the world origin.
-  Vec3 angular_momentum() const {
-    Vec3 L = Vec3::Zero();
-    for (size_t i = 0; i < state.size(); ++i) {
-      const MotionState& s = state[i];
-      L += model[i].mass * s.x_W.cross(s.v_W) + s.q_WP * model[i].I_P.cwiseProduct(s.w_P);
-    }
-    return L;
-  }
-};
+using test::Bodies;
 
 JointDef hinge(int parent, int child, const Vec3& anchor, const Vec3& axis) {
   JointDef j;
