@@ -32,7 +32,9 @@ void Mechanism::contact_begin(const Vec3& g) {
     P_.setIdentity();
     llt_.solveInPlace(P_);
     // P = M^-1 - Y (G M^-1 G^T)^-1 Y^T: the response that keeps every row.
-    Eigen::MatrixXd Z = Y_.transpose();
+    // Scratch kept per thread (mechanisms step on the calling thread; sized once per shape).
+    static thread_local Eigen::MatrixXd Z;
+    Z = Y_.transpose();
     llt_rows_.solveInPlace(Z);
     P_.noalias() -= Y_ * Z;
   } else {
