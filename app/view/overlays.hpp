@@ -18,11 +18,11 @@
 #include <string>
 #include <vector>
 
+#include <simreel/world.hpp>
 #include "app/scene/scene.hpp"
 #include "render/draw_list.hpp"
 #include "render/plot.hpp"
 #include "render/text.hpp"
-#include <simreel/world.hpp>
 
 namespace simreel {
 

@@ -6,12 +6,12 @@
 #include <memory>
 #include <string>
 
+#include <simreel/world.hpp>
+#include "app/scene/scene.hpp"
 #include "app/view/ghost_view.hpp"
 #include "app/view/overlays.hpp"
-#include "app/scene/scene.hpp"
 #include "render/draw_list.hpp"
 #include "render/renderer.hpp"
-#include <simreel/world.hpp>
 
 namespace simreel {
 

@@ -813,11 +813,9 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
       }
       if (!limits && !motor && !(friction > 0)) continue;
       Mechanism::Dof f;
-      f.link = (int)li;
       f.iq = l.iq;
       f.iv = l.iv;
       f.joint = l.joint;
-      f.coord = l.dof;
       if (limits) {
         f.has_lo = f.has_hi = true;
         f.lo = limits->lower;

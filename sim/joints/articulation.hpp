@@ -87,7 +87,7 @@ class Mechanism {
   // the coordinate is held (on a stop, at the motor's rate, stuck by friction) it is one more
   // constraint row, q''_k = a*, whose multiplier is the force holding it.
   struct Dof {
-    int link = -1, iq = 0, iv = 0, joint = -1, coord = 0;
+    int iq = 0, iv = 0, joint = -1;
     bool has_lo = false, has_hi = false;
     double lo = 0, hi = 0, restitution = 0;
     int motor = 0;  ///< 0 none, 1 speed, 2 position

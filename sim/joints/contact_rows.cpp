@@ -183,12 +183,8 @@ void ArticulatedContacts::prepare(Articulations* articulations, const SolverInpu
     base.soft = fixed_a || fixed_b ? static_soft : soft;
     // The tangents as the free bodies' solver makes them (from n alone: deterministic).
     const Vec3 n = c.normal_W;
-    const Vec3 a = n.cwiseAbs();
-    const Vec3 e = a.x() <= a.y() && a.x() <= a.z() ? Vec3::UnitX()
-                   : a.y() <= a.z()                 ? Vec3::UnitY()
-                                                    : Vec3::UnitZ();
     base.d[0] = n;
-    base.d[1] = n.cross(e).normalized();
+    base.d[1] = contact_tangent(n);
     base.d[2] = n.cross(base.d[1]);
     for (int j = 0; j < c.count; ++j) {
       const ContactPoint& cp = c.points[j];

@@ -28,16 +28,16 @@ Softness make_softness(double hertz, double zeta, double h) {
   return Softness{omega / a1, a2 * a3, a3};
 }
 
-namespace {
-
 // A unit vector perpendicular to n, chosen from n alone (deterministic): n x e, with e the world
 // axis least aligned with n.
-Vec3 perpendicular(const Vec3& n) {
+Vec3 contact_tangent(const Vec3& n) {
   const Vec3 a = n.cwiseAbs();
   const Vec3 e =
       (a.x() <= a.y() && a.x() <= a.z()) ? Vec3::UnitX() : (a.y() <= a.z() ? Vec3::UnitY() : Vec3::UnitZ());
   return n.cross(e).normalized();
 }
+
+namespace {
 
 // The block solve's matrices (ManifoldSolve::block) of a manifold's n points (1 to 4), im = 1/m_A +
 // 1/m_B: K_ij = im + (r_A,i x n).I_A^-1 (r_A,j x n) + (r_B,i x n).I_B^-1 (r_B,j x n), the change of
@@ -412,7 +412,7 @@ __attribute__((flatten)) void ContactSolver::make_constraint(ContactConstraint& 
   k.b = solver_index[c.body_b];
   k.contact = ci;
   k.n = c.normal_W;
-  k.t[0] = perpendicular(k.n);
+  k.t[0] = contact_tangent(k.n);
   k.t[1] = k.n.cross(k.t[0]);
   k.friction = c.friction;
   k.restitution = c.restitution;

@@ -72,6 +72,9 @@ struct Softness {
   double impulse_scale = 0;  ///< dimensionless
 };
 Softness make_softness(double hertz, double damping_ratio, double h);
+// A contact's first tangent: a unit vector perpendicular to n, chosen from n alone (deterministic):
+// n x e, with e the world axis least aligned with n.
+Vec3 contact_tangent(const Vec3& n);
 
 struct ConstraintPoint {
   Vec3 rA = Vec3::Zero(), rB = Vec3::Zero();      ///< m, anchors from each centre of mass, world

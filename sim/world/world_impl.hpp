@@ -38,26 +38,22 @@
 
 #include "sim/base/stage_clock.hpp"
 #include "sim/collision/body_extents.hpp"
+#include "sim/collision/broad_phase.hpp"
+#include "sim/collision/contact.hpp"
+#include "sim/collision/shape_table.hpp"
+#include "sim/collision/time_of_impact.hpp"
+#include "sim/dynamics/forces.hpp"
+#include "sim/dynamics/integrators.hpp"
+#include "sim/dynamics/state.hpp"
+#include "sim/joints/articulation.hpp"
+#include "sim/solver/contact_settings.hpp"
+#include "sim/solver/contact_solver.hpp"
 #include "sim/world/applied_forces.hpp"
 #include "sim/world/contact_set.hpp"
 #include "sim/world/continuous.hpp"
 #include "sim/world/islands.hpp"
-#include "sim/collision/broad_phase.hpp"
-#include "sim/collision/time_of_impact.hpp"
-#include "sim/collision/contact.hpp"
-#include "sim/solver/contact_settings.hpp"
-#include "sim/solver/contact_solver.hpp"
-#include "sim/dynamics/forces.hpp"
-#include "sim/dynamics/integrators.hpp"
-#include "sim/collision/shape_table.hpp"
-#include "sim/dynamics/state.hpp"
-#include "sim/joints/articulation.hpp"
 
 namespace simreel {
-
-
-
-
 
 class WorkerPool;
 
@@ -170,13 +166,14 @@ class WorldImpl {
  private:
   bool stage_integrate_and_check();  ///< false if a non-finite value appeared
   void init_forces();
-  bool stage_forces();      ///< false: nothing to do this step
+  bool stage_forces();  ///< false: nothing to do this step
   void init_contacts();
   bool shapes_may_touch(int a, int b) const;
   void stage_broad_phase();
-  void after_restore(std::vector<double> still, std::vector<int> asleep);  ///< caches of the broad phase and the islands
-  ContactSet::Step collide_step() const;  ///< what the collide stage reads of the world this step
-  bool stage_solve_contacts();  ///< false if a non-finite value appeared
+  void after_restore(std::vector<double> still,
+                     std::vector<int> asleep);  ///< caches of the broad phase and the islands
+  ContactSet::Step collide_step() const;        ///< what the collide stage reads of the world this step
+  bool stage_solve_contacts();                  ///< false if a non-finite value appeared
   void stage_kinematic();
   void init_sleep();
   void stage_sleep();
@@ -199,10 +196,10 @@ class WorldImpl {
   std::vector<BodyModel> model_;
   std::vector<MotionState> state_;
   std::vector<Wrench> wrench_;
-  std::vector<int> dynamic_;    ///< indices of dynamic bodies, ascending
+  std::vector<int> dynamic_;            ///< indices of dynamic bodies, ascending
   std::vector<int> unjointed_dynamic_;  ///< the dynamic bodies no joint holds (with joints only)
   std::vector<int> solver_bodies_;      ///< this step's bodies in contact that the free solver steps
-  std::vector<int> kinematic_;  ///< indices of kinematic bodies, ascending
+  std::vector<int> kinematic_;          ///< indices of kinematic bodies, ascending
   struct Group {
     Integrator method;
     std::vector<int> bodies;  ///< ascending
@@ -237,8 +234,8 @@ class WorldImpl {
   std::vector<Pose> poses_;                  ///< per moving shape, world pose this step (broad phase)
   std::vector<std::pair<int, int>> ignore_;  ///< body pairs, (lo, hi), sorted
   BroadPhase broad_;
-  std::vector<int> active_shapes_;   ///< this step: moving shapes of awake bodies, then those to freeze
-  int settle_substeps_ = 0;          ///< substeps left with one more sweep after an impact (saved state)
+  std::vector<int> active_shapes_;  ///< this step: moving shapes of awake bodies, then those to freeze
+  int settle_substeps_ = 0;         ///< substeps left with one more sweep after an impact (saved state)
 
   // ---- Islands and sleeping (islands.hpp).
   Islands islands_;

@@ -5,8 +5,8 @@
 #include <filesystem>
 #include <fstream>
 
-#include "app/scene/scene.hpp"
 #include <simreel/error.hpp>
+#include "app/scene/scene.hpp"
 #include "tests/scratch.hpp"
 
 namespace simreel {

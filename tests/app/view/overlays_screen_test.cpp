@@ -10,8 +10,8 @@
 #include <string>
 
 #include "app/view/overlays.hpp"
-#include "tests/app/view/overlay_fixtures.hpp"
 #include "sim/world/world_impl.hpp"
+#include "tests/app/view/overlay_fixtures.hpp"
 
 namespace simreel {
 namespace {
