@@ -4,8 +4,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
 #include <limits>
 #include <sstream>
+#include <tuple>
+#include <utility>
 
 #include <simreel/error.hpp>
 #include "app/scene/scene.hpp"
@@ -17,9 +20,17 @@ namespace {
 
 using namespace scene_yaml;
 
-constexpr const char* kKeys[] = {"name",   "type",  "bodies",   "anchor",
-                                 "axis",   "axis2", "spring",   "collide_connected",
-                                 "limits", "motor", "friction", "steering"};
+constexpr const char* kKeys[] = {"name",           "type",       "bodies",     "anchor",
+                                 "axis",           "axis2",      "spring",     "collide_connected",
+                                 "limits",         "motor",      "friction",   "steering",
+                                 "anchors",        "min_length", "max_length", "restitution",
+                                 "pulley_anchors", "ratio",      "wheel"};
+
+std::string metres(double x) {
+  std::ostringstream os;
+  os << std::setprecision(10) << x << " m";
+  return os.str();
+}
 
 // A body name (or `world`) -> body index, -1 for the world; a did-you-mean for a typo.
 int body_index(const YAML::Node& n, const Ctx& c, const std::vector<BodyDef>& bodies) {
@@ -115,6 +126,130 @@ JointMotor load_motor(const YAML::Node& m, const Ctx& c, JointType type) {
   return out;
 }
 
+// Two world points at t = 0: `anchors` (the parent's, the child's) or `pulley_anchors`.
+std::pair<Vec3, Vec3> two_points(const YAML::Node& n, const Ctx& c, const char* what) {
+  if (!n.IsSequence() || n.size() != 2)
+    c.fail(n, std::string("expected [[x, y, z], [x, y, z]] (") + what + "), got " +
+                  (n.IsSequence() ? "a list of " + std::to_string(n.size()) : show(n)));
+  return {vec<3>(n[0], c.index(0)), vec<3>(n[1], c.index(1))};
+}
+
+// The keys a joint's type does not take, each refused with what to write instead: a distance or
+// pulley joint has two anchors and no axis, limits, motor or friction; their own keys belong to them.
+void refuse_foreign_keys(const YAML::Node& n, const Ctx& c, JointType type) {
+  const bool distance = type == JointType::distance, pulley = type == JointType::pulley;
+  const std::string a = std::string("a ") + to_string(type) + " joint ";
+  auto refuse = [&](const char* key, const std::string& why) {
+    if (n[key]) c.child(key).fail(n[key], why);
+  };
+  if (distance || pulley) {
+    refuse("anchor", distance ? "a distance joint takes 'anchors: [[parent point], [child point]]'"
+                              : "a pulley joint takes 'anchors: [[a point], [b point]]' (where the rope is "
+                                "tied to each of its bodies)");
+    refuse("axis", a + "has no axis: its rope runs between its anchors");
+    refuse("axis2", "only a universal or wheel joint has axis2");
+    refuse("steering", "only a wheel joint steers");
+    refuse("motor", a + "takes no motor");
+    refuse("friction", a + "has no friction");
+  } else {
+    refuse("anchors", "only a distance or pulley joint takes 'anchors'; " + a + "takes 'anchor: [x, y, z]'");
+  }
+  if (distance) {
+    refuse("limits", "a distance joint's limits are min_length/max_length (m): a rope slack between them");
+  } else if (pulley) {
+    refuse("limits",
+           "a pulley joint has no limits: its rope keeps L0 + ratio L1 at most its start value (a "
+           "distance joint's bounds are min_length/max_length)");
+    refuse("spring", "a pulley joint takes no spring (a spring along a rope is a distance joint's)");
+    for (const char* k : {"min_length", "max_length"})
+      refuse(k, std::string("a pulley's rope keeps its start length: ") + k + " is for a distance joint");
+  } else {
+    for (const char* k : {"min_length", "max_length"})
+      refuse(k, std::string("only a distance joint has ") + k + " (a rope between two points)");
+    refuse("restitution",
+           "only a rope (a distance joint with min_length or max_length) or a pulley has restitution; a "
+           "joint's stops take limits: { lower, upper, restitution }");
+  }
+  if (!pulley)
+    for (const char* k : {"pulley_anchors", "ratio", "wheel"})
+      refuse(k, std::string("only a pulley joint has ") + k);
+}
+
+// A distance joint's `min_length`, `max_length` and `restitution` around the anchors' start
+// distance d0 (> 0): a rope's bounds must hold it, in order.
+void load_rope(const YAML::Node& n, const Ctx& c, JointDef& j, double d0) {
+  const YAML::Node lo = n["min_length"], hi = n["max_length"];
+  if (lo) j.min_length = non_negative(lo, c.child("min_length"));
+  if (hi) j.max_length = positive(hi, c.child("max_length"));
+  if (lo && hi && *j.min_length >= *j.max_length)
+    c.child("min_length")
+        .fail(lo,
+              "min_length must be below max_length, got " + metres(*j.min_length) + " and " +
+                  metres(*j.max_length) +
+                  (*j.min_length == *j.max_length ? " (equal bounds are a rigid rod: leave both out)" : ""));
+  // Within 1e-9 m of the start distance a bound is taken as it (the rope starts taut).
+  if (hi) {
+    if (*j.max_length < d0 - 1e-9)
+      c.child("max_length")
+          .fail(hi, "max_length " + metres(*j.max_length) + " is shorter than the anchors' start distance " +
+                        metres(d0) + ": it must be at least that (the rope starts within its bounds)");
+    j.max_length = std::max(*j.max_length, d0);
+  }
+  if (lo) {
+    if (*j.min_length > d0 + 1e-9)
+      c.child("min_length")
+          .fail(lo, "min_length " + metres(*j.min_length) + " is longer than the anchors' start distance " +
+                        metres(d0) + ": it must be at most that (the rope starts within its bounds)");
+    j.min_length = std::min(*j.min_length, d0);
+  }
+  if (const YAML::Node r = n["restitution"]) {
+    if (!lo && !hi)
+      c.child("restitution")
+          .fail(r,
+                "a rigid rod (no min_length or max_length) never goes slack, so it has no restitution; give "
+                "max_length (or min_length) for a rope");
+    j.restitution = unit_interval(r, c.child("restitution"));
+  }
+}
+
+// A pulley's `pulley_anchors`, `ratio`, `wheel` and `restitution`.
+void load_pulley(const YAML::Node& n, const Ctx& c, JointDef& j, const std::vector<BodyDef>& bodies) {
+  if (!n["pulley_anchors"])
+    c.fail(n,
+           "a pulley joint needs 'pulley_anchors: [[x, y, z], [x, y, z]]' (m, fixed world points: where the "
+           "rope from each body's anchor meets the pulley)");
+  const Ctx pc = c.child("pulley_anchors");
+  std::tie(j.pulley_anchor_W[0], j.pulley_anchor_W[1]) =
+      two_points(n["pulley_anchors"], pc, "the points over the parent's and the child's side");
+  const Vec3 ends[2] = {j.anchor_W, j.anchor2_W};
+  for (int s : {0, 1})
+    if ((j.pulley_anchor_W[s] - ends[s]).norm() < 1e-9)
+      pc.index(s).fail(n["pulley_anchors"][s], std::string("the rope's ") + (s == 0 ? "parent" : "child") +
+                                                   " side starts with no length: pulley_anchors[" +
+                                                   std::to_string(s) + "] must differ from anchors[" +
+                                                   std::to_string(s) + "]");
+  if (n["ratio"]) j.ratio = positive(n["ratio"], c.child("ratio"));
+  if (const YAML::Node w = n["wheel"]) {
+    const Ctx wc = c.child("wheel");
+    j.wheel = body_index(w, wc, bodies);
+    if (j.wheel < 0) wc.fail(w, "the wheel must be a body that turns on a revolute joint, not the world");
+    const BodyDef& b = bodies[j.wheel];
+    if (b.type != BodyType::dynamic)
+      wc.fail(w, "the wheel '" + b.name + "' is " + to_string(b.type) +
+                     ": it must be a dynamic body on a revolute joint");
+    if (j.wheel == j.parent || j.wheel == j.child)
+      wc.fail(w,
+              "the wheel '" + b.name +
+                  "' is one of the rope's bodies: the wheel is a third body, on a revolute joint, that the "
+                  "rope turns");
+    if (j.ratio != 1)
+      c.child("ratio").fail(n["ratio"],
+                            "a rope over a wheel has ratio 1 (another ratio is a block and tackle: leave out "
+                            "'wheel' for a massless pulley)");
+  }
+  if (n["restitution"]) j.restitution = unit_interval(n["restitution"], c.child("restitution"));
+}
+
 }  // namespace
 
 std::vector<JointDef> load_joints(const YAML::Node& list, const std::string& file,
@@ -145,13 +280,11 @@ std::vector<JointDef> load_joints(const YAML::Node& list, const std::string& fil
       const auto jt = joint_type_from_name(t);
       if (!jt) {
         std::vector<std::string> names;
-        for (const char* s : {"revolute", "prismatic", "spherical", "fixed", "universal", "wheel"})
+        for (const char* s :
+             {"revolute", "prismatic", "spherical", "fixed", "universal", "wheel", "distance", "pulley"})
           names.push_back(s);
         std::string msg = "unknown joint type '" + t + "' (" + joint_type_names() + ")";
-        if (t == "distance")
-          msg = "joint type '" + t + "' is not supported yet (" + std::string(joint_type_names()) + ")";
-        else if (auto s = nearest(t, names))
-          msg += "; did you mean '" + *s + "'?";
+        if (auto s = nearest(t, names)) msg += "; did you mean '" + *s + "'?";
         tc.fail(n["type"], msg);
       }
       j.type = *jt;
@@ -174,8 +307,29 @@ std::vector<JointDef> load_joints(const YAML::Node& list, const std::string& fil
           bc.fail(b, "body '" + bodies[i].name +
                          "' is kinematic: jointing kinematic bodies is not supported yet");
     }
-    if (!n["anchor"]) c.fail(n, "missing key 'anchor' ([x, y, z] in m, a world point at t = 0)");
-    j.anchor_W = vec<3>(n["anchor"], c.child("anchor"));
+    refuse_foreign_keys(n, c, j.type);
+    const bool rope = j.type == JointType::distance || j.type == JointType::pulley;
+    double start_length = 0;  // distance: |anchor2 - anchor| at t = 0
+    if (rope) {
+      if (!n["anchors"])
+        c.fail(n, std::string("a ") + to_string(j.type) +
+                      " joint needs 'anchors: [[parent point], [child point]]' (m, world points at t = 0)");
+      std::tie(j.anchor_W, j.anchor2_W) =
+          two_points(n["anchors"], c.child("anchors"), "the parent's point, the child's point");
+      start_length = (j.anchor2_W - j.anchor_W).norm();
+      if (j.type == JointType::distance) {
+        if (start_length < 1e-9)
+          c.child("anchors").fail(n["anchors"],
+                                  "the anchors coincide; a distance joint needs two distinct points (use "
+                                  "spherical for a ball joint)");
+        load_rope(n, c, j, start_length);
+      } else {
+        load_pulley(n, c, j, bodies);
+      }
+    } else {
+      if (!n["anchor"]) c.fail(n, "missing key 'anchor' ([x, y, z] in m, a world point at t = 0)");
+      j.anchor_W = vec<3>(n["anchor"], c.child("anchor"));
+    }
     const bool axial = j.type == JointType::revolute || j.type == JointType::prismatic ||
                        j.type == JointType::universal || j.type == JointType::wheel;
     if (n["axis"]) {
@@ -208,7 +362,10 @@ std::vector<JointDef> load_joints(const YAML::Node& list, const std::string& fil
       JointSpring sp;
       if (s["stiffness"]) sp.stiffness = non_negative(s["stiffness"], sc.child("stiffness"));
       if (s["damping"]) sp.damping = non_negative(s["damping"], sc.child("damping"));
-      if (s["rest"]) sp.rest = number(s["rest"], sc.child("rest"));
+      if (j.type == JointType::distance)  // along a length: the rest length, the start distance unless given
+        sp.rest = s["rest"] ? non_negative(s["rest"], sc.child("rest")) : start_length;
+      else if (s["rest"])
+        sp.rest = number(s["rest"], sc.child("rest"));
       j.spring = sp;
     }
     if (const YAML::Node l = n["limits"]) j.limits = load_limits(l, c.child("limits"), j.type);
@@ -228,17 +385,44 @@ std::vector<JointDef> load_joints(const YAML::Node& list, const std::string& fil
     }
     if (n["collide_connected"])
       j.collide_connected = boolean(n["collide_connected"], c.child("collide_connected"));
-    // An anchor far from both bodies is legal (a long massless arm) but usually a typo: a note.
-    double nearest_d = 1e300;
-    for (int i : {j.parent, j.child})
-      if (i >= 0) nearest_d = std::min(nearest_d, (bodies[i].p_WB - j.anchor_W).norm());
-    if (nearest_d > 10 && nearest_d < 1e300) {
-      std::ostringstream os;
-      os << where(n["anchor"], c.child("anchor")) << ": the anchor is " << nearest_d
-         << " m from the nearer of its bodies' origins; is it where you meant?";
-      notes.push_back(os.str());
+    // An anchor far from both bodies is legal (a long massless arm) but usually a typo: a note. A
+    // rope's anchors are each on one body: each is measured from its own.
+    if (rope) {
+      const int side[2] = {j.parent, j.child};
+      const Vec3 at[2] = {j.anchor_W, j.anchor2_W};
+      for (int s : {0, 1}) {
+        if (side[s] < 0) continue;
+        const double d = (bodies[side[s]].p_WB - at[s]).norm();
+        if (d <= 10) continue;
+        std::ostringstream os;
+        os << where(n["anchors"][s], c.child("anchors").index(s)) << ": the anchor is " << d
+           << " m from the origin of its body '" << bodies[side[s]].name << "'; is it where you meant?";
+        notes.push_back(os.str());
+      }
+    } else {
+      double nearest_d = 1e300;
+      for (int i : {j.parent, j.child})
+        if (i >= 0) nearest_d = std::min(nearest_d, (bodies[i].p_WB - j.anchor_W).norm());
+      if (nearest_d > 10 && nearest_d < 1e300) {
+        std::ostringstream os;
+        os << where(n["anchor"], c.child("anchor")) << ": the anchor is " << nearest_d
+           << " m from the nearer of its bodies' origins; is it where you meant?";
+        notes.push_back(os.str());
+      }
     }
     out.push_back(std::move(j));
+  }
+  // A pulley's wheel turns on a revolute joint (one of its two bodies), which may come later in the list.
+  for (size_t k = 0; k < out.size(); ++k) {
+    const JointDef& p = out[k];
+    if (p.type != JointType::pulley || p.wheel < 0) continue;
+    const bool hinged = std::any_of(out.begin(), out.end(), [&](const JointDef& o) {
+      return o.type == JointType::revolute && (o.child == p.wheel || o.parent == p.wheel);
+    });
+    if (!hinged)
+      top.index((int)k).child("wheel").fail(list[k]["wheel"], "the wheel '" + bodies[p.wheel].name +
+                                                                  "' turns on no revolute joint: give it one "
+                                                                  "about its axle (type: revolute)");
   }
   return out;
 }

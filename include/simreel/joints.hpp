@@ -25,10 +25,21 @@ namespace simreel {
 //              travel, m: coordinate 0, where `spring` and `limits` act), turns about `axis` if it
 //              has `steering` (rad: coordinate 1), and spins about `axis2` (its axle,
 //              perpendicular to `axis`: the last coordinate, rad, where `motor` and `friction` act)
-enum class JointType { revolute, prismatic, spherical, fixed, universal, wheel };
+//   distance   the parent's point `anchor` and the child's point `anchor2` are held `length` apart
+//              (a rigid rod; both bodies turn freely about their points), or, as a rope, kept
+//              between `min_length` and `max_length` (slack between them; at max_length it only
+//              pulls, at a positive min_length it only pushes). Coordinate: the length, m, where
+//              `spring` acts (rest: a length)
+//   pulley     a rope from the parent's `anchor` up to the fixed point `pulley_anchors[0]`, over
+//              the pulley to `pulley_anchors[1]` and down to the child's `anchor2`: the lengths
+//              keep L0 + ratio L1 <= their start value. With a `wheel` (a body on a revolute joint
+//              whose rim the rope leaves at the two pulley anchors) the rope turns it without
+//              slipping, so the wheel's inertia takes part. Coordinates: L0 and L1, m
+enum class JointType { revolute, prismatic, spherical, fixed, universal, wheel, distance, pulley };
 const char* to_string(JointType t);
 std::optional<JointType> joint_type_from_name(std::string_view name);
-const char* joint_type_names();  ///< "revolute, prismatic, spherical, fixed, universal, wheel"
+const char*
+joint_type_names();  ///< "revolute, prismatic, spherical, fixed, universal, wheel, distance, pulley"
 
 /// A spring along a joint's coordinate: generalised force -stiffness (q - rest) - damping q'.
 /// Revolute and universal: N m/rad, N m s/rad, rad; prismatic: N/m, N s/m, m.
@@ -81,6 +92,16 @@ struct JointDef {
   /// wheel: a steering coordinate about `axis`, driven to its position by this motor (position
   /// mode; without it the wheel does not steer).
   std::optional<JointMotor> steering;
+  // distance and pulley joints.
+  Vec3 anchor2_W = Vec3::Zero();  ///< m, the child's point, world at t = 0
+  /// distance: m. A rigid rod when neither bound is set (its length: the anchors' start distance);
+  /// a rope otherwise: max_length (default: the start distance) at least the start distance,
+  /// min_length (default 0: none) at most it.
+  std::optional<double> min_length, max_length;
+  double restitution = 0;  ///< a rope reaching its max (min) length rebounds with this, in [0, 1]
+  Vec3 pulley_anchor_W[2] = {Vec3::Zero(), Vec3::Zero()};  ///< pulley: m, fixed world points
+  double ratio = 1;  ///< pulley: L0 + ratio L1 is what the rope keeps (a block and tackle: 2, ...)
+  int wheel = -1;    ///< pulley: the wheel body (on a revolute joint), or -1 for a massless pulley
   bool collide_connected = false;  ///< false: the two bodies never collide with each other
 };
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <sstream>
 
 #include <Eigen/Cholesky>
@@ -15,8 +16,8 @@
 namespace simreel {
 
 namespace {
-constexpr EnumNames<JointType, 6> kJointTypes{
-    {"revolute", "prismatic", "spherical", "fixed", "universal", "wheel"}};
+constexpr EnumNames<JointType, 8> kJointTypes{
+    {"revolute", "prismatic", "spherical", "fixed", "universal", "wheel", "distance", "pulley"}};
 static_assert(kJointTypes.complete());
 
 // A joint's rotation R_J (child joint frame F' to parent joint frame F) and offset p_J (F' origin in
@@ -125,7 +126,7 @@ std::optional<JointType> joint_type_from_name(std::string_view name) {
   return kJointTypes.parse(name);
 }
 const char* joint_type_names() {
-  return "revolute, prismatic, spherical, fixed, universal, wheel";
+  return "revolute, prismatic, spherical, fixed, universal, wheel, distance, pulley";
 }
 
 // ------------------------------------------------------------------ one mechanism
@@ -143,9 +144,9 @@ void Mechanism::allocate() {
   ys_.assign(ny, 0);
   for (auto& k : k_) k.assign(ny, 0);
   tau_.assign(nv, 0);
-  if (!dofs.empty()) {
-    for (auto* e : {&g0_, &g1_, &ga_, &gc_}) e->assign(5 * dofs.size(), 0);
-    vtarget_.assign(dofs.size(), 0);
+  if (events_on()) {
+    for (auto* e : {&g0_, &g1_, &ga_, &gc_}) e->assign(5 * dofs.size() + 3 * tethers.size(), 0);
+    vtarget_.assign(dofs.size() + tethers.size(), 0);
   }
   kd_.assign(ny, 0);
   out_q_.resize(links.size());
@@ -216,6 +217,7 @@ void Mechanism::derivative(const double* y, double* dy, const Vec3& g, const Wre
       w.pA.tail<3>() -= w.R_W.transpose() * f.f_W;
     }
   }
+  if (!tethers.empty()) tether_springs();
   // Pass 2, leaves to root: articulated inertias and bias forces.
   for (size_t i = n; i-- > 0;) {
     const Link& l = links[i];
@@ -310,7 +312,7 @@ bool Mechanism::advance(double dt, const Vec3& g, const Wrench* wr, const Motion
   std::copy(v.begin(), v.end(), y0_.begin() + nq);
   if (!(h > 0)) h = dt;
   const double tol = js.tolerance;
-  const bool events_on = !dofs.empty();
+  const bool events_on = this->events_on();
   if (events_on && !started) {
     start_modes(y0_.data(), g, wr);
     started = true;
@@ -391,18 +393,22 @@ bool Mechanism::advance(double dt, const Vec3& g, const Wrench* wr, const Motion
       apply_events(y1_.data(), g0_.data(), g1_.data(), g, wr);
       ++events;
     }
-    if (!loops.empty()) {
+    if (projected()) {
       normalize_quaternions(*this, y1_.data());
       project_positions(y1_.data());
       project_velocities(y1_.data(), y1_.data() + nq);
     } else if (any_active()) {
       project_dofs(y1_.data());
     }
+    if (!tethers.empty() && catch_stretched(y1_.data(), g, wr)) {
+      project_velocities(y1_.data(), y1_.data() + nq);
+      event = true;  // the state moved: no first-same-as-last, no step-size proposal from this one
+    }
     std::swap(y0_, y1_);
     // First same as last: the 7th stage was evaluated at the new state, unless a projection or a
     // mode change moved it. (Quaternions drift off unit length by the tolerance only; they are
     // renormalised once the frame step is done.)
-    have_k1 = !event && loops.empty() && !any_active();
+    have_k1 = !event && !projected() && !any_active();
     if (have_k1) {
       std::swap(k_[0], k_[6]);
       std::swap(g0_, g1_);
@@ -488,6 +494,7 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
   auto fixed_base = [&](int b) { return b < 0 || model[b].is_static; };
   std::vector<int> parent_joint(nb, -1);  // per body: the joint it is the child of
   std::vector<int> loop_joints;           // joints that close a loop (constraints, not tree edges)
+  std::vector<int> tether_joints;         // distance and pulley joints (rows, never tree edges)
   for (int j = 0; j < (int)joints_.size(); ++j) {
     JointDef& d = joints_[j];
     if (d.name.empty()) d.name = "joint" + std::to_string(j);
@@ -500,17 +507,23 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
     if (fixed_base(d.parent) && fixed_base(d.child))
       throw InputError(name_of(j) + ": joins two bodies that cannot move (" + body_name(d.parent) + " and " +
                        body_name(d.child) + ")");
+    const bool tether = d.type == JointType::distance || d.type == JointType::pulley;
     // Written the other way round: the moving body is the child, and its coordinate is its motion
-    // relative to the fixed one.
-    if (fixed_base(d.child)) {
+    // relative to the fixed one. (A rope's length does not depend on the order.)
+    if (!tether && fixed_base(d.child)) {
       std::swap(d.parent, d.child);
       // The parent's motion relative to the child about (along) the axis by q is the child's
       // about (along) the reversed axis by q: the coordinate keeps the meaning the joint gave it.
       if (d.type == JointType::revolute || d.type == JointType::prismatic) d.axis_W = -d.axis_W;
     }
-    if (model[d.child].is_kinematic || (d.parent >= 0 && model[d.parent].is_kinematic))
+    if ((d.child >= 0 && model[d.child].is_kinematic) || (d.parent >= 0 && model[d.parent].is_kinematic))
       throw InputError(name_of(j) + ": kinematic bodies cannot be jointed yet (body " +
-                       body_name(model[d.child].is_kinematic ? d.child : d.parent) + ")");
+                       body_name(d.child >= 0 && model[d.child].is_kinematic ? d.child : d.parent) + ")");
+    if (tether) {
+      validate_tether(d, defs, model);
+      tether_joints.push_back(j);
+      continue;
+    }
     if (!all_finite(d.anchor_W)) throw InputError(name_of(j) + ": anchor must be finite");
     const bool wheel = d.type == JointType::wheel;
     const bool axial = d.type == JointType::revolute || d.type == JointType::prismatic ||
@@ -612,8 +625,18 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
   std::vector<int> group(nb);
   for (int b = 0; b < nb; ++b) group[b] = b;
   std::function<int(int)> root_of = [&](int b) { return group[b] == b ? b : group[b] = root_of(group[b]); };
-  for (const JointDef& d : joints_)
-    if (!fixed_base(d.parent)) group[root_of(d.parent)] = root_of(d.child);
+  for (const JointDef& d : joints_) {
+    // Every moving body a joint touches (a tether's may be either end, and its wheel) moves with
+    // the others.
+    int first = -1;
+    for (int b : {d.parent, d.child, d.type == JointType::pulley ? d.wheel : -1}) {
+      if (fixed_base(b)) continue;
+      if (first < 0)
+        first = b;
+      else
+        group[root_of(b)] = root_of(first);
+    }
+  }
   std::vector<int> mech_of_group(nb, -1);
   auto mechanism_for = [&](int body) {
     int& m = mech_of_group[root_of(body)];
@@ -623,16 +646,19 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
     }
     return m;
   };
+  std::vector<char> is_tether(joints_.size(), 0);
+  for (int j : tether_joints) is_tether[j] = 1;
   for (int j = 0; j < (int)joints_.size(); ++j) {
     const JointDef& d = joints_[j];
-    if (is_loop[j]) continue;
+    if (is_loop[j] || is_tether[j]) continue;
     if (fixed_base(d.parent))
       base_joints.push_back(j);
     else
       child_joints[d.parent].push_back(j);
   }
   joint_link_.assign(joints_.size(), {-1, -1});
-  sides_.assign(joints_.size(), Side{});
+  tether_of_.assign(joints_.size(), {-1, -1});
+  sides_.assign(joints_.size(), Side{Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero()});
   std::vector<char> done(nb, 0);
 
   auto P_pose = [&](int b, Quat& qWP, Vec3& xW) {
@@ -748,6 +774,9 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
         set_spring(l);
         break;
       }
+      case JointType::distance:
+      case JointType::pulley:
+        break;  // rows on the tree (build_tether), never tree edges
     }
     done[d.child] = 1;
     for (int cj : child_joints[d.child]) add_joint(m, cj, child_link);
@@ -856,14 +885,30 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
     building = mechanism_for(joints_[j].child);
     add_joint(mechanisms_[building], j, -1);
   }
-  for (int j = 0; j < (int)joints_.size(); ++j) {
-    const int root = joints_[j].parent;
-    if (is_loop[j] || fixed_base(root) || parent_joint[root] >= 0 || done[root]) continue;
+  auto add_free_root = [&](int root) {
     building = mechanism_for(root);
     Mechanism& m = mechanisms_[building];
     const int rl = add_body_link(m, root, -1, LinkJoint::free);
     done[root] = 1;
     for (int cj : child_joints[root]) add_joint(m, cj, rl);
+  };
+  for (int j = 0; j < (int)joints_.size(); ++j) {
+    const int root = joints_[j].parent;
+    if (is_loop[j] || is_tether[j] || fixed_base(root) || parent_joint[root] >= 0 || done[root]) continue;
+    add_free_root(root);
+  }
+  // Bodies held by tethers only float freely: each is the root of its own subtree.
+  for (int j : tether_joints)
+    for (int b : {joints_[j].parent, joints_[j].child})
+      if (!fixed_base(b) && parent_joint[b] < 0 && !done[b]) add_free_root(b);
+  // A pulley's wheel turns on a revolute joint to the fixed base (checked here: the tree is known).
+  for (int j : tether_joints) {
+    const JointDef& d = joints_[j];
+    if (d.type != JointType::pulley || d.wheel < 0) continue;
+    const int wj = parent_joint[d.wheel];
+    if (wj < 0 || joints_[wj].type != JointType::revolute || !fixed_base(joints_[wj].parent))
+      throw InputError(name_of(j) + ": the wheel " + body_name(d.wheel) +
+                       " must turn on a revolute joint to the world or a static body");
   }
   for (Mechanism& m : mechanisms_) finish(m);
   // Loop-closing joints: their anchors (and a hinge's axes) in the two links' frames.
@@ -900,6 +945,7 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
     sd.a_c = qb.conjugate() * d.axis_W;
     joint_link_[j] = {mi, -1 - (int)(m.loops.size() - 1)};  // negative: a loop's index
   }
+  for (int j : tether_joints) build_tether(j, model, state);
   // Row scratch for every mechanism: the contact rows use its mass matrix too.
   for (Mechanism& m : mechanisms_) m.allocate_loops();
   // Start velocities: the joint velocities whose body motion is closest to the given one in the
@@ -936,7 +982,7 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
     const Eigen::MatrixXd A = J.transpose() * W.asDiagonal() * J;
     const Eigen::VectorXd qd = A.ldlt().solve(J.transpose() * (W.asDiagonal() * b));
     for (int k = 0; k < m.nv; ++k) m.v[k] = qd[k];
-    if (!m.loops.empty()) m.project_velocities(m.q.data(), m.v.data());
+    if (m.projected()) m.project_velocities(m.q.data(), m.v.data());
     const Eigen::VectorXd r = J * Eigen::Map<const Eigen::VectorXd>(m.v.data(), m.nv) - b;
     const double e_given = 0.5 * b.dot(W.asDiagonal() * b), e_lost = 0.5 * r.dot(W.asDiagonal() * r);
     if (e_lost > 1e-12 * std::max(e_given, 1e-300)) {
@@ -954,6 +1000,144 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
     }
   }
   for (Mechanism& m : mechanisms_) m.write_bodies(state.data());
+}
+
+void Articulations::validate_tether(JointDef& d, const std::vector<BodyDef>& defs,
+                                    const std::vector<BodyModel>& model) const {
+  const std::string name = "joint '" + d.name + "'";
+  auto fixed_base = [&](int b) { return b < 0 || model[b].is_static; };
+  const bool pulley = d.type == JointType::pulley;
+  if (d.limits || d.motor || d.friction != 0 || d.steering)
+    throw InputError(name + ": a " + to_string(d.type) +
+                     " joint takes no limits, motor, friction or steering (a rope's bounds are "
+                     "min_length and max_length)");
+  if (!all_finite(d.anchor_W) || !all_finite(d.anchor2_W))
+    throw InputError(name + ": anchors must be finite");
+  if (!(d.restitution >= 0 && d.restitution <= 1)) throw InputError(name + ": restitution must be in [0, 1]");
+  if (!pulley) {
+    const double L = (d.anchor2_W - d.anchor_W).norm();
+    if (!(L > 1e-9))
+      throw InputError(name +
+                       ": the anchors coincide; a distance joint needs two distinct points (a ball joint is "
+                       "'spherical')");
+    if (d.min_length && (!std::isfinite(*d.min_length) || *d.min_length < 0 || *d.min_length > L + 1e-9))
+      throw InputError(name + ": min_length must be in [0, the anchors' start distance " + std::to_string(L) +
+                       " m]");
+    if (d.max_length && (!std::isfinite(*d.max_length) || *d.max_length < L - 1e-9))
+      throw InputError(name + ": max_length must be at least the anchors' start distance (" +
+                       std::to_string(L) + " m)");
+    if (d.min_length && d.max_length && !(*d.min_length < *d.max_length))
+      throw InputError(name + ": min_length must be less than max_length");
+    if (d.spring && (!std::isfinite(d.spring->stiffness) || !std::isfinite(d.spring->damping) ||
+                     !std::isfinite(d.spring->rest) || d.spring->stiffness < 0 || d.spring->damping < 0 ||
+                     d.spring->rest < 0))
+      throw InputError(name + ": spring stiffness, damping and rest length must be non-negative numbers");
+    return;
+  }
+  if (d.spring) throw InputError(name + ": a pulley carries no spring");
+  if (d.min_length || d.max_length)
+    throw InputError(name +
+                     ": a pulley's rope keeps its start length; min_length and max_length are a distance "
+                     "joint's");
+  for (const Vec3& p : d.pulley_anchor_W)
+    if (!all_finite(p)) throw InputError(name + ": pulley anchors must be finite");
+  if (!((d.anchor_W - d.pulley_anchor_W[0]).norm() > 1e-9) ||
+      !((d.anchor2_W - d.pulley_anchor_W[1]).norm() > 1e-9))
+    throw InputError(name + ": each rope end must start away from its pulley anchor");
+  if (!(d.ratio > 0) || !std::isfinite(d.ratio)) throw InputError(name + ": ratio must be a positive number");
+  if (d.wheel >= 0) {
+    if (d.wheel >= (int)defs.size()) throw InputError(name + ": wheel body index out of range");
+    if (fixed_base(d.wheel) || model[d.wheel].is_kinematic)
+      throw InputError(name + ": the wheel '" + defs[d.wheel].name + "' must be a dynamic body");
+    if (d.wheel == d.parent || d.wheel == d.child)
+      throw InputError(name + ": the wheel '" + defs[d.wheel].name + "' cannot also hang on the rope");
+    if (d.ratio != 1) throw InputError(name + ": a rope over a wheel has ratio 1");
+  }
+}
+
+void Articulations::build_tether(int j, const std::vector<BodyModel>& model,
+                                 const std::vector<MotionState>& state) {
+  const JointDef& d = joints_[j];
+  auto moving = [&](int b) { return b >= 0 && !model[b].is_static; };
+  const int mi = link_of_[moving(d.parent) ? d.parent : moving(d.child) ? d.child : d.wheel].first;
+  Mechanism& m = mechanisms_[mi];
+  // A body's point in its link's frame (its principal frame), or the world point for the base.
+  auto end = [&](int b, const Vec3& p_W, int& link, Vec3& p) {
+    if (!moving(b)) {
+      link = -1;
+      p = p_W;
+      return;
+    }
+    link = link_of_[b].second;
+    p = state[b].q_WP.conjugate() * (p_W - state[b].x_W);
+  };
+  std::vector<Mechanism::Tether> out;
+  if (d.type == JointType::distance) {
+    Mechanism::Tether t;
+    end(d.parent, d.anchor_W, t.la[0], t.pa[0]);
+    end(d.child, d.anchor2_W, t.lb[0], t.pb[0]);
+    t.restitution = d.restitution;
+    if (d.spring) {
+      t.stiffness = d.spring->stiffness;
+      t.damping = d.spring->damping;
+      t.rest = d.spring->rest;
+    }
+    t.has_lo = d.min_length && *d.min_length > 0;
+    t.lo = t.has_lo ? *d.min_length : 0.0;
+    t.has_hi = d.max_length.has_value() || (!d.min_length && !d.spring);
+    t.rod = !d.min_length && !d.max_length && !d.spring;
+    out.push_back(t);
+  } else if (d.wheel < 0) {
+    Mechanism::Tether t;
+    t.nseg = 2;
+    t.la[0] = t.la[1] = -1;
+    t.pa[0] = d.pulley_anchor_W[0];
+    t.pa[1] = d.pulley_anchor_W[1];
+    end(d.parent, d.anchor_W, t.lb[0], t.pb[0]);
+    end(d.child, d.anchor2_W, t.lb[1], t.pb[1]);
+    t.w[1] = d.ratio;
+    t.has_hi = true;
+    t.restitution = d.restitution;
+    out.push_back(t);
+  } else {
+    // Over a wheel: each run is its own rope, wound on the wheel without slipping. The run leaving
+    // the rim at g pays out at the rim's speed along it: L_k' = (a x (g - c)) . n_k theta', so
+    // L_k - k_k theta keeps its start value, k_k the run's signed lever arm.
+    const Link& wl = m.links[link_of_[d.wheel].second];
+    const JointDef& wd = joints_[wl.joint];
+    const Vec3 a = wl.R_pF * wl.axis_F, c = wd.anchor_W;
+    for (int k = 0; k < 2; ++k) {
+      Mechanism::Tether t;
+      const int b = k == 0 ? d.parent : d.child;
+      const Vec3 g = d.pulley_anchor_W[k], p = k == 0 ? d.anchor_W : d.anchor2_W;
+      t.la[0] = -1;
+      t.pa[0] = g;
+      end(b, p, t.lb[0], t.pb[0]);
+      const double lever = a.cross(g - c).dot((p - g).normalized());
+      if (!(std::abs(lever) > 1e-9))
+        throw InputError("joint '" + d.name + "': the rope's run from pulley anchor " + std::to_string(k) +
+                         " does not turn the wheel (it leaves the rim along the axis or through the centre)");
+      t.wheel_iq = wl.iq;
+      t.wheel_iv = wl.iv;
+      t.wheel_c = -lever;
+      t.wheel_link = link_of_[d.wheel].second;
+      t.wheel_point[0] = g;
+      t.has_hi = true;
+      t.restitution = d.restitution;
+      out.push_back(t);
+    }
+  }
+  tether_of_[j] = {mi, (int)m.tethers.size()};
+  joint_link_[j] = {mi, std::numeric_limits<int>::min()};
+  for (Mechanism::Tether& t : out) {
+    t.joint = j;
+    m.tethers.push_back(t);
+    const double s = m.measure_tether((int)m.tethers.size() - 1);
+    Mechanism::Tether& mt = m.tethers.back();
+    if (mt.rod || (mt.has_hi && !d.max_length)) mt.hi = s;  // a rod's length, a rope's default bound
+    if (mt.has_hi && d.max_length) mt.hi = std::max(*d.max_length, s);
+  }
+  m.allocate();  // event slots and impulse targets for the tethers
 }
 
 int Articulations::find(std::string_view name) const {
@@ -989,6 +1173,13 @@ const Link& Articulations::coordinate_link(int j, int k, const Mechanism*& m) co
 }
 
 double Articulations::position(int j, int k) const {
+  if (tether_of_[j].first >= 0) {
+    // A distance joint's length; a pulley's run k (over a wheel: each run is its own tether).
+    const auto [mi, t] = tether_of_[j];
+    const Mechanism& m = mechanisms_[mi];
+    if (joints_[j].type == JointType::distance) return m.tether_length(t);
+    return m.tethers[t].nseg == 2 ? m.tether_length(t, k) : m.tether_length(t + k, 0);
+  }
   if (joint_link_[j].second < 0)
     return mechanisms_[joint_link_[j].first].loop_angle(-1 - joint_link_[j].second);
   const Mechanism* m;
@@ -1008,6 +1199,18 @@ double Articulations::position(int j, int k) const {
 }
 
 double Articulations::speed(int j, int k) const {
+  if (tether_of_[j].first >= 0) {
+    const auto [mi, t] = tether_of_[j];
+    const Mechanism& m = mechanisms_[mi];
+    double r = 0;
+    if (joints_[j].type == JointType::distance)
+      m.tether_length(t, -1, &r);
+    else if (m.tethers[t].nseg == 2)
+      m.tether_length(t, k, &r);
+    else
+      m.tether_length(t + k, 0, &r);
+    return r;
+  }
   if (joint_link_[j].second < 0)
     return mechanisms_[joint_link_[j].first].loop_speed(-1 - joint_link_[j].second);
   const Mechanism* m;
@@ -1027,6 +1230,11 @@ double Articulations::speed(int j, int k) const {
 }
 
 double Articulations::force(int j, int k) const {
+  if (tether_of_[j].first >= 0) {  // the row's force along the rope or rod (< 0 pulls), N
+    const auto [mi, t] = tether_of_[j];
+    const Mechanism& m = mechanisms_[mi];
+    return m.tethers[m.tethers[t].nseg == 2 || joints_[j].type == JointType::distance ? t : t + k].lambda;
+  }
   if (joint_link_[j].second < 0) return 0;
   const Mechanism* m;
   const Link& l = coordinate_link(j, k, m);
@@ -1035,6 +1243,26 @@ double Articulations::force(int j, int k) const {
 
 void Articulations::reaction(int j, const MotionState* st, const Vec3& g, Vec3& force_W,
                              Vec3& torque_W) const {
+  if (tether_of_[j].first >= 0) {
+    // The rope's pull on the child's end (the last run's), along the run, at the anchor; no torque.
+    const auto [mi, t0] = tether_of_[j];
+    Mechanism& m = const_cast<Mechanism&>(mechanisms_[mi]);  // scratch only
+    Vec3 F, T;
+    m.joint_wrench(0, g, F, T);  // evaluates the multipliers at q, v
+    const int t = joints_[j].type == JointType::pulley && m.tethers[t0].nseg == 1 ? t0 + 1 : t0;
+    const Mechanism::Tether& th = m.tethers[t];
+    const int seg = th.nseg - 1;
+    auto point = [&](int l, const Vec3& p) {
+      if (l < 0) return p;
+      const int b = m.links[l].body;
+      return Vec3(st[b].x_W + st[b].q_WP * p);
+    };
+    const Vec3 d = point(th.lb[seg], th.pb[seg]) - point(th.la[seg], th.pa[seg]);
+    const double f = th.lambda + m.tether_spring_force(th);
+    force_W = d.norm() > 1e-12 ? Vec3((f * th.w[seg] / d.norm()) * d) : Vec3::Zero();
+    torque_W.setZero();
+    return;
+  }
   const auto [mi, li] = joint_link_[j];
   Mechanism& m = const_cast<Mechanism&>(mechanisms_[mi]);  // scratch only; q and v are not changed
   Vec3 T;
@@ -1053,6 +1281,12 @@ double Articulations::gap(const MotionState* st) const {
   double worst = 0;
   for (size_t j = 0; j < joints_.size(); ++j) {
     const JointDef& d = joints_[j];
+    if (tether_of_[j].first >= 0) {  // the length a rod or a taut rope keeps (from the mechanism's poses)
+      const Mechanism& m = mechanisms_[tether_of_[j].first];
+      for (int t = tether_of_[j].second; t < (int)m.tethers.size() && m.tethers[t].joint == (int)j; ++t)
+        worst = std::max(worst, m.tether_gap(t));
+      continue;
+    }
     const Side& s = sides_[j];
     const bool moving_parent = d.parent >= 0 && jointed(d.parent);
     const Vec3 ap = moving_parent ? Vec3(st[d.parent].x_W + st[d.parent].q_WP * s.p_p) : s.p_p;

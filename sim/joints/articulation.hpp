@@ -79,6 +79,44 @@ class Mechanism {
   std::vector<Loop> loops;
   int loop_rows = 0;
 
+  // A distance joint's rod or rope, or a pulley's rope (docs/joints.md, "Rods, ropes and
+  // pulleys"): one row on the tree's coordinates, on the length
+  //   s(q) = sum_k w_k |x_b,k - x_a,k| + c theta,
+  // the sum over the rope's straight segments (each between a point of link a and one of link b;
+  // a pulley's run from a fixed point to a body) and theta the coordinate of a wheel the rope turns
+  // without slipping. A rod holds s at its length always; a rope is a hybrid mode like a
+  // coordinate's stops: slack, or taut at its max (min) length, where it only pulls (pushes), its
+  // multiplier the force along it. A spring acts along s as a force on the segments' ends.
+  struct Tether {
+    int joint = -1;
+    int nseg = 1;
+    int la[2] = {-1, -1}, lb[2] = {-1, -1};  ///< links (-1: the fixed base)
+    Vec3 pa[2], pb[2];                       ///< the points in the links' frames (the base's: world)
+    double w[2] = {1, 1};
+    int wheel_iq = -1, wheel_iv = -1;  ///< the wheel's coordinate, or -1
+    double wheel_c = 0;                ///< m: its weight c in s (-(+-r): the rope's lever on the wheel)
+    int wheel_link = -1;
+    Vec3 wheel_point[2];  ///< where segment k leaves the wheel (world, fixed): the rope pulls it there
+    bool rod = false, has_lo = false, has_hi = false;
+    double lo = 0, hi = 0;  ///< m; a rod's length is hi
+    double restitution = 0;
+    double stiffness = 0, damping = 0, rest = 0;  ///< N/m, N s/m, m
+    int taut = 0;       ///< a rope's mode (saved state): +1 held at hi, -1 held at lo, 0 slack
+    double lambda = 0;  ///< N: the row's multiplier (the force along the rope; < 0 pulls)
+    bool active() const { return rod || taut != 0; }
+  };
+  std::vector<Tether> tethers;
+  int tether_row(int t) const { return loop_rows + (int)dofs.size() + t; }
+  double measure_tether(int t);  ///< its length at q (sets the kinematics: build time only)
+  /// N along a distance joint's spring (> 0 pushes its ends apart), at the last evaluated kinematics.
+  double tether_spring_force(const Tether& t) const;
+  // A tether's length and rate at the last written poses (write_bodies): whole (seg = -1) or one
+  // segment's; and its residual (m) against the row it keeps (0 when slack within its bounds).
+  double tether_length(int t, int seg = -1, double* rate = nullptr) const;
+  double tether_gap(int t) const;
+  bool events_on() const { return !dofs.empty() || !tethers.empty(); }
+  bool projected() const { return !loops.empty() || !tethers.empty(); }  ///< rows that need projection
+
   // A one-coordinate link's limits, motor and Coulomb friction (docs/joints.md, "Limits, motors
   // and friction"): a hybrid system. Each holds a mode fixed over an internal step (so the
   // integrator sees a smooth right-hand side); a mode changes only at an event, located in time by
@@ -108,10 +146,12 @@ class Mechanism {
   };
   std::vector<Dof> dofs;
   bool started = false;  ///< the modes were settled at the first step (saved state)
-  bool has_rows() const { return !loops.empty() || !dofs.empty(); }
+  bool has_rows() const { return !loops.empty() || !dofs.empty() || !tethers.empty(); }
   bool any_active() const {
     for (const Dof& d : dofs)
       if (d.active()) return true;
+    for (const Tether& t : tethers)
+      if (t.active()) return true;
     return false;
   }
   long events = 0;  ///< mode changes over the run
@@ -121,7 +161,7 @@ class Mechanism {
   void settle_modes(double* y, const Vec3& g, const Wrench* wr);
   void start_modes(double* y, const Vec3& g, const Wrench* wr);  ///< modes from the state at the first step
 
-  void allocate_loops();  ///< scratch of the constraint rows (loops and Dofs)
+  void allocate_loops();  ///< scratch of the constraint rows (loops, Dofs and tethers)
   // Positions (Newton on the rows, the correction in the mass metric) and velocities (the
   // kinetic-energy-closest motion that keeps the rows) back onto the loops.
   void project_positions(double* q);
@@ -177,6 +217,21 @@ class Mechanism {
   void loop_position_rows(double* out) const;
   void loop_velocity_rows(const std::vector<Vec6>& V, double* out) const;
   void loop_acceleration_rows(const std::vector<Vec6>& V, const std::vector<Vec6>& A, double* out) const;
+  // A tether at the current kinematics: its length; its rate for link velocities V and the wheel's
+  // rate; its second derivative for V, true link accelerations A and the wheel's acceleration.
+  double tether_position(const Tether& t, const double* q) const;
+  double tether_rate(const Tether& t, const std::vector<Vec6>& V, double wheel_rate) const;
+  double tether_acceleration(const Tether& t, const std::vector<Vec6>& V, const std::vector<Vec6>& A,
+                             double wheel_acc) const;
+  // Springs along tethers: their forces on the segments' ends into the links' bias forces (pass 1
+  // of the ABA done: kinematics and velocities); f_out (per tether, N) when given.
+  void tether_springs();
+  // The forces a tether's row and spring put on the links (link frames, about their origins),
+  // subtracted from f (joint_wrench: external to the tree).
+  void tether_loads(const Tether& t, double force, std::vector<Vec6>& f) const;
+  Vec3 point_W(int link, const Vec3& p) const {  ///< a link's point in the world (link -1: p is world)
+    return link < 0 ? p : Vec3(work_[link].x_W + work_[link].R_W * p);
+  }
   void mass_matrix();  ///< M_ at the current kinematics (composite-rigid-body algorithm)
   // G_ at the current kinematics (loop rows, then one row per Dof: e_k when it is a row, else
   // zero); then Y_ = M^-1 G^T and A_ = G Y_. A Dof is a row when it is held (active()), or for
@@ -198,7 +253,19 @@ class Mechanism {
   // Velocity jump at stop impacts: rows (the loops, the coordinates on a stop, the impacting ones)
   // reach their target rates by impulses through the mass matrix.
   void impulse(const double* q, double* v, const std::vector<double>& target);
-  void project_dofs(double* y);            ///< held coordinates back exactly on their rows after a step
+  void project_dofs(double* y);  ///< held coordinates back exactly on their rows after a step
+  // A rope reaching bound (+1 max, -1 min) at q, v: its rate after the impact (restitution), and
+  // taut when that is under the rest threshold.
+  double rope_impact(int t, int bound, const double* q, const double* v);
+  void keep_held_rows();  ///< impulse targets of 0 for every row already held (stops, rods, taut ropes)
+  // Slack ropes found past their bounds (a projection of other rows, or a contact substep's
+  // travel, moved them there unseen by the event functions) are caught there: an impact if they
+  // were moving out, then put back on the bound. True when any was.
+  bool catch_stretched(double* y, const Vec3& g, const Wrench* wr);
+  std::vector<int> rebound_;  ///< catch_stretched's scratch (sized once, at the first catch)
+  // Contacts' inverse inertia leaves taut ropes out (contact_begin): a rope cannot push, so an
+  // impact may not be stopped by it; a rope an impulse stretches is caught at the substep's end.
+  bool ropes_free_ = false;
   std::vector<double> tau_;                ///< generalised forces of saturated motors and sliding friction
   std::vector<double> g0_, g1_, ga_, gc_;  ///< event functions: step start and end, bracket, trial
   std::vector<double> vtarget_;            ///< impulse targets (NaN: not a row)
@@ -284,6 +351,12 @@ class Articulations {
   int exceeded_joint() const;
 
  private:
+  void validate_tether(JointDef& d, const std::vector<BodyDef>& defs,
+                       const std::vector<BodyModel>& model) const;
+  // The rows of distance or pulley joint j on its mechanism (after the mechanisms' links exist).
+  void build_tether(int j, const std::vector<BodyModel>& model, const std::vector<MotionState>& state);
+  // Per public joint: (mechanism, first tether) of a distance or pulley joint, or (-1, -1).
+  std::vector<std::pair<int, int>> tether_of_;
   // The link that carries coordinate k of joint j (universal: k = 0, 1), and its mechanism.
   const Link& coordinate_link(int j, int k, const Mechanism*& m) const;
   std::vector<JointDef> joints_;

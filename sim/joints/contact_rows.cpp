@@ -11,7 +11,7 @@ namespace simreel {
 void Mechanism::contact_begin(const Vec3& g) {
   std::copy(q.begin(), q.end(), y0_.begin());
   std::copy(v.begin(), v.end(), y0_.begin() + nq);
-  if (!dofs.empty() && !started) {
+  if (events_on() && !started) {
     start_modes(y0_.data(), g, nullptr);
     started = true;
   }
@@ -27,7 +27,11 @@ void Mechanism::contact_begin(const Vec3& g) {
     }
   }
   if (P_.rows() != nv) P_.setZero(nv, nv);
-  if (!loops.empty() || any_active()) {
+  ropes_free_ = true;
+  bool rows = !loops.empty();
+  for (const Dof& d : dofs) rows = rows || d.active();
+  for (const Tether& t : tethers) rows = rows || t.rod;
+  if (rows) {
     loop_jacobian();  // M_, its factor, Y_ = M^-1 G^T and the rows' factor
     P_.setIdentity();
     llt_.solveInPlace(P_);
@@ -43,6 +47,7 @@ void Mechanism::contact_begin(const Vec3& g) {
     P_.setIdentity();
     llt_.solveInPlace(P_);
   }
+  ropes_free_ = false;
   if ((int)dq_.size() != nv) dq_.assign(nv, 0);
 }
 
@@ -58,28 +63,39 @@ void Mechanism::contact_response(const double* J, double* W) const {
 
 void Mechanism::contact_velocities(double hs, const Vec3& g) {
   derivative(y0_.data(), kd_.data(), g, nullptr, nullptr);
-  if (!dofs.empty()) event_values(y0_.data(), g0_.data());
+  if (events_on()) event_values(y0_.data(), g0_.data());
   for (int k = 0; k < nv; ++k) y0_[nq + k] += hs * kd_[nq + k];
 }
 
 void Mechanism::contact_positions(double hs, const Vec3& g) {
+  // A taut rope the contacts made slacken (its ends now approach) lets go; one they stretched is
+  // put back on its bound with the projections below.
+  if (!tethers.empty()) {
+    link_velocities(y0_.data(), y0_.data() + nq, V_);
+    for (Tether& t : tethers)
+      if (!t.rod && t.taut != 0 &&
+          t.taut * tether_rate(t, V_, t.wheel_iv >= 0 ? y0_[nq + t.wheel_iv] : 0.0) < -1e-12)
+        t.taut = 0;
+  }
   for (int k = 0; k < nv; ++k) dq_[k] = hs * y0_[nq + k];
   displace(y0_.data(), dq_.data());
-  if (!loops.empty()) {
+  if (projected()) {
     project_positions(y0_.data());
     project_velocities(y0_.data(), y0_.data() + nq);
   } else if (any_active()) {
     project_dofs(y0_.data());
   }
-  if (!dofs.empty()) {
+  if (events_on()) {
     derivative(y0_.data(), kd_.data(), g, nullptr, nullptr);
     event_values(y0_.data(), g1_.data());
     bool crossed = false;
     for (size_t i = 0; i < g0_.size(); ++i) crossed = crossed || (g0_[i] >= 0 && g1_[i] < 0);
     if (crossed) {
       apply_events(y0_.data(), g0_.data(), g1_.data(), g, nullptr);
-      if (!loops.empty()) project_velocities(y0_.data(), y0_.data() + nq);
+      if (projected()) project_velocities(y0_.data(), y0_.data() + nq);
     }
+    if (!tethers.empty() && catch_stretched(y0_.data(), g, nullptr) && projected())
+      project_velocities(y0_.data(), y0_.data() + nq);
   }
   kinematics(y0_.data());
 }
@@ -143,6 +159,7 @@ void Mechanism::joint_wrench(int link, const Vec3& g, Vec3& force_W, Vec3& torqu
     add(L.lb, L.pb, 1);
     add(L.la, L.pa, -1);
   }
+  for (const Tether& t : tethers) tether_loads(t, t.lambda + tether_spring_force(t), rf_);
   for (int i = n; i-- > 0;)
     if (links[i].parent >= 0) rf_[links[i].parent] += transform_force_back(work_[i].E, work_[i].r, rf_[i]);
   const Mat3& R = work_[link].R_W;

@@ -31,7 +31,7 @@ inline Vec3 point_acceleration(const Vec6& V, const Vec6& A, const Vec3& p) {
 }  // namespace
 
 void Mechanism::allocate_loops() {
-  const int nr = loop_rows + (int)dofs.size();
+  const int nr = loop_rows + (int)dofs.size() + (int)tethers.size();
   M_.setZero(nv, nv);
   G_.setZero(nr, nv);
   Y_.setZero(nv, nr);
@@ -108,6 +108,111 @@ void Mechanism::loop_acceleration_rows(const std::vector<Vec6>& V, const std::ve
   }
 }
 
+// A tether's length s = sum_k w_k |d_k| (+ c theta), d_k = x_b - x_a. Its rates are the
+// projections of the ends' relative motion on n_k = d_k / |d_k|:
+//   s'  = sum w_k n_k . d_k'
+//   s'' = sum w_k [n_k . d_k'' + (|d_k'|^2 - (n_k . d_k')^2) / |d_k|]
+// (the second term: n_k turns as the segment swings). A segment shorter than 1e-12 m has no
+// direction and adds nothing.
+double Mechanism::tether_position(const Tether& t, const double* q) const {
+  double s = 0;
+  for (int k = 0; k < t.nseg; ++k)
+    s += t.w[k] * (point_W(t.lb[k], t.pb[k]) - point_W(t.la[k], t.pa[k])).norm();
+  if (t.wheel_iq >= 0) s += t.wheel_c * q[t.wheel_iq];
+  return s;
+}
+
+double Mechanism::tether_rate(const Tether& t, const std::vector<Vec6>& V, double wheel_rate) const {
+  double r = t.wheel_iv >= 0 ? t.wheel_c * wheel_rate : 0.0;
+  for (int k = 0; k < t.nseg; ++k) {
+    const Vec3 d = point_W(t.lb[k], t.pb[k]) - point_W(t.la[k], t.pa[k]);
+    const double L = d.norm();
+    if (L < 1e-12) continue;
+    const Vec3 vb =
+        t.lb[k] < 0 ? Vec3::Zero() : Vec3(work_[t.lb[k]].R_W * point_velocity(V[t.lb[k]], t.pb[k]));
+    const Vec3 va =
+        t.la[k] < 0 ? Vec3::Zero() : Vec3(work_[t.la[k]].R_W * point_velocity(V[t.la[k]], t.pa[k]));
+    r += t.w[k] * d.dot(vb - va) / L;
+  }
+  return r;
+}
+
+double Mechanism::tether_acceleration(const Tether& t, const std::vector<Vec6>& V, const std::vector<Vec6>& A,
+                                      double wheel_acc) const {
+  double r = t.wheel_iv >= 0 ? t.wheel_c * wheel_acc : 0.0;
+  for (int k = 0; k < t.nseg; ++k) {
+    const Vec3 d = point_W(t.lb[k], t.pb[k]) - point_W(t.la[k], t.pa[k]);
+    const double L = d.norm();
+    if (L < 1e-12) continue;
+    const Vec3 n = d / L;
+    Vec3 dv = Vec3::Zero(), da = Vec3::Zero();
+    if (t.lb[k] >= 0) {
+      const Mat3& R = work_[t.lb[k]].R_W;
+      dv += R * point_velocity(V[t.lb[k]], t.pb[k]);
+      da += R * point_acceleration(V[t.lb[k]], A[t.lb[k]], t.pb[k]);
+    }
+    if (t.la[k] >= 0) {
+      const Mat3& R = work_[t.la[k]].R_W;
+      dv -= R * point_velocity(V[t.la[k]], t.pa[k]);
+      da -= R * point_acceleration(V[t.la[k]], A[t.la[k]], t.pa[k]);
+    }
+    const double nv = n.dot(dv);
+    r += t.w[k] * (n.dot(da) + (dv.squaredNorm() - nv * nv) / L);
+  }
+  return r;
+}
+
+namespace {
+// A force F (world) at a link's point p (link frame) as a spatial force in the link frame about
+// its origin, subtracted from f: what the ABA's bias forces and joint_wrench's sums take.
+inline void subtract_point_force(const Mat3& R, const Vec3& p, const Vec3& F_W, Vec6& f) {
+  const Vec3 F = R.transpose() * F_W;
+  f.head<3>() -= p.cross(F);
+  f.tail<3>() -= F;
+}
+}  // namespace
+
+double Mechanism::tether_spring_force(const Tether& t) const {
+  if (t.stiffness == 0 && t.damping == 0) return 0;
+  // Spring tethers are distance joints: one segment, no wheel.
+  const Vec3 d = point_W(t.lb[0], t.pb[0]) - point_W(t.la[0], t.pa[0]);
+  const double L = d.norm();
+  Vec3 dv = Vec3::Zero();
+  if (t.lb[0] >= 0) dv += work_[t.lb[0]].R_W * point_velocity(work_[t.lb[0]].vel, t.pb[0]);
+  if (t.la[0] >= 0) dv -= work_[t.la[0]].R_W * point_velocity(work_[t.la[0]].vel, t.pa[0]);
+  const double rate = L > 1e-12 ? d.dot(dv) / L : 0.0;
+  return -t.stiffness * (L - t.rest) - t.damping * rate;  // > 0 pushes the ends apart
+}
+
+void Mechanism::tether_springs() {
+  for (const Tether& t : tethers) {
+    if (t.stiffness == 0 && t.damping == 0) continue;
+    const Vec3 d = point_W(t.lb[0], t.pb[0]) - point_W(t.la[0], t.pa[0]);
+    const double L = d.norm();
+    if (L < 1e-12) continue;
+    const Vec3 F = (tether_spring_force(t) / L) * d;
+    // A force on a link enters the ABA as minus its bias force.
+    if (t.lb[0] >= 0) subtract_point_force(work_[t.lb[0]].R_W, t.pb[0], F, work_[t.lb[0]].pA);
+    if (t.la[0] >= 0) subtract_point_force(work_[t.la[0]].R_W, t.pa[0], -F, work_[t.la[0]].pA);
+  }
+}
+
+void Mechanism::tether_loads(const Tether& t, double force, std::vector<Vec6>& f) const {
+  for (int k = 0; k < t.nseg; ++k) {
+    const Vec3 d = point_W(t.lb[k], t.pb[k]) - point_W(t.la[k], t.pa[k]);
+    const double L = d.norm();
+    if (L < 1e-12) continue;
+    const Vec3 F = (force * t.w[k] / L) * d;  // on b's end; -F on a's
+    if (t.lb[k] >= 0) subtract_point_force(work_[t.lb[k]].R_W, t.pb[k], F, f[t.lb[k]]);
+    if (t.la[k] >= 0) subtract_point_force(work_[t.la[k]].R_W, t.pa[k], -F, f[t.la[k]]);
+    // A pulley's run pulls its wheel where it leaves the rim (the fixed base holds the rest).
+    if (t.wheel_link >= 0) {
+      const Work& w = work_[t.wheel_link];
+      subtract_point_force(w.R_W, w.R_W.transpose() * (t.wheel_point[k] - w.x_W), -F, f[t.wheel_link]);
+    }
+  }
+}
+
 // Composite-rigid-body algorithm (Featherstone, Table 6.2): each link's composite inertia, then
 // M_ij = S_i^T X^T ... Ic_j S_j walking from each link to the root.
 void Mechanism::mass_matrix() {
@@ -145,11 +250,26 @@ void Mechanism::unit_velocities(int k, std::vector<Vec6>& V) const {
 }
 
 void Mechanism::loop_jacobian(bool impulse_rows) {
-  if (loop_rows > 0)
+  const int D = (int)dofs.size(), T = (int)tethers.size();
+  bool tether_rows = false;
+  auto tether_is_row = [&](int t) {
+    if (ropes_free_ && !tethers[t].rod) return false;
+    return impulse_rows ? !std::isnan(vtarget_[D + t]) : tethers[t].active();
+  };
+  if (T > 0) {
+    G_.bottomRows(T).setZero();
+    for (int t = 0; t < T; ++t) tether_rows = tether_rows || tether_is_row(t);
+  }
+  if (loop_rows > 0 || tether_rows)
     for (int k = 0; k < nv; ++k) {
       unit_velocities(k, V_);
-      loop_velocity_rows(V_, rows_.data());
-      G_.col(k).head(loop_rows) = rows_.head(loop_rows);
+      if (loop_rows > 0) {
+        loop_velocity_rows(V_, rows_.data());
+        G_.col(k).head(loop_rows) = rows_.head(loop_rows);
+      }
+      for (int t = 0; t < T; ++t)
+        if (tether_is_row(t))
+          G_(tether_row(t), k) = tether_rate(tethers[t], V_, k == tethers[t].wheel_iv ? 1.0 : 0.0);
     }
   for (size_t d = 0; d < dofs.size(); ++d) {
     const bool row = impulse_rows ? !std::isnan(vtarget_[d]) : dofs[d].active();
@@ -161,11 +281,11 @@ void Mechanism::loop_jacobian(bool impulse_rows) {
   Y_ = G_.transpose();
   llt_.solveInPlace(Y_);
   A_.noalias() = G_ * Y_;
-  // Rows of coordinates that are not held are zero: a unit diagonal gives them zero multipliers
-  // exactly (their right-hand sides are zero).
-  for (size_t d = 0; d < dofs.size(); ++d)
-    if (G_.row(loop_rows + (int)d).isZero(0)) A_(loop_rows + (int)d, loop_rows + (int)d) = 1;
-  if (loop_rows > 0) A_.diagonal().array() += 1e-12 * std::max(A_.diagonal().maxCoeff(), 1e-300);
+  // Rows of coordinates that are not held (and of slack ropes) are zero: a unit diagonal gives them
+  // zero multipliers exactly (their right-hand sides are zero).
+  for (int r = loop_rows; r < loop_rows + D + T; ++r)
+    if (G_.row(r).isZero(0)) A_(r, r) = 1;
+  if (loop_rows > 0 || T > 0) A_.diagonal().array() += 1e-12 * std::max(A_.diagonal().maxCoeff(), 1e-300);
   llt_rows_.compute(A_);
 }
 
@@ -179,9 +299,12 @@ void Mechanism::constrain_accelerations(const double* q, const double* v, double
   const bool held = any_active();
   if (loops.empty() && !held) {
     for (Dof& d : dofs) d.lambda = 0;
+    for (Tether& t : tethers) t.lambda = 0;
     return;
   }
-  if (!loops.empty()) {
+  bool tether_rows = false;
+  for (const Tether& t : tethers) tether_rows = tether_rows || t.active();
+  if (!loops.empty() || tether_rows) {
     // True link accelerations under the tree's q'' (the ABA's include the base's fictitious -g).
     for (size_t i = 0; i < links.size(); ++i) {
       const Link& l = links[i];
@@ -192,8 +315,15 @@ void Mechanism::constrain_accelerations(const double* q, const double* v, double
       Acc_[i] = a;
       V_[i] = w.vel;
     }
-    loop_acceleration_rows(V_, Acc_, rows_.data());
-    rhs_.head(loop_rows) = -rows_.head(loop_rows);
+    if (!loops.empty()) {
+      loop_acceleration_rows(V_, Acc_, rows_.data());
+      rhs_.head(loop_rows) = -rows_.head(loop_rows);
+    }
+  }
+  for (size_t t = 0; t < tethers.size(); ++t) {
+    const Tether& T = tethers[t];
+    rhs_(tether_row((int)t)) =
+        T.active() ? -tether_acceleration(T, V_, Acc_, T.wheel_iv >= 0 ? qdd[T.wheel_iv] : 0.0) : 0.0;
   }
   // A held coordinate's row: q''_k = a*, the rate its mode keeps (a position motor's target rate
   // changes with q; every other held rate is constant).
@@ -214,6 +344,8 @@ void Mechanism::constrain_accelerations(const double* q, const double* v, double
   for (int k = 0; k < nv; ++k) qdd[k] += dv_[k];
   for (size_t d = 0; d < dofs.size(); ++d)
     dofs[d].lambda = dofs[d].active() ? lambda_(loop_rows + (int)d) : 0.0;
+  for (size_t t = 0; t < tethers.size(); ++t)
+    tethers[t].lambda = tethers[t].active() ? lambda_(tether_row((int)t)) : 0.0;
 }
 
 void Mechanism::displace(double* q, const double* dv) const {
@@ -263,6 +395,11 @@ void Mechanism::project_positions(double* q) {
       const Dof& f = dofs[d];
       rows_(loop_rows + (int)d) = f.at_stop < 0 ? q[f.iq] - f.lo : f.at_stop > 0 ? q[f.iq] - f.hi : 0.0;
     }
+    // A rod at its length, a taut rope at its bound.
+    for (size_t t = 0; t < tethers.size(); ++t) {
+      const Tether& T = tethers[t];
+      rows_(tether_row((int)t)) = T.active() ? tether_position(T, q) - (T.taut < 0 ? T.lo : T.hi) : 0.0;
+    }
     if (rows_.lpNorm<Eigen::Infinity>() < 1e-14) return;
     rhs_ = -rows_;
     loop_jacobian();
@@ -304,4 +441,48 @@ double Mechanism::loop_speed(int k) const {
   return (wb - wa).dot(qa * (L.q_a0.conjugate() * L.axis_W0));
 }
 
+}  // namespace simreel
+
+namespace simreel {
+
+double Mechanism::tether_length(int ti, int seg, double* rate) const {
+  const Tether& t = tethers[ti];
+  auto point = [&](int l, const Vec3& p) { return l < 0 ? p : Vec3(out_x_[l] + out_q_[l] * p); };
+  auto velocity = [&](int l, const Vec3& p) {
+    return l < 0 ? Vec3::Zero() : Vec3(out_q_[l] * point_velocity(out_v_[l], p));
+  };
+  double s = 0, r = 0;
+  for (int k = 0; k < t.nseg; ++k) {
+    if (seg >= 0 && k != seg) continue;
+    const Vec3 d = point(t.lb[k], t.pb[k]) - point(t.la[k], t.pa[k]);
+    const double L = d.norm();
+    const double w = seg >= 0 ? 1.0 : t.w[k];
+    s += w * L;
+    if (L > 1e-12) r += w * d.dot(velocity(t.lb[k], t.pb[k]) - velocity(t.la[k], t.pa[k])) / L;
+  }
+  if (seg < 0 && t.wheel_iq >= 0) {
+    s += t.wheel_c * q[t.wheel_iq];
+    r += t.wheel_c * v[t.wheel_iv];
+  }
+  if (rate) *rate = r;
+  return s;
+}
+
+double Mechanism::tether_gap(int ti) const {
+  const Tether& t = tethers[ti];
+  const double s = tether_length(ti);
+  if (t.rod) return std::abs(s - t.hi);
+  double g = 0;
+  if (t.has_hi) g = std::max(g, s - t.hi);
+  if (t.has_lo) g = std::max(g, t.lo - s);
+  return g;
+}
+
+}  // namespace simreel
+
+namespace simreel {
+double Mechanism::measure_tether(int t) {
+  kinematics(q.data());
+  return tether_position(tethers[t], q.data());
+}
 }  // namespace simreel

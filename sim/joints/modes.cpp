@@ -33,6 +33,12 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // restitution below 1 would take infinitely many impacts in a finite time (Zeno). 1e-6 rad/s is
 // 1e-8 rad of travel in a 1/100 s bounce at g-level accelerations: far under any figure shown.
 constexpr double kRestRate = 1e-6;
+// A rope whose ends start within this of its bound (m) starts there: a max length written to a
+// few digits of the start distance.
+constexpr double kStartSlack = 1e-9;
+// A slack rope is caught this far (relative to 1 + its bound, m) past its bound: far under the
+// event location's own resolution, far over round-off.
+constexpr double kRopeSlack = 1e-12;
 inline int sign(double x) {
   return (x > 0) - (x < 0);
 }
@@ -70,6 +76,19 @@ void Mechanism::event_values(const double* y, double* out) const {
     o[2] = d.active() ? std::min(d.lambda - d.lower_bound(), d.upper_bound() - d.lambda) : 1.0;
     o[3] = d.motor != 0 && !d.hold ? d.push * (d.target_rate(qk) - vk) : 1.0;
     o[4] = d.friction > 0 && !d.stick ? d.slide * vk : 1.0;
+  }
+  // A slack rope reaching a bound; a taut rope's force changing sign (it would push: it goes
+  // slack). The kinematics are y's (its derivative was just evaluated).
+  double* o = out + 5 * dofs.size();
+  for (const Tether& t : tethers) {
+    const bool rope = !t.rod;
+    const double s = rope && t.taut == 0 ? tether_position(t, q) : 0.0;
+    // Offset by kRopeSlack: a rope let go at its bound is there only to round-off, and a function
+    // starting a hair under zero would never be seen to cross it.
+    o[0] = rope && t.taut == 0 && t.has_hi ? t.hi + kRopeSlack * (1 + t.hi) - s : 1.0;
+    o[1] = rope && t.taut == 0 && t.has_lo ? s - t.lo + kRopeSlack * (1 + t.lo) : 1.0;
+    o[2] = rope && t.taut != 0 ? (t.taut > 0 ? -t.lambda : t.lambda) : 1.0;
+    o += 3;
   }
 }
 
@@ -111,6 +130,8 @@ void Mechanism::impulse(const double* q, double* v, const std::vector<double>& t
   rhs_.noalias() = -(G_ * vv);
   for (size_t d = 0; d < dofs.size(); ++d)
     if (!std::isnan(target[d])) rhs_(loop_rows + (int)d) += target[d];
+  for (size_t t = 0; t < tethers.size(); ++t)
+    if (!std::isnan(target[dofs.size() + t])) rhs_(tether_row((int)t)) += target[dofs.size() + t];
   solve_rows();
   vv += dv_;
   for (size_t d = 0; d < dofs.size(); ++d)
@@ -132,11 +153,36 @@ void Mechanism::impulse(const double* q, double* v, const std::vector<double>& t
   }
 }
 
+double Mechanism::rope_impact(int ti, int bound, const double* q, const double* v) {
+  Tether& t = tethers[ti];
+  link_velocities(q, v, V_);
+  const double rate = tether_rate(t, V_, t.wheel_iv >= 0 ? v[t.wheel_iv] : 0.0);
+  double out = -t.restitution * rate;
+  if (std::abs(out) < kRestRate) {
+    out = 0;
+    t.taut = bound;
+  }
+  return out;
+}
+
 void Mechanism::apply_events(double* y, const double* g0, const double* g1, const Vec3& g, const Wrench* wr) {
   double* q = y;
   double* v = y + nq;
   bool impact = false;
   std::fill(vtarget_.begin(), vtarget_.end(), std::numeric_limits<double>::quiet_NaN());
+  const size_t D = dofs.size();
+  bool caught = false;
+  for (size_t i = 0; i < tethers.size(); ++i) {
+    const double* a = g0 + 5 * D + 3 * i;
+    const double* b = g1 + 5 * D + 3 * i;
+    auto hit = [&](int k) { return a[k] >= 0 && b[k] < 0; };
+    if (hit(0) || hit(1)) {
+      vtarget_[D + i] = rope_impact((int)i, hit(0) ? 1 : -1, q, v);
+      impact = true;
+      caught = caught || tethers[i].taut != 0;
+    }
+    if (hit(2)) tethers[i].taut = 0;
+  }
   for (size_t i = 0; i < dofs.size(); ++i) {
     Dof& d = dofs[i];
     const double* a = g0 + 5 * i;
@@ -159,11 +205,65 @@ void Mechanism::apply_events(double* y, const double* g0, const double* g1, cons
     }
   }
   if (impact) {
-    for (size_t i = 0; i < dofs.size(); ++i)
-      if (dofs[i].at_stop != 0 && std::isnan(vtarget_[i])) vtarget_[i] = 0;  // stays on its stop
+    keep_held_rows();
     impulse(q, v, vtarget_);
   }
+  // A rope caught past its bound (by the event's resolution, or by a contact substep's travel)
+  // is put on it before anything may let it go again: a rope let go there must start slack.
+  if (caught) project_positions(q);
   settle_modes(y, g, wr);
+}
+
+bool Mechanism::catch_stretched(double* y, const Vec3& g, const Wrench* wr) {
+  double* q = y;
+  double* v = y + nq;
+  bool any = false, impact = false;
+  (void)impact;
+  std::fill(vtarget_.begin(), vtarget_.end(), std::numeric_limits<double>::quiet_NaN());
+  link_velocities(q, v, V_);  // the kinematics at q too
+  for (size_t i = 0; i < tethers.size(); ++i) {
+    Tether& t = tethers[i];
+    if (t.rod || t.taut != 0) continue;
+    // Past the event functions' own offset (where an event leaves a rope it caught), and moving
+    // further out: one coming back in is seen by its event function once inside again.
+    const double s = tether_position(t, q);
+    const int bound = t.has_hi && s > t.hi + 2 * kRopeSlack * (1 + t.hi)   ? 1
+                      : t.has_lo && s < t.lo - 2 * kRopeSlack * (1 + t.lo) ? -1
+                                                                           : 0;
+    if (bound == 0) continue;
+    const double rate = tether_rate(t, V_, t.wheel_iv >= 0 ? v[t.wheel_iv] : 0.0);
+    if (bound * rate <= 0) continue;
+    any = impact = true;
+    vtarget_[dofs.size() + i] = rope_impact((int)i, bound, q, v);
+  }
+  if (!any) return false;
+  if (impact) {
+    keep_held_rows();
+    impulse(q, v, vtarget_);
+  }
+  // Every caught rope back on its bound; one that rebounds leaves it slack.
+  std::vector<int>& rebound = rebound_;
+  rebound.assign(tethers.size(), 0);
+  for (size_t i = 0; i < tethers.size(); ++i) {
+    const double vt = vtarget_[dofs.size() + i];
+    if (!std::isnan(vt) && tethers[i].taut == 0) {
+      rebound[i] = 1;
+      tethers[i].taut = vt < 0 ? 1 : -1;
+    }
+  }
+  project_positions(q);
+  for (size_t i = 0; i < tethers.size(); ++i)
+    if (rebound[i]) tethers[i].taut = 0;
+  settle_modes(y, g, wr);
+  return true;
+}
+
+void Mechanism::keep_held_rows() {
+  // Coordinates on their stops stay there, rods and taut ropes keep their lengths.
+  for (size_t i = 0; i < dofs.size(); ++i)
+    if (dofs[i].at_stop != 0 && std::isnan(vtarget_[i])) vtarget_[i] = 0;
+  for (size_t i = 0; i < tethers.size(); ++i)
+    if (tethers[i].active() && std::isnan(vtarget_[dofs.size() + i])) vtarget_[dofs.size() + i] = 0;
 }
 
 void Mechanism::start_modes(double* y, const Vec3& g, const Wrench* wr) {
@@ -197,9 +297,28 @@ void Mechanism::start_modes(double* y, const Vec3& g, const Wrench* wr) {
       }
     }
   }
+  // A rope starting at a bound (its default max length is the start distance): taut, or
+  // hitting it at once when its ends move apart (together).
+  if (!tethers.empty()) link_velocities(q, v, V_);  // the kinematics at q too
+  for (size_t i = 0; i < tethers.size(); ++i) {
+    Tether& t = tethers[i];
+    if (t.rod) continue;
+    t.taut = 0;
+    const double s = tether_position(t, q);
+    const double rate = tether_rate(t, V_, t.wheel_iv >= 0 ? v[t.wheel_iv] : 0.0);
+    const int bound = t.has_hi && s >= t.hi - kStartSlack && rate >= 0   ? 1
+                      : t.has_lo && s <= t.lo + kStartSlack && rate <= 0 ? -1
+                                                                         : 0;
+    if (bound == 0) continue;
+    if (rate == 0) {
+      t.taut = bound;
+    } else {
+      vtarget_[dofs.size() + i] = rope_impact((int)i, bound, q, v);
+      impact = true;
+    }
+  }
   if (impact) {
-    for (size_t i = 0; i < dofs.size(); ++i)
-      if (dofs[i].at_stop != 0 && std::isnan(vtarget_[i])) vtarget_[i] = 0;
+    keep_held_rows();
     impulse(q, v, vtarget_);
   }
   settle_modes(y, g, wr);
@@ -208,7 +327,7 @@ void Mechanism::start_modes(double* y, const Vec3& g, const Wrench* wr) {
 void Mechanism::settle_modes(double* y, const Vec3& g, const Wrench* wr) {
   // Release the most violated held coordinate, then look again: a release changes the others'
   // holding forces. Each pass releases one, so this ends within the number of coordinates.
-  for (size_t it = 0; it <= dofs.size(); ++it) {
+  for (size_t it = 0; it <= dofs.size() + tethers.size(); ++it) {
     derivative(y, kd_.data(), g, wr, nullptr);
     int worst = -1, dir = 0;
     double by = 0;
@@ -227,6 +346,21 @@ void Mechanism::settle_modes(double* y, const Vec3& g, const Wrench* wr) {
         by = d.lambda - hi;
         dir = -1;
       }
+    }
+    // A taut rope pushing (or a rope at its min length pulling) goes slack.
+    int worst_tether = -1;
+    for (size_t i = 0; i < tethers.size(); ++i) {
+      const Tether& t = tethers[i];
+      if (t.rod || t.taut == 0) continue;
+      const double out = t.taut > 0 ? t.lambda : -t.lambda;  // > 0: the wrong way
+      if (out > 1e-12 * (1 + std::abs(t.lambda)) && out > by) {
+        worst_tether = (int)i;
+        by = out;
+      }
+    }
+    if (worst_tether >= 0) {
+      tethers[worst_tether].taut = 0;
+      continue;
     }
     if (worst < 0) return;
     release(dofs[worst], dir);

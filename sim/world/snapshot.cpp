@@ -138,6 +138,8 @@ uint64_t WorldImpl::fingerprint() const {
                           j.steering ? 1 : 0};
         fnv(h, w, sizeof w);
       }
+      // A pulley over a wheel saves one rope mode per run.
+      if (j.type == JointType::pulley && j.wheel >= 0) fnv(h, &j.wheel, sizeof j.wheel);
     }
   }
   return h;
@@ -199,7 +201,7 @@ void WorldImpl::save_state(std::ostream& os) const {
     for (double x : m.v) o.f64(x);
     o.f64(m.h);
     // The modes of limits, motors and friction (only when the mechanism has any).
-    if (!m.dofs.empty()) {
+    if (m.events_on()) {
       o.u8(m.started ? 1 : 0);
       for (const Mechanism::Dof& d : m.dofs) {
         o.i32(d.at_stop);
@@ -207,6 +209,7 @@ void WorldImpl::save_state(std::ostream& os) const {
         o.i32(d.slide);
         o.u8((uint8_t)((d.hold ? 1 : 0) | (d.stick ? 2 : 0)));
       }
+      for (const Mechanism::Tether& t : m.tethers) o.i32(t.taut);  // slack or taut ropes
     }
   }
   if (!os) throw std::runtime_error("could not write the saved state");
@@ -317,7 +320,7 @@ void WorldImpl::restore_state(std::istream& is) {
     bool ok = std::isfinite(mh.back()) && mh.back() >= 0;
     for (double x : mq.back()) ok = ok && std::isfinite(x);
     for (double x : mv.back()) ok = ok && std::isfinite(x);
-    if (!m.dofs.empty()) {
+    if (m.events_on()) {
       const uint8_t started = in.u8();
       ok = ok && started <= 1;
       modes.emplace_back();
@@ -326,6 +329,11 @@ void WorldImpl::restore_state(std::istream& is) {
         const int at = in.i32(), push = in.i32(), slide = in.i32(), flags = in.u8();
         ok = ok && at >= -1 && at <= 1 && push >= -1 && push <= 1 && slide >= -1 && slide <= 1 && flags <= 3;
         for (int x : {at, push, slide, flags}) modes.back().push_back(x);
+      }
+      for (size_t t = 0; t < m.tethers.size(); ++t) {
+        const int taut = in.i32();
+        ok = ok && taut >= -1 && taut <= 1 && (taut == 0 || !m.tethers[t].rod);
+        modes.back().push_back(taut);
       }
     } else {
       modes.emplace_back();
@@ -337,7 +345,7 @@ void WorldImpl::restore_state(std::istream& is) {
     m.q = std::move(mq[k]);
     m.v = std::move(mv[k]);
     m.h = mh[k];
-    if (!m.dofs.empty()) {
+    if (m.events_on()) {
       const std::vector<int>& md = modes[k];
       m.started = md[0] != 0;
       for (size_t d = 0; d < m.dofs.size(); ++d) {
@@ -348,6 +356,7 @@ void WorldImpl::restore_state(std::istream& is) {
         f.hold = (md[4 + 4 * d] & 1) != 0;
         f.stick = (md[4 + 4 * d] & 2) != 0;
       }
+      for (size_t t = 0; t < m.tethers.size(); ++t) m.tethers[t].taut = md[1 + 4 * m.dofs.size() + t];
     }
   }
   forces_.restore_fired(std::move(fired));

@@ -251,10 +251,250 @@ TEST(SceneJoints, FrictionIsAFiniteNonNegativeNumber) {
   EXPECT_JOINT_ERROR(kUniversal, "\n      friction: .nan", 12, "joints[0].friction: must be a finite number");
 }
 
-TEST(SceneJoints, DistanceJointsAreNotSupportedYet) {
-  const std::string base = "name: j, type: distance, bodies: [world, arm], anchor: [0, 0, 2]";
-  EXPECT_JOINT_ERROR(base.c_str(), "axis: [0, 1, 0]", 10,
-                     "joints[0].type: joint type 'distance' is not supported yet");
+// A distance joint between the world's point 1 m above arm's origin and that origin (start distance
+// 1 m), and a pulley whose rope runs from arm up over two fixed points and down to cart.
+const char* kDistance = "name: j, type: distance, bodies: [world, arm]";
+const char* kRod = "name: j, type: distance, bodies: [world, arm], anchors: [[0.5, 0, 3], [0.5, 0, 2]]";
+const char* kPulley = "name: j, type: pulley, bodies: [arm, cart], anchors: [[0.5, 0, 2], [3, 0, 2]]";
+const char* kOverhead = "pulley_anchors: [[0.5, 0, 4], [3, 0, 4]]";
+
+TEST(SceneJoints, DistanceRodsAndRopesLoad) {
+  const Scene s = load_scene(write_scene(
+      "joints_distance.yaml",
+      std::string(kBodies) +
+          "  - { name: rod, type: distance, bodies: [world, arm], anchors: [[0.5, 0, 3.5], [0.5, 0, 2]] }\n"
+          "  - { name: rope, type: distance, bodies: [world, cart], anchors: [[3, 0, 4], [3, 0, 2]],\n"
+          "      min_length: 0.5, max_length: 3, restitution: 0.4 }\n"
+          "  - { name: taut, type: distance, bodies: [top, gimbal], anchors: [[6, 0, 2], [9, 0, 2]],\n"
+          "      max_length: 2.9999999999 }\n"
+          "  - { name: strut, type: distance, bodies: [welded, arm2], anchors: [[12, 0, 2], [15, 0, 2]],\n"
+          "      min_length: 1 }\n"));
+  ASSERT_EQ(s.joints.size(), 4u);
+  // Neither bound: a rigid rod as long as the anchors are apart at t = 0.
+  const JointDef& rod = s.joints[0];
+  EXPECT_EQ(rod.type, JointType::distance);
+  EXPECT_EQ(rod.parent, -1);
+  EXPECT_EQ(rod.child, 0);
+  EXPECT_EQ(rod.anchor_W, Vec3(0.5, 0, 3.5));
+  EXPECT_EQ(rod.anchor2_W, Vec3(0.5, 0, 2));
+  EXPECT_FALSE(rod.min_length);
+  EXPECT_FALSE(rod.max_length);
+  EXPECT_EQ(rod.restitution, 0.0);
+  EXPECT_FALSE(rod.spring || rod.limits || rod.motor);
+  // A rope slack between its bounds, rebounding from them.
+  const JointDef& rope = s.joints[1];
+  EXPECT_EQ(rope.type, JointType::distance);
+  EXPECT_EQ(rope.child, 1);
+  ASSERT_TRUE(rope.min_length && rope.max_length);
+  EXPECT_EQ(*rope.min_length, 0.5);
+  EXPECT_EQ(*rope.max_length, 3.0);
+  EXPECT_EQ(rope.restitution, 0.4);
+  // A max_length within 1e-9 m under the start distance is the start distance: the rope starts taut.
+  const JointDef& taut = s.joints[2];
+  EXPECT_EQ(taut.parent, 2);
+  EXPECT_EQ(taut.child, 3);
+  ASSERT_TRUE(taut.max_length);
+  EXPECT_EQ(*taut.max_length, 3.0);
+  EXPECT_FALSE(taut.min_length);
+  // A min_length alone: a strut that only pushes, no upper bound.
+  const JointDef& strut = s.joints[3];
+  ASSERT_TRUE(strut.min_length);
+  EXPECT_EQ(*strut.min_length, 1.0);
+  EXPECT_FALSE(strut.max_length);
+}
+
+TEST(SceneJoints, DistanceSpringRestsAtTheStartLength) {
+  const Scene s = load_scene(write_scene(
+      "joints_distance_spring.yaml",
+      std::string(kBodies) +
+          "  - { name: bungee, type: distance, bodies: [world, arm], anchors: [[0.5, 0, 3.5], [0.5, 0, 2]],\n"
+          "      max_length: 2, spring: { stiffness: 50, damping: 2 } }\n"
+          "  - { name: coil, type: distance, bodies: [world, cart], anchors: [[3, 0, 4], [3, 0, 2]],\n"
+          "      spring: { stiffness: 80, rest: 1.25 } }\n"));
+  ASSERT_EQ(s.joints.size(), 2u);
+  ASSERT_TRUE(s.joints[0].spring);
+  EXPECT_EQ(s.joints[0].spring->stiffness, 50.0);
+  EXPECT_EQ(s.joints[0].spring->damping, 2.0);
+  EXPECT_EQ(s.joints[0].spring->rest, 1.5);  // the start distance, not 0
+  ASSERT_TRUE(s.joints[1].spring);
+  EXPECT_EQ(s.joints[1].spring->rest, 1.25);
+  EXPECT_JOINT_ERROR(kRod, "spring: { stiffness: 1, rest: -0.5 }", 11,
+                     "joints[0].spring.rest: must not be negative");
+}
+
+TEST(SceneJoints, DistanceJointsTakeTwoAnchors) {
+  EXPECT_JOINT_ERROR(kDistance, "spring: { stiffness: 1 }", 10,
+                     "joints[0]: a distance joint needs 'anchors: [[parent point], [child point]]'");
+  EXPECT_JOINT_ERROR(kDistance, "anchor: [0.5, 0, 3]", 11,
+                     "joints[0].anchor: a distance joint takes 'anchors: [[parent point], [child point]]'");
+  EXPECT_JOINT_ERROR(kPulley, "anchor: [0.5, 0, 3]", 11,
+                     "joints[0].anchor: a pulley joint takes 'anchors: [[a point], [b point]]'");
+  EXPECT_JOINT_ERROR(kDistance, "anchors: [0.5, 0, 3]", 11,
+                     "joints[0].anchors: expected [[x, y, z], [x, y, z]] (the parent's point, the child's "
+                     "point), got a list of 3");
+  EXPECT_JOINT_ERROR(kDistance, "anchors: [[0.5, 0, 3], [0.5, 2]]", 11,
+                     "joints[0].anchors[1]: expected a list of 3 numbers");
+  // ... and every other joint one.
+  EXPECT_JOINT_ERROR(kRevolute, "anchors: [[0, 0, 2], [0.5, 0, 2]]", 11,
+                     "joints[0].anchors: only a distance or pulley joint takes 'anchors'; a revolute joint "
+                     "takes 'anchor: [x, y, z]'");
+}
+
+TEST(SceneJoints, DistanceAnchorsMustNotCoincide) {
+  EXPECT_JOINT_ERROR(kDistance, "anchors: [[0.5, 0, 2], [0.5, 0, 2]]", 11,
+                     "joints[0].anchors: the anchors coincide; a distance joint needs two distinct points "
+                     "(use spherical for a ball joint)");
+}
+
+TEST(SceneJoints, RopeBoundsHoldTheStartDistance) {
+  EXPECT_JOINT_ERROR(
+      kRod, "max_length: 0.9", 11,
+      "joints[0].max_length: max_length 0.9 m is shorter than the anchors' start distance 1 m");
+  EXPECT_JOINT_ERROR(kRod, "\n      min_length: 1.2", 12,
+                     "joints[0].min_length: min_length 1.2 m is longer than the anchors' start distance 1 m");
+  EXPECT_JOINT_ERROR(kRod, "max_length: 1,\n      min_length: 2", 12,
+                     "joints[0].min_length: min_length must be below max_length, got 2 m and 1 m");
+  EXPECT_JOINT_ERROR(kRod, "min_length: 1, max_length: 1", 11,
+                     "(equal bounds are a rigid rod: leave both out)");
+  EXPECT_JOINT_ERROR(kRod, "min_length: -0.1", 11, "joints[0].min_length: must not be negative");
+  EXPECT_JOINT_ERROR(kRod, "max_length: 0", 11, "joints[0].max_length: must be positive");
+}
+
+TEST(SceneJoints, RestitutionBelongsToRopesAndPulleys) {
+  EXPECT_JOINT_ERROR(kRod, "restitution: 0.5", 11,
+                     "joints[0].restitution: a rigid rod (no min_length or max_length) never goes slack");
+  EXPECT_JOINT_ERROR(kRod, "max_length: 2,\n      restitution: 1.5", 12,
+                     "joints[0].restitution: must lie in [0, 1]");
+  EXPECT_JOINT_ERROR(
+      kRevolute, "restitution: 0.5", 11,
+      "joints[0].restitution: only a rope (a distance joint with min_length or max_length) or a "
+      "pulley has restitution");
+  EXPECT_JOINT_ERROR(kPrismatic, "max_length: 2", 11,
+                     "joints[0].max_length: only a distance joint has max_length");
+}
+
+TEST(SceneJoints, DistanceJointsRefuseAxesLimitsMotorsAndFriction) {
+  EXPECT_JOINT_ERROR(kRod, "limits: [-0.1, 0.1]", 11,
+                     "joints[0].limits: a distance joint's limits are min_length/max_length");
+  EXPECT_JOINT_ERROR(kRod, "motor: { speed: 1, max_force: 1 }", 11,
+                     "joints[0].motor: a distance joint takes no motor");
+  EXPECT_JOINT_ERROR(kRod, "friction: 1", 11, "joints[0].friction: a distance joint has no friction");
+  EXPECT_JOINT_ERROR(kRod, "axis: [0, 0, 1]", 11, "joints[0].axis: a distance joint has no axis");
+  EXPECT_JOINT_ERROR(kRod, "\n      axis2: [0, 0, 1]", 12,
+                     "joints[0].axis2: only a universal or wheel joint has axis2");
+  EXPECT_JOINT_ERROR(kRod, "pulley_anchors: [[0, 0, 4], [1, 0, 4]]", 11,
+                     "joints[0].pulley_anchors: only a pulley joint has pulley_anchors");
+}
+
+TEST(SceneJoints, PulleysLoad) {
+  const Scene s = load_scene(write_scene(
+      "joints_pulley.yaml",
+      std::string(kBodies) +
+          "  - { name: axle, type: revolute, bodies: [world, top], anchor: [6, 0, 2], axis: [0, 1, 0] }\n"
+          "  - { name: rope, type: pulley, bodies: [arm, cart], anchors: [[0.5, 0, 2], [3, 0, 2]],\n"
+          "      pulley_anchors: [[0.5, 0, 4], [3, 0, 4]], wheel: top, restitution: 0.2 }\n"
+          "  - { name: tackle, type: pulley, bodies: [world, gimbal], anchors: [[7, 0, 0], [9, 0, 2]],\n"
+          "      pulley_anchors: [[7, 0, 5], [9, 0, 5]], ratio: 2 }\n"));
+  ASSERT_EQ(s.joints.size(), 3u);
+  const JointDef& rope = s.joints[1];
+  EXPECT_EQ(rope.type, JointType::pulley);
+  EXPECT_EQ(rope.parent, 0);
+  EXPECT_EQ(rope.child, 1);
+  EXPECT_EQ(rope.anchor_W, Vec3(0.5, 0, 2));
+  EXPECT_EQ(rope.anchor2_W, Vec3(3, 0, 2));
+  EXPECT_EQ(rope.pulley_anchor_W[0], Vec3(0.5, 0, 4));
+  EXPECT_EQ(rope.pulley_anchor_W[1], Vec3(3, 0, 4));
+  EXPECT_EQ(rope.ratio, 1.0);
+  EXPECT_EQ(rope.wheel, 2);
+  EXPECT_EQ(rope.restitution, 0.2);
+  // One end on the world: the other side moves. No wheel: a massless pulley.
+  const JointDef& tackle = s.joints[2];
+  EXPECT_EQ(tackle.parent, -1);
+  EXPECT_EQ(tackle.child, 3);
+  EXPECT_EQ(tackle.ratio, 2.0);
+  EXPECT_EQ(tackle.wheel, -1);
+  EXPECT_EQ(tackle.restitution, 0.0);
+}
+
+TEST(SceneJoints, PulleyNeedsItsPulleyAnchors) {
+  EXPECT_JOINT_ERROR(kPulley, "ratio: 2", 10,
+                     "joints[0]: a pulley joint needs 'pulley_anchors: [[x, y, z], [x, y, z]]'");
+  EXPECT_JOINT_ERROR(kPulley, "pulley_anchors: [[0.5, 0, 2], [3, 0, 4]]", 11,
+                     "joints[0].pulley_anchors[0]: the rope's parent side starts with no length");
+  EXPECT_JOINT_ERROR(kPulley, "pulley_anchors: [[0.5, 0, 4]]", 11,
+                     "joints[0].pulley_anchors: expected [[x, y, z], [x, y, z]]");
+  EXPECT_JOINT_ERROR(kPulley, std::string(kOverhead) + ",\n      ratio: 0", 12,
+                     "joints[0].ratio: must be positive");
+  // Both ends on things that cannot move: nothing to pull.
+  const char* fixed_ends = "name: j, type: pulley, bodies: [world, world], anchors: [[0, 0, 2], [3, 0, 2]]";
+  EXPECT_JOINT_ERROR(fixed_ends, kOverhead, 10, "joints[0].bodies: joins the world to itself");
+}
+
+TEST(SceneJoints, PulleyWheelIsAThirdBodyOnAHinge) {
+  EXPECT_JOINT_ERROR(kPulley, std::string(kOverhead) + ",\n      wheel: tpo", 12,
+                     "joints[0].wheel: no body is named 'tpo'; did you mean 'top'?");
+  EXPECT_JOINT_ERROR(kPulley, std::string(kOverhead) + ",\n      wheel: cart", 12,
+                     "joints[0].wheel: the wheel 'cart' is one of the rope's bodies");
+  EXPECT_JOINT_ERROR(
+      kPulley, std::string(kOverhead) + ",\n      wheel: world", 12,
+      "joints[0].wheel: the wheel must be a body that turns on a revolute joint, not the world");
+  EXPECT_JOINT_ERROR(kPulley, std::string(kOverhead) + ", wheel: top,\n      ratio: 2", 12,
+                     "joints[0].ratio: a rope over a wheel has ratio 1");
+  // The scene holds no revolute joint for it.
+  EXPECT_JOINT_ERROR(kPulley, std::string(kOverhead) + ",\n      wheel: top", 12,
+                     "joints[0].wheel: the wheel 'top' turns on no revolute joint");
+  // A static wheel cannot turn.
+  const std::string text =
+      "simulation: { duration: 1 }\n"
+      "bodies:\n"
+      "  - { name: a, position: [0, 0, 2], colliders: [ { shape: sphere, radius: 0.2 } ] }\n"
+      "  - { name: b, position: [2, 0, 2], colliders: [ { shape: sphere, radius: 0.2 } ] }\n"
+      "  - { name: drum, type: static, position: [1, 0, 4], colliders: [ { shape: sphere, radius: 1 } ] }\n"
+      "joints:\n"
+      "  - { type: pulley, bodies: [a, b], anchors: [[0, 0, 2], [2, 0, 2]], pulley_anchors: [[0, 0, 4], [2, "
+      "0, 4]],\n"
+      "      wheel: drum }\n";
+  try {
+    load_scene(write_scene("j.yaml", text));
+    ADD_FAILURE() << "a static wheel was accepted";
+  } catch (const InputError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("j.yaml:8:"), std::string::npos) << m;
+    EXPECT_NE(m.find("joints[0].wheel: the wheel 'drum' is static: it must be a dynamic body"),
+              std::string::npos)
+        << m;
+  }
+}
+
+TEST(SceneJoints, PulleysRefuseSpringsLimitsMotorsAndLengths) {
+  const std::string over = std::string(kOverhead) + ",\n      ";
+  EXPECT_JOINT_ERROR(kPulley, over + "spring: { stiffness: 1 }", 12,
+                     "joints[0].spring: a pulley joint takes no spring");
+  EXPECT_JOINT_ERROR(kPulley, over + "limits: [-1, 1]", 12, "joints[0].limits: a pulley joint has no limits");
+  EXPECT_JOINT_ERROR(kPulley, over + "motor: { speed: 1, max_force: 1 }", 12,
+                     "joints[0].motor: a pulley joint takes no motor");
+  EXPECT_JOINT_ERROR(kPulley, over + "friction: 1", 12, "joints[0].friction: a pulley joint has no friction");
+  EXPECT_JOINT_ERROR(
+      kPulley, over + "max_length: 5", 12,
+      "joints[0].max_length: a pulley's rope keeps its start length: max_length is for a distance "
+      "joint");
+  EXPECT_JOINT_ERROR(kPulley, over + "axis: [0, 1, 0]", 12, "joints[0].axis: a pulley joint has no axis");
+  EXPECT_JOINT_ERROR(kPulley, over + "steering: { position: 0, max_torque: 1 }", 12,
+                     "joints[0].steering: only a wheel joint steers");
+  EXPECT_JOINT_ERROR(kRevolute, "wheel: top", 11, "joints[0].wheel: only a pulley joint has wheel");
+  EXPECT_JOINT_ERROR(kSpherical, "ratio: 2", 11, "joints[0].ratio: only a pulley joint has ratio");
+}
+
+TEST(SceneJoints, UnknownTypesNameTheNewTypes) {
+  EXPECT_JOINT_ERROR("name: j, type: pully, bodies: [world, arm]", "anchor: [0, 0, 2]", 10,
+                     "joints[0].type: unknown joint type 'pully' (revolute, prismatic, spherical, fixed, "
+                     "universal, wheel, distance, pulley); did you mean 'pulley'?");
+  EXPECT_JOINT_ERROR("name: j, type: distanse, bodies: [world, arm]", "anchor: [0, 0, 2]", 10,
+                     "did you mean 'distance'?");
+  EXPECT_JOINT_ERROR(
+      "name: j, bodies: [world, arm]", "anchor: [0, 0, 2]", 10,
+      "joints[0]: missing key 'type' (revolute, prismatic, spherical, fixed, universal, wheel, "
+      "distance, pulley)");
 }
 
 // A wheel: suspension along axis (spring, stops), steering to an angle, the axle's motor and
