@@ -606,6 +606,11 @@ const std::vector<std::string>& hud_joint_names() {
   return v;
 }
 
+// A distance or pulley joint: never a tree edge (docs/joints.md), a rope between two bodies' points.
+static bool is_rope(const JointDef& j) {
+  return j.type == JointType::distance || j.type == JointType::pulley;
+}
+
 bool joint_sides(const JointDef& j, const std::vector<BodyDef>& bodies, int& parent, int& child) {
   auto fixed = [&](int b) {
     return b < 0 || b >= (int)bodies.size() || bodies[b].type == BodyType::static_body;
@@ -634,15 +639,29 @@ std::vector<ShowItem> read_show_list(const YAML::Node& sh, const scene_yaml::Ctx
     items.push_back(show_item(sh[k], w.index(k), s.duration));
     const ShowKind kind = items.back().kind;
     if (kind != ShowKind::joints && kind != ShowKind::joint_forces) continue;
+    // A tree joint (not a rope) holding the body to its parent, or a rope (a distance or pulley
+    // joint) with the body at either end: `joints` draws the rope, `joint_forces` does not (yet).
     bool held = false;
+    const JointDef* rope = nullptr;
     for (const JointDef& j : s.joints) {
+      if (is_rope(j)) {
+        if (!rope && (j.parent == (int)body || j.child == (int)body)) rope = &j;
+        continue;
+      }
       int parent, child;
       held = held || (joint_sides(j, s.bodies, parent, child) && child == (int)body);
     }
-    if (!held)
+    if (!held && rope && kind == ShowKind::joint_forces)
+      w.index(k).fail(sh[k], "body '" + s.bodies[body].name + "' hangs on " + to_string(rope->type) +
+                                 " joint '" + rope->name +
+                                 "', and `joint_forces` does not draw a rope's force yet (it draws the "
+                                 "force and torque through the joint that holds a body to its parent); "
+                                 "`joints` draws the rope");
+    if (!held && !rope)
       w.index(k).fail(sh[k], "body '" + s.bodies[body].name + "' is no joint's child: " +
                                  (kind == ShowKind::joints
-                                      ? "`joints` draws the joint that holds a body to its parent"
+                                      ? "`joints` draws the joint that holds a body to its parent, or a "
+                                        "rope (distance or pulley joint) at either of its ends"
                                       : "`joint_forces` draws the force and torque through the joint that "
                                         "holds a body to its parent"));
   }

@@ -53,6 +53,11 @@ int default_color(ShowKind k) {
   return 0;
 }
 
+// A distance or pulley joint: never a tree edge (docs/joints.md); `joints` draws it as a rope.
+bool is_rope(const JointDef& j) {
+  return j.type == JointType::distance || j.type == JointType::pulley;
+}
+
 bool is_arrow(ShowKind k) {
   return k == ShowKind::angular_velocity || k == ShowKind::angular_momentum || k == ShowKind::velocity;
 }
@@ -109,6 +114,14 @@ void accumulate(const World& w, std::vector<Magnitudes>& m) {
 
 Rgba item_color(const ShowItem& s) {
   return s.color ? with_alpha(*s.color, s.opacity) : okabe_ito(default_color(s.kind), (float)s.opacity);
+}
+
+Rgba rope_color(const ShowItem& s, bool rod) {
+  if (s.color) return item_color(s);
+  // Dark tan (sRGB 150, 112, 64) for a rope, grey (120, 120, 125) for a rod.
+  const float a = (float)s.opacity;
+  return rod ? Rgba{srgb_to_linear(120), srgb_to_linear(120), srgb_to_linear(125), a}
+             : Rgba{srgb_to_linear(150), srgb_to_linear(112), srgb_to_linear(64), a};
 }
 
 std::vector<Magnitudes> measure_magnitudes(const Scene& scene, int threads) {
@@ -214,9 +227,11 @@ SceneOverlays::SceneOverlays(const Scene& scene, const World& world, const std::
       need_scales = need_scales || (is_arrow(s.kind) && !s.scale);
       Item it{(int)i, s, 0, 0, {-1, -1}};
       if (s.kind == ShowKind::joints || s.kind == ShowKind::joint_forces) {
-        // The joint holding body i to its parent (the scene's check: there is one).
+        // The joint holding body i to its parent and, `joints`, the ropes the body hangs on at
+        // either end (the scene's check: there is one or the other; `joint_forces`: the joint).
         it.joint = add_joint_look(scene, world, (int)i);
-        if (it.joint < 0) continue;
+        const int ropes = s.kind == ShowKind::joints ? add_rope_looks(scene, (int)i) : 0;
+        if (it.joint < 0 && ropes == 0) continue;
         need_scales = need_scales || (s.kind == ShowKind::joint_forces && (!s.scale || !s.torque_scale));
       }
       items_.push_back(it);
@@ -368,6 +383,7 @@ int SceneOverlays::add_joint_look(const Scene& scene, const World& world, int bo
   for (size_t jx = 0; jx < scene.joints.size(); ++jx) {
     const JointDef& j = scene.joints[jx];
     JointLook L;
+    if (is_rope(j)) continue;  // add_rope_looks
     if (!joint_sides(j, scene.bodies, L.parent, L.child) || L.child != body) continue;
     L.index = (int)jx;
     L.type = j.type;
@@ -405,6 +421,86 @@ int SceneOverlays::add_joint_look(const Scene& scene, const World& world, int bo
     return (int)joints_.size() - 1;
   }
   return -1;
+}
+
+int SceneOverlays::add_rope_looks(const Scene& scene, int body) {
+  int n = 0;
+  for (size_t jx = 0; jx < scene.joints.size(); ++jx) {
+    const JointDef& j = scene.joints[jx];
+    if (!is_rope(j) || (j.parent != body && j.child != body)) continue;
+    ++n;
+    bool seen = false;  // shown from its other end already: drawn there
+    for (const RopeLook& r : ropes_) seen = seen || r.index == (int)jx;
+    if (seen) continue;
+    RopeLook r;
+    r.index = (int)jx;
+    r.body = body;
+    r.type = j.type;
+    // Each end's point where its body carries it: from the body's start pose (as the anchors of
+    // add_joint_look); the world's and a static body's stay world points.
+    const int ends[2] = {j.parent, j.child};
+    const Vec3 points[2] = {j.anchor_W, j.anchor2_W};
+    for (int k : {0, 1}) {
+      const int b = ends[k];
+      if (b >= 0 && b < (int)scene.bodies.size() && scene.bodies[b].type != BodyType::static_body) {
+        const BodyDef& d = scene.bodies[b];
+        r.end[k] = b;
+        r.point[k] = d.q_WB.conjugate() * (points[k] - d.p_WB);
+      } else {
+        r.point[k] = points[k];
+      }
+      r.pulley_W[k] = j.pulley_anchor_W[k];
+    }
+    r.wheel = j.type == JointType::pulley && j.wheel >= 0;
+    r.rod = j.type == JointType::distance && !j.min_length && !j.max_length && !j.spring;
+    ropes_.push_back(r);
+  }
+  return n;
+}
+
+// Ropes: each straight run as a thin rod between its ends, which move with their bodies; a rigid
+// rod (a distance joint without bounds or spring) thicker and grey. A slack rope (joint_force 0,
+// its length under its max) is drawn straight all the same: the physics has no sag to draw.
+void SceneOverlays::build_ropes(const Item& it, const World& w, const CameraView& cam, OverlayList& out) {
+  const ShowItem& s = it.spec;
+  const float xray = (float)s.xray;
+  const double lines = height_ / 720.0, R = body_radius_[it.body];
+  const Rgba ink = item_color(s);  // the dots, as the pivot's ball
+  auto px_at = [&](const Vec3& p) {
+    return pixel_size_at(cam, height_, std::max((p - cam.eye).norm(), 1e-3));
+  };
+  for (const RopeLook& r : ropes_) {
+    if (r.body != it.body) continue;
+    const Rgba color = rope_color(s, r.rod);
+    // At least 2 px thick at 720 lines (1.2 px), times `width`; a rod 1.8 times that.
+    auto run = [&](const Vec3& a, const Vec3& b) {
+      const double radius = std::max(1.0 * lines, 0.6) * px_at(0.5 * (a + b)) * s.width * (r.rod ? 1.8 : 1.0);
+      out.rod(a, b, radius, color, xray);
+    };
+    // Dots half the pivot's ball: at least 3 px in radius at 720 lines (1.5 px), times `width`.
+    auto dot = [&](const Vec3& p) {
+      const double ball = std::max(0.03 * R, std::max(3.0 * lines, 1.5) * px_at(p)) * s.width;
+      out.ellipsoid(p, Mat3::Identity(), Vec3::Constant(ball), ink, xray);
+    };
+    const Vec3 a = r.end[0] >= 0 ? w.local_to_world(r.end[0], r.point[0]) : r.point[0];
+    const Vec3 b = r.end[1] >= 0 ? w.local_to_world(r.end[1], r.point[1]) : r.point[1];
+    if (r.type == JointType::distance) {
+      run(a, b);
+    } else {
+      // A pulley: the parent's run down from pulley_anchors[0], the child's from [1]; over a wheel
+      // the rope lies on its rim (the wheel is a body, drawn), over a massless pulley a straight
+      // span between the two fixed points.
+      run(r.pulley_W[0], a);
+      run(r.pulley_W[1], b);
+      if (!r.wheel) {
+        run(r.pulley_W[0], r.pulley_W[1]);
+        dot(r.pulley_W[0]);
+        dot(r.pulley_W[1]);
+      }
+    }
+    dot(a);
+    dot(b);
+  }
 }
 
 namespace {
@@ -449,6 +545,8 @@ void SceneOverlays::build_joint(const Item& it, const World& w, const CameraView
       break;
     case JointType::spherical:
     case JointType::fixed:
+    case JointType::distance:  // ropes and rods are drawn by build_ropes
+    case JointType::pulley:
       break;
   }
   if (!L.limits) return;
@@ -488,6 +586,9 @@ void SceneOverlays::build_joint(const Item& it, const World& w, const CameraView
       range(p, q_I * L.axis2_P, q_I * L.start2_P, w.joint_position(L.index, 1));
       break;
     }
+    case JointType::distance:
+    case JointType::pulley:
+      break;
     case JointType::prismatic:
     case JointType::wheel: {  // a wheel's stops are on its suspension travel
       // A slider's range: a bar along the axis, fixed in the parent, from `lower` to `upper` from
@@ -598,7 +699,8 @@ void SceneOverlays::build(const World& w, long frame, DrawList& dl) {
         build_contacts(it, w, dl.camera, dl.overlay);
         break;
       case ShowKind::joints:
-        build_joint(it, w, dl.camera, dl.overlay);
+        if (it.joint >= 0) build_joint(it, w, dl.camera, dl.overlay);
+        build_ropes(it, w, dl.camera, dl.overlay);
         break;
       case ShowKind::joint_forces:
         build_joint_forces(it, w, dl.camera, dl.overlay);

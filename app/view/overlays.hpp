@@ -112,6 +112,10 @@ Rgba okabe_ito(int index, float alpha = 1);  ///< 0 black, 1 orange, 2 sky blue,
 // The colour an item is drawn in: its `color` or its kind's Okabe-Ito colour, with its opacity.
 Rgba item_color(const ShowItem& s);
 
+// The colour `joints` draws a rope in (rod: a distance joint without bounds or spring): its
+// `color` if given, else dark tan (a rod: grey), with its opacity.
+Rgba rope_color(const ShowItem& s, bool rod);
+
 class SceneOverlays {
  public:
   // `body_radius`: m per body, its drawn size about its centre of mass. Runs the pre-pass if an
@@ -168,6 +172,19 @@ class SceneOverlays {
     std::optional<JointLimits> limits;
     Vec3 start_P = Vec3::Zero(), start2_P = Vec3::Zero(), axis2_P = Vec3::Zero(), anchor_P = Vec3::Zero();
   };
+  // A rope (a distance or pulley joint) as the `joints` item of one of its end bodies draws it:
+  // each end's point fixed in its body (in the world where that end is the world or a static
+  // body), and a pulley's fixed points. A rope shown from both ends is drawn once, by the first.
+  struct RopeLook {
+    int index = -1;                        // the scene's (and the World's) joint index
+    int body = -1;                         // the body whose `joints` item draws it
+    JointType type = JointType::distance;  // distance or pulley
+    int end[2] = {-1, -1};                 // the parent's and the child's body; -1: fixed (world points)
+    Vec3 point[2] = {Vec3::Zero(), Vec3::Zero()};     // anchor, anchor2: in end[k]'s frame (or world)
+    Vec3 pulley_W[2] = {Vec3::Zero(), Vec3::Zero()};  // pulley: its fixed points
+    bool wheel = false;                               // pulley: over a wheel body (which draws itself)
+    bool rod = false;                                 // distance: a rigid rod (no bounds, no spring)
+  };
   struct Plot {
     PlotSpec spec;
     std::unique_ptr<InsetPlot> plot;
@@ -204,6 +221,8 @@ class SceneOverlays {
   void build_joint(const Item& it, const World& w, const CameraView& cam, OverlayList& out);
   void build_joint_forces(const Item& it, const World& w, const CameraView& cam, OverlayList& out);
   int add_joint_look(const Scene& scene, const World& world, int body);  // index into joints_, or -1
+  int add_rope_looks(const Scene& scene, int body);  // the ropes at `body` (drawn by it or another)
+  void build_ropes(const Item& it, const World& w, const CameraView& cam, OverlayList& out);
   void prepass(const Scene& scene, int threads, bool magnitudes, std::vector<Magnitudes>& mags,
                std::vector<double>& contact_forces);
   void make_screen(const Scene& scene, const World& world);
@@ -219,6 +238,7 @@ class SceneOverlays {
   std::vector<Item> items_;
   std::vector<Trail> trails_;
   std::vector<JointLook> joints_;
+  std::vector<RopeLook> ropes_;
   JointPeriods periods_;  // the HUD's and plot cursors' {NAME.period}
   std::vector<HudLine> hud_;
   std::string hud_corner_, title_;

@@ -304,15 +304,26 @@ void SceneOverlays::fill_legend(const Scene& scene) {
           if (s.points || s.normals) add("contact point, normal", okabe_ito(0));
           break;
         case ShowKind::joints: {
-          bool limited = false;  // the joint holding body b draws its range
+          // The joint holding body b (its range drawn with limits), and the ropes it hangs on.
+          bool held = false, limited = false, rope = false, rod = false;
           for (const JointDef& j : scene.joints) {
+            if (j.type == JointType::distance || j.type == JointType::pulley) {
+              if (j.parent != (int)b && j.child != (int)b) continue;
+              const bool is_rod =
+                  j.type == JointType::distance && !j.min_length && !j.max_length && !j.spring;
+              rod = rod || is_rod;
+              rope = rope || !is_rod;
+              continue;
+            }
             int parent, child;
-            if (joint_sides(j, scene.bodies, parent, child) && child == (int)b) {
+            if (!held && joint_sides(j, scene.bodies, parent, child) && child == (int)b) {
+              held = true;
               limited = j.limits.has_value();
-              break;
             }
           }
-          add(limited ? "joint: pivot, axis, range" : "joint: pivot, axis", c);
+          if (held) add(limited ? "joint: pivot, axis, range" : "joint: pivot, axis", c);
+          if (rope) add("rope", rope_color(s, false));
+          if (rod) add("rod", rope_color(s, true));
           break;
         }
         case ShowKind::joint_forces:

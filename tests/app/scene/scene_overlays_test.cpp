@@ -415,6 +415,66 @@ TEST(SceneOverlays, TheJointForcesItemIsForABodyAJointHolds) {
       << error_of(put("arm", "[ zzz ]"));
 }
 
+// Ropes: a distance joint and a pulley over a wheel; none of their end bodies is a tree joint's child.
+std::string ropes(const std::string& a, const std::string& b, const std::string& c, const std::string& d,
+                  const std::string& wheel) {
+  auto show = [](const std::string& s) { return s.empty() ? std::string() : ", show: " + s; };
+  return "simulation: { duration: 1 }\n"
+         "bodies:\n"
+         "  - { name: a, position: [0, 0, 2], colliders: [ { shape: sphere, radius: 0.1 } ]" +
+         show(a) +
+         " }\n"
+         "  - { name: b, position: [0, 0, 1], colliders: [ { shape: sphere, radius: 0.1 } ]" +
+         show(b) +
+         " }\n"
+         "  - { name: c, position: [2.9, 0, 1], colliders: [ { shape: sphere, radius: 0.1 } ]" +
+         show(c) +
+         " }\n"
+         "  - { name: d, position: [3.1, 0, 1], colliders: [ { shape: sphere, radius: 0.1 } ]" +
+         show(d) +
+         " }\n"
+         "  - { name: wheel, position: [3, 0, 3], euler: [90, 0, 0],\n"
+         "      colliders: [ { shape: cylinder, radius: 0.1, height: 0.02, collide: false } ]" +
+         show(wheel) +
+         " }\n"
+         "joints:\n"
+         "  - { name: rod, type: distance, bodies: [a, b], anchors: [[0, 0, 1.9], [0, 0, 1.1]] }\n"
+         "  - { name: axle, type: revolute, bodies: [world, wheel], anchor: [3, 0, 3], axis: [0, 1, 0] }\n"
+         "  - { name: rope, type: pulley, bodies: [c, d], anchors: [[2.9, 0, 1.1], [3.1, 0, 1.1]],\n"
+         "      pulley_anchors: [[2.9, 0, 3], [3.1, 0, 3]], wheel: wheel }\n";
+}
+
+TEST(SceneOverlays, TheJointsItemIsForEitherEndOfARope) {
+  // Either end of a distance joint and of a pulley (parent or child) shows its rope; the pulley's
+  // wheel shows its axle, as any revolute joint's child.
+  const Scene s = load_scene(write_scene("rope_item.yaml", ropes("[joints]", "[ { joints: { width: 2 } } ]",
+                                                                 "[joints]", "[joints]", "[joints]")));
+  for (size_t b = 0; b < 5; ++b) {
+    ASSERT_EQ(s.overlays.show[b].size(), 1u) << b;
+    EXPECT_EQ(s.overlays.show[b][0].kind, ShowKind::joints) << b;
+  }
+  EXPECT_EQ(s.overlays.show[1][0].width, 2);
+  // Only the parent's end, only the child's.
+  EXPECT_EQ(load_scene(write_scene("rope_item2.yaml", ropes("[joints]", "", "", "[joints]", "")))
+                .overlays.show[3]
+                .size(),
+            1u);
+  // `joint_forces` does not draw a rope's force: refused on a body only a rope holds, with what to
+  // show instead; on the wheel it is its axle's reaction, as before.
+  const std::string e = error_of(ropes("", "", "[joint_forces]", "", ""));
+  EXPECT_NE(e.find("bodies[2].show[0]: body 'c' hangs on pulley joint 'rope', and `joint_forces` does not "
+                   "draw a rope's force yet"),
+            std::string::npos)
+      << e;
+  EXPECT_NE(e.find("`joints` draws the rope"), std::string::npos) << e;
+  EXPECT_NE(error_of(ropes("[joint_forces]", "", "", "", "")).find("hangs on distance joint 'rod'"),
+            std::string::npos);
+  EXPECT_EQ(load_scene(write_scene("rope_item3.yaml", ropes("", "", "", "", "[joint_forces]")))
+                .overlays.show[4][0]
+                .kind,
+            ShowKind::joint_forces);
+}
+
 TEST(SceneOverlays, ASceneWithoutOverlaysHasNone) {
   const Scene s = load_scene(write_scene("plain.yaml", kHead));
   EXPECT_FALSE(s.overlays.any());

@@ -644,5 +644,110 @@ TEST(Overlays, ScenesWithoutOverlaysHaveNone) {
   EXPECT_FALSE(d.view->step_hook());
 }
 
+// `joints` on a rope's end bodies: each straight run as a rod between its ends, which move with
+// their bodies (each end's point fixed in its body from the start pose; the world's a world
+// point), a pulley's fixed span between its two points when it has no wheel, and a dot at each
+// end. A rope shown from both ends is drawn once; a rope is tan, a rigid rod grey. Render-free:
+// the overlay list of a frame, built from the world at that frame.
+TEST(Overlays, TheJointsItemDrawsARopeBetweenItsMovingEnds) {
+  const std::string scene =
+      "simulation: { duration: 1 }\n"
+      "video: { width: 320, height: 240, fps: 20 }\n"
+      "camera: { position: [1.5, -8, 2], look_at: [1.5, 0, 2], fov: 40 }\n"
+      "bodies:\n"
+      "  - { name: bob, position: [0, 0, 1.5], euler: [0, 0, 30], linear_velocity: [1.5, 0, 0],\n"
+      "      colliders: [ { shape: box, size: [0.1, 0.1, 0.1], density: 1000 } ], show: [joints] }\n"
+      "  - { name: heavy, position: [2, 0, 1.5], colliders: [ { shape: box, size: [0.1, 0.1, 0.1], "
+      "density: 3000 } ],\n"
+      "      show: [joints] }\n"
+      "  - { name: light, position: [3, 0, 1.5], colliders: [ { shape: box, size: [0.1, 0.1, 0.1], "
+      "density: 1000 } ],\n"
+      "      show: [ { joints: { width: 2 } } ] }\n"
+      "  - { name: arm, position: [5, 0, 1.5], angular_velocity: [0, 0, 2],\n"
+      "      colliders: [ { shape: box, size: [0.1, 0.1, 0.1], density: 1000 } ], show: [joints] }\n"
+      "joints:\n"
+      "  - { name: tether, type: distance, bodies: [world, bob], anchors: [[0, 0, 3], [0.05, 0, 1.55]],\n"
+      "      max_length: 1.6 }\n"
+      "  - { name: rope, type: pulley, bodies: [heavy, light], anchors: [[2, 0, 1.55], [3, 0, 1.55]],\n"
+      "      pulley_anchors: [[2, 0, 3], [3, 0, 3]] }\n"
+      "  - { name: rod, type: distance, bodies: [world, arm], anchors: [[4, 0, 2.5], [5, 0.05, 1.55]] }\n";
+  const Scene sc = load_scene(write_scene("ropes.yaml", scene));
+  FrameLoop loop(sc, 1);
+  SceneView view(sc, loop.world(), ViewOptions{});
+  ASSERT_TRUE(view.overlays);
+  loop.advance_to(120, {});  // 0.5 s
+  const World& w = loop.world();
+  // Each end's point now: carried by its body from where it was at t = 0.
+  auto carried = [&](int b, const Vec3& p_W) {
+    const BodyDef& d = sc.bodies[b];
+    return w.local_to_world(b, d.q_WB.conjugate() * (p_W - d.p_WB));
+  };
+  const Vec3 tether[2] = {Vec3(0, 0, 3), carried(0, Vec3(0.05, 0, 1.55))};
+  const Vec3 heavy = carried(1, Vec3(2, 0, 1.55)), light = carried(2, Vec3(3, 0, 1.55));
+  const Vec3 top[2] = {Vec3(2, 0, 3), Vec3(3, 0, 3)};
+  const Vec3 rod[2] = {Vec3(4, 0, 2.5), carried(3, Vec3(5, 0.05, 1.55))};
+  ASSERT_GT((tether[1] - Vec3(0.05, 0, 1.55)).norm(), 0.3) << "the bob has swung";
+  ASSERT_LT(heavy.z(), 1.55 - 0.1) << "the heavy side has gone down";
+  ASSERT_GT(light.z(), 1.55 + 0.1) << "the light side up";
+  ASSERT_GT((rod[1] - Vec3(5, 0.05, 1.55)).norm(), 0.1) << "the rod's end has moved";
+  EXPECT_NEAR((tether[1] - tether[0]).norm(), w.joint_position(0, 0), 1e-6) << "the tether's length";
+  EXPECT_NEAR((rod[1] - rod[0]).norm(), w.joint_position(2, 0), 1e-6) << "the rod's length";
+  EXPECT_NEAR((heavy - top[0]).norm(), w.joint_position(1, 0), 1e-6) << "the pulley's run 0";
+  EXPECT_NEAR((light - top[1]).norm(), w.joint_position(1, 1), 1e-6) << "the pulley's run 1";
+
+  DrawList dl;
+  dl.camera = view.camera;
+  view.overlays->build(w, 10, dl);
+  struct Seg {
+    Vec3 a, b;
+    double r;
+    Rgba color;
+  };
+  std::vector<Seg> segs;
+  for (const OverlayInstance& c : dl.overlay.instances[(int)OverlayShape::cylinder]) {
+    const Vec3 from = c.model.block<3, 1>(0, 3).cast<double>(),
+               along = c.model.block<3, 1>(0, 2).cast<double>();
+    segs.push_back({from, from + along, c.model.block<3, 1>(0, 0).cast<double>().norm(), c.color});
+  }
+  // The tether, the pulley's two runs and its span, the rod: once each (heavy's and light's
+  // items share the pulley), and nothing else.
+  ASSERT_EQ(segs.size(), 5u);
+  auto find = [&](const Vec3& a, const Vec3& b) -> const Seg* {
+    for (const Seg& s : segs)
+      if (((s.a - a).norm() < 1e-5 && (s.b - b).norm() < 1e-5) ||
+          ((s.a - b).norm() < 1e-5 && (s.b - a).norm() < 1e-5))
+        return &s;
+    return nullptr;
+  };
+  const Seg* t = find(tether[0], tether[1]);
+  const Seg* r0 = find(top[0], heavy);
+  const Seg* r1 = find(top[1], light);
+  const Seg* span = find(top[0], top[1]);
+  const Seg* r = find(rod[0], rod[1]);
+  ASSERT_TRUE(t) << "the tether from the world point to the bob's point";
+  ASSERT_TRUE(r0) << "the pulley's run from pulley_anchors[0] to heavy's point";
+  ASSERT_TRUE(r1) << "the pulley's run from pulley_anchors[1] to light's point";
+  ASSERT_TRUE(span) << "the massless pulley's span";
+  ASSERT_TRUE(r) << "the rod";
+  // A rope tan (red over green over blue), a rod grey; the rod thicker than a rope at the same
+  // distance from the camera (the tether's and the rod's midpoints are about as far).
+  for (const Seg* s : {t, r0, r1, span}) {
+    EXPECT_GT(s->color[0], s->color[1]);
+    EXPECT_GT(s->color[1], s->color[2]);
+  }
+  EXPECT_NEAR(r->color[0], r->color[1], 0.01);
+  EXPECT_GT(r->r, 1.3 * t->r);
+  // Dots at the rope's ends and the pulley's fixed points: 2 + 4 + 2.
+  const auto& dots = dl.overlay.instances[(int)OverlayShape::sphere];
+  EXPECT_EQ(dots.size(), 8u);
+  auto dotted = [&](const Vec3& p) {
+    for (const OverlayInstance& d : dots)
+      if ((d.model.block<3, 1>(0, 3).cast<double>() - p).norm() < 1e-5) return true;
+    return false;
+  };
+  for (const Vec3& p : {tether[0], tether[1], heavy, light, top[0], top[1], rod[0], rod[1]})
+    EXPECT_TRUE(dotted(p)) << p.transpose();
+}
+
 }  // namespace
 }  // namespace simreel
