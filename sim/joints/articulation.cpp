@@ -1151,6 +1151,7 @@ bool Articulations::step_range(int begin, int end, double dt, const Vec3& g, con
   bool ok = true;
   for (int k = begin; k < end; ++k) {
     Mechanism& m = mechanisms_[k];
+    if (m.asleep) continue;   // its bodies keep their poses, at rest
     if (m.contact_stepped) {  // the contact solver took this step (sim/joints/contact_rows.hpp)
       m.contact_stepped = false;
       bool finite = true;

@@ -209,6 +209,7 @@ class Mechanism {
   long steps_taken = 0, steps_rejected = 0;  ///< internal steps over the run
   bool exceeded = false;         ///< a frame step needed more internal steps than JointSettings::max_steps
   bool contact_stepped = false;  ///< this frame step was taken by the contact solver (ArticulatedContacts)
+  bool asleep = false;           ///< its bodies sleep (the World's islands): not stepped
 
  private:
   void kinematics(const double* q);  ///< X_, R_W_ for every link at q

@@ -88,6 +88,13 @@ void Islands::step(const Step& in, std::vector<int>& fell_asleep) {
       still_time_[b] = 0;
     }
   }
+  if (in.bonds)
+    for (const auto& [a, b] : *in.bonds)
+      if (awake_dynamic(a) && awake_dynamic(b)) {
+        const int ra = find(a), rb = find(b);
+        if (ra < rb) uf_[rb] = ra;
+        if (rb < ra) uf_[ra] = rb;
+      }
   // 3. An island sleeps when its least still body has been still for sleep_time.
   for (int i : awake_)
     if (model[i].inv_mass > 0) island_min_[find(i)] = std::numeric_limits<double>::infinity();

@@ -54,7 +54,7 @@ class Islands {
 
   // The sleep stage. Still time: a body counts it while the solver stepped it (in_contact) and its
   // fastest point is slower than `speed` (m/s). Islands: union-find over the contacts between two
-  // awake dynamic bodies. An island sleeps when its least still body has been still for
+  // awake dynamic bodies and over the bonds. An island sleeps when its least still body has been still for
   // `sleep_time` (s): its bodies' velocities are zeroed, they leave in_contact and the awake list,
   // and their ids are appended to fell_asleep.
   struct Step {
@@ -65,6 +65,8 @@ class Islands {
     const std::vector<Contact>* contacts = nullptr;  ///< the step's (resting pairs are not needed)
     const BodyExtents* extents = nullptr;
     const std::vector<char>* shape_moving = nullptr;
+    // Bodies that sleep and wake together whether or not they touch (a mechanism's), as pairs.
+    const std::vector<std::pair<int, int>>* bonds = nullptr;
   };
   void step(const Step& in, std::vector<int>& fell_asleep);
 

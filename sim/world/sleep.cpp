@@ -20,10 +20,24 @@ void WorldImpl::init_sleep() {
   // with time or with another body's motion without anything touching them.
   for (int i : forces_.involved()) may_sleep[i] = 0;
   for (int i : forces_.forced()) may_sleep[i] = 0;
-  // Mechanisms are stepped in joint coordinates whatever their speed (sleeping them with their
-  // contacts is for when contacts reach them).
-  for (int i : dynamic_)
-    if (joints_.jointed(i)) may_sleep[i] = 0;
+  // A mechanism sleeps and wakes whole: its bodies are bonded into one island. One with a motor
+  // never sleeps (a motor may start it from rest).
+  joint_bonds_.clear();
+  for (const Mechanism& m : joints_.mechanisms()) {
+    bool motor = false;
+    for (const Mechanism::Dof& d : m.dofs) motor = motor || d.motor != 0;
+    if (motor)
+      for (const Link& l : m.links)
+        if (l.body >= 0) may_sleep[l.body] = 0;
+    int first = -1;
+    for (const Link& l : m.links) {
+      if (l.body < 0) continue;
+      if (first < 0)
+        first = l.body;
+      else
+        joint_bonds_.emplace_back(first, l.body);
+    }
+  }
   islands_.enable(std::move(may_sleep));
 }
 
@@ -38,8 +52,26 @@ void WorldImpl::stage_sleep() {
   in.contacts = &contacts_.active();
   in.extents = &extents_;
   in.shape_moving = &shape_moving_;
+  in.bonds = &joint_bonds_;
+  // A mechanism any of whose bodies the contact solver stepped was stepped whole: all its bodies
+  // count still time (a pendulum resting its bob on the floor rests its rod too).
+  char* in_contact = contacts_.in_contact();
+  for (const Mechanism& m : joints_.mechanisms()) {
+    bool any = false;
+    for (const Link& l : m.links) any = any || (l.body >= 0 && in_contact[l.body]);
+    if (any)
+      for (const Link& l : m.links)
+        if (l.body >= 0) in_contact[l.body] = 1;
+  }
   fell_asleep_.clear();
   islands_.step(in, fell_asleep_);
+  // A mechanism that fell asleep stops with its bodies: its joint velocities are zero too.
+  for (int i : fell_asleep_) {
+    const auto [mi, li] = joints_.link_of(i);
+    if (mi < 0) continue;
+    Mechanism& m = joints_.mechanisms()[mi];
+    std::fill(m.v.begin(), m.v.end(), 0.0);
+  }
   // A sleeping body's sweeps start where it fell asleep (continuous.hpp, save_start_poses).
   if (ccd_.enabled())
     for (int i : fell_asleep_) ccd_.save_start_pose(i, state_[i]);

@@ -154,6 +154,14 @@ void WorldImpl::init_joints() {
 // the others: the same results whatever the thread count).
 bool WorldImpl::stage_joints() {
   const Wrench* wr = wrench_dirty_ ? wrench_.data() : nullptr;
+  // A sleeping mechanism (its island asleep: docs/sleeping.md) is not stepped.
+  if (islands_.enabled())
+    for (Mechanism& m : joints_.mechanisms())
+      for (const Link& l : m.links)
+        if (l.body >= 0) {
+          m.asleep = islands_.asleep(l.body);
+          break;
+        }
   const int n = joints_.mechanism_count();
   if (!pool_ || n < 2) return joints_.step(cfg_.dt, cfg_.gravity, wr, state_.data());
   for (ChunkSum& s : chunk_sum_) s.value = 0;

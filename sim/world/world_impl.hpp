@@ -222,6 +222,7 @@ class WorldImpl {
 
   // ---- Joints (sim/joints/articulation.hpp): the mechanisms and their coordinates.
   Articulations joints_;
+  std::vector<std::pair<int, int>> joint_bonds_;  ///< each mechanism's bodies, paired (one island)
 
   // ---- Contact data (sim/collision/shape_table.hpp, broad_phase.hpp, contact.hpp, contact_solver.hpp).
   std::unique_ptr<ShapeTable> shapes_;

@@ -427,3 +427,73 @@ TEST(Joints, RopesResumeAndThreadBitIdentically) {
   // The box was struck by ball 0 and moved.
   EXPECT_GT(std::abs(a->centroid(3).x() - 0.25), 1e-3);
 }
+
+// A bar hinged to the world at floor level, lying on the floor: pressed onto it by gravity, still
+// and in contact, its mechanism falls asleep after sleep_time (0.5 s) and is not stepped (its joint
+// rate stays exactly 0); a ball dropped from 6 m (arriving at 1.1 s) wakes it and the bar takes the
+// blow. Saved while asleep and resumed, and on 2 threads: the same bytes.
+TEST(Joints, MechanismRestingOnTheFloorSleepsAndWakes) {
+  auto build = [](int threads) {
+    std::vector<BodyDef> bodies;
+    BodyDef bar;
+    bar.name = "bar";
+    bar.add_collider(box_collider(Vec3(1.0, 0.1, 0.05), 2700));
+    bar.p_WB = Vec3(0.5, 0, 0.025);
+    bodies.push_back(bar);
+    BodyDef ball;
+    ball.name = "ball";
+    ball.add_collider(sphere_collider(0.1, 7800));
+    ball.p_WB = Vec3(0.8, 0, 6.0);
+    bodies.push_back(ball);
+    BodyDef floor;
+    floor.name = "floor";
+    floor.type = BodyType::static_body;
+    floor.add_collider(plane_collider());
+    bodies.push_back(floor);
+    WorldConfig cfg;
+    cfg.dt = 1.0 / 60;
+    cfg.threads = threads;
+    cfg.thread_backoff = false;
+    JointDef j;
+    j.name = "hinge";
+    j.parent = -1;
+    j.child = 0;
+    j.anchor_W = Vec3(0, 0, 0.025);
+    j.axis_W = Vec3::UnitY();
+    cfg.joints.push_back(j);
+    return std::make_unique<World>(cfg, bodies);
+  };
+  auto a = build(1), b = build(2);
+  int slept_at = -1;
+  for (int i = 0; i < 60; ++i) {  // 1 s: the ball is still falling
+    a->step();
+    b->step();
+    if (slept_at < 0 && a->asleep(0)) slept_at = i;
+  }
+  ASSERT_GE(slept_at, 0) << "the bar never fell asleep";
+  EXPECT_LE(slept_at, 45);
+  EXPECT_TRUE(a->asleep(0));
+  EXPECT_EQ(a->joint_speed(0), 0.0);
+  const double q_asleep = a->joint_position(0);
+  const Vec3 x_asleep = a->centroid(0);
+  for (int i = 0; i < 3; ++i) {
+    a->step();
+    b->step();
+  }
+  EXPECT_EQ(a->joint_position(0), q_asleep);  // not stepped
+  EXPECT_EQ(a->centroid(0), x_asleep);
+  const std::string mid = saved(*a);
+  auto c = build(1);
+  std::istringstream is(mid);
+  c->restore_state(is);
+  bool woke = false;
+  for (int i = 0; i < 60; ++i) {  // the ball lands at about 1.1 s
+    a->step();
+    b->step();
+    c->step();
+    woke = woke || !a->asleep(0);
+  }
+  EXPECT_TRUE(woke);
+  EXPECT_EQ(saved(*a), saved(*b));
+  EXPECT_EQ(saved(*a), saved(*c));
+}
