@@ -602,11 +602,10 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
       if (parent_joint[x] < 0) break;
     }
     if (closes) {
-      if (d.type != JointType::revolute && d.type != JointType::spherical)
+      if (d.type == JointType::wheel)
         throw InputError(name_of(j) +
-                         ": closes a loop; a loop may be closed by a revolute or spherical joint only "
-                         "(a " +
-                         std::string(to_string(d.type)) + " joint cannot close one yet)");
+                         ": closes a loop; a wheel joint cannot close one (close the loop with another "
+                         "joint and put the wheel on the tree)");
       if (d.spring) throw InputError(name_of(j) + ": a joint that closes a loop cannot carry a spring yet");
       if (d.limits || d.motor || d.friction > 0)
         throw InputError(name_of(j) +
@@ -926,18 +925,27 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
     P_pose(d.child, qb, xb);
     L.pa = qa.conjugate() * (d.anchor_W - xa);
     L.pb = qb.conjugate() * (d.anchor_W - xb);
-    L.hinge = d.type == JointType::revolute;
-    if (L.hinge) {
-      const Vec3 a = qa.conjugate() * d.axis_W;
+    using K = Mechanism::Loop::Kind;
+    L.kind = d.type == JointType::revolute    ? K::hinge
+             : d.type == JointType::prismatic ? K::prismatic
+             : d.type == JointType::fixed     ? K::fixed
+             : d.type == JointType::universal ? K::universal
+                                              : K::spherical;
+    L.hinge = L.kind == K::hinge;
+    const Vec3 a = qa.conjugate() * d.axis_W;
+    if (L.kind == K::hinge || L.kind == K::prismatic) {
       L.t1 = a.unitOrthogonal();
       L.t2 = a.cross(L.t1);
-      L.ab = qb.conjugate() * d.axis_W;
     }
+    if (L.kind == K::hinge) L.ab = qb.conjugate() * d.axis_W;
+    if (L.kind == K::prismatic || L.kind == K::universal) L.aa = a;
+    if (L.kind == K::universal) L.ab = qb.conjugate() * d.axis2_W;
+    L.R0 = (qa.conjugate() * qb).toRotationMatrix();
     L.q_a0 = qa;
     L.q_b0 = qb;
     L.axis_W0 = d.axis_W;
     m.loops.push_back(L);
-    m.loop_rows += L.hinge ? 5 : 3;
+    m.loop_rows += L.rows();
     Side& sd = sides_[j];
     sd.p_p = L.la < 0 ? d.anchor_W : L.pa;
     sd.p_c = L.pb;

@@ -70,11 +70,33 @@ class Mechanism {
     int joint = -1;
     int la = -1, lb = -1;  ///< links (la = -1: the fixed base)
     Vec3 pa, pb;           ///< the anchor in each link's frame (the base's: world)
-    bool hinge = false;    ///< revolute: two angular rows too
-    Vec3 t1, t2;           ///< perpendiculars to the hinge axis, fixed in a (world for the base)
-    Vec3 ab;               ///< the hinge axis in b's frame
-    Quat q_a0, q_b0;       ///< the links' start orientations (read-outs of the angle)
-    Vec3 axis_W0;          ///< the hinge axis at t = 0
+    // What it holds: spherical, the anchors together (3 rows); hinge, also the axes parallel (2);
+    // prismatic, the anchors on the axis (2) and no relative rotation (3); fixed, the anchors
+    // together and no relative rotation (3 + 3); universal, the anchors together and its two axes
+    // perpendicular (3 + 1).
+    enum class Kind { spherical, hinge, prismatic, fixed, universal } kind = Kind::spherical;
+    bool hinge = false;  ///< kind == hinge
+    Vec3 t1, t2;         ///< hinge, prismatic: perpendiculars to the axis, fixed in a (world for the base)
+    Vec3 ab;             ///< hinge: the axis in b's frame; universal: axis2 in b's frame
+    Vec3 aa;             ///< prismatic, universal: the axis in a's frame
+    Mat3 R0;             ///< prismatic, fixed: b's start orientation relative to a's (R_a^T R_b at t = 0)
+    Quat q_a0, q_b0;     ///< the links' start orientations (read-outs of the angle)
+    Vec3 axis_W0;        ///< the hinge axis at t = 0
+    int rows() const {
+      switch (kind) {
+        case Kind::spherical:
+          return 3;
+        case Kind::hinge:
+          return 5;
+        case Kind::prismatic:
+          return 5;
+        case Kind::fixed:
+          return 6;
+        case Kind::universal:
+          return 4;
+      }
+      return 3;
+    }
   };
   std::vector<Loop> loops;
   int loop_rows = 0;
@@ -205,6 +227,9 @@ class Mechanism {
   // taken as external); for loop k (link = -1 - k), its multipliers as the force on b at the anchor
   // and the torque about the hinge's perpendiculars, world. Scratch only: the state is unchanged.
   void joint_wrench(int link, const Vec3& g, Vec3& force_W, Vec3& torque_about_origin_W);
+  // A loop's force and torque on b at its anchor (world) from its rows' multipliers (current
+  // kinematics): the gap rows are force components, the angular rows torques about their axes.
+  void loop_load(const Loop& L, const double* lambda, Vec3& F, Vec3& T) const;
 
   long steps_taken = 0, steps_rejected = 0;  ///< internal steps over the run
   bool exceeded = false;         ///< a frame step needed more internal steps than JointSettings::max_steps

@@ -105,23 +105,47 @@ void Mechanism::contact_end() {
   std::copy(y0_.begin() + nq, y0_.end(), v.begin());
 }
 
+void Mechanism::loop_load(const Loop& L, const double* lambda, Vec3& F, Vec3& T) const {
+  using K = Loop::Kind;
+  const Mat3 Ra = L.la < 0 ? Mat3::Identity() : work_[L.la].R_W;
+  int r = 0;
+  if (L.kind == K::prismatic) {
+    F = lambda[0] * (Ra * L.t1) + lambda[1] * (Ra * L.t2);
+    r = 2;
+  } else {
+    F = Vec3(lambda[0], lambda[1], lambda[2]);
+    r = 3;
+  }
+  T.setZero();
+  switch (L.kind) {
+    case K::spherical:
+      break;
+    case K::hinge:
+      T = lambda[r] * (Ra * L.t1) + lambda[r + 1] * (Ra * L.t2);
+      break;
+    case K::prismatic:
+    case K::fixed:
+      T = Ra * Vec3(lambda[r], lambda[r + 1], lambda[r + 2]);
+      break;
+    case K::universal: {
+      const Vec3 A = Ra * L.aa, B = work_[L.lb].R_W * L.ab;
+      T = lambda[r] * B.cross(A);
+      break;
+    }
+  }
+}
+
 void Mechanism::joint_wrench(int link, const Vec3& g, Vec3& force_W, Vec3& torque_W) {
   std::copy(q.begin(), q.end(), ys_.begin());
   std::copy(v.begin(), v.end(), ys_.begin() + nq);
   derivative(ys_.data(), kd_.data(), g, nullptr, nullptr);  // kinematics, velocities, loop multipliers
   const int n = (int)links.size();
   const double* qdd = kd_.data() + nq;
-  if (link < 0) {  // a loop: its rows' multipliers (the gap rows are world force components on b)
+  if (link < 0) {  // a loop: its rows' multipliers as the force and torque on b at its anchor
     const int k = -1 - link;
     int r = 0;
-    for (int i = 0; i < k; ++i) r += loops[i].hinge ? 5 : 3;
-    const Loop& L = loops[k];
-    force_W = Vec3(lambda_(r), lambda_(r + 1), lambda_(r + 2));
-    torque_W.setZero();
-    if (L.hinge) {
-      const Mat3 Ra = L.la < 0 ? Mat3::Identity() : work_[L.la].R_W;
-      torque_W = lambda_(r + 3) * (Ra * L.t1) + lambda_(r + 4) * (Ra * L.t2);
-    }
+    for (int i = 0; i < k; ++i) r += loops[i].rows();
+    loop_load(loops[k], lambda_.data() + r, force_W, torque_W);
     return;
   }
   // True-with-gravity accelerations (the base accelerates at -g) from the final q'' (the rows'
@@ -142,22 +166,22 @@ void Mechanism::joint_wrench(int link, const Vec3& g, Vec3& force_W, Vec3& torqu
   }
   int r = 0;
   for (const Loop& L : loops) {
-    // The loop's force on b (and the opposite on a), into each link's frame about its origin.
-    const Vec3 F(lambda_(r), lambda_(r + 1), lambda_(r + 2));
-    Vec3 T = Vec3::Zero();
-    const Mat3 Ra = L.la < 0 ? Mat3::Identity() : work_[L.la].R_W;
-    if (L.hinge) T = lambda_(r + 3) * (Ra * L.t1) + lambda_(r + 4) * (Ra * L.t2);
-    r += L.hinge ? 5 : 3;
-    auto add = [&](int li, const Vec3& p_local, double sign) {
+    // The loop's force and torque on b at b's anchor (and the opposite on a, at the same point),
+    // into each link's frame about its origin.
+    Vec3 F, T;
+    loop_load(L, lambda_.data() + r, F, T);
+    r += L.rows();
+    const Vec3 at = work_[L.lb].x_W + work_[L.lb].R_W * L.pb;
+    auto add = [&](int li, double sign) {
       if (li < 0) return;
       const Mat3& R = work_[li].R_W;
-      const Vec3 p = R * p_local;  // from the link's origin, world
+      const Vec3 p = at - work_[li].x_W;  // from the link's origin, world
       Vec6 f;
       f << R.transpose() * (sign * (T + p.cross(F))), R.transpose() * (sign * F);
       rf_[li] -= f;  // external: the joint carries what the loop does not
     };
-    add(L.lb, L.pb, 1);
-    add(L.la, L.pa, -1);
+    add(L.lb, 1);
+    add(L.la, -1);
   }
   for (const Tether& t : tethers) tether_loads(t, t.lambda + tether_spring_force(t), rf_);
   for (int i = n; i-- > 0;)

@@ -44,65 +44,153 @@ void Mechanism::allocate_loops() {
   Acc_.assign(links.size(), Vec6::Zero());
 }
 
+namespace {
+// vee((R - R^T) / 2): the rotation vector of a small rotation R (sin(angle) times its axis).
+inline Vec3 small_rotation(const Mat3& R) {
+  return 0.5 * Vec3(R(2, 1) - R(1, 2), R(0, 2) - R(2, 0), R(1, 0) - R(0, 1));
+}
+}  // namespace
+
 void Mechanism::loop_position_rows(double* out) const {
+  using K = Loop::Kind;
   int r = 0;
   for (const Loop& L : loops) {
     const Mat3 Ra = L.la < 0 ? Mat3::Identity() : work_[L.la].R_W;
     const Vec3 xa = L.la < 0 ? Vec3::Zero() : work_[L.la].x_W;
     const Work& b = work_[L.lb];
     const Vec3 gap = (b.x_W + b.R_W * L.pb) - (xa + Ra * L.pa);
-    out[r++] = gap.x();
-    out[r++] = gap.y();
-    out[r++] = gap.z();
-    if (L.hinge) {
-      // Rows whose rates are t1 . (w_b - w_a) and t2 . (w_b - w_a) at zero (velocity rows below):
-      // d/dt (t . a_b) = (w_b - w_a) . (a x t), and a x t1 = t2, a x t2 = -t1.
-      const Vec3 a_b = b.R_W * L.ab, t1 = Ra * L.t1, t2 = Ra * L.t2;
-      out[r++] = -t2.dot(a_b);
-      out[r++] = t1.dot(a_b);
+    if (L.kind == K::prismatic) {  // only across the axis: the anchors slide along it
+      out[r++] = (Ra * L.t1).dot(gap);
+      out[r++] = (Ra * L.t2).dot(gap);
+    } else {
+      out[r++] = gap.x();
+      out[r++] = gap.y();
+      out[r++] = gap.z();
+    }
+    switch (L.kind) {
+      case K::spherical:
+        break;
+      case K::hinge: {
+        // Rows whose rates are t1 . (w_b - w_a) and t2 . (w_b - w_a) at zero (velocity rows below):
+        // d/dt (t . a_b) = (w_b - w_a) . (a x t), and a x t1 = t2, a x t2 = -t1.
+        const Vec3 a_b = b.R_W * L.ab, t1 = Ra * L.t1, t2 = Ra * L.t2;
+        out[r++] = -t2.dot(a_b);
+        out[r++] = t1.dot(a_b);
+        break;
+      }
+      case K::prismatic:
+      case K::fixed: {
+        // b's rotation relative to a's since the start, as a small rotation in a's axes: its rate
+        // is R_a^T (w_b - w_a) at zero.
+        const Vec3 e = small_rotation(Ra.transpose() * b.R_W * L.R0.transpose());
+        out[r++] = e.x();
+        out[r++] = e.y();
+        out[r++] = e.z();
+        break;
+      }
+      case K::universal:  // the two axes stay perpendicular
+        out[r++] = (Ra * L.aa).dot(b.R_W * L.ab);
+        break;
     }
   }
 }
 
 void Mechanism::loop_velocity_rows(const std::vector<Vec6>& V, double* out) const {
+  using K = Loop::Kind;
   int r = 0;
   for (const Loop& L : loops) {
     const Mat3 Ra = L.la < 0 ? Mat3::Identity() : work_[L.la].R_W;
     const Vec3 va = L.la < 0 ? Vec3::Zero() : Vec3(Ra * point_velocity(V[L.la], L.pa));
     const Vec3 vb = work_[L.lb].R_W * point_velocity(V[L.lb], L.pb);
     const Vec3 dv = vb - va;
-    out[r++] = dv.x();
-    out[r++] = dv.y();
-    out[r++] = dv.z();
-    if (L.hinge) {
-      const Vec3 wa = L.la < 0 ? Vec3::Zero() : Vec3(Ra * V[L.la].head<3>());
-      const Vec3 dw = work_[L.lb].R_W * V[L.lb].head<3>() - wa;
-      out[r++] = (Ra * L.t1).dot(dw);
-      out[r++] = (Ra * L.t2).dot(dw);
+    const Vec3 wa = L.la < 0 ? Vec3::Zero() : Vec3(Ra * V[L.la].head<3>());
+    const Vec3 dw = work_[L.lb].R_W * V[L.lb].head<3>() - wa;
+    if (L.kind == K::prismatic) {
+      // d/dt (t . g) with t turning with a: t . g' + (w_a x t) . g (g runs along the axis).
+      const Vec3 xa = L.la < 0 ? Vec3::Zero() : work_[L.la].x_W;
+      const Vec3 gap = (work_[L.lb].x_W + work_[L.lb].R_W * L.pb) - (xa + Ra * L.pa);
+      for (const Vec3& tl : {L.t1, L.t2}) {
+        const Vec3 t = Ra * tl;
+        out[r++] = t.dot(dv) + wa.cross(t).dot(gap);
+      }
+    } else {
+      out[r++] = dv.x();
+      out[r++] = dv.y();
+      out[r++] = dv.z();
+    }
+    switch (L.kind) {
+      case K::spherical:
+        break;
+      case K::hinge:
+        out[r++] = (Ra * L.t1).dot(dw);
+        out[r++] = (Ra * L.t2).dot(dw);
+        break;
+      case K::prismatic:
+      case K::fixed: {
+        const Vec3 e = Ra.transpose() * dw;
+        out[r++] = e.x();
+        out[r++] = e.y();
+        out[r++] = e.z();
+        break;
+      }
+      case K::universal: {
+        // d/dt (A . B) = (B x A) . (w_b - w_a), A = axis fixed in a, B = axis2 fixed in b.
+        const Vec3 A = Ra * L.aa, B = work_[L.lb].R_W * L.ab;
+        out[r++] = B.cross(A).dot(dw);
+        break;
+      }
     }
   }
 }
 
 void Mechanism::loop_acceleration_rows(const std::vector<Vec6>& V, const std::vector<Vec6>& A,
                                        double* out) const {
+  using K = Loop::Kind;
   int r = 0;
   for (const Loop& L : loops) {
     const Mat3 Ra = L.la < 0 ? Mat3::Identity() : work_[L.la].R_W;
+    const Mat3& Rb = work_[L.lb].R_W;
     const Vec3 aa = L.la < 0 ? Vec3::Zero() : Vec3(Ra * point_acceleration(V[L.la], A[L.la], L.pa));
-    const Vec3 ab = work_[L.lb].R_W * point_acceleration(V[L.lb], A[L.lb], L.pb);
+    const Vec3 ab = Rb * point_acceleration(V[L.lb], A[L.lb], L.pb);
     const Vec3 da = ab - aa;
-    out[r++] = da.x();
-    out[r++] = da.y();
-    out[r++] = da.z();
-    if (L.hinge) {
-      // d/dt [t . (w_b - w_a)] with t turning with a: t . (al_b - al_a) + (w_a x t) . (w_b - w_a).
-      const Vec3 wa = L.la < 0 ? Vec3::Zero() : Vec3(Ra * V[L.la].head<3>());
-      const Vec3 ala = L.la < 0 ? Vec3::Zero() : Vec3(Ra * A[L.la].head<3>());
-      const Vec3 dw = work_[L.lb].R_W * V[L.lb].head<3>() - wa;
-      const Vec3 dal = work_[L.lb].R_W * A[L.lb].head<3>() - ala;
+    const Vec3 wa = L.la < 0 ? Vec3::Zero() : Vec3(Ra * V[L.la].head<3>());
+    const Vec3 ala = L.la < 0 ? Vec3::Zero() : Vec3(Ra * A[L.la].head<3>());
+    const Vec3 wb = Rb * V[L.lb].head<3>();
+    const Vec3 dw = wb - wa;
+    const Vec3 dal = Rb * A[L.lb].head<3>() - ala;
+    if (L.kind == K::prismatic) {
+      // d2/dt2 (t . g) = t . g'' + 2 (w_a x t) . g' + (al_a x t + w_a x (w_a x t)) . g.
+      const Vec3 xa = L.la < 0 ? Vec3::Zero() : work_[L.la].x_W;
+      const Vec3 gap = (work_[L.lb].x_W + Rb * L.pb) - (xa + Ra * L.pa);
+      const Vec3 va = L.la < 0 ? Vec3::Zero() : Vec3(Ra * point_velocity(V[L.la], L.pa));
+      const Vec3 dv = Rb * point_velocity(V[L.lb], L.pb) - va;
       for (const Vec3& tl : {L.t1, L.t2}) {
-        const Vec3 t = Ra * tl;
-        out[r++] = t.dot(dal) + wa.cross(t).dot(dw);
+        const Vec3 t = Ra * tl, wt = wa.cross(t);
+        out[r++] = t.dot(da) + 2 * wt.dot(dv) + (ala.cross(t) + wa.cross(wt)).dot(gap);
+      }
+    } else {
+      out[r++] = da.x();
+      out[r++] = da.y();
+      out[r++] = da.z();
+    }
+    // d/dt [t . (w_b - w_a)] with t turning with a: t . (al_b - al_a) + (w_a x t) . (w_b - w_a).
+    auto turning_with_a = [&](const Vec3& t) { return t.dot(dal) + wa.cross(t).dot(dw); };
+    switch (L.kind) {
+      case K::spherical:
+        break;
+      case K::hinge:
+        out[r++] = turning_with_a(Ra * L.t1);
+        out[r++] = turning_with_a(Ra * L.t2);
+        break;
+      case K::prismatic:
+      case K::fixed:
+        for (int k = 0; k < 3; ++k) out[r++] = turning_with_a(Ra.col(k));
+        break;
+      case K::universal: {
+        // d/dt [(B x A) . dw] = (B x A) . dal + ((w_b x B) x A + B x (w_a x A)) . dw.
+        const Vec3 Aw = Ra * L.aa, B = Rb * L.ab;
+        out[r++] = B.cross(Aw).dot(dal) + (wb.cross(B).cross(Aw) + B.cross(wa.cross(Aw))).dot(dw);
+        break;
       }
     }
   }
@@ -428,6 +516,11 @@ double Mechanism::loop_angle(int k) const {
   // Each link's rotation since the start, then b's relative to a's, about the start axis.
   const Quat ra = qa * L.q_a0.conjugate(), rb = qb * L.q_b0.conjugate();
   const Quat rel = ra.conjugate() * rb;
+  if (L.kind == Loop::Kind::prismatic) {  // the slide along the axis (fixed in a) since the start
+    const Vec3 xa = L.la < 0 ? Vec3::Zero() : out_x_[L.la];
+    const Vec3 gap = (out_x_[L.lb] + qb * L.pb) - (xa + qa * L.pa);
+    return (qa * L.aa).dot(gap);
+  }
   if (!L.hinge) return 2 * std::atan2(rel.vec().norm(), std::abs(rel.w()));
   return 2 * std::atan2(rel.vec().dot(L.axis_W0), rel.w());
 }
@@ -436,8 +529,14 @@ double Mechanism::loop_speed(int k) const {
   const Loop& L = loops[k];
   const Vec3 wa = L.la < 0 ? Vec3::Zero() : Vec3(out_q_[L.la] * out_v_[L.la].head<3>());
   const Vec3 wb = out_q_[L.lb] * out_v_[L.lb].head<3>();
-  if (!L.hinge) return (wb - wa).norm();
   const Quat qa = L.la < 0 ? Quat::Identity() : out_q_[L.la];
+  if (L.kind == Loop::Kind::prismatic) {
+    const Quat qb = out_q_[L.lb];
+    const Vec3 va = L.la < 0 ? Vec3::Zero() : Vec3(qa * point_velocity(out_v_[L.la], L.pa));
+    const Vec3 vb = qb * point_velocity(out_v_[L.lb], L.pb);
+    return (qa * L.aa).dot(vb - va);  // the slide's rate (the axis's own turning moves no anchor along it)
+  }
+  if (!L.hinge) return (wb - wa).norm();
   return (wb - wa).dot(qa * (L.q_a0.conjugate() * L.axis_W0));
 }
 

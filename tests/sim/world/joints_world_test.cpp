@@ -234,12 +234,14 @@ TEST(Joints, BadJointsAreNamed) {
             std::string::npos);
   EXPECT_NE(error_of([](BarPendulum& p) { p.cfg.joints[0].child = 1; }).find("two bodies that cannot move"),
             std::string::npos);
-  // A second joint on the same child closes a loop: only revolute and spherical joints may.
+  // A second joint on the same child closes a loop: any type but a wheel may.
   EXPECT_NE(error_of([](BarPendulum& p) {
               p.cfg.joints.push_back(p.cfg.joints[0]);
               p.cfg.joints[1].name = "b";
-              p.cfg.joints[1].type = JointType::prismatic;
-            }).find("'b': closes a loop; a loop may be closed by a revolute or spherical joint only"),
+              p.cfg.joints[1].type = JointType::wheel;
+              p.cfg.joints[1].axis_W = Vec3::UnitZ();
+              p.cfg.joints[1].axis2_W = Vec3::UnitX();
+            }).find("'b': closes a loop; a wheel joint cannot close one"),
             std::string::npos);
   EXPECT_NE(error_of([](BarPendulum& p) { p.cfg.joints[0].child = 7; }).find("out of range"),
             std::string::npos);

@@ -1,0 +1,232 @@
+// Loops closed by prismatic, fixed and universal joints (sim/joints/loops.cpp, Mechanism::Loop)
+// against closed forms: the slider-crank's kinematics x = r cos(theta) + sqrt(l^2 - r^2 sin^2(theta)),
+// two bars hinged on one axis and welded together swinging as one compound pendulum at
+// 4 K(sin(theta0/2)) sqrt(I_p / (m g d)), and a parallelogram closed by a Cardan joint whose cranks
+// turn together. Revolute and spherical loops are in articulation_test.cpp (the four-bar).
+#include "sim/joints/articulation.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "tests/fixtures/joint_bodies.hpp"
+#include "tests/fixtures/joint_reference.hpp"
+
+namespace simreel {
+namespace {
+
+constexpr double g = 9.81;
+using test::Bodies;
+
+JointDef joint(JointType type, int parent, int child, const Vec3& anchor, const Vec3& axis) {
+  JointDef j;
+  j.name = "j" + std::to_string(parent) + "_" + std::to_string(child) + "_" + to_string(type);
+  j.type = type;
+  j.parent = parent;
+  j.child = child;
+  j.anchor_W = anchor;
+  j.axis_W = axis;
+  return j;
+}
+
+// A bar of mass m and length L (square section w) along its principal x axis: its moments.
+Vec3 bar_x(double m, double L, double w = 0.04) {
+  return Vec3(m * 2 * w * w / 12, m * (L * L + w * w) / 12, m * (L * L + w * w) / 12);
+}
+
+// A crank (r = 0.2 m) driven at 3 rad/s by a motor, a connecting rod (l = 0.6 m) and a slider on
+// the x axis, the slider's prismatic joint closing the loop; no gravity. Whatever the crank's angle
+// theta (a turn about +y, its end at (r cos theta, 0, -r sin theta)), the slider is at
+// x = r cos theta + sqrt(l^2 - r^2 sin^2 theta).
+TEST(Loops, SliderCrankClosedByASliderFollowsItsKinematics) {
+  const double r = 0.2, l = 0.6;
+  Bodies b;
+  const int crank = b.add("crank", 1.0, bar_x(1.0, r), Vec3(r / 2, 0, 0));
+  const int rod = b.add("rod", 0.5, bar_x(0.5, l), Vec3(r + l / 2, 0, 0));
+  const int slider = b.add("slider", 2.0, Vec3(0.01, 0.01, 0.01), Vec3(r + l, 0, 0));
+  std::vector<JointDef> js;
+  js.push_back(joint(JointType::revolute, -1, crank, Vec3::Zero(), Vec3::UnitY()));
+  js.back().motor = JointMotor{JointMotor::Mode::speed, 3.0, 0, 0.1, 1e4};
+  js.push_back(joint(JointType::revolute, crank, rod, Vec3(r, 0, 0), Vec3::UnitY()));
+  js.push_back(joint(JointType::revolute, rod, slider, Vec3(r + l, 0, 0), Vec3::UnitY()));
+  js.push_back(joint(JointType::prismatic, -1, slider, Vec3(r + l, 0, 0), Vec3::UnitX()));  // closes the loop
+  Articulations art;
+  std::vector<std::string> warnings;
+  art.build(js, {}, b.defs, b.model, b.state, warnings);
+  double worst = 0, worst_gap = 0;
+  for (int f = 1; f <= 180; ++f) {
+    ASSERT_TRUE(art.step(1.0 / 60, Vec3::Zero(), nullptr, b.state.data()));
+    const double th = art.position(0);
+    const double x = r * std::cos(th) + std::sqrt(l * l - r * r * std::sin(th) * std::sin(th));
+    worst = std::max(worst, std::abs(b.state[slider].x_W.x() - x));
+    worst_gap = std::max(worst_gap, art.gap(b.state.data()));
+    EXPECT_NEAR(b.state[slider].x_W.z(), 0, 1e-12);
+  }
+  EXPECT_GT(art.position(0), 8.0);  // the motor turned the crank over (3 rad/s for 3 s)
+  EXPECT_LT(worst, 1e-12);
+  EXPECT_LT(worst_gap, 1e-12);
+  EXPECT_NEAR(art.speed(0), 3.0, 1e-9);
+  // The loop's read-out: the slide along x since the start.
+  EXPECT_NEAR(art.position(3), b.state[slider].x_W.x() - (r + l), 1e-12);
+}
+
+// Two bars hinged to the world on the same axis (y through the origin), bar 1 hanging along -z,
+// bar 2 horizontal below it, welded where they meet: one rigid L swinging about the pivot, released
+// from rest with its centre of mass 18.4 degrees off the vertical. Its period is the compound
+// pendulum's, and its centre of mass crosses the vertical at T/4 and 3T/4.
+TEST(Loops, WeldedBarsSwingAsOneCompoundPendulum) {
+  const double L = 0.6, m1 = 1, m2 = 1;
+  Bodies b;
+  // Bar 1 along z (principal x along z: turned about y), bar 2 along x.
+  const Quat along_z(Eigen::AngleAxisd(std::numbers::pi / 2, Vec3::UnitY()));
+  const int b1 = b.add("bar1", m1, bar_x(m1, L), Vec3(0, 0, -L / 2), along_z);
+  const int b2 = b.add("bar2", m2, bar_x(m2, L), Vec3(L / 2, 0, -L));
+  std::vector<JointDef> js;
+  js.push_back(joint(JointType::revolute, -1, b1, Vec3::Zero(), Vec3::UnitY()));
+  js.push_back(joint(JointType::revolute, -1, b2, Vec3::Zero(), Vec3::UnitY()));
+  js.push_back(joint(JointType::fixed, b1, b2, Vec3(0, 0, -L), Vec3::UnitY()));  // closes the loop
+  Articulations art;
+  std::vector<std::string> warnings;
+  art.build(js, {}, b.defs, b.model, b.state, warnings);
+  const double m = m1 + m2;
+  const Vec3 com0 = (m1 * b.state[b1].x_W + m2 * b.state[b2].x_W) / m;
+  const double d = com0.norm(), th0 = std::atan2(com0.x(), -com0.z());
+  const double Iy = bar_x(1, L).y();  // each bar's moment about its centre, across the swing
+  const double Ip = m1 * (Iy + b.state[b1].x_W.squaredNorm()) + m2 * (Iy + b.state[b2].x_W.squaredNorm());
+  const double T = ref::pendulum_period(th0, Ip, m, g, d);
+  double now = 0;
+  for (double at : {0.25, 0.75}) {
+    while (now < at * T - 1e-15) {
+      const double dt = std::min(1.0 / 60, at * T - now);
+      ASSERT_TRUE(art.step(dt, Vec3(0, 0, -g), nullptr, b.state.data()));
+      now += dt;
+    }
+    const Vec3 c = (m1 * b.state[b1].x_W + m2 * b.state[b2].x_W) / m;
+    const Vec3 vc = (m1 * b.state[b1].v_W + m2 * b.state[b2].v_W) / m;
+    EXPECT_LT(std::abs(c.x() / vc.x()), 1e-8 * T) << at << " T";
+    EXPECT_NEAR(art.position(0), art.position(1), 1e-12);  // the two hinges turn together
+  }
+  EXPECT_LT(art.gap(b.state.data()), 1e-12);
+}
+
+// A parallelogram: two 0.5 m cranks hinged to the world 1 m apart about y, a coupler hinged to the
+// first crank's end and joined to the second's by a Cardan joint (axes y on the crank, x on the
+// coupler): the cranks turn together and the coupler stays level, under gravity, released from
+// 60 degrees; energy holds.
+TEST(Loops, ParallelogramClosedByACardanJointKeepsItsCranksTogether) {
+  const double c = 0.5;
+  Bodies b;
+  // Turned 60 degrees about +y from hanging: a crank's end at (-c sin phi, 0, -c cos phi).
+  const double phi = std::numbers::pi / 3, sx = -c * std::sin(phi), sz = -c * std::cos(phi);
+  const Quat turned = Quat(Eigen::AngleAxisd(phi, Vec3::UnitY())) *
+                      Quat(Eigen::AngleAxisd(std::numbers::pi / 2, Vec3::UnitY()));
+  const int k1 = b.add("crank1", 1.0, bar_x(1.0, c), Vec3(sx / 2, 0, sz / 2), turned);
+  const int k2 = b.add("crank2", 1.0, bar_x(1.0, c), Vec3(1 + sx / 2, 0, sz / 2), turned);
+  const int cp = b.add("coupler", 2.0, bar_x(2.0, 1.0), Vec3(0.5 + sx, 0, sz));
+  std::vector<JointDef> js;
+  js.push_back(joint(JointType::revolute, -1, k1, Vec3::Zero(), Vec3::UnitY()));
+  js.push_back(joint(JointType::revolute, -1, k2, Vec3(1, 0, 0), Vec3::UnitY()));
+  js.push_back(joint(JointType::revolute, k1, cp, Vec3(sx, 0, sz), Vec3::UnitY()));
+  JointDef u = joint(JointType::universal, k2, cp, Vec3(1 + sx, 0, sz), Vec3::UnitY());
+  u.axis2_W = Vec3::UnitX();
+  js.push_back(u);  // closes the loop
+  Articulations art;
+  std::vector<std::string> warnings;
+  art.build(js, {}, b.defs, b.model, b.state, warnings);
+  double now = 0, worst_q = 0, worst_level = 0;
+  const double E0 = b.energy(g);
+  double worst_E = 0;
+  for (int f = 1; f <= 300; ++f) {
+    ASSERT_TRUE(art.step(1.0 / 60, Vec3(0, 0, -g), nullptr, b.state.data()));
+    now += 1.0 / 60;
+    worst_q = std::max(worst_q, std::abs(art.position(0) - art.position(1)));
+    worst_level = std::max(worst_level, (b.state[cp].q_WP * Vec3::UnitX() - Vec3::UnitX()).norm());
+    worst_E = std::max(worst_E, std::abs(b.energy(g) - E0));
+  }
+  EXPECT_LT(worst_q, 1e-10);
+  EXPECT_LT(worst_level, 1e-10);
+  EXPECT_LT(worst_E, 1e-8 * 4 * g * c);
+  EXPECT_LT(art.gap(b.state.data()), 1e-12);
+  EXPECT_GT(std::abs(art.position(0)), 0.5);  // it swung
+}
+
+// A Cardan (Hooke's) joint between two shafts 30 degrees apart, closing the loop of two hinges on
+// the world; no gravity, the input spun at 5 rad/s. The shafts' angles obey tan(theta_2) =
+// tan(theta_1) cos(beta) (the input's yoke starts across the shafts' plane, so the output turns
+// slower than the input at the start), and kinetic energy
+// holds: the shafts trade speed twice a turn. A spatial loop: every velocity-product term of the
+// Cardan row acts.
+TEST(Loops, CardanShaftFollowsHookesLawAndKeepsItsEnergy) {
+  const double beta = std::numbers::pi / 6;
+  const Vec3 out_axis(std::cos(beta), std::sin(beta), 0);
+  Bodies b;
+  // Each shaft: a 1 kg rod 1 m long along its axis (principal x), its centre 0.5 m from the cross.
+  const Vec3 I = bar_x(1.0, 1.0, 0.1);
+  const int in = b.add("in", 1.0, I, Vec3(-0.5, 0, 0));
+  const int out = b.add("out", 1.0, I, 0.5 * out_axis, Quat(Eigen::AngleAxisd(beta, Vec3::UnitZ())));
+  b.state[in].w_P = Vec3(5, 0, 0);
+  std::vector<JointDef> js;
+  js.push_back(joint(JointType::revolute, -1, in, Vec3::Zero(), Vec3::UnitX()));
+  js.push_back(joint(JointType::revolute, -1, out, Vec3::Zero(), out_axis));
+  JointDef u = joint(JointType::universal, in, out, Vec3::Zero(), Vec3::UnitZ());
+  u.axis2_W = Vec3::UnitZ().cross(out_axis);
+  js.push_back(u);  // closes the loop
+  Articulations art;
+  std::vector<std::string> warnings;
+  art.build(js, {}, b.defs, b.model, b.state, warnings);  // the output's start rate is projected in
+  const double E0 = b.energy(0);
+  double worst_law = 0, worst_E = 0;
+  for (int f = 1; f <= 300; ++f) {
+    ASSERT_TRUE(art.step(1.0 / 60, Vec3::Zero(), nullptr, b.state.data()));
+    const double t1 = art.position(0), t2 = art.position(1);
+    // In sin/cos form (no division by a vanishing cosine): sin t2 cos t1 = sin t1 cos t2 cos b.
+    worst_law = std::max(
+        worst_law, std::abs(std::sin(t2) * std::cos(t1) - std::sin(t1) * std::cos(t2) * std::cos(beta)));
+    worst_E = std::max(worst_E, std::abs(b.energy(0) - E0));
+  }
+  EXPECT_GT(art.position(0), 12.0);  // two turns
+  EXPECT_LT(worst_law, 1e-10);
+  EXPECT_LT(worst_E, 1e-9 * E0);
+  EXPECT_LT(art.gap(b.state.data()), 1e-12);
+}
+
+// An oscillating-cylinder mechanism: a crank (0.3 m) hinged to the world at the origin, a rocker
+// hinged 1 m away, and a block pinned to the crank's end that slides along the rocker, its slider
+// closing the loop; no gravity, started turning. The rocker turns as the loop's slider runs along
+// it, so every term of the slider's rows that carries the rocker's turning acts; kinetic energy
+// holds, and the rocker points at the crank pin.
+TEST(Loops, OscillatingCylinderKeepsItsEnergy) {
+  const double r = 0.3;
+  Bodies b;
+  const int crank = b.add("crank", 1.0, bar_x(1.0, r), Vec3(r / 2, 0, 0));
+  // The rocker from (1, 0, 0) towards the pin at (r, 0, 0): along -x, 1.2 m long.
+  const int rocker = b.add("rocker", 2.0, bar_x(2.0, 1.2), Vec3(1 - 0.6, 0, 0));
+  const int block = b.add("block", 0.5, Vec3(1e-3, 1e-3, 1e-3), Vec3(r, 0, 0));
+  b.state[crank].w_P = Vec3(0, 4, 0);
+  b.state[crank].v_W = Vec3(0, 0, -4 * r / 2);
+  std::vector<JointDef> js;
+  js.push_back(joint(JointType::revolute, -1, crank, Vec3::Zero(), Vec3::UnitY()));
+  js.push_back(joint(JointType::revolute, -1, rocker, Vec3(1, 0, 0), Vec3::UnitY()));
+  js.push_back(joint(JointType::revolute, crank, block, Vec3(r, 0, 0), Vec3::UnitY()));
+  js.push_back(joint(JointType::prismatic, rocker, block, Vec3(r, 0, 0), Vec3::UnitX()));  // closes
+  Articulations art;
+  std::vector<std::string> warnings;
+  art.build(js, {}, b.defs, b.model, b.state, warnings);
+  const double E0 = b.energy(0);
+  double worst_E = 0, worst_aim = 0;
+  for (int f = 1; f <= 300; ++f) {
+    ASSERT_TRUE(art.step(1.0 / 60, Vec3::Zero(), nullptr, b.state.data()));
+    worst_E = std::max(worst_E, std::abs(b.energy(0) - E0));
+    // The rocker's axis (its principal x) is along the line from its pivot to the pin.
+    const Vec3 to_pin = (b.state[block].x_W - Vec3(1, 0, 0)).normalized();
+    worst_aim = std::max(worst_aim, std::abs((b.state[rocker].q_WP * Vec3::UnitX()).cross(to_pin).norm()));
+  }
+  EXPECT_GT(std::abs(art.position(0)), 3.0);  // the crank swung through half a turn
+  EXPECT_LT(worst_E, 1e-9 * E0);
+  EXPECT_LT(worst_aim, 1e-12);
+  EXPECT_LT(art.gap(b.state.data()), 1e-12);
+}
+
+}  // namespace
+}  // namespace simreel
