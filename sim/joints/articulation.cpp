@@ -1174,6 +1174,13 @@ bool Articulations::step_range(int begin, int end, double dt, const Vec3& g, con
   return ok;
 }
 
+void Articulations::apply_impulse(int body, const Vec3& P, const Vec3& at_W, const Vec3& L, MotionState* st) {
+  const auto [mi, li] = link_of_[body];
+  Mechanism& m = mechanisms_[mi];
+  m.apply_impulse(li, at_W - st[body].x_W, P, L);
+  m.write_bodies(st);
+}
+
 const Link& Articulations::coordinate_link(int j, int k, const Mechanism*& m) const {
   const auto [mi, li] = joint_link_[j];
   m = &mechanisms_[mi];

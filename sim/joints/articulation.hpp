@@ -222,6 +222,11 @@ class Mechanism {
   const Vec3& link_x(int i) const { return work_[i].x_W; }
   void contact_end();  ///< q, v from the working state
 
+  // An impulse on link `link`: P (N s, world) at the point r (world offset from its centre of mass)
+  // and an angular impulse L (N m s, world). The joint velocities jump by P_c J^T (P; L + r x P),
+  // P_c the inverse inertia that keeps the loops, rods and held coordinates (ropes left out: a rope
+  // cannot push; one the impulse stretches is caught by the next step's event).
+  void apply_impulse(int link, const Vec3& r, const Vec3& P, const Vec3& L);
   // The spatial force (link frame of `link`, about its origin) that link's joint transmits from
   // its parent, at the current q, v (Newton-Euler from the ABA's accelerations, the loops' forces
   // taken as external); for loop k (link = -1 - k), its multipliers as the force on b at the anchor
@@ -276,6 +281,9 @@ class Mechanism {
   void event_values(const double* y, double* out) const;
   // Applies the mode changes whose event functions went from >= 0 (g0) to < 0 (g1) at state y.
   void apply_events(double* y, const double* g0, const double* g1, const Vec3& g, const Wrench* wr);
+  // After a velocity jump: a motor or friction that held a rate lets go of it (or takes it), a
+  // saturated motor or sliding friction takes the direction of the new rate.
+  void refresh_rate_modes(const double* q, const double* v);
   // Velocity jump at stop impacts: rows (the loops, the coordinates on a stop, the impacting ones)
   // reach their target rates by impulses through the mass matrix.
   void impulse(const double* q, double* v, const std::vector<double>& target);
@@ -364,6 +372,10 @@ class Articulations {
   // the two sides' axes (rad; hinge axes, slider directions, welds), read from the bodies' states.
   double gap(const MotionState* st) const;
   double angular_gap(const MotionState* st) const;
+  // An impulse P (N s, world) at the world point at_W and an angular impulse L (N m s) on jointed
+  // body `body`: its mechanism's velocities jump (Mechanism::apply_impulse) and its bodies' states
+  // are written.
+  void apply_impulse(int body, const Vec3& P, const Vec3& at_W, const Vec3& L, MotionState* st);
   // The generalised force of coordinate k of joint j's stops, motor and friction (N m or N).
   double force(int j, int k = 0) const;
   // The force and torque (world, at the anchor) that joint j's parent exerts on its child, from

@@ -105,6 +105,47 @@ void Mechanism::contact_end() {
   std::copy(y0_.begin() + nq, y0_.end(), v.begin());
 }
 
+void Mechanism::apply_impulse(int link, const Vec3& r, const Vec3& P, const Vec3& L) {
+  kinematics(q.data());
+  // The generalised impulse J^T (P; L + r x P), column by column of the link's world Jacobian.
+  if (V_.size() != links.size()) V_.assign(links.size(), Vec6::Zero());
+  Eigen::VectorXd tau(nv);
+  const Mat3& R = work_[link].R_W;
+  const Vec3 Lr = L + r.cross(P);
+  for (int k = 0; k < nv; ++k) {
+    unit_velocities(k, V_);
+    tau(k) = (R * V_[link].tail<3>()).dot(P) + (R * V_[link].head<3>()).dot(Lr);
+  }
+  // dv = P_c tau = M^-1 tau - Y (G M^-1 G^T)^-1 Y^T tau over the held rows (ropes left out).
+  ropes_free_ = true;
+  bool rows = !loops.empty();
+  for (const Dof& d : dofs) rows = rows || d.active();
+  for (const Tether& t : tethers) rows = rows || t.rod;
+  if (rows) {
+    loop_jacobian();
+  } else {
+    mass_matrix();
+    llt_.compute(M_);
+  }
+  ropes_free_ = false;
+  Eigen::VectorXd dv = llt_.solve(tau);
+  if (rows) {
+    Eigen::VectorXd z = Y_.transpose() * tau;
+    llt_rows_.solveInPlace(z);
+    dv.noalias() -= Y_ * z;
+  }
+  for (int k = 0; k < nv; ++k) v[k] += dv(k);
+  refresh_rate_modes(q.data(), v.data());
+  // A taut rope the impulse slackened lets go (one it stretched is caught by the next step).
+  if (!tethers.empty()) {
+    link_velocities(q.data(), v.data(), V_);
+    for (Tether& t : tethers)
+      if (!t.rod && t.taut != 0 &&
+          t.taut * tether_rate(t, V_, t.wheel_iv >= 0 ? v[t.wheel_iv] : 0.0) < -1e-12)
+        t.taut = 0;
+  }
+}
+
 void Mechanism::loop_load(const Loop& L, const double* lambda, Vec3& F, Vec3& T) const {
   using K = Loop::Kind;
   const Mat3 Ra = L.la < 0 ? Mat3::Identity() : work_[L.la].R_W;

@@ -138,6 +138,10 @@ void Mechanism::impulse(const double* q, double* v, const std::vector<double>& t
     if (!std::isnan(target[d])) v[dofs[d].iv] = target[d];
   // Rates an impulse moved (the rebounding coordinates' too): a coordinate that friction or the
   // motor held slips; a saturated motor or sliding friction takes the direction of the new rate.
+  refresh_rate_modes(q, v);
+}
+
+void Mechanism::refresh_rate_modes(const double* q, const double* v) {
   for (size_t i = 0; i < dofs.size(); ++i) {
     Dof& d = dofs[i];
     const double vk = v[d.iv];

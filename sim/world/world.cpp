@@ -140,9 +140,12 @@ void WorldImpl::init_joints() {
       continue;
     }
     profile_.jointed_bodies++;
+    // Impulses go through the mechanism's inertia (apply_impulse); continuous forces do not yet.
     for (const ForceDef& f : cfg_.forces)
-      if (f.body == i || f.body_b == i)
-        throw InputError(body_label(defs_, i) + ": forces on jointed bodies are not supported yet");
+      if ((f.body == i || f.body_b == i) && f.kind != ForceKind::impulse &&
+          f.kind != ForceKind::angular_impulse)
+        throw InputError(body_label(defs_, i) +
+                         ": continuous forces on jointed bodies are not supported yet (" + "impulses are)");
   }
   for (Group& g : groups_)
     g.bodies.erase(
@@ -454,17 +457,23 @@ void WorldImpl::apply_torque(int i, const Vec3& tau_W) {
 }
 
 void WorldImpl::apply_impulse(int i, const Vec3& J_W, const Vec3& at_W) {
-  require_unjointed(i, "take an impulse");
   wake(i);
   if (model_[i].inv_mass == 0) return;
+  if (joints_.jointed(i)) {  // through its mechanism's inertia
+    joints_.apply_impulse(i, J_W, at_W, Vec3::Zero(), state_.data());
+    return;
+  }
   state_[i].v_W += model_[i].inv_mass * J_W;
   apply_angular_impulse(i, (at_W - state_[i].x_W).cross(J_W));
 }
 
 void WorldImpl::apply_angular_impulse(int i, const Vec3& dL_W) {
-  require_unjointed(i, "take an impulse");
   wake(i);
   if (model_[i].inv_mass == 0) return;
+  if (joints_.jointed(i)) {
+    joints_.apply_impulse(i, Vec3::Zero(), state_[i].x_W, dL_W, state_.data());
+    return;
+  }
   state_[i].w_P += model_[i].inv_I_P.cwiseProduct(state_[i].q_WP.conjugate() * dL_W);
 }
 

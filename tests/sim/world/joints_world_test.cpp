@@ -189,13 +189,14 @@ TEST(Joints, ManyMechanismsSameBitsOnOneAndTwoThreads) {
   EXPECT_GT(b->profile().pool_runs, 0);
 }
 
-// A jointed body moves with its mechanism: setting its motion alone is refused, not ignored.
+// A jointed body moves with its mechanism: setting its motion alone is refused, not ignored (an
+// impulse is taken by the whole mechanism: ImpulseOnAPendulumTurnsItAtLPOverIp).
 TEST(Joints, JointedBodiesCannotBeMovedAlone) {
   BarPendulum p(0.5);
   World w(p.cfg, p.bodies);
   EXPECT_TRUE(w.has_contacts());  // the bar's shape collides (with the floor), as any body's
   EXPECT_THROW(w.set_linear_velocity(0, Vec3(1, 0, 0)), InputError);
-  EXPECT_THROW(w.apply_impulse(0, Vec3(1, 0, 0), Vec3::Zero()), InputError);
+  EXPECT_THROW(w.set_origin_position(0, Vec3(1, 0, 0)), InputError);
 }
 
 // A mechanism that needs more internal steps than allowed stops the run naming the joint, rather
@@ -498,4 +499,69 @@ TEST(Joints, MechanismRestingOnTheFloorSleepsAndWakes) {
   EXPECT_TRUE(woke);
   EXPECT_EQ(saved(*a), saved(*b));
   EXPECT_EQ(saved(*a), saved(*c));
+}
+
+// An impulse on a jointed body goes through its mechanism's inertia. A bar hanging at rest from
+// its pivot, struck horizontally at its lower end (P = 2 N s, L below the pivot), turns at
+// L P / I_p about the pivot (the pivot takes the rest of the blow). Scheduled from the scene's
+// force list at t = 0.25 s, the same.
+TEST(Joints, ImpulseOnAPendulumTurnsItAtLPOverIp) {
+  BarPendulum p(0.0);
+  p.bodies.pop_back();  // no floor
+  const double m = p.rho * 0.04 * 0.02 * p.L;
+  const double Ip = m * (p.L * p.L + 0.04 * 0.04) / 12 + m * 0.25 * p.L * p.L;
+  {
+    World w(p.cfg, p.bodies);
+    w.apply_impulse(0, Vec3(2, 0, 0), Vec3(0, 0, 2 - p.L));
+    EXPECT_NEAR(std::abs(w.joint_speed(0)), p.L * 2 / Ip, 1e-12 * p.L * 2 / Ip);
+    EXPECT_NEAR(w.linear_velocity(0).x(), 0.5 * p.L * p.L * 2 / Ip, 1e-12);  // the centre at L/2
+    EXPECT_LT(w.joint_gap(), 1e-15);
+  }
+  ForceDef f;
+  f.kind = ForceKind::impulse;
+  f.body = 0;
+  f.vector = Vec3(2, 0, 0);
+  f.at_centroid = false;
+  f.at_B = Vec3(0, 0, -p.L / 2);  // the lower end (the body origin is the bar's centre)
+  f.time = 0.25;
+  p.cfg.forces.push_back(f);
+  World w(p.cfg, p.bodies);
+  for (int i = 0; i < 15; ++i) w.step();
+  EXPECT_EQ(w.joint_speed(0), 0.0);
+  w.step();  // the impulse at the start of the step from 0.25 s; then a step of swinging
+  const double w0 = p.L * 2 / Ip, wn = std::abs(w.joint_speed(0));
+  EXPECT_LT(wn, w0);  // slowing under gravity
+  EXPECT_GT(wn, w0 * 0.99);
+}
+
+// Two bars hinged together, floating without gravity, struck at one end: the pair's momentum is
+// the impulse and its angular momentum about its centre of mass is (at - c) x P, exactly.
+TEST(Joints, ImpulseOnAFloatingPairGivesItsMomenta) {
+  std::vector<BodyDef> bodies;
+  for (int k = 0; k < 2; ++k) {
+    BodyDef b;
+    b.name = "bar" + std::to_string(k);
+    b.add_collider(box_collider(Vec3(0.6, 0.04, 0.02), 7850));
+    b.p_WB = Vec3(0.3 + 0.6 * k, 0, 1);
+    bodies.push_back(b);
+  }
+  WorldConfig cfg;
+  cfg.gravity = Vec3::Zero();
+  JointDef j;
+  j.name = "middle";
+  j.parent = 0;
+  j.child = 1;
+  j.anchor_W = Vec3(0.6, 0, 1);
+  j.axis_W = Vec3::UnitZ();
+  cfg.joints.push_back(j);
+  World w(cfg, bodies);
+  const Vec3 P(0.1, 0.7, -0.2), at(1.2, 0.01, 1.005);
+  const Vec3 c = (w.centroid(0) + w.centroid(1)) / 2;
+  w.apply_impulse(1, P, at);
+  EXPECT_LT((w.total_momentum() - P).norm(), 1e-14);
+  EXPECT_LT((w.total_angular_momentum() - (at - c).cross(P)).norm(), 1e-14);
+  // Then both are conserved to the integrator's tolerance (1e-10 a step) over a second.
+  for (int i = 0; i < 60; ++i) w.step();
+  EXPECT_LT((w.total_momentum() - P).norm(), 1e-9 * P.norm());
+  EXPECT_LT((w.total_angular_momentum() - (at - c).cross(P)).norm(), 1e-9 * P.norm());
 }
