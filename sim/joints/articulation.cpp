@@ -12,6 +12,7 @@
 #include <simreel/error.hpp>
 
 #include "sim/base/enum_names.hpp"
+#include "sim/dynamics/forces.hpp"
 
 namespace simreel {
 
@@ -218,6 +219,7 @@ void Mechanism::derivative(const double* y, double* dy, const Vec3& g, const Wre
     }
   }
   if (!tethers.empty()) tether_springs();
+  if (!loads.empty()) apply_loads();
   // Pass 2, leaves to root: articulated inertias and bias forces.
   for (size_t i = n; i-- > 0;) {
     const Link& l = links[i];
@@ -282,6 +284,9 @@ double Mechanism::rk_step(double hs, const Vec3& g, const Wrench* wr, const Moti
       for (int r = 0; r < s; ++r) acc += kA[s][r] * k_[r][j];
       ys_[j] = y0_[j] + hs * acc;
     }
+    // Loads switch only at steps' ends (advance cuts steps there): a step's stages all see the
+    // loads of its interior, read at its middle (its end may be an edge).
+    time_ = t_step_ + 0.5 * hs;
     derivative(ys_.data(), k_[s].data(), g, wr, st);
   }
   // The 7th stage is evaluated at the 5th-order solution (its row of A is b): ys_ holds y1.
@@ -327,7 +332,18 @@ bool Mechanism::advance(double dt, const Vec3& g, const Wrench* wr, const Motion
     }
     bool last = h >= dt - t;
     double hs = last ? dt - t : h;
+    t_step_ = frame_time + t;
+    // A load switching on or off ends the step at its edge: each side is smooth.
+    bool cut = false;
+    for (const Load& L : loads)
+      for (double e : {L.f.from, L.f.to})
+        if (e > t_step_ + 1e-12 * dt && e < t_step_ + hs - 1e-12 * dt) {
+          hs = e - t_step_;
+          last = false;
+          cut = true;
+        }
     if (!have_k1) {
+      time_ = t_step_;
       derivative(y0_.data(), k_[0].data(), g, wr, st);
       if (events_on) event_values(y0_.data(), g0_.data());
     }
@@ -408,15 +424,16 @@ bool Mechanism::advance(double dt, const Vec3& g, const Wrench* wr, const Motion
     // First same as last: the 7th stage was evaluated at the new state, unless a projection or a
     // mode change moved it. (Quaternions drift off unit length by the tolerance only; they are
     // renormalised once the frame step is done.)
-    have_k1 = !event && !projected() && !any_active();
+    have_k1 = !event && !cut && !projected() && !any_active();
     if (have_k1) {
       std::swap(k_[0], k_[6]);
       std::swap(g0_, g1_);
     }
     // A step cut short to land on the frame or an event does not set the next proposal.
-    if (!event && (!last || hs >= h)) h = hs * fac;
+    if (!event && !cut && (!last || hs >= h)) h = hs * fac;
   }
   normalize_quaternions(*this, y0_.data());
+  time_ = frame_time + dt;
   if (events_on) derivative(y0_.data(), kd_.data(), g, wr, st);  // the forces read out at the frame
   std::copy(y0_.begin(), y0_.begin() + nq, q.begin());
   std::copy(y0_.begin() + nq, y0_.end(), v.begin());
@@ -1172,6 +1189,41 @@ bool Articulations::step_range(int begin, int end, double dt, const Vec3& g, con
     m.write_bodies(st);
   }
   return ok;
+}
+
+void Articulations::add_loads(const std::vector<ForceDef>& forces, const std::vector<int>& which,
+                              const std::vector<BodyDef>& defs, const std::vector<BodyModel>& model,
+                              const std::vector<MotionState>& state) {
+  for (int k : which) {
+    const ForceDef& f = forces[k];
+    Mechanism::Load L;
+    L.f = f;
+    const int a = f.body, b = f.kind == ForceKind::spring ? f.body_b : -1;
+    if (!jointed(a))
+      throw InputError("force " + std::to_string(k) + ": a spring from '" + defs[a].name +
+                       "' to jointed body '" + defs[b].name +
+                       "' is not supported yet (write it from the jointed body)");
+    const auto [mi, la] = link_of_[a];
+    L.link = la;
+    L.f.body = 0;
+    L.model[0] = model[a];
+    if (b >= 0) {
+      L.f.body_b = 1;
+      L.model[1] = model[b];
+      if (jointed(b)) {
+        if (link_of_[b].first != mi)
+          throw InputError("force " + std::to_string(k) + ": a spring between '" + defs[a].name + "' and '" +
+                           defs[b].name + "', jointed in different mechanisms, is not supported yet");
+        L.link_b = link_of_[b].second;
+      } else if (model[b].is_static) {
+        L.state_b = state[b];
+      } else {
+        throw InputError("force " + std::to_string(k) + ": a spring between jointed body '" + defs[a].name +
+                         "' and '" + defs[b].name + "', which moves freely, is not supported yet");
+      }
+    }
+    mechanisms_[mi].loads.push_back(L);
+  }
 }
 
 void Articulations::apply_impulse(int body, const Vec3& P, const Vec3& at_W, const Vec3& L, MotionState* st) {

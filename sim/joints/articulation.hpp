@@ -236,6 +236,20 @@ class Mechanism {
   // kinematics): the gap rows are force components, the angular rows torques about their axes.
   void loop_load(const Loop& L, const double* lambda, Vec3& F, Vec3& T) const;
 
+  // Continuous forces from the scene's force list on this mechanism's bodies (force, torque,
+  // drag, and springs whose other end is the world, a static body or a body of this mechanism),
+  // evaluated at every evaluation of the derivative from the links' poses and velocities at its
+  // time, so they are integrated to the integrator's order; internal steps end at their windows'
+  // edges. Each copy's bodies are renumbered: 0 its body, 1 a spring's other end.
+  struct Load {
+    ForceDef f;
+    int link = -1, link_b = -1;  ///< link_b: -1 the world anchor or a static body (state_b)
+    BodyModel model[2];
+    MotionState state_b;
+  };
+  std::vector<Load> loads;
+  double frame_time = 0;  ///< s, the time at the start of the frame step (Articulations::set_time)
+
   long steps_taken = 0, steps_rejected = 0;  ///< internal steps over the run
   bool exceeded = false;         ///< a frame step needed more internal steps than JointSettings::max_steps
   bool contact_stepped = false;  ///< this frame step was taken by the contact solver (ArticulatedContacts)
@@ -300,7 +314,10 @@ class Mechanism {
   // Contacts' inverse inertia leaves taut ropes out (contact_begin): a rope cannot push, so an
   // impact may not be stopped by it; a rope an impulse stretches is caught at the substep's end.
   bool ropes_free_ = false;
-  std::vector<double> tau_;                ///< generalised forces of saturated motors and sliding friction
+  void apply_loads();        ///< the loads at time_ into the links' bias forces (after the ABA's pass 1)
+  double time_ = 0;          ///< s, the time derivative() evaluates at
+  double t_step_ = 0;        ///< s, the start of the internal step rk_step takes
+  std::vector<double> tau_;  ///< generalised forces of saturated motors and sliding friction
   std::vector<double> g0_, g1_, ga_, gc_;  ///< event functions: step start and end, bracket, trial
   std::vector<double> vtarget_;            ///< impulse targets (NaN: not a row)
   std::vector<double> kd_;                 ///< scratch derivative for settle_modes
@@ -358,6 +375,14 @@ class Articulations {
   // being finite (or a mechanism needed more internal steps than the settings allow).
   bool step(double dt, const Vec3& g, const Wrench* wr, MotionState* st) {
     return step_range(0, (int)mechanisms_.size(), dt, g, wr, st);
+  }
+  // Continuous forces on jointed bodies (AppliedForces::jointed, indices into `forces`) onto
+  // their mechanisms (InputError naming the body when a spring joins two that move separately).
+  void add_loads(const std::vector<ForceDef>& forces, const std::vector<int>& which,
+                 const std::vector<BodyDef>& defs, const std::vector<BodyModel>& model,
+                 const std::vector<MotionState>& state);
+  void set_time(double t) {  ///< s, the frame step's start (forces' windows)
+    for (Mechanism& m : mechanisms_) m.frame_time = t;
   }
   // Mechanisms [begin, end) only: each is independent of the others (its own bodies, state and
   // scratch), so threads may take disjoint ranges with the same results.

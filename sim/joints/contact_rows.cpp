@@ -9,6 +9,7 @@ namespace simreel {
 
 // ------------------------------------------------------------------ the mechanism's side
 void Mechanism::contact_begin(const Vec3& g) {
+  time_ = frame_time;  // loads are held at the frame's start while in contact (first order, as the contacts)
   std::copy(q.begin(), q.end(), y0_.begin());
   std::copy(v.begin(), v.end(), y0_.begin() + nq);
   if (events_on() && !started) {

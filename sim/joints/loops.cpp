@@ -13,6 +13,8 @@
 // Differential-Algebraic Systems by Runge-Kutta Methods", 1989, ch. 7).
 #include "sim/joints/articulation.hpp"
 
+#include "sim/dynamics/forces.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -282,6 +284,51 @@ void Mechanism::tether_springs() {
     // A force on a link enters the ABA as minus its bias force.
     if (t.lb[0] >= 0) subtract_point_force(work_[t.lb[0]].R_W, t.pb[0], F, work_[t.lb[0]].pA);
     if (t.la[0] >= 0) subtract_point_force(work_[t.la[0]].R_W, t.pa[0], -F, work_[t.la[0]].pA);
+  }
+}
+
+namespace {
+// Forces from evaluate_force onto links' bias forces: body 0 is link a, body 1 link b (-1: none).
+struct LinkLoadSink {
+  const Mechanism* m;
+  Vec6* pa;  ///< link a's bias force
+  Vec6* pb;  ///< link b's, or null
+  const MotionState* st;
+  Vec6* of(int i) const { return i == 0 ? pa : pb; }
+  void force(int i, const Vec3& f_W, const Vec3& at_W) {
+    Vec6* p = of(i);
+    if (!p) return;
+    const Mat3 R = st[i].q_WP.toRotationMatrix();
+    subtract_point_force(R, R.transpose() * (at_W - st[i].x_W), f_W, *p);
+  }
+  void central(int i, const Vec3& f_W) {
+    if (Vec6* p = of(i)) p->tail<3>() -= st[i].q_WP.conjugate() * f_W;
+  }
+  void torque(int i, const Vec3& tau_W) {
+    if (Vec6* p = of(i)) p->head<3>() -= st[i].q_WP.conjugate() * tau_W;
+  }
+};
+}  // namespace
+
+void Mechanism::apply_loads() {
+  MotionState st[2];
+  for (const Load& L : loads) {
+    if (!(L.f.from <= time_ && time_ < L.f.to)) continue;
+    // The bodies' states from the links' poses and velocities (link frame = principal frame).
+    auto state_of = [&](int l, MotionState& s) {
+      const Work& w = work_[l];
+      s.x_W = w.x_W;
+      s.q_WP = Quat(w.R_W);
+      s.w_P = w.vel.head<3>();
+      s.v_W = w.R_W * w.vel.tail<3>();
+    };
+    state_of(L.link, st[0]);
+    if (L.link_b >= 0)
+      state_of(L.link_b, st[1]);
+    else
+      st[1] = L.state_b;
+    LinkLoadSink sink{this, &work_[L.link].pA, L.link_b >= 0 ? &work_[L.link_b].pA : nullptr, st};
+    evaluate_force(L.f, 1.0, st, L.model, sink);
   }
 }
 

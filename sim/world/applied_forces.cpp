@@ -26,7 +26,8 @@ void unpack_unit(const double* y, MotionState& s) {
 }  // namespace
 
 void AppliedForces::init(std::vector<ForceDef> forces, const std::vector<BodyDef>& defs,
-                         const std::vector<BodyModel>& model, Integrator integrator) {
+                         const std::vector<BodyModel>& model, Integrator integrator,
+                         const std::vector<char>& jointed) {
   const int n = (int)defs.size();
   forces_ = std::move(forces);
   std::vector<std::string> names;
@@ -40,6 +41,11 @@ void AppliedForces::init(std::vector<ForceDef> forces, const std::vector<BodyDef
     const ForceDef& f = forces_[k];
     if (is_impulse(f.kind)) {
       impulses_.push_back((int)k);
+      continue;
+    }
+    auto on_jointed = [&](int b) { return b >= 0 && b < (int)jointed.size() && jointed[b]; };
+    if (on_jointed(f.body) || (f.kind == ForceKind::spring && on_jointed(f.body_b))) {
+      jointed_.push_back((int)k);
       continue;
     }
     continuous_.push_back((int)k);

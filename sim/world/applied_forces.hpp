@@ -19,12 +19,16 @@ class AppliedForces {
  public:
   // Checks the list against the bodies (InputError naming the entry) and sorts it by use.
   // `integrator`: the world's, for bodies whose BodyDef names none.
+  // `jointed` (per body, may be empty): continuous forces on a jointed body are its mechanism's
+  // (Articulations::add_loads): kept apart in jointed(), neither applied nor integrated here.
   void init(std::vector<ForceDef> forces, const std::vector<BodyDef>& defs,
-            const std::vector<BodyModel>& model, Integrator integrator);
+            const std::vector<BodyModel>& model, Integrator integrator,
+            const std::vector<char>& jointed = {});
 
   int count() const { return (int)forces_.size(); }
   const std::vector<ForceDef>& list() const { return forces_; }
   const std::vector<int>& continuous() const { return continuous_; }  ///< indices into list(): not impulses
+  const std::vector<int>& jointed() const { return jointed_; }  ///< continuous forces the mechanisms take
   /// Dynamic auto/rk4 bodies under continuous forces, ascending: the forced RK4 steps them.
   const std::vector<int>& forced() const { return forced_; }
   bool is_forced(int i) const { return forced_slot_[i] >= 0; }
@@ -68,7 +72,8 @@ class AppliedForces {
   void rk4(double a, double b, const Vec3& gravity, MotionState* state, const BodyModel* model);
 
   std::vector<ForceDef> forces_;
-  std::vector<int> continuous_;            ///< indices into forces_: everything but impulses
+  std::vector<int> continuous_;  ///< indices into forces_: everything but impulses
+  std::vector<int> jointed_;
   std::vector<int> impulses_;              ///< indices into forces_: impulses, in list order
   std::vector<char> fired_;                ///< per force: an impulse already applied (saved state)
   std::vector<int> forced_;                ///< dynamic auto/rk4 bodies under continuous forces, ascending

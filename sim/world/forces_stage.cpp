@@ -27,12 +27,17 @@ struct WorldSink {
 }  // namespace
 
 void WorldImpl::init_forces() {
-  forces_.init(cfg_.forces, defs_, model_, cfg_.integrator);
+  std::vector<char> jointed(defs_.size(), 0);
+  for (size_t i = 0; i < defs_.size(); ++i) jointed[i] = joints_.jointed((int)i) ? 1 : 0;
+  forces_.init(cfg_.forces, defs_, model_, cfg_.integrator, jointed);
+  // Continuous forces on jointed bodies are their mechanisms', evaluated inside their steps.
+  if (!forces_.jointed().empty()) joints_.add_loads(cfg_.forces, forces_.jointed(), defs_, model_, state_);
   profile_.forces = forces_.count();
   profile_.forced_bodies = (int)forces_.forced().size();
   for (Group& g : groups_)
-    g.bodies.erase(std::remove_if(g.bodies.begin(), g.bodies.end(), [&](int i) { return forces_.is_forced(i); }),
-                   g.bodies.end());
+    g.bodies.erase(
+        std::remove_if(g.bodies.begin(), g.bodies.end(), [&](int i) { return forces_.is_forced(i); }),
+        g.bodies.end());
 }
 
 // Impulses that are due, then every continuous force at the step's start state, into the
@@ -42,7 +47,8 @@ void WorldImpl::init_forces() {
 bool WorldImpl::stage_forces() {
   const double dt = cfg_.dt;
   WorldSink sink{*this, state_.data()};
-  return forces_.apply(time(), (double)(steps_ + 1) * dt, dt, state_.data(), model_.data(), wrench_.data(), sink);
+  return forces_.apply(time(), (double)(steps_ + 1) * dt, dt, state_.data(), model_.data(), wrench_.data(),
+                       sink);
 }
 
 }  // namespace simreel

@@ -5,10 +5,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include "sim/base/pair_key.hpp"
 #include "sim/collision/narrow/mesh.hpp"
 #include "sim/dynamics/integrators.hpp"
 #include "sim/world/contact_set.hpp"
-#include "sim/base/pair_key.hpp"
 
 namespace simreel {
 

@@ -20,6 +20,11 @@ void WorldImpl::init_sleep() {
   // with time or with another body's motion without anything touching them.
   for (int i : forces_.involved()) may_sleep[i] = 0;
   for (int i : forces_.forced()) may_sleep[i] = 0;
+  for (int k : forces_.jointed()) {  // and the mechanisms under them
+    const ForceDef& f = forces_.list()[k];
+    for (int b : {f.body, f.kind == ForceKind::spring ? f.body_b : -1})
+      if (b >= 0) may_sleep[b] = 0;
+  }
   // A mechanism sleeps and wakes whole: its bodies are bonded into one island. One with a motor
   // never sleeps (a motor may start it from rest).
   joint_bonds_.clear();

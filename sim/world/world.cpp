@@ -140,12 +140,6 @@ void WorldImpl::init_joints() {
       continue;
     }
     profile_.jointed_bodies++;
-    // Impulses go through the mechanism's inertia (apply_impulse); continuous forces do not yet.
-    for (const ForceDef& f : cfg_.forces)
-      if ((f.body == i || f.body_b == i) && f.kind != ForceKind::impulse &&
-          f.kind != ForceKind::angular_impulse)
-        throw InputError(body_label(defs_, i) +
-                         ": continuous forces on jointed bodies are not supported yet (" + "impulses are)");
   }
   for (Group& g : groups_)
     g.bodies.erase(
@@ -189,6 +183,7 @@ void WorldImpl::require_unjointed(int i, const char* what) const {
 
 // ------------------------------------------------------------------ the step pipeline
 void WorldImpl::step() {
+  if (!joints_.empty()) joints_.set_time(time());  // the loads' windows
   if (cfg_.forces.empty())
     clock_.skipped(Stage::forces);  // gravity is applied in integration: no pass for it
   else
@@ -497,16 +492,18 @@ double WorldImpl::potential_energy() const {
   for (int i : dynamic_) e -= model_[i].mass * cfg_.gravity.dot(state_[i].x_W);
   // Springs acting now store k (L - L0)^2 / 2 (their dashpots and all other forces do work).
   const double t = time();
-  for (int k : forces_.continuous()) {
-    const ForceDef& f = forces_.list()[k];
-    if (f.kind != ForceKind::spring || !(f.from <= t && t < f.to)) continue;
-    const Vec3 a = f.at_centroid ? state_[f.body].x_W : body_point_W(state_[f.body], model_[f.body], f.at_B);
-    const Vec3 b = f.body_b < 0      ? f.anchor_W
-                   : f.at_b_centroid ? state_[f.body_b].x_W
-                                     : body_point_W(state_[f.body_b], model_[f.body_b], f.at_b_B);
-    const double s = (a - b).norm() - f.rest_length;
-    e += 0.5 * f.stiffness * s * s;
-  }
+  for (const std::vector<int>* list : {&forces_.continuous(), &forces_.jointed()})
+    for (int k : *list) {
+      const ForceDef& f = forces_.list()[k];
+      if (f.kind != ForceKind::spring || !(f.from <= t && t < f.to)) continue;
+      const Vec3 a =
+          f.at_centroid ? state_[f.body].x_W : body_point_W(state_[f.body], model_[f.body], f.at_B);
+      const Vec3 b = f.body_b < 0      ? f.anchor_W
+                     : f.at_b_centroid ? state_[f.body_b].x_W
+                                       : body_point_W(state_[f.body_b], model_[f.body_b], f.at_b_B);
+      const double s = (a - b).norm() - f.rest_length;
+      e += 0.5 * f.stiffness * s * s;
+    }
   return e;
 }
 
