@@ -496,7 +496,8 @@ void Mechanism::write_bodies(MotionState* st) const {
 // ------------------------------------------------------------------ building the mechanisms
 void Articulations::build(const std::vector<JointDef>& joints, const JointSettings& settings,
                           const std::vector<BodyDef>& defs, const std::vector<BodyModel>& model,
-                          std::vector<MotionState>& state, std::vector<std::string>& warnings) {
+                          std::vector<MotionState>& state, std::vector<std::string>& warnings,
+                          const std::vector<std::pair<int, int>>& bonds) {
   joints_ = joints;
   settings_ = settings;
   const int nb = (int)defs.size();
@@ -653,6 +654,8 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
         group[root_of(b)] = root_of(first);
     }
   }
+  for (const auto& [a, b] : bonds)
+    if (!fixed_base(a) && !fixed_base(b)) group[root_of(a)] = root_of(b);
   std::vector<int> mech_of_group(nb, -1);
   auto mechanism_for = [&](int body) {
     int& m = mech_of_group[root_of(body)];
@@ -913,10 +916,13 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
     if (is_loop[j] || is_tether[j] || fixed_base(root) || parent_joint[root] >= 0 || done[root]) continue;
     add_free_root(root);
   }
-  // Bodies held by tethers only float freely: each is the root of its own subtree.
+  // Bodies held by tethers or bonds only float freely: each is the root of its own subtree.
   for (int j : tether_joints)
     for (int b : {joints_[j].parent, joints_[j].child})
       if (!fixed_base(b) && parent_joint[b] < 0 && !done[b]) add_free_root(b);
+  for (const auto& [a, b] : bonds)
+    for (int x : {a, b})
+      if (!fixed_base(x) && parent_joint[x] < 0 && !done[x]) add_free_root(x);
   // A pulley's wheel turns on a revolute joint to the fixed base (checked here: the tree is known).
   for (int j : tether_joints) {
     const JointDef& d = joints_[j];

@@ -357,9 +357,13 @@ class Articulations {
   // Validates the joints (InputError naming the joint) and builds the mechanisms from the bodies'
   // start states; jointed bodies' initial velocities are projected onto their joints' freedoms
   // (with a warning when that changed them).
+  // `bonds`: pairs of dynamic bodies that must move in one mechanism without a joint between them
+  // (a spring from a jointed body to a free one): joined into the same mechanism, a body held by
+  // bonds alone floating freely in it.
   void build(const std::vector<JointDef>& joints, const JointSettings& settings,
              const std::vector<BodyDef>& defs, const std::vector<BodyModel>& model,
-             std::vector<MotionState>& state, std::vector<std::string>& warnings);
+             std::vector<MotionState>& state, std::vector<std::string>& warnings,
+             const std::vector<std::pair<int, int>>& bonds = {});
   bool empty() const { return mechanisms_.empty(); }
   int joint_count() const { return (int)joints_.size(); }
   const JointDef& joint(int j) const { return joints_[j]; }

@@ -129,7 +129,32 @@ WorldImpl::~WorldImpl() = default;
 
 void WorldImpl::init_joints() {
   if (cfg_.joints.empty()) return;
-  joints_.build(cfg_.joints, cfg_.joint_settings, defs_, model_, state_, warnings_);
+  // A spring from the force list that joins a jointed body to another dynamic body (and so on,
+  // through a chain of springs) binds them into one mechanism: its force is then evaluated inside
+  // the mechanism's steps with both ends' states.
+  std::vector<char> in_joint(defs_.size(), 0);
+  auto moving = [&](int b) {  // (indices are checked later, with the joints' and the forces' messages)
+    return b >= 0 && b < (int)defs_.size() && model_[b].inv_mass > 0 && !model_[b].is_kinematic;
+  };
+  for (const JointDef& j : cfg_.joints)
+    for (int b : {j.parent, j.child, j.type == JointType::pulley ? j.wheel : -1})
+      if (moving(b)) in_joint[b] = 1;
+  std::vector<std::pair<int, int>> bonds;
+  for (bool grew = true; grew;) {
+    grew = false;
+    for (const ForceDef& f : cfg_.forces) {
+      if (f.kind != ForceKind::spring || !moving(f.body) || !moving(f.body_b)) continue;
+      if (in_joint[f.body] == in_joint[f.body_b]) continue;  // neither (free bodies' forces) or both
+      in_joint[f.body] = in_joint[f.body_b] = 1;
+      bonds.emplace_back(f.body, f.body_b);
+      grew = true;
+    }
+  }
+  for (const ForceDef& f : cfg_.forces)  // springs between two mechanisms join them
+    if (f.kind == ForceKind::spring && moving(f.body) && moving(f.body_b) && in_joint[f.body] &&
+        in_joint[f.body_b])
+      bonds.emplace_back(f.body, f.body_b);
+  joints_.build(cfg_.joints, cfg_.joint_settings, defs_, model_, state_, warnings_, bonds);
   // Two jointed bodies never collide unless the joint says so (a hinge's two leaves overlap).
   for (const JointDef& j : joints_.joints())
     if (!j.collide_connected && j.parent >= 0 && j.child >= 0)

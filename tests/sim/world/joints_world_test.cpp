@@ -661,3 +661,54 @@ TEST(Joints, SpringOnAPendulumKeepsTheEnergyItStores) {
   EXPECT_GT(std::abs(w.joint_speed(0)) + std::abs(w.joint_position(0)), 1e-3);
   EXPECT_LT(worst, 1e-8 * std::abs(E0) + 1e-8);
 }
+
+// A spring from a jointed body to a free one binds the free body into the mechanism. No gravity:
+// a 2 kg block on a slider along x and a free 1 kg ball on a 50 N/m spring (rest 0.5 m) from it,
+// released stretched by 0.1 m: the stretch is 0.1 cos(w t), w = sqrt(k (m1 + m2) / (m1 m2)), and
+// the centre of mass stays put; the energy (with the spring's) holds.
+TEST(Joints, SpringFromAJointedBodyToAFreeOneOscillatesAtTheTwoBodyFrequency) {
+  std::vector<BodyDef> bodies;
+  BodyDef b;
+  b.name = "block";
+  b.add_collider(box_collider(Vec3(0.1, 0.1, 0.1), 2000));
+  b.p_WB = Vec3(0, 0, 1);
+  bodies.push_back(b);
+  BodyDef ball;
+  ball.name = "ball";
+  ball.add_collider(sphere_collider(0.05, 1.0 / (4.0 / 3 * kPi * 0.05 * 0.05 * 0.05)));
+  ball.p_WB = Vec3(0.6, 0, 1);
+  bodies.push_back(ball);
+  WorldConfig cfg;
+  cfg.dt = 1.0 / 60;
+  cfg.gravity = Vec3::Zero();
+  JointDef j;
+  j.name = "rail";
+  j.type = JointType::prismatic;
+  j.parent = -1;
+  j.child = 0;
+  j.anchor_W = Vec3(0, 0, 1);
+  j.axis_W = Vec3::UnitX();
+  cfg.joints.push_back(j);
+  ForceDef f;
+  f.kind = ForceKind::spring;
+  f.body = 0;
+  f.body_b = 1;
+  f.stiffness = 50;
+  f.rest_length = 0.5;
+  cfg.forces.push_back(f);
+  World w(cfg, bodies);
+  const double m1 = w.mass(0), m2 = w.mass(1);
+  ASSERT_NEAR(m2, 1.0, 1e-12);
+  const double om = std::sqrt(50 * (m1 + m2) / (m1 * m2));
+  const double c0 = (m1 * w.centroid(0).x() + m2 * w.centroid(1).x()) / (m1 + m2);
+  const double E0 = w.kinetic_energy() + w.potential_energy();
+  for (int i = 1; i <= 120; ++i) {
+    w.step();
+    const double t = i / 60.0, stretch = w.centroid(1).x() - w.centroid(0).x() - 0.5;
+    EXPECT_NEAR(stretch, 0.1 * std::cos(om * t), 1e-9) << t;
+    EXPECT_NEAR((m1 * w.centroid(0).x() + m2 * w.centroid(1).x()) / (m1 + m2), c0, 1e-12);
+  }
+  // The integrator's tolerance (1e-10 a step, relative to 1 + |y|) over 240 internal steps.
+  EXPECT_NEAR(w.kinetic_energy() + w.potential_energy(), E0, 5e-8 * E0);
+  EXPECT_EQ(w.profile().jointed_bodies, 2);  // the ball moves with the block's mechanism
+}
