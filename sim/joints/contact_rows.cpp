@@ -484,6 +484,7 @@ void ArticulatedContacts::touched(std::vector<char>& touched_none) const {
 }
 
 void ArticulatedContacts::finish(MotionState* state) {
+  if (!art_ || mechs_.empty()) return;  // no mechanism had a contact this step
   for (const Row& r : rows_) {
     if (r.max_normal <= 0) continue;
     if (r.a.mech >= 0) pushed_[r.a.mech] = 1;
