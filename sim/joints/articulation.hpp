@@ -314,10 +314,12 @@ class Mechanism {
   // Contacts' inverse inertia leaves taut ropes out (contact_begin): a rope cannot push, so an
   // impact may not be stopped by it; a rope an impulse stretches is caught at the substep's end.
   bool ropes_free_ = false;
-  void apply_loads();        ///< the loads at time_ into the links' bias forces (after the ABA's pass 1)
-  double time_ = 0;          ///< s, the time derivative() evaluates at
-  double t_step_ = 0;        ///< s, the start of the internal step rk_step takes
-  std::vector<double> tau_;  ///< generalised forces of saturated motors and sliding friction
+  // The loads at time_ subtracted from each link's spatial force: the ABA's bias forces (after its
+  // pass 1), or f (joint_wrench: external to the tree).
+  void apply_loads(std::vector<Vec6>* f = nullptr);
+  double time_ = 0;                        ///< s, the time derivative() evaluates at
+  double t_step_ = 0;                      ///< s, the start of the internal step rk_step takes
+  std::vector<double> tau_;                ///< generalised forces of saturated motors and sliding friction
   std::vector<double> g0_, g1_, ga_, gc_;  ///< event functions: step start and end, bracket, trial
   std::vector<double> vtarget_;            ///< impulse targets (NaN: not a row)
   std::vector<double> kd_;                 ///< scratch derivative for settle_modes

@@ -226,6 +226,7 @@ void Mechanism::joint_wrench(int link, const Vec3& g, Vec3& force_W, Vec3& torqu
     add(L.la, -1);
   }
   for (const Tether& t : tethers) tether_loads(t, t.lambda + tether_spring_force(t), rf_);
+  if (!loads.empty()) apply_loads(&rf_);  // the force list's forces on the links
   for (int i = n; i-- > 0;)
     if (links[i].parent >= 0) rf_[links[i].parent] += transform_force_back(work_[i].E, work_[i].r, rf_[i]);
   const Mat3& R = work_[link].R_W;

@@ -290,8 +290,7 @@ void Mechanism::tether_springs() {
 namespace {
 // Forces from evaluate_force onto links' bias forces: body 0 is link a, body 1 link b (-1: none).
 struct LinkLoadSink {
-  const Mechanism* m;
-  Vec6* pa;  ///< link a's bias force
+  Vec6* pa;  ///< link a's spatial force to subtract from
   Vec6* pb;  ///< link b's, or null
   const MotionState* st;
   Vec6* of(int i) const { return i == 0 ? pa : pb; }
@@ -310,7 +309,7 @@ struct LinkLoadSink {
 };
 }  // namespace
 
-void Mechanism::apply_loads() {
+void Mechanism::apply_loads(std::vector<Vec6>* f) {
   MotionState st[2];
   for (const Load& L : loads) {
     if (!(L.f.from <= time_ && time_ < L.f.to)) continue;
@@ -327,7 +326,8 @@ void Mechanism::apply_loads() {
       state_of(L.link_b, st[1]);
     else
       st[1] = L.state_b;
-    LinkLoadSink sink{this, &work_[L.link].pA, L.link_b >= 0 ? &work_[L.link_b].pA : nullptr, st};
+    auto target = [&](int l) { return f ? &(*f)[l] : &work_[l].pA; };
+    LinkLoadSink sink{target(L.link), L.link_b >= 0 ? target(L.link_b) : nullptr, st};
     evaluate_force(L.f, 1.0, st, L.model, sink);
   }
 }

@@ -221,8 +221,7 @@ void Mechanism::apply_events(double* y, const double* g0, const double* g1, cons
 bool Mechanism::catch_stretched(double* y, const Vec3& g, const Wrench* wr) {
   double* q = y;
   double* v = y + nq;
-  bool any = false, impact = false;
-  (void)impact;
+  bool any = false;
   std::fill(vtarget_.begin(), vtarget_.end(), std::numeric_limits<double>::quiet_NaN());
   link_velocities(q, v, V_);  // the kinematics at q too
   for (size_t i = 0; i < tethers.size(); ++i) {
@@ -237,14 +236,12 @@ bool Mechanism::catch_stretched(double* y, const Vec3& g, const Wrench* wr) {
     if (bound == 0) continue;
     const double rate = tether_rate(t, V_, t.wheel_iv >= 0 ? v[t.wheel_iv] : 0.0);
     if (bound * rate <= 0) continue;
-    any = impact = true;
+    any = true;
     vtarget_[dofs.size() + i] = rope_impact((int)i, bound, q, v);
   }
   if (!any) return false;
-  if (impact) {
-    keep_held_rows();
-    impulse(q, v, vtarget_);
-  }
+  keep_held_rows();
+  impulse(q, v, vtarget_);
   // Every caught rope back on its bound; one that rebounds leaves it slack.
   std::vector<int>& rebound = rebound_;
   rebound.assign(tethers.size(), 0);

@@ -712,3 +712,25 @@ TEST(Joints, SpringFromAJointedBodyToAFreeOneOscillatesAtTheTwoBodyFrequency) {
   EXPECT_NEAR(w.kinetic_energy() + w.potential_energy(), E0, 5e-8 * E0);
   EXPECT_EQ(w.profile().jointed_bodies, 2);  // the ball moves with the block's mechanism
 }
+
+// The pivot's reaction counts the force list's forces on the mechanism: a bar held at rest at its
+// tilted equilibrium by a steady 10 N side push at its centre of mass feels, through its pivot,
+// the push and its weight taken back: R = (-F, 0, m g), and it stays at rest.
+TEST(Joints, PivotReactionTakesBackASteadyForce) {
+  const double F = 10;
+  BarPendulum probe(0.0);
+  const double m = probe.rho * 0.04 * 0.02 * probe.L;
+  BarPendulum p(-std::atan2(F, m * 9.81));  // a turn about +y by -theta moves the bar towards +x
+  p.bodies.pop_back();
+  ForceDef f;
+  f.kind = ForceKind::force;
+  f.body = 0;
+  f.vector = Vec3(F, 0, 0);
+  p.cfg.forces.push_back(f);
+  World w(p.cfg, p.bodies);
+  for (int i = 0; i < 30; ++i) w.step();
+  EXPECT_LT(std::abs(w.joint_speed(0)), 1e-9);
+  Vec3 R, tau;
+  w.joint_reaction(0, R, tau);
+  EXPECT_LT((R - Vec3(-F, 0, m * 9.81)).norm(), 1e-9 * m * 9.81) << R.transpose();
+}
