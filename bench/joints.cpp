@@ -1075,6 +1075,7 @@ int main(int argc, char** argv) {
     }
     const std::vector<Config> tc{simreel_cfg(JointSettings{}.tolerance),
                                  simreel_cfg(1e-6),
+                                 simreel_cfg(1e-4),
                                  bullet_hinge_cfg(60),
                                  bullet_mb_cfg(60),
                                  mujoco_cfg("RK4", 60),

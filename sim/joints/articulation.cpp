@@ -21,34 +21,6 @@ constexpr EnumNames<JointType, 8> kJointTypes{
     {"revolute", "prismatic", "spherical", "fixed", "universal", "wheel", "distance", "pulley"}};
 static_assert(kJointTypes.complete());
 
-// A joint's rotation R_J (child joint frame F' to parent joint frame F) and offset p_J (F' origin in
-// F) at its coordinates q (Featherstone's X_J). Quaternions are normalised here: between the
-// integrator's stages they drift off unit length by the step's error.
-inline void joint_motion(const Link& l, const double* q, Mat3& R, Vec3& p) {
-  switch (l.kind) {
-    case LinkJoint::revolute:
-      R = Eigen::AngleAxisd(q[0], l.axis_F).toRotationMatrix();
-      p.setZero();
-      return;
-    case LinkJoint::prismatic:
-      R.setIdentity();
-      p = l.axis_F * q[0];
-      return;
-    case LinkJoint::spherical:
-      R = Quat(q[0], q[1], q[2], q[3]).normalized().toRotationMatrix();
-      p.setZero();
-      return;
-    case LinkJoint::fixed:
-      R.setIdentity();
-      p.setZero();
-      return;
-    case LinkJoint::free:
-      R = Quat(q[3], q[4], q[5], q[6]).normalized().toRotationMatrix();
-      p = Vec3(q[0], q[1], q[2]);
-      return;
-  }
-}
-
 inline Quat joint_rotation(const Link& l, const double* q) {
   switch (l.kind) {
     case LinkJoint::revolute:
@@ -159,23 +131,51 @@ void Mechanism::kinematics(const double* q) {
   for (size_t i = 0; i < links.size(); ++i) {
     const Link& l = links[i];
     Work& w = work_[i];
-    Mat3 RJ = Mat3::Identity();
-    Vec3 pJ = Vec3::Zero();
-    joint_motion(l, q + l.iq, RJ, pJ);
-    // This link's frame in its parent's: T_pF * X_J(q) * T_cF^-1.
-    Mat3 R;
-    Vec3 t;
-    if (l.kind == LinkJoint::free) {
-      R = RJ;
-      t = pJ;
-    } else {
-      R = l.R_pF * RJ * l.R_cF.transpose();
-      t = l.p_pF + l.R_pF * (pJ - RJ * (l.R_cF.transpose() * l.p_cF));
+    // This link's frame in its parent's: T_pF * X_J(q) * T_cF^-1, from the products Link keeps.
+    Mat3 R = l.R0;
+    Vec3 t = l.t0;
+    switch (l.kind) {
+      case LinkJoint::revolute: {
+        // R = R0 Rot(a_c, q), Rot(a, q) = cos q 1 + sin q [a]x + (1 - cos q) a a^T (Rodrigues).
+        const double c = std::cos(q[l.iq]), s = std::sin(q[l.iq]), k = 1 - c;
+        const Vec3& a = l.a_c;
+        Mat3 Rot;
+        Rot << c + k * a.x() * a.x(), k * a.x() * a.y() - s * a.z(), k * a.x() * a.z() + s * a.y(),
+            k * a.y() * a.x() + s * a.z(), c + k * a.y() * a.y(), k * a.y() * a.z() - s * a.x(),
+            k * a.z() * a.x() - s * a.y(), k * a.z() * a.y() + s * a.x(), c + k * a.z() * a.z();
+        R.noalias() = l.R0 * Rot;
+        t = l.p_pF - R * l.p_cF;
+        break;
+      }
+      case LinkJoint::prismatic:
+        t += l.a_p * q[l.iq];
+        break;
+      case LinkJoint::fixed:
+        break;
+      case LinkJoint::spherical: {
+        const double* qq = q + l.iq;
+        R.noalias() =
+            l.R_pF * Quat(qq[0], qq[1], qq[2], qq[3]).normalized().toRotationMatrix() * l.R_cF.transpose();
+        t = l.p_pF - R * l.p_cF;
+        break;
+      }
+      case LinkJoint::free: {
+        const double* qq = q + l.iq;
+        R = Quat(qq[3], qq[4], qq[5], qq[6]).normalized().toRotationMatrix();
+        t = Vec3(qq[0], qq[1], qq[2]);
+        break;
+      }
     }
     w.E = R.transpose();
     w.r = t;
-    w.R_W = l.parent < 0 ? R : Mat3(work_[l.parent].R_W * R);
-    w.x_W = l.parent < 0 ? t : Vec3(work_[l.parent].x_W + work_[l.parent].R_W * t);
+    if (l.parent < 0) {
+      w.R_W = R;
+      w.x_W = t;
+    } else {
+      const Work& p = work_[l.parent];
+      w.R_W.noalias() = p.R_W * R;
+      w.x_W = p.x_W + p.R_W * t;
+    }
   }
 }
 
@@ -210,44 +210,49 @@ void Mechanism::derivative(const double* y, double* dy, const Vec3& g, const Wre
       vJ.setZero();
     w.vel = l.parent < 0 ? vJ : Vec6(transform_motion(w.E, w.r, work_[l.parent].vel) + vJ);
     w.c = cross_motion(w.vel, vJ);
-    w.IA = spatial_inertia(l.mass, l.I_P);
-    w.pA = cross_force(w.vel, w.IA * w.vel);
+    // The link's own inertia is diagonal in its frame (principal axes at the centre of mass).
+    w.IA.setZero();
+    w.IA.diagonal() << l.I_P, l.mass, l.mass, l.mass;
+    Vec6 h;
+    h << l.I_P.cwiseProduct(w.vel.head<3>()), l.mass * w.vel.tail<3>();
+    w.pA = cross_force(w.vel, h);
     if (wr && l.body >= 0) {
       const Wrench& f = wr[l.body];
-      w.pA.head<3>() -= w.R_W.transpose() * f.tau_W;
-      w.pA.tail<3>() -= w.R_W.transpose() * f.f_W;
+      if (!f.tau_W.isZero(0)) w.pA.head<3>() -= w.R_W.transpose() * f.tau_W;
+      if (!f.f_W.isZero(0)) w.pA.tail<3>() -= w.R_W.transpose() * f.f_W;
     }
   }
   if (!tethers.empty()) tether_springs();
   if (!loads.empty()) apply_loads();
-  // Pass 2, leaves to root: articulated inertias and bias forces.
+  // Pass 2, leaves to root: articulated inertias and bias forces, each link's turned in place
+  // into what its parent receives (Ia = IA - U D^-1 U^T, pa = pA + Ia c + U D^-1 u).
   for (size_t i = n; i-- > 0;) {
     const Link& l = links[i];
     Work& w = work_[i];
-    Mat6 Ia = w.IA;
-    Vec6 pa = w.pA;
+    Mat6& Ia = w.IA;
+    Vec6& pa = w.pA;
     if (l.nv == 1) {
-      w.U1.noalias() = w.IA * l.s1;
+      w.U1 = mat6_vec(w.IA, l.s1);
       w.Dinv1 = 1 / l.s1.dot(w.U1);
       w.u1 = -l.s1.dot(w.pA);
       if (l.stiffness != 0 || l.damping != 0) w.u1 += -l.stiffness * (q[l.iq] - l.rest) - l.damping * v[l.iv];
       if (l.dof_index >= 0) w.u1 += tau_[l.iv];
-      Ia.noalias() -= (w.Dinv1 * w.U1) * w.U1.transpose();
+      const Vec6 UD = w.Dinv1 * w.U1;
+      for (int c = 0; c < 6; ++c)
+        for (int r = 0; r < 6; ++r) Ia(r, c) -= UD[r] * w.U1[c];
       pa += w.U1 * (w.Dinv1 * w.u1);
     } else if (l.nv > 0) {
       w.U.noalias() = w.IA * l.S;
       const MatXX6 D = l.S.transpose() * w.U;
       w.Dinv = D.inverse();
       w.u = -l.S.transpose() * w.pA;
-      if (l.nv == 1 && (l.stiffness != 0 || l.damping != 0))
-        w.u(0) += -l.stiffness * (q[l.iq] - l.rest) - l.damping * v[l.iv];
       Ia.noalias() -= w.U * w.Dinv * w.U.transpose();
       pa += w.U * (w.Dinv * w.u);
     }
-    pa.noalias() += Ia * w.c;
     if (l.parent >= 0) {
+      pa += mat6_vec(Ia, w.c);
       Work& p = work_[l.parent];
-      p.IA += transform_inertia_back(w.E, w.r, Ia);
+      add_transform_inertia_back(w.E, w.r, Ia, p.IA);
       p.pA += transform_force_back(w.E, w.r, pa);
     }
   }
@@ -837,6 +842,10 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
           break;
       }
       if (l.nv == 1) l.s1 = l.S.col(0);
+      l.R0 = l.R_pF * l.R_cF.transpose();
+      l.t0 = l.p_pF - l.R0 * l.p_cF;
+      l.a_c = l.R_cF * l.axis_F;
+      l.a_p = l.R_pF * l.axis_F;
       l.iq = m.nq;
       l.iv = m.nv;
       m.nq += l.nq;

@@ -46,8 +46,14 @@ struct Link {
   Quat q_cF = Quat::Identity();
   Vec3 p_cF = Vec3::Zero();
   Mat3 R_pF = Mat3::Identity(), R_cF = Mat3::Identity();  ///< the same rotations as matrices
-  double mass = 0;                                        ///< kg
-  Vec3 I_P = Vec3::Zero();                                ///< kg m^2, principal moments
+  // Products of the above that kinematics would otherwise form at every evaluation: R0 = R_pF
+  // R_cF^T (the link in its parent at q = 0), t0 = p_pF - R0 p_cF (its origin there), the axis in
+  // the link's frame (a hinge turns the link by R0 Rot(a_c, q)) and in the parent's (a slider moves
+  // its origin by a_p q).
+  Mat3 R0 = Mat3::Identity();
+  Vec3 t0 = Vec3::Zero(), a_c = Vec3::UnitZ(), a_p = Vec3::UnitZ();
+  double mass = 0;                              ///< kg
+  Vec3 I_P = Vec3::Zero();                      ///< kg m^2, principal moments
   Mat6X S;                                      ///< motion subspace in the link frame (6 x nv), constant
   Vec6 s1 = Vec6::Zero();                       ///< S when nv = 1 (hinges and sliders: the common case)
   double stiffness = 0, damping = 0, rest = 0;  ///< a 1-coordinate joint's spring
