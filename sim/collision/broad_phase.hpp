@@ -25,8 +25,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "sim/collision/shape_table.hpp"
 #include "sim/base/pair_key.hpp"
+#include "sim/collision/shape_table.hpp"
 
 namespace simreel {
 
@@ -100,6 +100,12 @@ class BroadPhase {
   // Forget everything: the next update looks at every shape of `sweep` (after a restore).
   void reset() { valid_ = false; }
   size_t candidates() const { return candidates_.size(); }
+  // f(shape) for every shape whose fat box overlaps `box`: a superset of the shapes whose box of
+  // the last update does (every box lies in its fat box).
+  template <typename F>
+  void query(const Aabb& box, F&& f) const {
+    tree_.query(box, f);
+  }
   int moved_last_update() const { return (int)moved_.size(); }
 
  private:

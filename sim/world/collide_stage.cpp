@@ -38,6 +38,7 @@ void WorldImpl::init_contacts() {
   profile_.shapes = st.size();
   shape_moving_.assign(st.size(), 0);
   boxes_.assign(st.size(), Aabb{});
+  margins_.assign(st.size(), cs.speculative_distance);
   poses_.assign(st.size(), Pose{});
   bool any_moving = false;
   for (int i = 0; i < st.size(); ++i) {
@@ -117,7 +118,8 @@ __attribute__((flatten)) void WorldImpl::stage_broad_phase() {
     poses_[i] = ShapeTable::world_pose(r, s);  // kept for collide: the state does not change between
     const Aabb b = ShapeTable::bounds(r.geom, poses_[i]);
     const double reach = extents_.shape_reach[i] * s.w_P.norm();
-    const Vec3 m = Vec3::Constant(spec + (s.v_W.norm() + reach) * dt);
+    margins_[i] = spec + (s.v_W.norm() + reach) * dt;
+    const Vec3 m = Vec3::Constant(margins_[i]);
     boxes_[i] = Aabb{b.lo - m, b.hi + m};
   }
   std::vector<uint64_t>& pairs = contacts_.pairs();

@@ -11,6 +11,7 @@
 #include <simreel/profile.hpp>
 
 #include "sim/collision/body_extents.hpp"
+#include "sim/collision/broad_phase.hpp"
 #include "sim/collision/shape_table.hpp"
 #include "sim/collision/time_of_impact.hpp"
 #include "sim/dynamics/state.hpp"
@@ -46,7 +47,12 @@ class ContinuousCollision {
     const ShapeTable* shapes = nullptr;
     const BodyExtents* extents = nullptr;
     const Islands* islands = nullptr;
-    const std::vector<int>* dynamic = nullptr;       ///< dynamic bodies, ascending
+    const std::vector<int>* dynamic = nullptr;  ///< dynamic bodies, ascending
+    const std::vector<int>* awake = nullptr;    ///< the awake moving bodies, ascending
+    // This step's broad phase: its pairs (allowed, boxes overlapping), box margins and tree.
+    const std::vector<uint64_t>* broad_pairs = nullptr;
+    const std::vector<double>* margins = nullptr;  ///< per shape: m, boxes' reach past the shape
+    const BroadPhase* broad = nullptr;
     const std::vector<int>* sweep_shapes = nullptr;  ///< non-plane colliding shapes
     const std::vector<int>* plane_shapes = nullptr;
     const std::vector<char>* shape_moving = nullptr;
@@ -77,7 +83,14 @@ class ContinuousCollision {
   std::vector<Sweep> sweeps_;      ///< per body, this step
   std::vector<int> fast_;          ///< swept bodies this step, ascending
   std::vector<Aabb> swept_boxes_;  ///< per shape: its box over the whole step
-  std::vector<int> order_;         ///< sweep shapes sorted by swept box lo.x
+  std::vector<char> sweepable_;    ///< per body: in Step::dynamic (set on the first step)
+  std::vector<char> covered_;      ///< per shape: its swept box lies in its broad-phase box
+  std::vector<long> box_stamp_;    ///< per shape: the stage run its swept box is from
+  std::vector<long> sweep_stamp_;  ///< per body: the stage run its sweep is from
+  std::vector<double> moved_;      ///< per awake body: m, how far its centre moved this step
+  std::vector<double> turned_;     ///< per awake body: rad, how far it turned this step
+  long run_ = 0;                   ///< stage runs with a fast body
+  std::vector<int> escaped_;       ///< moving shapes whose swept box left their broad-phase box
   std::vector<uint64_t> pairs_;    ///< shape pairs (pair_key) to sweep, this step
 };
 

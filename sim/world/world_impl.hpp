@@ -232,6 +232,7 @@ class WorldImpl {
   std::vector<Pose> plane_poses_;
   std::vector<char> shape_moving_;           ///< per shape: its body is not static
   std::vector<Aabb> boxes_;                  ///< per shape, this step
+  std::vector<double> margins_;              ///< per shape: m, how far boxes_ reach past the shape
   std::vector<Pose> poses_;                  ///< per moving shape, world pose this step (broad phase)
   std::vector<std::pair<int, int>> ignore_;  ///< body pairs, (lo, hi), sorted
   BroadPhase broad_;
