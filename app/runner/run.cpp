@@ -112,8 +112,9 @@ std::string summary_text(const RunSummary& s) {
         << (double)s.profile->joint_steps / std::max(1L, s.profile->steps) << " a step)\n";
     if (s.profile->shapes > 0)
       o << "  contacts: " << s.profile->shapes << " shapes; summed over steps: " << s.profile->pairs
-        << " candidate pairs, " << s.profile->contact_points << " contact points, "
-        << s.profile->solver_bodies << " bodies through the solver, " << s.profile->impact_substeps
+        << " candidate pairs, " << s.profile->fat_box_moves << " fat boxes left (tree updates), "
+        << s.profile->contact_points << " contact points, " << s.profile->solver_bodies
+        << " bodies through the solver, " << s.profile->impact_substeps
         << " substeps with an impact (one more sweep)\n";
     if (s.profile->forces > 0)
       o << "  forces: " << s.profile->forces << " records (the drag is one per body), "
@@ -164,6 +165,7 @@ std::string summary_json(const RunSummary& s) {
                    {"kinematic", s.profile->kinematic_bodies}};
     p["contacts"] = {{"shapes", s.profile->shapes},
                      {"pairs", s.profile->pairs},
+                     {"fat_box_moves", s.profile->fat_box_moves},
                      {"contact_points", s.profile->contact_points},
                      {"solver_bodies", s.profile->solver_bodies},
                      {"impact_substeps", s.profile->impact_substeps}};

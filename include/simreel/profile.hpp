@@ -43,6 +43,7 @@ struct Profile {
   int forces = 0;             ///< entries of the force list
   int shapes = 0;             ///< colliding shapes (planes included)
   long pairs = 0;             ///< candidate pairs from the broad phase, summed over steps
+  long fat_box_moves = 0;     ///< shapes that left their fat box (a tree update and query each), summed
   long contact_points = 0;    ///< manifold points, summed over steps
   long solver_bodies = 0;     ///< bodies stepped by the contact solver, summed over steps
   long sweeps = 0;            ///< the contact solver's solve and relax sweeps, summed over steps

@@ -37,13 +37,18 @@ class AabbTree {
   int insert(const Aabb& box, int user);  ///< returns the leaf's id
   void remove(int leaf);
   void move(int leaf, const Aabb& box);  ///< remove and insert again (the id stays valid)
+  // Every node anew by binned SAH, in depth-first order; leaves get new ids: remap()[old id].
+  // False (nothing changed) under three leaves.
+  bool rebuild();
+  const std::vector<int>& remap() const { return remap_; }
   void clear();
   int size() const { return leaves_; }
   int height() const { return root_ < 0 ? 0 : nodes_[root_].height; }
   // f(user) for every leaf whose box overlaps `box`.
   template <typename F>
   void query(const Aabb& box, F&& f) const;
-  // Checks the structure (parents, heights, enclosing boxes, balance); for tests.
+  // Checks the structure (parents, heights, enclosing boxes); for tests. (A rebuilt tree is
+  // shaped by area, not height-balanced.)
   bool valid() const;
 
  private:
@@ -60,10 +65,18 @@ class AabbTree {
   int balance(int a);
   void refit(int index);  ///< boxes and heights from `index` up to the root, rebalancing
   bool valid(int index, int parent) const;
+  int build(int begin, int end, int parent);  ///< rebuild's subtree over build_[begin, end), in fresh_
 
   std::vector<Node> nodes_;
   int root_ = -1, free_ = -1, leaves_ = 0;
   mutable std::vector<int> stack_;
+  struct BuildItem {
+    int leaf;
+    Vec3 c;  ///< the box's centre, doubled
+  };
+  std::vector<BuildItem> build_;
+  std::vector<int> remap_;
+  std::vector<Node> fresh_;
 };
 
 template <typename F>
@@ -99,6 +112,11 @@ class BroadPhase {
               const std::vector<char>& moving, Allowed&& allowed, std::vector<uint64_t>& pairs);
   // Forget everything: the next update looks at every shape of `sweep` (after a restore).
   void reset() { valid_ = false; }
+  // Per shape: how far it is expected to move in a step (m, world), read when a shape gets a new
+  // fat box, which then reaches kDriftSteps steps ahead along it. Shapes only: never changes
+  // the pairs. nullptr: fat boxes grow alike on every side.
+  void set_drift(const std::vector<Vec3>* drift) { drift_ = drift; }
+  static constexpr double kDriftSteps = 8;
   size_t candidates() const { return candidates_.size(); }
   // f(shape) for every shape whose fat box overlaps `box`: a superset of the shapes whose box of
   // the last update does (every box lies in its fat box).
@@ -123,14 +141,20 @@ class BroadPhase {
   std::vector<char> moved_flag_;      ///< per shape: in moved_
   std::vector<uint64_t> candidates_;  ///< allowed pairs whose fat boxes overlap, sorted
   std::vector<uint64_t> found_, merged_;
+  const std::vector<Vec3>* drift_ = nullptr;
+  long moves_since_rebuild_ = 0;
+  static constexpr long kRebuildFraction = 1;
   bool valid_ = false;
 };
 
 // Fat box margin: a tenth of the box's largest side (at least 1 mm), so a shape at rest stays in
-// its fat box and a falling one leaves it every few steps.
-inline Aabb fatten(const Aabb& b) {
+// its fat box; and on the side it moves toward, as far as it moves in kDriftSteps steps (`ahead`),
+// so a moving shape keeps its fat box for several steps without the box swelling toward the
+// neighbours behind or beside it (Bullet's dbvt prediction). Among 10,000 boxes falling from rest
+// for 1000 steps, 51% of body-steps left the isotropic fat box.
+inline Aabb fatten(const Aabb& b, const Vec3& ahead = Vec3::Zero()) {
   const double m = std::max(1e-3, 0.1 * (b.hi - b.lo).maxCoeff());
-  return Aabb{b.lo - Vec3::Constant(m), b.hi + Vec3::Constant(m)};
+  return Aabb{b.lo - Vec3::Constant(m) + ahead.cwiseMin(0.0), b.hi + Vec3::Constant(m) + ahead.cwiseMax(0.0)};
 }
 
 inline bool contains(const Aabb& fat, const Aabb& b) {
@@ -195,14 +219,25 @@ void BroadPhase::update(const std::vector<Aabb>& boxes, const std::vector<int>& 
       leaf_[s] = tree_.insert(fat_[s], s);
       moved_.push_back(s);
     }
+    moves_since_rebuild_ = tree_.size();
     valid_ = true;
   } else {
     for (int s : active) {
       if (contains(fat_[s], boxes[s])) continue;
-      fat_[s] = fatten(boxes[s]);
+      fat_[s] = drift_ ? fatten(boxes[s], kDriftSteps * (*drift_)[s]) : fatten(boxes[s]);
       tree_.move(leaf_[s], fat_[s]);
       moved_.push_back(s);
     }
+    moves_since_rebuild_ += (long)moved_.size();
+  }
+  // Rebuilt once the moves since the last build reach the number of leaves (and when made from
+  // nothing): reinsertions scatter the nodes in memory and leave a tree whose queries visit three
+  // times the nodes of a built one.
+  if (moves_since_rebuild_ * kRebuildFraction >= tree_.size()) {
+    if (tree_.rebuild())
+      for (int s : sweep)
+        if (leaf_[s] >= 0) leaf_[s] = tree_.remap()[leaf_[s]];
+    moves_since_rebuild_ = 0;
   }
   if (!moved_.empty()) {
     for (int s : moved_) moved_flag_[s] = 1;

@@ -39,6 +39,8 @@ void WorldImpl::init_contacts() {
   shape_moving_.assign(st.size(), 0);
   boxes_.assign(st.size(), Aabb{});
   margins_.assign(st.size(), cs.speculative_distance);
+  drift_.assign(st.size(), Vec3::Zero());
+  broad_.set_drift(&drift_);
   poses_.assign(st.size(), Pose{});
   bool any_moving = false;
   for (int i = 0; i < st.size(); ++i) {
@@ -119,6 +121,7 @@ __attribute__((flatten)) void WorldImpl::stage_broad_phase() {
     const Aabb b = ShapeTable::bounds(r.geom, poses_[i]);
     const double reach = extents_.shape_reach[i] * s.w_P.norm();
     margins_[i] = spec + (s.v_W.norm() + reach) * dt;
+    drift_[i] = s.v_W * dt;
     const Vec3 m = Vec3::Constant(margins_[i]);
     boxes_[i] = Aabb{b.lo - m, b.hi + m};
   }
@@ -127,6 +130,7 @@ __attribute__((flatten)) void WorldImpl::stage_broad_phase() {
       boxes_, active_shapes_, sweep_shapes_, plane_shapes_, plane_poses_, shape_moving_,
       [this](int a, int b) { return shapes_may_touch(a, b); }, pairs);
   profile_.pairs += (long)pairs.size();
+  profile_.fat_box_moves += broad_.moved_last_update();
 }
 
 ContactSet::Step WorldImpl::collide_step() const {

@@ -233,6 +233,7 @@ class WorldImpl {
   std::vector<char> shape_moving_;           ///< per shape: its body is not static
   std::vector<Aabb> boxes_;                  ///< per shape, this step
   std::vector<double> margins_;              ///< per shape: m, how far boxes_ reach past the shape
+  std::vector<Vec3> drift_;                  ///< per shape: m, v dt at this step's start (fat boxes' lead)
   std::vector<Pose> poses_;                  ///< per moving shape, world pose this step (broad phase)
   std::vector<std::pair<int, int>> ignore_;  ///< body pairs, (lo, hi), sorted
   BroadPhase broad_;

@@ -176,6 +176,72 @@ TEST(BroadPhase, PairsEqualBruteForceWhateverTheHistory) {
   EXPECT_EQ(again, pairs);
 }
 
+// Fat boxes led along each shape's expected motion (set_drift) change which shapes leave them,
+// never the pairs: the same random history with random drifts (some far larger than the steps)
+// gives the brute-force list every step.
+TEST(BroadPhase, DriftShapesFatBoxesNotPairs) {
+  for (double lead : {0.0, 0.05, 3.0}) {
+    RandomScene s(300);
+    BroadPhase bp;
+    std::vector<Vec3> drift(s.boxes.size(), Vec3::Zero());
+    SplitMix64 r(5);
+    for (Vec3& d : drift) d = lead * Vec3(r.uniform(-1, 1), r.uniform(-1, 1), r.uniform(-1, 1));
+    bp.set_drift(&drift);
+    std::vector<uint64_t> pairs;
+    std::vector<int> active;
+    auto allowed = [&](int a, int b) { return s.allowed(a, b); };
+    bp.update(s.boxes, s.sweep, s.sweep, s.planes, s.plane_poses, s.moving, allowed, pairs);
+    ASSERT_EQ(pairs, s.brute());
+    for (int k = 0; k < 200; ++k) {
+      s.step(active);
+      bp.update(s.boxes, active, s.sweep, s.planes, s.plane_poses, s.moving, allowed, pairs);
+      ASSERT_EQ(pairs, s.brute()) << "lead " << lead << " step " << k;
+    }
+  }
+}
+
+// A rebuilt tree (binned SAH, depth-first layout, new leaf ids) answers every query as the
+// reinserted one did, and keeps working through later moves and removals.
+TEST(AabbTree, RebuildKeepsQueriesAndRemapsLeaves) {
+  SplitMix64 r(3);
+  const int n = 500;
+  AabbTree t;
+  std::vector<Aabb> boxes(n);
+  std::vector<int> leaf(n);
+  std::vector<char> present(n, 1);
+  for (int i = 0; i < n; ++i) leaf[i] = t.insert(boxes[i] = random_box(r, 20, 2), i);
+  for (int round = 0; round < 6; ++round) {
+    ASSERT_TRUE(t.rebuild());
+    for (int i = 0; i < n; ++i)
+      if (present[i]) leaf[i] = t.remap()[leaf[i]];
+    ASSERT_TRUE(t.valid());
+    EXPECT_EQ(t.size(), std::count(present.begin(), present.end(), 1));
+    for (int k = 0; k < 50; ++k) {
+      const Aabb q = random_box(r, 20, 4);
+      std::vector<int> got;
+      t.query(q, [&](int u) { got.push_back(u); });
+      std::sort(got.begin(), got.end());
+      ASSERT_EQ(got, brute_query(boxes, present, q)) << "round " << round;
+    }
+    for (int k = 0; k < 200; ++k) {  // then a history of moves and removals on the rebuilt tree
+      const int i = (int)(r.next() % n);
+      if (!present[i]) {
+        leaf[i] = t.insert(boxes[i] = random_box(r, 20, 2), i);
+        present[i] = 1;
+      } else if (r.uniform() < 0.8) {
+        t.move(leaf[i], boxes[i] = random_box(r, 20, 2));
+      } else {
+        t.remove(leaf[i]);
+        present[i] = 0;
+      }
+    }
+    ASSERT_TRUE(t.valid());
+  }
+  // A rebuilt tree of uniformly spread boxes is shallow: SAH splits near the middle.
+  ASSERT_TRUE(t.rebuild());
+  EXPECT_LE(t.height(), (int)(2.0 * std::log2(t.size() + 2.0)) + 2);
+}
+
 // Shapes not listed as active are not looked at: with nothing active and nothing moved, the
 // candidates stay and no shape moves.
 TEST(BroadPhase, InactiveShapesCostNoMoves) {
