@@ -112,12 +112,18 @@ class BroadPhase {
               const std::vector<char>& moving, Allowed&& allowed, std::vector<uint64_t>& pairs);
   // Forget everything: the next update looks at every shape of `sweep` (after a restore).
   void reset() { valid_ = false; }
+  // `pairs` holds the overlapping pairs with a shape in `active`; the others, whose boxes cannot
+  // have changed since neither shape is active (a sleeping stack on the ground), are kept apart
+  // here, sorted, and cost nothing per step: the two lists together are exactly the overlapping
+  // pairs. dormant_changed(): the list changed in the last update.
+  const std::vector<uint64_t>& dormant_pairs() const { return dormant_hits_; }
+  bool dormant_changed() const { return dormant_changed_; }
   // Per shape: how far it is expected to move in a step (m, world), read when a shape gets a new
   // fat box, which then reaches kDriftSteps steps ahead along it. Shapes only: never changes
   // the pairs. nullptr: fat boxes grow alike on every side.
   void set_drift(const std::vector<Vec3>* drift) { drift_ = drift; }
   static constexpr double kDriftSteps = 8;
-  size_t candidates() const { return candidates_.size(); }
+  size_t candidates() const { return candidates_.size() + dormant_.size(); }  ///< live and dormant
   // f(shape) for every shape whose fat box overlaps `box`: a superset of the shapes whose box of
   // the last update does (every box lies in its fat box).
   template <typename F>
@@ -142,6 +148,11 @@ class BroadPhase {
   std::vector<uint64_t> candidates_;  ///< allowed pairs whose fat boxes overlap, sorted
   std::vector<uint64_t> found_, merged_;
   const std::vector<Vec3>* drift_ = nullptr;
+  // Candidates with no active shape (sorted), those of them whose boxes overlap, and scratch.
+  std::vector<uint64_t> dormant_, dormant_hits_, demoted_, woken_;
+  std::vector<char> active_flag_, was_active_;  ///< per shape: in `active` this / last update
+  std::vector<int> last_active_;
+  bool dormant_changed_ = false;
   long moves_since_rebuild_ = 0;
   static constexpr long kRebuildFraction = 1;
   bool valid_ = false;
@@ -199,7 +210,14 @@ void BroadPhase::update(const std::vector<Aabb>& boxes, const std::vector<int>& 
                         Allowed&& allowed, std::vector<uint64_t>& pairs) {
   pairs.clear();
   moved_.clear();
+  dormant_changed_ = false;
   if (!valid_ || fat_.size() != boxes.size()) {
+    dormant_.clear();
+    dormant_hits_.clear();
+    active_flag_.assign(boxes.size(), 0);
+    was_active_.assign(boxes.size(), 0);
+    last_active_.clear();
+    dormant_changed_ = true;
     // From nothing: every shape moved.
     tree_.clear();
     candidates_.clear();
@@ -233,6 +251,32 @@ void BroadPhase::update(const std::vector<Aabb>& boxes, const std::vector<int>& 
   // Rebuilt once the moves since the last build reach the number of leaves (and when made from
   // nothing): reinsertions scatter the nodes in memory and leave a tree whose queries visit three
   // times the nodes of a built one.
+  for (int s : active) active_flag_[s] = 1;
+  // A dormant pair one of whose shapes is active again (its body woke) is a live candidate again.
+  bool woke = false;
+  for (int s : active) woke = woke || !was_active_[s];
+  if (woke && !dormant_.empty()) {
+    woken_.clear();
+    size_t kept = 0;
+    for (uint64_t key : dormant_) {
+      if (active_flag_[pair_first(key)] || active_flag_[pair_second(key)])
+        woken_.push_back(key);
+      else
+        dormant_[kept++] = key;
+    }
+    if (!woken_.empty()) {
+      dormant_.resize(kept);
+      merged_.clear();
+      std::set_union(candidates_.begin(), candidates_.end(), woken_.begin(), woken_.end(),
+                     std::back_inserter(merged_));
+      candidates_.swap(merged_);
+      kept = 0;
+      for (uint64_t key : dormant_hits_)
+        if (!active_flag_[pair_first(key)] && !active_flag_[pair_second(key)]) dormant_hits_[kept++] = key;
+      dormant_hits_.resize(kept);
+      dormant_changed_ = true;
+    }
+  }
   if (moves_since_rebuild_ * kRebuildFraction >= tree_.size()) {
     if (tree_.rebuild())
       for (int s : sweep)
@@ -257,14 +301,44 @@ void BroadPhase::update(const std::vector<Aabb>& boxes, const std::vector<int>& 
     candidates_.swap(merged_);
     for (int s : moved_) moved_flag_[s] = 0;
   }
-  // This step's pairs: the candidates whose boxes overlap (for a plane: reach its side).
+  // This step's pairs: the candidates whose boxes overlap (for a plane: reach its side); a
+  // candidate with no active shape becomes dormant (with its overlap, which cannot change while
+  // it stays dormant).
+  auto hit = [&](int a, int b) {
+    return plane_slot_[a] >= 0   ? reaches_plane(plane_slot_[a], boxes[b])
+           : plane_slot_[b] >= 0 ? reaches_plane(plane_slot_[b], boxes[a])
+                                 : boxes[a].overlaps(boxes[b]);
+  };
+  demoted_.clear();
+  size_t kept = 0;
   for (uint64_t key : candidates_) {
     const int a = pair_first(key), b = pair_second(key);
-    const bool hit = plane_slot_[a] >= 0   ? reaches_plane(plane_slot_[a], boxes[b])
-                     : plane_slot_[b] >= 0 ? reaches_plane(plane_slot_[b], boxes[a])
-                                           : boxes[a].overlaps(boxes[b]);
-    if (hit) pairs.push_back(key);
+    if (!active_flag_[a] && !active_flag_[b]) {
+      demoted_.push_back(key);
+      continue;
+    }
+    candidates_[kept++] = key;
+    if (hit(a, b)) pairs.push_back(key);
   }
+  candidates_.resize(kept);
+  if (!demoted_.empty()) {
+    merged_.clear();
+    std::set_union(dormant_.begin(), dormant_.end(), demoted_.begin(), demoted_.end(),
+                   std::back_inserter(merged_));
+    dormant_.swap(merged_);
+    kept = 0;
+    for (uint64_t key : demoted_)
+      if (hit(pair_first(key), pair_second(key))) demoted_[kept++] = key;
+    demoted_.resize(kept);
+    merged_.clear();
+    std::set_union(dormant_hits_.begin(), dormant_hits_.end(), demoted_.begin(), demoted_.end(),
+                   std::back_inserter(merged_));
+    dormant_hits_.swap(merged_);
+    dormant_changed_ = true;
+  }
+  for (int s : last_active_) was_active_[s] = 0;
+  for (int s : active) was_active_[s] = 1, active_flag_[s] = 0;
+  last_active_.assign(active.begin(), active.end());
 }
 
 }  // namespace simreel

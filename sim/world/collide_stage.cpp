@@ -149,6 +149,8 @@ ContactSet::Step WorldImpl::collide_step() const {
   in.linear_slop = cfg_.contacts.linear_slop;
   in.threads = cfg_.threads;
   in.pool = pool_.get();
+  in.dormant = &broad_.dormant_pairs();
+  in.dormant_changed = broad_.dormant_changed();
   return in;
 }
 

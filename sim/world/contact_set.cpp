@@ -29,12 +29,44 @@ namespace simreel {
 //      (a pair after the one that woke it; one before it keeps its records, as there). Then the
 //      records are packed (a mesh pair leaves unused slots).
 // Records of a pair whose two sides are asleep or static live in resting_, apart from contacts_,
-// and stay where they are while the pair sleeps: a sleeping pair costs its key in the merge and
-// nothing else (no copy; the solver and the sleep stage never see it). Both lists are rebuilt
+// and stay where they are while the pair sleeps: a sleeping pair costs nothing (no copy; the
+// solver and the sleep stage never see it; the broad phase lists it apart, as dormant, and the
+// passes run over the live pairs alone unless a dormant pair changed, a resting record is
+// touched or something wakes). Both lists are rebuilt
 // only in a step where a record enters or leaves resting_ (an island falls asleep or wakes, a
 // pair leaves the broad phase). contacts_ and resting_ together, in key order, are the one list
 // the sequential pass keeps (and the saved state holds).
 void ContactSet::collide(const Step& in, Islands& islands, Profile& profile) {
+  // The live pairs alone (those with a shape of an awake body) when the sleeping ones cannot take
+  // part: no dormant pair changed, no resting record is touched, and nothing wakes. Otherwise the
+  // pass runs over every pair, live and dormant, in key order, as one sequential pass would.
+  if (!in.dormant_changed && build_jobs(in, islands, pairs_, true)) {
+    run_jobs(in);
+    bool wakes = false;
+    for (const CollideJob& job : collide_jobs_)
+      wakes = wakes ||
+              (!job.keep && job.points > 0 && (islands.asleep(job.body_a) || islands.asleep(job.body_b)));
+    if (!wakes) {
+      finish(in, islands, profile);
+      return;
+    }
+  }
+  const std::vector<uint64_t>* keys = &pairs_;
+  if (in.dormant && !in.dormant->empty()) {
+    all_keys_.clear();
+    std::set_union(pairs_.begin(), pairs_.end(), in.dormant->begin(), in.dormant->end(),
+                   std::back_inserter(all_keys_));
+    keys = &all_keys_;
+  }
+  build_jobs(in, islands, *keys, false);
+  run_jobs(in);
+  finish(in, islands, profile);
+}
+
+// Pass 1 over `keys`. live_only: the keys are the live pairs alone, and the pass gives up (false)
+// where the dormant ones would matter: a pair with records in resting_, or one entering it.
+bool ContactSet::build_jobs(const Step& in, Islands& islands, const std::vector<uint64_t>& keys,
+                            bool live_only) {
   const ShapeTable& st = *in.shapes;
   // Static or asleep (resting_ holds the pairs of two such bodies); inert: static, asleep, or
   // kinematic at rest, neither moves nor wakes anything (Islands::inert).
@@ -42,17 +74,25 @@ void ContactSet::collide(const Step& in, Islands& islands, Profile& profile) {
   auto inert = [&](int i) { return islands.inert(i, in.model[i], in.state[i]); };
   collide_jobs_.clear();
   size_t old = 0, rest = 0;
-  int slots = 0, busy = 0;     // busy: pairs collided or copied
-  bool packed = true;          // every job fills its slots exactly
-  bool resting_moves = false;  // a record enters or leaves resting_ this step
-  for (uint64_t key : pairs_) {
+  int slots = 0;
+  busy_ = 0;               // pairs collided or copied
+  packed_ = true;          // every job fills its slots exactly
+  resting_moves_ = false;  // a record enters or leaves resting_ this step
+  for (uint64_t key : keys) {
     while (old < contacts_.size() && contacts_[old].key() < key) ++old;
     size_t old_end = old;
     while (old_end < contacts_.size() && contacts_[old_end].key() == key) ++old_end;
-    // Resting records of a pair the broad phase no longer reports are dropped, as contacts_' are.
-    for (; rest < resting_keys_.size() && resting_keys_[rest] < key; ++rest) resting_moves = true;
-    size_t rest_end = rest;
-    while (rest_end < resting_keys_.size() && resting_keys_[rest_end] == key) ++rest_end;
+    size_t rest_end;
+    if (live_only) {
+      rest = std::lower_bound(resting_keys_.begin(), resting_keys_.end(), key) - resting_keys_.begin();
+      if (rest < resting_keys_.size() && resting_keys_[rest] == key) return false;
+      rest_end = rest;
+    } else {
+      // Resting records of a pair the broad phase no longer reports are dropped, as contacts_' are.
+      for (; rest < resting_keys_.size() && resting_keys_[rest] < key; ++rest) resting_moves_ = true;
+      rest_end = rest;
+      while (rest_end < resting_keys_.size() && resting_keys_[rest_end] == key) ++rest_end;
+    }
     const int a = pair_first(key), b = pair_second(key);
     const int body_a = in.extents->shape_body[a], body_b = in.extents->shape_body[b];
     CollideJob job;
@@ -74,19 +114,26 @@ void ContactSet::collide(const Step& in, Islands& islands, Profile& profile) {
     } else {
       job.mesh = st[a].geom.kind == CollideKind::mesh || st[b].geom.kind == CollideKind::mesh;
       // Woken since (its records leave resting_), or fell asleep last step (they enter it).
-      resting_moves = resting_moves || job.stored || (job.keep && resting(body_a) && resting(body_b));
+      const bool enters = job.keep && resting(body_a) && resting(body_b);
+      if (live_only && enters) return false;
+      resting_moves_ = resting_moves_ || job.stored || enters;
       job.cap = std::max(job.mesh ? kMaxMeshManifolds : 1, job.prev_count);
       job.slot = slots;
       slots += job.cap;
-      ++busy;
-      packed = packed && !job.mesh && !(job.keep && job.prev_count != 1);
+      ++busy_;
+      packed_ = packed_ && !job.mesh && !(job.keep && job.prev_count != 1);
     }
     collide_jobs_.push_back(job);
     rest = rest_end;
   }
-  resting_moves = resting_moves || rest < resting_keys_.size();
-  const int n = (int)collide_jobs_.size();
+  if (!live_only) resting_moves_ = resting_moves_ || rest < resting_keys_.size();
   contacts_next_.resize(slots);
+  return true;
+}
+
+// Pass 2: the pairs not kept collided on the threads.
+void ContactSet::run_jobs(const Step& in) {
+  const int n = (int)collide_jobs_.size();
   collide_sums_.resize(in.threads);
   // Blocks of pairs claimed from a shared counter (pairs cost from a sphere-plane formula to a
   // hull-hull clipping, so fixed shares would leave one thread waiting): which thread collides a
@@ -114,12 +161,19 @@ void ContactSet::collide(const Step& in, Islands& islands, Profile& profile) {
   // (The pool may also run it as worker 0 of 1: sim/base/worker_pool.hpp.)
   constexpr int kMinParallelPairs = 64;
   for (Deepest& d : collide_sums_) d.value = 0;
-  if (in.pool && busy >= kMinParallelPairs)
+  if (in.pool && busy_ >= kMinParallelPairs)
     in.pool->run(work);
   else
     work(0, 1);
   for (const Deepest& d : collide_sums_) stats_.max_penetration = std::max(stats_.max_penetration, d.value);
+}
 
+// Pass 3, in key order, and the lists afterwards.
+void ContactSet::finish(const Step& in, Islands& islands, Profile& profile) {
+  const ShapeTable& st = *in.shapes;
+  auto resting = [&](int i) { return in.model[i].is_static || islands.asleep(i); };
+  auto inert = [&](int i) { return islands.inert(i, in.model[i], in.state[i]); };
+  bool resting_moves = resting_moves_, packed = packed_;
   std::fill(in_contact_.begin(), in_contact_.end(), 0);
   int points = 0;
   bool woke = false;

@@ -31,8 +31,8 @@ class ContactSet {
   // No records, no body in contact, for `bodies` bodies.
   void init(int bodies) { in_contact_.assign(bodies, 0); }
 
-  /// This step's candidate pairs (pair_key of shapes a < b), in key order: the broad phase writes
-  /// them here (BroadPhase::update).
+  /// This step's candidate pairs with a shape of an awake body (pair_key of shapes a < b), in key
+  /// order: the broad phase writes them here (BroadPhase::update); Step::dormant has the others.
   std::vector<uint64_t>& pairs() { return pairs_; }
   /// Nothing close and nothing was: the collide stage has no work (and no bodies are in contact).
   bool idle() const { return pairs_.empty() && contacts_.empty() && resting_.empty(); }
@@ -53,6 +53,10 @@ class ContactSet {
     double linear_slop = 0;                    ///< m
     int threads = 1;
     WorkerPool* pool = nullptr;  ///< threads for the pairs (null: the calling thread alone)
+    // The broad phase's dormant pairs (no shape of an awake body; BroadPhase::dormant_pairs), key
+    // order, and whether that list changed this step. pairs() holds the others.
+    const std::vector<uint64_t>* dormant = nullptr;
+    bool dormant_changed = true;
   };
   // The collide stage (contact_set.cpp): every candidate pair collided, or its records kept, into
   // the new lists; the islands of sleeping bodies touched by something awake woken; the bodies in
@@ -117,6 +121,10 @@ class ContactSet {
   // state, the shapes, this step's poses and boxes, and last step's contact list: pairs run in
   // parallel.
   double collide_job(const Step& in, CollideJob& job);
+  // collide's three passes (contact_set.cpp).
+  bool build_jobs(const Step& in, Islands& islands, const std::vector<uint64_t>& keys, bool live_only);
+  void run_jobs(const Step& in);
+  void finish(const Step& in, Islands& islands, Profile& profile);
   const Contact* prev_record(const CollideJob& job) const {
     return job.prev < 0 ? nullptr : job.stored ? &resting_[job.prev] : &contacts_[job.prev];
   }
@@ -139,7 +147,9 @@ class ContactSet {
     double value = 0;
   };
 
-  std::vector<uint64_t> pairs_;
+  std::vector<uint64_t> pairs_, all_keys_;  ///< live pairs; with the dormant ones (collide)
+  int busy_ = 0;                            ///< pass 1: pairs collided or copied
+  bool packed_ = true, resting_moves_ = false;
   std::vector<Contact> contacts_, contacts_next_;
   // Records of pairs between sleeping or static bodies (a kinematic body at rest excluded: it may
   // move without being woken), key order: no work per step while they sleep (collide).
