@@ -1360,6 +1360,23 @@ void Articulations::reaction(int j, const MotionState* st, const Vec3& g, Vec3& 
   torque_W = T + (m.link_x(li) - anchor).cross(force_W);
 }
 
+double Articulations::spring_energy() const {
+  double e = 0;
+  for (const Mechanism& m : mechanisms_) {
+    for (const Link& l : m.links)
+      if (l.stiffness != 0 && l.nq == 1) {
+        const double x = m.q[l.iq] - l.rest;
+        e += 0.5 * l.stiffness * x * x;
+      }
+    for (int t = 0; t < (int)m.tethers.size(); ++t)
+      if (m.tethers[t].stiffness != 0) {
+        const double x = m.tether_length(t) - m.tethers[t].rest;
+        e += 0.5 * m.tethers[t].stiffness * x * x;
+      }
+  }
+  return e;
+}
+
 double Articulations::gap(const MotionState* st) const {
   double worst = 0;
   for (size_t j = 0; j < joints_.size(); ++j) {

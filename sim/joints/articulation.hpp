@@ -408,6 +408,9 @@ class Articulations {
   // The largest gap between the two anchor points of any joint (m), and the largest angle between
   // the two sides' axes (rad; hinge axes, slider directions, welds), read from the bodies' states.
   double gap(const MotionState* st) const;
+  /// J, what the joints' springs store now: k (q - rest)^2 / 2 per sprung coordinate, and
+  /// k (L - rest)^2 / 2 per sprung distance joint (from the poses of the last frame).
+  double spring_energy() const;
   double angular_gap(const MotionState* st) const;
   // An impulse P (N s, world) at the world point at_W and an angular impulse L (N m s) on jointed
   // body `body`: its mechanism's velocities jump (Mechanism::apply_impulse) and its bodies' states

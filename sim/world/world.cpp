@@ -529,6 +529,7 @@ double WorldImpl::potential_energy() const {
       const double s = (a - b).norm() - f.rest_length;
       e += 0.5 * f.stiffness * s * s;
     }
+  if (!joints_.empty()) e += joints_.spring_energy();  // joint springs (revolute, prismatic, distance)
   return e;
 }
 
