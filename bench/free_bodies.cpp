@@ -42,6 +42,8 @@
 
 #ifdef SIMREEL_BENCH_BULLET
 #include <btBulletDynamicsCommon.h>
+
+#include "bench/bullet_phased_world.hpp"
 #endif
 
 using namespace simreel;
@@ -207,6 +209,18 @@ Row simreel_r2(int n, long steps, bool show_profile) {
   return r;
 }
 
+// The sleeping world's notes and check line: every cube asleep after the warm-up, and at the end.
+void sleeping_checks(Row& r, const char* engine, int cubes_warm, int cubes_end, int balls_end, long warmup) {
+  const int cubes = kGrid * kGrid;
+  r.asleep = cubes_end + balls_end;
+  char buf[200];
+  std::snprintf(buf, sizeof buf, "cubes asleep after warm-up %d/%d; at end %d cubes and %d/%d balls",
+                cubes_warm, cubes, cubes_end, balls_end, kBalls);
+  r.notes = buf;
+  std::printf("# check sleeping_world %s: %d of %d cubes asleep after %ld warm-up steps (%s)\n", engine,
+              cubes_warm, cubes, warmup, cubes_warm == cubes ? "ok" : "NOT ALL ASLEEP");
+}
+
 Row simreel_sleeping(long warmup, long steps) {
   World w(free_config(true), sleeping_world_defs());
   for (long s = 0; s < warmup; ++s) w.step();
@@ -221,14 +235,7 @@ Row simreel_sleeping(long warmup, long steps) {
   const Profile before = w.profile();
   Row r{"sleeping_world", "simreel", cubes + kBalls};
   timed_steps(steps, r, [&] { w.step(); });
-  const int cubes_end = count(0, cubes), balls_end = count(cubes, cubes + kBalls);
-  r.asleep = cubes_end + balls_end;
-  char buf[200];
-  std::snprintf(buf, sizeof buf, "cubes asleep after warm-up %d/%d; at end %d cubes and %d/%d balls",
-                cubes_warm, cubes, cubes_end, balls_end, kBalls);
-  r.notes = buf;
-  std::printf("# check sleeping_world simreel: %d of %d cubes asleep after %ld warm-up steps (%s)\n",
-              cubes_warm, cubes, warmup, cubes_warm == cubes ? "ok" : "NOT ALL ASLEEP");
+  sleeping_checks(r, "simreel", cubes_warm, count(0, cubes), count(cubes, cubes + kBalls), warmup);
   print_profile("sleeping_world", cubes + kBalls, w, before);
   return r;
 }
@@ -266,36 +273,7 @@ std::pair<int, int> simreel_contact_check(std::vector<BodyDef> defs) {
 
 // -------------------------------------------------------------------------------------- Bullet
 #ifdef SIMREEL_BENCH_BULLET
-// Discrete world timing its internal phases (as bench/r3_contacts.cpp).
-struct PhasedWorld : btDiscreteDynamicsWorld {
-  enum { predict, collision, islands, solve, integrate, activation, n };
-  double t[n] = {};
-  using btDiscreteDynamicsWorld::btDiscreteDynamicsWorld;
-  template <typename F>
-  void timed(int k, F f) {
-    const double t0 = bench::now_s();
-    f();
-    t[k] += bench::now_s() - t0;
-  }
-  void predictUnconstraintMotion(btScalar ts) override {
-    timed(predict, [&] { btDiscreteDynamicsWorld::predictUnconstraintMotion(ts); });
-  }
-  void performDiscreteCollisionDetection() override {
-    timed(collision, [&] { btDiscreteDynamicsWorld::performDiscreteCollisionDetection(); });
-  }
-  void calculateSimulationIslands() override {
-    timed(islands, [&] { btDiscreteDynamicsWorld::calculateSimulationIslands(); });
-  }
-  void solveConstraints(btContactSolverInfo& si) override {
-    timed(solve, [&] { btDiscreteDynamicsWorld::solveConstraints(si); });
-  }
-  void integrateTransforms(btScalar ts) override {
-    timed(integrate, [&] { btDiscreteDynamicsWorld::integrateTransforms(ts); });
-  }
-  void updateActivationState(btScalar ts) override {
-    timed(activation, [&] { btDiscreteDynamicsWorld::updateActivationState(ts); });
-  }
-};
+using bench::PhasedWorld;
 
 // A Bullet world of the default configuration, dbvt broad phase and sequential-impulse solver.
 struct BulletWorld {
@@ -400,14 +378,7 @@ Row bullet_sleeping(long warmup, long steps) {
   for (double& t : w.t) t = 0;
   Row r{"sleeping_world", "bullet_f64", cubes + kBalls};
   timed_steps(steps, r, [&] { B.step(); });
-  const int cubes_end = count(0, cubes), balls_end = count(cubes, cubes + kBalls);
-  r.asleep = cubes_end + balls_end;
-  char buf[200];
-  std::snprintf(buf, sizeof buf, "cubes asleep after warm-up %d/%d; at end %d cubes and %d/%d balls",
-                cubes_warm, cubes, cubes_end, balls_end, kBalls);
-  r.notes = buf;
-  std::printf("# check sleeping_world bullet_f64: %d of %d cubes asleep after %ld warm-up steps (%s)\n",
-              cubes_warm, cubes, warmup, cubes_warm == cubes ? "ok" : "NOT ALL ASLEEP");
+  sleeping_checks(r, "bullet_f64", cubes_warm, count(0, cubes), count(cubes, cubes + kBalls), warmup);
   print_phases("sleeping_world", cubes + kBalls, w, steps);
   return r;
 }

@@ -38,12 +38,14 @@
 #include <string>
 
 #include "bench/bench_util.hpp"
+#include "sim/world/world_impl.hpp"
 #include "tests/fixtures/reference_scenes.hpp"
 #include "tests/fixtures/state_hash.hpp"
-#include "sim/world/world_impl.hpp"
 
 #ifdef SIMREEL_BENCH_BULLET
 #include <btBulletDynamicsCommon.h>
+
+#include "bench/bullet_phased_world.hpp"
 #endif
 
 using namespace simreel;
@@ -258,36 +260,7 @@ void simreel_profile(const Scene& s, Result& r, uint64_t hash) {
 
 // ----------------------------------------------------------------------------------------- Bullet
 #ifdef SIMREEL_BENCH_BULLET
-// Discrete world timing its internal phases (the anchors' TimedWorld).
-struct PhasedWorld : btDiscreteDynamicsWorld {
-  enum { predict, collision, islands, solve, integrate, activation, n };
-  double t[n] = {};
-  using btDiscreteDynamicsWorld::btDiscreteDynamicsWorld;
-  template <typename F>
-  void timed(int k, F f) {
-    const double t0 = bench::now_s();
-    f();
-    t[k] += bench::now_s() - t0;
-  }
-  void predictUnconstraintMotion(btScalar ts) override {
-    timed(predict, [&] { btDiscreteDynamicsWorld::predictUnconstraintMotion(ts); });
-  }
-  void performDiscreteCollisionDetection() override {
-    timed(collision, [&] { btDiscreteDynamicsWorld::performDiscreteCollisionDetection(); });
-  }
-  void calculateSimulationIslands() override {
-    timed(islands, [&] { btDiscreteDynamicsWorld::calculateSimulationIslands(); });
-  }
-  void solveConstraints(btContactSolverInfo& si) override {
-    timed(solve, [&] { btDiscreteDynamicsWorld::solveConstraints(si); });
-  }
-  void integrateTransforms(btScalar ts) override {
-    timed(integrate, [&] { btDiscreteDynamicsWorld::integrateTransforms(ts); });
-  }
-  void updateActivationState(btScalar ts) override {
-    timed(activation, [&] { btDiscreteDynamicsWorld::updateActivationState(ts); });
-  }
-};
+using bench::PhasedWorld;
 
 void bullet_run(const Scene& s, bool sleeping, Result& r, double phases[PhasedWorld::n]) {
   btDefaultCollisionConfiguration cfg;
