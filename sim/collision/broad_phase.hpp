@@ -12,9 +12,12 @@
 // box) cost nothing but their candidates' share of the final filter.
 //
 // The output is the candidates whose boxes overlap this step (for a plane: reach its side), sorted
-// by (shape a, shape b), a < b. Every box lies in its fat box, and every pair of overlapping fat
-// boxes is a candidate, so the output is exactly the allowed pairs whose boxes overlap: it does not
-// depend on the fat boxes, the tree's shape, the order of updates, the thread count or a resume.
+// by (shape a, shape b), a < b, in two lists: the live pairs (a shape of the pair is active) and
+// the dormant ones (neither is, so neither box changed: a sleeping stack on the floor costs
+// nothing per step). Every box lies in its fat box, and every pair of overlapping fat boxes is a
+// candidate, so the two lists together are exactly the allowed pairs whose boxes overlap: they do
+// not depend on the fat boxes, the tree's shape, the order of updates, the thread count or a
+// resume.
 //
 // Why a tree and not a sort and sweep (bench/results/broad_phase_*.csv):
 // the sweep re-sorted and re-swept every shape whenever any box left its fat box, and a sweep
@@ -105,7 +108,8 @@ class BroadPhase {
   // changed. sweep: the non-plane shapes to consider; planes: the plane shapes with their world
   // pose (fixed). allowed(a, b): whether shapes a < b may touch (bodies, filters, ignore list). It
   // and `moving` must not change over the broad phase's life (they are applied when the candidates
-  // are made). `pairs` is cleared and refilled with keys (pair_key(a, b), sim/base/pair_key.hpp).
+  // are made). `pairs` is cleared and refilled with the live pairs' keys (pair_key(a, b),
+  // sim/base/pair_key.hpp); dormant_pairs() holds the others.
   template <typename Allowed>
   void update(const std::vector<Aabb>& boxes, const std::vector<int>& active, const std::vector<int>& sweep,
               const std::vector<int>& planes, const std::vector<Pose>& plane_poses,
@@ -154,7 +158,6 @@ class BroadPhase {
   std::vector<int> last_active_;
   bool dormant_changed_ = false;
   long moves_since_rebuild_ = 0;
-  static constexpr long kRebuildFraction = 1;
   bool valid_ = false;
 };
 
@@ -277,7 +280,7 @@ void BroadPhase::update(const std::vector<Aabb>& boxes, const std::vector<int>& 
       dormant_changed_ = true;
     }
   }
-  if (moves_since_rebuild_ * kRebuildFraction >= tree_.size()) {
+  if (moves_since_rebuild_ >= tree_.size()) {
     if (tree_.rebuild())
       for (int s : sweep)
         if (leaf_[s] >= 0) leaf_[s] = tree_.remap()[leaf_[s]];

@@ -355,7 +355,7 @@ void Mechanism::mass_matrix() {
   for (int i = 0; i < n; ++i) work_[i].Ic = spatial_inertia(links[i].mass, links[i].I_P);
   for (int i = n; i-- > 0;)
     if (links[i].parent >= 0)
-      work_[links[i].parent].Ic += transform_inertia_back(work_[i].E, work_[i].r, work_[i].Ic);
+      add_transform_inertia_back(work_[i].E, work_[i].r, work_[i].Ic, work_[links[i].parent].Ic);
   M_.setZero();
   for (int i = 0; i < n; ++i) {
     const Link& l = links[i];

@@ -69,30 +69,13 @@ inline Vec6 transform_force_back(const Mat3& E, const Vec3& r, const Vec6& f) {
   return out;
 }
 
-// X^T I X for a symmetric spatial inertia I = [A B; B^T C] given in frame B, carried to frame A,
-// by 3x3 blocks (about half the work of two 6x6 products). With A', B', C' the blocks rotated into
-// A's axes (E^T . E) and S = r x:  [A' - B'S + S B'^T - S C' S,  B' + S C';  B'^T - C' S,  C'].
-inline Mat6 transform_inertia_back(const Mat3& E, const Vec3& r, const Mat6& I) {
-  const Mat3 Et = E.transpose();
-  const Mat3 A = Et * I.topLeftCorner<3, 3>() * E;
-  const Mat3 B = Et * I.topRightCorner<3, 3>() * E;
-  const Mat3 C = Et * I.bottomRightCorner<3, 3>() * E;
-  const Mat3 S = skew(r);
-  const Mat3 SC = S * C;
-  const Mat3 BS = B * S;
-  Mat6 out;
-  out.topLeftCorner<3, 3>() = A - BS - BS.transpose() - SC * S;
-  out.topRightCorner<3, 3>() = B + SC;
-  out.bottomLeftCorner<3, 3>() = (B + SC).transpose();
-  out.bottomRightCorner<3, 3>() = C;
-  return out;
-}
-
-// out += X^T I X for a symmetric I, the articulated-body algorithm's inner product. The same
-// arithmetic as transform_inertia_back, written out by entries: the diagonal blocks are symmetric
-// (6 of 9 entries each), r x (.) is a cross product rather than a product with a skew matrix, and
-// nothing is left to out-of-line small-matrix products. On a 20-link chain it takes the pass from
-// a third of an evaluation to about a tenth.
+// out += X^T I X: a symmetric spatial inertia I = [A B; B^T C] given in frame B, carried to frame
+// A (the articulated-body and composite-rigid-body algorithms' inner product). With A', B', C' the
+// blocks rotated into A's axes (E^T . E) and S = r x:  [A' - B'S + S B'^T - S C' S,  B' + S C';
+// B'^T - C' S,  C'], written out by entries: the diagonal blocks are symmetric (6 of 9 entries
+// each), r x (.) is a cross product rather than a product with a skew matrix, and nothing is left
+// to out-of-line small-matrix products (Eigen's 3x3 products were a third of a 20-link chain's
+// evaluation; this is about a tenth).
 inline void add_transform_inertia_back(const Mat3& E, const Vec3& r, const Mat6& I, Mat6& out) {
   // Blocks rotated into the parent's axes: M' = E^T M E (A' and C' symmetric: upper triangles).
   double A[3][3], B[3][3], C[3][3], TA[3][3], TB[3][3], TC[3][3];

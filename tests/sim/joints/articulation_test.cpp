@@ -312,7 +312,9 @@ TEST(Spatial, BlockTransformsMatchTheMatrices) {
   const Vec6 v = Vec6::Random();
   EXPECT_LT((transform_motion(E, r, v) - X * v).norm(), 1e-14);
   EXPECT_LT((transform_force_back(E, r, v) - X.transpose() * v).norm(), 1e-14);
-  EXPECT_LT((transform_inertia_back(E, r, I) - X.transpose() * I * X).norm(), 1e-13);
+  Mat6 acc = I;  // added onto what is there
+  add_transform_inertia_back(E, r, I, acc);
+  EXPECT_LT((acc - I - X.transpose() * I * X).norm(), 1e-13);
 }
 
 }  // namespace
