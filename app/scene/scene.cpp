@@ -752,7 +752,7 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
       check_keys(k, kc,
                  {"substeps", "iterations", "passes", "contact_hertz", "damping_ratio", "max_push_out",
                   "restitution_threshold", "speculative_distance", "linear_slop", "rolling_resistance",
-                  "slip_speed", "sleep_speed", "sleep_time", "continuous"});
+                  "slip_speed", "sleep_speed", "sleep_time", "continuous", "compound_shapes"});
       ContactSettings& cs = s.contacts;
       if (k["substeps"]) cs.substeps = whole(k["substeps"], kc.child("substeps"), 0, 1000);  // 0: automatic
       if (k["iterations"]) cs.iterations = whole(k["iterations"], kc.child("iterations"), 1, 1000);
@@ -772,6 +772,8 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
       if (k["sleep_speed"]) cs.sleep_speed = non_negative(k["sleep_speed"], kc.child("sleep_speed"));
       if (k["sleep_time"]) cs.sleep_time = non_negative(k["sleep_time"], kc.child("sleep_time"));
       if (k["continuous"]) cs.continuous = boolean(k["continuous"], kc.child("continuous"));
+      if (k["compound_shapes"])
+        cs.compound_shapes = whole(k["compound_shapes"], kc.child("compound_shapes"), 0, 1000000000);
     }
     if (sim["duration"]) s.duration = positive(sim["duration"], c.child("duration"));
     if (sim["timestep"]) s.timestep = positive(sim["timestep"], c.child("timestep"));

@@ -46,6 +46,10 @@ struct ContactSettings {
   // smallest width in a step, and bodies flagged `bullet`, are swept and stopped before they pass
   // through anything. Scene: simulation.contacts.continuous.
   bool continuous = true;
+  /// A body with at least this many colliding shapes enters the broad phase once, with a tree of
+  /// its shapes inside (a compound: sim/collision/compound.hpp); 0: never. Speed only: the pairs
+  /// found, and so every result, are the same whatever it is.
+  int compound_shapes = 8;
   // Sleeping (docs/sleeping.md): a group of touching bodies whose every point has moved
   // slower than sleep_speed for sleep_time stops being stepped until something wakes it.
   bool sleep = true;          ///< scene: simulation.sleep

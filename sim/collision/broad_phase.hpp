@@ -176,10 +176,14 @@ inline bool contains(const Aabb& fat, const Aabb& b) {
          b.hi.x() <= fat.hi.x() && b.hi.y() <= fat.hi.y() && b.hi.z() <= fat.hi.z();
 }
 
-inline bool BroadPhase::reaches_plane(int k, const Aabb& b) const {
-  const Vec3& n = plane_n_[k];
+// Whether box b reaches the side n . x <= d of a plane (n unit): its lowest corner along n does.
+inline bool box_reaches_plane(const Vec3& n, double d, const Aabb& b) {
   const Vec3 c = 0.5 * (b.lo + b.hi), e = 0.5 * (b.hi - b.lo);
-  return n.dot(c) - e.dot(n.cwiseAbs()) <= plane_d_[k];
+  return n.dot(c) - e.dot(n.cwiseAbs()) <= d;
+}
+
+inline bool BroadPhase::reaches_plane(int k, const Aabb& b) const {
+  return box_reaches_plane(plane_n_[k], plane_d_[k], b);
 }
 
 // New candidates of the moved shapes: tree neighbours and planes reached. A pair of two moved

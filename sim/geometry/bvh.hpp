@@ -32,6 +32,11 @@ class Bvh {
   // Calls visit(item) for every item whose box overlaps [lo, hi], in a fixed (depth-first) order.
   template <typename F>
   void query(const Vec3& lo, const Vec3& hi, F&& visit) const;
+  // Calls visit(item) for every item whose box passes test(lo, hi), walking down through the nodes
+  // that pass it: a test that passes a box must pass every box around it (an overlap test with a
+  // box in another frame, a plane's side).
+  template <typename Test, typename F>
+  void query_if(Test&& test, F&& visit) const;
 
   const std::vector<Node>& nodes() const { return nodes_; }
   const std::vector<int>& items() const { return items_; }  ///< item indices in leaf order
@@ -69,6 +74,27 @@ void Bvh::query(const Vec3& lo, const Vec3& hi, F&& visit) const {
       continue;
     }
     // Left child (next in the array) is visited first: push the right one below it.
+    stack[top++] = nd.first;
+    stack[top++] = (int)(&nd - nodes_.data()) + 1;
+  }
+}
+
+template <typename Test, typename F>
+void Bvh::query_if(Test&& test, F&& visit) const {
+  if (nodes_.empty()) return;
+  int stack[kMaxDepth];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& nd = nodes_[stack[--top]];
+    if (!test(nd.lo, nd.hi)) continue;
+    if (nd.count > 0) {
+      for (int k = nd.first; k < nd.first + nd.count; ++k) {
+        const int it = items_[k];
+        if (test(item_lo_[it], item_hi_[it])) visit(it);
+      }
+      continue;
+    }
     stack[top++] = nd.first;
     stack[top++] = (int)(&nd - nodes_.data()) + 1;
   }

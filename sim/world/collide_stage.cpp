@@ -61,6 +61,27 @@ void WorldImpl::init_contacts() {
       }
     }
   }
+  for (const Pose& x : plane_poses_) {
+    plane_n_.push_back(x.R.col(2));
+    plane_d_.push_back(plane_n_.back().dot(x.p));
+  }
+  // The broad phase's entries: shapes not in a compound, then the compounds.
+  compounds_.build(st, extents_, sweep_shapes_, cs.compound_shapes, n);
+  const int ns = st.size(), nc = compounds_.count();
+  proxy_moving_ = shape_moving_;
+  proxy_moving_.resize(ns + nc, 0);
+  boxes_.resize(ns + nc, Aabb{});
+  drift_.resize(ns + nc, Vec3::Zero());
+  box_step_.assign(ns, -1);
+  placed_step_.assign(nc, -1);
+  for (int k : sweep_shapes_)
+    if (compounds_.of_shape(k) < 0) sweep_proxies_.push_back(k);
+  for (int c = 0; c < nc; ++c) {
+    const int b = compounds_.body(c);
+    proxy_moving_[ns + c] = !model_[b].is_static;
+    sweep_proxies_.push_back(ns + c);
+    if (!proxy_moving_[ns + c]) place_compound(c);
+  }
   collide_enabled_ = any_moving && (sweep_shapes_.size() + plane_shapes_.size() >= 2);
   contacts_.init(n);
   solver_index_.assign(n, 0);
@@ -96,6 +117,93 @@ bool WorldImpl::shapes_may_touch(int a, int b) const {
   return true;
 }
 
+bool WorldImpl::proxies_may_touch(int a, int b) const {
+  const int ns = shapes_->size();
+  if (b < ns) return shapes_may_touch(a, b);
+  // A compound: its body's checks here, each shape's filters when the pair is expanded.
+  const int A = a < ns ? (*shapes_)[a].body : compounds_.body(a - ns);
+  const int B = compounds_.body(b - ns);
+  if (A == B) return false;
+  if (model_[A].inv_mass == 0 && model_[B].inv_mass == 0) return false;
+  if (!ignore_.empty()) {
+    const std::pair<int, int> p(std::min(A, B), std::max(A, B));
+    if (std::binary_search(ignore_.begin(), ignore_.end(), p)) return false;
+  }
+  return true;
+}
+
+// A compound's box from its body's state: the same speeds and margin formula as a shape's own.
+void WorldImpl::place_compound(int c) {
+  const int b = compounds_.body(c);
+  const MotionState& s = state_[b];
+  const int id = shapes_->size() + c;
+  boxes_[id] = compounds_.place(c, s.q_WP.toRotationMatrix(), s.x_W, s.v_W.norm(), s.w_P.norm(),
+                                cfg_.contacts.speculative_distance, cfg_.dt);
+  drift_[id] = s.v_W * cfg_.dt;
+  placed_step_[c] = broad_step_;
+}
+
+const Aabb& WorldImpl::member_box(int k) {
+  if (!shape_moving_[k] || box_step_[k] == broad_step_) return boxes_[k];  // static: made by init
+  box_step_[k] = broad_step_;
+  const ShapeRecord& r = (*shapes_)[k];
+  const MotionState& s = state_[r.body];
+  poses_[k] = ShapeTable::world_pose(r, s);
+  const Aabb b = ShapeTable::bounds(r.geom, poses_[k]);
+  const double reach = extents_.shape_reach[k] * s.w_P.norm();
+  margins_[k] = cfg_.contacts.speculative_distance + (s.v_W.norm() + reach) * cfg_.dt;
+  const Vec3 m = Vec3::Constant(margins_[k]);
+  boxes_[k] = Aabb{b.lo - m, b.hi + m};
+  return boxes_[k];
+}
+
+void WorldImpl::expand_compounds(std::vector<uint64_t>& pairs) {
+  const int ns = shapes_->size();
+  expanded_.clear();
+  size_t kept = 0;
+  auto add = [&](int p, int q) {
+    const int lo = std::min(p, q), hi = std::max(p, q);
+    if (shapes_may_touch(lo, hi)) expanded_.push_back(pair_key(lo, hi));
+  };
+  for (uint64_t key : pairs) {
+    const int a = pair_first(key), b = pair_second(key);  // a < b: a compound is b
+    if (b < ns) {
+      pairs[kept++] = key;
+      continue;
+    }
+    const int cb = b - ns;
+    if (a >= ns) {  // two compounds: b's tree for each of a's shapes that reach b's box
+      compounds_.query(a - ns, boxes_[b], [&](int ka) {
+        const Aabb& KA = member_box(ka);
+        if (!KA.overlaps(boxes_[b])) return;
+        compounds_.query(cb, KA, [&](int kb) {
+          if (KA.overlaps(member_box(kb))) add(ka, kb);
+        });
+      });
+    } else if ((*shapes_)[a].geom.kind == CollideKind::plane) {
+      const size_t slot =
+          std::lower_bound(plane_shapes_.begin(), plane_shapes_.end(), a) - plane_shapes_.begin();
+      const Vec3& n = plane_n_[slot];
+      const double d = plane_d_[slot];
+      compounds_.query_plane(cb, n, d, [&](int k) {
+        if (box_reaches_plane(n, d, member_box(k))) add(a, k);
+      });
+    } else {
+      const Aabb& A = boxes_[a];
+      compounds_.query(cb, A, [&](int k) {
+        if (A.overlaps(member_box(k))) add(a, k);
+      });
+    }
+  }
+  pairs.resize(kept);
+  if (expanded_.empty()) return;
+  std::sort(expanded_.begin(), expanded_.end());
+  merged_pairs_.clear();
+  std::merge(pairs.begin(), pairs.end(), expanded_.begin(), expanded_.end(),
+             std::back_inserter(merged_pairs_));
+  pairs.swap(merged_pairs_);
+}
+
 // World boxes of the moving shapes, grown by the speculative distance and by the farthest any
 // point of the shape can travel this step (|v| + |w| r) dt, so a pair that can touch within the
 // step is found before it does. Only the active shapes are looked at: those of awake bodies, and
@@ -105,16 +213,40 @@ bool WorldImpl::shapes_may_touch(int a, int b) const {
 // instead of inlining them.)
 __attribute__((flatten)) void WorldImpl::stage_broad_phase() {
   const ShapeTable& st = *shapes_;
+  const int ns = st.size();
   const double spec = cfg_.contacts.speculative_distance, dt = cfg_.dt;
+  ++broad_step_;
   active_shapes_.clear();
-  for (int b : islands_.awake_bodies())
+  for (int b : islands_.awake_bodies()) {
+    const int c = compounds_.of_body(b);
+    if (c >= 0) {  // one box for the whole compound; its shapes' only where a pair needs them
+      if (!proxy_moving_[ns + c]) continue;
+      place_compound(c);
+      active_shapes_.push_back(ns + c);
+      continue;
+    }
     for (int i = extents_.shape_begin[b]; i < extents_.shape_begin[b + 1]; ++i)
       if (shape_moving_[i]) active_shapes_.push_back(i);  // (planes are static)
-  // A body that fell asleep: its box at rest (v = w = 0 now), then nothing until it wakes.
+  }
+  // A body that fell asleep: its box at rest (v = w = 0 now), then nothing until it wakes. A
+  // compound's shapes all get theirs now, once: a sleeping pair reads them without asking.
   std::vector<int>& freeze = islands_.pending_freeze();
-  active_shapes_.insert(active_shapes_.end(), freeze.begin(), freeze.end());
+  for (int i : freeze) {
+    const int c = compounds_.of_shape(i);
+    if (c < 0) {
+      active_shapes_.push_back(i);
+      continue;
+    }
+    member_box(i);
+    if (placed_step_[c] != broad_step_) {
+      place_compound(c);
+      active_shapes_.push_back(ns + c);
+    }
+  }
   freeze.clear();
-  for (int i : active_shapes_) {
+  for (size_t j = 0; j < active_shapes_.size(); ++j) {
+    const int i = active_shapes_[j];
+    if (i >= ns) continue;
     const ShapeRecord& r = st[i];
     const MotionState& s = state_[r.body];
     poses_[i] = ShapeTable::world_pose(r, s);  // kept for collide: the state does not change between
@@ -127,10 +259,17 @@ __attribute__((flatten)) void WorldImpl::stage_broad_phase() {
   }
   std::vector<uint64_t>& pairs = contacts_.pairs();
   broad_.update(
-      boxes_, active_shapes_, sweep_shapes_, plane_shapes_, plane_poses_, shape_moving_,
-      [this](int a, int b) { return shapes_may_touch(a, b); }, pairs);
-  profile_.pairs += (long)pairs.size();
+      boxes_, active_shapes_, sweep_proxies_, plane_shapes_, plane_poses_, proxy_moving_,
+      [this](int a, int b) { return proxies_may_touch(a, b); }, pairs);
   profile_.fat_box_moves += broad_.moved_last_update();
+  if (compounds_.count() > 0) {
+    expand_compounds(pairs);
+    if (broad_.dormant_changed()) {
+      dormant_expanded_ = broad_.dormant_pairs();
+      expand_compounds(dormant_expanded_);
+    }
+  }
+  profile_.pairs += (long)pairs.size();
 }
 
 ContactSet::Step WorldImpl::collide_step() const {
@@ -149,7 +288,7 @@ ContactSet::Step WorldImpl::collide_step() const {
   in.linear_slop = cfg_.contacts.linear_slop;
   in.threads = cfg_.threads;
   in.pool = pool_.get();
-  in.dormant = &broad_.dormant_pairs();
+  in.dormant = compounds_.count() > 0 ? &dormant_expanded_ : &broad_.dormant_pairs();
   in.dormant_changed = broad_.dormant_changed();
   return in;
 }

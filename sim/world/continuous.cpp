@@ -239,8 +239,12 @@ bool ContinuousCollision::step(const Step& in, MayTouch&& may_touch) {
     const double d = moved_[i], angle = turned_[i], bulge = 1.0 - std::cos(0.5 * angle);
     for (int k = ext.shape_begin[i]; k < ext.shape_begin[i + 1]; ++k) {
       if (!moving[k] || st[k].geom.kind == CollideKind::plane) continue;
+      // (A compound's shapes have their margins made only where a pair needed them: the same
+      // formula from the speeds its box was made with.)
+      const int c = in.compounds->of_shape(k);
+      const double margin = c < 0 ? margins[k] : in.compounds->member_margin(c, ext.shape_reach[k]);
       covered_[k] = st[k].geom.kind != CollideKind::mesh &&
-                    d + angle * ext.shape_reach[k] + ext.sweep_reach(k) * bulge + grow + 1e-6 <= margins[k];
+                    d + angle * ext.shape_reach[k] + ext.sweep_reach(k) * bulge + grow + 1e-6 <= margin;
       if (!covered_[k]) escaped_.push_back(k);
     }
   }
@@ -289,12 +293,21 @@ bool ContinuousCollision::step(const Step& in, MayTouch&& may_touch) {
     if (st[a].geom.kind == CollideKind::plane || st[b].geom.kind == CollideKind::plane) continue;
     if (meet(swept_box(a), swept_box(b))) pairs_.push_back(key);
   }
+  const int ns = st.size();
   for (int e : escaped_) {
     const Aabb& E = swept_box(e);
-    in.broad->query(Aabb{E.lo - Vec3::Constant(grow), E.hi + Vec3::Constant(grow)}, [&](int k) {
+    const Aabb Q{E.lo - Vec3::Constant(grow), E.hi + Vec3::Constant(grow)};
+    auto visit = [&](int k) {
       if (k == e || !covered_[k] || (!shape_swept_[e] && !shape_swept_[k])) return;
       const int lo = std::min(e, k), hi = std::max(e, k);
       if (meet(E, swept_box(k)) && may_touch(lo, hi)) pairs_.push_back(pair_key(lo, hi));
+    };
+    // A compound's tree holds its shapes' broad-phase boxes as the broad phase's tree does.
+    in.broad->query(Q, [&](int k) {
+      if (k < ns)
+        visit(k);
+      else
+        in.compounds->query(k - ns, Q, visit);
     });
   }
   if (escaped_.size() > 1) {  // escapees with each other: a sort and sweep over them alone
@@ -387,6 +400,7 @@ bool WorldImpl::stage_continuous() {
   in.broad_pairs = &contacts_.pairs();
   in.margins = &margins_;
   in.broad = &broad_;
+  in.compounds = &compounds_;
   in.sweep_shapes = &sweep_shapes_;
   in.plane_shapes = &plane_shapes_;
   in.shape_moving = &shape_moving_;

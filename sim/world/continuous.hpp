@@ -12,6 +12,7 @@
 
 #include "sim/collision/body_extents.hpp"
 #include "sim/collision/broad_phase.hpp"
+#include "sim/collision/compound.hpp"
 #include "sim/collision/shape_table.hpp"
 #include "sim/collision/time_of_impact.hpp"
 #include "sim/dynamics/state.hpp"
@@ -52,7 +53,8 @@ class ContinuousCollision {
     // This step's broad phase: its pairs (allowed, boxes overlapping), box margins and tree.
     const std::vector<uint64_t>* broad_pairs = nullptr;
     const std::vector<double>* margins = nullptr;  ///< per shape: m, boxes' reach past the shape
-    const BroadPhase* broad = nullptr;
+    const BroadPhase* broad = nullptr;  ///< its entries: shapes, then compounds (shape count + index)
+    const CompoundProxies* compounds = nullptr;      ///< margins of their shapes, trees of their boxes
     const std::vector<int>* sweep_shapes = nullptr;  ///< non-plane colliding shapes
     const std::vector<int>* plane_shapes = nullptr;
     const std::vector<char>* shape_moving = nullptr;

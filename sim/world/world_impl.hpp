@@ -39,6 +39,7 @@
 #include "sim/base/stage_clock.hpp"
 #include "sim/collision/body_extents.hpp"
 #include "sim/collision/broad_phase.hpp"
+#include "sim/collision/compound.hpp"
 #include "sim/collision/contact.hpp"
 #include "sim/collision/shape_table.hpp"
 #include "sim/collision/time_of_impact.hpp"
@@ -169,7 +170,13 @@ class WorldImpl {
   bool stage_forces();  ///< false: nothing to do this step
   void init_contacts();
   bool shapes_may_touch(int a, int b) const;
+  bool proxies_may_touch(int a, int b) const;  ///< broad-phase entries: shapes, then compounds
   void stage_broad_phase();
+  void place_compound(int c);     ///< compound c's box this step, from its body's state
+  const Aabb& member_box(int k);  ///< compound shape k's pose, margin and box this step, made once
+  // The broad phase's pairs with compounds replaced by their shapes' pairs whose boxes overlap (for
+  // a plane: reach its side), merged in key order.
+  void expand_compounds(std::vector<uint64_t>& pairs);
   void after_restore(std::vector<double> still,
                      std::vector<int> asleep);  ///< caches of the broad phase and the islands
   ContactSet::Step collide_step() const;        ///< what the collide stage reads of the world this step
@@ -230,11 +237,24 @@ class WorldImpl {
   bool collide_enabled_ = false;
   std::vector<int> sweep_shapes_, plane_shapes_;  ///< non-plane and plane colliding shapes
   std::vector<Pose> plane_poses_;
-  std::vector<char> shape_moving_;           ///< per shape: its body is not static
-  std::vector<Aabb> boxes_;                  ///< per shape, this step
-  std::vector<double> margins_;              ///< per shape: m, how far boxes_ reach past the shape
-  std::vector<Vec3> drift_;                  ///< per shape: m, v dt at this step's start (fat boxes' lead)
-  std::vector<Pose> poses_;                  ///< per moving shape, world pose this step (broad phase)
+  std::vector<char> shape_moving_;  ///< per shape: its body is not static
+  std::vector<Aabb> boxes_;         ///< per shape, this step
+  std::vector<double> margins_;     ///< per shape: m, how far boxes_ reach past the shape
+  std::vector<Vec3> drift_;         ///< per shape: m, v dt at this step's start (fat boxes' lead)
+  std::vector<Pose> poses_;         ///< per moving shape, world pose this step (broad phase)
+  // Compound bodies (sim/collision/compound.hpp). The broad phase's entries are the shapes not in
+  // a compound (by shape index) and the compounds (shape count + compound index); boxes_, drift_
+  // and proxy_moving_ have a slot for each. A compound's shapes get poses_, margins_ and boxes_
+  // only where a pair needs them (member_box), stamped with the broad phase's step.
+  CompoundProxies compounds_;
+  std::vector<int> sweep_proxies_;  ///< the broad phase's entries that are not planes
+  std::vector<char> proxy_moving_;  ///< per entry: its body is not static
+  std::vector<long> box_step_;      ///< per shape: broad_step_ when member_box made its box
+  std::vector<long> placed_step_;   ///< per compound: broad_step_ when placed
+  long broad_step_ = 0;
+  std::vector<Vec3> plane_n_;    ///< per plane shape (plane_shapes_ order): unit normal, world
+  std::vector<double> plane_d_;  ///< per plane shape: n . (point on the plane), m
+  std::vector<uint64_t> expanded_, merged_pairs_, dormant_expanded_;
   std::vector<std::pair<int, int>> ignore_;  ///< body pairs, (lo, hi), sorted
   BroadPhase broad_;
   std::vector<int> active_shapes_;  ///< this step: moving shapes of awake bodies, then those to freeze

@@ -407,7 +407,7 @@ TEST(Scene, ContactSettings) {
       "simulation:\n  contacts: { substeps: 8, iterations: 2, passes: 3, contact_hertz: 60, damping_ratio: "
       "5,\n"
       "    max_push_out: 1, restitution_threshold: 0.5, speculative_distance: 0.01, linear_slop: 0.001,\n"
-      "    rolling_resistance: 0.02, slip_speed: 0.01 }\nbodies:\n  - name: a\n" +
+      "    rolling_resistance: 0.02, slip_speed: 0.01, compound_shapes: 3 }\nbodies:\n  - name: a\n" +
           std::string(kBox)));
   EXPECT_EQ(s.contacts.substeps, 8);
   EXPECT_EQ(s.contacts.iterations, 2);
@@ -424,6 +424,7 @@ TEST(Scene, ContactSettings) {
   EXPECT_EQ(wc.contacts.passes, 3);
   EXPECT_EQ(wc.contacts.rolling_resistance, 0.02);
   EXPECT_EQ(wc.contacts.slip_speed, 0.01);
+  EXPECT_EQ(wc.contacts.compound_shapes, 3);
   const Scene d = load_scene(write_scene("cs2.yaml", "bodies:\n  - name: a\n" + std::string(kBox)));
   EXPECT_EQ(d.contacts.substeps, ContactSettings{}.substeps);  // defaults untouched
 
@@ -442,6 +443,8 @@ TEST(Scene, ContactSettings) {
              "simulation.contacts.speculative_distance: must not be negative");
   EXPECT_HAS(error_of("simulation:\n  contacts: { slip_speed: -0.01 }\n" + b),
              "simulation.contacts.slip_speed: must not be negative");
+  EXPECT_HAS(error_of("simulation:\n  contacts: { compound_shapes: -2 }\n" + b),
+             "simulation.contacts.compound_shapes: expected a whole number from 0");
   EXPECT_HAS(error_of("simulation:\n  contacts: { substep: 4 }\n" + b),
              "simulation.contacts.substep: unknown key 'substep'; did you mean 'substeps'?");
 }
