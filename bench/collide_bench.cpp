@@ -1,5 +1,6 @@
 // Narrow-phase cost per call (sim/collision/narrow): CSV "case,ns_per_call,points_per_call" on stdout.
-// Each case runs 1024 slightly different poses (seeded), 200 sweeps, minimum of 7 timed runs.
+// Each case runs 1024 slightly different poses (seeded), 200 sweeps (fewer for the detailed hulls),
+// minimum of 7 timed runs.
 //   box_plane           a unit cube resting face-down on the ground (4 points)
 //   box_box_resting     a cube resting on a cube, fresh cache every call (full SAT + clip)
 //   box_box_cached      the same with the pair's cache kept between calls (as the world does)
@@ -35,7 +36,7 @@ Mat3 small_rotation(std::mt19937_64& g, double eps) {
 }
 
 void run_case(const char* name, const CollideShape& a, const CollideShape& b, const Vec3& offset, double spec,
-              bool keep_cache, double rot_eps = 0.01, const Mat3& Rb0 = Mat3::Identity()) {
+              bool keep_cache, double rot_eps = 0.01, const Mat3& Rb0 = Mat3::Identity(), int sweeps = 200) {
   // COLLIDE_BENCH_ONLY=name runs one case (for profiling).
   const char* only = std::getenv("COLLIDE_BENCH_ONLY");
   if (only && std::strcmp(only, name) != 0) return;
@@ -50,7 +51,6 @@ void run_case(const char* name, const CollideShape& a, const CollideShape& b, co
   }
   long points = 0, calls = 0;
   Manifold m;
-  const int sweeps = 200;
   const bench::Timing t = bench::time_runs(7, [&] {
     points = calls = 0;
     for (int s = 0; s < sweeps; ++s)
@@ -164,5 +164,42 @@ int main() {
     (ov ? lo : hi) = mid;
   }
   run_case("hull40_hull40", mesh, mesh, Vec3(0.05, 0.02, hi - 0.001), spec, true, 1e-4);
+  // Detailed meshes: 3,000 points on an ellipsoid (every one an extreme point, as on a scanned
+  // smooth part), the full hull and the hull capped at 256 and 64 vertices, resting on the ground
+  // and on one another (cache kept, as the world does).
+  {
+    std::mt19937_64 g(5);
+    std::normal_distribution<double> N;
+    std::vector<Vec3> pts;
+    for (int i = 0; i < 3000; ++i)
+      pts.push_back(Vec3(N(g), N(g), N(g)).normalized().cwiseProduct(Vec3(0.5, 0.4, 0.3)));
+    for (int cap : {0, 256, 64}) {
+      HullReduction red;
+      const ConvexPolyhedron big = convex_polyhedron(pts, cap, &red);
+      CollideShape hs;
+      hs.kind = CollideKind::hull;
+      hs.hull = &big;
+      hs.bounding_radius = 0.5;
+      const double lo3 = -big.vertices[big.support(-Vec3::UnitZ())].z();
+      const double hi3 = big.vertices[big.support(Vec3::UnitZ())].z();
+      char name[64];
+      std::snprintf(name, sizeof name, "hull3000cap%d_plane", cap);
+      std::fprintf(stderr, "# cap %d: %d vertices, %zu faces, volume %.4f of the full hull's\n", cap,
+                   red.vertices, big.faces.size(), red.volume_ratio);
+      const int sw = cap == 0 ? 2 : cap == 256 ? 20 : 200;
+      run_case(name, plane, hs, Vec3(0, 0, lo3 - 0.001), spec, true, 1e-4, Mat3::Identity(), sw);
+      double l = 0, h = hi3 + lo3 + 0.1;
+      for (int k = 0; k < 60; ++k) {
+        const double mid = 0.5 * (l + h);
+        Pose xa, xb;
+        xb.p = Vec3(0.05, 0.02, mid);
+        bool ov;
+        collide_detail::gjk_distance(collide_detail::Support(hs, xa), collide_detail::Support(hs, xb), ov);
+        (ov ? l : h) = mid;
+      }
+      std::snprintf(name, sizeof name, "hull3000cap%d_hull3000cap%d", cap, cap);
+      run_case(name, hs, hs, Vec3(0.05, 0.02, h - 0.001), spec, true, 1e-4, Mat3::Identity(), sw);
+    }
+  }
   return 0;
 }

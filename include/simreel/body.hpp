@@ -66,9 +66,11 @@ Collider plane_collider();
 /// A mesh of uniform density: mass, centroid and inertia exactly from the mesh (after welding and
 /// orientation repairs, which `report` describes when given), colliding as its convex hull, or as
 /// one hull per connected part with `parts`; on a static body it collides as its triangles.
-/// Collider frame = mesh axes. Throws InputError for a mesh with no volume.
+/// Collider frame = mesh axes. hull_vertices >= 4: each collision hull simplified to at most that
+/// many of its vertices (an inner hull: a little smaller; the mass properties stay the mesh's).
+/// Throws InputError for a mesh with no volume.
 Collider mesh_collider(std::shared_ptr<const TriangleMesh> mesh, double density, bool parts = false,
-                       MeshReport* report = nullptr);
+                       MeshReport* report = nullptr, int hull_vertices = 0);
 
 // Collider mass properties for a primitive shape from its size and density (kg/m^3).
 MassProperties primitive_mass(const Collider& c, double density);

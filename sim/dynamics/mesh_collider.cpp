@@ -11,10 +11,18 @@ namespace simreel {
 // Collision hulls of a mesh collider: the convex hull of all its vertices, or with `parts` one hull
 // per connected part (triangles sharing a vertex position), in file order of each part's first
 // triangle. Throws InputError when a part spans no volume.
-std::vector<std::shared_ptr<const ConvexPolyhedron>> collision_hulls(const TriangleMesh& mesh, bool parts) {
+std::vector<std::shared_ptr<const ConvexPolyhedron>> collision_hulls(const TriangleMesh& mesh, bool parts,
+                                                                     int max_vertices,
+                                                                     std::vector<HullReduction>* reductions) {
   std::vector<std::shared_ptr<const ConvexPolyhedron>> out;
+  if (reductions) reductions->clear();
+  auto hull = [&](const std::vector<Vec3>& pts) {
+    HullReduction r;
+    out.push_back(std::make_shared<const ConvexPolyhedron>(convex_polyhedron(pts, max_vertices, &r)));
+    if (reductions) reductions->push_back(r);
+  };
   if (!parts) {
-    out.push_back(std::make_shared<const ConvexPolyhedron>(convex_polyhedron(mesh.vertices)));
+    hull(mesh.vertices);
     return out;
   }
   const TriangleMesh m = repaired_mesh(mesh);  // welded: shared positions are shared indices
@@ -47,7 +55,7 @@ std::vector<std::shared_ptr<const ConvexPolyhedron>> collision_hulls(const Trian
       }
   for (size_t p = 0; p < points.size(); ++p) {
     try {
-      out.push_back(std::make_shared<const ConvexPolyhedron>(convex_polyhedron(points[p])));
+      hull(points[p]);
     } catch (const InputError& e) {
       throw InputError("part " + std::to_string(p + 1) + " of " + std::to_string(points.size()) + ": " +
                        e.what());
@@ -57,7 +65,7 @@ std::vector<std::shared_ptr<const ConvexPolyhedron>> collision_hulls(const Trian
 }
 
 Collider mesh_collider(std::shared_ptr<const TriangleMesh> mesh, double density, bool parts,
-                       MeshReport* report) {
+                       MeshReport* report, int hull_vertices) {
   MeshMassOptions opt;
   opt.density = density;
   const MeshReport rep = analyze_mesh(*mesh, opt);
@@ -65,7 +73,7 @@ Collider mesh_collider(std::shared_ptr<const TriangleMesh> mesh, double density,
   Collider c;
   c.shape = ShapeKind::mesh;
   c.props_C = rep.props;
-  c.hulls = collision_hulls(*mesh, parts);
+  c.hulls = collision_hulls(*mesh, parts, hull_vertices);
   c.mesh = std::move(mesh);
   if (report) *report = rep;
   return c;

@@ -109,7 +109,10 @@ int collect_facets(qhT* qh, std::vector<RawFace>* out) {
 }
 
 // Runs qhull on the points; facets as loops of input indices, counter-clockwise from outside.
-std::vector<RawFace> qhull_faces(const std::vector<Vec3>& pts) {
+// added > 0: qhull stops after adding that many points to its first simplex ('TA'), so the hull
+// has at most added + 4 vertices, each the farthest point outside the hull so far (Quickhull's
+// order; MuJoCo's maxhullvert is the same option).
+std::vector<RawFace> qhull_faces(const std::vector<Vec3>& pts, int added = 0) {
   check_points(pts);
   std::vector<coordT> coords(3 * pts.size());
   for (size_t i = 0; i < pts.size(); ++i)
@@ -136,7 +139,10 @@ std::vector<RawFace> qhull_faces(const std::vector<Vec3>& pts) {
   } cleanup{qh.get(), msg, &msg_buf};
 
   char options[64];
-  std::snprintf(options, sizeof options, "%s", kQhullOptions);
+  if (added > 0)
+    std::snprintf(options, sizeof options, "%s TA%d", kQhullOptions, added);
+  else
+    std::snprintf(options, sizeof options, "%s", kQhullOptions);
   int code = qh_new_qhull(qh.get(), 3, (int)pts.size(), coords.data(), False, options, msg, msg);
   std::vector<RawFace> faces;
   if (!code) code = collect_facets(qh.get(), &faces);
@@ -309,10 +315,9 @@ Vec3 volume_centroid(const std::vector<RawFace>& faces, const std::vector<Vec3>&
   return ref + first24 / (4 * vol6);
 }
 
-}  // namespace
 
-ConvexPolyhedron convex_polyhedron(const std::vector<Vec3>& pts) {
-  const std::vector<RawFace> exact = hull_faces(pts);
+// The polyhedron on qhull's faces `exact` of the points.
+ConvexPolyhedron polyhedron_from(const std::vector<RawFace>& exact, const std::vector<Vec3>& pts) {
   ConvexPolyhedron p;
   p.centroid = volume_centroid(exact, pts);
   double size = 0;
@@ -385,7 +390,26 @@ ConvexPolyhedron convex_polyhedron(const std::vector<Vec3>& pts) {
   if (!bad.empty() && bad.find("joins two coplanar faces") == std::string::npos)
     throw InputError("convex hull: the points are too nearly flat for a valid collision polyhedron (" + bad +
                      ")");
+  p.build_adjacency();
   return p;
+}
+
+}  // namespace
+
+ConvexPolyhedron convex_polyhedron(const std::vector<Vec3>& pts, int max_vertices, HullReduction* reduction) {
+  ConvexPolyhedron p = polyhedron_from(hull_faces(pts), pts);
+  if (reduction) *reduction = HullReduction{(int)p.vertices.size(), (int)p.vertices.size(), 1.0};
+  if (max_vertices < 4 || (int)p.vertices.size() <= max_vertices) return p;
+  // The hull of the extreme points, stopped once it has max_vertices of them: an inner hull, its
+  // volume a little less. Its own corners on an edge are dropped as in any hull.
+  std::vector<RawFace> faces = qhull_faces(p.vertices, max_vertices - 4);
+  drop_edge_points(faces, p.vertices.size());
+  ConvexPolyhedron q = polyhedron_from(faces, p.vertices);
+  if (reduction) {
+    reduction->vertices = (int)q.vertices.size();
+    reduction->volume_ratio = polyhedron_volume(q) / polyhedron_volume(p);
+  }
+  return q;
 }
 
 TriangleMesh convex_hull(const std::vector<Vec3>& pts) {

@@ -19,6 +19,15 @@ TriangleMesh convex_hull(const std::vector<Vec3>& points);
 // The hull with adjacency (sim/geometry/polyhedron.hpp): coplanar triangles merged into one convex polygon
 // face, only extreme points as vertices, outward unit normals, volume centroid and inner radius.
 // Throws InputError like convex_hull().
-ConvexPolyhedron convex_polyhedron(const std::vector<Vec3>& points);
+//
+// max_vertices >= 4: a hull with more vertices than that is simplified to the hull of at most that
+// many of them, each added where the hull so far is farthest from the points (qhull's 'TA', as
+// MuJoCo's maxhullvert): an inner hull, a little smaller. `reduction` (if given) says how it went.
+struct HullReduction {
+  int vertices_before = 0, vertices = 0;
+  double volume_ratio = 1;  ///< the hull's volume over the full hull's
+};
+ConvexPolyhedron convex_polyhedron(const std::vector<Vec3>& points, int max_vertices = 0,
+                                   HullReduction* reduction = nullptr);
 
 }  // namespace simreel

@@ -5,14 +5,62 @@
 
 namespace simreel {
 
+namespace {
+// The 26 seed directions: every sign pattern (-1, 0, 1)^3 but zero, unnormalised.
+Vec3 seed_direction(int k) {
+  const int c = k < 13 ? k : k + 1;  // skip 13, the centre (0, 0, 0)
+  return Vec3(c % 3 - 1, (c / 3) % 3 - 1, c / 9 - 1);
+}
+}  // namespace
+
 int ConvexPolyhedron::support(const Vec3& d) const {
-  int best = 0;
-  double best_dot = -INFINITY;
-  for (int i = 0; i < (int)vertices.size(); ++i) {
-    const double s = d.dot(vertices[i]);
-    if (s > best_dot) best_dot = s, best = i;
+  const int n = (int)vertices.size();
+  if (n <= kScanVertices || vertex_edge.empty()) {
+    int best = 0;
+    double best_dot = -INFINITY;
+    for (int i = 0; i < n; ++i) {
+      const double s = d.dot(vertices[i]);
+      if (s > best_dot) best_dot = s, best = i;
+    }
+    return best;
   }
-  return best;
+  int v = seeds[0];
+  double best = d.dot(vertices[v]);
+  for (size_t k = 1; k < seeds.size(); ++k) {
+    const double s = d.dot(vertices[seeds[k]]);
+    if (s > best) best = s, v = seeds[k];
+  }
+  for (;;) {
+    // Around v: each leaving half-edge's far end; the next leaving edge is the twin's next.
+    int to = -1;
+    const int first = vertex_edge[v];
+    int e = first;
+    do {
+      const int w = edges[e ^ 1].origin;
+      const double s = d.dot(vertices[w]);
+      if (s > best) best = s, to = w;
+      e = edges[e ^ 1].next;
+    } while (e != first);
+    if (to < 0) return v;
+    v = to;
+  }
+}
+
+void ConvexPolyhedron::build_adjacency() {
+  vertex_edge.assign(vertices.size(), -1);
+  for (int e = 0; e < (int)edges.size(); ++e)
+    if (vertex_edge[edges[e].origin] < 0) vertex_edge[edges[e].origin] = e;
+  seeds.clear();
+  for (int k = 0; k < 26; ++k) {
+    const Vec3 d = seed_direction(k);
+    int best = 0;
+    double best_dot = -INFINITY;
+    for (int i = 0; i < (int)vertices.size(); ++i) {
+      const double s = d.dot(vertices[i]);
+      if (s > best_dot) best_dot = s, best = i;
+    }
+    seeds.push_back(best);
+  }
 }
 
 double polyhedron_volume(const ConvexPolyhedron& p) {
@@ -71,6 +119,7 @@ ConvexPolyhedron make_box_polyhedron(const Vec3& h) {
   }
   p.centroid = Vec3::Zero();
   p.inner_radius = h.minCoeff();
+  p.build_adjacency();
   return p;
 }
 

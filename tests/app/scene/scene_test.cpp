@@ -520,6 +520,54 @@ TEST(Scene, MeshCollisionHullsAndParts) {
             std::string::npos);
 }
 
+// `hull_vertices: N` simplifies a mesh collider's hull to at most N of its vertices and says by
+// how much the volume shrank; the mass properties stay the mesh's.
+TEST(Scene, HullVerticesCapsTheCollisionHull) {
+  {
+    std::ofstream f(test::scratch("ball.obj"));  // a UV sphere: 18 x 9 bands, 164 vertices
+    const int nu = 18, nv = 10;
+    f << "v 0 0 -1\n";
+    for (int j = 1; j < nv; ++j)
+      for (int i = 0; i < nu; ++i) {
+        const double t = M_PI * j / nv - M_PI / 2, a = 2 * M_PI * i / nu;
+        f << "v " << std::cos(t) * std::cos(a) << " " << std::cos(t) * std::sin(a) << " " << std::sin(t) << "\n";
+      }
+    f << "v 0 0 1\n";
+    auto id = [&](int j, int i) { return 2 + (j - 1) * nu + (i % nu); };
+    for (int i = 0; i < nu; ++i) f << "f 1 " << id(1, i + 1) << " " << id(1, i) << "\n";
+    for (int j = 1; j + 1 < nv; ++j)
+      for (int i = 0; i < nu; ++i)
+        f << "f " << id(j, i) << " " << id(j, i + 1) << " " << id(j + 1, i + 1) << " " << id(j + 1, i) << "\n";
+    const int top = 2 + (nv - 1) * nu;
+    for (int i = 0; i < nu; ++i) f << "f " << top << " " << id(nv - 1, i) << " " << id(nv - 1, i + 1) << "\n";
+  }
+  const Scene full = load_scene(
+      write_scene("ball.yaml", "bodies:\n  - colliders:\n      - { shape: mesh, file: ball.obj, density: 1 }\n"));
+  const Scene capped = load_scene(write_scene(
+      "ball32.yaml",
+      "bodies:\n  - colliders:\n      - { shape: mesh, file: ball.obj, density: 1, hull_vertices: 32 }\n"));
+  const Collider& a = full.bodies[0].colliders[0];
+  const Collider& b = capped.bodies[0].colliders[0];
+  ASSERT_EQ(a.hulls[0]->vertices.size(), 164u);
+  EXPECT_LE(b.hulls[0]->vertices.size(), 32u);
+  // (A stopped hull of a symmetric point set may keep two coplanar neighbours apart, which the
+  // hull builder accepts: convex_hull.cpp.)
+  const std::string problem = polyhedron_problem(*b.hulls[0]);
+  EXPECT_TRUE(problem.empty() || problem.find("joins two coplanar faces") != std::string::npos) << problem;
+  EXPECT_EQ(b.props_C.mass, a.props_C.mass);
+  const double lost = 1 - polyhedron_volume(*b.hulls[0]) / polyhedron_volume(*a.hulls[0]);
+  EXPECT_GT(lost, 0.0);
+  bool noted = false;
+  for (const std::string& n : capped.notes)
+    noted = noted || (n.find("simplified from 164 to") != std::string::npos && n.find("% less volume") != std::string::npos);
+  EXPECT_TRUE(noted) << "no note of the simplification";
+  for (const std::string& n : full.notes) EXPECT_EQ(n.find("simplified"), std::string::npos) << n;
+  EXPECT_HAS(error_of("bodies:\n  - colliders:\n      - { shape: sphere, radius: 1, hull_vertices: 8 }\n"),
+             "hull_vertices: applies to mesh colliders only");
+  EXPECT_HAS(error_of("bodies:\n  - colliders:\n      - { shape: mesh, file: ball.obj, hull_vertices: 3 }\n"),
+             "hull_vertices: expected a whole number from 4");
+}
+
 // Copies of one mesh file share what the loader makes of it: the imported surface (and through it
 // one render mesh), the analysis and the collision hulls; a part mode has its own hulls, and
 // scales that six decimals would not tell apart are other meshes (their masses scale as s^3).
