@@ -17,6 +17,11 @@
 //                      cost of many colliders on one rigid body. Bullet's btCompoundShape gives the
 //                      body one broad-phase proxy; an engine with a proxy per collider moves
 //                      16,000 of them every step.
+//   (d) detailed_hulls Two 3,000-vertex hulls (a cylinder's two rims, 1,500 points each: every
+//                      point an extreme one, as on a scanned part) stacked on the ground and at
+//                      rest, sleeping off: the narrow phase's cost on detailed convex shapes
+//                      (simreel: GJK/EPA and supporting faces past the SAT's edge-pair limit;
+//                      Bullet: btConvexHullShape, GJK/EPA with a linear support scan).
 //
 // Bullet gets the same masses, inertias, poses and spins as simreel (Bullet bodies sit at their
 // centres of mass with principal axes along the body axes, which holds for these boxes), and the
@@ -38,6 +43,7 @@
 #include <vector>
 
 #include "bench/bench_util.hpp"
+#include "sim/geometry/convex_hull.hpp"
 #include "tests/fixtures/reference_scenes.hpp"
 
 #ifdef SIMREEL_BENCH_BULLET
@@ -55,7 +61,7 @@ constexpr double kG = 9.81;
 
 struct Options {
   bool quick = false;
-  bool a = true, b = true, c = true;
+  bool a = true, b = true, c = true, d = true;
 };
 
 struct Row {
@@ -417,6 +423,56 @@ Row bullet_compound(const BodyDef& def, long steps) {
   return r;
 }
 
+// (d): the cylinder of radius 0.3 m and height 0.2 m as the hull of its two rims, 1,500 points
+// each (the upper rim turned a little, so no two side points are coplanar with a third).
+constexpr int kRimPoints = 1500;
+std::vector<Vec3> rim_points() {
+  std::vector<Vec3> pts;
+  for (int i = 0; i < kRimPoints; ++i) {
+    const double a = 2 * M_PI * i / kRimPoints;
+    pts.push_back(Vec3(0.3 * std::cos(a), 0.3 * std::sin(a), -0.1));
+    pts.push_back(Vec3(0.3 * std::cos(a + 0.001), 0.3 * std::sin(a + 0.001), 0.1));
+  }
+  return pts;
+}
+const Vec3 kStackAt[2] = {Vec3(0, 0, 0.1), Vec3(0.03, -0.01, 0.3)};
+const Quat kStackTurn[2] = {Quat::Identity(), Quat(Eigen::AngleAxisd(0.7, Vec3::UnitZ()))};
+
+Row simreel_detailed(long warmup, long steps) {
+  auto hull = std::make_shared<const ConvexPolyhedron>(convex_polyhedron(rim_points()));
+  std::vector<BodyDef> defs;
+  BodyDef g;
+  g.name = "ground";
+  g.type = BodyType::static_body;
+  g.add_collider(plane_collider());
+  defs.push_back(g);
+  for (int k = 0; k < 2; ++k) {
+    BodyDef b;
+    b.name = "hull" + std::to_string(k);
+    b.p_WB = kStackAt[k];
+    b.q_WB = kStackTurn[k];
+    Collider c;
+    c.shape = ShapeKind::mesh;
+    c.hulls = {hull};
+    c.props_C = cylinder_collider(0.3, 0.2, 800.0).props_C;
+    b.add_collider(c);
+    defs.push_back(b);
+  }
+  World w(free_config(false), defs);
+  for (long s = 0; s < warmup; ++s) w.step();
+  w.set_profiling(true);
+  const Profile before = w.profile();
+  const Vec3 x0 = w.centroid(2);
+  Row r{"detailed_hulls", "simreel", 2};
+  timed_steps(steps, r, [&] { w.step(); });
+  char buf[200];
+  std::snprintf(buf, sizeof buf, "2 hulls of %zu vertices; top at z %.5f m (0.3 less slops); moved %.1e m while timed",
+                hull->vertices.size(), w.centroid(2).z(), (w.centroid(2) - x0).norm());
+  r.notes = buf;
+  print_profile("detailed_hulls", 2, w, before);
+  return r;
+}
+
 std::pair<int, int> bullet_contact_check(std::vector<BodyDef> defs) {
   defs.resize(2);
   defs[1].p_WB = defs[0].p_WB + Vec3(0.2, 0, 0);
@@ -470,6 +526,48 @@ void scene_a(const Options& o) {
   }
 }
 
+#ifdef SIMREEL_BENCH_BULLET
+Row bullet_detailed(long warmup, long steps) {
+  BulletWorld B;
+  const double mu = std::sqrt(kFriction);
+  B.shapes.push_back(std::make_unique<btStaticPlaneShape>(btVector3(0, 0, 1), 0));
+  btCollisionShape* plane = B.shapes.back().get();
+  MassProperties ground;
+  ground.inertia = Mat3::Zero();
+  B.add(plane, ground, Vec3::Zero(), Quat::Identity(), mu, 0.0);
+  auto owned = std::make_unique<btConvexHullShape>();
+  for (const Vec3& p : rim_points()) owned->addPoint(btVector3(p.x(), p.y(), p.z()), false);
+  owned->recalcLocalAabb();
+  owned->setMargin(0.001);  // Bullet's 4 cm default would grow the hull by that much on every side
+  btCollisionShape* hull = owned.get();
+  B.shapes.push_back(std::move(owned));
+  const MassProperties mp = cylinder_collider(0.3, 0.2, 800.0).props_C;
+  btRigidBody* top = nullptr;
+  for (int k = 0; k < 2; ++k) {
+    top = B.add(hull, mp, kStackAt[k], kStackTurn[k], mu, 0.0);
+    top->setActivationState(DISABLE_DEACTIVATION);
+  }
+  for (long s = 0; s < warmup; ++s) B.step();
+  const btVector3 x0 = top->getCenterOfMassPosition();
+  Row r{"detailed_hulls", "bullet_f64", 2};
+  timed_steps(steps, r, [&] { B.step(); });
+  char buf[200];
+  std::snprintf(buf, sizeof buf, "btConvexHullShape of %d points, margin 1 mm; top at z %.5f m; moved %.1e m while timed",
+                2 * kRimPoints, top->getCenterOfMassPosition().z(), (top->getCenterOfMassPosition() - x0).length());
+  r.notes = buf;
+  print_phases("detailed_hulls", 2, B.world, steps);
+  return r;
+}
+#endif
+
+void scene_d(const Options& o) {
+  const long warmup = 240, steps = o.quick ? 200 : 1000;
+  print_row(simreel_detailed(warmup, steps), false);
+#ifdef SIMREEL_BENCH_BULLET
+  print_row(bullet_detailed(warmup, steps), false);
+#endif
+}
+
 void scene_b(const Options& o) {
   const long warmup = 720, steps = o.quick ? 200 : 1000;
   print_row(simreel_sleeping(warmup, steps), true);
@@ -497,15 +595,16 @@ int main(int argc, char** argv) {
       o.quick = true;
     } else if (a == "--only") {
       const std::string s = bench::option_value(i, argc, argv);
-      if (s != "a" && s != "b" && s != "c") {
-        std::fprintf(stderr, "--only takes a, b or c\n");
+      if (s != "a" && s != "b" && s != "c" && s != "d") {
+        std::fprintf(stderr, "--only takes a, b, c or d\n");
         return 2;
       }
       o.a = s == "a";
       o.b = s == "b";
       o.c = s == "c";
+      o.d = s == "d";
     } else {
-      std::fprintf(stderr, "usage: %s [--quick] [--only a|b|c]\n", argv[0]);
+      std::fprintf(stderr, "usage: %s [--quick] [--only a|b|c|d]\n", argv[0]);
       return 2;
     }
   }
@@ -527,5 +626,6 @@ int main(int argc, char** argv) {
   if (o.a) scene_a(o);
   if (o.b) scene_b(o);
   if (o.c) scene_c(o);
+  if (o.d) scene_d(o);
   std::printf("# total %.0f s wall\n", bench::now_s() - t_start);
 }
