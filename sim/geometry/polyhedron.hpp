@@ -39,6 +39,10 @@ struct ConvexPolyhedron {
   // faces, edges and corners of a cube): what support() climbs from on a hull of more than
   // kScanVertices vertices. Empty until build_adjacency() (then support() scans).
   std::vector<int> vertex_edge, seeds;
+  // Each face's half-edges in loop order from Face::edge: face f's are face_edges[face_begin[f] ..
+  // face_begin[f + 1]) (a detailed face's every k-th corner without walking it). Empty until
+  // build_adjacency().
+  std::vector<int> face_begin, face_edges;
 
   int edge_count() const { return (int)edges.size() / 2; }
   // Index of a vertex maximising d . v. Up to kScanVertices vertices (or without adjacency): a

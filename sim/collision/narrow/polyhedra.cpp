@@ -254,22 +254,25 @@ int face_contact(const ConvexPolyhedron& R, int f, const ConvexPolyhedron& I, co
   }
   if (inc < 0) inc = I.edges[0].face;
   // Its polygon in R's frame (at most kMaxFaceVerts: every k-th vertex beyond that).
-  int nloop = 0;
-  {
+  ClipVertex buf[2][kMaxClip];
+  int n0 = 0;
+  auto corner = [&](int e) {
+    const int v = I.edges[e].origin;
+    buf[0][n0++] = {Vec3(T.R * I.vertices[v] + T.p), (uint32_t)v, kTagEdge | (uint32_t)e};
+  };
+  if (!I.face_begin.empty()) {  // the loop as stored: no walk
+    const int b = I.face_begin[inc], nloop = I.face_begin[inc + 1] - b;
+    const int stride = (nloop + kMaxFaceVerts - 1) / kMaxFaceVerts;
+    for (int k = 0; k < nloop; k += stride) corner(I.face_edges[b + k]);
+  } else {
+    int nloop = 0;
     int e = I.faces[inc].edge;
     do ++nloop, e = I.edges[e].next;
     while (e != I.faces[inc].edge && nloop <= 100000);
-  }
-  const int stride = (nloop + kMaxFaceVerts - 1) / kMaxFaceVerts;
-  ClipVertex buf[2][kMaxClip];
-  int n0 = 0;
-  {
-    int e = I.faces[inc].edge, k = 0;
+    const int stride = (nloop + kMaxFaceVerts - 1) / kMaxFaceVerts;
+    int k = 0;
     do {
-      if (k % stride == 0) {
-        const int v = I.edges[e].origin;
-        buf[0][n0++] = {Vec3(T.R * I.vertices[v] + T.p), (uint32_t)v, kTagEdge | (uint32_t)e};
-      }
+      if (k % stride == 0) corner(e);
       ++k;
       e = I.edges[e].next;
     } while (e != I.faces[inc].edge);
@@ -277,28 +280,30 @@ int face_contact(const ConvexPolyhedron& R, int f, const ConvexPolyhedron& I, co
   // Clip against the reference face's side planes. A face of more than kMaxFaceVerts corners (a
   // detailed hull's cap) is clipped to the polygon of every k-th corner, inscribed in it: each side
   // plane costs a pass over the incident polygon, and 1,500 of them cost 200 us a call.
-  int rloop = 0;
-  {
-    int e = F.edge;
-    do ++rloop, e = R.edges[e].next;
-    while (e != F.edge && rloop <= 100000);
-  }
-  const int rstride = (rloop + kMaxFaceVerts - 1) / kMaxFaceVerts;
   int cur = 0, np = n0;
-  int e = F.edge;
-  int k = 0;
-  do {
-    int f = e;
-    for (int j = 0; j < rstride && (j == 0 || f != F.edge); ++j) f = R.edges[f].next;
-    if (k + rstride > rloop) f = F.edge;  // the last span closes the loop
-    const Vec3& P = R.vertices[R.edges[e].origin];
-    const Vec3& Q = R.vertices[R.edges[f].origin];
-    const Vec3 s = (Q - P).cross(n);
-    np = clip_polygon(buf[cur], np, s, s.dot(P), kTagPlane | (uint32_t)e, buf[cur ^ 1]);
-    cur ^= 1;
-    e = f;
-    k += rstride;
-  } while (e != F.edge && np > 0);
+  if (!R.face_begin.empty() && R.face_begin[f + 1] - R.face_begin[f] > kMaxFaceVerts) {
+    const int b = R.face_begin[f], rloop = R.face_begin[f + 1] - b;
+    const int rstride = (rloop + kMaxFaceVerts - 1) / kMaxFaceVerts;
+    for (int k = 0; k < rloop && np > 0; k += rstride) {
+      const int e = R.face_edges[b + k];
+      const int g = k + rstride < rloop ? R.face_edges[b + k + rstride] : R.face_edges[b];
+      const Vec3& P = R.vertices[R.edges[e].origin];
+      const Vec3& Q = R.vertices[R.edges[g].origin];
+      const Vec3 s = (Q - P).cross(n);
+      np = clip_polygon(buf[cur], np, s, s.dot(P), kTagPlane | (uint32_t)e, buf[cur ^ 1]);
+      cur ^= 1;
+    }
+  } else {
+    int e = F.edge;
+    do {
+      const Vec3& P = R.vertices[R.edges[e].origin];
+      const Vec3& Q = R.vertices[R.edges[R.edges[e].next].origin];
+      const Vec3 s = (Q - P).cross(n);
+      np = clip_polygon(buf[cur], np, s, s.dot(P), kTagPlane | (uint32_t)e, buf[cur ^ 1]);
+      cur ^= 1;
+      e = R.edges[e].next;
+    } while (e != F.edge && np > 0);
+  }
   int nc = 0;
   for (int i = 0; i < np && nc < kMaxClip; ++i) {
     const double s = n.dot(buf[cur][i].x) - F.offset;
