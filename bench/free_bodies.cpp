@@ -466,7 +466,8 @@ Row simreel_detailed(long warmup, long steps) {
   Row r{"detailed_hulls", "simreel", 2};
   timed_steps(steps, r, [&] { w.step(); });
   char buf[200];
-  std::snprintf(buf, sizeof buf, "2 hulls of %zu vertices; top at z %.5f m (0.3 less slops); moved %.1e m while timed",
+  std::snprintf(buf, sizeof buf,
+                "2 hulls of %zu vertices; top at z %.5f m (0.3 less slops); moved %.1e m while timed",
                 hull->vertices.size(), w.centroid(2).z(), (w.centroid(2) - x0).norm());
   r.notes = buf;
   print_profile("detailed_hulls", 2, w, before);
@@ -552,8 +553,10 @@ Row bullet_detailed(long warmup, long steps) {
   Row r{"detailed_hulls", "bullet_f64", 2};
   timed_steps(steps, r, [&] { B.step(); });
   char buf[200];
-  std::snprintf(buf, sizeof buf, "btConvexHullShape of %d points, margin 1 mm; top at z %.5f m; moved %.1e m while timed",
-                2 * kRimPoints, top->getCenterOfMassPosition().z(), (top->getCenterOfMassPosition() - x0).length());
+  std::snprintf(buf, sizeof buf,
+                "btConvexHullShape of %d points, margin 1 mm; top at z %.5f m; moved %.1e m while timed",
+                2 * kRimPoints, top->getCenterOfMassPosition().z(),
+                (top->getCenterOfMassPosition() - x0).length());
   r.notes = buf;
   print_phases("detailed_hulls", 2, B.world, steps);
   return r;

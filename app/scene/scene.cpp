@@ -334,10 +334,10 @@ struct Loader {
 
   Collider collider(const YAML::Node& n, const Ctx& c, const std::string& body, BodyType type,
                     ColliderLook& look) {
-    check_keys(n, c, {"shape",       "size",  "radius",     "height",   "radii",       "file",
-                      "scale",       "mode",  "thickness",  "density",  "mass",        "position",
-                      "orientation", "euler", "axis_angle", "friction", "restitution", "collide",
-                      "group",       "mask",  "color",      "up_axis", "hull_vertices"});
+    check_keys(n, c, {"shape",       "size",  "radius",     "height",   "radii",        "file",
+                      "scale",       "mode",  "thickness",  "density",  "mass",         "position",
+                      "orientation", "euler", "axis_angle", "friction", "restitution",  "collide",
+                      "group",       "mask",  "color",      "up_axis",  "hull_vertices"});
     Collider col;
     const char* kShapes = "box, sphere, cylinder, capsule, mesh, plane or ellipsoid";
     if (!n["shape"]) c.fail(n, std::string("missing key 'shape' (") + kShapes + ")");

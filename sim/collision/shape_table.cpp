@@ -4,8 +4,8 @@
 #include <cmath>
 #include <map>
 
-#include "sim/geometry/convex_hull.hpp"
 #include <simreel/error.hpp>
+#include "sim/geometry/convex_hull.hpp"
 #include "sim/geometry/trimesh.hpp"
 
 namespace simreel {

@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <string>
 
-#include "sim/geometry/convex_hull.hpp"
 #include <simreel/error.hpp>
+#include "sim/geometry/convex_hull.hpp"
 
 namespace simreel {
 

@@ -17,9 +17,8 @@ namespace simreel {
 // first triangle. max_vertices >= 4: each hull simplified to at most that many vertices
 // (convex_polyhedron), how each went in `reductions` (if given, one per hull). Throws InputError
 // when a part spans no volume.
-std::vector<std::shared_ptr<const ConvexPolyhedron>> collision_hulls(const TriangleMesh& mesh, bool parts,
-                                                                     int max_vertices = 0,
-                                                                     std::vector<HullReduction>* reductions = nullptr);
-
+std::vector<std::shared_ptr<const ConvexPolyhedron>> collision_hulls(
+    const TriangleMesh& mesh, bool parts, int max_vertices = 0,
+    std::vector<HullReduction>* reductions = nullptr);
 
 }  // namespace simreel

@@ -315,7 +315,6 @@ Vec3 volume_centroid(const std::vector<RawFace>& faces, const std::vector<Vec3>&
   return ref + first24 / (4 * vol6);
 }
 
-
 // The polyhedron on qhull's faces `exact` of the points.
 ConvexPolyhedron polyhedron_from(const std::vector<RawFace>& exact, const std::vector<Vec3>& pts) {
   ConvexPolyhedron p;

@@ -6,11 +6,11 @@
 #include <filesystem>
 #include <fstream>
 
+#include <simreel/error.hpp>
+#include <simreel/world.hpp>
 #include "app/runner/run.hpp"
 #include "app/scene/scene.hpp"
-#include <simreel/error.hpp>
 #include "sim/geometry/polyhedron.hpp"
-#include <simreel/world.hpp>
 #include "sim/world/world_impl.hpp"
 #include "tests/scratch.hpp"
 
@@ -530,19 +530,21 @@ TEST(Scene, HullVerticesCapsTheCollisionHull) {
     for (int j = 1; j < nv; ++j)
       for (int i = 0; i < nu; ++i) {
         const double t = M_PI * j / nv - M_PI / 2, a = 2 * M_PI * i / nu;
-        f << "v " << std::cos(t) * std::cos(a) << " " << std::cos(t) * std::sin(a) << " " << std::sin(t) << "\n";
+        f << "v " << std::cos(t) * std::cos(a) << " " << std::cos(t) * std::sin(a) << " " << std::sin(t)
+          << "\n";
       }
     f << "v 0 0 1\n";
     auto id = [&](int j, int i) { return 2 + (j - 1) * nu + (i % nu); };
     for (int i = 0; i < nu; ++i) f << "f 1 " << id(1, i + 1) << " " << id(1, i) << "\n";
     for (int j = 1; j + 1 < nv; ++j)
       for (int i = 0; i < nu; ++i)
-        f << "f " << id(j, i) << " " << id(j, i + 1) << " " << id(j + 1, i + 1) << " " << id(j + 1, i) << "\n";
+        f << "f " << id(j, i) << " " << id(j, i + 1) << " " << id(j + 1, i + 1) << " " << id(j + 1, i)
+          << "\n";
     const int top = 2 + (nv - 1) * nu;
     for (int i = 0; i < nu; ++i) f << "f " << top << " " << id(nv - 1, i) << " " << id(nv - 1, i + 1) << "\n";
   }
-  const Scene full = load_scene(
-      write_scene("ball.yaml", "bodies:\n  - colliders:\n      - { shape: mesh, file: ball.obj, density: 1 }\n"));
+  const Scene full = load_scene(write_scene(
+      "ball.yaml", "bodies:\n  - colliders:\n      - { shape: mesh, file: ball.obj, density: 1 }\n"));
   const Scene capped = load_scene(write_scene(
       "ball32.yaml",
       "bodies:\n  - colliders:\n      - { shape: mesh, file: ball.obj, density: 1, hull_vertices: 32 }\n"));
@@ -559,7 +561,8 @@ TEST(Scene, HullVerticesCapsTheCollisionHull) {
   EXPECT_GT(lost, 0.0);
   bool noted = false;
   for (const std::string& n : capped.notes)
-    noted = noted || (n.find("simplified from 164 to") != std::string::npos && n.find("% less volume") != std::string::npos);
+    noted = noted || (n.find("simplified from 164 to") != std::string::npos &&
+                      n.find("% less volume") != std::string::npos);
   EXPECT_TRUE(noted) << "no note of the simplification";
   for (const std::string& n : full.notes) EXPECT_EQ(n.find("simplified"), std::string::npos) << n;
   EXPECT_HAS(error_of("bodies:\n  - colliders:\n      - { shape: sphere, radius: 1, hull_vertices: 8 }\n"),

@@ -45,7 +45,8 @@ TEST(DetailedHull, CapKeepsAValidInnerHullOfAtMostThatManyVertices) {
     EXPECT_GE((int)h.vertices.size(), cap - 8) << "the cap is used, not undershot";
     EXPECT_EQ(r.vertices_before, 3000);
     EXPECT_EQ(r.vertices, (int)h.vertices.size());
-    for (const Vec3& v : h.vertices) EXPECT_TRUE(input.count({v.x(), v.y(), v.z()})) << "a vertex not an input point";
+    for (const Vec3& v : h.vertices)
+      EXPECT_TRUE(input.count({v.x(), v.y(), v.z()})) << "a vertex not an input point";
     // An inner hull: smaller, and closer to the full one as the cap grows (an ellipsoid is the
     // worst case; 64 vertices keep 89% of it).
     EXPECT_NEAR(r.volume_ratio, polyhedron_volume(h) / polyhedron_volume(all), 1e-12);
