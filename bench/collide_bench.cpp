@@ -106,6 +106,21 @@ ConvexPolyhedron random_hull(uint64_t seed) {
   return p;
 }
 
+// The height at which a copy of `s` offset by (0.05, 0.02) above `s` touches it: bisection on
+// GJK's overlap from [0, above].
+double touching_height(const CollideShape& s, double above) {
+  double lo = 0, hi = above;
+  for (int k = 0; k < 60; ++k) {
+    const double mid = 0.5 * (lo + hi);
+    Pose xa, xb;
+    xb.p = Vec3(0.05, 0.02, mid);
+    bool ov;
+    collide_detail::gjk_distance(collide_detail::Support(s, xa), collide_detail::Support(s, xb), ov);
+    (ov ? lo : hi) = mid;
+  }
+  return hi;
+}
+
 }  // namespace
 
 int main() {
@@ -153,17 +168,9 @@ int main() {
   const double high = rh.vertices[rh.support(Vec3::UnitZ())].z();
   run_case("hull40_plane", plane, mesh, Vec3(0, 0, low - 0.001), spec, true, 1e-4);
   run_case("box_hull40", cube, mesh, Vec3(0.1, 0.0, 0.5 + low - 0.001), spec, true, 1e-4);
-  // Two of them stacked: the touching height by bisection on GJK's overlap, then 1 mm deeper.
-  double lo = 0, hi = high + low + 0.1;
-  for (int k = 0; k < 60; ++k) {
-    const double mid = 0.5 * (lo + hi);
-    Pose xa, xb;
-    xb.p = Vec3(0.05, 0.02, mid);
-    bool ov;
-    collide_detail::gjk_distance(collide_detail::Support(mesh, xa), collide_detail::Support(mesh, xb), ov);
-    (ov ? lo : hi) = mid;
-  }
-  run_case("hull40_hull40", mesh, mesh, Vec3(0.05, 0.02, hi - 0.001), spec, true, 1e-4);
+  // Two of them stacked, 1 mm deeper than touching.
+  run_case("hull40_hull40", mesh, mesh, Vec3(0.05, 0.02, touching_height(mesh, high + low + 0.1) - 0.001),
+           spec, true, 1e-4);
   // Detailed meshes: 3,000 points on an ellipsoid (every one an extreme point, as on a scanned
   // smooth part), the full hull and the hull capped at 256 and 64 vertices, resting on the ground
   // and on one another (cache kept, as the world does).
@@ -188,15 +195,7 @@ int main() {
                    red.vertices, big.faces.size(), red.volume_ratio);
       const int sw = cap == 0 ? 2 : cap == 256 ? 20 : 200;
       run_case(name, plane, hs, Vec3(0, 0, lo3 - 0.001), spec, true, 1e-4, Mat3::Identity(), sw);
-      double l = 0, h = hi3 + lo3 + 0.1;
-      for (int k = 0; k < 60; ++k) {
-        const double mid = 0.5 * (l + h);
-        Pose xa, xb;
-        xb.p = Vec3(0.05, 0.02, mid);
-        bool ov;
-        collide_detail::gjk_distance(collide_detail::Support(hs, xa), collide_detail::Support(hs, xb), ov);
-        (ov ? l : h) = mid;
-      }
+      const double h = touching_height(hs, hi3 + lo3 + 0.1);
       std::snprintf(name, sizeof name, "hull3000cap%d_hull3000cap%d", cap, cap);
       run_case(name, hs, hs, Vec3(0.05, 0.02, h - 0.001), spec, true, 1e-4, Mat3::Identity(), sw);
     }

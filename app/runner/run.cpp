@@ -79,6 +79,29 @@ RunSummary make_summary(const Scene& scene, const World& world, const Drift& dri
   return s;
 }
 
+namespace {
+struct NarrowKind {
+  std::string pair;  ///< "plane-hull"
+  long calls;
+  double seconds;
+};
+// The pair kinds the narrow phase ran on, costliest first (ties: most calls, then name).
+std::vector<NarrowKind> narrow_by_kind(const Profile& p) {
+  std::vector<NarrowKind> v;
+  for (int a = 0; a < Profile::kNarrowKinds; ++a)
+    for (int b = a; b < Profile::kNarrowKinds; ++b)
+      if (p.narrow_calls[a][b] > 0)
+        v.push_back({std::string(narrow_kind_name(a)) + "-" + narrow_kind_name(b), p.narrow_calls[a][b],
+                     p.narrow_seconds[a][b]});
+  std::sort(v.begin(), v.end(), [](const NarrowKind& x, const NarrowKind& y) {
+    if (x.seconds != y.seconds) return x.seconds > y.seconds;
+    if (x.calls != y.calls) return x.calls > y.calls;
+    return x.pair < y.pair;
+  });
+  return v;
+}
+}  // namespace
+
 std::string summary_text(const RunSummary& s) {
   std::ostringstream o;
   o << s.scene << ": " << s.steps << " steps of " << s.timestep << " s (" << to_string(s.integrator) << "), "
@@ -116,6 +139,12 @@ std::string summary_text(const RunSummary& s) {
         << s.profile->contact_points << " contact points, " << s.profile->solver_bodies
         << " bodies through the solver, " << s.profile->impact_substeps
         << " substeps with an impact (one more sweep)\n";
+    if (const auto kinds = narrow_by_kind(*s.profile); !kinds.empty()) {
+      o << "  narrow phase by pair kind (calls, seconds), costliest first:";
+      for (size_t k = 0; k < kinds.size(); ++k)
+        o << (k ? "; " : " ") << kinds[k].pair << " " << kinds[k].calls << ", " << kinds[k].seconds;
+      o << "\n";
+    }
     if (s.profile->forces > 0)
       o << "  forces: " << s.profile->forces << " records (the drag is one per body), "
         << s.profile->forced_bodies << " bodies stepped by RK4 with the forces evaluated at every stage\n";
@@ -169,6 +198,10 @@ std::string summary_json(const RunSummary& s) {
                      {"contact_points", s.profile->contact_points},
                      {"solver_bodies", s.profile->solver_bodies},
                      {"impact_substeps", s.profile->impact_substeps}};
+    J narrow = J::array();
+    for (const NarrowKind& k : narrow_by_kind(*s.profile))
+      narrow.push_back({{"pair", k.pair}, {"calls", k.calls}, {"seconds", k.seconds}});
+    p["narrow_phase"] = std::move(narrow);
     p["applied_forces"] = {{"records", s.profile->forces}, {"rk4_bodies", s.profile->forced_bodies}};
     if (s.profile->jointed_bodies > 0)
       p["joints"] = {{"jointed_bodies", s.profile->jointed_bodies},

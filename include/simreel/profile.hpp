@@ -54,7 +54,15 @@ struct Profile {
   long swept_bodies = 0;     ///< fast or bullet bodies swept by the continuous stage, summed over steps
   long toi_pairs = 0;        ///< shape pairs whose time of impact was computed, summed over steps
   long toi_hits = 0;         ///< swept bodies moved back to their time of impact, summed over steps
+  // The narrow phase by pair kind [a][b], a <= b in narrow_kind_name's order: calls and wall time
+  // (timed only with profiling on), summed over steps; which pairs a scene's collide time goes to.
+  static constexpr int kNarrowKinds = 8;
+  long narrow_calls[kNarrowKinds][kNarrowKinds] = {};
+  double narrow_seconds[kNarrowKinds][kNarrowKinds] = {};
 };
+/// "plane", "sphere", "capsule", "cylinder", "ellipsoid", "box", "hull" (a moving mesh's convex
+/// hull), "mesh" (a static mesh's triangles): the kinds of Profile::narrow_calls.
+const char* narrow_kind_name(int k);
 
 // What contact did over the run (simulate --json).
 struct ContactStats {

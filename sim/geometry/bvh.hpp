@@ -52,31 +52,12 @@ class Bvh {
 
 template <typename F>
 void Bvh::query(const Vec3& lo, const Vec3& hi, F&& visit) const {
-  if (nodes_.empty()) return;
-  int stack[kMaxDepth];
-  int top = 0;
-  stack[top++] = 0;
-  while (top > 0) {
-    const Node& nd = nodes_[stack[--top]];
-    if (nd.lo.x() > hi.x() || lo.x() > nd.hi.x() || nd.lo.y() > hi.y() || lo.y() > nd.hi.y() ||
-        nd.lo.z() > hi.z() || lo.z() > nd.hi.z())
-      continue;
-    if (nd.count > 0) {
-      for (int k = nd.first; k < nd.first + nd.count; ++k) {
-        const int it = items_[k];
-        const Vec3& a = item_lo_[it];
-        const Vec3& b = item_hi_[it];
-        if (a.x() > hi.x() || lo.x() > b.x() || a.y() > hi.y() || lo.y() > b.y() || a.z() > hi.z() ||
-            lo.z() > b.z())
-          continue;
-        visit(it);
-      }
-      continue;
-    }
-    // Left child (next in the array) is visited first: push the right one below it.
-    stack[top++] = nd.first;
-    stack[top++] = (int)(&nd - nodes_.data()) + 1;
-  }
+  query_if(
+      [&](const Vec3& a, const Vec3& b) {
+        return !(a.x() > hi.x() || lo.x() > b.x() || a.y() > hi.y() || lo.y() > b.y() || a.z() > hi.z() ||
+                 lo.z() > b.z());
+      },
+      visit);
 }
 
 template <typename Test, typename F>
@@ -95,6 +76,7 @@ void Bvh::query_if(Test&& test, F&& visit) const {
       }
       continue;
     }
+    // Left child (next in the array) is visited first: push the right one below it.
     stack[top++] = nd.first;
     stack[top++] = (int)(&nd - nodes_.data()) + 1;
   }

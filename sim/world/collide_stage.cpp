@@ -286,6 +286,7 @@ ContactSet::Step WorldImpl::collide_step() const {
   in.gravity = cfg_.gravity;
   in.speculative_distance = cfg_.contacts.speculative_distance;
   in.linear_slop = cfg_.contacts.linear_slop;
+  in.timing = clock_.timing();
   in.threads = cfg_.threads;
   in.pool = pool_.get();
   in.dormant = compounds_.count() > 0 ? &dormant_expanded_ : &broad_.dormant_pairs();

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cmath>
 
 #include "sim/base/pair_key.hpp"
@@ -106,6 +107,8 @@ bool ContactSet::build_jobs(const Step& in, Islands& islands, const std::vector<
     // has moved since.
     job.keep = islands.sleeping() > 0 && inert(body_a) && inert(body_b);
     job.count = job.points = 0;
+    job.collided = false;
+    job.seconds = 0;
     if (job.keep && job.stored) {
       job.mesh = false;  // (not looked at: the shape records are not touched)
       job.cap = 0;       // its records stay in resting_
@@ -254,11 +257,23 @@ void ContactSet::finish(const Step& in, Islands& islands, Profile& profile) {
   contact_bodies_.clear();
   for (int i = 0; i < (int)in_contact_.size(); ++i)
     if (in_contact_[i]) contact_bodies_.push_back(i);
+  if (in.timing) {
+    // Which pair kinds the narrow phase's time goes to (profiling only: a pass over the pairs).
+    for (const CollideJob& job : collide_jobs_) {
+      if (!job.collided) continue;
+      const int ka = (int)st[pair_first(job.key)].geom.kind, kb = (int)st[pair_second(job.key)].geom.kind;
+      const int lo = std::min(ka, kb), hi = std::max(ka, kb);
+      ++profile.narrow_calls[lo][hi];
+      profile.narrow_seconds[lo][hi] += job.seconds;
+    }
+  }
 }
 
 double ContactSet::collide_job(const Step& in, CollideJob& job) {
   Contact* out = &contacts_next_[job.slot];
   double deepest = 0;
+  job.collided = true;
+  const auto t0 = in.timing ? std::chrono::steady_clock::now() : std::chrono::steady_clock::time_point{};
   if (job.mesh) {
     job.count = collide_mesh_pair(in, job, out, job.points, deepest);
   } else {
@@ -266,6 +281,7 @@ double ContactSet::collide_job(const Step& in, CollideJob& job) {
     job.count = 1;
     job.points = out->count;
   }
+  if (in.timing) job.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return deepest;
 }
 

@@ -51,6 +51,7 @@ class ContactSet {
     Vec3 gravity = Vec3::Zero();               ///< m/s^2
     double speculative_distance = 0;           ///< m
     double linear_slop = 0;                    ///< m
+    bool timing = false;                       ///< time each pair's narrow phase (Profile::narrow_seconds)
     int threads = 1;
     WorkerPool* pool = nullptr;  ///< threads for the pairs (null: the calling thread alone)
     // The broad phase's dormant pairs (no shape of an awake body; BroadPhase::dormant_pairs), key
@@ -116,6 +117,8 @@ class ContactSet {
     bool keep;           ///< both sides inert: last step's records are kept as they are
     bool stored;         ///< last step's records are in resting_ (kept there, no slots, while keep)
     bool mesh;           ///< one side is a static triangle mesh (mesh_pairs.cpp)
+    bool collided;       ///< the narrow phase ran this step
+    double seconds;      ///< its wall time (with Step::timing)
   };
   // A pair's narrow phase into its slots (records, points, deepest overlap in m); reads only the
   // state, the shapes, this step's poses and boxes, and last step's contact list: pairs run in

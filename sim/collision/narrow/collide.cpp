@@ -135,8 +135,9 @@
 // with more than kMaxFaceVerts = 64 vertices are clipped as a 64-vertex sub-polygon (every k-th
 // vertex); hulls with more than 128 vertices, faces or edges transform them on the fly (slower, same
 // result). Stack use: hull_hull ~40 KB (fixed arrays), EPA ~20 KB, the rest under 4 KB.
-#include "sim/collision/narrow/internal.hpp"
+#include <simreel/profile.hpp>
 #include "sim/base/enum_names.hpp"
+#include "sim/collision/narrow/internal.hpp"
 
 namespace simreel {
 
@@ -148,6 +149,11 @@ static_assert(kCollideKinds.complete());
 
 const char* to_string(CollideKind k) {
   return kCollideKinds(k);
+}
+
+const char* narrow_kind_name(int k) {
+  static_assert((int)CollideKind::count == Profile::kNarrowKinds);
+  return k >= 0 && k < Profile::kNarrowKinds ? to_string((CollideKind)k) : "?";
 }
 
 namespace collide_detail {

@@ -225,6 +225,28 @@ int clip_polygon(const ClipVertex* in, int n, const Vec3& s, double off, uint32_
   return m;
 }
 
+// The face of P round its support vertex along n (unit, P's frame) whose normal is nearest n.
+double best_face(const ConvexPolyhedron& P, const Vec3& n, int& face) {
+  const int v = P.support(n);
+  double best = -INFINITY;
+  face = -1;
+  auto consider = [&](int e) {
+    const int g = P.edges[e].face;
+    const double c = P.faces[g].normal.dot(n);
+    if (c > best || (c == best && g < face)) best = c, face = g;
+  };
+  if (!P.vertex_edge.empty()) {
+    const int first = P.vertex_edge[v];
+    int e = first;
+    do consider(e), e = P.edges[e ^ 1].next;
+    while (e != first);
+  } else {
+    for (int e = 0; e < (int)P.edges.size(); ++e)
+      if (P.edges[e].origin == v) consider(e);
+  }
+  return best;
+}
+
 // Face contact: reference face f of R (normal from R towards I), incident body I given in R's
 // frame by T. Writes world-frame candidates through R's pose; returns the count.
 int face_contact(const ConvexPolyhedron& R, int f, const ConvexPolyhedron& I, const Rel& T, const Pose& xr,
@@ -235,23 +257,8 @@ int face_contact(const ConvexPolyhedron& R, int f, const ConvexPolyhedron& I, co
   // most anti-parallel face overall need not touch: on a finely faceted hull it may be a
   // neighbour tilted away from the touching vertex).
   const Vec3 nI = T.R.transpose() * n;
-  const int vdeep = I.support(-nI);
-  int inc = -1;
-  double dmin = INFINITY;
-  auto consider = [&](int e) {
-    const int g = I.edges[e].face;
-    const double d = I.faces[g].normal.dot(nI);
-    if (d < dmin || (d == dmin && g < inc)) dmin = d, inc = g;
-  };
-  if (!I.vertex_edge.empty()) {  // the faces round the vertex, walked (ties to the lowest index either way)
-    const int first = I.vertex_edge[vdeep];
-    int e = first;
-    do consider(e), e = I.edges[e ^ 1].next;
-    while (e != first);
-  } else {
-    for (int e = 0; e < (int)I.edges.size(); ++e)
-      if (I.edges[e].origin == vdeep) consider(e);
-  }
+  int inc;
+  best_face(I, -nI, inc);
   if (inc < 0) inc = I.edges[0].face;
   // Its polygon in R's frame (at most kMaxFaceVerts: every k-th vertex beyond that).
   ClipVertex buf[2][kMaxClip];
@@ -334,28 +341,6 @@ constexpr long kSatEdgePairs = 16384;
 // faceted hull, whose best face changes with every wobble.
 constexpr double kKeepFaceCos = 2e-4;
 constexpr double kTieDepth = 5e-5;  // m: depths this close count as equal when picking four points
-
-// The face of P round its support vertex along n (unit, P's frame) whose normal is nearest n.
-double best_face(const ConvexPolyhedron& P, const Vec3& n, int& face) {
-  const int v = P.support(n);
-  double best = -INFINITY;
-  face = -1;
-  auto consider = [&](int e) {
-    const int g = P.edges[e].face;
-    const double c = P.faces[g].normal.dot(n);
-    if (c > best || (c == best && g < face)) best = c, face = g;
-  };
-  if (!P.vertex_edge.empty()) {
-    const int first = P.vertex_edge[v];
-    int e = first;
-    do consider(e), e = P.edges[e ^ 1].next;
-    while (e != first);
-  } else {
-    for (int e = 0; e < (int)P.edges.size(); ++e)
-      if (P.edges[e].origin == v) consider(e);
-  }
-  return best;
-}
 
 // Hulls too detailed for the separating-axis test: the normal and separation by GJK (EPA when
 // the solids overlap), then the reference face as the face of either hull that faces the other

@@ -136,6 +136,33 @@ TEST(DetailedHull, StackOfDetailedHullsRestsWhereItsGeometrySays) {
   EXPECT_GE(pair_points, 3) << "a face on a face";
 }
 
+// The profile names which pair kinds the narrow phase ran on and what they cost: the stack's
+// plane-hull and hull-hull pairs once a step each (profiling on), nothing with profiling off.
+TEST(DetailedHull, ProfileNamesThePairKinds) {
+  const auto h = rim_hull();
+  for (bool on : {true, false}) {
+    World w(WorldConfig{}, {ground(), hull_body(h, Vec3(0, 0, 0.1), Quat::Identity()),
+                            hull_body(h, Vec3(0.03, -0.01, 0.3), Quat::Identity())});
+    w.set_profiling(on);
+    for (int k = 0; k < 50; ++k) w.step();
+    const Profile& p = w.impl().profile();
+    const int plane = (int)CollideKind::plane, hull = (int)CollideKind::hull;
+    EXPECT_STREQ(narrow_kind_name(plane), "plane");
+    EXPECT_STREQ(narrow_kind_name(hull), "hull");
+    long total = 0;
+    for (int a = 0; a < Profile::kNarrowKinds; ++a)
+      for (int b = 0; b < Profile::kNarrowKinds; ++b) total += p.narrow_calls[a][b];
+    if (on) {
+      EXPECT_EQ(p.narrow_calls[hull][hull], 50);
+      EXPECT_EQ(p.narrow_calls[plane][hull], 50);  // (the upper hull is far above the ground)
+      EXPECT_EQ(total, 100);
+      EXPECT_GT(p.narrow_seconds[hull][hull], 0.0);
+    } else {
+      EXPECT_EQ(total, 0);
+    }
+  }
+}
+
 // The detailed path's manifold against GJK's distance: two hulls 3 mm apart (within the
 // speculative distance) at random orientations report a separation within the facets' size of
 // GJK's, and the normal within a few degrees of GJK's (the reference face's).
