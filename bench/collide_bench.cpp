@@ -103,6 +103,7 @@ ConvexPolyhedron random_hull(uint64_t seed) {
   p.inner_radius = INFINITY;
   for (const auto& f : p.faces)
     p.inner_radius = std::min(p.inner_radius, f.offset - f.normal.dot(p.centroid));
+  p.build_adjacency();
   return p;
 }
 

@@ -10,6 +10,12 @@
 
 namespace simreel {
 
+// m, how far a shape's broad-phase box reaches past it: the speculative distance plus the farthest
+// any of its points can move in a step, (|v| + reach |w|) dt (v in m/s, w in rad/s, reach in m).
+inline double box_margin(double speculative, double v, double reach, double w, double dt) {
+  return speculative + (v + reach * w) * dt;
+}
+
 struct BodyExtents {
   // Builds the table for `bodies` bodies from the shape table (which lists shapes body by body).
   void build(const ShapeTable& shapes, int bodies);

@@ -135,6 +135,10 @@ class BroadPhase {
     tree_.query(box, f);
   }
   int moved_last_update() const { return (int)moved_.size(); }
+  // Plane shape p (one of update's `planes`, after an update): its unit normal and offset, the
+  // side n . x <= d solid (box_reaches_plane).
+  const Vec3& plane_normal(int p) const { return plane_n_[plane_slot_[p]]; }
+  double plane_offset(int p) const { return plane_d_[plane_slot_[p]]; }
 
  private:
   template <typename Allowed>

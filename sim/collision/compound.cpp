@@ -54,7 +54,7 @@ Aabb CompoundProxies::place(int c, const Mat3& R_WP, const Vec3& x_W, double v, 
   // The margin of the body's farthest-reaching shape, and an allowance for the round-off between a
   // shape's world box (made from its own world pose) and its mapped local box: both are within a
   // few ulps of |x| + reach, so 1e-9 of that is ample and costs nothing measurable.
-  q.grow = spec + (v + q.reach * w) * dt + 1e-9 * (1.0 + x_W.cwiseAbs().maxCoeff() + q.reach);
+  q.grow = box_margin(spec, v, q.reach, w, dt) + 1e-9 * (1.0 + x_W.cwiseAbs().maxCoeff() + q.reach);
   const Bvh::Node& root = q.tree.nodes().front();
   Vec3 mc, me;
   map(q, root.lo, root.hi, mc, me);

@@ -40,7 +40,7 @@ class CompoundProxies {
   // world computes it for a shape of its own): shape k of compound c, whose reach is `reach`.
   double member_margin(int c, double reach) const {
     const Compound& q = compounds_[c];
-    return q.spec + (q.v + reach * q.w) * q.dt;
+    return box_margin(q.spec, q.v, reach, q.w, q.dt);
   }
 
   // f(shape) for every shape of compound c whose mapped box overlaps `box`: every shape whose box

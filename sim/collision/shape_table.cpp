@@ -193,8 +193,8 @@ Aabb ShapeTable::bounds(const CollideShape& g, const Pose& x) {
         // 3,000-vertex hull's box cost 10 us a step.
         for (int k = 0; k < 3; ++k) {
           const Vec3 d = R.row(k).transpose();
-          lo[k] = (R * H.vertices[H.support(-d)])[k];
-          hi[k] = (R * H.vertices[H.support(d)])[k];
+          lo[k] = d.dot(H.vertices[H.support(-d)]);
+          hi[k] = d.dot(H.vertices[H.support(d)]);
         }
         return Aabb{c + lo, c + hi};
       }

@@ -35,9 +35,10 @@ struct ConvexPolyhedron {
   Vec3 centroid = Vec3::Zero();  ///< m, volume centroid (a point well inside, for SAT and GJK seeds)
   double inner_radius = 0;       ///< m, distance from centroid to the nearest face plane
 
-  // Per vertex, one half-edge leaving it, and the vertices extreme along 26 fixed directions (the
-  // faces, edges and corners of a cube): what support() climbs from on a hull of more than
-  // kScanVertices vertices. Empty until build_adjacency() (then support() scans).
+  // Per vertex, one half-edge leaving it; and the seeds support() climbs from on a hull of more
+  // than kScanVertices vertices: the vertices extreme along 26 fixed directions (the faces, edges
+  // and corners of a cube) and every k-th vertex, about 2 sqrt(n) of them. Every builder of a
+  // polyhedron with edges calls build_adjacency(); without it support() scans.
   std::vector<int> vertex_edge, seeds;
   // Each face's half-edges in loop order from Face::edge: face f's are face_edges[face_begin[f] ..
   // face_begin[f + 1]) (a detailed face's every k-th corner without walking it). Empty until
@@ -51,7 +52,7 @@ struct ConvexPolyhedron {
   // maximum): about sqrt(n) steps where a scan costs n (3,000 vertices: ~60 against 3,000).
   int support(const Vec3& d) const;
   static constexpr int kScanVertices = 48;
-  void build_adjacency();  ///< vertex_edge and seeds, from vertices and edges
+  void build_adjacency();  ///< vertex_edge, seeds and the face loops, from vertices, edges and faces
 };
 
 // m^3, the enclosed volume (faces fanned from their first vertex, tetrahedra from the centroid).

@@ -61,10 +61,6 @@ void WorldImpl::init_contacts() {
       }
     }
   }
-  for (const Pose& x : plane_poses_) {
-    plane_n_.push_back(x.R.col(2));
-    plane_d_.push_back(plane_n_.back().dot(x.p));
-  }
   // The broad phase's entries: shapes not in a compound, then the compounds.
   compounds_.build(st, extents_, sweep_shapes_, cs.compound_shapes, n);
   const int ns = st.size(), nc = compounds_.count();
@@ -104,32 +100,27 @@ void WorldImpl::init_contacts() {
   profile_.pairs = profile_.contact_points = 0;
 }
 
-bool WorldImpl::shapes_may_touch(int a, int b) const {
-  const ShapeRecord& A = (*shapes_)[a];
-  const ShapeRecord& B = (*shapes_)[b];
-  if (A.body == B.body) return false;
-  if (model_[A.body].inv_mass == 0 && model_[B.body].inv_mass == 0) return false;
-  if (!filters_allow(A, B)) return false;
+bool WorldImpl::bodies_may_touch(int a, int b) const {
+  if (a == b) return false;
+  if (model_[a].inv_mass == 0 && model_[b].inv_mass == 0) return false;
   if (!ignore_.empty()) {
-    const std::pair<int, int> p(std::min(A.body, B.body), std::max(A.body, B.body));
+    const std::pair<int, int> p(std::min(a, b), std::max(a, b));
     if (std::binary_search(ignore_.begin(), ignore_.end(), p)) return false;
   }
   return true;
+}
+
+bool WorldImpl::shapes_may_touch(int a, int b) const {
+  const ShapeRecord& A = (*shapes_)[a];
+  const ShapeRecord& B = (*shapes_)[b];
+  return bodies_may_touch(A.body, B.body) && filters_allow(A, B);
 }
 
 bool WorldImpl::proxies_may_touch(int a, int b) const {
   const int ns = shapes_->size();
   if (b < ns) return shapes_may_touch(a, b);
   // A compound: its body's checks here, each shape's filters when the pair is expanded.
-  const int A = a < ns ? (*shapes_)[a].body : compounds_.body(a - ns);
-  const int B = compounds_.body(b - ns);
-  if (A == B) return false;
-  if (model_[A].inv_mass == 0 && model_[B].inv_mass == 0) return false;
-  if (!ignore_.empty()) {
-    const std::pair<int, int> p(std::min(A, B), std::max(A, B));
-    if (std::binary_search(ignore_.begin(), ignore_.end(), p)) return false;
-  }
-  return true;
+  return bodies_may_touch(a < ns ? (*shapes_)[a].body : compounds_.body(a - ns), compounds_.body(b - ns));
 }
 
 // A compound's box from its body's state: the same speeds and margin formula as a shape's own.
@@ -143,17 +134,22 @@ void WorldImpl::place_compound(int c) {
   placed_step_[c] = broad_step_;
 }
 
+// Shape i's pose, margin and box from its body's state this step.
+void WorldImpl::make_shape_box(int i) {
+  const ShapeRecord& r = (*shapes_)[i];
+  const MotionState& s = state_[r.body];
+  poses_[i] = ShapeTable::world_pose(r, s);  // kept for collide: the state does not change between
+  const Aabb b = ShapeTable::bounds(r.geom, poses_[i]);
+  margins_[i] = box_margin(cfg_.contacts.speculative_distance, s.v_W.norm(), extents_.shape_reach[i],
+                           s.w_P.norm(), cfg_.dt);
+  const Vec3 m = Vec3::Constant(margins_[i]);
+  boxes_[i] = Aabb{b.lo - m, b.hi + m};
+}
+
 const Aabb& WorldImpl::member_box(int k) {
   if (!shape_moving_[k] || box_step_[k] == broad_step_) return boxes_[k];  // static: made by init
   box_step_[k] = broad_step_;
-  const ShapeRecord& r = (*shapes_)[k];
-  const MotionState& s = state_[r.body];
-  poses_[k] = ShapeTable::world_pose(r, s);
-  const Aabb b = ShapeTable::bounds(r.geom, poses_[k]);
-  const double reach = extents_.shape_reach[k] * s.w_P.norm();
-  margins_[k] = cfg_.contacts.speculative_distance + (s.v_W.norm() + reach) * cfg_.dt;
-  const Vec3 m = Vec3::Constant(margins_[k]);
-  boxes_[k] = Aabb{b.lo - m, b.hi + m};
+  make_shape_box(k);
   return boxes_[k];
 }
 
@@ -181,10 +177,8 @@ void WorldImpl::expand_compounds(std::vector<uint64_t>& pairs) {
         });
       });
     } else if ((*shapes_)[a].geom.kind == CollideKind::plane) {
-      const size_t slot =
-          std::lower_bound(plane_shapes_.begin(), plane_shapes_.end(), a) - plane_shapes_.begin();
-      const Vec3& n = plane_n_[slot];
-      const double d = plane_d_[slot];
+      const Vec3& n = broad_.plane_normal(a);
+      const double d = broad_.plane_offset(a);
       compounds_.query_plane(cb, n, d, [&](int k) {
         if (box_reaches_plane(n, d, member_box(k))) add(a, k);
       });
@@ -214,7 +208,6 @@ void WorldImpl::expand_compounds(std::vector<uint64_t>& pairs) {
 __attribute__((flatten)) void WorldImpl::stage_broad_phase() {
   const ShapeTable& st = *shapes_;
   const int ns = st.size();
-  const double spec = cfg_.contacts.speculative_distance, dt = cfg_.dt;
   ++broad_step_;
   active_shapes_.clear();
   for (int b : islands_.awake_bodies()) {
@@ -244,18 +237,10 @@ __attribute__((flatten)) void WorldImpl::stage_broad_phase() {
     }
   }
   freeze.clear();
-  for (size_t j = 0; j < active_shapes_.size(); ++j) {
-    const int i = active_shapes_[j];
-    if (i >= ns) continue;
-    const ShapeRecord& r = st[i];
-    const MotionState& s = state_[r.body];
-    poses_[i] = ShapeTable::world_pose(r, s);  // kept for collide: the state does not change between
-    const Aabb b = ShapeTable::bounds(r.geom, poses_[i]);
-    const double reach = extents_.shape_reach[i] * s.w_P.norm();
-    margins_[i] = spec + (s.v_W.norm() + reach) * dt;
-    drift_[i] = s.v_W * dt;
-    const Vec3 m = Vec3::Constant(margins_[i]);
-    boxes_[i] = Aabb{b.lo - m, b.hi + m};
+  for (int i : active_shapes_) {
+    if (i >= ns) continue;  // a compound: placed above
+    make_shape_box(i);
+    drift_[i] = state_[st[i].body].v_W * cfg_.dt;
   }
   std::vector<uint64_t>& pairs = contacts_.pairs();
   broad_.update(

@@ -107,7 +107,6 @@ bool ContactSet::build_jobs(const Step& in, Islands& islands, const std::vector<
     // has moved since.
     job.keep = islands.sleeping() > 0 && inert(body_a) && inert(body_b);
     job.count = job.points = 0;
-    job.collided = false;
     job.seconds = 0;
     if (job.keep && job.stored) {
       job.mesh = false;  // (not looked at: the shape records are not touched)
@@ -260,7 +259,7 @@ void ContactSet::finish(const Step& in, Islands& islands, Profile& profile) {
   if (in.timing) {
     // Which pair kinds the narrow phase's time goes to (profiling only: a pass over the pairs).
     for (const CollideJob& job : collide_jobs_) {
-      if (!job.collided) continue;
+      if (job.keep) continue;  // (a kept pair was not collided; a woken one is not kept any more)
       const int ka = (int)st[pair_first(job.key)].geom.kind, kb = (int)st[pair_second(job.key)].geom.kind;
       const int lo = std::min(ka, kb), hi = std::max(ka, kb);
       ++profile.narrow_calls[lo][hi];
@@ -272,7 +271,6 @@ void ContactSet::finish(const Step& in, Islands& islands, Profile& profile) {
 double ContactSet::collide_job(const Step& in, CollideJob& job) {
   Contact* out = &contacts_next_[job.slot];
   double deepest = 0;
-  job.collided = true;
   const auto t0 = in.timing ? std::chrono::steady_clock::now() : std::chrono::steady_clock::time_point{};
   if (job.mesh) {
     job.count = collide_mesh_pair(in, job, out, job.points, deepest);

@@ -117,8 +117,7 @@ class ContactSet {
     bool keep;           ///< both sides inert: last step's records are kept as they are
     bool stored;         ///< last step's records are in resting_ (kept there, no slots, while keep)
     bool mesh;           ///< one side is a static triangle mesh (mesh_pairs.cpp)
-    bool collided;       ///< the narrow phase ran this step
-    double seconds;      ///< its wall time (with Step::timing)
+    double seconds;      ///< its narrow phase's wall time (with Step::timing; !keep: it ran)
   };
   // A pair's narrow phase into its slots (records, points, deepest overlap in m); reads only the
   // state, the shapes, this step's poses and boxes, and last step's contact list: pairs run in

@@ -169,8 +169,10 @@ class WorldImpl {
   void init_forces();
   bool stage_forces();  ///< false: nothing to do this step
   void init_contacts();
-  bool shapes_may_touch(int a, int b) const;
+  bool bodies_may_touch(int a, int b) const;   ///< not one body, not both static, not ignored
+  bool shapes_may_touch(int a, int b) const;   ///< their bodies may, and their filters allow
   bool proxies_may_touch(int a, int b) const;  ///< broad-phase entries: shapes, then compounds
+  void make_shape_box(int i);                  ///< poses_, margins_ and boxes_ of shape i this step
   void stage_broad_phase();
   void place_compound(int c);     ///< compound c's box this step, from its body's state
   const Aabb& member_box(int k);  ///< compound shape k's pose, margin and box this step, made once
@@ -252,8 +254,6 @@ class WorldImpl {
   std::vector<long> box_step_;      ///< per shape: broad_step_ when member_box made its box
   std::vector<long> placed_step_;   ///< per compound: broad_step_ when placed
   long broad_step_ = 0;
-  std::vector<Vec3> plane_n_;    ///< per plane shape (plane_shapes_ order): unit normal, world
-  std::vector<double> plane_d_;  ///< per plane shape: n . (point on the plane), m
   std::vector<uint64_t> expanded_, merged_pairs_, dormant_expanded_;
   std::vector<std::pair<int, int>> ignore_;  ///< body pairs, (lo, hi), sorted
   BroadPhase broad_;

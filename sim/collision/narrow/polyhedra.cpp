@@ -225,25 +225,20 @@ int clip_polygon(const ClipVertex* in, int n, const Vec3& s, double off, uint32_
   return m;
 }
 
-// The face of P round its support vertex along n (unit, P's frame) whose normal is nearest n.
+// The face of P round its support vertex along n (unit, P's frame) whose normal is nearest n
+// (ties to the lowest index).
 double best_face(const ConvexPolyhedron& P, const Vec3& n, int& face) {
   const int v = P.support(n);
   double best = -INFINITY;
   face = -1;
-  auto consider = [&](int e) {
+  const int first = P.vertex_edge[v];
+  int e = first;
+  do {
     const int g = P.edges[e].face;
     const double c = P.faces[g].normal.dot(n);
     if (c > best || (c == best && g < face)) best = c, face = g;
-  };
-  if (!P.vertex_edge.empty()) {
-    const int first = P.vertex_edge[v];
-    int e = first;
-    do consider(e), e = P.edges[e ^ 1].next;
-    while (e != first);
-  } else {
-    for (int e = 0; e < (int)P.edges.size(); ++e)
-      if (P.edges[e].origin == v) consider(e);
-  }
+    e = P.edges[e ^ 1].next;
+  } while (e != first);
   return best;
 }
 
@@ -259,38 +254,24 @@ int face_contact(const ConvexPolyhedron& R, int f, const ConvexPolyhedron& I, co
   const Vec3 nI = T.R.transpose() * n;
   int inc;
   best_face(I, -nI, inc);
-  if (inc < 0) inc = I.edges[0].face;
   // Its polygon in R's frame (at most kMaxFaceVerts: every k-th vertex beyond that).
   ClipVertex buf[2][kMaxClip];
   int n0 = 0;
-  auto corner = [&](int e) {
-    const int v = I.edges[e].origin;
-    buf[0][n0++] = {Vec3(T.R * I.vertices[v] + T.p), (uint32_t)v, kTagEdge | (uint32_t)e};
-  };
-  if (!I.face_begin.empty()) {  // the loop as stored: no walk
+  {
     const int b = I.face_begin[inc], nloop = I.face_begin[inc + 1] - b;
     const int stride = (nloop + kMaxFaceVerts - 1) / kMaxFaceVerts;
-    for (int k = 0; k < nloop; k += stride) corner(I.face_edges[b + k]);
-  } else {
-    int nloop = 0;
-    int e = I.faces[inc].edge;
-    do ++nloop, e = I.edges[e].next;
-    while (e != I.faces[inc].edge && nloop <= 100000);
-    const int stride = (nloop + kMaxFaceVerts - 1) / kMaxFaceVerts;
-    int k = 0;
-    do {
-      if (k % stride == 0) corner(e);
-      ++k;
-      e = I.edges[e].next;
-    } while (e != I.faces[inc].edge);
+    for (int k = 0; k < nloop; k += stride) {
+      const int e = I.face_edges[b + k], v = I.edges[e].origin;
+      buf[0][n0++] = {Vec3(T.R * I.vertices[v] + T.p), (uint32_t)v, kTagEdge | (uint32_t)e};
+    }
   }
   // Clip against the reference face's side planes. A face of more than kMaxFaceVerts corners (a
   // detailed hull's cap) is clipped to the polygon of every k-th corner, inscribed in it: each side
   // plane costs a pass over the incident polygon, and 1,500 of them cost 200 us a call.
   int cur = 0, np = n0;
-  if (!R.face_begin.empty() && R.face_begin[f + 1] - R.face_begin[f] > kMaxFaceVerts) {
+  {
     const int b = R.face_begin[f], rloop = R.face_begin[f + 1] - b;
-    const int rstride = (rloop + kMaxFaceVerts - 1) / kMaxFaceVerts;
+    const int rstride = (rloop + kMaxFaceVerts - 1) / kMaxFaceVerts;  // 1 up to kMaxFaceVerts corners
     for (int k = 0; k < rloop && np > 0; k += rstride) {
       const int e = R.face_edges[b + k];
       const int g = k + rstride < rloop ? R.face_edges[b + k + rstride] : R.face_edges[b];
@@ -300,16 +281,6 @@ int face_contact(const ConvexPolyhedron& R, int f, const ConvexPolyhedron& I, co
       np = clip_polygon(buf[cur], np, s, s.dot(P), kTagPlane | (uint32_t)e, buf[cur ^ 1]);
       cur ^= 1;
     }
-  } else {
-    int e = F.edge;
-    do {
-      const Vec3& P = R.vertices[R.edges[e].origin];
-      const Vec3& Q = R.vertices[R.edges[R.edges[e].next].origin];
-      const Vec3 s = (Q - P).cross(n);
-      np = clip_polygon(buf[cur], np, s, s.dot(P), kTagPlane | (uint32_t)e, buf[cur ^ 1]);
-      cur ^= 1;
-      e = R.edges[e].next;
-    } while (e != F.edge && np > 0);
   }
   int nc = 0;
   for (int i = 0; i < np && nc < kMaxClip; ++i) {

@@ -93,6 +93,7 @@ ConvexPolyhedron make_polyhedron(const std::vector<Vec3>& v, const std::vector<s
   p.inner_radius = INFINITY;
   for (const auto& f : p.faces)
     p.inner_radius = std::min(p.inner_radius, f.offset - f.normal.dot(p.centroid));
+  p.build_adjacency();
   return p;
 }
 
