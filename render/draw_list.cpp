@@ -56,8 +56,8 @@ SceneMeshes::SceneMeshes(const World& w, const SceneStyles& styles, size_t budge
     const std::vector<Collider>& cols = w.def(i).colliders;
     for (size_t k = 0; k < cols.size(); ++k) {
       const ColliderStyle st = style(i, k);
-      if (st.drawn && index.try_emplace(render_mesh_key(cols[k], st.plane_size, st.normals), -1).second)
-        need += render_mesh_bytes(cols[k]);
+      if (st.drawn && index.try_emplace(render_mesh_key(cols[k], st.plane_size, st.normals, st.look), -1).second)
+        need += render_mesh_bytes(cols[k], st.look != nullptr);
     }
   }
   if (need > budget / 2) {
@@ -70,6 +70,31 @@ SceneMeshes::SceneMeshes(const World& w, const SceneStyles& styles, size_t budge
                   2e-9 * (double)need, index.size(), 1e-9 * (double)need, 1e-9 * (double)budget);
     throw std::runtime_error(msg);
   }
+  // Each distinct image decoded once (a file by its path, an embedded image by its bytes), and per
+  // look the slot of each of its images; one that cannot be decoded leaves its faces in their
+  // material's colour, with a note.
+  std::map<std::pair<std::string, const void*>, int> image_slot;
+  std::map<const MeshAppearance*, std::vector<int>> slots_of;
+  auto slots = [&](const MeshAppearance& look) -> const std::vector<int>& {
+    auto [it, fresh] = slots_of.try_emplace(&look);
+    if (!fresh) return it->second;
+    for (const TextureSource& t : look.textures) {
+      const auto key = std::make_pair(t.file, (const void*)t.bytes.get());
+      auto [s, made] = image_slot.try_emplace(key, -1);
+      if (made) {
+        try {
+          TextureImage im = t.bytes ? decode_image(*t.bytes, t.name) : read_image(t.file);
+          s->second = (int)textures.size();
+          bytes += im.rgba.size();
+          textures.push_back(std::move(im));
+        } catch (const std::exception& e) {
+          notes.push_back(std::string(e.what()) + ": drawn in its material's colour");
+        }
+      }
+      it->second.push_back(s->second);
+    }
+    return it->second;
+  };
   mesh_of.resize(w.body_count());
   color_of.resize(w.body_count());
   for (int i = 0; i < w.body_count(); ++i) {
@@ -81,10 +106,11 @@ SceneMeshes::SceneMeshes(const World& w, const SceneStyles& styles, size_t budge
         mesh_of[i].push_back(-1);
         continue;
       }
-      int& m = index.at(render_mesh_key(cols[k], st.plane_size, st.normals));
+      int& m = index.at(render_mesh_key(cols[k], st.plane_size, st.normals, st.look));
       if (m < 0) {
         m = (int)meshes.size();
         meshes.push_back(tessellate_collider(cols[k], st.plane_size, st.normals));
+        if (st.look && cols[k].shape == ShapeKind::mesh) apply_appearance(meshes.back(), *st.look, slots(*st.look));
         bytes += meshes.back().bytes();
       }
       mesh_of[i].push_back(m);

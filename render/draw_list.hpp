@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "render/camera.hpp"
+#include "render/image.hpp"
 #include "render/overlay.hpp"
 #include "render/screen.hpp"
 #include "render/tessellate.hpp"
@@ -37,6 +38,9 @@ struct ColliderStyle {
   double plane_size = 10;  ///< m, side of the square drawn for a plane collider
   /// A mesh collider's shading normals per triangle corner (app's, from the file), or none.
   const std::vector<std::array<Eigen::Vector3f, 3>>* normals = nullptr;
+  /// A mesh collider's materials, texture coordinates, vertex colours and images from its file
+  /// (render/material.hpp), or none: drawn in `color`, which a face without a material colour takes.
+  const MeshAppearance* look = nullptr;
 };
 using SceneStyles = std::vector<std::vector<ColliderStyle>>;  ///< per body, per collider
 
@@ -52,6 +56,8 @@ struct SceneMeshes {
   std::vector<std::vector<int>> mesh_of;  ///< per body, per collider: its mesh, -1 if not drawn
   std::vector<std::vector<std::array<float, 3>>> color_of;  ///< per body, per collider: linear RGB
   size_t bytes = 0;                                         ///< vertex and index data of `meshes`
+  std::vector<TextureImage> textures;     ///< decoded once per distinct image (RenderMesh::Part::texture)
+  std::vector<std::string> notes;  ///< images that could not be decoded, and what was drawn instead
   // Bodies or colliders that `styles` does not reach get ColliderStyle{} (drawn, light grey).
   // `budget`: bytes this process may still allocate (default: available_memory()); the meshes
   // are held twice (here and in the GL, whose llvmpipe crashes with SIGSEGV when an upload finds

@@ -30,6 +30,9 @@ struct GpuMesh {
   bool convex = false;                     ///< RenderMesh::convex
   V3f lo = V3f::Zero(), hi = V3f::Zero();  ///< m, bounding box in the mesh frame
   float reach = 0;                         ///< m, farthest vertex from the mesh origin
+  GLuint xbo = 0;                          ///< RenderMesh::extras, if it has a file's look
+  std::vector<RenderMesh::Part> parts;     ///< its index ranges by texture
+  bool material() const { return xbo != 0; }
 };
 
 GpuMesh upload(const RenderMesh& m) {
@@ -48,6 +51,16 @@ GpuMesh upload(const RenderMesh& m) {
   glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), (void*)0);
   glEnableVertexAttribArray(1);
   glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), (void*)(3 * sizeof(float)));
+  if (!m.extras.empty()) {  // r g b a u v per vertex (render/tessellate.hpp)
+    glGenBuffers(1, &g.xbo);
+    glBindBuffer(GL_ARRAY_BUFFER, g.xbo);
+    glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(m.extras.size() * sizeof(float)), m.extras.data(), GL_STATIC_DRAW);
+    glEnableVertexAttribArray(3);
+    glVertexAttribPointer(3, 4, GL_FLOAT, GL_FALSE, 6 * sizeof(float), (void*)0);
+    glEnableVertexAttribArray(4);
+    glVertexAttribPointer(4, 2, GL_FLOAT, GL_FALSE, 6 * sizeof(float), (void*)(4 * sizeof(float)));
+    g.parts = m.parts;
+  }
   g.count = (GLsizei)m.indices.size();
   g.two_sided = m.two_sided;
   g.convex = m.convex;
@@ -68,10 +81,10 @@ GpuMesh upload(const RenderMesh& m) {
 struct LitProgram {
   GLuint id = 0;
   GLint model = -1, viewproj = -1, lightvp = -1, color = -1, light_dir = -1, eye = -1, shadows = -1,
-        tile = -1, bias = -1, map = -1, batched = -1, items = -1;
+        tile = -1, bias = -1, map = -1, batched = -1, items = -1, albedo = -1;
 
   void create(LitKind kind) {
-    id = link_program(lit_vertex_shader(), lit_fragment_shader(kind).c_str());
+    id = link_program(lit_vertex_shader(kind).c_str(), lit_fragment_shader(kind).c_str());
     model = glGetUniformLocation(id, "u_model");
     viewproj = glGetUniformLocation(id, "u_viewproj");
     lightvp = glGetUniformLocation(id, "u_lightvp");
@@ -84,7 +97,9 @@ struct LitProgram {
     map = glGetUniformLocation(id, "u_shadow_map");
     batched = glGetUniformLocation(id, "u_batched");
     items = glGetUniformLocation(id, "u_items");
+    albedo = glGetUniformLocation(id, "u_albedo");
     glUseProgram(id);
+    glUniform1i(albedo, 2);  // texture unit 2
     glUniform1i(items, 1);  // texture unit 1
     glUniform1i(batched, 0);
     glUniform1i(map, 0);  // texture unit 0
@@ -98,6 +113,12 @@ struct Renderer::Impl {
   int msaa = 1;  // samples per pixel, as far as the GL allows
   std::unique_ptr<GlContext> ctx;
   LitProgram body_prog, body_flat_prog, ground_prog;  // the lit shader: bodies shadowed or not, ground
+  // The same for meshes drawn with their file's look, made only when a scene has one; their
+  // base-colour images (SceneMeshes::textures) and a white texel for parts without one.
+  LitProgram mat_prog, mat_flat_prog;
+  bool any_material = false;
+  std::vector<GLuint> textures;
+  GLuint white_tex = 0;
   GLuint depth = 0;
   GLint u_mvp = -1;
   // One GPU mesh per distinct scene mesh, however many items draw it: each frame the items are
@@ -385,7 +406,11 @@ struct Renderer::Impl {
 
   // The bodies of `which`, with the program in use (lit, depth or ground shadow): one instanced
   // draw per mesh drawn this frame (group_items).
-  void draw_bodies(GLint batched_loc, Subset which = Subset::all) {
+  // kind: which meshes (Meshes::plain, ::material, ::any); with `textured` each of a material
+  // mesh's parts is drawn with its image bound to unit 2.
+  enum class Meshes { any, plain, material };
+  void draw_bodies(GLint batched_loc, Subset which = Subset::all, Meshes kind = Meshes::any,
+                   bool textured = false) {
     glUniform1i(batched_loc, 1);
     glActiveTexture(GL_TEXTURE1);
     glBindTexture(GL_TEXTURE_BUFFER, items_tex);
@@ -393,6 +418,7 @@ struct Renderer::Impl {
     glBindBuffer(GL_ARRAY_BUFFER, slots_vbo);
     for (int m : groups) {
       const GpuMesh& g = meshes[m];
+      if ((kind == Meshes::plain && g.material()) || (kind == Meshes::material && !g.material())) continue;
       glBindVertexArray(g.vao);
       const std::array<int, 4>& c = group_role[m];
       const int first = which == Subset::others ? c[0] + c[1] : which == Subset::occluders ? c[0] : 0;
@@ -404,7 +430,17 @@ struct Renderer::Impl {
       glVertexAttribIPointer(2, 1, GL_UNSIGNED_INT, 0,
                              (void*)((size_t)(group_base[m] + first) * sizeof(uint32_t)));
       if (g.two_sided) glDisable(GL_CULL_FACE);
-      glDrawElementsInstanced(GL_TRIANGLES, g.count, GL_UNSIGNED_INT, nullptr, count);
+      if (textured && g.material()) {
+        for (const RenderMesh::Part& part : g.parts) {
+          glActiveTexture(GL_TEXTURE2);
+          glBindTexture(GL_TEXTURE_2D, part.texture >= 0 ? textures[part.texture] : white_tex);
+          glDrawElementsInstanced(GL_TRIANGLES, (GLsizei)part.count, GL_UNSIGNED_INT,
+                                  (void*)((size_t)part.first * sizeof(uint32_t)), count);
+        }
+        glActiveTexture(GL_TEXTURE0);
+      } else {
+        glDrawElementsInstanced(GL_TRIANGLES, g.count, GL_UNSIGNED_INT, nullptr, count);
+      }
       if (g.two_sided) glEnable(GL_CULL_FACE);
     }
     glBindVertexArray(0);
@@ -516,7 +552,8 @@ struct Renderer::Impl {
     const M4& ground = v.ground;
 
     glFrontFace(GL_CW);
-    for (const LitProgram* lp : {&body_prog, &body_flat_prog, &ground_prog}) {
+    for (const LitProgram* lp : {&body_prog, &body_flat_prog, &ground_prog, &mat_prog, &mat_flat_prog}) {
+      if (lp->id == 0) continue;
       glUseProgram(lp->id);
       glUniformMatrix4fv(lp->viewproj, 1, GL_FALSE, vp.data());
       glUniformMatrix4fv(lp->lightvp, 1, GL_FALSE, lvp.data());
@@ -580,10 +617,19 @@ struct Renderer::Impl {
     // without shadows; without it they go last, where the bodies hide part of them.
     const bool shadows_on_ground = s.ground && s.shadows && eye.z() > (float)s.ground_height;
     if (shadows_on_ground && ground_depth) ground_shadows(vp, true);
+    const Meshes plain = any_material ? Meshes::plain : Meshes::any;
     glUseProgram(body_prog.id);
-    draw_bodies(body_prog.batched, Subset::receivers);
+    draw_bodies(body_prog.batched, Subset::receivers, plain);
+    if (any_material) {
+      glUseProgram(mat_prog.id);
+      draw_bodies(mat_prog.batched, Subset::receivers, Meshes::material, true);
+    }
     glUseProgram(body_flat_prog.id);
-    draw_bodies(body_flat_prog.batched, Subset::others);
+    draw_bodies(body_flat_prog.batched, Subset::others, plain);
+    if (any_material) {
+      glUseProgram(mat_flat_prog.id);
+      draw_bodies(mat_flat_prog.batched, Subset::others, Meshes::material, true);
+    }
     if (shadows_on_ground && !ground_depth) ground_shadows(vp, false);
   }
 
@@ -598,6 +644,43 @@ struct Renderer::Impl {
     glReadBuffer(GL_COLOR_ATTACHMENT0);
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
     glReadPixels(0, 0, s.width, s.height, GL_RGBA, GL_UNSIGNED_BYTE, img);  // waits for the frame
+  }
+
+  // Base-colour images as sRGB textures (sampled in linear light), mipmapped and repeating;
+  // larger than the GL takes, halved until they fit (render/image.hpp, shrink_image).
+  void setup_textures(const SceneMeshes& sm) {
+    mat_prog.create(LitKind::body_material);
+    mat_flat_prog.create(LitKind::body_material_unshadowed);
+    GLint max_side = 4096;
+    glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_side);
+    auto make = [&](const TextureImage& im) {
+      GLuint t = 0;
+      glGenTextures(1, &t);
+      glBindTexture(GL_TEXTURE_2D, t);
+      glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+      glTexImage2D(GL_TEXTURE_2D, 0, GL_SRGB8_ALPHA8, im.width, im.height, 0, GL_RGBA, GL_UNSIGNED_BYTE,
+                   im.rgba.data());
+      glGenerateMipmap(GL_TEXTURE_2D);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
+      return t;
+    };
+    for (const TextureImage& im : sm.textures) {
+      if (im.width > max_side || im.height > max_side) {
+        TextureImage small = im;
+        shrink_image(small, max_side);
+        textures.push_back(make(small));
+      } else {
+        textures.push_back(make(im));
+      }
+    }
+    TextureImage white;
+    white.width = white.height = 1;
+    white.rgba = {255, 255, 255, 255};
+    white_tex = make(white);
+    glBindTexture(GL_TEXTURE_2D, 0);
   }
 
   // ---- the overlay pass (render/overlay.hpp): set up on the first frame that has overlays, so a
@@ -796,7 +879,9 @@ Renderer::Renderer(const RenderSettings& s, const SceneMeshes& sm) : p_(std::mak
     P.attach_slots(P.meshes.back());
     ++P.stats.meshes;
     P.stats.mesh_bytes += m.bytes();
+    P.any_material = P.any_material || !m.extras.empty();
   }
+  if (P.any_material) P.setup_textures(sm);
   if (s.ground) P.ground = upload(tessellate_plane(s.ground_size));
   if (s.ground && s.shadows) P.setup_ground_shadows();
   P.setup_targets();

@@ -21,10 +21,19 @@ namespace {
 // and colours go into a buffer texture (5 RGBA32F texels per item) and a_item, a per-instance
 // attribute, is the item's slot there (render/renderer.cpp, group_items). With u_batched == 0 a
 // single mesh is drawn with the u_model and u_color uniforms (the ground).
-const char* kLitVS = R"(#version 330 core
+// MATERIAL (1 or 0) is defined above this text by lit_vertex_shader(): a mesh file's look
+// (render/material.hpp) comes in per vertex as a_tint (rgb, and a: 1 to take it, 0 to keep the
+// item's colour) and a_uv (texture coordinates, v up from the image's bottom row).
+const char* kLitVS = R"(
 layout(location = 0) in vec3 a_pos;
 layout(location = 1) in vec3 a_nrm;
 layout(location = 2) in uint a_item;
+#if MATERIAL
+layout(location = 3) in vec4 a_tint;
+layout(location = 4) in vec2 a_uv;
+out vec4 v_tint;
+out vec2 v_uv;
+#endif
 uniform mat4 u_model, u_viewproj, u_lightvp;
 uniform vec3 u_color;
 uniform int u_batched;
@@ -42,6 +51,10 @@ void main() {
                  texelFetch(u_items, b + 3));
     v_color = texelFetch(u_items, b + 4).rgb;
   }
+#if MATERIAL
+  v_tint = a_tint;
+  v_uv = vec2(a_uv.x, 1.0 - a_uv.y);  // images are uploaded top row first
+#endif
   vec4 w = model * vec4(a_pos, 1.0);
   v_pos = w.xyz;
   v_nrm = mat3(model) * a_nrm;
@@ -60,6 +73,11 @@ in vec3 v_pos;
 in vec3 v_nrm;
 in vec3 v_lpos;
 flat in vec3 v_color;
+#if MATERIAL
+in vec4 v_tint;
+in vec2 v_uv;
+uniform sampler2D u_albedo;  // sRGB texture: sampled in linear light, mipmapped
+#endif
 uniform vec3 u_light_dir, u_eye;
 uniform int u_shadows;
 uniform float u_tile, u_bias;
@@ -84,6 +102,9 @@ vec3 gamma_encode(vec3 x) {  // x^(1/2.2), see render/shaders.hpp
 }
 void main() {
   vec3 base = v_color;
+#if MATERIAL
+  base = mix(v_color, v_tint.rgb, v_tint.a) * texture(u_albedo, v_uv).rgb;
+#endif
 #if GROUND
   vec3 n = vec3(0.0, 0.0, gl_FrontFacing ? 1.0 : -1.0);
   ivec2 c = ivec2(floor(v_pos.xy / u_tile));
@@ -272,8 +293,12 @@ GLuint compile(GLenum type, const char* src) {
 
 }  // namespace
 
-const char* lit_vertex_shader() {
-  return kLitVS;
+bool lit_material(LitKind kind) {
+  return kind == LitKind::body_material || kind == LitKind::body_material_unshadowed;
+}
+
+std::string lit_vertex_shader(LitKind kind) {
+  return std::string("#version 330 core\n#define MATERIAL ") + (lit_material(kind) ? "1" : "0") + kLitVS;
 }
 const char* depth_vertex_shader() {
   return kDepthVS;
@@ -305,10 +330,12 @@ std::string lit_fragment_shader(LitKind kind) {
   char head[512];
   // %.9g prints each float so that it reads back as the same float.
   std::snprintf(head, sizeof head,
-                "#version 330 core\n#define GROUND %d\n#define SHADOWED %d\nconst vec4 kGamma = vec4(%.9g, "
+                "#version 330 core\n#define GROUND %d\n#define SHADOWED %d\n#define MATERIAL %d\nconst vec4 kGamma = vec4(%.9g, "
                 "%.9g, %.9g, %.9g);\n"
                 "const float kChecker = %.9g;\nconst vec3 kSky = vec3(%.9g, %.9g, %.9g);\n",
-                kind == LitKind::ground ? 1 : 0, kind == LitKind::body ? 1 : 0, (double)kGammaFit[0],
+                kind == LitKind::ground ? 1 : 0,
+                kind == LitKind::body || kind == LitKind::body_material ? 1 : 0, lit_material(kind) ? 1 : 0,
+                (double)kGammaFit[0],
                 (double)kGammaFit[1], (double)kGammaFit[2], (double)kGammaFit[3], (double)kCheckerDark,
                 (double)kFillSky[0], (double)kFillSky[1], (double)kFillSky[2]);
   return head + std::string(kLitFS);

@@ -34,9 +34,12 @@ std::array<float, 3> ground_shadow_color(const std::array<float, 3>& ground, boo
 
 // body: lit and shadowed by the shadow map; body_unshadowed: the same without the map (for bodies
 // no other body can shadow, render/renderer.cpp: classify_shadows); ground: the checker, no map.
-enum class LitKind { body, body_unshadowed, ground };
+// body_material and body_material_unshadowed: the same for meshes drawn with their file's look
+// (per-vertex colours and a base-colour texture, render/material.hpp).
+enum class LitKind { body, body_unshadowed, ground, body_material, body_material_unshadowed };
+bool lit_material(LitKind kind);
 
-const char* lit_vertex_shader();
+std::string lit_vertex_shader(LitKind kind);
 std::string lit_fragment_shader(LitKind kind);  ///< kGammaFit written into the source
 const char* depth_vertex_shader();
 // The overlay pass (render/overlay.hpp): instanced unit solids, or ribbons with a colour per vertex.

@@ -1,5 +1,6 @@
 #include "render/tessellate.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -211,7 +212,44 @@ RenderMesh tessellate_collider(const Collider& c, double plane_size, const Corne
   return {};
 }
 
-RenderMeshKey render_mesh_key(const Collider& c, double plane_size, const CornerNormals* normals) {
+void apply_appearance(RenderMesh& m, const MeshAppearance& look, const std::vector<int>& texture_slot) {
+  const size_t nt = m.indices.size() / 3;
+  if (m.vertices.size() != 6 * 3 * nt || look.triangle_material.size() != nt) return;  // not this mesh's
+  m.extras.assign(6 * 3 * nt, 0.0f);
+  std::vector<int> slot_of(nt, -1);
+  for (size_t f = 0; f < nt; ++f) {
+    const int mat = look.triangle_material[f];
+    const SurfaceMaterial* sm = mat >= 0 && mat < (int)look.materials.size() ? &look.materials[mat] : nullptr;
+    const bool known = sm && sm->color[0] >= 0;
+    if (sm && sm->texture >= 0 && sm->texture < (int)texture_slot.size() && !look.corner_uv.empty())
+      slot_of[f] = texture_slot[sm->texture];
+    for (int k = 0; k < 3; ++k) {
+      float* e = &m.extras[6 * (3 * f + k)];
+      std::array<float, 3> c = known ? sm->color : std::array<float, 3>{1, 1, 1};
+      if (!look.corner_color.empty())
+        for (int j = 0; j < 3; ++j) c[j] *= look.corner_color[f][k][j];
+      const bool own = known || !look.corner_color.empty();
+      e[0] = c[0], e[1] = c[1], e[2] = c[2], e[3] = own ? 1.0f : 0.0f;
+      if (slot_of[f] >= 0) e[4] = look.corner_uv[f][k].x(), e[5] = look.corner_uv[f][k].y();
+    }
+  }
+  // Triangles grouped by texture (untextured first), each group in triangle order.
+  std::vector<uint32_t> order(nt);
+  for (size_t f = 0; f < nt; ++f) order[f] = (uint32_t)f;
+  std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return slot_of[a] < slot_of[b]; });
+  std::vector<uint32_t> idx(3 * nt);
+  m.parts.clear();
+  for (size_t i = 0; i < nt; ++i) {
+    const uint32_t f = order[i];
+    for (int k = 0; k < 3; ++k) idx[3 * i + k] = m.indices[3 * f + k];
+    if (m.parts.empty() || m.parts.back().texture != slot_of[f]) m.parts.push_back({(uint32_t)(3 * i), 0, slot_of[f]});
+    m.parts.back().count += 3;
+  }
+  m.indices = std::move(idx);
+}
+
+RenderMeshKey render_mesh_key(const Collider& c, double plane_size, const CornerNormals* normals,
+                              const MeshAppearance* look) {
   RenderMeshKey k;
   k.shape = c.shape;
   switch (c.shape) {
@@ -228,6 +266,7 @@ RenderMeshKey render_mesh_key(const Collider& c, double plane_size, const Corner
     case ShapeKind::mesh:
       k.mesh = c.mesh.get();
       k.normals = normals;
+      k.look = look;
       break;
     case ShapeKind::ellipsoid:
       k.dims = {c.radii.x(), c.radii.y(), c.radii.z()};
@@ -239,7 +278,7 @@ RenderMeshKey render_mesh_key(const Collider& c, double plane_size, const Corner
   return k;
 }
 
-size_t render_mesh_bytes(const Collider& c) {
+size_t render_mesh_bytes(const Collider& c, bool with_look) {
   // Floats per vertex, and per shape its vertices and indices as the functions above make them:
   // revolve() makes (profile points) x (segments + 1) vertices and 6 indices per quad; disk() 2 +
   // segments vertices and 3 indices per segment. The tests compare with the meshes themselves.
@@ -257,7 +296,9 @@ size_t render_mesh_bytes(const Collider& c) {
     case ShapeKind::capsule:
       return bytes((2 * (seg / 4 + 1)) * (seg + 1), (2 * (seg / 4 + 1) - 1) * seg * 6);
     case ShapeKind::mesh:
-      return c.mesh ? bytes(3 * c.mesh->triangles.size(), 3 * c.mesh->triangles.size()) : 0;
+      return c.mesh ? bytes(3 * c.mesh->triangles.size(), 3 * c.mesh->triangles.size()) +
+                          (with_look ? 6 * 4 * 3 * c.mesh->triangles.size() : 0)
+                    : 0;
     case ShapeKind::plane:
       return bytes(4, 6);
   }

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "render/material.hpp"
 #include <simreel/body.hpp>
 
 namespace simreel {
@@ -21,7 +22,17 @@ struct RenderMesh {
   // can shadow another body (render/renderer.cpp, classify_shadows).
   bool convex = false;
 
-  size_t bytes() const { return (vertices.size() + indices.size()) * 4; }  ///< vertex and index data
+  // A mesh file's look (render/material.hpp), for meshes that have one: per vertex r g b a u v,
+  // where a = 1 takes the vertex's colour (material x vertex colour) and a = 0 the item's (a face
+  // whose material gives no colour); and the index ranges drawn with one texture each.
+  std::vector<float> extras;
+  struct Part {
+    uint32_t first = 0, count = 0;  ///< indices
+    int texture = -1;               ///< SceneMeshes::textures, or -1 (none)
+  };
+  std::vector<Part> parts;  ///< empty unless `extras` is set; then they cover `indices`
+
+  size_t bytes() const { return (vertices.size() + indices.size() + extras.size()) * 4; }  ///< vertex and index data
 };
 
 RenderMesh tessellate_box(const Vec3& size);
@@ -46,6 +57,12 @@ RenderMesh tessellate_mesh(const TriangleMesh& m, const CornerNormals* normals =
 RenderMesh tessellate_collider(const Collider& c, double plane_size = 10,
                                const CornerNormals* normals = nullptr);
 
+// Lays a mesh file's look over a tessellate_mesh result of the same mesh (three vertices per
+// triangle, in triangle order): the vertices' extras, and the triangles regrouped (stably) into one
+// part per texture. texture_slot maps the look's textures to SceneMeshes::textures (-1: an image
+// that could not be decoded, drawn in its material's colour).
+void apply_appearance(RenderMesh& m, const MeshAppearance& look, const std::vector<int>& texture_slot);
+
 // Everything tessellate_collider reads from its arguments: colliders with equal keys have the
 // same render mesh, bit for bit, so one copy serves them all. A mesh's surface and normals count
 // by identity (the scene loader shares one imported mesh per file and scale), not by content.
@@ -54,12 +71,13 @@ struct RenderMeshKey {
   std::array<double, 3> dims{};   ///< m: the sizes the shape's tessellation reads, zero elsewhere
   const void* mesh = nullptr;     ///< mesh shapes: the surface...
   const void* normals = nullptr;  ///< ...and the file's shading normals (nullptr: crease normals)
+  const void* look = nullptr;     ///< ...and its materials, if drawn with them
   auto operator<=>(const RenderMeshKey&) const = default;
 };
 RenderMeshKey render_mesh_key(const Collider& c, double plane_size = 10,
-                              const CornerNormals* normals = nullptr);
+                              const CornerNormals* normals = nullptr, const MeshAppearance* look = nullptr);
 // RenderMesh::bytes() of tessellate_collider(c) without making it: what a scene's meshes will
 // need, checked before any is made.
-size_t render_mesh_bytes(const Collider& c);
+size_t render_mesh_bytes(const Collider& c, bool with_look = false);
 
 }  // namespace simreel

@@ -17,6 +17,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 #include "app/scene/mesh_import.hpp"
@@ -43,7 +44,7 @@ RawMesh assimp_read(const std::string& path) {
   if (!sc || !sc->mRootNode)
     throw InputError("cannot read mesh '" + path + "': " + std::string(imp.GetErrorString()));
   RawMesh out;
-  bool all_normals = true;
+  bool all_normals = true, all_uvs = true, all_colors = true;
   std::vector<int> poly;
   // Nodes depth first with their world transforms; a node graph is a tree, but never trusted to be.
   std::vector<std::pair<const aiNode*, Eigen::Matrix4d>> stack{{sc->mRootNode, Eigen::Matrix4d::Identity()}};
@@ -63,7 +64,14 @@ RawMesh assimp_read(const std::string& path) {
       const aiMesh* m = sc->mMeshes[node->mMeshes[k]];
       const int base = (int)out.vertices.size();
       all_normals = all_normals && m->HasNormals();
+      all_uvs = all_uvs && m->HasTextureCoords(0);
+      all_colors = all_colors && m->HasVertexColors(0);
       for (unsigned v = 0; v < m->mNumVertices; ++v) {
+        if (m->HasTextureCoords(0)) out.uvs.emplace_back(m->mTextureCoords[0][v].x, m->mTextureCoords[0][v].y);
+        // glTF's COLOR_0 is linear already (and assimp passes other formats' colours as written).
+        if (m->HasVertexColors(0))
+          out.colors.push_back({std::clamp(m->mColors[0][v].r, 0.f, 1.f), std::clamp(m->mColors[0][v].g, 0.f, 1.f),
+                                std::clamp(m->mColors[0][v].b, 0.f, 1.f)});
         const aiVector3D& p = m->mVertices[v];
         out.vertices.push_back((T * Eigen::Vector4d(p.x, p.y, p.z, 1)).head<3>());
         out.normals.push_back(
@@ -86,6 +94,8 @@ RawMesh assimp_read(const std::string& path) {
     for (unsigned c = 0; c < node->mNumChildren; ++c) stack.emplace_back(node->mChildren[c], T);
   }
   if (!all_normals) out.normals.clear();
+  if (!all_uvs) out.uvs.clear();
+  if (!all_colors) out.colors.clear();
   for (unsigned i = 0; i < sc->mNumMaterials; ++i) {
     aiColor4D c;
     const aiMaterial* mat = sc->mMaterials[i];
@@ -94,6 +104,33 @@ RawMesh assimp_read(const std::string& path) {
           {std::clamp(c.r, 0.f, 1.f), std::clamp(c.g, 0.f, 1.f), std::clamp(c.b, 0.f, 1.f)});
     else
       out.materials.push_back({-1.f, -1.f, -1.f});
+    aiString name;
+    out.material_names.push_back(mat->Get(AI_MATKEY_NAME, name) == AI_SUCCESS ? name.C_Str() : "");
+    // The base-colour image: glTF's baseColorTexture, else the classic diffuse map.
+    aiString tex;
+    if (mat->GetTexture(aiTextureType_BASE_COLOR, 0, &tex) != AI_SUCCESS &&
+        mat->GetTexture(aiTextureType_DIFFUSE, 0, &tex) != AI_SUCCESS)
+      tex.Clear();
+    std::string ref = tex.C_Str();
+    // An image inside the file (a glb's "*0", or one named by file name): sent back as its bytes,
+    // named "*N" by its place in `embedded`.
+    if (!ref.empty()) {
+      if (const aiTexture* t = sc->GetEmbeddedTexture(tex.C_Str())) {
+        std::string bytes;
+        if (t->mHeight == 0) {  // compressed (PNG, JPEG...): mWidth bytes
+          bytes.assign(reinterpret_cast<const char*>(t->pcData), t->mWidth);
+        } else {  // raw BGRA texels: sent as the renderer's raw RGBA format (render/image.hpp)
+          bytes = raw_rgba_header(t->mWidth, t->mHeight);
+          for (size_t k = 0; k < (size_t)t->mWidth * t->mHeight; ++k) {
+            const aiTexel& x = t->pcData[k];
+            bytes += {(char)x.r, (char)x.g, (char)x.b, (char)x.a};
+          }
+        }
+        ref = "*" + std::to_string(out.embedded.size());
+        out.embedded.push_back(std::move(bytes));
+      }
+    }
+    out.material_textures.push_back(ref);
   }
   return out;
 }
@@ -141,6 +178,12 @@ class Cursor {
     get_all(c);
     return std::string(c.begin(), c.end());
   }
+  void texts(std::vector<std::string>& out) {
+    const uint64_t n = get<uint64_t>();
+    if (n > b_.size() / 8) bad();  // each at least 8 bytes: bounded
+    out.clear();
+    for (uint64_t i = 0; i < n; ++i) out.push_back(text());
+  }
   bool done() const { return b_.empty(); }
 
  private:
@@ -148,6 +191,11 @@ class Cursor {
   const std::string& path_;
   const char* who_;
 };
+
+void put_texts(std::string& s, const std::vector<std::string>& v) {
+  put(s, (uint64_t)v.size());
+  for (const std::string& t : v) put_all(s, std::vector<char>(t.begin(), t.end()));
+}
 
 std::string encode_error(const std::string& msg) {
   std::string s = "SRE1";
@@ -183,9 +231,14 @@ std::string encode_mesh(const RawMesh& m) {
   put_all(s, m.triangle_normals);
   put_all(s, m.triangle_material);
   put_all(s, m.materials);
+  put_texts(s, m.material_names);
+  put_texts(s, m.material_textures);
+  put_texts(s, m.embedded);
+  put_all(s, m.uvs);
+  put_all(s, m.triangle_uvs);
+  put_all(s, m.colors);
   put(s, (int64_t)m.points_and_lines);
-  put(s, (uint64_t)m.notes.size());
-  for (const std::string& n : m.notes) put_all(s, std::vector<char>(n.begin(), n.end()));
+  put_texts(s, m.notes);
   return s;
 }
 
@@ -208,9 +261,14 @@ RawMesh decode_mesh(std::string_view bytes, const std::string& path, const char*
   c.get_all(m.triangle_normals);
   c.get_all(m.triangle_material);
   c.get_all(m.materials);
+  c.texts(m.material_names);
+  c.texts(m.material_textures);
+  c.texts(m.embedded);
+  c.get_all(m.uvs);
+  c.get_all(m.triangle_uvs);
+  c.get_all(m.colors);
   m.points_and_lines = c.get<int64_t>();
-  const uint64_t notes = c.get<uint64_t>();
-  for (uint64_t i = 0; i < notes; ++i) m.notes.push_back(c.text());  // each at least 8 bytes: bounded
+  c.texts(m.notes);
   if (!c.done() || m.points_and_lines < 0) c.bad();
   // What import_mesh indexes with must be in range.
   const auto in = [](int i, size_t n) { return i >= 0 && (size_t)i < n; };
@@ -221,6 +279,14 @@ RawMesh decode_mesh(std::string_view bytes, const std::string& path, const char*
   for (const auto& t : m.triangle_normals)
     for (int i : t)
       if (!in(i, m.normals.size())) c.bad();
+  if (!m.triangle_uvs.empty() && m.triangle_uvs.size() != m.triangles.size()) c.bad();
+  for (const auto& t : m.triangle_uvs)
+    for (int i : t)
+      if (!in(i, m.uvs.size())) c.bad();
+  for (auto* v : {&m.material_names, &m.material_textures}) {
+    if (!v->empty() && v->size() != m.materials.size()) c.bad();
+    v->resize(m.materials.size());
+  }
   return m;
 }
 
@@ -333,6 +399,121 @@ std::string lower_extension(const std::string& path) {
   return e;
 }
 
+// Where a material's image is: beside the mesh as written (relative), as written (absolute), else,
+// for a path from another machine (Windows drive letters and backslashes, an absolute path that is
+// not here), the file of that name beside the mesh, with a note. "" when none is found.
+std::string resolve_texture(const std::string& ref, const std::filesystem::path& dir,
+                            const std::string& material, std::vector<std::string>& notes) {
+  namespace fs = std::filesystem;
+  std::string unix_ref = ref;
+  std::replace(unix_ref.begin(), unix_ref.end(), '\\', '/');
+  const bool foreign = unix_ref != ref || (ref.size() > 1 && ref[1] == ':');
+  auto usable = [](const fs::path& p) {
+    std::error_code ec;
+    return fs::is_regular_file(p, ec);
+  };
+  const fs::path as_written = fs::path(unix_ref).is_absolute() ? fs::path(unix_ref) : dir / unix_ref;
+  if (!foreign && usable(as_written)) return as_written.string();
+  const fs::path beside = dir / fs::path(unix_ref).filename();
+  const std::string who = material.empty() ? "a material" : "material '" + material + "'";
+  if (usable(beside)) {
+    notes.push_back("texture '" + ref + "' of " + who + " is not here; using '" +
+                    fs::path(unix_ref).filename().string() + "' beside the mesh");
+    return beside.string();
+  }
+  notes.push_back("texture '" + ref + "' of " + who + " not found (looked beside the mesh, in '" +
+                  (dir.empty() ? std::string(".") : dir.string()) + "'): drawn in the material's colour");
+  return "";
+}
+
+// The file's look beyond one colour (render/material.hpp): null when it has none (every face one
+// colour, no image, no vertex colours), so a plain mesh is drawn as before, in one colour.
+std::shared_ptr<const MeshAppearance> appearance_of(const detail::RawMesh& r, const std::string& path,
+                                                    std::vector<std::string>& notes) {
+  namespace fs = std::filesystem;
+  const size_t nt = r.triangles.size();
+  auto a = std::make_shared<MeshAppearance>();
+  const bool per_face = r.triangle_material.size() == nt && !r.materials.empty();
+  std::vector<char> used(r.materials.size(), 0);
+  if (per_face)
+    for (int mat : r.triangle_material)
+      if (mat >= 0 && mat < (int)used.size()) used[mat] = 1;
+  const bool have_uvs = !r.uvs.empty() && (r.triangle_uvs.size() == nt || r.uvs.size() == r.vertices.size());
+  std::map<std::string, int> texture_of;  // resolved file or "*N": its index in a->textures
+  const fs::path dir = fs::path(path).parent_path();
+  bool textured = false, no_uv_note = false;
+  for (size_t i = 0; i < r.materials.size(); ++i) {
+    SurfaceMaterial sm;
+    sm.name = i < r.material_names.size() ? r.material_names[i] : "";
+    sm.color = r.materials[i];
+    const std::string ref = i < r.material_textures.size() ? r.material_textures[i] : "";
+    if (used[i] && !ref.empty()) {
+      std::string ext = fs::path(ref).extension().string();
+      for (char& ch : ext) ch = (char)std::tolower((unsigned char)ch);
+      const std::string who = sm.name.empty() ? "a material" : "material '" + sm.name + "'";
+      std::string key;
+      TextureSource src;
+      src.name = ref;
+      if (ext == ".ktx2" || ext == ".ktx" || ext == ".basis" || ext == ".dds") {
+        notes.push_back("texture '" + ref + "' of " + who + " is " + ext.substr(1) +
+                        ", a GPU format simreel does not decode: drawn in the material's colour");
+      } else if (!have_uvs) {
+        if (!no_uv_note)
+          notes.push_back(who + " has a texture ('" + ref +
+                          "') but the mesh has no texture coordinates: drawn in the material's colour");
+        no_uv_note = true;
+      } else if (ref[0] == '*') {
+        const long k = std::strtol(ref.c_str() + 1, nullptr, 10);
+        if (k >= 0 && k < (long)r.embedded.size()) {
+          key = ref;
+          src.bytes = std::make_shared<const std::string>(r.embedded[k]);
+        }
+      } else {
+        src.file = resolve_texture(ref, dir, sm.name, notes);
+        key = src.file;
+      }
+      if (!key.empty()) {
+        auto [it, fresh] = texture_of.emplace(key, (int)a->textures.size());
+        if (fresh) a->textures.push_back(std::move(src));
+        sm.texture = it->second;
+        textured = true;
+      }
+    }
+    a->materials.push_back(std::move(sm));
+  }
+  // More than one colour among the materials faces use?
+  bool several = false;
+  const std::array<float, 3>* first = nullptr;
+  for (size_t i = 0; i < used.size(); ++i)
+    if (used[i]) {
+      if (first && *first != r.materials[i]) several = true;
+      first = &r.materials[i];
+    }
+  if (per_face)
+    for (int mat : r.triangle_material) several = several || mat < 0 || mat >= (int)r.materials.size();
+  const bool colours = !r.colors.empty() && r.colors.size() == r.vertices.size();
+  a->varies = (several && per_face) || textured || colours;
+  if (!a->varies && !have_uvs) return nullptr;
+  a->triangle_material.assign(nt, -1);
+  if (per_face)
+    for (size_t f = 0; f < nt; ++f) {
+      const int mat = r.triangle_material[f];
+      a->triangle_material[f] = mat >= 0 && mat < (int)r.materials.size() ? mat : -1;
+    }
+  if (have_uvs) {
+    a->corner_uv.resize(nt);
+    for (size_t f = 0; f < nt; ++f)
+      for (int k = 0; k < 3; ++k)
+        a->corner_uv[f][k] = r.uvs[r.triangle_uvs.size() == nt ? r.triangle_uvs[f][k] : r.triangles[f][k]];
+  }
+  if (colours) {
+    a->corner_color.resize(nt);
+    for (size_t f = 0; f < nt; ++f)
+      for (int k = 0; k < 3; ++k) a->corner_color[f][k] = r.colors[r.triangles[f][k]];
+  }
+  return a;
+}
+
 }  // namespace
 
 ImportedMesh import_mesh(const std::string& path, const Vec3& scale) {
@@ -437,6 +618,7 @@ ImportedMesh import_mesh(const std::string& path, const Vec3& scale) {
     const size_t best = std::max_element(uses.begin(), uses.end()) - uses.begin();
     if (uses[best] > 0 && r.materials[best][0] >= 0) out.color = r.materials[best];
   }
+  out.appearance = appearance_of(r, path, out.notes);
   return out;
 }
 

@@ -8,11 +8,13 @@
 #pragma once
 #include <array>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "render/material.hpp"
 #include <simreel/mesh.hpp>
 
 namespace simreel {
@@ -26,6 +28,9 @@ struct ImportedMesh {
   /// Shading normals per triangle corner of `mesh` (unit, mesh axes) when the file gives them;
   /// empty otherwise. Drawing only (appearance stays out of sim/).
   std::vector<std::array<Eigen::Vector3f, 3>> corner_normals;
+  /// Materials per triangle, texture coordinates, vertex colours and images (render/material.hpp)
+  /// when the file has more than one colour to give; null otherwise. Drawing only.
+  std::shared_ptr<const MeshAppearance> appearance;
   std::vector<std::string> notes;  ///< what the reader did that the user should know
 };
 
@@ -48,7 +53,15 @@ struct RawMesh {
   std::vector<std::array<int, 3>> triangles;
   std::vector<std::array<int, 3>> triangle_normals;  ///< indices into normals, OBJ only
   std::vector<int> triangle_material;                ///< index into materials (OBJ, assimp)
-  std::vector<std::array<float, 3>> materials;
+  std::vector<std::array<float, 3>> materials;       ///< linear RGB base colour; -1 where none is known
+  std::vector<std::string> material_names;           ///< parallel to materials ("" unnamed)
+  /// Parallel to materials: the base-colour image as the file names it ("" none; "*N" the N-th
+  /// embedded image, as assimp names them).
+  std::vector<std::string> material_textures;
+  std::vector<std::string> embedded;                ///< embedded images' encoded bytes (glb)
+  std::vector<Eigen::Vector2f> uvs;                  ///< per vertex (PLY, assimp) or the OBJ vt list
+  std::vector<std::array<int, 3>> triangle_uvs;      ///< indices into uvs, OBJ only
+  std::vector<std::array<float, 3>> colors;          ///< per vertex, linear RGB (PLY, assimp, OBJ v x y z r g b)
   long points_and_lines = 0;
   std::vector<std::string> notes;
 };
@@ -65,7 +78,9 @@ std::string native_format(std::string_view head, uint64_t size);
 
 // Appends a polygon (indices into m.vertices) as triangles; fewer than 3 corners counts a point
 // or line.
-void add_polygon(RawMesh& m, const std::vector<int>& v, const std::vector<int>& vn, int material);
+// `vn` and `vt`: the corners' normal and texture-coordinate indices (OBJ), or empty.
+void add_polygon(RawMesh& m, const std::vector<int>& v, const std::vector<int>& vn, int material,
+                 const std::vector<int>& vt = {});
 
 // assimp in this process (what the child of read_with_assimp runs): no post-processing but
 // validation; node transforms and triangulation are simreel's own.

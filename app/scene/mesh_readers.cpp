@@ -16,6 +16,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <sstream>
 
 #include "app/scene/mesh_import.hpp"
@@ -131,7 +132,8 @@ double orient2(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::
 // too. A corner in line with its neighbours is never an ear tip, so collinear corners (a T-junction
 // along an edge) make no zero-area triangles unless nothing else is left. Polygons with fewer than
 // three corners are lines or points: counted, skipped.
-void add_polygon(RawMesh& m, const std::vector<int>& v, const std::vector<int>& vn, int material) {
+void add_polygon(RawMesh& m, const std::vector<int>& v, const std::vector<int>& vn, int material,
+                 const std::vector<int>& vt) {
   const size_t n = v.size();
   if (n < 3) {
     ++m.points_and_lines;
@@ -140,6 +142,7 @@ void add_polygon(RawMesh& m, const std::vector<int>& v, const std::vector<int>& 
   auto emit = [&](size_t i, size_t j, size_t k) {
     m.triangles.push_back({v[i], v[j], v[k]});
     if (!vn.empty()) m.triangle_normals.push_back({vn[i], vn[j], vn[k]});
+    if (!vt.empty()) m.triangle_uvs.push_back({vt[i], vt[j], vt[k]});
     m.triangle_material.push_back(material);
   };
   bool convex = true;
@@ -208,19 +211,56 @@ void add_polygon(RawMesh& m, const std::vector<int>& v, const std::vector<int>& 
 
 namespace {
 
-// "Kd r g b" of every "newmtl" in a material library.
-void read_mtl(const std::string& path, std::map<std::string, std::array<float, 3>>& out) {
+struct MtlEntry {
+  std::optional<std::array<float, 3>> kd;
+  std::string map_kd;  ///< the base-colour image as written, options removed
+};
+
+// The image file of a "map_Kd [options] FILE" line: the options (-o u [v [w]], -s, -t take up to
+// three numbers, -mm two, the rest one) are skipped and the rest of the line, spaces included, is
+// the file name.
+std::string map_file(std::string_view line) {
+  const auto t = tokens(line);
+  size_t i = 1;
+  auto is_number = [](std::string_view x) {
+    double d;
+    const char* b = x.data() + (!x.empty() && x[0] == '+');
+    const auto r = std::from_chars(b, x.data() + x.size(), d);
+    return r.ec == std::errc() && r.ptr == x.data() + x.size();
+  };
+  while (i < t.size() && t[i].size() > 1 && t[i][0] == '-' && !is_number(t[i])) {
+    const std::string_view o = t[i++];
+    const size_t most = (o == "-o" || o == "-s" || o == "-t") ? 3 : o == "-mm" ? 2 : 1;
+    for (size_t k = 0; k < most && i < t.size(); ++k) {
+      if (most == 3 && k > 0 && !is_number(t[i])) break;
+      ++i;
+    }
+  }
+  if (i >= t.size()) return "";
+  const char* b = t[i].data();
+  const char* e = t.back().data() + t.back().size();
+  return std::string(b, (size_t)(e - b));
+}
+
+// "Kd r g b" and "map_Kd FILE" of every "newmtl" in a material library.
+void read_mtl(const std::string& path, std::map<std::string, MtlEntry>& out) {
   const std::string text = slurp(path);
   Lines lines(text);
   std::string_view line;
   std::string current;
   while (lines.next(&line)) {
     const auto t = tokens(line);
-    if (t.size() >= 2 && t[0] == "newmtl") current = std::string(t[1]);
-    if (t.size() >= 4 && t[0] == "Kd" && !current.empty()) {
+    if (t.size() >= 2 && t[0] == "newmtl") {
+      current = std::string(t[1]);
+      out[current];
+    }
+    if (current.empty()) continue;
+    if (t.size() >= 4 && t[0] == "Kd") {
       std::array<float, 3> c;
       for (int k = 0; k < 3; ++k) c[k] = (float)std::clamp(number(t[1 + k], path, lines.number()), 0.0, 1.0);
-      out[current] = c;
+      out[current].kd = c;
+    } else if (t.size() >= 2 && t[0] == "map_Kd") {
+      out[current].map_kd = map_file(line);
     }
   }
 }
@@ -235,7 +275,8 @@ RawMesh parse_obj(std::string_view text, const std::string& path) {
   bool every_corner_has_normal = true;
   Lines lines(text);
   std::string_view line;
-  std::vector<int> v, vn;
+  std::vector<int> v, vn, vt;
+  bool every_corner_has_uv = true;
   while (lines.next(&line)) {
     const long ln = lines.number();
     const auto t = tokens(line);
@@ -243,13 +284,22 @@ RawMesh parse_obj(std::string_view text, const std::string& path) {
     if (t[0] == "v") {
       if (t.size() < 4) fail(path, ln, "a vertex needs x y z");
       Vec3 p(number(t[1], path, ln), number(t[2], path, ln), number(t[3], path, ln));
-      if (t.size() == 5) {  // x y z w: homogeneous (x y z r g b is a vertex colour, ignored)
+      if (t.size() == 5) {  // x y z w: homogeneous
         const double w = number(t[4], path, ln);
         if (w == 0) fail(path, ln, "vertex has w = 0 (a point at infinity)");
         p /= w;
         if (!all_finite(p)) fail(path, ln, "vertex x/w, y/w, z/w overflows (w = " + std::string(t[4]) + ")");
       }
+      if (t.size() >= 7) {  // x y z r g b: a vertex colour (MeshLab, ZBrush), display values in [0, 1]
+        std::array<float, 3> c;
+        for (int k = 0; k < 3; ++k) c[k] = srgb_to_linear((float)std::clamp(number(t[4 + k], path, ln), 0.0, 1.0));
+        m.colors.resize(m.vertices.size(), {-1.f, -1.f, -1.f});
+        m.colors.push_back(c);
+      }
       m.vertices.push_back(p);
+    } else if (t[0] == "vt") {
+      if (t.size() < 2) fail(path, ln, "a texture coordinate needs u [v]");
+      m.uvs.emplace_back((float)number(t[1], path, ln), t.size() > 2 ? (float)number(t[2], path, ln) : 0.f);
     } else if (t[0] == "vn") {
       if (t.size() < 4) fail(path, ln, "a normal needs x y z");
       m.normals.emplace_back((float)number(t[1], path, ln), (float)number(t[2], path, ln),
@@ -257,7 +307,8 @@ RawMesh parse_obj(std::string_view text, const std::string& path) {
     } else if (t[0] == "f" || t[0] == "fo") {
       v.clear();
       vn.clear();
-      bool normals_here = true;
+      vt.clear();
+      bool normals_here = true, uvs_here = true;
       for (size_t i = 1; i < t.size(); ++i) {
         // v, v/vt, v//vn or v/vt/vn; negative indices count back from the latest.
         const std::string_view tok = t[i];
@@ -271,6 +322,17 @@ RawMesh parse_obj(std::string_view text, const std::string& path) {
                    " are defined before it");
         v.push_back((int)vi);
         const size_t s2 = s1 == std::string_view::npos ? s1 : tok.find('/', s1 + 1);
+        const size_t t_end = s2 == std::string_view::npos ? tok.size() : s2;
+        if (s1 != std::string_view::npos && t_end > s1 + 1) {
+          const long rt = integer(tok.substr(s1 + 1, t_end - s1 - 1), path, ln);
+          const long nt = (long)m.uvs.size();
+          const long ti = rt < 0 ? nt + rt : rt - 1;
+          if (rt == 0 || ti < 0 || ti >= nt)
+            fail(path, ln, "face refers to texture coordinate " + std::to_string(rt) + " that does not exist");
+          vt.push_back((int)ti);
+        } else {
+          uvs_here = false;
+        }
         if (s2 != std::string_view::npos && s2 + 1 < tok.size()) {
           const long rn = integer(tok.substr(s2 + 1), path, ln);
           const long nn = (long)m.normals.size();
@@ -286,7 +348,11 @@ RawMesh parse_obj(std::string_view text, const std::string& path) {
         every_corner_has_normal = false;
         vn.clear();
       }
-      add_polygon(m, v, vn, material);
+      if (!uvs_here) {
+        every_corner_has_uv = false;
+        vt.clear();
+      }
+      add_polygon(m, v, vn, material, vt);
     } else if (t[0] == "l" || t[0] == "p") {
       ++m.points_and_lines;
     } else if (t[0] == "mtllib") {
@@ -299,8 +365,20 @@ RawMesh parse_obj(std::string_view text, const std::string& path) {
     }
   }
   if (!every_corner_has_normal) m.triangle_normals.clear();
-  // Materials: colours from the libraries beside the OBJ file.
-  std::map<std::string, std::array<float, 3>> kd;
+  if (!every_corner_has_uv || m.triangle_uvs.size() != m.triangles.size()) {
+    m.triangle_uvs.clear();
+    m.uvs.clear();
+  }
+  // Vertex colours only where every vertex has one: a partial list is no colouring.
+  if (!m.colors.empty()) {
+    m.colors.resize(m.vertices.size(), {-1.f, -1.f, -1.f});
+    if (std::any_of(m.colors.begin(), m.colors.end(), [](const auto& c) { return c[0] < 0; })) {
+      m.notes.push_back("only some vertices have a colour: vertex colours left out");
+      m.colors.clear();
+    }
+  }
+  // Materials: colours and images from the libraries beside the OBJ file.
+  std::map<std::string, MtlEntry> kd;
   const std::filesystem::path dir = std::filesystem::path(path).parent_path();
   for (const std::string& lib : libraries) {
     // Any name a file gives: too long, a symlink loop, a folder, a FIFO. None of that stops the
@@ -326,8 +404,14 @@ RawMesh parse_obj(std::string_view text, const std::string& path) {
                         "); colours from the scene");
   }
   m.materials.assign(material_names.size(), {-1.f, -1.f, -1.f});  // -1: no Kd known
-  for (size_t i = 0; i < material_names.size(); ++i)
-    if (kd.count(material_names[i])) m.materials[i] = kd[material_names[i]];
+  m.material_names = material_names;
+  m.material_textures.assign(material_names.size(), "");
+  for (size_t i = 0; i < material_names.size(); ++i) {
+    const auto it = kd.find(material_names[i]);
+    if (it == kd.end()) continue;
+    if (it->second.kd) m.materials[i] = *it->second.kd;
+    m.material_textures[i] = it->second.map_kd;
+  }
   return m;
 }
 
@@ -629,10 +713,16 @@ RawMesh parse_ply(std::string_view text, const std::string& path, std::string* k
     fail(path, 1, "not a PLY file (first line is not 'ply')");
   int format = -1;
   std::vector<PlyElement> elements;
+  std::string texture_file;
   bool ended = false;
   while (lines.next(&line)) {
     const long ln = lines.number();
     const auto t = tokens(line, 0);
+    // "comment TextureFile NAME": the image the vertices' texture coordinates index (MeshLab).
+    if (t.size() >= 3 && t[0] == "comment" && t[1] == "TextureFile") {
+      const char* b = t[2].data();
+      texture_file = std::string(b, (size_t)(t.back().data() + t.back().size() - b));
+    }
     if (t.empty() || t[0] == "comment" || t[0] == "obj_info") continue;
     if (t[0] == "end_header") {
       // Alone on its line: the body starts after its newline (a file without one has no body).
@@ -691,6 +781,8 @@ RawMesh parse_ply(std::string_view text, const std::string& path, std::string* k
     const bool is_vertex = e.name == "vertex", is_strip = e.name == "tristrips";
     const bool is_face = e.name == "face" || is_strip;
     int ix = -1, iy = -1, iz = -1, inx = -1, iny = -1, inz = -1, iface = -1;
+    int ic[3] = {-1, -1, -1}, iu = -1, iv = -1;  // colour (red green blue), texture coordinates
+    bool colour_bytes = true;                    // uchar colours (0-255) rather than floats (0-1)
     for (int i = 0; i < (int)e.props.size(); ++i) {
       const std::string& n = e.props[i].name;
       const bool scalar = !e.props[i].is_list;
@@ -702,11 +794,21 @@ RawMesh parse_ply(std::string_view text, const std::string& path, std::string* k
       if (scalar && n == "nx") inx = i;
       if (scalar && n == "ny") iny = i;
       if (scalar && n == "nz") inz = i;
+      for (int k = 0; k < 3; ++k)
+        if (scalar && (n == std::array{"red", "green", "blue"}[k] ||
+                       n == std::array{"diffuse_red", "diffuse_green", "diffuse_blue"}[k])) {
+          ic[k] = i;
+          colour_bytes = e.props[i].type != PlyType::f32 && e.props[i].type != PlyType::f64;
+        }
+      if (scalar && (n == "s" || n == "u" || n == "texture_u" || n == "texture_s")) iu = i;
+      if (scalar && (n == "t" || n == "v" || n == "texture_v" || n == "texture_t")) iv = i;
       if ((n == "vertex_indices" || n == "vertex_index") && e.props[i].is_list) iface = i;
     }
     if (is_vertex && (ix < 0 || iy < 0 || iz < 0)) fail(path, 0, "vertex element has no x, y and z");
     if (is_face && iface < 0) fail(path, 0, "face element has no vertex_indices list");
     const bool normals = is_vertex && inx >= 0 && iny >= 0 && inz >= 0;
+    const bool colours = is_vertex && ic[0] >= 0 && ic[1] >= 0 && ic[2] >= 0;
+    const bool uvs = is_vertex && iu >= 0 && iv >= 0;
     if (is_vertex) {
       if (e.count > INT_MAX) fail(path, 0, "more than 2147483647 vertices");
       nv = e.count;
@@ -760,6 +862,15 @@ RawMesh parse_ply(std::string_view text, const std::string& path, std::string* k
                "vertex " + std::to_string(k) + " has a non-finite coordinate");
         m.vertices.push_back(p);
         if (normals) m.normals.emplace_back((float)vals[inx], (float)vals[iny], (float)vals[inz]);
+        if (colours) {
+          std::array<float, 3> c;
+          for (int j = 0; j < 3; ++j) {
+            const double x = vals[ic[j]] / (colour_bytes ? 255.0 : 1.0);
+            c[j] = srgb_to_linear((float)(x >= 0 ? std::min(x, 1.0) : 0.0));  // NaN to 0
+          }
+          m.colors.push_back(c);
+        }
+        if (uvs) m.uvs.emplace_back((float)vals[iu], (float)vals[iv]);
       }
       if (is_strip) {
         // Triangle strips: every three consecutive indices make a triangle, the winding
@@ -787,6 +898,13 @@ RawMesh parse_ply(std::string_view text, const std::string& path, std::string* k
         add_polygon(m, v, {}, -1);
       }
     }
+  }
+  // A texture file makes one material, used by every face (PLY has no material per face).
+  if (!texture_file.empty() && !m.uvs.empty()) {
+    m.materials.push_back({-1.f, -1.f, -1.f});
+    m.material_names.push_back("");
+    m.material_textures.push_back(texture_file);
+    std::fill(m.triangle_material.begin(), m.triangle_material.end(), 0);
   }
   if (strip_triangles)
     m.notes.push_back("read " + std::to_string(strip_triangles) + " triangles from triangle strips" +

@@ -265,13 +265,36 @@ struct Loader {
   fs::path dir;
   fs::path assets;
   std::map<std::string, std::shared_ptr<const ImportedMesh>> meshes;  // by resolved path + scale
+  std::map<std::string, std::shared_ptr<const MeshAppearance>> textured_looks;  // by mesh key + image
+
+  // A mesh collider's `texture: IMAGE`: every face drawn with that image through the file's texture
+  // coordinates, tinted by the collider's (or body's) colour if it has one (MuJoCo's way: the mug
+  // of its model gallery is an OBJ with UVs and a PNG named in the XML). One look per mesh and
+  // image, shared by the colliders that use them.
+  std::shared_ptr<const MeshAppearance> textured(const std::shared_ptr<const MeshAppearance>& file_look,
+                                                 const std::string& mkey, const YAML::Node& n, const Ctx& c,
+                                                 const std::string& mesh_file) {
+    const std::string image = resolve(n, c, "image");
+    auto& out = textured_looks[mkey + "|" + image];
+    if (out) return out;
+    if (!file_look || file_look->corner_uv.empty())
+      c.fail(n, "mesh '" + mesh_file + "' has no texture coordinates to lay an image on");
+    auto a = std::make_shared<MeshAppearance>();
+    a->corner_uv = file_look->corner_uv;
+    a->materials.push_back({"texture", {-1.f, -1.f, -1.f}, 0});  // -1: the item's colour tints it
+    a->textures.push_back({image, nullptr, image});
+    a->triangle_material.assign(a->corner_uv.size(), 0);
+    a->varies = true;
+    out = a;
+    return out;
+  }
   // What every copy of one mesh shares, made once (a pile of a thousand copies of one file took
   // 1.8 s a copy, nearly all in building and checking its hull): the analysis at density 1 by mode
   // and thickness, and the collision hulls by hull or parts.
   std::map<std::string, MeshReport> reports;
   std::map<std::string, std::vector<std::shared_ptr<const ConvexPolyhedron>>> hulls;
 
-  std::string resolve(const YAML::Node& n, const Ctx& c) {
+  std::string resolve(const YAML::Node& n, const Ctx& c, const std::string& what = "mesh file") {
     const std::string f = text(n, c);
     std::vector<fs::path> tried;
     for (const fs::path& base : {dir, assets, fs::path(".")}) {
@@ -281,14 +304,14 @@ struct Loader {
       if (fs::is_regular_file(st)) return p.lexically_normal().string();
       if (fs::exists(st))
         c.fail(n,
-               "mesh file '" + p.lexically_normal().string() + "' is " +
+               what + " '" + p.lexically_normal().string() + "' is " +
                    (fs::is_directory(st) ? "a directory" : "not a regular file (a FIFO, socket or device)"));
       // Absolute, each once (the scene's folder, assets/ and the working folder may coincide).
       const fs::path abs = fs::absolute(p, ec).lexically_normal();
       if (std::find(tried.begin(), tried.end(), abs) == tried.end()) tried.push_back(abs);
       if (fs::path(f).is_absolute()) break;
     }
-    std::string msg = "mesh file '" + f + "' not found (looked in";
+    std::string msg = what + " '" + f + "' not found (looked in";
     for (size_t i = 0; i < tried.size(); ++i) msg += (i ? ", " : " ") + tried[i].string();
     c.fail(n, msg + ")");
   }
@@ -337,7 +360,7 @@ struct Loader {
     check_keys(n, c, {"shape",       "size",  "radius",     "height",   "radii",        "file",
                       "scale",       "mode",  "thickness",  "density",  "mass",         "position",
                       "orientation", "euler", "axis_angle", "friction", "restitution",  "collide",
-                      "group",       "mask",  "color",      "up_axis",  "hull_vertices"});
+                      "group",       "mask",  "color",      "up_axis",  "hull_vertices", "texture"});
     Collider col;
     const char* kShapes = "box, sphere, cylinder, capsule, mesh, plane or ellipsoid";
     if (!n["shape"]) c.fail(n, std::string("missing key 'shape' (") + kShapes + ")");
@@ -364,6 +387,8 @@ struct Loader {
     orientation(n, c, col.q_BC);
     if (n["up_axis"] && col.shape != ShapeKind::mesh)
       c.child("up_axis").fail(n["up_axis"], "applies to mesh colliders only");
+    if (n["texture"] && col.shape != ShapeKind::mesh)
+      c.child("texture").fail(n["texture"], "applies to mesh colliders only (the image is laid on by the file's texture coordinates)");
     if (n["hull_vertices"] && col.shape != ShapeKind::mesh)
       c.child("hull_vertices").fail(n["hull_vertices"], "applies to mesh colliders only");
     if (n["hull_vertices"] && type == BodyType::static_body)
@@ -488,7 +513,15 @@ struct Loader {
         };
         auto use_mesh = [&] {
           col.mesh = std::shared_ptr<const TriangleMesh>(meshes[mkey], &meshes[mkey]->mesh);
-          if (!n["color"]) look.color = meshes[mkey]->color;
+          const std::shared_ptr<const MeshAppearance>& file_look = meshes[mkey]->appearance;
+          if (n["texture"]) {
+            look.appearance = textured(file_look, mkey, n["texture"], c.child("texture"), file);
+            if (!n["color"]) look.color = Rgb{1, 1, 1};  // the image as it is, unless a colour tints it
+          } else if (!n["color"]) {
+            look.color = meshes[mkey]->color;
+            // Shared by every collider of this file; only when the file has more than one colour.
+            if (file_look && file_look->varies) look.appearance = file_look;
+          }
           if (!meshes[mkey]->corner_normals.empty())
             look.normals = std::shared_ptr<const std::vector<std::array<Eigen::Vector3f, 3>>>(
                 meshes[mkey], &meshes[mkey]->corner_normals);
@@ -676,6 +709,7 @@ struct Loader {
       Collider col = collider(cols[k], c.child("colliders").index(k), b.name, b.type, cl);
       // The scene's body colour wins over the file's material; the collider's own colour over both.
       if (n["color"] && !cols[k]["color"]) cl.color.reset();
+      if (n["color"] && !cols[k]["texture"]) cl.appearance.reset();
       look.colliders.push_back(cl);
       b.append_collider(std::move(col));  // composed once, when the body is done
     }
@@ -902,7 +936,7 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
   if (!bodies) top.fail(root, "missing key 'bodies' (a list of bodies)");
   if (!bodies.IsSequence() || bodies.size() == 0)
     top.child("bodies").fail(bodies, "expected a non-empty list of bodies, got " + show(bodies));
-  Loader L{s, fs::path(path).parent_path(), fs::path("assets"), {}, {}, {}};
+  Loader L{s, fs::path(path).parent_path(), fs::path("assets"), {}, {}, {}, {}};
   // Assets next to the scene's folder (scenes/../assets) as well as the working directory's.
   const fs::path up_assets = fs::path(path).parent_path().parent_path() / "assets";
   if (fs::is_directory(up_assets, ec)) L.assets = up_assets;

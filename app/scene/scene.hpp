@@ -10,6 +10,7 @@
 #include "app/scene/scene_overlays.hpp"
 #include "app/scene/scene_time.hpp"
 #include "app/scene/scene_views.hpp"
+#include "render/material.hpp"
 #include "render/render_settings.hpp"
 #include "sim/dynamics/forces.hpp"
 #include "sim/dynamics/integrators.hpp"
@@ -62,6 +63,9 @@ struct ColliderLook {
   double plane_size = 10;  ///< m, side of the square drawn for a plane collider
   /// A mesh collider's shading normals from its file (per triangle corner), if it gives them.
   std::shared_ptr<const std::vector<std::array<Eigen::Vector3f, 3>>> normals;
+  /// Its mesh file's materials, textures and vertex colours (render/material.hpp), unless a
+  /// `color` on the collider or its body overrides them.
+  std::shared_ptr<const MeshAppearance> appearance;
 };
 struct BodyLook {
   Rgb color{0.8f, 0.8f, 0.8f};          ///< the body's `color`

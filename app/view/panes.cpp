@@ -76,6 +76,7 @@ SceneFrames::SceneFrames(const Scene& scene, FrameLoop& main, const ViewOptions&
   radii_ = body_radii(main.world());
   if (!scene.views.split()) {
     view_ = std::make_unique<SceneView>(scene, main.world(), o);
+    notes_ = view_->meshes.notes;  // images that could not be decoded
     view_->settings.post = post;
     renderer_ = std::make_unique<Renderer>(view_->settings, view_->meshes);
     width_ = view_->settings.width;
@@ -122,6 +123,8 @@ SceneFrames::SceneFrames(const Scene& scene, FrameLoop& main, const ViewOptions&
     po.height = pane->rect.height;
     const World& w = pane->world ? variants_[pane->world - 1]->loop->world() : main.world();
     pane->view = std::make_unique<SceneView>(pane->scene, w, po);
+    for (const std::string& n : pane->view->meshes.notes)
+      if (std::find(notes_.begin(), notes_.end(), n) == notes_.end()) notes_.push_back(n);
     // FXAA and the text run once over the whole frame (on the video writer's thread in render).
     pane->view->settings.post = PostStage::caller;
     fxaa_ = pane->view->settings.fxaa();

@@ -56,7 +56,8 @@ class SceneFrames {
   bool shows_nothing(const World& main) const;
   // Every world drawn, main first, then the variants in order (check compares all their states).
   std::vector<const World*> worlds() const;
-  const std::vector<std::string>& notes() const { return notes_; }  ///< the variants' notes
+  /// The variants' notes and the images that could not be decoded (SceneMeshes::notes).
+  const std::vector<std::string>& notes() const { return notes_; }
 
  private:
   struct Variant;

@@ -16,7 +16,8 @@ SceneStyles styles_of(const Scene& scene) {
     const BodyLook& L = scene.looks[i];
     for (size_t k = 0; k < L.colliders.size(); ++k)
       out[i].push_back(
-          {L.collider_color(k), L.drawn, L.colliders[k].plane_size, L.colliders[k].normals.get()});
+          {L.collider_color(k), L.drawn, L.colliders[k].plane_size, L.colliders[k].normals.get(),
+           L.colliders[k].appearance.get()});
   }
   return out;
 }

@@ -479,9 +479,19 @@ TEST(MeshImport, AssimpCrashesAndHangsAreContained) {
   m.triangles = {{0, 1, 2}};
   m.triangle_material = {0};
   m.materials = {{0.5f, 0.25f, 1.f}};
+  m.material_names = {"paint"};
+  m.material_textures = {"*0"};
+  m.embedded = {std::string("\x89PNG\0\x01", 6)};
+  m.uvs = {Eigen::Vector2f(0, 0), Eigen::Vector2f(1, 0), Eigen::Vector2f(0, 1)};
+  m.colors = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
   m.points_and_lines = 3;
   m.notes = {"a note", ""};
   const detail::RawMesh r = detail::contained_read("x.glb", "assimp", [&] { return m; });
+  EXPECT_EQ(r.material_names, m.material_names);
+  EXPECT_EQ(r.material_textures, m.material_textures);
+  EXPECT_EQ(r.embedded, m.embedded);
+  EXPECT_EQ(r.uvs, m.uvs);
+  EXPECT_EQ(r.colors, m.colors);
   EXPECT_EQ(r.vertices, m.vertices);
   EXPECT_EQ(r.normals, m.normals);
   EXPECT_EQ(r.triangles, m.triangles);
@@ -509,6 +519,14 @@ TEST(MeshImport, ContainedReplyIsCheckedNotTrusted) {
   bad.triangles = {{0, 1, 3}};
   EXPECT_THROW(detail::decode_mesh(detail::encode_mesh(bad), "x", "assimp"), InputError);
   EXPECT_THROW(detail::decode_mesh(good + "x", "x", "assimp"), InputError);
+  // Texture coordinates per corner index the list they come with; names go with materials.
+  bad = m;
+  bad.uvs = {Eigen::Vector2f(0, 0)};
+  bad.triangle_uvs = {{0, 0, 1}};
+  EXPECT_THROW(detail::decode_mesh(detail::encode_mesh(bad), "x", "assimp"), InputError);
+  bad = m;
+  bad.material_names = {"a", "b"};
+  EXPECT_THROW(detail::decode_mesh(detail::encode_mesh(bad), "x", "assimp"), InputError);
 }
 
 // Items 2 and 4: header claims are never trusted for memory, and counts never overflow.
