@@ -56,7 +56,8 @@ SceneMeshes::SceneMeshes(const World& w, const SceneStyles& styles, size_t budge
     const std::vector<Collider>& cols = w.def(i).colliders;
     for (size_t k = 0; k < cols.size(); ++k) {
       const ColliderStyle st = style(i, k);
-      if (st.drawn && index.try_emplace(render_mesh_key(cols[k], st.plane_size, st.normals, st.look), -1).second)
+      if (st.drawn &&
+          index.try_emplace(render_mesh_key(cols[k], st.plane_size, st.normals, st.look), -1).second)
         need += render_mesh_bytes(cols[k], st.look != nullptr);
     }
   }
@@ -110,7 +111,8 @@ SceneMeshes::SceneMeshes(const World& w, const SceneStyles& styles, size_t budge
       if (m < 0) {
         m = (int)meshes.size();
         meshes.push_back(tessellate_collider(cols[k], st.plane_size, st.normals));
-        if (st.look && cols[k].shape == ShapeKind::mesh) apply_appearance(meshes.back(), *st.look, slots(*st.look));
+        if (st.look && cols[k].shape == ShapeKind::mesh)
+          apply_appearance(meshes.back(), *st.look, slots(*st.look));
         bytes += meshes.back().bytes();
       }
       mesh_of[i].push_back(m);

@@ -7,12 +7,12 @@
 #include <array>
 #include <vector>
 
+#include <simreel/world.hpp>
 #include "render/camera.hpp"
 #include "render/image.hpp"
 #include "render/overlay.hpp"
 #include "render/screen.hpp"
 #include "render/tessellate.hpp"
-#include <simreel/world.hpp>
 
 namespace simreel {
 
@@ -56,8 +56,8 @@ struct SceneMeshes {
   std::vector<std::vector<int>> mesh_of;  ///< per body, per collider: its mesh, -1 if not drawn
   std::vector<std::vector<std::array<float, 3>>> color_of;  ///< per body, per collider: linear RGB
   size_t bytes = 0;                                         ///< vertex and index data of `meshes`
-  std::vector<TextureImage> textures;     ///< decoded once per distinct image (RenderMesh::Part::texture)
-  std::vector<std::string> notes;  ///< images that could not be decoded, and what was drawn instead
+  std::vector<TextureImage> textures;  ///< decoded once per distinct image (RenderMesh::Part::texture)
+  std::vector<std::string> notes;      ///< images that could not be decoded, and what was drawn instead
   // Bodies or colliders that `styles` does not reach get ColliderStyle{} (drawn, light grey).
   // `budget`: bytes this process may still allocate (default: available_memory()); the meshes
   // are held twice (here and in the GL, whose llvmpipe crashes with SIGSEGV when an upload finds

@@ -39,10 +39,13 @@ AVCodecID codec_of(std::string_view b, const std::string& name, const char** for
     const char* format;
   };
   static const Sig sigs[] = {
-      {"\x89PNG\r\n\x1a\n", 8, 0, AV_CODEC_ID_PNG, "PNG"}, {"\xff\xd8\xff", 3, 0, AV_CODEC_ID_MJPEG, "JPEG"},
-      {"GIF87a", 6, 0, AV_CODEC_ID_GIF, "GIF"},            {"GIF89a", 6, 0, AV_CODEC_ID_GIF, "GIF"},
-      {"BM", 2, 0, AV_CODEC_ID_BMP, "BMP"},                {"WEBP", 4, 8, AV_CODEC_ID_WEBP, "WebP"},
-      {"II*\0", 4, 0, AV_CODEC_ID_TIFF, "TIFF"},           {"MM\0*", 4, 0, AV_CODEC_ID_TIFF, "TIFF"},
+      {"\x89PNG\r\n\x1a\n", 8, 0, AV_CODEC_ID_PNG, "PNG"},
+      {"\xff\xd8\xff", 3, 0, AV_CODEC_ID_MJPEG, "JPEG"},
+      {"GIF87a", 6, 0, AV_CODEC_ID_GIF, "GIF"},
+      {"GIF89a", 6, 0, AV_CODEC_ID_GIF, "GIF"},
+      {"BM", 2, 0, AV_CODEC_ID_BMP, "BMP"},
+      {"WEBP", 4, 8, AV_CODEC_ID_WEBP, "WebP"},
+
   };
   for (const Sig& s : sigs)
     if (starts(s.bytes, s.n, s.at) && (s.id != AV_CODEC_ID_WEBP || starts("RIFF", 4))) {
@@ -85,7 +88,7 @@ TextureImage decode_image(std::string_view bytes, const std::string& name) {
       std::snprintf(h, sizeof h, "%02x", (unsigned)(uint8_t)bytes[i]);
       head += h;
     }
-    fail(name, "not an image simreel reads (PNG, JPEG, GIF, BMP, WebP, TIFF, TGA); it starts with bytes " +
+    fail(name, "not an image simreel reads (PNG, JPEG, GIF, BMP, WebP, TGA); it starts with bytes " +
                    (head.empty() ? std::string("(none: the file is empty)") : head));
   }
   const AVCodec* codec = avcodec_find_decoder(id);
@@ -117,7 +120,8 @@ TextureImage decode_image(std::string_view bytes, const std::string& name) {
   x.c->thread_count = 1;
   x.c->flags |= AV_CODEC_FLAG_BITEXACT;
   x.c->err_recognition = AV_EF_EXPLODE;  // a broken stream is an error, not a concealed picture
-  if (avcodec_open2(x.c, codec, nullptr) < 0) fail(name, std::string("cannot open the ") + format + " decoder");
+  if (avcodec_open2(x.c, codec, nullptr) < 0)
+    fail(name, std::string("cannot open the ") + format + " decoder");
   // The packet: the whole file, with the zero padding FFmpeg's bit readers may read into.
   if (bytes.size() > (size_t)INT32_MAX - AV_INPUT_BUFFER_PADDING_SIZE) fail(name, "too large");
   if (av_new_packet(x.p, (int)bytes.size()) < 0) throw std::bad_alloc();

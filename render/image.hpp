@@ -1,6 +1,6 @@
 // Base-colour images for textures: decoded by FFmpeg's image decoders (libavcodec), which simreel
 // links for video already and which OSS-Fuzz fuzzes, so no further image library is needed.
-// Formats: PNG, JPEG, GIF (its first frame), BMP, WebP, TIFF, TGA (by name: it has no signature)
+// Formats: PNG, JPEG, GIF (its first frame), BMP, WebP, TGA (by name: it has no signature)
 // and the raw RGBA of render/material.hpp. Decoding is bit-exact (AV_CODEC_FLAG_BITEXACT and
 // swscale's bit-exact conversion), so a texture gives the same texels on every machine.
 #pragma once

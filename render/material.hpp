@@ -21,9 +21,9 @@ namespace simreel {
 
 // Where a base-colour image comes from: a file beside the mesh, or bytes embedded in it (a glb).
 struct TextureSource {
-  std::string file;                           ///< resolved path, or "" when embedded
-  std::shared_ptr<const std::string> bytes;   ///< an embedded image's encoded bytes (PNG, JPEG...)
-  std::string name;                           ///< as the mesh file names it, for messages
+  std::string file;                          ///< resolved path, or "" when embedded
+  std::shared_ptr<const std::string> bytes;  ///< an embedded image's encoded bytes (PNG, JPEG...)
+  std::string name;                          ///< as the mesh file names it, for messages
 };
 
 struct SurfaceMaterial {

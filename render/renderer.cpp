@@ -54,7 +54,8 @@ GpuMesh upload(const RenderMesh& m) {
   if (!m.extras.empty()) {  // r g b a u v per vertex (render/tessellate.hpp)
     glGenBuffers(1, &g.xbo);
     glBindBuffer(GL_ARRAY_BUFFER, g.xbo);
-    glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(m.extras.size() * sizeof(float)), m.extras.data(), GL_STATIC_DRAW);
+    glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(m.extras.size() * sizeof(float)), m.extras.data(),
+                 GL_STATIC_DRAW);
     glEnableVertexAttribArray(3);
     glVertexAttribPointer(3, 4, GL_FLOAT, GL_FALSE, 6 * sizeof(float), (void*)0);
     glEnableVertexAttribArray(4);
@@ -77,14 +78,32 @@ GpuMesh upload(const RenderMesh& m) {
   return g;
 }
 
+// An image as an sRGB texture (sampled in linear light), mipmapped and repeating.
+GLuint upload_texture(const TextureImage& im) {
+  GLuint t = 0;
+  glGenTextures(1, &t);
+  glBindTexture(GL_TEXTURE_2D, t);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_SRGB8_ALPHA8, im.width, im.height, 0, GL_RGBA, GL_UNSIGNED_BYTE,
+               im.rgba.data());
+  glGenerateMipmap(GL_TEXTURE_2D);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
+  glBindTexture(GL_TEXTURE_2D, 0);
+  return t;
+}
+
 // One specialisation of the lit program (render/shaders.hpp) and its uniform locations.
 struct LitProgram {
   GLuint id = 0;
   GLint model = -1, viewproj = -1, lightvp = -1, color = -1, light_dir = -1, eye = -1, shadows = -1,
-        tile = -1, bias = -1, map = -1, batched = -1, items = -1, albedo = -1;
+        tile = -1, bias = -1, map = -1, batched = -1, items = -1, albedo = -1, color2 = -1, ground_tex = -1,
+        ground_tex_size = -1;
 
-  void create(LitKind kind) {
-    id = link_program(lit_vertex_shader(kind).c_str(), lit_fragment_shader(kind).c_str());
+  void create(LitKind kind, bool soft = false) {
+    id = link_program(lit_vertex_shader(kind).c_str(), lit_fragment_shader(kind, soft).c_str());
     model = glGetUniformLocation(id, "u_model");
     viewproj = glGetUniformLocation(id, "u_viewproj");
     lightvp = glGetUniformLocation(id, "u_lightvp");
@@ -98,9 +117,13 @@ struct LitProgram {
     batched = glGetUniformLocation(id, "u_batched");
     items = glGetUniformLocation(id, "u_items");
     albedo = glGetUniformLocation(id, "u_albedo");
+    color2 = glGetUniformLocation(id, "u_color2");
+    ground_tex = glGetUniformLocation(id, "u_ground_tex");
+    ground_tex_size = glGetUniformLocation(id, "u_ground_tex_size");
     glUseProgram(id);
-    glUniform1i(albedo, 2);  // texture unit 2
-    glUniform1i(items, 1);  // texture unit 1
+    glUniform1i(albedo, 2);      // texture unit 2
+    glUniform1i(ground_tex, 3);  // texture unit 3
+    glUniform1i(items, 1);       // texture unit 1
     glUniform1i(batched, 0);
     glUniform1i(map, 0);  // texture unit 0
   }
@@ -117,6 +140,9 @@ struct Renderer::Impl {
   // base-colour images (SceneMeshes::textures) and a white texel for parts without one.
   LitProgram mat_prog, mat_flat_prog;
   bool any_material = false;
+  bool soft = false;  // render.quality: high with shadows: soft shadows from the map everywhere
+  GLuint sky_prog = 0, sky_vao = 0, ground_tex = 0;
+  GLint sky_dirs = -1, sky_horizon = -1, sky_zenith = -1;
   std::vector<GLuint> textures;
   GLuint white_tex = 0;
   GLuint depth = 0;
@@ -145,7 +171,8 @@ struct Renderer::Impl {
   // Shadows on the ground: the bodies flattened onto it along the light (ground_shadows).
   struct GroundShadowProgram {
     GLuint id = 0;
-    GLint viewproj = -1, light_dir = -1, ground_z = -1, half = -1, tile = -1, shade = -1, items = -1;
+    GLint viewproj = -1, light_dir = -1, ground_z = -1, half = -1, tile = -1, shade = -1, items = -1,
+          tex = -1, tex_size = -1, fill = -1;
   } gs;
   GLuint msaa_fbo = 0, msaa_color = 0, msaa_depth = 0;
   GLuint frame_fbo = 0, frame_color = 0, frame_depth = 0;  // single-sample, read back
@@ -189,9 +216,7 @@ struct Renderer::Impl {
   void setup_targets() {
     make_target(frame_fbo, frame_color, frame_depth, 0, msaa <= 1);
     if (msaa > 1) make_target(msaa_fbo, msaa_color, msaa_depth, msaa, true);
-    if (s.ground && s.cache_ground) {
-      make_target(cache_fbo, cache_color, cache_depth, msaa > 1 ? msaa : 0, true);
-    }
+    if (s.cache_ground) make_target(cache_fbo, cache_color, cache_depth, msaa > 1 ? msaa : 0, true);
     frame.resize((size_t)s.width * s.height * 4);
     if (s.shadows) {
       glGenTextures(1, &shadow_tex);
@@ -231,7 +256,50 @@ struct Renderer::Impl {
   }
   M4 light_viewproj(const DrawList& dl) const {
     const float r = light_radius(dl);
-    return ortho(r, 0.0f, 2 * r + 1.0f) * light_view(dl);
+    float far = 2 * r + 1.0f;
+    if (soft && s.ground) {  // deep enough to reach the ground under the bodies' cylinder of light
+      const float eye_z = (float)dl.bounds_center.z() + light_dir.z() * (r + 1.0f);
+      far = std::max(far, (eye_z - (float)s.ground_height) / light_dir.z() + 2 * r);
+    }
+    return ortho(r, 0.0f, far) * light_view(dl);
+  }
+  float ground_texture_size() const {
+    return (float)(s.ground_texture_size > 0 ? s.ground_texture_size : 2 * s.ground_tile);
+  }
+
+  // The sky behind everything: a triangle covering the frame, its corners' view rays (linear in
+  // the pixel position) from the inverse projection; no depth.
+  void sky_pass(const M4& vp, const V3f& eye) {
+    if (!s.sky_gradient) return;  // the clear colour is the sky
+    const M4 inv = vp.inverse();
+    float dirs[9];
+    const float corners[3][2] = {{-1, -1}, {3, -1}, {-1, 3}};
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector4f p = inv * Eigen::Vector4f(corners[k][0], corners[k][1], 1, 1);
+      const V3f d = p.head<3>() / p.w() - eye;
+      dirs[3 * k] = d.x(), dirs[3 * k + 1] = d.y(), dirs[3 * k + 2] = d.z();
+    }
+    glUseProgram(sky_prog);
+    glUniform3fv(sky_dirs, 3, dirs);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);  // its winding is counter-clockwise; the bodies' front faces are clockwise
+    glDepthMask(GL_FALSE);
+    glBindVertexArray(sky_vao);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glBindVertexArray(0);
+    glDepthMask(GL_TRUE);
+    glEnable(GL_CULL_FACE);
+    glEnable(GL_DEPTH_TEST);
+  }
+  void setup_sky() {
+    sky_prog = link_program(sky_vertex_shader(), sky_fragment_shader().c_str());
+    sky_dirs = glGetUniformLocation(sky_prog, "u_dirs");
+    glUseProgram(sky_prog);
+    glUniform3f(glGetUniformLocation(sky_prog, "u_horizon"), s.horizon[0], s.horizon[1], s.horizon[2]);
+    glUniform3f(glGetUniformLocation(sky_prog, "u_zenith"), s.background[0], s.background[1],
+                s.background[2]);
+    glGenVertexArrays(1, &sky_vao);
+    glUseProgram(0);
   }
 
   bool poses_unchanged(const DrawList& dl, const M4& lvp) const {
@@ -317,7 +385,7 @@ struct Renderer::Impl {
     role.assign(n, 0);
     if (!s.shadows) return;
     auto all_both = [&] { std::fill(role.begin(), role.end(), kOccluder | kReceiver); };
-    if (n > 2048) return all_both();
+    if (n > 2048 || soft) return all_both();  // soft: every body shadows the ground through the map
     const M4 view = light_view(dl);
     const float margin = 2 * 2 * light_radius(dl) / (float)s.shadow_size;  // m: two texels
     box_lo.resize(n);
@@ -448,14 +516,18 @@ struct Renderer::Impl {
   }
 
   void setup_ground_shadows() {
-    gs.id = link_program(ground_shadow_vertex_shader(), ground_shadow_fragment_shader());
+    gs.id =
+        link_program(ground_shadow_vertex_shader(), ground_shadow_fragment_shader(ground_tex != 0).c_str());
     for (auto [loc, name] : {std::pair{&gs.viewproj, "u_viewproj"},
                              {&gs.light_dir, "u_light_dir"},
                              {&gs.ground_z, "u_ground_z"},
                              {&gs.half, "u_half"},
                              {&gs.tile, "u_tile"},
                              {&gs.shade, "u_shade"},
-                             {&gs.items, "u_items"}})
+                             {&gs.items, "u_items"},
+                             {&gs.tex, "u_ground_tex"},
+                             {&gs.tex_size, "u_ground_tex_size"},
+                             {&gs.fill, "u_fill"}})
       *loc = glGetUniformLocation(gs.id, name);
     glUseProgram(gs.id);
     glUniform1i(gs.items, 1);  // texture unit 1
@@ -463,8 +535,11 @@ struct Renderer::Impl {
     glUniform1f(gs.ground_z, (float)s.ground_height);
     glUniform1f(gs.half, (float)(s.ground_size / 2));
     glUniform1f(gs.tile, (float)s.ground_tile);
-    const std::array<float, 3> even = ground_shadow_color(s.ground_color, false),
-                               odd = ground_shadow_color(s.ground_color, true);
+    glUniform1i(gs.tex, 3);  // texture unit 3
+    glUniform1f(gs.tex_size, ground_texture_size());
+    glUniform3f(gs.fill, kFillSky[0], kFillSky[1], kFillSky[2]);
+    const std::array<float, 3> even = ground_shadow_color(s.ground_color),
+                               odd = ground_shadow_color(s.ground_color2);
     const float shade[6] = {even[0], even[1], even[2], odd[0], odd[1], odd[2]};
     glUniform3fv(gs.shade, 2, shade);
     glUseProgram(0);
@@ -545,8 +620,8 @@ struct Renderer::Impl {
   void bodies_pass(const DrawList& dl, const View& v, const M4& lvp) {
     const GLuint target = msaa > 1 ? msaa_fbo : frame_fbo;
     glViewport(0, 0, s.width, s.height);
-    const auto g = [](float c) { return std::pow(c, 1.0f / 2.2f); };
-    glClearColor(g(s.background[0]), g(s.background[1]), g(s.background[2]), 1.0f);
+    const std::array<float, 3>& clear = s.sky_gradient ? s.horizon : s.background;
+    glClearColor(srgb_encode(clear[0]), srgb_encode(clear[1]), srgb_encode(clear[2]), 1.0f);
     const M4& vp = v.vp;
     const V3f& eye = v.eye;
     const M4& ground = v.ground;
@@ -564,6 +639,8 @@ struct Renderer::Impl {
       glUniform1f(lp->bias, 0.0015f);
       glUniform1i(lp->shadows, s.shadows ? 1 : 0);
     }
+    glActiveTexture(GL_TEXTURE3);
+    glBindTexture(GL_TEXTURE_2D, ground_tex);
     glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_2D, shadow_tex);
 
@@ -577,12 +654,15 @@ struct Renderer::Impl {
     // so up front (RenderSettings::cache_ground false), and the ground is drawn directly then. The
     // choice is a setting, never a guess from earlier frames, so every frame is drawn the same way
     // whichever frames came before it; the cache's content depends only on the projection.
-    const bool cached = s.ground && s.cache_ground;
+    // The cache holds the sky, and the ground unless its shadows come from the map (soft).
+    const bool cached = s.cache_ground;
+    const bool ground_in_cache = s.ground && !soft;
     if (cached) {
       if (!cache_valid || vp != cache_vp || ground != cache_ground) {
         glBindFramebuffer(GL_FRAMEBUFFER, cache_fbo);
         glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-        draw(ground_prog, this->ground, ground, s.ground_color);
+        sky_pass(vp, eye);
+        if (ground_in_cache) draw(ground_prog, this->ground, ground, s.ground_color);
         cache_vp = vp;
         cache_ground = ground;
         cache_valid = true;
@@ -595,8 +675,8 @@ struct Renderer::Impl {
     // plane, or a body reaching under it. Otherwise (the usual case) the cache's colour is enough,
     // and the shadows need no depth offset against the ground's own depth (on llvmpipe the
     // polygon offset and the depth copy cost ~1.5 ms a 720p frame).
-    bool ground_depth = !cached || eye.z() <= (float)s.ground_height;
-    for (size_t i = 0; i < dl.items.size() && !ground_depth; ++i)
+    bool ground_depth = s.ground && (!cached || eye.z() <= (float)s.ground_height);
+    for (size_t i = 0; s.ground && i < dl.items.size() && !ground_depth; ++i)
       ground_depth = dl.items[i].model(2, 3) - meshes[dl.items[i].mesh].reach < (float)s.ground_height;
     if (cached) {
       glBindFramebuffer(GL_READ_FRAMEBUFFER, cache_fbo);
@@ -607,15 +687,17 @@ struct Renderer::Impl {
     glBindFramebuffer(GL_FRAMEBUFFER, target);
     if (!cached) {
       glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+      sky_pass(vp, eye);
       if (s.ground) draw(ground_prog, this->ground, ground, s.ground_color);
     } else if (!ground_depth) {
       glClear(GL_DEPTH_BUFFER_BIT);
     }
+    if (cached && s.ground && !ground_in_cache) draw(ground_prog, this->ground, ground, s.ground_color);
     // Shadows on the ground, unless the camera is below it: its underside faces away from the
     // light (no key light, no specular), so a shadow there changes nothing. Over the ground's depth
     // they go first and write no depth, so the bodies then meet the ground's own depth exactly as
     // without shadows; without it they go last, where the bodies hide part of them.
-    const bool shadows_on_ground = s.ground && s.shadows && eye.z() > (float)s.ground_height;
+    const bool shadows_on_ground = s.ground && s.shadows && !soft && eye.z() > (float)s.ground_height;
     if (shadows_on_ground && ground_depth) ground_shadows(vp, true);
     const Meshes plain = any_material ? Meshes::plain : Meshes::any;
     glUseProgram(body_prog.id);
@@ -649,24 +731,11 @@ struct Renderer::Impl {
   // Base-colour images as sRGB textures (sampled in linear light), mipmapped and repeating;
   // larger than the GL takes, halved until they fit (render/image.hpp, shrink_image).
   void setup_textures(const SceneMeshes& sm) {
-    mat_prog.create(LitKind::body_material);
-    mat_flat_prog.create(LitKind::body_material_unshadowed);
+    mat_prog.create(LitKind::body_material, soft);
+    mat_flat_prog.create(LitKind::body_material_unshadowed, soft);
     GLint max_side = 4096;
     glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_side);
-    auto make = [&](const TextureImage& im) {
-      GLuint t = 0;
-      glGenTextures(1, &t);
-      glBindTexture(GL_TEXTURE_2D, t);
-      glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-      glTexImage2D(GL_TEXTURE_2D, 0, GL_SRGB8_ALPHA8, im.width, im.height, 0, GL_RGBA, GL_UNSIGNED_BYTE,
-                   im.rgba.data());
-      glGenerateMipmap(GL_TEXTURE_2D);
-      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
-      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
-      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
-      return t;
-    };
+    auto make = [](const TextureImage& im) { return upload_texture(im); };
     for (const TextureImage& im : sm.textures) {
       if (im.width > max_side || im.height > max_side) {
         TextureImage small = im;
@@ -862,9 +931,21 @@ Renderer::Renderer(const RenderSettings& s, const SceneMeshes& sm) : p_(std::mak
   GLint max_samples = 1;
   glGetIntegerv(GL_MAX_SAMPLES, &max_samples);
   P.msaa = std::max(1, std::min(s.msaa(), (int)max_samples));
-  P.body_prog.create(LitKind::body);
-  P.body_flat_prog.create(LitKind::body_unshadowed);
-  P.ground_prog.create(LitKind::ground);
+  P.soft = s.quality == RenderQuality::high && s.shadows;
+  P.body_prog.create(LitKind::body, P.soft);
+  P.body_flat_prog.create(LitKind::body_unshadowed, P.soft);
+  if (!s.ground_texture.empty()) {  // an unreadable image is the scene's error: it says which
+    TextureImage im = read_image(s.ground_texture);
+    GLint max_side = 4096;
+    glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_side);
+    shrink_image(im, max_side);
+    P.ground_tex = upload_texture(im);
+  }
+  P.ground_prog.create(P.ground_tex ? LitKind::ground_textured : LitKind::ground, P.soft);
+  glUseProgram(P.ground_prog.id);
+  glUniform3f(P.ground_prog.color2, s.ground_color2[0], s.ground_color2[1], s.ground_color2[2]);
+  glUniform1f(P.ground_prog.ground_tex_size, P.ground_texture_size());
+  P.setup_sky();
   P.depth = link_program(depth_vertex_shader(), depth_fragment_shader());
   P.u_mvp = glGetUniformLocation(P.depth, "u_mvp");
   P.d_batched = glGetUniformLocation(P.depth, "u_batched");

@@ -30,7 +30,6 @@ struct RenderSettings : RenderLook {
   int width = kDefaultWidth, height = kDefaultHeight;  ///< px
   int shadow_size =
       1024;  ///< px, square shadow map over the fitted frustum (2048 costs ~1 ms more a 720p frame)
-  std::array<float, 3> ground_color{0.62f, 0.62f, 0.58f};  ///< linear RGB
   /// Draw the unshadowed ground once per projection and copy it into each frame (see
   /// Renderer::render); false for a camera that moves every frame (one that follows a body).
   bool cache_ground = true;

@@ -10,9 +10,10 @@
 
 namespace simreel {
 
-float gamma_encode(float x) {
-  const float c = std::fmin(std::fmax(x, 0.0f), 1.0f), s = std::sqrt(c), q = std::sqrt(s);
-  return kGammaFit[0] * s + kGammaFit[1] * q + c * (kGammaFit[2] + kGammaFit[3] * q);
+float srgb_encode(float x) {
+  const float c = std::fmin(std::fmax(x, 0.0f), 1.0f), s = std::sqrt(c), q = std::sqrt(s), e = std::sqrt(q);
+  if (c <= 0.0031308f) return 12.92f * c;
+  return kSrgbFit[0] * s + kSrgbFit[1] * q + kSrgbFit[4] * e + c * (kSrgbFit[2] + kSrgbFit[3] * q);
 }
 
 namespace {
@@ -66,8 +67,9 @@ void main() {
 )";
 
 // Key light: Blinn-Phong, shadowed with one bilinear depth-compare tap (edges soft over a texel); fill: a
-// hemisphere ambient from ground bounce to sky. Lighting is done in linear RGB, then gamma 2.2.
-// GROUND, SHADOWED (1 or 0) and kGamma are defined above this text by lit_fragment_shader().
+// hemisphere ambient from ground bounce to sky. Lighting is done in linear RGB, then sRGB-encoded.
+// GROUND, SHADOWED, MATERIAL (1 or 0) and srgb_encode() are defined above this text by
+// lit_fragment_shader().
 const char* kLitFS = R"(
 in vec3 v_pos;
 in vec3 v_nrm;
@@ -78,28 +80,42 @@ in vec4 v_tint;
 in vec2 v_uv;
 uniform sampler2D u_albedo;  // sRGB texture: sampled in linear light, mipmapped
 #endif
+#if GROUND
+uniform vec3 u_color2;  // the checker's odd tiles
+#endif
+#if GROUND_TEXTURE
+uniform sampler2D u_ground_tex;  // sRGB, repeating every u_ground_tex_size m
+uniform float u_ground_tex_size;
+#endif
 uniform vec3 u_light_dir, u_eye;
 uniform int u_shadows;
 uniform float u_tile, u_bias;
 uniform sampler2DShadow u_shadow_map;
 out vec4 o_color;
 float lit_fraction() {
-#if GROUND || !SHADOWED
-  // The ground's shadows are the bodies projected onto it (kGroundShadowVS); a convex body no other
-  // body can shadow is never in shadow where it faces the light.
+#if !SHADOWED
+  // The ground's shadows are the bodies projected onto it (kGroundShadowVS) unless they are soft;
+  // a convex body no other body can shadow is never in shadow where it faces the light.
   return 1.0;
 #else
   if (u_shadows == 0 || v_lpos.z > 1.0) return 1.0;
+#if SOFT
+  // render.quality: high: a 4 x 4 grid of bilinear taps one texel apart (64 depth tests), a
+  // penumbra about four texels wide.
+  vec2 texel = 1.0 / vec2(textureSize(u_shadow_map, 0));
+  float sum = 0.0;
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j)
+      sum += texture(u_shadow_map, vec3(v_lpos.xy + (vec2(i, j) - 1.5) * texel, v_lpos.z - u_bias));
+  return sum / 16.0;
+#endif
   // One bilinear comparison tap: 4 depth tests, weighted. Two taps half a texel apart along the
   // diagonal (8 tests, a little softer) cost 0.4 s more CPU on the 100-box benchmark's 300
   // frames, and looked the same on the pile (bench/README.md).
   return texture(u_shadow_map, vec3(v_lpos.xy, v_lpos.z - u_bias));
 #endif
 }
-vec3 gamma_encode(vec3 x) {  // x^(1/2.2), see render/shaders.hpp
-  vec3 c = clamp(x, 0.0, 1.0), s = sqrt(c), q = sqrt(s);
-  return kGamma.x * s + kGamma.y * q + c * (kGamma.z + kGamma.w * q);
-}
+
 void main() {
   vec3 base = v_color;
 #if MATERIAL
@@ -107,8 +123,12 @@ void main() {
 #endif
 #if GROUND
   vec3 n = vec3(0.0, 0.0, gl_FrontFacing ? 1.0 : -1.0);
+#if GROUND_TEXTURE
+  base = texture(u_ground_tex, vec2(v_pos.x, -v_pos.y) / u_ground_tex_size).rgb;
+#else
   ivec2 c = ivec2(floor(v_pos.xy / u_tile));
-  if (((c.x + c.y) & 1) == 1) base *= kChecker;
+  if (((c.x + c.y) & 1) == 1) base = u_color2;
+#endif
 #else
   vec3 n = normalize(v_nrm);
   if (!gl_FrontFacing) n = -n;
@@ -122,7 +142,7 @@ void main() {
   float sh = lit_fraction();
   vec3 fill = mix(vec3(0.16, 0.15, 0.14), kSky, 0.5 + 0.5 * n.z);
   vec3 lin = base * (fill + 1.15 * ndl * sh * vec3(1.0, 0.97, 0.92)) + spec * sh;
-  o_color = vec4(gamma_encode(lin), 1.0);
+  o_color = vec4(srgb_encode(lin), 1.0);
 }
 )";
 
@@ -159,14 +179,52 @@ void main() {
   gl_Position = u_viewproj * vec4(p, u_ground_z, 1.0);
 }
 )";
-const char* kGroundShadowFS = R"(#version 330 core
+// TEXTURED and srgb_encode() are defined above this text by ground_shadow_fragment_shader(): a
+// textured ground's shadow is its texel times the ambient fill (u_fill), as the lit ground's.
+const char* kGroundShadowFS = R"(
 in vec2 v_xy;
 uniform float u_tile;
 uniform vec3 u_shade[2];
+#if TEXTURED
+uniform sampler2D u_ground_tex;
+uniform float u_ground_tex_size;
+uniform vec3 u_fill;
+#endif
 out vec4 o_color;
 void main() {
+#if TEXTURED
+  o_color = vec4(srgb_encode(texture(u_ground_tex, vec2(v_xy.x, -v_xy.y) / u_ground_tex_size).rgb * u_fill), 1.0);
+#else
   ivec2 c = ivec2(floor(v_xy / u_tile));
   o_color = vec4(u_shade[(c.x + c.y) & 1], 1.0);
+#endif
+}
+)";
+
+// The sky: a full-frame triangle behind everything, coloured by the elevation e of the view ray
+// through each pixel: the horizon colour at e = 0, the zenith colour from 30 degrees up, and below
+// the horizon (seen where no ground is drawn, or past its edge) a backdrop darkening to 0.7x the
+// horizon colour 30 degrees down; in between t (2 - t) of t = 2|sin e| (ease-out: no crease at the
+// horizon). The ray's direction is linear in the pixel's position for a perspective camera, so
+// it is interpolated from the triangle's corners (u_dirs, made on the CPU) and only normalised per
+// pixel.
+const char* kSkyVS = R"(#version 330 core
+uniform vec3 u_dirs[3];
+out vec3 v_dir;
+void main() {
+  vec2 p = vec2(gl_VertexID == 1 ? 3.0 : -1.0, gl_VertexID == 2 ? 3.0 : -1.0);
+  v_dir = u_dirs[gl_VertexID];
+  gl_Position = vec4(p, 1.0, 1.0);
+}
+)";
+const char* kSkyFS = R"(
+in vec3 v_dir;
+uniform vec3 u_horizon, u_zenith;
+out vec4 o_color;
+void main() {
+  float e = normalize(v_dir).z, a = min(2.0 * abs(e), 1.0), t = a * (2.0 - a);
+  vec3 end = e >= 0.0 ? u_zenith : 0.7 * u_horizon;
+  o_color = vec4(srgb_encode(mix(u_horizon, end, t)), 1.0);
 }
 )";
 
@@ -243,7 +301,7 @@ void main() {
   gl_Position = u_viewproj * vec4(a_pos, 1.0);
 }
 )";
-// RIBBON (1 or 0) and kGamma are defined above this text by overlay_fragment_shader().
+// RIBBON (1 or 0) and srgb_encode() are defined above this text by overlay_fragment_shader().
 const char* kOverlayFS = R"(
 in vec3 v_pos;
 in vec3 v_nrm;
@@ -255,10 +313,7 @@ in vec4 v_rgba;
 uniform vec3 u_eye;
 uniform int u_xray;
 out vec4 o_color;
-vec3 gamma_encode(vec3 x) {  // x^(1/2.2), see render/shaders.hpp
-  vec3 c = clamp(x, 0.0, 1.0), s = sqrt(c), q = sqrt(s);
-  return kGamma.x * s + kGamma.y * q + c * (kGamma.z + kGamma.w * q);
-}
+
 void main() {
   float alpha = 1.0;
   if (u_xray == 1) {
@@ -272,7 +327,7 @@ void main() {
   float facing = abs(dot(n, normalize(u_eye - v_pos)));
   vec4 c = vec4(v_color.rgb * (0.62 + 0.38 * facing), v_color.a);
 #endif
-  o_color = vec4(gamma_encode(c.rgb), c.a * alpha);
+  o_color = vec4(srgb_encode(c.rgb), c.a * alpha);
 }
 )";
 
@@ -309,42 +364,61 @@ const char* depth_fragment_shader() {
 const char* ground_shadow_vertex_shader() {
   return kGroundShadowVS;
 }
-const char* ground_shadow_fragment_shader() {
-  return kGroundShadowFS;
+const char* sky_vertex_shader() {
+  return kSkyVS;
 }
 
 const char* overlay_vertex_shader(bool ribbon) {
   return ribbon ? kOverlayRibbonVS : kOverlaySolidVS;
 }
 
-std::string overlay_fragment_shader(bool ribbon) {
-  char head[256];
-  std::snprintf(head, sizeof head,
-                "#version 330 core\n#define RIBBON %d\nconst vec4 kGamma = vec4(%.9g, %.9g, %.9g, %.9g);\n",
-                ribbon ? 1 : 0, (double)kGammaFit[0], (double)kGammaFit[1], (double)kGammaFit[2],
-                (double)kGammaFit[3]);
-  return head + std::string(kOverlayFS);
+// The GLSL of srgb_encode (render/shaders.hpp), its coefficients printed with %.9g so that each
+// reads back as the same float.
+std::string srgb_glsl() {
+  char b[600];
+  std::snprintf(b, sizeof b,
+                "vec3 srgb_encode(vec3 x) {\n"
+                "  vec3 c = clamp(x, 0.0, 1.0), s = sqrt(c), q = sqrt(s), e = sqrt(q);\n"
+                "  vec3 f = %.9g * s + %.9g * q + %.9g * e + c * (%.9g + %.9g * q);\n"
+                "  return mix(f, 12.92 * c, lessThanEqual(c, vec3(0.0031308)));\n"
+                "}\n",
+                (double)kSrgbFit[0], (double)kSrgbFit[1], (double)kSrgbFit[4], (double)kSrgbFit[2],
+                (double)kSrgbFit[3]);
+  return b;
 }
 
-std::string lit_fragment_shader(LitKind kind) {
+std::string ground_shadow_fragment_shader(bool textured) {
+  return std::string("#version 330 core\n#define TEXTURED ") + (textured ? "1" : "0") + "\n" + srgb_glsl() +
+         kGroundShadowFS;
+}
+
+std::string sky_fragment_shader() {
+  return "#version 330 core\n" + srgb_glsl() + kSkyFS;
+}
+
+std::string overlay_fragment_shader(bool ribbon) {
+  return std::string("#version 330 core\n#define RIBBON ") + (ribbon ? "1" : "0") + "\n" + srgb_glsl() +
+         kOverlayFS;
+}
+
+std::string lit_fragment_shader(LitKind kind, bool soft) {
   char head[512];
+  const bool ground = kind == LitKind::ground || kind == LitKind::ground_textured;
   // %.9g prints each float so that it reads back as the same float.
   std::snprintf(head, sizeof head,
-                "#version 330 core\n#define GROUND %d\n#define SHADOWED %d\n#define MATERIAL %d\nconst vec4 kGamma = vec4(%.9g, "
-                "%.9g, %.9g, %.9g);\n"
-                "const float kChecker = %.9g;\nconst vec3 kSky = vec3(%.9g, %.9g, %.9g);\n",
-                kind == LitKind::ground ? 1 : 0,
-                kind == LitKind::body || kind == LitKind::body_material ? 1 : 0, lit_material(kind) ? 1 : 0,
-                (double)kGammaFit[0],
-                (double)kGammaFit[1], (double)kGammaFit[2], (double)kGammaFit[3], (double)kCheckerDark,
-                (double)kFillSky[0], (double)kFillSky[1], (double)kFillSky[2]);
-  return head + std::string(kLitFS);
+                "#version 330 core\n#define GROUND %d\n#define GROUND_TEXTURE %d\n#define SHADOWED %d\n"
+                "#define SOFT %d\n#define MATERIAL %d\nconst float kChecker = %.9g;\n"
+                "const vec3 kSky = vec3(%.9g, %.9g, %.9g);\n",
+                ground ? 1 : 0, kind == LitKind::ground_textured ? 1 : 0,
+                kind == LitKind::body || kind == LitKind::body_material || (ground && soft) ? 1 : 0,
+                soft ? 1 : 0, lit_material(kind) ? 1 : 0, (double)kCheckerDark, (double)kFillSky[0],
+                (double)kFillSky[1], (double)kFillSky[2]);
+  return head + srgb_glsl() + kLitFS;
 }
 
-std::array<float, 3> ground_shadow_color(const std::array<float, 3>& ground, bool odd_tile) {
+std::array<float, 3> ground_shadow_color(const std::array<float, 3>& ground) {
   std::array<float, 3> c;
-  for (int k = 0; k < 3; ++k)
-    c[k] = gamma_encode((odd_tile ? ground[k] * kCheckerDark : ground[k]) * kFillSky[k]);
+  for (int k = 0; k < 3; ++k) c[k] = srgb_encode(ground[k] * kFillSky[k]);
   return c;
 }
 

@@ -236,13 +236,15 @@ void apply_appearance(RenderMesh& m, const MeshAppearance& look, const std::vect
   // Triangles grouped by texture (untextured first), each group in triangle order.
   std::vector<uint32_t> order(nt);
   for (size_t f = 0; f < nt; ++f) order[f] = (uint32_t)f;
-  std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return slot_of[a] < slot_of[b]; });
+  std::stable_sort(order.begin(), order.end(),
+                   [&](uint32_t a, uint32_t b) { return slot_of[a] < slot_of[b]; });
   std::vector<uint32_t> idx(3 * nt);
   m.parts.clear();
   for (size_t i = 0; i < nt; ++i) {
     const uint32_t f = order[i];
     for (int k = 0; k < 3; ++k) idx[3 * i + k] = m.indices[3 * f + k];
-    if (m.parts.empty() || m.parts.back().texture != slot_of[f]) m.parts.push_back({(uint32_t)(3 * i), 0, slot_of[f]});
+    if (m.parts.empty() || m.parts.back().texture != slot_of[f])
+      m.parts.push_back({(uint32_t)(3 * i), 0, slot_of[f]});
     m.parts.back().count += 3;
   }
   m.indices = std::move(idx);

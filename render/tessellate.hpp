@@ -5,8 +5,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "render/material.hpp"
 #include <simreel/body.hpp>
+#include "render/material.hpp"
 
 namespace simreel {
 
@@ -32,7 +32,9 @@ struct RenderMesh {
   };
   std::vector<Part> parts;  ///< empty unless `extras` is set; then they cover `indices`
 
-  size_t bytes() const { return (vertices.size() + indices.size() + extras.size()) * 4; }  ///< vertex and index data
+  size_t bytes() const {
+    return (vertices.size() + indices.size() + extras.size()) * 4;
+  }  ///< vertex and index data
 };
 
 RenderMesh tessellate_box(const Vec3& size);

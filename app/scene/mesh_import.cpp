@@ -20,8 +20,8 @@
 #include <map>
 #include <sstream>
 
-#include "app/scene/mesh_import.hpp"
 #include <simreel/error.hpp>
+#include "app/scene/mesh_import.hpp"
 
 #if defined(__SANITIZE_ADDRESS__)
 #define SIMREEL_ASAN 1
@@ -67,10 +67,12 @@ RawMesh assimp_read(const std::string& path) {
       all_uvs = all_uvs && m->HasTextureCoords(0);
       all_colors = all_colors && m->HasVertexColors(0);
       for (unsigned v = 0; v < m->mNumVertices; ++v) {
-        if (m->HasTextureCoords(0)) out.uvs.emplace_back(m->mTextureCoords[0][v].x, m->mTextureCoords[0][v].y);
+        if (m->HasTextureCoords(0))
+          out.uvs.emplace_back(m->mTextureCoords[0][v].x, m->mTextureCoords[0][v].y);
         // glTF's COLOR_0 is linear already (and assimp passes other formats' colours as written).
         if (m->HasVertexColors(0))
-          out.colors.push_back({std::clamp(m->mColors[0][v].r, 0.f, 1.f), std::clamp(m->mColors[0][v].g, 0.f, 1.f),
+          out.colors.push_back({std::clamp(m->mColors[0][v].r, 0.f, 1.f),
+                                std::clamp(m->mColors[0][v].g, 0.f, 1.f),
                                 std::clamp(m->mColors[0][v].b, 0.f, 1.f)});
         const aiVector3D& p = m->mVertices[v];
         out.vertices.push_back((T * Eigen::Vector4d(p.x, p.y, p.z, 1)).head<3>());

@@ -14,8 +14,8 @@
 #include <string_view>
 #include <vector>
 
-#include "render/material.hpp"
 #include <simreel/mesh.hpp>
+#include "render/material.hpp"
 
 namespace simreel {
 
@@ -58,10 +58,10 @@ struct RawMesh {
   /// Parallel to materials: the base-colour image as the file names it ("" none; "*N" the N-th
   /// embedded image, as assimp names them).
   std::vector<std::string> material_textures;
-  std::vector<std::string> embedded;                ///< embedded images' encoded bytes (glb)
-  std::vector<Eigen::Vector2f> uvs;                  ///< per vertex (PLY, assimp) or the OBJ vt list
-  std::vector<std::array<int, 3>> triangle_uvs;      ///< indices into uvs, OBJ only
-  std::vector<std::array<float, 3>> colors;          ///< per vertex, linear RGB (PLY, assimp, OBJ v x y z r g b)
+  std::vector<std::string> embedded;             ///< embedded images' encoded bytes (glb)
+  std::vector<Eigen::Vector2f> uvs;              ///< per vertex (PLY, assimp) or the OBJ vt list
+  std::vector<std::array<int, 3>> triangle_uvs;  ///< indices into uvs, OBJ only
+  std::vector<std::array<float, 3>> colors;      ///< per vertex, linear RGB (PLY, assimp, OBJ v x y z r g b)
   long points_and_lines = 0;
   std::vector<std::string> notes;
 };

@@ -19,8 +19,8 @@
 #include <optional>
 #include <sstream>
 
-#include "app/scene/mesh_import.hpp"
 #include <simreel/error.hpp>
+#include "app/scene/mesh_import.hpp"
 
 namespace simreel::detail {
 namespace {
@@ -292,7 +292,8 @@ RawMesh parse_obj(std::string_view text, const std::string& path) {
       }
       if (t.size() >= 7) {  // x y z r g b: a vertex colour (MeshLab, ZBrush), display values in [0, 1]
         std::array<float, 3> c;
-        for (int k = 0; k < 3; ++k) c[k] = srgb_to_linear((float)std::clamp(number(t[4 + k], path, ln), 0.0, 1.0));
+        for (int k = 0; k < 3; ++k)
+          c[k] = srgb_to_linear((float)std::clamp(number(t[4 + k], path, ln), 0.0, 1.0));
         m.colors.resize(m.vertices.size(), {-1.f, -1.f, -1.f});
         m.colors.push_back(c);
       }
@@ -328,7 +329,8 @@ RawMesh parse_obj(std::string_view text, const std::string& path) {
           const long nt = (long)m.uvs.size();
           const long ti = rt < 0 ? nt + rt : rt - 1;
           if (rt == 0 || ti < 0 || ti >= nt)
-            fail(path, ln, "face refers to texture coordinate " + std::to_string(rt) + " that does not exist");
+            fail(path, ln,
+                 "face refers to texture coordinate " + std::to_string(rt) + " that does not exist");
           vt.push_back((int)ti);
         } else {
           uvs_here = false;

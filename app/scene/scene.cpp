@@ -264,7 +264,7 @@ struct Loader {
   Scene& scene;
   fs::path dir;
   fs::path assets;
-  std::map<std::string, std::shared_ptr<const ImportedMesh>> meshes;  // by resolved path + scale
+  std::map<std::string, std::shared_ptr<const ImportedMesh>> meshes;            // by resolved path + scale
   std::map<std::string, std::shared_ptr<const MeshAppearance>> textured_looks;  // by mesh key + image
 
   // A mesh collider's `texture: IMAGE`: every face drawn with that image through the file's texture
@@ -357,9 +357,9 @@ struct Loader {
 
   Collider collider(const YAML::Node& n, const Ctx& c, const std::string& body, BodyType type,
                     ColliderLook& look) {
-    check_keys(n, c, {"shape",       "size",  "radius",     "height",   "radii",        "file",
-                      "scale",       "mode",  "thickness",  "density",  "mass",         "position",
-                      "orientation", "euler", "axis_angle", "friction", "restitution",  "collide",
+    check_keys(n, c, {"shape",       "size",  "radius",     "height",   "radii",         "file",
+                      "scale",       "mode",  "thickness",  "density",  "mass",          "position",
+                      "orientation", "euler", "axis_angle", "friction", "restitution",   "collide",
                       "group",       "mask",  "color",      "up_axis",  "hull_vertices", "texture"});
     Collider col;
     const char* kShapes = "box, sphere, cylinder, capsule, mesh, plane or ellipsoid";
@@ -388,7 +388,9 @@ struct Loader {
     if (n["up_axis"] && col.shape != ShapeKind::mesh)
       c.child("up_axis").fail(n["up_axis"], "applies to mesh colliders only");
     if (n["texture"] && col.shape != ShapeKind::mesh)
-      c.child("texture").fail(n["texture"], "applies to mesh colliders only (the image is laid on by the file's texture coordinates)");
+      c.child("texture").fail(
+          n["texture"],
+          "applies to mesh colliders only (the image is laid on by the file's texture coordinates)");
     if (n["hull_vertices"] && col.shape != ShapeKind::mesh)
       c.child("hull_vertices").fail(n["hull_vertices"], "applies to mesh colliders only");
     if (n["hull_vertices"] && type == BodyType::static_body)
@@ -881,9 +883,46 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
     if (s.camera.up.cross(s.camera.position - s.camera.look_at).norm() == 0)
       c.child("up").fail(cam["up"] ? cam["up"] : cam, "is parallel to the viewing direction (or zero)");
   }
+  // The drawn ground's look, from `ground:` or `render.ground:`: a checker colour pair, or an image
+  // (beside the scene, or as given) repeating every `texture_size` m.
+  auto ground_look = [&](const YAML::Node& g, const Ctx& gc) {
+    if (const YAML::Node cs = g["colors"]) {
+      const Ctx cc = gc.child("colors");
+      if (!cs.IsSequence() || cs.size() != 2)
+        cc.fail(cs, "expected two colours [[r, g, b], [r, g, b]] (the checker's two tiles), got " + show(cs));
+      s.render.ground_color = color(cs[0], cc.index(0));
+      s.render.ground_color2 = color(cs[1], cc.index(1));
+    }
+    if (g["texture"]) {
+      const std::string f = text(g["texture"], gc.child("texture"));
+      const fs::path p = fs::path(f).is_absolute() ? fs::path(f) : fs::path(path).parent_path() / f;
+      std::error_code ec;
+      if (!fs::is_regular_file(p, ec))
+        gc.child("texture").fail(g["texture"], "image '" + f + "' not found (looked for " +
+                                                   fs::absolute(p, ec).lexically_normal().string() + ")");
+      s.render.ground_texture = p.lexically_normal().string();
+    }
+    if (g["texture_size"]) {
+      if (!g["texture"]) gc.child("texture_size").fail(g["texture_size"], "applies with 'texture' only");
+      s.render.ground_texture_size = positive(g["texture_size"], gc.child("texture_size"));
+    }
+  };
   if (const YAML::Node r = root["render"]) {
     const Ctx c = top.child("render");
-    check_keys(r, c, {"shadows", "antialiasing", "background", "ground"});
+    check_keys(r, c, {"shadows", "antialiasing", "background", "horizon", "sky", "quality", "ground"});
+    if (r["sky"]) {
+      const std::string k = text(r["sky"], c.child("sky"));
+      if (k != "gradient" && k != "flat")
+        c.child("sky").fail(r["sky"], "unknown sky '" + k + "' (gradient, flat)");
+      s.render.sky_gradient = k == "gradient";
+    }
+    if (r["horizon"]) s.render.horizon = color(r["horizon"], c.child("horizon"));
+    if (r["quality"]) {
+      const std::string q = text(r["quality"], c.child("quality"));
+      if (q != "standard" && q != "high")
+        c.child("quality").fail(r["quality"], "unknown quality '" + q + "' (standard, high)");
+      s.render.quality = q == "high" ? RenderQuality::high : RenderQuality::standard;
+    }
     if (r["shadows"]) s.render.shadows = boolean(r["shadows"], c.child("shadows"));
     if (r["antialiasing"]) {
       const Ctx ac = c.child("antialiasing");
@@ -902,7 +941,8 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
       if (g.IsScalar()) {
         s.render.ground = boolean(g, gc);
       } else {
-        check_keys(g, gc, {"height", "size", "tile"});
+        check_keys(g, gc, {"height", "size", "tile", "colors", "texture", "texture_size"});
+        ground_look(g, gc);
         s.render.ground = true;
         if (g["height"]) s.render.ground_height = number(g["height"], gc.child("height"));
         if (g["size"]) s.render.ground_size = positive(g["size"], gc.child("size"));
@@ -917,7 +957,9 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
     if (g.IsScalar()) {
       on = boolean(g, gc);
     } else {
-      check_keys(g, gc, {"height", "friction", "restitution", "size", "tile"});
+      check_keys(g, gc,
+                 {"height", "friction", "restitution", "size", "tile", "colors", "texture", "texture_size"});
+      ground_look(g, gc);
       if (g["height"]) gs.height = number(g["height"], gc.child("height"));
       if (g["friction"]) gs.friction = non_negative(g["friction"], gc.child("friction"));
       if (g["restitution"]) gs.restitution = unit_interval(g["restitution"], gc.child("restitution"));

@@ -5,9 +5,9 @@
 #include <cstring>
 #include <stdexcept>
 
+#include <simreel/error.hpp>
 #include "app/runner/camera_fit.hpp"
 #include "render/fxaa.hpp"
-#include <simreel/error.hpp>
 
 namespace simreel {
 

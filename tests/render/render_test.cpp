@@ -7,12 +7,12 @@
 #include <filesystem>
 #include <vector>
 
+#include <simreel/mesh.hpp>
 #include "render/draw_list.hpp"
 #include "render/png_writer.hpp"
 #include "render/renderer.hpp"
 #include "render/shaders.hpp"
 #include "render/video_writer.hpp"
-#include <simreel/mesh.hpp>
 #include "sim/mass/primitives.hpp"
 #include "tests/fixtures/reference_scenes.hpp"
 #include "tests/render/decode.hpp"
@@ -106,12 +106,13 @@ TEST(Render, RedBoxAtTheCentreAndBackgroundAtTheCorners) {
   const Px c = at(img, W / 2, H / 2);
   EXPECT_GT(c.r, 2 * c.g) << c.r << " " << c.g << " " << c.b;
   EXPECT_GT(c.r, 2 * c.b);
-  // Background is the sky colour (0.60, 0.70, 0.82) after gamma 2.2: (202, 217, 234).
+  // Looking straight down, every corner's ray is 45-55 degrees below the horizon: the backdrop's
+  // end, 0.7x the horizon colour (0.78, 0.84, 0.91), sRGB-encoded: (195, 202, 209).
   for (auto [x, y] : {std::pair{0, 0}, {W - 1, 0}, {0, H - 1}, {W - 1, H - 1}}) {
     const Px p = at(img, x, y);
-    EXPECT_NEAR(p.r, 202, 2);
-    EXPECT_NEAR(p.g, 217, 2);
-    EXPECT_NEAR(p.b, 234, 2);
+    EXPECT_NEAR(p.r, 195, 2);
+    EXPECT_NEAR(p.g, 202, 2);
+    EXPECT_NEAR(p.b, 209, 2);
   }
 }
 
@@ -294,8 +295,10 @@ TEST(Render, GroundShadowsAreTheBodiesCastAlongTheLight) {
         const Px p = at(img, i, j);
         int want[3];
         for (int k = 0; k < 3; ++k) {
-          const double base = RenderSettings{}.ground_color[k] * (odd ? kCheckerDark : 1.0f);
-          want[k] = (int)std::lround(255 * std::pow(base * kFillSky[k], 1 / 2.2));
+          const double base = odd ? RenderSettings{}.ground_color2[k] : RenderSettings{}.ground_color[k];
+          const double l = base * kFillSky[k];  // sRGB-encoded
+          want[k] =
+              (int)std::lround(255 * (l <= 0.0031308 ? 12.92 * l : 1.055 * std::pow(l, 1 / 2.4) - 0.055));
         }
         if (sh) {
           ++in_shadow;

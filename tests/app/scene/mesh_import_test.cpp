@@ -13,8 +13,8 @@
 #include <fstream>
 #include <functional>
 
-#include "app/scene/mesh_import.hpp"
 #include <simreel/error.hpp>
+#include "app/scene/mesh_import.hpp"
 #include "tests/scratch.hpp"
 
 namespace simreel {

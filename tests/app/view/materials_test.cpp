@@ -7,18 +7,18 @@
 
 #include <array>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <cstdlib>
 #include <random>
 
+#include <simreel/error.hpp>
 #include "app/runner/frame_loop.hpp"
 #include "app/scene/mesh_import.hpp"
 #include "app/view/scene_view.hpp"
 #include "render/image.hpp"
 #include "render/png_writer.hpp"
 #include "tests/scratch.hpp"
-#include <simreel/error.hpp>
 
 namespace simreel {
 namespace {
@@ -31,7 +31,7 @@ constexpr int kW = 160, kH = 160;
 
 struct Frame {
   std::vector<uint8_t> rgba;
-  std::vector<std::string> notes;  ///< the scene's and the renderer's
+  std::vector<std::string> notes;                      ///< the scene's and the renderer's
   std::array<int, 3> at(double fx, double fy) const {  ///< fx, fy in [0, 1] from the top left
     const int x = std::min(kW - 1, (int)(fx * kW)), y = std::min(kH - 1, (int)(fy * kH));
     const uint8_t* p = &rgba[((size_t)y * kW + x) * 4];
@@ -119,21 +119,23 @@ TEST(Materials, EachMaterialKeepsItsColour) {
   EXPECT_EQ(hue(f.at(0.3, 0.5)), Hue::red);
   EXPECT_EQ(hue(f.at(0.7, 0.5)), Hue::blue);
   // A body colour overrides the file's materials.
-  const Frame g = draw("  - { name: quad, type: static, color: [0.02, 0.6, 0.02], colliders: [ { shape: mesh, "
-                       "file: " +
-                       scratch("two.obj") + " } ] }\n");
+  const Frame g = draw(
+      "  - { name: quad, type: static, color: [0.02, 0.6, 0.02], colliders: [ { shape: mesh, "
+      "file: " +
+      scratch("two.obj") + " } ] }\n");
   EXPECT_EQ(hue(g.at(0.3, 0.5)), Hue::green);
   EXPECT_EQ(hue(g.at(0.7, 0.5)), Hue::green);
 }
 
 // PLY colours are display values (sRGB bytes): a vertex-coloured mesh keeps them per face.
 TEST(Materials, PlyVertexColours) {
-  scratch_file("vc.ply",
-               "ply\nformat ascii 1.0\nelement vertex 6\nproperty float x\nproperty float y\nproperty float z\n"
-               "property uchar red\nproperty uchar green\nproperty uchar blue\nelement face 2\n"
-               "property list uchar int vertex_indices\nend_header\n"
-               "-1 -1 0 200 10 10\n0 -1 0 200 10 10\n-1 1 0 200 10 10\n"
-               "0.2 -1 0 10 200 10\n1 -1 0 10 200 10\n1 1 0 10 200 10\n3 0 1 2\n3 3 4 5\n");
+  scratch_file(
+      "vc.ply",
+      "ply\nformat ascii 1.0\nelement vertex 6\nproperty float x\nproperty float y\nproperty float z\n"
+      "property uchar red\nproperty uchar green\nproperty uchar blue\nelement face 2\n"
+      "property list uchar int vertex_indices\nend_header\n"
+      "-1 -1 0 200 10 10\n0 -1 0 200 10 10\n-1 1 0 200 10 10\n"
+      "0.2 -1 0 10 200 10\n1 -1 0 10 200 10\n1 1 0 10 200 10\n3 0 1 2\n3 3 4 5\n");
   const Frame f = draw(body(scratch("vc.ply")));
   EXPECT_EQ(hue(f.at(0.2, 0.6)), Hue::red);
   EXPECT_EQ(hue(f.at(0.8, 0.6)), Hue::green);
@@ -158,7 +160,8 @@ TEST(Materials, ForeignPathsAndBrokenImages) {
   const Frame f = draw(body(quad_obj("w.obj", "w.mtl", "paint")));
   EXPECT_EQ(hue(f.at(0.5, 0.5)), Hue::blue);
   bool noted = false;
-  for (const std::string& n : f.notes) noted = noted || n.find("using 'skin.png' beside the mesh") != std::string::npos;
+  for (const std::string& n : f.notes)
+    noted = noted || n.find("using 'skin.png' beside the mesh") != std::string::npos;
   EXPECT_TRUE(noted);
 
   std::ofstream(scratch("junk.png")) << "this is not a PNG";
@@ -173,12 +176,14 @@ TEST(Materials, ForeignPathsAndBrokenImages) {
 
 // Minified, a fine black-and-white checker averages in linear light: it looks like a material
 // of linear grey 0.5 (sRGB 188), not like sRGB 128 (linear 0.22), which averaging the encoded
-// bytes would give. The quad is 128 px wide, the checker 512 texels of one pixel each: mip level 2.
+// bytes would give; and a texel's value is sRGB. The quad is 128 px wide, the checker 512 texels of one pixel
+// each: mip level 2.
 TEST(Materials, MinifiedTexturesAverageInLinearLight) {
   std::vector<std::array<uint8_t, 3>> checker;
   for (int y = 0; y < 512; ++y)
-    for (int x = 0; x < 512; ++x) checker.push_back((x + y) % 2 ? std::array<uint8_t, 3>{255, 255, 255}
-                                                                : std::array<uint8_t, 3>{0, 0, 0});
+    for (int x = 0; x < 512; ++x)
+      checker.push_back((x + y) % 2 ? std::array<uint8_t, 3>{255, 255, 255}
+                                    : std::array<uint8_t, 3>{0, 0, 0});
   write_image(scratch("fine.png"), 512, 512, checker);
   std::ofstream(scratch("c.mtl")) << "newmtl fine\nKd 1 1 1\nmap_Kd fine.png\nnewmtl grey\nKd 0.5 0.5 0.5\n";
   const Frame tex = draw(body(quad_obj("c.obj", "c.mtl", "fine")));
@@ -187,14 +192,25 @@ TEST(Materials, MinifiedTexturesAverageInLinearLight) {
     const auto a = tex.at(fx, 0.5), b = grey.at(fx, 0.5);
     for (int k = 0; k < 3; ++k) EXPECT_NEAR(a[k], b[k], 3) << fx;
   }
+  // Texels are sRGB: a texel of 128 is linear 0.216 (a texture read as linear would draw 0.502).
+  write_image(scratch("mid.png"), 4, 4, std::vector<std::array<uint8_t, 3>>(16, {128, 128, 128}));
+  std::ofstream(scratch("d.mtl"))
+      << "newmtl mid\nKd 1 1 1\nmap_Kd mid.png\nnewmtl same\nKd 0.2158605 0.2158605 0.2158605\n";
+  const Frame mid = draw(body(quad_obj("d.obj", "d.mtl", "mid")));
+  const Frame same = draw(body(quad_obj("e.obj", "d.mtl", "same")));
+  for (double fx : {0.3, 0.5, 0.7}) {
+    const auto a = mid.at(fx, 0.5), b = same.at(fx, 0.5);
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(a[k], b[k], 2) << fx;
+  }
 }
 
 // A scene's `texture:` lays an image on a mesh through its file's coordinates (MuJoCo's way),
 // and refuses a mesh without any.
 TEST(Materials, SceneTextureKey) {
   write_image(scratch("t.png"), 2, 2, {{230, 20, 20}, {20, 230, 20}, {20, 20, 230}, {230, 230, 20}});
-  scratch_file("bare.obj", "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
-                           "f 1/1 2/2 3/3 4/4\n");
+  scratch_file("bare.obj",
+               "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+               "f 1/1 2/2 3/3 4/4\n");
   const Frame f = draw(body(scratch("bare.obj"), ", texture: " + scratch("t.png")));
   EXPECT_EQ(hue(f.at(0.3, 0.3)), Hue::red);
   EXPECT_EQ(hue(f.at(0.7, 0.7)), Hue::yellow);
@@ -234,11 +250,13 @@ TEST(Materials, BoxTexturedEmbeddedAndExternal) {
       for (int j = 0; j < n; ++j) c[kind(pixel(i, j))] += 1.0 / (n * n);
     return c;
   };
-  const auto in_frame = fractions([&](int i, int j) { return glb.at(0.3 + 0.4 * i / 19, 0.3 + 0.4 * j / 19); }, 20);
+  const auto in_frame =
+      fractions([&](int i, int j) { return glb.at(0.3 + 0.4 * i / 19, 0.3 + 0.4 * j / 19); }, 20);
   // The frame's 0.3 .. 0.7 is the face's 0.19 .. 0.81 (the face spans 0.18 .. 0.82 of the frame).
   const auto in_image = fractions(
       [&](int i, int j) {
-        const size_t x = (size_t)((0.19 + 0.62 * i / 19) * logo.width), y = (size_t)((0.19 + 0.62 * j / 19) * logo.height);
+        const size_t x = (size_t)((0.19 + 0.62 * i / 19) * logo.width),
+                     y = (size_t)((0.19 + 0.62 * j / 19) * logo.height);
         const uint8_t* p = &logo.rgba[(y * logo.width + x) * 4];
         return std::array<int, 3>{p[0], p[1], p[2]};
       },
@@ -260,8 +278,18 @@ TEST(Materials, ImageDecodingRoundTripsAndRefusesBrokenData) {
   ASSERT_EQ(im.height, 3);
   for (int i = 0; i < 12; ++i)
     for (int k = 0; k < 3; ++k) EXPECT_EQ(im.rgba[4 * i + k], px[i][k]);
+  // Every format the decoder takes (the fuzz seeds: FFmpeg's testsrc at 16 x 12 px).
+  int formats = 0;
+  for (const auto& e : fs::directory_iterator("tests/fuzz/seeds/image")) {
+    const TextureImage s = read_image(e.path().string());
+    EXPECT_EQ(s.width, 16) << e.path();
+    EXPECT_EQ(s.height, 12) << e.path();
+    ++formats;
+  }
+  EXPECT_EQ(formats, 6) << "png jpg gif bmp tga webp";
   std::vector<std::string> files = {scratch("p.png")};
-  for (const char* f : {"../shared/corpus/bullet3/data/checker_grid.jpg", "../shared/corpus/bullet3/data/checker_huge.gif"})
+  for (const char* f :
+       {"../shared/corpus/bullet3/data/checker_grid.jpg", "../shared/corpus/bullet3/data/checker_huge.gif"})
     if (fs::exists(f)) files.push_back(f);
   std::mt19937 rng(7);
   for (const std::string& f : files) {

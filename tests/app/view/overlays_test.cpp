@@ -22,7 +22,7 @@ namespace {
 const char* kArrows =
     "simulation: { duration: 1, timestep: 0.005, gravity: [0, 0, 0] }\n"
     "video: { width: 320, height: 240, fps: 20 }\n"
-    "render: { shadows: false, antialiasing: msaa4 }\n"
+    "render: { sky: flat, shadows: false, antialiasing: msaa4 }\n"
     "camera: { position: [0.4, -3, 0.6], look_at: [0, 0, 0.4], fov: 40 }\n"
     "bodies:\n"
     "  - name: box\n"
@@ -76,7 +76,7 @@ TEST(Overlays, AngularMomentumScaleComesFromThePrePass) {
 const char* kTrail =
     "simulation: { duration: 2, timestep: 0.004166666666666667 }\n"
     "video: { width: 320, height: 240, fps: 30 }\n"
-    "render: { shadows: false, antialiasing: none }\n"
+    "render: { sky: flat, shadows: false, antialiasing: none }\n"
     "camera: { position: [1, -9, 2], look_at: [1, 0, 1.5], fov: 45 }\n"
     "bodies:\n"
     "  - name: ball\n"
@@ -214,7 +214,7 @@ TEST(Overlays, FramesAreTheSameBytesAcrossRunsThreadsAndPartialRenders) {
 const char* kHud =
     "simulation: { duration: 1, gravity: [0, 0, 0] }\n"
     "video: { width: 480, height: 270, fps: 10 }\n"
-    "render: { shadows: false }\n"
+    "render: { sky: flat, shadows: false }\n"
     "camera: { position: [2, -6, 1.5], look_at: [0, 0, 0] }\n"
     "bodies:\n"
     "  - { name: b, angular_velocity: [0, 0, 1], colliders: [ { shape: box, size: [1, 1, 1] } ] }\n"
@@ -344,7 +344,7 @@ TEST(Overlays, PoinsotContactPointPolhodeAndHerpolhodeLieOnTheEllipsoidAndThePla
 std::string jointed(const std::string& show) {
   return "simulation: { duration: 1 }\n"
          "video: { width: 320, height: 240, fps: 20 }\n"
-         "render: { shadows: false, antialiasing: none }\n"
+         "render: { sky: flat, shadows: false, antialiasing: none }\n"
          "camera: { position: [1.4, -3, 2.6], look_at: [0.6, 0, 1.7], fov: 40 }\n"
          "bodies:\n"
          "  - { name: upper, position: [0.3, 0, 2], color: [0.1, 0.1, 0.1],\n"
@@ -431,7 +431,7 @@ Vec3 at_angle(const Vec3& a, const Vec3& u, double t) {
 std::string hinge_with_limits(const std::string& show) {
   return "simulation: { duration: 1 }\n"
          "video: { width: 320, height: 240, fps: 20 }\n"
-         "render: { shadows: false, antialiasing: none }\n"
+         "render: { sky: flat, shadows: false, antialiasing: none }\n"
          "camera: { position: [0.1, -2.2, 1.9], look_at: [0.1, 0, 1.9], fov: 40 }\n"
          "bodies:\n"
          "  - { name: arm, position: [0.3, 0, 2], color: [0.1, 0.1, 0.1],\n"
@@ -497,7 +497,7 @@ TEST(Overlays, AJointsRangeTurnsWithTheParentAndItsDotWithTheChild) {
   const std::string scene =
       "simulation: { duration: 1 }\n"
       "video: { width: 160, height: 120, fps: 20 }\n"
-      "render: { shadows: false }\n"
+      "render: { sky: flat, shadows: false }\n"
       "camera: { position: [1.4, -3, 2.6], look_at: [0.6, 0, 1.7], fov: 40 }\n"
       "bodies:\n"
       "  - { name: upper, position: [0.3, 0, 2], colliders: [ { shape: box, size: [0.6, 0.03, 0.03], "
@@ -596,7 +596,7 @@ TEST(Overlays, AJointsRangeTurnsWithTheParentAndItsDotWithTheChild) {
 std::string slider_with_limits(const std::string& show) {
   return "simulation: { duration: 1 }\n"
          "video: { width: 320, height: 240, fps: 20 }\n"
-         "render: { shadows: false, antialiasing: none }\n"
+         "render: { sky: flat, shadows: false, antialiasing: none }\n"
          "camera: { position: [0.15, -2.2, 1.4], look_at: [0.15, 0, 1.4], fov: 40 }\n"
          "bodies:\n"
          "  - { name: cart, position: [0, 0, 1.5], color: [0.1, 0.1, 0.1],\n"

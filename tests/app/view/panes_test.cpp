@@ -93,7 +93,7 @@ TEST(Panes, LayoutSideBySideAndGrid) {
 const char* kBall = R"(
 simulation: { duration: 3.0, timestep: 0.005, gravity: [0, 0, 0] }
 video: { width: 320, height: 180, fps: 20 }
-render: { shadows: false }
+render: { sky: flat, shadows: false }
 camera: { position: [0, -6, 0], look_at: [0, 0, 0], up: [0, 0, 1], fov: 60 }
 time:
   segments: [{ until: 1.0, speed: 1 }, { until: 2.0, speed: 0.25 }]
@@ -159,7 +159,7 @@ TEST(TimeRemap, TheHudShowsSimulatedAndVideoTime) {
 const char* kHandle = R"(
 simulation: { duration: 4.0, timestep: 0.004166666666666667, gravity: [0, 0, 0] }
 video: { width: 400, height: 200, fps: 30 }
-render: { shadows: false }
+render: { sky: flat, shadows: false }
 camera: { position: [2.4, -2.4, 1.4], look_at: [0, -0.1, 0], up: [0, 0, 1], fov: 40 }
 bodies:
   - name: handle
