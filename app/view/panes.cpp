@@ -15,10 +15,17 @@ namespace {
 
 constexpr uint8_t kGutter[4] = {24, 28, 36, 255};  // the gutters and the title band, display RGB
 
-// The scene's camera with a pane's keys over it.
+// The scene's camera with a pane's keys over it. A pane that places its camera itself (position,
+// look_at, up, follow or frame) has no part in the scene camera's path or orbit; one that sets
+// only fov (or nothing) moves with them (a path's fov keys over the pane's fov). A pane's follow
+// keeps the scene's follow damping.
 CameraSpec pane_camera(const CameraSpec& base, const PaneCamera& p) {
   CameraSpec c = base;
   c.fit = false;
+  if (p.position || p.look_at || p.up || p.follow || p.frame_body) {
+    c.path = CameraPath();
+    c.orbit.reset();
+  }
   if (p.position) c.position = *p.position;
   if (p.look_at) c.look_at = *p.look_at;
   if (p.up) c.up = *p.up;
@@ -211,10 +218,11 @@ std::string SceneFrames::description() const {
 
 bool SceneFrames::shows_nothing(const World& main) const {
   const double aspect_full = (double)width_ / height_;
+  // A moving camera (path, orbit) is checked where the last draw put it.
   auto empty_for = [&](const SceneView& v, const World& w, double aspect) {
-    return !any_body_in_view(w, radii_, v.camera.eye, v.camera.target, v.camera.up, v.camera.fov_deg,
-                             aspect) ||
-           body_around(w, radii_, v.camera.eye) >= 0;
+    const CameraView& c = v.moving() ? v.drawn_camera() : v.camera;
+    return !any_body_in_view(w, radii_, c.eye, c.target, c.up, c.fov_deg, aspect) ||
+           body_around(w, radii_, c.eye) >= 0;
   };
   if (view_) return view_->follow < 0 && view_->ride < 0 && empty_for(*view_, main, aspect_full);
   bool any_fixed = false;
