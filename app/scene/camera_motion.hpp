@@ -1,5 +1,5 @@
-// A camera that moves (the `camera:` block's `path:`, `orbit:` and `follow: { damping }`;
-// scenes/README.md). Every camera here is a pure function of the
+// A camera that moves (the `camera:` block's `path:`, `orbit:` and `follow: { damping }`, and the
+// shutter, `render.motion_blur`; scenes/README.md). Every camera here is a pure function of the
 // simulated time, or of the physics steps up to it, never of which frames were drawn before: frame
 // k of `render --frames A:B` (and of a render in chunks) is byte for byte frame k of a full render.
 #pragma once
@@ -89,6 +89,15 @@ class DampedFollow {
   long step_ = 0;                                                // of the last call
   double t_ = 0;                                                 // s, of the last call
   Vec3 x_ = Vec3::Zero(), v_ = Vec3::Zero(), p_ = Vec3::Zero();  // m, m/s, m (the last target)
+};
+
+// `render.motion_blur`: each frame averages `samples` images of states in its shutter interval,
+// from `shutter` of the way back to the previous frame's step up to its own
+// (app/view/motion_blur.hpp). samples 1: no blur.
+struct MotionBlurSpec {
+  int samples = 1;       ///< images averaged per frame, 1..64
+  double shutter = 0.5;  ///< share of the frame interval the shutter is open, (0, 1] (0.5: 180 degrees)
+  bool on() const { return samples > 1; }
 };
 
 }  // namespace simreel

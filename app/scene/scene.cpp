@@ -851,7 +851,8 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
   }
   if (const YAML::Node r = root["render"]) {
     const Ctx c = top.child("render");
-    check_keys(r, c, {"shadows", "antialiasing", "background", "ground"});
+    check_keys(r, c, {"shadows", "antialiasing", "background", "ground", "motion_blur"});
+    if (r["motion_blur"]) s.motion_blur = motion_blur(r["motion_blur"], c.child("motion_blur"));
     if (r["shadows"]) s.render.shadows = boolean(r["shadows"], c.child("shadows"));
     if (r["antialiasing"]) {
       const Ctx ac = c.child("antialiasing");

@@ -96,6 +96,7 @@ struct Scene {
   VideoSpec video;
   CameraSpec camera;
   RenderSpec render;
+  MotionBlurSpec motion_blur;  ///< render.motion_blur (app/scene/camera_motion.hpp)
   std::vector<BodyDef> bodies;
   std::vector<BodyLook> looks;       ///< parallel to bodies
   std::optional<GroundSpec> ground;  ///< the top-level `ground` (its body is the last of `bodies`)

@@ -175,4 +175,23 @@ void load_camera_motion(const YAML::Node& root, const std::string& path, Scene& 
   if (o) cs.orbit = load_orbit(o, c.child("orbit"), cs, s);
 }
 
+MotionBlurSpec motion_blur(const YAML::Node& n, const Ctx& c) {
+  if (!n.IsMap()) c.fail(n, "expected a mapping like { samples: 8, shutter: 0.5 }, got " + show(n));
+  check_keys(n, c, {"samples", "shutter"});
+  MotionBlurSpec mb;
+  if (!n["samples"]) c.fail(n, "needs 'samples' (images averaged per frame, 2 to 64; 1 turns blur off)");
+  const double k = number(n["samples"], c.child("samples"));
+  if (k != std::floor(k) || k < 1 || k > 64)
+    c.child("samples").fail(n["samples"], "expected a whole number from 1 to 64, got " + show(n["samples"]));
+  mb.samples = (int)k;
+  if (n["shutter"]) {
+    mb.shutter = number(n["shutter"], c.child("shutter"));
+    if (!(mb.shutter > 0 && mb.shutter <= 1))
+      c.child("shutter").fail(
+          n["shutter"], "must lie in (0, 1]: the share of the frame interval the shutter is open, got " +
+                            show(n["shutter"]));
+  }
+  return mb;
+}
+
 }  // namespace simreel

@@ -1,5 +1,6 @@
 // Reading the moving camera's keys (`camera.path`, `camera.orbit`, `camera.follow: { body,
-// damping }`); what they do is in app/scene/camera_motion.hpp, the keys in scenes/README.md.
+// damping }`) and the shutter (`render.motion_blur`); what they do is in
+// app/scene/camera_motion.hpp, the keys in scenes/README.md.
 #pragma once
 #include <yaml-cpp/yaml.h>
 
@@ -20,5 +21,8 @@ std::string camera_follow(const YAML::Node& n, const scene_yaml::Ctx& c, double&
 // with every combination that makes no sense refused (a path or an orbit with `auto` or `follow`,
 // an orbit with `frame` or a path). Throws InputError "FILE:LINE:COL: KEY: what".
 void load_camera_motion(const YAML::Node& root, const std::string& path, Scene& s);
+
+// `render.motion_blur: { samples: N, shutter: S }`.
+MotionBlurSpec motion_blur(const YAML::Node& n, const scene_yaml::Ctx& c);
 
 }  // namespace simreel

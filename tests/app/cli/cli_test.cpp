@@ -361,16 +361,20 @@ TEST(Cli, PartialRenderFramesEqualTheFullRendersFrames) {
   }
 }
 
-// A moving camera keeps frames pure: a partial render's frames, and --at's, are the full render's
-// byte for byte with a camera path, an orbit around a moving body and a damped follow (advanced at
-// every step, drawn or not).
-TEST(Cli, PartialRenderFramesEqualTheFullRendersWithAMovingCamera) {
+// A moving camera and motion blur keep frames pure: a partial render's frames, and --at's, are the
+// full render's byte for byte with a camera path, an orbit around a moving body, a damped follow
+// (advanced at every step, drawn or not) and motion blur (sub-frames at the steps before each
+// frame). Frame 9's shutter opens before frame 9, where the partial render draws nothing else.
+TEST(Cli, PartialRenderFramesEqualTheFullRendersWithAMovingCameraAndBlur) {
+  const std::string blur = "render: { motion_blur: { samples: 4, shutter: 0.5 } }\n";
   const std::vector<std::string> cameras = {
       "camera:\n  look_at: [0, 0, 0.5]\n  path:\n    - { t: 0.2, position: [6, -6, 3], fov: 35 }\n"
       "    - { t: 1.4, position: [7, 2, 2] }\n    - { t: 2.5, position: [2, 7, 4], look_at: [0, 1, 1], fov: "
       "50 }\n",
       "camera: { orbit: { body: b, radius: 6, height: 2, period: 4 } }\n",
-      "camera: { position: [6, -6, 3], look_at: [0, 0, 0.5], follow: { body: b, damping: 0.3 } }\n"};
+      "camera: { position: [6, -6, 3], look_at: [0, 0, 0.5], follow: { body: b, damping: 0.3 } }\n",
+      "camera: { position: [6, -6, 3], look_at: [0, 0, 0.5] }\n" + blur,
+      "camera: { orbit: { period: 6 }, position: [6, -6, 3], look_at: [0, 0, 0.5] }\n" + blur};
   for (const std::string& camera : cameras) {
     const std::string scene = write("moving.yaml",
                                     "simulation: { duration: 3, timestep: 0.005 }\n"
@@ -401,8 +405,10 @@ TEST(Cli, PartialRenderFramesEqualTheFullRendersWithAMovingCamera) {
 }
 
 // The plain `follow: NAME` and `follow: { body: NAME, damping: 0 }` draw the same frames; a
-// damping draws others (the camera lags the body).
-TEST(Cli, ZeroDampingIsTheRigidFollow) {
+// damping draws others (the camera lags the body). Motion blur of a scene where nothing moves is
+// the sharp frame byte for byte through the whole pipeline (FXAA and the HUD on the writer's
+// thread); of a moving ball it is not.
+TEST(Cli, ZeroDampingIsTheRigidFollowAndAStillSceneBlursToItself) {
   const std::string box =
       "  - { name: a, position: [0, 0, 0.15], colliders: [ { shape: box, size: [1, 0.6, 0.3] } ] }\n";
   const std::string ball =
@@ -432,6 +438,17 @@ TEST(Cli, ZeroDampingIsTheRigidFollow) {
       frames(run1 + cam + "follow: { body: b, damping: 0.5 } }\nbodies:\n" + box + ball, "damp5");
   EXPECT_TRUE(rigid[0] == damped[0]) << "both start on the body";
   EXPECT_FALSE(rigid[5] == damped[5]) << "a damped camera lags";
+
+  const std::string hud = "overlays: { hud: [\"t = {t:.2f} s\"] }\n";
+  const std::string still =
+      "simulation: { duration: 1, timestep: 0.005, gravity: [0, 0, 0] }\nground: true\n" + cam + "}\n" + hud +
+      "bodies:\n" + box;
+  const std::string blur = "render: { motion_blur: { samples: 6, shutter: 1 } }\n";
+  EXPECT_TRUE(frames(still, "still") == frames(still + blur, "still_blur"));
+  const auto moving = frames(run1 + cam + "}\nbodies:\n" + box + ball, "moving");
+  const auto moving_blur = frames(run1 + cam + "}\n" + blur + "bodies:\n" + box + ball, "moving_blur");
+  EXPECT_TRUE(moving[0] == moving_blur[0]) << "frame 0 has no shutter interval before it";
+  EXPECT_FALSE(moving[5] == moving_blur[5]) << "the ball moves: blurred";
 }
 
 // --frames-dir never mixes old frames with new ones: a folder holding frames is refused (exit 2,

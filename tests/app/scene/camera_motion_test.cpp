@@ -155,16 +155,19 @@ std::string error_of(const std::string& camera, const std::string& render = "") 
   return "";
 }
 
-TEST(SceneCamera, PathOrbitAndFollowKeys) {
+TEST(SceneCamera, PathOrbitFollowAndBlurKeys) {
   const Scene s = load(
       "camera:\n"
       "  position: [6, 0, 2]\n"
       "  path:\n"
       "    - { t: 0, position: [4, 0, 2], fov: 30 }\n"
-      "    - { t: 2, look_at: [0, 0, 1] }\n");
+      "    - { t: 2, look_at: [0, 0, 1] }\n",
+      "render: { motion_blur: { samples: 6, shutter: 0.25 } }\n");
   ASSERT_EQ(s.camera.path.keys().size(), 2u);
   EXPECT_EQ(*s.camera.path.keys()[0].position, Vec3(4, 0, 2));
   EXPECT_FALSE(s.camera.path.keys()[1].position);
+  EXPECT_EQ(s.motion_blur.samples, 6);
+  EXPECT_EQ(s.motion_blur.shutter, 0.25);
   // An orbit starts where the camera block puts the camera, unless told otherwise.
   const Scene o = load("camera: { position: [0, 4, 3], look_at: [0, 0, 1], orbit: { period: 10 } }\n");
   ASSERT_TRUE(o.camera.orbit);
@@ -226,6 +229,12 @@ TEST(SceneCamera, ErrorsNameFileLineAndKey) {
        "cam.yaml:3:34: camera.follow.damping: must not be negative"},
       {"camera:\n  follow: { body: ball, dampnig: 1 }\n", "",
        "cam.yaml:3:25: camera.follow.dampnig: unknown key 'dampnig'; did you mean 'damping'?"},
+      {"", "render: { motion_blur: { samples: 0 } }\n",
+       "cam.yaml:2:35: render.motion_blur.samples: expected a whole number from 1 to 64"},
+      {"", "render: { motion_blur: { samples: 4, shutter: 1.5 } }\n",
+       "cam.yaml:2:47: render.motion_blur.shutter: must lie in (0, 1]"},
+      {"", "render: { motion_blur: { sample: 4 } }\n",
+       "cam.yaml:2:26: render.motion_blur.sample: unknown key 'sample'; did you mean 'samples'?"},
   };
   for (const Case& c : cases) {
     const std::string e = error_of(c.camera, c.render);
