@@ -226,6 +226,8 @@ int cmd_check(const std::vector<std::string>& args) {
     double render_s = 0;
     FrameLoop::Hooks hooks;
     hooks.step = view.step_hook();  // trails: every physics step, drawn or not
+    // render.motion_blur: the checked moments are frames of the simulation plan
+    view.blur_hooks(hooks, loop.plan());
     hooks.frame = [&](const FrameTarget& t, const World& w) {
       const auto t0 = std::chrono::steady_clock::now();
       // Checked moments are simulated times (scenes/README.md, `test`); the HUD's frame is the

@@ -208,6 +208,8 @@ int render_at(const RenderOptions& r, const Scene& scene, FrameLoop& loop, int w
   FrameLoop::Hooks hooks;
   hooks.stop = &stop.flag();
   hooks.step = view.step_hook();  // trails: every physics step, drawn or not
+  // render.motion_blur: the states before the frame, drawn on the way
+  view.blur_hooks(hooks, loop.video_plan());
   hooks.frame = [&](const FrameTarget&, const World& world) {
     const auto t0 = std::chrono::steady_clock::now();
     // The HUD's frame: the first video frame showing this step, if one does.
@@ -336,6 +338,14 @@ int cmd_render(const std::vector<std::string>& args) {
   FrameLoop::Hooks hooks;
   hooks.stop = &stop.flag();
   hooks.step = view.step_hook();  // trails: every physics step, drawn or not
+  // render.motion_blur: the states before each frame, drawn on the way (counted as rendering)
+  view.blur_hooks(hooks, loop.video_plan());
+  if (hooks.sample)
+    hooks.sample = [&render_s, sample = hooks.sample](const FrameTarget& t, const World& w) {
+      const auto t0 = std::chrono::steady_clock::now();
+      sample(t, w);
+      render_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    };
   // Frames that show no body at all: most of them empty means a camera or a scale gone wrong.
   const std::vector<double> radii = body_radii(loop.world());
   long empty = 0;

@@ -83,9 +83,21 @@ void FrameLoop::advance_to(long step, const Hooks& hooks) {
 
 long FrameLoop::run(const FrameTargets& targets, const Hooks& hooks, bool to_end) {
   long done = 0;
+  std::vector<long> samples;  // a target's sub-frame steps (motion blur)
+
   if (hooks.step) hooks.step(world_);  // the state the run starts from
   for (const FrameTarget& t : targets) {
     if (t.step < world_.steps()) continue;  // before a resumed world's start
+    if (hooks.sample && hooks.sample_steps) {
+      samples.clear();
+      hooks.sample_steps(t, samples);
+      for (const long s : samples) {
+        if (s < world_.steps() || s >= t.step) continue;
+        advance_to(s, hooks);
+        if (interrupted_) return done;
+        hooks.sample(t, world_);
+      }
+    }
     advance_to(t.step, hooks);
     if (interrupted_) return done;
     if (hooks.frame) hooks.frame(t, world_);

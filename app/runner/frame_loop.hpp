@@ -54,6 +54,12 @@ class FrameLoop {
     /// starts from): what a trail's history is recorded from (app/view/overlays.hpp), so it depends on
     /// the steps alone, never on which frames are drawn.
     std::function<void(const World&)> step;
+    /// Sub-frame states (motion blur, app/view/motion_blur.hpp): before each target, `sample_steps`
+    /// names steps before it (ascending) and `sample` is called at each on the way, after that
+    /// step's `step` hook; steps the world is already past (a resumed world's start) are skipped.
+    /// The physics is the same with or without them.
+    std::function<void(const FrameTarget&, std::vector<long>&)> sample_steps;
+    std::function<void(const FrameTarget&, const World&)> sample;
     const std::atomic<int>* stop = nullptr;  ///< checked between steps: non-zero ends the run early
   };
   // Steps from the world's current step through `targets` (sorted by step, from parse_frame_spec or

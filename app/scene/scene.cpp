@@ -22,6 +22,7 @@
 #include <simreel/error.hpp>
 #include <simreel/mass_properties.hpp>
 #include "app/scene/mesh_import.hpp"
+#include "app/scene/scene_camera.hpp"
 #include "app/scene/scene_forces.hpp"
 #include "app/scene/scene_joints.hpp"
 #include "sim/base/enum_names.hpp"
@@ -861,7 +862,7 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
   }
   if (const YAML::Node cam = root["camera"]) {
     const Ctx c = top.child("camera");
-    check_keys(cam, c, {"position", "look_at", "up", "fov", "follow", "auto", "frame"});
+    check_keys(cam, c, {"position", "look_at", "up", "fov", "follow", "auto", "frame", "path", "orbit"});
     if (cam["auto"]) s.camera.fit = boolean(cam["auto"], c.child("auto"));
     if (cam["position"]) s.camera.position = vec<3>(cam["position"], c.child("position"));
     if (cam["look_at"]) s.camera.look_at = vec<3>(cam["look_at"], c.child("look_at"));
@@ -870,7 +871,8 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
       s.camera.fov = positive(cam["fov"], c.child("fov"));
       if (s.camera.fov >= 179) c.child("fov").fail(cam["fov"], "must be below 179 degrees");
     }
-    if (cam["follow"]) s.camera.follow = text(cam["follow"], c.child("follow"));
+    if (cam["follow"])
+      s.camera.follow = camera_follow(cam["follow"], c.child("follow"), s.camera.follow_damping);
     if (cam["frame"]) s.camera.frame_body = camera_frame_body(cam["frame"], c.child("frame"));
     if (!s.camera.follow.empty() && !s.camera.frame_body.empty())
       c.child("follow").fail(cam["follow"],
@@ -909,7 +911,8 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
   };
   if (const YAML::Node r = root["render"]) {
     const Ctx c = top.child("render");
-    check_keys(r, c, {"shadows", "antialiasing", "background", "horizon", "sky", "quality", "ground"});
+    check_keys(r, c, {"shadows", "antialiasing", "background", "horizon", "sky", "quality", "ground", "motion_blur"});
+    if (r["motion_blur"]) s.motion_blur = motion_blur(r["motion_blur"], c.child("motion_blur"));
     if (r["sky"]) {
       const std::string k = text(r["sky"], c.child("sky"));
       if (k != "gradient" && k != "flat")
@@ -1071,6 +1074,8 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
   if (!s.camera.frame_body.empty() && !names.count(s.camera.frame_body))
     top.child("camera").child("frame").child("body").fail(root["camera"]["frame"],
                                                           "no body is named '" + s.camera.frame_body + "'");
+  // app/scene/scene_camera.cpp: camera.path and camera.orbit, once the bodies are known
+  load_camera_motion(root, path, s);
   check_ghosts(root, path, s);  // app/scene/ghost.cpp: only where a closed form exists
   load_time(root, path, s);     // app/scene/scene_time.cpp
   load_views(root, path, s);    // app/scene/scene_views.cpp: variants and panes

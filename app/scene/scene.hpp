@@ -6,6 +6,7 @@
 #include <vector>
 
 #include <simreel/body.hpp>
+#include "app/scene/camera_motion.hpp"
 #include "app/scene/ghost.hpp"
 #include "app/scene/scene_overlays.hpp"
 #include "app/scene/scene_time.hpp"
@@ -36,6 +37,10 @@ struct CameraSpec {
   /// `frame: { body: NAME }`: position, look_at and up are in that body's frame and the camera
   /// rides with it (app/scene/scene_views.hpp); "" for the world.
   std::string frame_body;
+  /// s, `follow: { body, damping }`: the time constant the camera lags the body by (0: rigid)
+  double follow_damping = 0;
+  CameraPath path;                   ///< `path:` keys (app/scene/camera_motion.hpp); empty: none
+  std::optional<CameraOrbit> orbit;  ///< `orbit:`
 };
 
 const char* to_string(AntiAliasing a);
@@ -95,6 +100,7 @@ struct Scene {
   VideoSpec video;
   CameraSpec camera;
   RenderSpec render;
+  MotionBlurSpec motion_blur;  ///< render.motion_blur (app/scene/camera_motion.hpp)
   std::vector<BodyDef> bodies;
   std::vector<BodyLook> looks;       ///< parallel to bodies
   std::optional<GroundSpec> ground;  ///< the top-level `ground` (its body is the last of `bodies`)

@@ -15,10 +15,17 @@ namespace {
 
 constexpr uint8_t kGutter[4] = {24, 28, 36, 255};  // the gutters and the title band, display RGB
 
-// The scene's camera with a pane's keys over it.
+// The scene's camera with a pane's keys over it. A pane that places its camera itself (position,
+// look_at, up, follow or frame) has no part in the scene camera's path or orbit; one that sets
+// only fov (or nothing) moves with them (a path's fov keys over the pane's fov). A pane's follow
+// keeps the scene's follow damping.
 CameraSpec pane_camera(const CameraSpec& base, const PaneCamera& p) {
   CameraSpec c = base;
   c.fit = false;
+  if (p.position || p.look_at || p.up || p.follow || p.frame_body) {
+    c.path = CameraPath();
+    c.orbit.reset();
+  }
   if (p.position) c.position = *p.position;
   if (p.look_at) c.look_at = *p.look_at;
   if (p.up) c.up = *p.up;
@@ -72,15 +79,21 @@ struct SceneFrames::Pane {
 };
 
 SceneFrames::SceneFrames(const Scene& scene, FrameLoop& main, const ViewOptions& o, PostStage post)
-    : post_(post), main_(&main) {
+    : post_(post), main_(&main), blur_spec_(scene.motion_blur) {
   radii_ = body_radii(main.world());
+  if (blur_spec_.on()) {
+    blur_ = std::make_unique<BlurAccumulator>(blur_spec_.samples);
+    frame_steps_ = std::max(1L, std::lround(1 / (scene.video.fps * main.world().config().dt)));
+  }
   if (!scene.views.split()) {
     view_ = std::make_unique<SceneView>(scene, main.world(), o);
     notes_ = view_->meshes.notes;  // images that could not be decoded
-    view_->settings.post = post;
+    // With blur the renderer's images are summed first: the post stage runs on their average.
+    view_->settings.post = blur_ ? PostStage::caller : post;
     renderer_ = std::make_unique<Renderer>(view_->settings, view_->meshes);
     width_ = view_->settings.width;
     height_ = view_->settings.height;
+    if (blur_) frame_.resize((size_t)width_ * height_ * 4);
     return;
   }
   width_ = o.width > 0 ? o.width : scene.video.width;
@@ -141,6 +154,7 @@ SceneFrames::SceneFrames(const Scene& scene, FrameLoop& main, const ViewOptions&
       };
   }
   frame_.resize((size_t)width_ * height_ * 4);
+  if (blur_) raw_.resize(frame_.size());
 }
 
 SceneFrames::~SceneFrames() = default;
@@ -169,10 +183,8 @@ void SceneFrames::advance_variants(const World& main) {
   }
 }
 
-const uint8_t* SceneFrames::draw(const World& main, uint8_t* out, long frame) {
-  if (view_) return view_->draw(*renderer_, main, out, frame);
+void SceneFrames::compose(const World& main, uint8_t* img, long frame) {
   advance_variants(main);
-  uint8_t* img = out ? out : frame_.data();
   for (size_t i = 0; i < (size_t)width_ * height_; ++i) std::memcpy(img + 4 * i, kGutter, 4);
   screen_ = title_layer_;  // (keeps its storage once grown)
   for (const auto& p : panes_) {
@@ -193,11 +205,51 @@ const uint8_t* SceneFrames::draw(const World& main, uint8_t* out, long frame) {
       screen_.glyphs.push_back(g);
     }
   }
-  if (post_ == PostStage::renderer) {
-    if (fxaa_) fxaa(img, width_, height_, fxaa_buffers_);
-    composite(screen_, img, width_, height_);
+}
+
+void SceneFrames::post(uint8_t* img) {
+  if (post_ != PostStage::renderer) return;
+  if (view_ ? view_->settings.fxaa() : fxaa_) fxaa(img, width_, height_, fxaa_buffers_);
+  composite(screen(), img, width_, height_);
+}
+
+const uint8_t* SceneFrames::raw(const World& main, long frame) {
+  if (view_) return view_->draw(*renderer_, main, nullptr, frame);
+  compose(main, raw_.data(), frame);
+  return raw_.data();
+}
+
+const uint8_t* SceneFrames::draw(const World& main, uint8_t* out, long frame) {
+  if (!blur_ && view_) return view_->draw(*renderer_, main, out, frame);
+  uint8_t* img = out ? out : frame_.data();
+  if (!blur_) {
+    compose(main, img, frame);
+  } else {
+    // The frame's own state takes the weight its sub-frames left (all of it without them).
+    blur_->add(raw(main, frame), (size_t)width_ * height_, blur_->samples() - blur_->weight());
+    blur_->finish(img);
   }
+  post(img);
   return img;
+}
+
+void SceneFrames::blur_hooks(FrameLoop::Hooks& hooks, const FramePlan& plan) {
+  if (!blur_) return;
+  const FramePlan* pl = &plan;
+  hooks.sample_steps = [this, pl](const FrameTarget& t, std::vector<long>& steps) {
+    const long previous = t.index > 0 && t.index <= pl->frames ? pl->step(t.index - 1)
+                          : t.index == 0                       ? t.step
+                                                               : t.step - frame_steps_;
+    blur_samples_ = blur_samples(blur_spec_, t.step, previous);
+    for (const BlurSample& b : blur_samples_)
+      if (b.step < t.step) steps.push_back(b.step);
+  };
+  hooks.sample = [this](const FrameTarget& t, const World& w) { blur_sample(t, w); };
+}
+
+void SceneFrames::blur_sample(const FrameTarget& t, const World& main) {
+  for (const BlurSample& b : blur_samples_)
+    if (b.step == main.steps()) blur_->add(raw(main, t.index), (size_t)width_ * height_, b.weight);
 }
 
 const ScreenLayer& SceneFrames::screen() const {
@@ -214,10 +266,11 @@ std::string SceneFrames::description() const {
 
 bool SceneFrames::shows_nothing(const World& main) const {
   const double aspect_full = (double)width_ / height_;
+  // A moving camera (path, orbit) is checked where the last draw put it.
   auto empty_for = [&](const SceneView& v, const World& w, double aspect) {
-    return !any_body_in_view(w, radii_, v.camera.eye, v.camera.target, v.camera.up, v.camera.fov_deg,
-                             aspect) ||
-           body_around(w, radii_, v.camera.eye) >= 0;
+    const CameraView& c = v.moving() ? v.drawn_camera() : v.camera;
+    return !any_body_in_view(w, radii_, c.eye, c.target, c.up, c.fov_deg, aspect) ||
+           body_around(w, radii_, c.eye) >= 0;
   };
   if (view_) return view_->follow < 0 && view_->ride < 0 && empty_for(*view_, main, aspect_full);
   bool any_fixed = false;

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "app/runner/frame_loop.hpp"
+#include "app/view/motion_blur.hpp"
 #include "app/view/scene_view.hpp"
 #include "render/fxaa.hpp"
 #include "render/renderer.hpp"
@@ -44,7 +45,15 @@ class SceneFrames {
   // Draws the frame of the main world's present state (variants advanced to the same simulated
   // time first). `frame`: the video frame's number for the HUD (-1: from the world's time). With
   // post == caller, FXAA (if caller_fxaa()) and screen() are left to the caller.
+  // With motion blur the frame is the average of the states blur_hooks() had drawn and this one.
   const uint8_t* draw(const World& main, uint8_t* out = nullptr, long frame = -1);
+  // Motion blur (render.motion_blur; nothing without it): sets hooks.sample_steps and hooks.sample
+  // so that each frame averages the states in its shutter interval (app/view/motion_blur.hpp).
+  // `plan`: the plan whose frames the targets number (the video's for render, the simulation's
+  // for check); a target of none (render --at) opens the shutter over 1/fps of simulated time.
+  // The overlays' 3D geometry (arrows, trails) is blurred with the bodies; the 2D layer (HUD,
+  // captions, plots) is the frame's own, sharp.
+  void blur_hooks(FrameLoop::Hooks& hooks, const FramePlan& plan);
   const ScreenLayer& screen() const;  ///< the frame's 2D layer of the last draw()
   bool caller_fxaa() const;           ///< whether the caller must run FXAA (post == caller)
   std::string description() const;    ///< the renderer's
@@ -63,6 +72,10 @@ class SceneFrames {
   struct Variant;
   struct Pane;
   void advance_variants(const World& main);
+  void compose(const World& main, uint8_t* img, long frame);  // the panes, before the post stage
+  const uint8_t* raw(const World& main, long frame);          // the frame before the post stage
+  void post(uint8_t* img);                                    // FXAA and text, if post_ says so
+  void blur_sample(const FrameTarget& t, const World& main);
 
   int width_, height_;
   PostStage post_;
@@ -83,6 +96,12 @@ class SceneFrames {
   std::vector<std::string> notes_;
   std::vector<double> radii_;
   FrameLoop* main_;
+  // Motion blur: the frame's sum, and the samples of the target being drawn.
+  MotionBlurSpec blur_spec_;
+  std::unique_ptr<BlurAccumulator> blur_;
+  std::vector<BlurSample> blur_samples_;
+  long frame_steps_ = 1;      // steps in 1/fps of simulated time
+  std::vector<uint8_t> raw_;  // a split screen's sub-frame
 };
 
 }  // namespace simreel

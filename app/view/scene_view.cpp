@@ -63,12 +63,17 @@ SceneView::SceneView(const Scene& scene, const World& world, const ViewOptions& 
   camera.target = scene.camera.look_at;
   camera.up = scene.camera.up;
   camera.fov_deg = scene.camera.fov;
+  path = scene.camera.path;
+  orbit = scene.camera.orbit;
   for (int i = 0; i < world.body_count(); ++i) {
     if (world.def(i).name == scene.camera.follow) follow = i;
     if (world.def(i).name == scene.camera.frame_body) ride = i;
+    if (orbit && world.def(i).name == orbit->body) orbit_body = i;
   }
-  // A following camera moves every frame: caching the ground would only redraw the cache.
-  rs.cache_ground = follow < 0 && ride < 0;
+  if (follow >= 0 && scene.camera.follow_damping > 0)
+    damped = std::make_unique<DampedFollow>(scene.camera.follow_damping);
+  // A following or moving camera moves every frame: caching the ground would only redraw the cache.
+  rs.cache_ground = follow < 0 && ride < 0 && !moving();
   if (scene.overlays.any())
     overlays = std::make_unique<SceneOverlays>(scene, world, body_radii(world, meshes), rs.width, rs.height,
                                                std::max(1, o.threads));
@@ -77,11 +82,26 @@ SceneView::SceneView(const Scene& scene, const World& world, const ViewOptions& 
 }
 
 const uint8_t* SceneView::draw(Renderer& r, const World& world, uint8_t* out, long frame) {
-  build_draw_list(world, meshes, camera, follow, dl_);
+  // The camera at this moment: a function of the simulated time (path, orbit) and of the bodies'
+  // states up to it (the orbit's body, the damped follow), never of the frames drawn before.
+  CameraView cam = camera;
+  const double t = world.time();
+  if (!path.empty()) path.apply(t, cam.eye, cam.target, cam.up, cam.fov_deg);
+  if (orbit) {
+    cam.target = orbit_body >= 0 ? world.centroid(orbit_body) : orbit->center;
+    cam.eye = orbit->eye(t, cam.target);
+  }
+  // A damped follow draws where its filter is (the rigid follow until the step hook has run).
+  const bool lag = damped && damped->started();
+  build_draw_list(world, meshes, cam, lag ? -1 : follow, dl_);
+  if (lag) {
+    dl_.camera.eye = cam.eye + (damped->position() - cam.target);
+    dl_.camera.target = damped->position();
+  }
   if (ride >= 0) {  // camera.frame: the camera's points and up are in the body's frame
-    dl_.camera.eye = world.local_to_world(ride, camera.eye);
-    dl_.camera.target = world.local_to_world(ride, camera.target);
-    dl_.camera.up = world.local_to_world_vec(ride, camera.up);
+    dl_.camera.eye = world.local_to_world(ride, cam.eye);
+    dl_.camera.target = world.local_to_world(ride, cam.target);
+    dl_.camera.up = world.local_to_world_vec(ride, cam.up);
   }
   if (overlays) overlays->build(world, frame >= 0 ? frame : std::lround(world.time() * fps_), dl_);
   if (ghosts) {
@@ -92,9 +112,14 @@ const uint8_t* SceneView::draw(Renderer& r, const World& world, uint8_t* out, lo
 }
 
 std::function<void(const World&)> SceneView::step_hook() {
-  if (!overlays || !overlays->records_steps()) return {};
-  SceneOverlays* o = overlays.get();
-  return [o](const World& w) { o->record(w); };
+  SceneOverlays* o = overlays && overlays->records_steps() ? overlays.get() : nullptr;
+  DampedFollow* f = damped.get();
+  if (!o && !f) return {};
+  const int body = follow;
+  return [o, f, body](const World& w) {
+    if (o) o->record(w);
+    if (f) f->track(w.steps(), w.time(), w.centroid(body));
+  };
 }
 
 }  // namespace simreel

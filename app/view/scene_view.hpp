@@ -4,6 +4,7 @@
 #pragma once
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include <simreel/world.hpp>
@@ -30,6 +31,12 @@ struct SceneView {
   int follow = -1;  ///< body the camera tracks, or -1
   int ride = -1;    ///< body whose frame the camera rides in (camera.frame), or -1: `camera` is then
                     ///< in that body's frame (points about its origin)
+  // A moving camera (app/scene/camera_motion.hpp): `camera` is then the camera block's values,
+  // which the path's keys, the orbit or the damped follow move at each frame.
+  CameraPath path;                       ///< keys of `camera.path` (empty: none)
+  std::optional<CameraOrbit> orbit;      ///< `camera.orbit`
+  int orbit_body = -1;                   ///< the body the orbit circles, or -1 (its fixed centre)
+  std::unique_ptr<DampedFollow> damped;  ///< `follow: { damping > 0 }`, advanced by step_hook()
   RenderSettings settings;
   AntiAliasing aa = AntiAliasing::fxaa;
   std::unique_ptr<SceneOverlays> overlays;  ///< null for a scene without `show:` or `overlays:`
@@ -43,8 +50,12 @@ struct SceneView {
   const uint8_t* draw(Renderer& r, const World& world, uint8_t* out = nullptr, long frame = -1);
   // The screen layer of the last draw(): for a caller that runs the post stage itself.
   const ScreenLayer& screen() const { return dl_.screen; }
-  // For FrameLoop::Hooks::step: records trails and joints' periods at every physics step (empty if
-  // the overlays have neither).
+  // The camera of the last draw(), in the world (after path, orbit, follow and riding).
+  const CameraView& drawn_camera() const { return dl_.camera; }
+  // Whether the camera moves by path or orbit (a fixed camera otherwise, unless it follows or rides).
+  bool moving() const { return !path.empty() || orbit.has_value(); }
+  // For FrameLoop::Hooks::step: records trails and joints' periods, and advances a damped follow,
+  // at every physics step (empty if there is none of these).
   std::function<void(const World&)> step_hook();
 
  private:

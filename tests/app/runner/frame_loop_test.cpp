@@ -106,6 +106,31 @@ TEST(FrameLoop, WhatIsDrawnDoesNotChangeTheRun) {
   EXPECT_GT(all.drift().energy_rel(), 0);  // something was measured
 }
 
+// Sub-frame samples (motion blur) are taken at the steps asked for, in order, before their frame,
+// and change nothing: the state at every frame and at the end is the run without them, bit for bit.
+TEST(FrameLoop, SubFrameSamplesAreTakenOnTheWayAndChangeNothing) {
+  FrameLoop plain = make_loop(), sampled = make_loop();
+  std::vector<Vec3> v_plain, v_sampled;
+  FrameLoop::Hooks a;
+  a.frame = [&](const FrameTarget&, const World& w) { v_plain.push_back(w.angular_velocity(0)); };
+  plain.run(plain.all_frames(), a, true);
+  std::vector<std::pair<long, long>> seen;  // (frame, step)
+  FrameLoop::Hooks b;
+  b.sample_steps = [](const FrameTarget& t, std::vector<long>& steps) {
+    for (long s : {t.step - 7, t.step - 3, t.step - 1}) steps.push_back(s);  // before step 0: skipped
+  };
+  b.sample = [&](const FrameTarget& t, const World& w) { seen.emplace_back(t.index, w.steps()); };
+  b.frame = [&](const FrameTarget&, const World& w) { v_sampled.push_back(w.angular_velocity(0)); };
+  sampled.run(sampled.all_frames(), b, true);
+  EXPECT_EQ(v_plain, v_sampled);
+  EXPECT_EQ(plain.world().linear_velocity(0), sampled.world().linear_velocity(0));
+  EXPECT_EQ(plain.drift().energy_rel(), sampled.drift().energy_rel());
+  ASSERT_EQ(seen.size(), 20u * 3);  // frame 0 has no step before it
+  EXPECT_EQ(seen[0], std::make_pair(1L, 3L));
+  EXPECT_EQ(seen[2], std::make_pair(1L, 9L));
+  EXPECT_EQ(seen.back(), std::make_pair(20L, 199L));
+}
+
 // Without to_end the physics stops at the last frame asked for; a stop request ends it between
 // steps, not only between frames.
 TEST(FrameLoop, StopsAtTheLastTargetOrWhenAsked) {
