@@ -63,9 +63,39 @@ struct VideoWriter::Impl {
       throw std::runtime_error("no video format for '" + s.path + "' (use .mp4, .webm or .gif)");
     const std::string ext = target.extension().string();
     const bool is_gif = ext == ".gif", webm = ext == ".webm";
-    const AVCodec* codec = avcodec_find_encoder_by_name(is_gif ? "gif" : webm ? "libvpx-vp9" : "libx264");
+    const bool h264 = !is_gif && !webm;
+    const AVCodec* codec = nullptr;
+    AVRational rate{};
+    if (!h264 && !s.encoder.empty())
+      note = "--encoder applies to .mp4, .mov and .mkv outputs: '" + s.encoder + "' not used for " + ext;
+    if (h264 && !s.encoder.empty() && s.encoder != "libx264") {
+      codec = avcodec_find_encoder_by_name(s.encoder.c_str());
+      if (!codec)
+        note = "this FFmpeg has no encoder '" + s.encoder + "': encoding with libx264";
+      else if (codec->type != AVMEDIA_TYPE_VIDEO)
+        note = "'" + s.encoder + "' is not a video encoder: encoding with libx264", codec = nullptr;
+    }
+    if (!codec) codec = avcodec_find_encoder_by_name(is_gif ? "gif" : webm ? "libvpx-vp9" : "libx264");
     if (!codec) throw std::runtime_error("this FFmpeg has no encoder for '" + ext + "'");
     st = avformat_new_stream(fmt, nullptr);
+    if (!open_encoder(codec, is_gif, webm, &rate)) {  // the named encoder cannot run here
+      codec = avcodec_find_encoder_by_name("libx264");
+      if (!codec || !open_encoder(codec, is_gif, webm, &rate))
+        throw std::runtime_error("cannot open the libx264 encoder: " + open_error);
+    }
+    avcodec_parameters_from_context(st->codecpar, enc);
+    st->time_base = enc->time_base;
+    st->avg_frame_rate = rate;
+    finish_open(ext, is_gif);
+  }
+
+  std::string note, open_error;
+
+  // Sets up `enc` for `codec` and opens it; false (with note and open_error said) if a named
+  // encoder other than libx264 cannot open here, so the caller falls back.
+  bool open_encoder(const AVCodec* codec, bool is_gif, bool webm, AVRational* rate_out) {
+    const std::filesystem::path target(s.path);
+    if (enc) avcodec_free_context(&enc);
     enc = avcodec_alloc_context3(codec);
     enc->width = s.width;
     enc->height = s.height;
@@ -83,6 +113,7 @@ struct VideoWriter::Impl {
       enc->height = gif->out_height();
       rate = av_d2q(gif->out_fps(), 100000);
     }
+    *rate_out = rate;
     enc->time_base = av_inv_q(rate);
     enc->framerate = rate;
     enc->pix_fmt = is_gif ? AV_PIX_FMT_PAL8 : AV_PIX_FMT_YUV420P;
@@ -96,22 +127,47 @@ struct VideoWriter::Impl {
     }
     if (fmt->oformat->flags & AVFMT_GLOBALHEADER) enc->flags |= AV_CODEC_FLAG_GLOBAL_HEADER;
     AVDictionary* opts = nullptr;
-    if (!is_gif && !webm) {
+    const bool x264 = std::string(codec->name) == "libx264";
+    if (!is_gif && !webm && x264) {
       av_dict_set(&opts, "preset", s.preset.c_str(), 0);
       av_dict_set(&opts, "crf", std::to_string(s.crf).c_str(), 0);
+    } else if (!is_gif && !webm) {  // another encoder: its own quality option at the same level
+      const std::string name = codec->name;
+      if (name.find("nvenc") != std::string::npos) {
+        av_dict_set(&opts, "rc", "vbr", 0);
+        av_dict_set(&opts, "cq", std::to_string(s.crf).c_str(), 0);
+        av_dict_set(&opts, "preset", "p4", 0);
+      } else if (name == "libx265") {
+        av_dict_set(&opts, "preset", s.preset.c_str(), 0);
+        av_dict_set(&opts, "crf", std::to_string(s.crf).c_str(), 0);
+      }
     } else if (webm) {
       av_dict_set(&opts, "deadline", "realtime", 0);
       av_dict_set(&opts, "cpu-used", "8", 0);
       av_dict_set(&opts, "crf", "32", 0);
       enc->bit_rate = 0;
     }
+    // FFmpeg prints its own reason at error level ("OpenEncodeSessionEx failed: unsupported
+    // device"); the note says what simreel did about it.
     int e = avcodec_open2(enc, codec, &opts);
     av_dict_free(&opts);
-    if (e < 0)
-      throw std::runtime_error("cannot open the " + std::string(codec->name) + " encoder: " + av_err(e));
-    avcodec_parameters_from_context(st->codecpar, enc);
-    st->time_base = enc->time_base;
-    st->avg_frame_rate = rate;
+    if (e < 0) {
+      open_error = av_err(e);
+      if (!x264 && !is_gif && !webm) {
+        note = "the " + std::string(codec->name) + " encoder cannot run here (" + open_error +
+               (std::string(codec->name).find("vaapi") != std::string::npos
+                    ? "; VAAPI encoders take frames uploaded to the GPU, which simreel does not do"
+                    : std::string("; an NVIDIA card without an NVENC unit, an H100 say, has none")) +
+               "): encoding with libx264";
+        return false;
+      }
+      throw std::runtime_error("cannot open the " + std::string(codec->name) + " encoder: " + open_error);
+    }
+    return true;
+  }
+
+  void finish_open(const std::string& ext, bool is_gif) {
+    int e = 0;
     // The muxer reopens its url for +faststart: point it at the temporary file we write.
     av_freep(&fmt->url);
     fmt->url = av_strdup(tmp.c_str());
@@ -306,6 +362,13 @@ void VideoWriter::finish() {
 long VideoWriter::frames() const {
   return p_->nframes;
 }
+std::string VideoWriter::encoder_name() const {
+  return p_->enc && p_->enc->codec ? p_->enc->codec->name : "";
+}
+const std::string& VideoWriter::encoder_note() const {
+  return p_->note;
+}
+
 double VideoWriter::encode_seconds() const {
   return p_->busy;
 }

@@ -21,7 +21,12 @@ struct VideoSettings {
   std::string frames_dir;                              ///< if set, also frame_00000.png ... here
   int width = kDefaultWidth, height = kDefaultHeight;  ///< px; even for yuv420p
   double fps = 30;
-  int crf = 20;  ///< x264 quality (lower is better; 18-23 typical)
+  int crf = 20;  ///< x264 quality (lower is better; 18-23 typical); NVENC's constant quality `cq`
+  /// .mp4 .mov .mkv: an FFmpeg encoder by name (h264_nvenc, hevc_nvenc, libx265, ...) instead of
+  /// libx264. One this FFmpeg lacks, or that cannot open here (an NVIDIA card without an NVENC
+  /// unit: "OpenEncodeSessionEx failed: unsupported device"; VAAPI, which needs frames uploaded to
+  /// the GPU), falls back to libx264 with encoder_note() saying why.
+  std::string encoder;
   std::string preset = "veryfast";
   int gif_width = 0;   ///< GIF only: output width, px (the height keeps the aspect); 0: `width`
   double gif_fps = 0;  ///< GIF only: frames/s, at most `fps` and 50; 0: `fps` up to 50
@@ -50,7 +55,9 @@ class VideoWriter {
   // Drains the queue, flushes the encoder, writes the trailer and renames into place.
   void finish();
   long frames() const;
-  double encode_seconds() const;  ///< time the encoding thread spent working
+  double encode_seconds() const;            ///< time the encoding thread spent working
+  std::string encoder_name() const;         ///< the encoder in use ("libx264", "h264_nvenc", ...)
+  const std::string& encoder_note() const;  ///< why VideoSettings::encoder was not used, or ""
 
  private:
   struct Impl;

@@ -10,9 +10,9 @@
 
 #include <algorithm>
 
-#include "app/runner/camera_fit.hpp"
 #include "app/cli/cli.hpp"
 #include "app/cli/commands.hpp"
+#include "app/runner/camera_fit.hpp"
 #include "app/runner/frame_loop.hpp"
 #include "app/runner/run.hpp"
 #include "app/scene/text.hpp"
@@ -36,6 +36,7 @@ struct RenderOptions {
   bool overwrite = false, no_video = false, no_shadows = false;
   std::optional<std::string> aa, gl;
   std::optional<int> crf, gif_width;
+  std::optional<std::string> encoder;
   std::optional<double> gif_fps;
 };
 
@@ -87,6 +88,12 @@ void render_table(CLI::App& app, RenderOptions& o) {
   app.add_option("--crf", o.crf, "H.264 quality, 0-51 (default 20; lower is better and larger)")
       ->type_name("N")
       ->transform(cli::whole(0, 51));
+  app.add_option(
+         "--encoder", o.encoder,
+         "FFmpeg video encoder for .mp4/.mov/.mkv instead of libx264: h264_nvenc, hevc_nvenc, libx265, "
+         "...; one that this FFmpeg lacks or that cannot run here (no NVENC unit, VAAPI) falls back to "
+         "libx264 with a note")
+      ->type_name("NAME");
   app.add_option("--gif-width", o.gif_width,
                  "with a .gif output: its width (the height follows the aspect ratio), scaled from the "
                  "rendered frames with a Lanczos filter; default the video width")
@@ -289,6 +296,7 @@ int cmd_render(const std::vector<std::string>& args) {
   vs.height = h;
   vs.fps = scene.video.fps;
   if (r.crf) vs.crf = *r.crf;
+  if (r.encoder) vs.encoder = *r.encoder;
   if (r.gif_width) {
     if (*r.gif_width > w)
       throw UsageError("--gif-width " + std::to_string(*r.gif_width) + " is wider than the frames (" +
@@ -332,6 +340,8 @@ int cmd_render(const std::vector<std::string>& args) {
     for (const std::string& n : view.notes()) std::fprintf(stderr, "note: %s\n", n.c_str());
   vs.fxaa = view.caller_fxaa();
   VideoWriter writer(vs);
+  if (!writer.encoder_note().empty() && !r.run.quiet)
+    std::fprintf(stderr, "note: %s\n", writer.encoder_note().c_str());
 
   Progress progress("frames", (long)targets.size(), r.run.quiet || r.run.json);
   double render_s = 0;
