@@ -582,6 +582,7 @@ struct Renderer::Impl {
 
   // The camera of a frame: projection and eye, and the ground's placement.
   struct View {
+    M4 proj;    // view to clip, y flipped (for the ambient occlusion's view-space positions)
     M4 vp;      // world to clip, y flipped (see view())
     V3f eye;    // m
     M4 ground;  // the ground plane's model matrix
@@ -607,8 +608,8 @@ struct Renderer::Impl {
     // Drawn upside down (y negated in clip space, so the winding that faces the camera turns
     // clockwise): glReadPixels returns the bottom row first, which is then the top of the image.
     const M4 flip_y = Eigen::Vector4f(1, -1, 1, 1).asDiagonal();
-    v.vp = flip_y * perspective((float)(cam.fov_deg * M_PI / 180.0), (float)s.width / s.height, near, far) *
-           look_at(v.eye, cam.target.cast<float>(), cam.up.cast<float>());
+    v.proj = flip_y * perspective((float)(cam.fov_deg * M_PI / 180.0), (float)s.width / s.height, near, far);
+    v.vp = v.proj * look_at(v.eye, cam.target.cast<float>(), cam.up.cast<float>());
     // Fixed in the world, centred on the origin: it must not move under the bodies between frames
     // (it used to re-centre on them in whole checker periods, a visible jump of two tiles).
     v.ground = M4::Identity();
@@ -750,6 +751,67 @@ struct Renderer::Impl {
     white.rgba = {255, 255, 255, 255};
     white_tex = make(white);
     glBindTexture(GL_TEXTURE_2D, 0);
+  }
+
+  // ---- screen-space ambient occlusion (render.quality: high): the frame's depth copied into a
+  // texture, then a full-frame pass that darkens each pixel by how much of the hemisphere above
+  // its surface nearby geometry fills, multiplied into the colour (blending), before the overlay.
+  GLuint ao_prog = 0, ao_fbo = 0, ao_depth = 0, ao_vao = 0;
+  GLint ao_inv_proj = -1, ao_scale = -1;
+  void setup_ao() {
+    ao_prog = link_program(sky_vertex_shader(), ao_fragment_shader().c_str());
+    ao_inv_proj = glGetUniformLocation(ao_prog, "u_inv_proj");
+    ao_scale = glGetUniformLocation(ao_prog, "u_px_per_m");
+    glUseProgram(ao_prog);
+    glUniform1i(glGetUniformLocation(ao_prog, "u_depth"), 4);  // texture unit 4
+    glUniform2f(glGetUniformLocation(ao_prog, "u_texel"), 1.0f / s.width, 1.0f / s.height);
+    glGenTextures(1, &ao_depth);
+    glBindTexture(GL_TEXTURE_2D, ao_depth);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT24, s.width, s.height, 0, GL_DEPTH_COMPONENT,
+                 GL_UNSIGNED_INT, nullptr);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glGenFramebuffers(1, &ao_fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, ao_fbo);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, ao_depth, 0);
+    glDrawBuffer(GL_NONE);
+    glReadBuffer(GL_NONE);
+    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+      throw std::runtime_error("ambient occlusion framebuffer incomplete");
+    glGenVertexArrays(1, &ao_vao);
+    glBindTexture(GL_TEXTURE_2D, 0);
+    glUseProgram(0);
+  }
+  void ao_pass(const View& v) {
+    if (!ao_prog) setup_ao();
+    const GLuint target = msaa > 1 ? msaa_fbo : frame_fbo;
+    // The depth, resolved to one sample (the nearest) with MSAA.
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, target);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, ao_fbo);
+    glBlitFramebuffer(0, 0, s.width, s.height, 0, 0, s.width, s.height, GL_DEPTH_BUFFER_BIT, GL_NEAREST);
+    glBindFramebuffer(GL_FRAMEBUFFER, target);
+    glUseProgram(ao_prog);
+    const M4 inv = v.proj.inverse();
+    glUniformMatrix4fv(ao_inv_proj, 1, GL_FALSE, inv.data());
+    glUniform1f(ao_scale,
+                0.5f * s.height * v.proj(1, 1) * -1.0f);  // px per m at 1 m (the y flip's sign undone)
+    glActiveTexture(GL_TEXTURE4);
+    glBindTexture(GL_TEXTURE_2D, ao_depth);
+    glActiveTexture(GL_TEXTURE0);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    glDepthMask(GL_FALSE);
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_ZERO, GL_SRC_COLOR);  // colour x occlusion factor
+    glBindVertexArray(ao_vao);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glBindVertexArray(0);
+    glDisable(GL_BLEND);
+    glDepthMask(GL_TRUE);
+    glEnable(GL_CULL_FACE);
+    glEnable(GL_DEPTH_TEST);
   }
 
   // ---- the overlay pass (render/overlay.hpp): set up on the first frame that has overlays, so a
@@ -983,6 +1045,7 @@ const uint8_t* Renderer::render(const DrawList& dl, uint8_t* out) {
   if (s.shadows) P.shadow_pass(dl, lvp);  // pass 1
   const Impl::View v = P.view(dl);
   P.bodies_pass(dl, v, lvp);                                         // pass 2
+  if (s.quality == RenderQuality::high) P.ao_pass(v);                // ambient occlusion
   if (!dl.overlay.empty()) P.overlay_pass(dl.overlay, v.vp, v.eye);  // pass 3
   uint8_t* img = out ? out : P.frame.data();
   P.read_back(img);

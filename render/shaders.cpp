@@ -392,6 +392,53 @@ std::string ground_shadow_fragment_shader(bool textured) {
          kGroundShadowFS;
 }
 
+// Ambient occlusion from the depth buffer alone (after Bavoil and Sainz's screen-space AO and
+// McGuire's Alchemy AO): each pixel's view-space position P from its depth, its normal N from the
+// position's screen derivatives, and 12 samples on a golden-angle spiral within 0.35 m of it; a
+// sample at S occludes by max(0, N . (S - P) / |S - P| - 0.1), fading beyond 0.35 m, so a flat
+// ground occludes nothing. The spiral turns by a 4 x 4 pattern of pixel positions (deterministic;
+// FXAA and the 2x2 chroma of video smooth the pattern). Written as an occlusion factor that
+// blending multiplies into the frame: 1 for sky, at most 45% darker in a tight corner.
+const char* kAoFS = R"(#version 330 core
+uniform sampler2D u_depth;
+uniform mat4 u_inv_proj;
+uniform vec2 u_texel;
+uniform float u_px_per_m;
+out vec4 o_color;
+vec3 view_pos(vec2 uv) {
+  vec4 p = u_inv_proj * vec4(uv * 2.0 - 1.0, texture(u_depth, uv).r * 2.0 - 1.0, 1.0);
+  return p.xyz / p.w;
+}
+void main() {
+  vec2 uv = gl_FragCoord.xy * u_texel;
+  float d = texture(u_depth, uv).r;
+  if (d >= 1.0) {
+    o_color = vec4(1.0);
+    return;
+  }
+  vec3 p = view_pos(uv);
+  vec3 n = normalize(cross(dFdx(p), dFdy(p)));
+  if (dot(n, p) > 0.0) n = -n;  // towards the camera
+  const float R = 0.35;
+  float r_px = min(R * u_px_per_m / max(-p.z, 1e-3), 80.0);
+  ivec2 q = ivec2(gl_FragCoord.xy) & 3;
+  float a0 = float(q.x + 4 * q.y) * (6.2831853 / 16.0);
+  float occ = 0.0;
+  for (int i = 0; i < 12; ++i) {
+    float t = (float(i) + 0.5) / 12.0, a = a0 + float(i) * 2.3999632;
+    vec2 off = vec2(cos(a), sin(a)) * (r_px * sqrt(t));
+    vec3 v = view_pos(uv + off * u_texel) - p;
+    float len = length(v);
+    occ += max(0.0, dot(n, v) / max(len, 1e-4) - 0.1) * (1.0 - smoothstep(0.5 * R, R, len));
+  }
+  o_color = vec4(vec3(1.0 - 0.45 * min(1.0, occ / 12.0 * 1.6)), 1.0);
+}
+)";
+
+std::string ao_fragment_shader() {
+  return kAoFS;
+}
+
 std::string sky_fragment_shader() {
   return "#version 330 core\n" + srgb_glsl() + kSkyFS;
 }

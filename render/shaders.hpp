@@ -66,6 +66,8 @@ std::string ground_shadow_fragment_shader(bool textured);
 // The sky behind everything (render/renderer.cpp, sky_pass).
 const char* sky_vertex_shader();
 std::string sky_fragment_shader();
+// Screen-space ambient occlusion (render.quality: high), drawn with sky_vertex_shader's triangle.
+std::string ao_fragment_shader();
 
 // Compiles and links; throws std::runtime_error with the driver's log on failure. Needs a
 // current GL context.

@@ -429,6 +429,56 @@ TEST(Render, InsideOutMeshLooksLikeTheCorrectOne) {
 // shadows every frame: bodies tumbling over a checker ground (the camera still, so the cache is
 // reused), frame by frame within 2 levels per channel (the footprints interpolate the same plane
 // from other vertices), and the shadows really there (footprints not missing any).
+// render.quality: high against standard. Ambient occlusion alone (shadows off), a 2 m box on a
+// one-colour ground seen obliquely: nothing gets brighter, open ground far from the box is the same
+// (a plane occludes nothing), and the ground along the box's foot and the box's lower walls get
+// darker. Soft shadows alone (from straight above, 16.5 px a metre): the shadow's edge has a
+// penumbra of levels between shadowed and lit ground where standard's edge is hard.
+TEST(Render, HighQualityOccludesCreasesAndSoftensShadowEdges) {
+  auto frame = [](bool high, bool shadows, const CameraView& cam) {
+    static bool hq;
+    hq = high;
+    Fixture s(
+        {colored(box_body("b", Vec3(2, 2, 2), 1), {0.8f, 0.8f, 0.8f}, Vec3(0, 0, 1))}, cam, true, shadows,
+        +[](RenderSettings& r) {
+          r.antialiasing = AntiAliasing::none;
+          r.ground_color2 = r.ground_color;
+          if (hq) r.quality = RenderQuality::high;
+        });
+    s.render();
+    return s.frame;
+  };
+  const auto lum = [](const std::vector<uint8_t>& img, int x, int y) { return at(img.data(), x, y).sum(); };
+  CameraView side;
+  side.eye = Vec3(-7, -5, 4);
+  side.target = Vec3(0, 0, 0.8);
+  side.fov_deg = 40;
+  const std::vector<uint8_t> a = frame(false, false, side), b = frame(true, false, side);
+  int darker = 0, brighter = 0;
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      darker += lum(b, x, y) < lum(a, x, y) - 6;
+      brighter += lum(b, x, y) > lum(a, x, y) + 3;
+    }
+  EXPECT_GT(darker, 40) << "the box's foot";
+  EXPECT_EQ(brighter, 0);
+  for (auto [x, y] : {std::pair{5, H - 5}, {W - 5, H - 5}, {W / 2, H - 3}})
+    EXPECT_NEAR(lum(b, x, y), lum(a, x, y), 3) << "open ground at " << x << ", " << y;
+
+  const std::vector<uint8_t> hard = frame(false, true, top_down()), soft = frame(true, true, top_down());
+  const int lit = lum(hard, 5, 5);
+  int shadow = lit;
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) shadow = std::min(shadow, lum(hard, x, y));
+  auto between = [&](const std::vector<uint8_t>& img) {  // right of and above the box: its shadow
+    int n = 0;
+    for (int y = 10; y < 70; ++y)
+      for (int x = 85; x < 130; ++x) n += lum(img, x, y) > shadow + 6 && lum(img, x, y) < lit - 6;
+    return n;
+  };
+  EXPECT_GT(between(soft), between(hard) + 20) << between(soft) << " vs " << between(hard);
+}
+
 TEST(Render, CachedGroundLooksLikeTheFullGround) {
   // Three times: all bodies above the ground (the cache's colour only, no ground depth), with one
   // body sunk halfway into it (ground depth copied too, footprints offset in depth), and with 4x
