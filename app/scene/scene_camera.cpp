@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "app/scene/scene.hpp"
+#include "app/scene/scene_views.hpp"
 
 namespace simreel {
 
@@ -16,16 +17,6 @@ std::string secs(double t) {
   char b[40];
   std::snprintf(b, sizeof b, "%g", t);
   return b;
-}
-
-// A body of the scene by name, or a clear error with the nearest name.
-void check_body(const Scene& s, const std::string& name, const YAML::Node& n, const Ctx& c) {
-  std::vector<std::string> all;
-  for (const BodyDef& b : s.bodies) all.push_back(b.name);
-  if (std::find(all.begin(), all.end(), name) != all.end()) return;
-  std::string msg = "no body is named '" + name + "'";
-  if (auto sug = nearest(name, all)) msg += "; did you mean '" + *sug + "'?";
-  c.fail(n, msg);
 }
 
 double fov_of(const YAML::Node& n, const Ctx& c) {

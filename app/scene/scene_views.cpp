@@ -15,16 +15,6 @@ namespace {
 
 constexpr size_t kMaxPanes = 16;
 
-// A body of the scene by name, or a clear error with the nearest name.
-void check_body(const Scene& s, const std::string& name, const YAML::Node& n, const Ctx& c) {
-  std::vector<std::string> all;
-  for (const BodyDef& b : s.bodies) all.push_back(b.name);
-  if (std::find(all.begin(), all.end(), name) != all.end()) return;
-  std::string msg = "no body is named '" + name + "'";
-  if (auto sug = nearest(name, all)) msg += "; did you mean '" + *sug + "'?";
-  c.fail(n, msg);
-}
-
 PaneCamera pane_camera(const YAML::Node& n, const Ctx& c, const Scene& s) {
   if (!n.IsMap()) c.fail(n, "expected a mapping (position, look_at, up, fov, follow, frame), got " + show(n));
   check_keys(n, c, {"position", "look_at", "up", "fov", "follow", "frame"});
@@ -167,6 +157,16 @@ void load_views(const YAML::Node& root, const std::string& path, Scene& s) {
     vs.panes.push_back({variant_title(s, nullptr), "", {}, {}});
     for (const VariantSpec& v : vs.variants) vs.panes.push_back({variant_title(s, &v), v.name, {}, {}});
   }
+}
+
+// A body of the scene by name, or a clear error with the nearest name.
+void check_body(const Scene& s, const std::string& name, const YAML::Node& n, const scene_yaml::Ctx& c) {
+  std::vector<std::string> all;
+  for (const BodyDef& b : s.bodies) all.push_back(b.name);
+  if (std::find(all.begin(), all.end(), name) != all.end()) return;
+  std::string msg = "no body is named '" + name + "'";
+  if (auto sug = nearest(name, all)) msg += "; did you mean '" + *sug + "'?";
+  c.fail(n, msg);
 }
 
 Scene variant_scene(const Scene& s, const VariantSpec& v) {

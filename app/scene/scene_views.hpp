@@ -9,10 +9,10 @@
 #include <string>
 #include <vector>
 
+#include <simreel/math.hpp>
 #include "app/scene/scene_overlays.hpp"
 #include "app/scene/scene_yaml.hpp"
 #include "sim/dynamics/integrators.hpp"
-#include <simreel/math.hpp>
 
 namespace simreel {
 
@@ -60,6 +60,9 @@ void load_views(const YAML::Node& root, const std::string& path, Scene& s);
 // `camera.frame` / a pane camera's `frame`: "world" -> "", { body: NAME } -> NAME (checked
 // against the scene's bodies by load_views).
 std::string camera_frame_body(const YAML::Node& n, const scene_yaml::Ctx& c);
+
+// That `name` is one of the scene's bodies, else InputError at n naming the nearest name.
+void check_body(const Scene& s, const std::string& name, const YAML::Node& n, const scene_yaml::Ctx& c);
 
 // The scene as a variant runs it (prepare_run applied to a new timestep, its note kept).
 Scene variant_scene(const Scene& s, const VariantSpec& v);
