@@ -853,5 +853,28 @@ TEST(Scene, StaticMeshCollidesAsItsTriangles) {
   EXPECT_NE(error_of("bodies:\n  - colliders:\n      - { shape: mesh, file: open_box.obj }\n"), "");
 }
 
+// The look's keys: each error names the file, line, column and key.
+TEST(Scene, LookKeysAreCheckedWithFileLineAndKey) {
+  const std::string body = "bodies:\n  - name: a\n" + std::string(kBox);
+  const std::pair<std::string, std::string> cases[] = {
+      {"render: { quality: ultra }\n",
+       "bad.yaml:1:20: render.quality: unknown quality 'ultra' (standard, high)"},
+      {"render: { sky: stars }\n", "bad.yaml:1:16: render.sky: unknown sky 'stars' (gradient, flat)"},
+      {"render: { horizon: [1, 2, 0] }\n", "render.horizon[1]: colour components must lie in [0, 1]"},
+      {"ground: { colors: [[1, 1, 1]] }\n", "bad.yaml:1:19: ground.colors: expected two colours"},
+      {"ground: { texture: nowhere.png }\n", "bad.yaml:1:20: ground.texture: image 'nowhere.png' not found"},
+      {"ground: { texture_size: 2 }\n", "ground.texture_size: applies with 'texture' only"},
+  };
+  for (const auto& [head, want] : cases) {
+    const std::string e = error_of(head + body);
+    EXPECT_NE(e.find(want), std::string::npos) << e;
+  }
+  const std::string e = error_of(
+      "bodies:\n  - name: a\n    colliders:\n      - { shape: box, size: [1, 1, 1], "
+      "texture: x.png }\n");
+  EXPECT_NE(e.find("bad.yaml:4:"), std::string::npos) << e;
+  EXPECT_NE(e.find("texture: applies to mesh colliders only"), std::string::npos) << e;
+}
+
 }  // namespace
 }  // namespace simreel
