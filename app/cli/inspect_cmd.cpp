@@ -75,6 +75,14 @@ int cmd_inspect(const std::vector<std::string>& args) {
   }
   r.warnings.insert(r.warnings.begin(), im.notes.begin(), im.notes.end());
   const PrincipalAxes pa = principal_axes(r.props.inertia);
+  // The file's look as render draws it (render/material.hpp): its materials (colour, image), and
+  // whether it has texture coordinates and vertex colours.
+  const MeshAppearance* look = im.appearance.get();
+  auto image_of = [&](const SurfaceMaterial& m) -> std::string {
+    if (!look || m.texture < 0 || m.texture >= (int)look->textures.size()) return "";
+    const TextureSource& t = look->textures[m.texture];
+    return t.bytes ? "embedded " + t.name : t.file;
+  };
   if (o.json) {
     using J = nlohmann::ordered_json;
     auto vec = [](const Vec3& v) { return J::array({v.x(), v.y(), v.z()}); };
@@ -100,6 +108,19 @@ int cmd_inspect(const std::vector<std::string>& args) {
     o["degenerate_faces"] = r.degenerate_faces;
     o["reoriented_faces"] = r.reoriented_faces;
     o["inverted"] = r.inverted;
+    J materials = J::array();
+    if (look)
+      for (const SurfaceMaterial& m : look->materials) {
+        J jm;
+        jm["name"] = m.name;
+        jm["color"] = m.color[0] >= 0 ? J::array({m.color[0], m.color[1], m.color[2]}) : J();
+        jm["image"] = image_of(m).empty() ? J() : J(image_of(m));
+        materials.push_back(jm);
+      }
+    o["look"] = {{"materials", materials},
+                 {"texture_coordinates", look && !look->corner_uv.empty()},
+                 {"vertex_colors", look && !look->corner_color.empty()},
+                 {"drawn_with_it", look && look->varies}};
     o["warnings"] = r.warnings;
     std::printf("%s\n", o.dump(-1, ' ', false, J::error_handler_t::replace).c_str());
     return kExitOk;
@@ -121,6 +142,22 @@ int cmd_inspect(const std::vector<std::string>& args) {
   for (int i = 0; i < 3; ++i) std::printf("    %s\n", row(r.props.inertia.row(i)).c_str());
   std::printf("  principal moments: %s kg m^2\n", row(pa.moments).c_str());
   for (int i = 0; i < 3; ++i) std::printf("  axis %d: %s\n", i + 1, row(pa.R.col(i)).c_str());
+  if (look) {
+    std::printf(
+        "  look: %zu material%s%s%s%s\n", look->materials.size(), look->materials.size() == 1 ? "" : "s",
+        look->corner_uv.empty() ? "" : ", texture coordinates",
+        look->corner_color.empty() ? "" : ", vertex colours", look->varies ? "" : " (drawn in one colour)");
+    for (const SurfaceMaterial& m : look->materials) {
+      char c[96] = "no colour";
+      if (m.color[0] >= 0)
+        std::snprintf(c, sizeof c, "colour [%.3g, %.3g, %.3g]", m.color[0], m.color[1], m.color[2]);
+      const std::string img = image_of(m);
+      std::printf("    %s: %s%s\n", m.name.empty() ? "(unnamed)" : m.name.c_str(), c,
+                  img.empty() ? "" : (", image " + img).c_str());
+    }
+  } else if (im.color) {
+    std::printf("  look: one colour [%.3g, %.3g, %.3g]\n", (*im.color)[0], (*im.color)[1], (*im.color)[2]);
+  }
   for (const std::string& w : r.warnings) std::printf("  warning: %s\n", w.c_str());
   return kExitOk;
 }

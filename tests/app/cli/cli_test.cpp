@@ -247,6 +247,28 @@ TEST(Cli, InspectReportsMassPropertiesAsJson) {
   EXPECT_EQ(run("inspect " + write("junk.obj", "this is not a mesh\n")).code, 2);
 }
 
+// inspect says what render will draw of a file's look: its materials, their images (a missing one
+// as a warning), texture coordinates.
+TEST(Cli, InspectShowsTheFilesLook) {
+  write("look.mtl", "newmtl red\nKd 0.8 0.1 0.1\nnewmtl skin\nKd 1 1 1\nmap_Kd gone.png\n");
+  const std::string obj =
+      write("look.obj",
+            "mtllib look.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nvt 0 0\nvt 1 0\nvt 0 1\n"
+            "usemtl red\nf 1/1 3/3 2/2\nf 1/1 2/2 4/3\nusemtl skin\nf 1/1 4/3 3/2\nf 2/1 3/2 4/3\n");
+  const Result r = run("inspect " + obj + " --json");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const nlohmann::json look = json_of(r.out)["look"];
+  ASSERT_EQ(look["materials"].size(), 2u) << r.out;
+  EXPECT_EQ(look["materials"][0]["name"], "red");
+  EXPECT_NEAR(look["materials"][0]["color"][0].get<double>(), 0.8, 1e-6);
+  EXPECT_TRUE(look["materials"][1]["image"].is_null()) << "gone.png is not there";
+  EXPECT_EQ(look["texture_coordinates"], true);
+  EXPECT_EQ(look["drawn_with_it"], true);
+  EXPECT_NE(r.out.find("gone.png"), std::string::npos) << "a warning names the missing image\n" << r.out;
+  const Result plain = run("inspect assets/tetra.off --json");
+  EXPECT_EQ(json_of(plain.out)["look"]["materials"].size(), 0u);
+}
+
 // Byte-identical PNG frames from separate processes, whatever llvmpipe's rasteriser thread count
 // (LP_NUM_THREADS 1, 2, 3), the physics thread count and the GL backend (OSMesa, EGL), with
 // shadows and FXAA on.
