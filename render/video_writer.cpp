@@ -154,11 +154,14 @@ struct VideoWriter::Impl {
     if (e < 0) {
       open_error = av_err(e);
       if (!x264 && !is_gif && !webm) {
-        note = "the " + std::string(codec->name) + " encoder cannot run here (" + open_error +
-               (std::string(codec->name).find("vaapi") != std::string::npos
-                    ? "; VAAPI encoders take frames uploaded to the GPU, which simreel does not do"
-                    : std::string("; an NVIDIA card without an NVENC unit, an H100 say, has none")) +
-               "): encoding with libx264";
+        const std::string name = codec->name;
+        const std::string why =
+            name.find("vaapi") != std::string::npos
+                ? "; VAAPI encoders take frames uploaded to the GPU, which simreel does not do"
+            : name.find("nvenc") != std::string::npos
+                ? "; no NVIDIA driver here, or a card without an NVENC unit, such as an H100"
+                : "";
+        note = "the " + name + " encoder cannot run here (" + open_error + why + "): encoding with libx264";
         return false;
       }
       throw std::runtime_error("cannot open the " + std::string(codec->name) + " encoder: " + open_error);

@@ -378,6 +378,7 @@ int cmd_render(const std::vector<std::string>& args) {
   s.render_seconds = render_s;
   s.renderer = view.description();
   s.encode_seconds = writer.encode_seconds();
+  s.encoder = writer.encoder_name();
   if (done > 0) s.output = vs.path.empty() ? vs.frames_dir : vs.path;
   if (done > 0 && empty * 2 > done) {
     std::string msg =

@@ -113,8 +113,8 @@ std::string summary_text(const RunSummary& s) {
   if (s.steps > 0 && s.step_seconds > 0) o << " (" << s.step_seconds / s.steps * 1e6 << " us/step)";
   o << "\n";
   if (s.render_seconds >= 0)
-    o << "  rendering: " << s.render_seconds << " s, encoding thread busy " << s.encode_seconds << " s ("
-      << s.renderer << ")\n";
+    o << "  rendering: " << s.render_seconds << " s, encoding thread busy " << s.encode_seconds << " s"
+      << (s.encoder.empty() ? "" : " (" + s.encoder + ")") << " (" << s.renderer << ")\n";
   o << "  energy drift: " << s.energy_rel_drift
     << " (relative), angular momentum drift: " << s.momentum_rel_drift << "\n";
   if (s.contacts)
@@ -181,6 +181,7 @@ std::string summary_json(const RunSummary& s) {
     o["render_seconds"] = s.render_seconds;
     o["encode_seconds"] = s.encode_seconds;
     o["renderer"] = s.renderer;
+    if (!s.encoder.empty()) o["encoder"] = s.encoder;
   }
   if (s.profile) {
     J p;

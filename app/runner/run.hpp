@@ -52,6 +52,7 @@ struct RunSummary {
   const Profile* profile = nullptr;   ///< set with --profile
   double render_seconds = -1, encode_seconds = -1;  ///< render command only
   std::string renderer;                             ///< render command only: GL backend, renderer, version
+  std::string encoder;                              ///< render command only: the video encoder used, or ""
   std::string output;
 };
 // The fields every command fills the same way: scene, world counters, drift, warnings and notes.
