@@ -85,6 +85,15 @@ SceneMeshes::SceneMeshes(const World& w, const SceneStyles& styles, size_t budge
       if (made) {
         try {
           TextureImage im = t.bytes ? decode_image(*t.bytes, t.name) : read_image(t.file);
+          // A frame never shows more of an image than a few thousand texels across: larger ones
+          // are halved (in linear light) to 4096 a side, 64 MB at most, not the 1 GB of 16384^2.
+          if (im.width > kMaxTextureSide || im.height > kMaxTextureSide) {
+            const int w = im.width, h = im.height;
+            shrink_image(im, kMaxTextureSide);
+            notes.push_back("image '" + t.name + "' (" + std::to_string(w) + "x" + std::to_string(h) +
+                            " px) halved to " + std::to_string(im.width) + "x" + std::to_string(im.height) +
+                            " px for drawing");
+          }
           s->second = (int)textures.size();
           bytes += im.rgba.size();
           textures.push_back(std::move(im));

@@ -20,6 +20,7 @@ struct TextureImage {
 // "'NAME': broken PNG data", ...) for anything that is not a whole, decodable image of at most
 // kMaxImageSide px a side. `name` names the image in messages; its extension tells a TGA.
 inline constexpr int kMaxImageSide = 16384;
+inline constexpr int kMaxTextureSide = 4096;  ///< px: larger images are halved to this for drawing
 TextureImage decode_image(std::string_view bytes, const std::string& name);
 TextureImage read_image(const std::string& file);  ///< decode_image of the file's bytes
 

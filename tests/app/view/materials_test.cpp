@@ -319,6 +319,20 @@ TEST(Materials, ImageDecodingRoundTripsAndRefusesBrokenData) {
     EXPECT_NE(std::string(e.what()).find("not an image simreel reads"), std::string::npos) << e.what();
   }
   EXPECT_THROW(decode_image("", "empty.png"), std::runtime_error);
+  // Halving averages in linear light: a 0/255 checker becomes sRGB 188 (linear 0.5), not 128.
+  TextureImage big;
+  big.width = 8;
+  big.height = 6;
+  for (int y = 0; y < 6; ++y)
+    for (int x = 0; x < 8; ++x) {
+      const uint8_t v = (x + y) % 2 ? 255 : 0;
+      big.rgba.insert(big.rgba.end(), {v, v, v, 255});
+    }
+  shrink_image(big, 3);
+  ASSERT_EQ(big.width, 2);
+  ASSERT_EQ(big.height, 1);
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(big.rgba[k], 188);
+  EXPECT_EQ(big.rgba[3], 255);
   // Raw texels (an embedded image stored uncompressed) with a size that does not match.
   EXPECT_THROW(decode_image(raw_rgba_header(4, 4) + std::string(60, '\0'), "raw"), std::runtime_error);
   EXPECT_EQ(decode_image(raw_rgba_header(2, 2) + std::string(16, '\x7f'), "raw").width, 2);
