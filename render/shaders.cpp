@@ -454,12 +454,12 @@ std::string lit_fragment_shader(LitKind kind, bool soft) {
   // %.9g prints each float so that it reads back as the same float.
   std::snprintf(head, sizeof head,
                 "#version 330 core\n#define GROUND %d\n#define GROUND_TEXTURE %d\n#define SHADOWED %d\n"
-                "#define SOFT %d\n#define MATERIAL %d\nconst float kChecker = %.9g;\n"
+                "#define SOFT %d\n#define MATERIAL %d\n"
                 "const vec3 kSky = vec3(%.9g, %.9g, %.9g);\n",
                 ground ? 1 : 0, kind == LitKind::ground_textured ? 1 : 0,
                 kind == LitKind::body || kind == LitKind::body_material || (ground && soft) ? 1 : 0,
-                soft ? 1 : 0, lit_material(kind) ? 1 : 0, (double)kCheckerDark, (double)kFillSky[0],
-                (double)kFillSky[1], (double)kFillSky[2]);
+                soft ? 1 : 0, lit_material(kind) ? 1 : 0, (double)kFillSky[0], (double)kFillSky[1],
+                (double)kFillSky[2]);
   return head + srgb_glsl() + kLitFS;
 }
 

@@ -25,10 +25,8 @@ inline constexpr float kSrgbFit[5] = {0.636357017f, 0.716423151f, -0.008719922f,
                                       -0.338337307f};
 float srgb_encode(float x);
 
-// The default ground checker's odd tiles are kCheckerDark times its even tiles' colour
-// (render/render_settings.hpp); kFillSky: the sky end of the lit shader's hemisphere fill, the whole
-// fill of a surface facing straight up.
-inline constexpr float kCheckerDark = 0.72f;
+// kFillSky: the sky end of the lit shader's hemisphere fill, the whole fill of a surface facing
+// straight up.
 inline constexpr float kFillSky[3] = {0.30f, 0.34f, 0.42f};
 
 // A ground colour in the key light's shadow, sRGB-encoded: what the lit ground shader gives seen

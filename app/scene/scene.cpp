@@ -911,7 +911,9 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
   };
   if (const YAML::Node r = root["render"]) {
     const Ctx c = top.child("render");
-    check_keys(r, c, {"shadows", "antialiasing", "background", "horizon", "sky", "quality", "ground", "motion_blur"});
+    check_keys(
+        r, c,
+        {"shadows", "antialiasing", "background", "horizon", "sky", "quality", "ground", "motion_blur"});
     if (r["motion_blur"]) s.motion_blur = motion_blur(r["motion_blur"], c.child("motion_blur"));
     if (r["sky"]) {
       const std::string k = text(r["sky"], c.child("sky"));

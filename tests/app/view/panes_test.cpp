@@ -1,7 +1,7 @@
-// Time and views drawn as `simreel render` and `check` draw them (app/view/panes.hpp, app/scene/scene_time.hpp,
-// app/view/ghost_view.hpp): the frame at video time t shows simulated time f(t) (a moving ball where the
-// hand-worked f puts it); a camera riding in a body sees it stand still; a variant's pane shows
-// the run its settings give; a ghost is drawn where the closed form says and shows an integrator's
+// Time and views drawn as `simreel render` and `check` draw them (app/view/panes.hpp,
+// app/scene/scene_time.hpp, app/view/ghost_view.hpp): the frame at video time t shows simulated time f(t) (a
+// moving ball where the hand-worked f puts it); a camera riding in a body sees it stand still; a variant's
+// pane shows the run its settings give; a ghost is drawn where the closed form says and shows an integrator's
 // drift; frames of all of these are the same bytes across runs and --threads.
 #include "app/view/panes.hpp"
 
@@ -15,9 +15,9 @@
 
 #include "app/runner/camera_fit.hpp"
 #include "render/camera.hpp"
+#include "sim/world/world_impl.hpp"
 #include "tests/cli_run.hpp"
 #include "tests/scratch.hpp"
-#include "sim/world/world_impl.hpp"
 
 namespace simreel {
 namespace {
