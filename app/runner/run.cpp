@@ -74,7 +74,8 @@ RunSummary make_summary(const Scene& scene, const World& world, const Drift& dri
   s.max_penetration = world.contact_stats().max_penetration;
   s.sleeping = world.sleeping_count();
   s.energy_gained = drift.energy_gained();
-  s.warnings = world.warnings();
+  s.warnings = scene.warnings;  // what the input probably gets wrong (an imported link's inertia)
+  s.warnings.insert(s.warnings.end(), world.warnings().begin(), world.warnings().end());
   s.notes = scene.notes;  // printed once, at the start; the JSON carries them for scripts
   return s;
 }

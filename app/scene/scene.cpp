@@ -22,8 +22,10 @@
 #include <simreel/error.hpp>
 #include <simreel/mass_properties.hpp>
 #include "app/scene/mesh_import.hpp"
+#include "app/scene/mesh_library.hpp"
 #include "app/scene/scene_camera.hpp"
 #include "app/scene/scene_forces.hpp"
+#include "app/scene/scene_imports.hpp"
 #include "app/scene/scene_joints.hpp"
 #include "sim/base/enum_names.hpp"
 #include "sim/dynamics/mesh_collider.hpp"
@@ -181,50 +183,6 @@ class StrictYaml : public YAML::EventHandler {
   uint64_t total_ = 0;
 };
 
-Quat unit_quaternion(const YAML::Node& n, const Ctx& c) {
-  const Eigen::Vector4d q = vec<4>(n, c);
-  const double norm = q.norm();
-  if (std::fabs(norm - 1.0) > 1e-3)
-    c.fail(n, "must be a unit quaternion [w, x, y, z], its norm is " + std::to_string(norm));
-  return Quat(q[0], q[1], q[2], q[3]).normalized();
-}
-
-// An orientation in any of three forms, exactly one of them present in the mapping `n`:
-//   orientation: [w, x, y, z]            a unit quaternion
-//   euler: [roll, pitch, yaw]            degrees, rotations about x, y and z applied intrinsically
-//                                        in the order z-y-x (aerospace): q = qz(yaw) qy(pitch) qx(roll)
-//   axis_angle: { axis: [x, y, z], angle: degrees }
-// Returns false (q untouched) when none is given.
-bool orientation(const YAML::Node& n, const Ctx& c, Quat& q) {
-  const char* keys[3] = {"orientation", "euler", "axis_angle"};
-  const char* given = nullptr;
-  for (const char* k : keys)
-    if (n[k]) {
-      if (given) c.child(k).fail(n[k], std::string("give one orientation: '") + given + "' is already given");
-      given = k;
-    }
-  if (!given) return false;
-  constexpr double kDeg = M_PI / 180;
-  if (given[0] == 'o') {
-    q = unit_quaternion(n["orientation"], c.child("orientation"));
-  } else if (given[0] == 'e') {
-    const Vec3 e = vec<3>(n["euler"], c.child("euler")) * kDeg;
-    q = (Eigen::AngleAxisd(e.z(), Vec3::UnitZ()) * Eigen::AngleAxisd(e.y(), Vec3::UnitY()) *
-         Eigen::AngleAxisd(e.x(), Vec3::UnitX()))
-            .normalized();
-  } else {
-    const YAML::Node a = n["axis_angle"];
-    const Ctx ac = c.child("axis_angle");
-    if (!a.IsMap()) ac.fail(a, "expected { axis: [x, y, z], angle: degrees }, got " + show(a));
-    check_keys(a, ac, {"axis", "angle"});
-    if (!a["axis"] || !a["angle"]) ac.fail(a, "needs both 'axis' and 'angle' (degrees)");
-    const Vec3 axis = vec<3>(a["axis"], ac.child("axis"));
-    if (!(axis.norm() > 0)) ac.child("axis").fail(a["axis"], "must not be zero");
-    q = Quat(Eigen::AngleAxisd(number(a["angle"], ac.child("angle")) * kDeg, axis.normalized()));
-  }
-  return true;
-}
-
 std::array<float, 3> color(const YAML::Node& n, const Ctx& c) {
   const Vec3 v = vec<3>(n, c);
   for (int i = 0; i < 3; ++i)
@@ -265,7 +223,7 @@ struct Loader {
   Scene& scene;
   fs::path dir;
   fs::path assets;
-  std::map<std::string, std::shared_ptr<const ImportedMesh>> meshes;            // by resolved path + scale
+  MeshLibrary& library;                                                         // files, analyses, hulls
   std::map<std::string, std::shared_ptr<const MeshAppearance>> textured_looks;  // by mesh key + image
 
   // A mesh collider's `texture: IMAGE`: every face drawn with that image through the file's texture
@@ -289,12 +247,6 @@ struct Loader {
     out = a;
     return out;
   }
-  // What every copy of one mesh shares, made once (a pile of a thousand copies of one file took
-  // 1.8 s a copy, nearly all in building and checking its hull): the analysis at density 1 by mode
-  // and thickness, and the collision hulls by hull or parts.
-  std::map<std::string, MeshReport> reports;
-  std::map<std::string, std::vector<std::shared_ptr<const ConvexPolyhedron>>> hulls;
-
   std::string resolve(const YAML::Node& n, const Ctx& c, const std::string& what = "mesh file") {
     const std::string f = text(n, c);
     std::vector<fs::path> tried;
@@ -497,37 +449,25 @@ struct Loader {
             c.child("thickness").fail(n["thickness"], "applies to mode: shell only");
           opt.thickness = positive(n["thickness"], c.child("thickness"));
         }
-        // Scales exactly (hexadecimal): std::to_string's six decimals made 1e-7 and 2e-7 one mesh.
-        auto exact = [](double v) {
-          char b[40];
-          std::snprintf(b, sizeof b, "%a", v);
-          return std::string(b);
-        };
-        const std::string mkey =
-            file + "|" + exact(scale.x()) + "," + exact(scale.y()) + "," + exact(scale.z());
-        const std::string rkey = mkey + "|" + std::to_string((int)opt.mode) + "," + exact(opt.thickness);
+        const std::string mkey = MeshLibrary::key(file, scale);
         // The file read once per scale for the whole scene (its notes once), and this collider's
-        // share of it: the surface (aliasing constructor: one allocation, one owner), the file's
-        // colour unless the scene gives one, its shading normals.
-        auto import_once = [&] {
-          if (meshes.count(mkey)) return;
-          meshes[mkey] = std::make_shared<const ImportedMesh>(import_mesh(file, scale));
-          for (const std::string& w : meshes[mkey]->notes) scene.notes.push_back(file + ": " + w);
-        };
+        // share of it: the surface, the file's colour unless the scene gives one, its shading normals.
+        std::shared_ptr<const ImportedMesh> read;
+        auto import_once = [&] { read = library.file(file, scale); };
         auto use_mesh = [&] {
-          col.mesh = std::shared_ptr<const TriangleMesh>(meshes[mkey], &meshes[mkey]->mesh);
-          const std::shared_ptr<const MeshAppearance>& file_look = meshes[mkey]->appearance;
+          col.mesh = library.surface(file, scale);
+          const std::shared_ptr<const MeshAppearance>& file_look = read->appearance;
           if (n["texture"]) {
             look.appearance = textured(file_look, mkey, n["texture"], c.child("texture"), file);
             if (!n["color"]) look.color = Rgb{1, 1, 1};  // the image as it is, unless a colour tints it
           } else if (!n["color"]) {
-            look.color = meshes[mkey]->color;
+            look.color = read->color;
             // Shared by every collider of this file; only when the file has more than one colour.
             if (file_look && file_look->varies) look.appearance = file_look;
           }
-          if (!meshes[mkey]->corner_normals.empty())
-            look.normals = std::shared_ptr<const std::vector<std::array<Eigen::Vector3f, 3>>>(
-                meshes[mkey], &meshes[mkey]->corner_normals);
+          if (!read->corner_normals.empty())
+            look.normals =
+                std::shared_ptr<const std::vector<std::array<Eigen::Vector3f, 3>>>(read, &read->corner_normals);
         };
         if (type == BodyType::static_body) {
           // A static body's mesh collides as its triangles, as given (open surfaces too: terrain, a
@@ -550,8 +490,7 @@ struct Loader {
         MeshReport rep;
         try {
           import_once();
-          if (!reports.count(rkey)) reports[rkey] = analyze_mesh(meshes[mkey]->mesh, opt);
-          rep = reports[rkey];
+          rep = library.analysis(file, scale, opt);
         } catch (const InputError& e) {
           c.child("file").fail(n["file"], e.what());
         }
@@ -570,9 +509,7 @@ struct Loader {
           if (n["hull_vertices"]) cap = whole(n["hull_vertices"], c.child("hull_vertices"), 4, 1000000);
           std::vector<HullReduction> reductions;
           try {
-            const std::string hkey = mkey + (parts ? "|parts" : "|hull") + "|" + std::to_string(cap);
-            if (!hulls.count(hkey)) hulls[hkey] = collision_hulls(*col.mesh, parts, cap, &reductions);
-            col.hulls = hulls[hkey];
+            col.hulls = library.hulls(file, scale, parts, cap, &reductions);
           } catch (const InputError& e) {
             c.child("file").fail(n["file"], std::string("cannot build its collision hull: ") + e.what());
           }
@@ -758,6 +695,8 @@ Scene load_scene(const std::string& path) {
   std::ostringstream text;
   text << f.rdbuf();
   if (!f || f.bad()) throw InputError(path + ": cannot read the scene file");
+  // A robot file alone: placed on a ground before an automatic camera (app/scene/scene_imports.hpp).
+  if (is_model_file(path)) return load_scene_text(scene_for_model_file(path), path);
   return load_scene_text(text.str(), path);
 }
 
@@ -788,7 +727,7 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
     top.fail(root, "a scene is a mapping with keys simulation, video, camera, render, ground, bodies");
   check_keys(root, top,
              {"simulation", "video", "camera", "render", "ground", "bodies", "test", "forces", "joints",
-              "overlays", "time", "panes", "variants"});
+              "overlays", "time", "panes", "variants", "imports"});
 
   if (const YAML::Node sim = root["simulation"]) {
     const Ctx c = top.child("simulation");
@@ -979,11 +918,14 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
       s.render.ground_tile = gs.tile;
     }
   }
-  const YAML::Node bodies = root["bodies"];
-  if (!bodies) top.fail(root, "missing key 'bodies' (a list of bodies)");
-  if (!bodies.IsSequence() || bodies.size() == 0)
+  // `bodies` may be left out (or empty) when `imports` places the bodies.
+  const YAML::Node bodies = root["bodies"] ? root["bodies"] : root["imports"] ? YAML::Node(YAML::NodeType::Sequence)
+                                                                              : root["bodies"];
+  if (!bodies) top.fail(root, "missing key 'bodies' (a list of bodies) or 'imports' (robot files)");
+  if (!bodies.IsSequence() || (bodies.size() == 0 && !root["imports"]))
     top.child("bodies").fail(bodies, "expected a non-empty list of bodies, got " + show(bodies));
-  Loader L{s, fs::path(path).parent_path(), fs::path("assets"), {}, {}, {}, {}};
+  MeshLibrary library(s.notes);
+  Loader L{s, fs::path(path).parent_path(), fs::path("assets"), library, {}};
   // Assets next to the scene's folder (scenes/../assets) as well as the working directory's.
   const fs::path up_assets = fs::path(path).parent_path().parent_path() / "assets";
   if (fs::is_directory(up_assets, ec)) L.assets = up_assets;
@@ -1013,6 +955,11 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
     if (!names.insert(s.bodies.back().name).second)
       c.child("name").fail(bodies[i]["name"], "another body is already named '" + s.bodies.back().name + "'");
   }
+  // Imported robots and rigs after the scene's own bodies (app/scene/scene_imports.cpp).
+  if (root["imports"]) {
+    load_imports(root["imports"], path, s, library);
+    for (size_t i = bodies.size(); i < s.bodies.size(); ++i) names.insert(s.bodies[i].name);
+  }
   if (s.ground) {  // the ground body comes last: the scene's own bodies keep their indices
     if (names.count("ground")) {
       for (size_t i = 0; i < bodies.size(); ++i)
@@ -1020,6 +967,9 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
           top.child("bodies").index(i).child("name").fail(
               bodies[i]["name"],
               "the top-level 'ground' makes a static body named 'ground': rename this one");
+      top.child("imports").fail(root["imports"],
+                                "an imported link is named 'ground', as the top-level 'ground' body is: "
+                                "give the import a `name`");
     }
     names.insert("ground");
     BodyDef g;

@@ -71,6 +71,9 @@ struct ColliderLook {
   /// Its mesh file's materials, textures and vertex colours (render/material.hpp), unless a
   /// `color` on the collider or its body overrides them.
   std::shared_ptr<const MeshAppearance> appearance;
+  /// False for an imported link's collision shape (its visual shapes are what is drawn), unless
+  /// the import shows its colliders.
+  bool drawn = true;
 };
 struct BodyLook {
   Rgb color{0.8f, 0.8f, 0.8f};          ///< the body's `color`
@@ -114,6 +117,9 @@ struct Scene {
   std::vector<JointDef> joints;    ///< the `joints:` list, by body index (app/scene/scene_joints.cpp)
   JointSettings joint_settings;    ///< simulation.joints
   std::vector<std::string> notes;  ///< what was done with mesh defects and ignored keys, with file and body
+  /// What is probably wrong in the input though it loads (an imported link's inertia that its own
+  /// geometry contradicts): printed as `warning:` lines and listed in `--json` warnings.
+  std::vector<std::string> warnings;
 };
 
 // Throws InputError "FILE:LINE:COL: KEY: what is wrong" for anything a user could get wrong:

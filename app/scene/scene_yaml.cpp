@@ -147,4 +147,48 @@ Integrator integrator(const YAML::Node& n, const Ctx& c) {
   return *i;
 }
 
+Quat unit_quaternion(const YAML::Node& n, const Ctx& c) {
+  const Eigen::Vector4d q = vec<4>(n, c);
+  const double norm = q.norm();
+  if (std::fabs(norm - 1.0) > 1e-3)
+    c.fail(n, "must be a unit quaternion [w, x, y, z], its norm is " + std::to_string(norm));
+  return Quat(q[0], q[1], q[2], q[3]).normalized();
+}
+
+// An orientation in any of three forms, exactly one of them present in the mapping `n`:
+//   orientation: [w, x, y, z]            a unit quaternion
+//   euler: [roll, pitch, yaw]            degrees, rotations about x, y and z applied intrinsically
+//                                        in the order z-y-x (aerospace): q = qz(yaw) qy(pitch) qx(roll)
+//   axis_angle: { axis: [x, y, z], angle: degrees }
+// Returns false (q untouched) when none is given.
+bool orientation(const YAML::Node& n, const Ctx& c, Quat& q) {
+  const char* keys[3] = {"orientation", "euler", "axis_angle"};
+  const char* given = nullptr;
+  for (const char* k : keys)
+    if (n[k]) {
+      if (given) c.child(k).fail(n[k], std::string("give one orientation: '") + given + "' is already given");
+      given = k;
+    }
+  if (!given) return false;
+  constexpr double kDeg = M_PI / 180;
+  if (given[0] == 'o') {
+    q = unit_quaternion(n["orientation"], c.child("orientation"));
+  } else if (given[0] == 'e') {
+    const Vec3 e = vec<3>(n["euler"], c.child("euler")) * kDeg;
+    q = (Eigen::AngleAxisd(e.z(), Vec3::UnitZ()) * Eigen::AngleAxisd(e.y(), Vec3::UnitY()) *
+         Eigen::AngleAxisd(e.x(), Vec3::UnitX()))
+            .normalized();
+  } else {
+    const YAML::Node a = n["axis_angle"];
+    const Ctx ac = c.child("axis_angle");
+    if (!a.IsMap()) ac.fail(a, "expected { axis: [x, y, z], angle: degrees }, got " + show(a));
+    check_keys(a, ac, {"axis", "angle"});
+    if (!a["axis"] || !a["angle"]) ac.fail(a, "needs both 'axis' and 'angle' (degrees)");
+    const Vec3 axis = vec<3>(a["axis"], ac.child("axis"));
+    if (!(axis.norm() > 0)) ac.child("axis").fail(a["axis"], "must not be zero");
+    q = Quat(Eigen::AngleAxisd(number(a["angle"], ac.child("angle")) * kDeg, axis.normalized()));
+  }
+  return true;
+}
+
 }  // namespace simreel::scene_yaml

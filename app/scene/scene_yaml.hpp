@@ -57,6 +57,15 @@ bool boolean(const YAML::Node& n, const Ctx& c);
 std::string text(const YAML::Node& n, const Ctx& c);       ///< a non-empty scalar
 Integrator integrator(const YAML::Node& n, const Ctx& c);  ///< a name; a typo gets the nearest
 
+// An orientation in any of three forms, exactly one of them present in the mapping `n`:
+//   orientation: [w, x, y, z]            a unit quaternion
+//   euler: [roll, pitch, yaw]            degrees, rotations about x, y and z applied intrinsically
+//                                        in the order z-y-x (aerospace): q = qz(yaw) qy(pitch) qx(roll)
+//   axis_angle: { axis: [x, y, z], angle: degrees }
+// Returns false (q untouched) when none is given.
+bool orientation(const YAML::Node& n, const Ctx& c, Quat& q);
+Quat unit_quaternion(const YAML::Node& n, const Ctx& c);  ///< [w, x, y, z], norm within 1e-3 of 1
+
 template <int N>
 Eigen::Matrix<double, N, 1> vec(const YAML::Node& n, const Ctx& c) {
   if (!n.IsSequence() || n.size() != N)

@@ -51,21 +51,28 @@ WorldImpl::WorldImpl(const WorldConfig& config, std::vector<BodyDef> bodies)
     if (std::fabs(d.q_WB.norm() - 1.0) > 1e-6)
       throw InputError(body_label(defs_, i) + ": orientation quaternion is not unit length (norm " +
                        std::to_string(d.q_WB.norm()) + ")");
-    if (d.colliders.empty()) throw InputError(body_label(defs_, i) + " has no colliders");
+    if (d.colliders.empty() && !d.mass_override)
+      throw InputError(body_label(defs_, i) + " has no colliders (and no stated mass properties)");
     m.is_static = d.type == BodyType::static_body;
     m.is_kinematic = d.type == BodyType::kinematic;
     // Planes have no mass, nor have a static body's meshes (triangle meshes, sim/geometry/trimesh.hpp); a
     // static body made of those only is massless (it never moves).
     std::vector<Collider> massive;
     for (const Collider& c : d.colliders)
-      if (c.shape != ShapeKind::plane && !(m.is_static && c.shape == ShapeKind::mesh && c.props_C.mass == 0))
+      if (c.shape != ShapeKind::plane && !(m.is_static && c.shape == ShapeKind::mesh && c.props_C.mass == 0) &&
+          !(!c.collide && c.props_C.mass == 0))  // drawn only (an imported link's visual shape)
         massive.push_back(c);
-    if (massive.empty() && !m.is_static)
-      throw InputError(body_label(defs_, i) + ": a plane collider needs a static body");
-    const MassProperties mp = massive.empty()   ? MassProperties{}
+    // Stated mass properties weigh a body with no massive collider (an imported link that has an
+    // inertial and nothing that collides).
+    const bool weighed = !massive.empty() || (d.mass_override && !m.is_static);
+    if (!weighed && !m.is_static)
+      throw InputError(body_label(defs_, i) +
+                       (d.colliders.empty() ? ": a moving body needs colliders or stated mass properties"
+                                            : ": a plane collider needs a static body"));
+    const MassProperties mp = !weighed          ? MassProperties{}
                               : d.mass_override ? *d.mass_override
                                                 : compose(massive);
-    if (!massive.empty()) {
+    if (weighed) {
       if (!d.mass_override)
         for (size_t k = 0; k < d.colliders.size(); ++k)
           if (d.colliders[k].shape != ShapeKind::plane && d.colliders[k].props_C.mass == 0 &&

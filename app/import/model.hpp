@@ -1,0 +1,92 @@
+// A robot or rig as its file describes it, whatever the format (URDF, MJCF): links with their
+// stated inertials and their visual and collision geometry, and the joints between them, each
+// remembering the file and line it came from. The readers (app/import/urdf.cpp,
+// app/import/mjcf.cpp) fill it; app/import/place.cpp turns it into scene bodies and joints.
+// Poses are relative (a link's frame in its parent's, a shape's in its link's), as in both formats.
+#pragma once
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <simreel/math.hpp>
+
+namespace simreel {
+
+// Where something came from, for messages: "robot.urdf:42: link 'base'".
+struct SourceRef {
+  std::string file;
+  int line = 0;      ///< 1-based; 0 unknown
+  std::string what;  ///< "link 'base'", "joint 'elbow'", "link 'base', collision 2"
+  std::string str() const;
+};
+
+struct Pose {
+  Vec3 p = Vec3::Zero();  ///< m
+  Quat q = Quat::Identity();
+  Pose operator*(const Pose& o) const { return {p + q * o.p, (q * o.q).normalized()}; }
+  Vec3 operator*(const Vec3& x) const { return p + q * x; }
+};
+
+struct ModelShape {
+  enum class Kind { box, sphere, cylinder, capsule, ellipsoid, mesh, plane };
+  Kind kind = Kind::box;
+  Vec3 size = Vec3::Ones();   ///< m, box full extents
+  double radius = 0;          ///< m
+  double length = 0;          ///< m, cylinder and capsule: along the shape's z, tip to tip for a capsule
+  Vec3 radii = Vec3::Ones();  ///< m, ellipsoid
+  std::string mesh_file;      ///< resolved path
+  Vec3 scale = Vec3::Ones();
+  Pose pose;                                  ///< in the link frame
+  std::optional<std::array<float, 3>> color;  ///< display RGB (sRGB-encoded, as files give it)
+  std::string texture;                        ///< resolved image path, or ""
+  bool visual = false, collision = false;     ///< drawn; collides
+  std::optional<double> friction;
+  uint32_t group = 1, mask = 0xFFFFFFFFu;
+  std::optional<double> density;  ///< kg/m^3 where the file gives one (MJCF)
+  SourceRef src;
+};
+
+struct ModelInertial {
+  double mass = 0;              ///< kg
+  Vec3 com = Vec3::Zero();      ///< m, link frame
+  Mat3 inertia = Mat3::Zero();  ///< kg m^2 about the centre of mass, link frame (rotation applied)
+  SourceRef src;
+};
+
+struct ModelLink {
+  std::string name;
+  Pose pose;  ///< in the parent link's frame (set by the reader for MJCF; from the joint for URDF)
+  std::optional<ModelInertial> inertial;
+  std::vector<ModelShape> shapes;
+  SourceRef src;
+};
+
+struct ModelJoint {
+  // revolute with limits, continuous (revolute without), prismatic, fixed, floating, planar,
+  // spherical (Bullet's URDF extension and MJCF's ball).
+  enum class Kind { revolute, continuous, prismatic, fixed, floating, planar, spherical };
+  std::string name;
+  Kind kind = Kind::fixed;
+  int parent = -1, child = -1;                  ///< link indices; parent -1: the world
+  Vec3 anchor = Vec3::Zero();                   ///< m, in the child link's frame
+  Vec3 axis = Vec3::UnitX();                    ///< unit, in the child link's frame
+  std::optional<std::array<double, 2>> limits;  ///< rad or m
+  double effort = 0;                            ///< N m or N, the file's actuator bound (0: none)
+  double velocity = 0;                          ///< rad/s or m/s, the file's speed bound (0: none)
+  double damping = 0;                           ///< N m s/rad or N s/m
+  double friction = 0;                          ///< N m or N
+  double stiffness = 0, rest = 0;               ///< a spring on the coordinate (MJCF)
+  SourceRef src;
+};
+
+struct Model {
+  std::string file;    ///< as read
+  std::string format;  ///< "urdf", "mjcf"
+  std::string name;    ///< the robot's or model's name
+  std::vector<ModelLink> links;
+  std::vector<ModelJoint> joints;
+  std::vector<std::string> notes;  ///< what was ignored or repaired, with file and line
+};
+
+}  // namespace simreel

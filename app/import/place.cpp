@@ -1,0 +1,483 @@
+#include "app/import/place.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <iomanip>
+#include <set>
+#include <sstream>
+
+#include <simreel/error.hpp>
+#include <simreel/mass_properties.hpp>
+#include "app/scene/mesh_library.hpp"
+#include "app/scene/scene.hpp"
+#include "render/material.hpp"
+
+namespace simreel {
+
+namespace {
+
+// A body of the placed model: the link that owns it and the links welded to it.
+struct PlacedBody {
+  int link = -1;           // the owning link
+  std::vector<int> links;  // every link in it, the owner first
+  int index = -1;          // in scene.bodies
+};
+
+std::string fmt(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.3g", v);
+  return b;
+}
+
+std::string moments_str(const Vec3& m) {
+  return "(" + fmt(m[0]) + ", " + fmt(m[1]) + ", " + fmt(m[2]) + ")";
+}
+
+// A shape's collider with its mass properties at unit density (a mesh: from the library; an open
+// mesh weighs as its hull, with a note), placed at `pose` in the body frame.
+// A static body's meshes collide as their triangles and weigh nothing (weigh_mesh false).
+Collider shape_collider(const ModelShape& s, const Pose& pose, MeshLibrary& meshes, bool weigh,
+                        bool weigh_mesh, std::vector<std::string>& notes) {
+  Collider c;
+  using K = ModelShape::Kind;
+  switch (s.kind) {
+    case K::box:
+      c.shape = ShapeKind::box, c.size = s.size;
+      break;
+    case K::sphere:
+      c.shape = ShapeKind::sphere, c.radius = s.radius;
+      break;
+    case K::cylinder:
+      c.shape = ShapeKind::cylinder, c.radius = s.radius, c.height = s.length;
+      break;
+    case K::capsule:
+      c.shape = ShapeKind::capsule, c.radius = s.radius, c.height = s.length;
+      break;
+    case K::ellipsoid:
+      c.shape = ShapeKind::ellipsoid, c.radii = s.radii;
+      break;
+    case K::plane:
+      c.shape = ShapeKind::plane;
+      break;
+    case K::mesh:
+      c.shape = ShapeKind::mesh;
+      break;
+  }
+  c.p_BC = pose.p;
+  c.q_BC = pose.q;
+  c.label = s.kind == K::mesh ? s.mesh_file : to_string(c.shape);
+  c.props_C.mass = 0;
+  c.props_C.inertia = Mat3::Zero();
+  if (s.kind == K::mesh) {
+    c.mesh = meshes.surface(s.mesh_file, s.scale);
+    if (weigh && weigh_mesh) {
+      MeshMassOptions opt;
+      try {
+        c.props_C = meshes.analysis(s.mesh_file, s.scale, opt).props;
+      } catch (const InputError& e) {
+        opt.mode = MassMode::hull;
+        c.props_C = meshes.analysis(s.mesh_file, s.scale, opt).props;
+        notes.push_back(s.src.str() + ": " + s.mesh_file + " is not a closed solid (" + e.what() +
+                        "); weighed as its convex hull");
+      }
+    }
+  } else if (weigh && s.kind != K::plane) {
+    c.props_C = primitive_mass(c, 1.0);
+  }
+  if (s.friction) c.friction = *s.friction;
+  c.group = s.group;
+  c.mask = s.mask;
+  return c;
+}
+
+// The lowest world z of a collider of a body at (p_WB, q_WB).
+double lowest_z(const Collider& c, const Vec3& p_WB, const Quat& q_WB) {
+  const Quat q = q_WB * c.q_BC;
+  const Vec3 o = p_WB + q_WB * c.p_BC;
+  const Mat3 R = q.toRotationMatrix();
+  const Vec3 r = R.row(2).transpose();  // the collider axes' z components
+  switch (c.shape) {
+    case ShapeKind::box:
+      return o.z() - 0.5 * (r.cwiseAbs().dot(c.size));
+    case ShapeKind::sphere:
+      return o.z() - c.radius;
+    case ShapeKind::cylinder:
+      return o.z() -
+             (std::fabs(r.z()) * 0.5 * c.height + c.radius * std::sqrt(std::max(0.0, 1 - r.z() * r.z())));
+    case ShapeKind::capsule:
+      return o.z() - (std::fabs(r.z()) * (0.5 * c.height - c.radius) + c.radius);
+    case ShapeKind::ellipsoid:
+      return o.z() - r.cwiseProduct(c.radii).norm();
+    case ShapeKind::mesh: {
+      double lo = std::numeric_limits<double>::infinity();
+      for (const Vec3& v : c.mesh->vertices) lo = std::min(lo, (o + q * v).z());
+      return lo;
+    }
+    case ShapeKind::plane:
+      break;
+  }
+  return std::numeric_limits<double>::infinity();
+}
+
+}  // namespace
+
+void place_model(const Model& m, const ImportSpec& spec, Scene& scene, MeshLibrary& meshes) {
+  const size_t n = m.links.size();
+  const std::string prefix = spec.name.empty() ? "" : spec.name + "/";
+  // The tree: each link's parent joint (or -1), children in file order.
+  std::vector<int> parent_joint(n, -1);
+  for (size_t k = 0; k < m.joints.size(); ++k) parent_joint[m.joints[k].child] = (int)k;
+  // A URDF root named "world" holding nothing is the world itself (the convention of ROS arms).
+  std::vector<bool> is_world(n, false);
+  for (size_t i = 0; i < n; ++i)
+    is_world[i] = parent_joint[i] < 0 && m.links[i].name == "world" && !m.links[i].inertial &&
+                  m.links[i].shapes.empty();
+  auto parent_link = [&](int l) { return parent_joint[l] < 0 ? -1 : m.joints[parent_joint[l]].parent; };
+
+  // Start values: a coordinate whose limits leave out 0 starts at the nearer limit (simreel's joint
+  // coordinates are zero at the start pose, so the limits are shifted by it).
+  std::vector<double> q0(m.joints.size(), 0.0);
+  for (const auto& [name, value] : spec.joint_positions) {
+    const auto it =
+        std::find_if(m.joints.begin(), m.joints.end(), [&](const ModelJoint& j) { return j.name == name; });
+    if (it == m.joints.end()) {
+      std::vector<std::string> names;
+      for (const ModelJoint& j : m.joints) names.push_back(j.name);
+      std::string msg = spec.src.str() + ".joint_positions: " + m.file + " has no joint named '" + name + "'";
+      if (auto s = nearest(name, names)) msg += "; did you mean '" + *s + "'?";
+      throw InputError(msg);
+    }
+    using K = ModelJoint::Kind;
+    if (it->kind != K::revolute && it->kind != K::continuous && it->kind != K::prismatic)
+      throw InputError(spec.src.str() + ".joint_positions: joint '" + name +
+                       "' is not a revolute, continuous or prismatic joint (one coordinate)");
+    if (it->limits && (value < (*it->limits)[0] || value > (*it->limits)[1]))
+      throw InputError(spec.src.str() + ".joint_positions: " + name + " = " + fmt(value) +
+                       " is outside its limits [" + fmt((*it->limits)[0]) + ", " + fmt((*it->limits)[1]) +
+                       "]");
+    q0[it - m.joints.begin()] = value;
+  }
+  for (size_t k = 0; k < m.joints.size(); ++k)
+    if (const auto& L = m.joints[k].limits;
+        L && !spec.joint_positions.count(m.joints[k].name) && ((*L)[0] > 0 || (*L)[1] < 0)) {
+      q0[k] = std::clamp(0.0, (*L)[0], (*L)[1]);
+      scene.notes.push_back(m.joints[k].src.str() + ": limits [" + fmt((*L)[0]) + ", " + fmt((*L)[1]) +
+                            "] leave out 0: the joint starts at " + fmt(q0[k]));
+    }
+  // World poses of the links at the start, root first.
+  std::vector<Pose> X(n);
+  std::vector<bool> done(n, false);
+  std::function<const Pose&(int)> pose_of = [&](int l) -> const Pose& {
+    if (done[l]) return X[l];
+    const int jk = parent_joint[l];
+    Pose rel = m.links[l].pose;
+    if (jk >= 0 && q0[jk] != 0) {
+      const ModelJoint& j = m.joints[jk];
+      Pose move;  // in the child frame: about (along) the axis through the anchor
+      if (j.kind == ModelJoint::Kind::prismatic) {
+        move.p = q0[jk] * j.axis;
+      } else {
+        move.q = Quat(Eigen::AngleAxisd(q0[jk], j.axis));
+        move.p = j.anchor - move.q * j.anchor;
+      }
+      rel = rel * move;
+    }
+    const int p = parent_link(l);
+    X[l] = (p < 0 ? spec.pose : pose_of(p)) * rel;
+    done[l] = true;
+    return X[l];
+  };
+  for (size_t i = 0; i < n; ++i) pose_of((int)i);
+
+  // Bodies: a link welded to its parent (fixed joint; planar, which simreel cannot make, the same
+  // with a note) joins its parent's body; a floating joint frees its child.
+  std::vector<int> body_of(n, -1);
+  std::vector<PlacedBody> bodies;
+  std::function<int(int)> assign = [&](int l) -> int {
+    if (body_of[l] >= 0 || is_world[l]) return body_of[l];
+    const int jk = parent_joint[l];
+    const int p = parent_link(l);
+    bool welded = false;
+    if (jk >= 0) {
+      const ModelJoint& j = m.joints[jk];
+      if (j.kind == ModelJoint::Kind::planar)
+        scene.notes.push_back(j.src.str() +
+                              ": planar joints are not simulated yet: held fixed (write it as two "
+                              "prismatic joints and a revolute one through light links)");
+      welded =
+          (j.kind == ModelJoint::Kind::fixed || j.kind == ModelJoint::Kind::planar) && p >= 0 && !is_world[p];
+    }
+    if (welded) {
+      body_of[l] = assign(p);
+      bodies[body_of[l]].links.push_back(l);
+    } else {
+      body_of[l] = (int)bodies.size();
+      bodies.push_back({l, {l}, -1});
+    }
+    return body_of[l];
+  };
+  for (size_t i = 0; i < n; ++i) assign((int)i);
+
+  // Static bodies: welded to the world, or the root with fixed_base.
+  std::vector<bool> is_static(bodies.size(), false);
+  for (size_t b = 0; b < bodies.size(); ++b) {
+    const int l = bodies[b].link;
+    const int jk = parent_joint[l];
+    const int p = parent_link(l);
+    if (jk < 0) {
+      // A root with no mass is fixed to the world, as Bullet reads it (cartpole's slide bar, a
+      // concave bin): nothing could move it.
+      const bool massless = !(m.links[l].inertial && m.links[l].inertial->mass > 0);
+      bool holds_mass = false;
+      for (int x : bodies[b].links)
+        holds_mass = holds_mass || (m.links[x].inertial && m.links[x].inertial->mass > 0);
+      is_static[b] = spec.fixed_base || (massless && !holds_mass);
+      if (is_static[b] && !spec.fixed_base)
+        scene.notes.push_back(m.links[l].src.str() +
+                              ": the root link has no mass: fixed to the world (as Bullet "
+                              "reads it); give it an <inertial> mass to let it move");
+    } else if (p >= 0 && is_world[p] && m.joints[jk].kind == ModelJoint::Kind::fixed)
+      is_static[b] = true;
+  }
+
+  std::set<std::string> names;
+  for (const BodyDef& b : scene.bodies) names.insert(b.name);
+  const int first = (int)scene.bodies.size();
+  for (size_t b = 0; b < bodies.size(); ++b) {
+    PlacedBody& pb = bodies[b];
+    const ModelLink& owner = m.links[pb.link];
+    BodyDef def;
+    def.name = prefix + owner.name;
+    if (!names.insert(def.name).second)
+      throw InputError(spec.src.str() + ": link '" + owner.name + "' of " + m.file + " makes a body named '" +
+                       def.name + "', which the scene already has: give the import a `name`");
+    def.p_WB = X[pb.link].p;
+    def.q_WB = X[pb.link].q;
+    def.type = is_static[b] ? BodyType::static_body : BodyType::dynamic;
+    BodyLook look;
+    const Pose to_body_inv{-(def.q_WB.conjugate() * def.p_WB), def.q_WB.conjugate()};
+    MassAccumulator file_mass, geom_unit;
+    bool any_inertial = false;
+    for (int l : pb.links) {
+      const ModelLink& link = m.links[l];
+      const Pose X_BL = to_body_inv * X[l];  // the link's frame in the body's
+      const Mat3 R_BL = X_BL.q.toRotationMatrix();
+      // This link's geometry, weighed at unit density (collision shapes only).
+      MassAccumulator link_geom;
+      for (const ModelShape& s : link.shapes) {
+        const Pose X_BS = X_BL * s.pose;
+        Collider c;
+        try {
+          c = shape_collider(s, X_BS, meshes, s.collision, !is_static[b], scene.notes);
+        } catch (const InputError& e) {
+          throw InputError(s.src.str() + ": " + e.what());
+        }
+        if (s.collision && s.kind != ModelShape::Kind::plane && !is_static[b])
+          link_geom.add(placed(c.props_C, c.q_BC.toRotationMatrix(), c.p_BC));
+        c.collide = s.collision;
+        if (!s.collision) {  // drawn only: weighs nothing
+          c.props_C.mass = 0;
+          c.props_C.inertia = Mat3::Zero();
+        }
+        ColliderLook cl;
+        cl.drawn = spec.show_colliders ? s.collision : s.visual;
+        if (spec.show_colliders) {
+          cl.color = Rgb{0.90f, 0.45f, 0.10f};  // orange: what collides, for checking
+        } else if (!s.texture.empty() && s.kind == ModelShape::Kind::mesh) {
+          const auto file = meshes.file(s.mesh_file, s.scale);
+          if (file->appearance && !file->appearance->corner_uv.empty()) {
+            auto a = std::make_shared<MeshAppearance>();
+            a->corner_uv = file->appearance->corner_uv;
+            a->materials.push_back({"texture", {-1.f, -1.f, -1.f}, 0});
+            a->textures.push_back({s.texture, nullptr, s.texture});
+            a->triangle_material.assign(a->corner_uv.size(), 0);
+            a->varies = true;
+            cl.appearance = a;
+            cl.color = Rgb{1, 1, 1};
+          } else {
+            scene.notes.push_back(s.src.str() + ": " + s.mesh_file +
+                                  " has no texture coordinates to lay its texture on; drawn in its colour");
+          }
+        } else if (s.kind == ModelShape::Kind::mesh) {
+          const auto file = meshes.file(s.mesh_file, s.scale);
+          if (file->appearance && file->appearance->varies) cl.appearance = file->appearance;
+          if (file->color) cl.color = *file->color;
+          if (!file->corner_normals.empty())
+            cl.normals = std::shared_ptr<const std::vector<std::array<Eigen::Vector3f, 3>>>(
+                file, &file->corner_normals);
+        } else if (!s.texture.empty()) {
+          scene.notes.push_back(s.src.str() + ": a " + std::string(to_string(c.shape)) +
+                                " has no texture coordinates; its texture is not drawn");
+        }
+        // The file's colour (display values, sRGB-encoded) tints what has no texture of its own.
+        if (s.color && !spec.show_colliders && !(cl.appearance && !cl.appearance->textures.empty())) {
+          cl.color = Rgb{srgb_to_linear((*s.color)[0]), srgb_to_linear((*s.color)[1]),
+                         srgb_to_linear((*s.color)[2])};
+          cl.appearance.reset();
+        }
+        look.colliders.push_back(std::move(cl));
+        def.append_collider(std::move(c));
+      }
+      // Stated and geometric mass properties of the link, in the body frame.
+      const double mass = link.inertial ? link.inertial->mass : 0.0;
+      if (link.inertial && mass > 0) {
+        MassProperties f;
+        f.mass = mass;
+        f.com = link.inertial->com;
+        f.inertia = link.inertial->inertia;
+        file_mass.add(placed(f, R_BL, X_BL.p));
+        any_inertial = true;
+      }
+      if (link_geom.count() == 0) continue;
+      MassProperties g = link_geom.result();  // link geometry at unit density, body frame
+      if (mass > 0) {
+        const double rho = mass / g.mass;
+        g.mass *= rho;
+        g.inertia *= rho;
+        if (spec.inertia == InertiaPolicy::check && link.inertial) {
+          const Vec3 mf = principal_axes(R_BL * link.inertial->inertia * R_BL.transpose()).moments;
+          const Vec3 mg = principal_axes(g.inertia).moments;
+          const Vec3 cf = X_BL * link.inertial->com;
+          double worst = 0;
+          for (int i = 0; i < 3; ++i)
+            worst = std::max(worst, std::fabs(mf[i] - mg[i]) / std::max(mf[i], mg[i]));
+          const double size =
+              std::sqrt(2.5 * mg.maxCoeff() / mass);  // a solid sphere's radius with that moment
+          const double off = (cf - g.com).norm();
+          if (worst > 0.25 || off > 0.1 * size) {
+            std::ostringstream os;
+            os << link.inertial->src.str()
+               << ": the stated inertia disagrees with the link's collision geometry at " << fmt(mass)
+               << " kg: principal moments " << moments_str(mf) << " kg m^2 stated, " << moments_str(mg)
+               << " from the geometry";
+            if (off > 0.1 * size) os << "; centre of mass " << fmt(1000 * off) << " mm from the geometry's";
+            os << " (the file's values are used; `inertia: geometry` uses the geometry's)";
+            scene.warnings.push_back(os.str());
+          }
+        }
+        geom_unit.add(g);
+      } else if (!is_static[b]) {
+        // No stated mass: weighed from its geometry as water-dense (1000 kg/m^3).
+        g.mass *= 1000;
+        g.inertia *= 1000;
+        geom_unit.add(g);
+        scene.notes.push_back(link.src.str() +
+                              ": no <inertial> mass: weighed from its collision geometry at "
+                              "1000 kg/m^3 (" +
+                              fmt(g.mass) + " kg)");
+      }
+    }
+    if (!is_static[b]) {
+      const bool use_geometry = spec.inertia == InertiaPolicy::geometry || !any_inertial;
+      if (use_geometry && geom_unit.count() > 0) {
+        def.mass_override = geom_unit.result();
+      } else if (any_inertial) {
+        // Links without a mass but with geometry add the geometry's weight.
+        def.mass_override = file_mass.result();
+        if (spec.inertia == InertiaPolicy::geometry)
+          scene.notes.push_back(owner.src.str() +
+                                ": no collision geometry to weigh: the file's inertia is used");
+      } else {
+        throw InputError(owner.src.str() +
+                         ": has no mass (no <inertial>) and no collision geometry to weigh, "
+                         "yet moves: give it an <inertial> or weld it to a link that has one");
+      }
+      if (const std::string bad = mass_problem(*def.mass_override, 1e-6); !bad.empty()) {
+        // A stated inertia that no rigid body has: the geometry's when there is one.
+        if (geom_unit.count() > 0 && !use_geometry) {
+          scene.warnings.push_back(owner.src.str() + ": the stated mass properties are not physical (" + bad +
+                                   "); the collision geometry's are used");
+          def.mass_override = geom_unit.result();
+        } else {
+          throw InputError(owner.src.str() + ": mass properties are not physical: " + bad);
+        }
+      }
+    }
+    pb.index = (int)scene.bodies.size();
+    scene.bodies.push_back(std::move(def));
+    scene.looks.push_back(std::move(look));
+  }
+
+  // Joints.
+  const size_t joints_before = scene.joints.size();
+  for (size_t k = 0; k < m.joints.size(); ++k) {
+    const ModelJoint& j = m.joints[k];
+    using K = ModelJoint::Kind;
+    if (j.kind == K::fixed || j.kind == K::planar) continue;  // welded into its parent's body, or static
+    if (j.kind == K::floating) {
+      if (j.parent >= 0 && !is_world[j.parent])
+        scene.notes.push_back(j.src.str() + ": a floating joint leaves its child free (six freedoms)");
+      continue;
+    }
+    JointDef d;
+    d.name = prefix + j.name;
+    const int cb = body_of[j.child];
+    const int pb = j.parent < 0 || is_world[j.parent] ? -1 : body_of[j.parent];
+    d.child = bodies[cb].index;
+    d.parent = pb < 0 ? -1 : bodies[pb].index;
+    if (is_static[cb])
+      throw InputError(j.src.str() + ": moves link '" + m.links[j.child].name +
+                       "', which is welded to the world");
+    d.anchor_W = X[j.child] * j.anchor;
+    d.axis_W = (X[j.child].q * j.axis).normalized();
+    switch (j.kind) {
+      case K::revolute:
+      case K::continuous:
+        d.type = JointType::revolute;
+        break;
+      case K::prismatic:
+        d.type = JointType::prismatic;
+        break;
+      case K::spherical:
+        d.type = JointType::spherical;
+        break;
+      default:
+        break;
+    }
+    if (j.limits && j.kind != K::spherical) {
+      JointLimits L;
+      L.lower = (*j.limits)[0] - q0[k];
+      L.upper = (*j.limits)[1] - q0[k];
+      d.limits = L;
+    }
+    if (j.damping > 0 || j.stiffness > 0) d.spring = JointSpring{j.stiffness, j.damping, j.rest - q0[k]};
+    if (j.kind != K::spherical) d.friction = j.friction;
+    if (spec.hold && j.kind != K::spherical) {
+      if (j.effort > 0) {
+        JointMotor mo;
+        mo.mode = JointMotor::Mode::position;
+        mo.position = 0;
+        mo.speed = j.velocity > 0 ? j.velocity : std::numeric_limits<double>::infinity();
+        mo.max_force = j.effort;
+        d.motor = mo;
+      } else {
+        scene.notes.push_back(j.src.str() + ": no effort limit: no motor holds it");
+      }
+    }
+    scene.joints.push_back(std::move(d));
+  }
+
+  // Lifted (or lowered) so that the lowest point of what collides rests on the ground.
+  if (spec.on_ground) {
+    double lo = std::numeric_limits<double>::infinity();
+    for (int i = first; i < (int)scene.bodies.size(); ++i)
+      for (const Collider& c : scene.bodies[i].colliders)
+        if (c.collide) lo = std::min(lo, lowest_z(c, scene.bodies[i].p_WB, scene.bodies[i].q_WB));
+    if (std::isfinite(lo)) {
+      const Vec3 up(0, 0, spec.ground_height - lo);
+      for (int i = first; i < (int)scene.bodies.size(); ++i) scene.bodies[i].p_WB += up;
+      for (size_t k = joints_before; k < scene.joints.size(); ++k) scene.joints[k].anchor_W += up;
+    }
+  }
+  // Without self_collision a model's links collide with the world, not with each other (PyBullet's
+  // default; meshes of neighbouring links often overlap where they are joined).
+  const int last = (int)scene.bodies.size();
+  if (!spec.self_collision)
+    for (int a = first; a < last; ++a)
+      for (int b = a + 1; b < last; ++b) scene.ignore_pairs.emplace_back(a, b);
+  for (const std::string& note : m.notes) scene.notes.push_back(note);
+}
+
+}  // namespace simreel

@@ -1,0 +1,376 @@
+// Robots and rigs from URDF files (app/import/): what a file says becomes the same bodies and
+// joints a scene would write, its mass properties are checked against its own geometry, its
+// mistakes are named by file and line, and the mechanisms move as physics says they must.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <simreel/error.hpp>
+#include <simreel/world.hpp>
+#include "app/import/urdf.hpp"
+#include "app/runner/run.hpp"
+#include "app/scene/scene.hpp"
+#include "tests/scratch.hpp"
+
+namespace simreel {
+namespace {
+
+namespace fs = std::filesystem;
+const std::string kData = "tests/data/import/";
+
+std::string write(const std::string& name, const std::string& text) {
+  const fs::path p = test::scratch(name);
+  fs::create_directories(p.parent_path());
+  std::ofstream(p) << text;
+  return p.string();
+}
+
+std::string error_of(const std::string& path) {
+  try {
+    load_scene(path);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << path << " loaded";
+  return "";
+}
+
+bool has(const std::vector<std::string>& v, const std::string& part) {
+  for (const std::string& s : v)
+    if (s.find(part) != std::string::npos) return true;
+  return false;
+}
+
+int body(const Scene& s, const std::string& name) {
+  for (size_t i = 0; i < s.bodies.size(); ++i)
+    if (s.bodies[i].name == name) return (int)i;
+  ADD_FAILURE() << "no body " << name;
+  return -1;
+}
+
+// The same double pendulum written as scene YAML and as URDF (link frames at the joints, a
+// `world` link) moves the same to the last bit: the importer makes the very bodies and joints the
+// scene format makes.
+TEST(Import, UrdfMechanismEqualsTheSameSceneBitForBit) {
+  const Scene a = load_scene(kData + "double_pendulum.yaml");
+  const Scene b = load_scene(kData + "double_pendulum_import.yaml");
+  ASSERT_EQ(a.bodies.size(), b.bodies.size());
+  ASSERT_EQ(b.joints.size(), 2u);
+  World wa(world_config(a, 1), a.bodies), wb(world_config(b, 1), b.bodies);
+  for (int step = 0; step < 480; ++step) {
+    wa.step();
+    wb.step();
+  }
+  for (int i = 0; i < wa.body_count(); ++i) {
+    EXPECT_EQ(wa.origin_position(i), wb.origin_position(i)) << i;
+    EXPECT_EQ(wa.orientation(i).coeffs(), wb.orientation(i).coeffs()) << i;
+    EXPECT_EQ(wa.angular_velocity(i), wb.angular_velocity(i)) << i;
+  }
+  // And it moved: released horizontal, the elbow is far below after 2 s.
+  EXPECT_LT(wb.origin_position(1).z(), 1.5);
+}
+
+// A cart on a rail with a bar hanging from it (the rail has no mass: fixed to the world). Small
+// swings: omega^2 = m g l (M + m) / ((M + m)(I + m l^2) - (m l)^2), with I the bar's moment about
+// the hinge axis through its centre of mass, which the file states about the bar's own axes,
+// turned a quarter about z: dropping that rotation (I = 0.24 instead of 0.25) moves the period by
+// 0.7%. The horizontal centre of mass stays put (no horizontal force on the system).
+TEST(Import, CartPendulumSwingsAtItsClosedFormFrequency) {
+  const std::string scene = write("cart.yaml",
+                                  "simulation: { duration: 10, timestep: 0.001 }\n"
+                                  "imports:\n"
+                                  "  - { file: " +
+                                      fs::absolute(kData + "cart_pendulum.urdf").string() +
+                                      ", joint_positions: { hinge: 0.002 } }\n");
+  const Scene s = load_scene(scene);
+  ASSERT_EQ(s.bodies.size(), 3u);  // rail (static), cart, bar
+  EXPECT_EQ(s.bodies[body(s, "rail")].type, BodyType::static_body);
+  EXPECT_TRUE(has(s.notes, "the root link has no mass: fixed to the world"));
+  ASSERT_EQ(s.joints.size(), 2u);
+  const int bar = body(s, "bar"), cart = body(s, "cart");
+  EXPECT_NEAR(s.bodies[bar].mass_override->inertia(1, 1), 0.25, 1e-15);  // the rpy applied
+  World w(world_config(s, 1), s.bodies);
+  const double M = 3, m = 2, l = 0.6, I = 0.25, g = 9.81;
+  const double omega = std::sqrt(m * g * l * (M + m) / ((M + m) * (I + m * l * l) - m * l * m * l));
+  auto x_cm = [&] { return (M * w.centroid(cart).x() + m * w.centroid(bar).x()) / (M + m); };
+  const double x0 = x_cm();
+  // simreel's coordinate is zero at the start pose: the file's angle is it plus 0.002.
+  double prev = w.joint_position(1) + 0.002, t_prev = 0;
+  std::vector<double> crossings;
+  double worst_x = 0;
+  while (w.time() < 10) {
+    w.step();
+    const double q = w.joint_position(1) + 0.002;
+    if ((prev > 0) != (q > 0)) crossings.push_back(t_prev + (w.time() - t_prev) * prev / (prev - q));
+    prev = q;
+    t_prev = w.time();
+    worst_x = std::max(worst_x, std::fabs(x_cm() - x0));
+  }
+  ASSERT_GE(crossings.size(), 11u);
+  const double period = (crossings[10] - crossings[0]) / 5;
+  // Amplitude 0.002 rad: the nonlinear correction is about theta^2/16 = 2.5e-7 of the period.
+  EXPECT_NEAR(period, 2 * M_PI / omega, 2e-6 * period);
+  EXPECT_LT(worst_x, 1e-12);
+}
+
+// <inertial><origin rpy> turns the stated tensor into the link frame (the rotation several
+// loaders drop).
+TEST(Import, InertialOriginRotationIsApplied) {
+  const Model m = read_urdf(kData + "cart_pendulum.urdf");
+  ASSERT_EQ(m.links.size(), 3u);
+  const Mat3& I = m.links[2].inertial->inertia;
+  EXPECT_NEAR(I(0, 0), 0.24, 1e-15);
+  EXPECT_NEAR(I(1, 1), 0.25, 1e-15);
+  EXPECT_NEAR(I(2, 2), 0.012, 1e-15);
+  EXPECT_NEAR(I(0, 1), 0, 1e-15);
+}
+
+// The inertia policies: `check` keeps the file's values and warns with both; `geometry` uses the
+// collision geometry's at the file's mass; `file` is silent.
+TEST(Import, PlaceholderInertiaIsCheckedAgainstGeometry) {
+  const std::string urdf = write("cube.urdf", R"(<?xml version="1.0"?>
+<robot name="cube">
+  <link name="box">
+    <inertial><mass value="1"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial>
+    <collision><geometry><box size="1 1 1"/></geometry></collision>
+  </link>
+</robot>
+)");
+  auto scene = [&](const char* policy) {
+    return load_scene(write(std::string("s_") + policy + ".yaml",
+                            "imports: [ { file: " + urdf + ", inertia: " + policy + " } ]\n"));
+  };
+  const Scene check = scene("check");
+  ASSERT_EQ(check.warnings.size(), 1u);
+  EXPECT_NE(check.warnings[0].find("cube.urdf:4: link 'box', inertial: the stated inertia disagrees"),
+            std::string::npos)
+      << check.warnings[0];
+  EXPECT_NE(check.warnings[0].find("(1, 1, 1) kg m^2 stated, (0.167, 0.167, 0.167) from the geometry"),
+            std::string::npos)
+      << check.warnings[0];
+  EXPECT_DOUBLE_EQ(check.bodies[0].mass_override->inertia(0, 0), 1.0);
+  const Scene geometry = scene("geometry");
+  EXPECT_TRUE(geometry.warnings.empty());
+  EXPECT_NEAR(geometry.bodies[0].mass_override->inertia(0, 0), 1.0 / 6, 1e-15);
+  EXPECT_DOUBLE_EQ(geometry.bodies[0].mass_override->mass, 1.0);
+  EXPECT_TRUE(scene("file").warnings.empty());
+}
+
+// Fixed joints weld links into one body; a `world` root fixes the base; visual shapes draw
+// without weighing or colliding, collision shapes collide without drawing (unless shown).
+TEST(Import, FixedLinksJoinTheirParentAndVisualsOnlyDraw) {
+  const std::string urdf = write("arm.urdf", R"(<?xml version="1.0"?>
+<robot name="arm">
+  <link name="world"/>
+  <link name="base"><visual><geometry><cylinder radius="0.2" length="0.1"/></geometry></visual>
+    <collision><geometry><cylinder radius="0.2" length="0.1"/></geometry></collision></link>
+  <link name="upper">
+    <inertial><origin xyz="0 0 0.25"/><mass value="1"/><inertia ixx="0.02" ixy="0" ixz="0" iyy="0.02" iyz="0" izz="0.001"/></inertial>
+    <visual><origin xyz="0 0 0.25"/><geometry><box size="0.05 0.05 0.5"/></geometry></visual>
+    <collision><origin xyz="0 0 0.25"/><geometry><box size="0.05 0.05 0.5"/></geometry></collision>
+  </link>
+  <link name="tool">
+    <inertial><mass value="0.5"/><inertia ixx="0.001" ixy="0" ixz="0" iyy="0.001" iyz="0" izz="0.001"/></inertial>
+    <visual><geometry><sphere radius="0.05"/></geometry></visual>
+  </link>
+  <joint name="mount" type="fixed"><parent link="world"/><child link="base"/><origin xyz="0 0 0.05"/></joint>
+  <joint name="lift" type="revolute"><parent link="base"/><child link="upper"/><origin xyz="0 0 0.05"/>
+    <axis xyz="1 0 0"/><limit lower="-1" upper="1" effort="20" velocity="2"/><dynamics damping="0.1" friction="0.05"/></joint>
+  <joint name="flange" type="fixed"><parent link="upper"/><child link="tool"/><origin xyz="0 0 0.5"/></joint>
+</robot>
+)");
+  const Scene s = load_scene(write("s.yaml", "imports: [ { file: " + urdf + ", name: a1, hold: true } ]\n"));
+  ASSERT_EQ(s.bodies.size(), 2u);  // base (static), upper with the tool welded on
+  EXPECT_EQ(s.bodies[0].name, "a1/base");
+  EXPECT_EQ(s.bodies[0].type, BodyType::static_body);
+  EXPECT_EQ(s.bodies[1].name, "a1/upper");
+  const MassProperties& mp = *s.bodies[1].mass_override;
+  EXPECT_DOUBLE_EQ(mp.mass, 1.5);
+  EXPECT_NEAR(mp.com.z(), (1 * 0.25 + 0.5 * 0.5) / 1.5, 1e-15);  // in the upper link's frame
+  ASSERT_EQ(s.joints.size(), 1u);
+  const JointDef& j = s.joints[0];
+  EXPECT_EQ(j.name, "a1/lift");
+  EXPECT_EQ(j.parent, 0);
+  EXPECT_EQ(j.child, 1);
+  EXPECT_EQ(j.anchor_W, Vec3(0, 0, 0.1));
+  EXPECT_EQ(j.axis_W, Vec3(1, 0, 0));
+  ASSERT_TRUE(j.limits && j.spring && j.motor);
+  EXPECT_EQ(j.limits->lower, -1);
+  EXPECT_EQ(j.spring->damping, 0.1);
+  EXPECT_EQ(j.friction, 0.05);
+  EXPECT_EQ(j.motor->max_force, 20);
+  // upper: visual box (drawn, no collision), collision box (collides, not drawn); tool: visual sphere.
+  const std::vector<Collider>& c = s.bodies[1].colliders;
+  ASSERT_EQ(c.size(), 3u);
+  EXPECT_FALSE(c[0].collide);
+  EXPECT_TRUE(s.looks[1].colliders[0].drawn);
+  EXPECT_TRUE(c[1].collide);
+  EXPECT_FALSE(s.looks[1].colliders[1].drawn);
+  EXPECT_EQ(c[2].shape, ShapeKind::sphere);
+  EXPECT_EQ(c[2].p_BC, Vec3(0, 0, 0.5));
+  // show: [colliders] draws exactly the other set.
+  const Scene shown = load_scene(write("t.yaml", "imports: [ { file: " + urdf + ", show: [colliders] } ]\n"));
+  EXPECT_FALSE(shown.looks[1].colliders[0].drawn);
+  EXPECT_TRUE(shown.looks[1].colliders[1].drawn);
+  // Held by its motor, the arm stays put against gravity (it starts level with its centre of
+  // mass over the hinge, then is tipped by nothing: 2 s of holding).
+  World w(world_config(s, 1), s.bodies);
+  for (int i = 0; i < 480; ++i) w.step();
+  EXPECT_NEAR(w.joint_position(0), 0, 1e-9);
+}
+
+// package:// through the file's own package, or `package_paths`; a Windows path from another
+// machine by its file name beside the URDF, with a note; capsules; ignored elements noted.
+TEST(Import, PathsPackagesAndTolerance) {
+  const Scene in_pkg = load_scene(kData + "pkg/my_robot/urdf/box_robot.urdf");
+  EXPECT_EQ(in_pkg.bodies.size(), 2u);  // the robot and the ground
+  const std::string scene =
+      write("s.yaml", "imports: [ { file: " + fs::absolute(kData + "elsewhere.urdf").string() +
+                          ", package_paths: [" + fs::absolute(kData + "pkg").string() + "] } ]\n");
+  const Scene s = load_scene(scene);
+  ASSERT_EQ(s.bodies.size(), 1u);
+  ASSERT_EQ(s.bodies[0].colliders.size(), 3u);
+  EXPECT_EQ(s.bodies[0].colliders[2].shape, ShapeKind::capsule);
+  EXPECT_DOUBLE_EQ(s.bodies[0].colliders[2].height, 0.4);  // URDF length between the caps' centres
+  EXPECT_TRUE(
+      has(s.notes,
+          "elsewhere.urdf:5: link 'base', visual 0: mesh 'E:\\develop\\robots\\block.obj' is a path on "
+          "another machine; using"))
+      << s.notes[0];
+  EXPECT_TRUE(has(s.notes, "elsewhere.urdf:9: <gazebo> is not used by simreel"));
+  // Without the package path the error says where it looked and what to set.
+  const std::string e = error_of(
+      write("u.yaml", "imports: [ { file: " + fs::absolute(kData + "elsewhere.urdf").string() + " } ]\n"));
+  EXPECT_NE(
+      e.find(
+          "elsewhere.urdf:6: link 'base', collision 0: mesh 'package://my_robot/meshes/block.obj': package "
+          "'my_robot' not found; give its folder in the import's `package_paths`"),
+      std::string::npos)
+      << e;
+}
+
+// What cannot be a robot is an error naming file, line and the link or joint.
+TEST(Import, MistakesAreNamedByFileAndLine) {
+  auto err = [&](const std::string& name, const std::string& text) { return error_of(write(name, text)); };
+  EXPECT_NE(
+      err("r.xacro", "<robot xmlns:xacro=\"http://ros.org/wiki/xacro\"><xacro:macro name=\"m\"/></robot>\n")
+          .find("a xacro file (macros, not a robot): expand it first with xacro"),
+      std::string::npos);
+  const std::string head = "<?xml version=\"0.0\"?>\n<robot name=\"r\">\n  <link name=\"base\"/>\n";
+  EXPECT_NE(
+      err("j.urdf", head +
+                        "  <link name=\"arm\"/>\n  <joint name=\"j\" type=\"revolute\">\n"
+                        "    <parent link=\"bse\"/><child link=\"arm\"/><limit lower=\"-1\" upper=\"1\"/>\n"
+                        "  </joint>\n</robot>\n")
+          .find(
+              "j.urdf:6: joint 'j': <parent> names link 'bse', which the file does not define; did you mean "
+              "'base'?"),
+      std::string::npos);
+  EXPECT_NE(err("n.urdf",
+                head + "  <link name=\"arm\"><inertial><mass value=\"1.5kg\"/></inertial></link>\n</robot>\n")
+                .find("n.urdf:4: link 'arm': <mass value=\"1.5kg\">: expected numbers"),
+            std::string::npos);
+  EXPECT_NE(err("t.urdf",
+                head + "  <link name=\"arm\"/>\n  <joint name=\"j\" type=\"hinge\">\n</joint>\n</robot>\n")
+                .find("t.urdf:5: joint 'j': unknown joint type 'hinge'"),
+            std::string::npos);
+  EXPECT_NE(err("x.urdf", head + "  <link name=\"arm\">\n</robot>\n").find("x.urdf:"), std::string::npos);
+  EXPECT_NE(err("two.urdf", head + "  <link name=\"arm\"/>\n</robot>\n").find("2 links have no parent joint"),
+            std::string::npos);
+  // A moving link with nothing to weigh.
+  EXPECT_NE(err("w.urdf",
+                "<robot name=\"r\">\n  <link name=\"base\"><inertial><mass value=\"1\"/><inertia ixx=\"1\" "
+                "iyy=\"1\" izz=\"1\"/></inertial></link>\n  <link name=\"arm\"/>\n  <joint name=\"j\" "
+                "type=\"continuous\"><parent link=\"base\"/><child link=\"arm\"/></joint>\n</robot>\n")
+                .find("w.urdf:3: link 'arm': has no mass (no <inertial>) and no collision geometry to weigh, "
+                      "yet moves"),
+            std::string::npos);
+  // joint_positions name a joint of the file, within its limits.
+  const std::string dp = fs::absolute(kData + "double_pendulum.urdf").string();
+  EXPECT_NE(err("p.yaml", "imports: [ { file: " + dp + ", joint_positions: { elbw: 1 } } ]\n")
+                .find("has no joint named 'elbw'; did you mean 'elbow'?"),
+            std::string::npos);
+}
+
+// The corpus: real files nobody here wrote (../shared/corpus; skipped when absent).
+const fs::path kCorpus = "../shared/corpus/bullet3/data";
+
+TEST(ImportCorpus, BulletUrdfsLoadWithTheirLinksJointsAndMasses) {
+  if (!fs::exists(kCorpus)) GTEST_SKIP() << "no " << kCorpus << " (the shared corpus)";
+  struct Case {
+    const char* file;
+    size_t bodies;  // after fixed links join their parents, with the ground
+    size_t joints;
+    double mass;  // kg, every moving body
+  };
+  for (const Case& c :
+       {Case{"cube.urdf", 2, 0, 1.0}, Case{"r2d2.urdf", 10, 8, 0}, Case{"cartpole.urdf", 4, 2, 11.0},
+        Case{"hinge.urdf", 4, 2, 0}, Case{"racecar/racecar.urdf", 8, 6, 0},
+        Case{"kuka_iiwa/model.urdf", 9, 7, 0}, Case{"sphere2.urdf", 2, 0, 0}, Case{"plane.urdf", 2, 0, 0}}) {
+    SCOPED_TRACE(c.file);
+    const Scene s = load_scene((kCorpus / c.file).string());
+    EXPECT_EQ(s.bodies.size(), c.bodies);
+    EXPECT_EQ(s.joints.size(), c.joints);
+    double mass = 0;
+    for (const BodyDef& b : s.bodies)
+      if (b.type == BodyType::dynamic) mass += b.mass_override->mass;
+    if (c.mass > 0) {
+      EXPECT_DOUBLE_EQ(mass, c.mass);
+    }
+    World w(world_config(s, 1), s.bodies);  // every one builds
+  }
+  // r2d2's file defines its colours inside visuals and names them in others: all are found.
+  const Scene r2 = load_scene((kCorpus / "r2d2.urdf").string());
+  EXPECT_FALSE(has(r2.notes, "is not defined"));
+  // cube.urdf states I = 1, 1, 1 for a 1 kg cube of 1 m (0.167 from its geometry).
+  const Scene cube = load_scene((kCorpus / "cube.urdf").string());
+  EXPECT_TRUE(has(cube.warnings, "(1, 1, 1) kg m^2 stated, (0.167, 0.167, 0.167) from the geometry"));
+  // concave_box.urdf names a Bullet .cdf file: that shape is left out with a note, the rest loads.
+  const Scene box = load_scene((kCorpus / "toys/concave_box.urdf").string());
+  EXPECT_TRUE(has(box.notes, "unknown geometry <cdf>"));
+}
+
+// r2d2 and the racecar, dropped on the ground, settle on their wheels.
+TEST(ImportCorpus, R2d2AndRacecarRestOnTheirWheels) {
+  if (!fs::exists(kCorpus)) GTEST_SKIP() << "no " << kCorpus << " (the shared corpus)";
+  for (const char* f : {"r2d2.urdf", "racecar/racecar.urdf"}) {
+    SCOPED_TRACE(f);
+    Scene s = load_scene((kCorpus / f).string());
+    for (BodyDef& b : s.bodies) b.p_WB.z() += 0.05;  // dropped from 5 cm
+    World w(world_config(s, 1), s.bodies);
+    const int ground = (int)s.bodies.size() - 1;
+    for (int i = 0; i < 3 * 240; ++i) w.step();
+    double speed = 0;
+    for (int i = 0; i < w.body_count(); ++i) speed = std::max(speed, w.linear_velocity(i).norm());
+    EXPECT_LT(speed, 1e-3);
+    // Only wheels touch the ground.
+    bool touching = false;
+    std::vector<ContactData> contacts;
+    w.contacts(contacts);
+    for (const ContactData& c : contacts) {
+      const int other = c.body_a == ground ? c.body_b : c.body_b == ground ? c.body_a : -1;
+      if (other < 0) continue;
+      EXPECT_NE(w.def(other).name.find("wheel"), std::string::npos) << w.def(other).name;
+      touching = true;
+    }
+    EXPECT_TRUE(touching);
+  }
+}
+
+// The kuka arm fixed to the ground and held by its joint motors (the file's effort limits) stays put.
+TEST(ImportCorpus, KukaHeldByItsMotorsStaysPut) {
+  if (!fs::exists(kCorpus)) GTEST_SKIP() << "no " << kCorpus << " (the shared corpus)";
+  const std::string scene = write("kuka.yaml", "ground: true\nimports: [ { file: " +
+                                                   fs::absolute(kCorpus / "kuka_iiwa/model.urdf").string() +
+                                                   ", fixed_base: true, hold: true, on_ground: true } ]\n");
+  const Scene s = load_scene(scene);
+  World w(world_config(s, 1), s.bodies);
+  for (int i = 0; i < 2 * 240; ++i) w.step();
+  for (int j = 0; j < w.joint_count(); ++j) EXPECT_NEAR(w.joint_position(j), 0, 1e-9) << j;
+}
+
+}  // namespace
+}  // namespace simreel
