@@ -5,11 +5,13 @@
 // Poses are relative (a link's frame in its parent's, a shape's in its link's), as in both formats.
 #pragma once
 #include <array>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include <simreel/math.hpp>
+#include <simreel/mesh.hpp>
 
 namespace simreel {
 
@@ -36,6 +38,8 @@ struct ModelShape {
   double length = 0;          ///< m, cylinder and capsule: along the shape's z, tip to tip for a capsule
   Vec3 radii = Vec3::Ones();  ///< m, ellipsoid
   std::string mesh_file;      ///< resolved path
+  /// A mesh given in the file itself (MJCF `<mesh vertex=...>`: its convex hull), instead of a file.
+  std::shared_ptr<const TriangleMesh> inline_mesh;
   Vec3 scale = Vec3::Ones();
   Pose pose;                                  ///< in the link frame
   std::optional<std::array<float, 3>> color;  ///< display RGB (sRGB-encoded, as files give it)
@@ -44,6 +48,10 @@ struct ModelShape {
   std::optional<double> friction;
   uint32_t group = 1, mask = 0xFFFFFFFFu;
   std::optional<double> density;  ///< kg/m^3 where the file gives one (MJCF)
+  std::optional<double> mass;     ///< kg where the file gives the shape's mass (MJCF)
+  /// Counts in the link's mass when the file states none: URDF's collision shapes (at the
+  /// file's link mass), every MJCF geom of non-zero density or mass (MuJoCo's rule).
+  bool weighs = false;
   SourceRef src;
 };
 
@@ -59,6 +67,9 @@ struct ModelLink {
   Pose pose;  ///< in the parent link's frame (set by the reader for MJCF; from the joint for URDF)
   std::optional<ModelInertial> inertial;
   std::vector<ModelShape> shapes;
+  /// A helper link (MJCF: a body with several joints becomes a chain of links, one joint each):
+  /// the link it serves, which gives it 1e-9 of its mass; -1 for a link of the file.
+  int helper_of = -1;
   SourceRef src;
 };
 
@@ -77,6 +88,9 @@ struct ModelJoint {
   double damping = 0;                           ///< N m s/rad or N s/m
   double friction = 0;                          ///< N m or N
   double stiffness = 0, rest = 0;               ///< a spring on the coordinate (MJCF)
+  /// Closes a loop (MJCF's equality connect or weld): not a tree edge; `anchor` is then in the
+  /// child's frame and `parent` may be -1 (the world).
+  bool loop = false;
   SourceRef src;
 };
 

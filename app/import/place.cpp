@@ -70,7 +70,14 @@ Collider shape_collider(const ModelShape& s, const Pose& pose, MeshLibrary& mesh
   c.label = s.kind == K::mesh ? s.mesh_file : to_string(c.shape);
   c.props_C.mass = 0;
   c.props_C.inertia = Mat3::Zero();
-  if (s.kind == K::mesh) {
+  if (s.kind == K::mesh && s.inline_mesh) {
+    c.mesh = s.inline_mesh;
+    if (weigh) {
+      MeshMassOptions opt;
+      opt.density = 1.0;
+      c.props_C = analyze_mesh(*s.inline_mesh, opt).props;
+    }
+  } else if (s.kind == K::mesh) {
     c.mesh = meshes.surface(s.mesh_file, s.scale);
     if (weigh && weigh_mesh) {
       MeshMassOptions opt;
@@ -128,7 +135,8 @@ void place_model(const Model& m, const ImportSpec& spec, Scene& scene, MeshLibra
   const std::string prefix = spec.name.empty() ? "" : spec.name + "/";
   // The tree: each link's parent joint (or -1), children in file order.
   std::vector<int> parent_joint(n, -1);
-  for (size_t k = 0; k < m.joints.size(); ++k) parent_joint[m.joints[k].child] = (int)k;
+  for (size_t k = 0; k < m.joints.size(); ++k)
+    if (!m.joints[k].loop) parent_joint[m.joints[k].child] = (int)k;
   // A URDF root named "world" holding nothing is the world itself (the convention of ROS arms).
   std::vector<bool> is_world(n, false);
   for (size_t i = 0; i < n; ++i)
@@ -229,17 +237,21 @@ void place_model(const Model& m, const ImportSpec& spec, Scene& scene, MeshLibra
     if (jk < 0) {
       // A root with no mass is fixed to the world, as Bullet reads it (cartpole's slide bar, a
       // concave bin): nothing could move it.
-      const bool massless = !(m.links[l].inertial && m.links[l].inertial->mass > 0);
+      // (URDF: a link's mass is its <inertial>; MJCF: its geoms weigh too.)
       bool holds_mass = false;
-      for (int x : bodies[b].links)
+      for (int x : bodies[b].links) {
         holds_mass = holds_mass || (m.links[x].inertial && m.links[x].inertial->mass > 0);
-      is_static[b] = spec.fixed_base || (massless && !holds_mass);
+        if (m.format != "urdf")
+          for (const ModelShape& s : m.links[x].shapes) holds_mass = holds_mass || s.weighs;
+      }
+      is_static[b] = spec.fixed_base || !holds_mass;
       if (is_static[b] && !spec.fixed_base)
         scene.notes.push_back(m.links[l].src.str() +
                               ": the root link has no mass: fixed to the world (as Bullet "
                               "reads it); give it an <inertial> mass to let it move");
-    } else if (p >= 0 && is_world[p] && m.joints[jk].kind == ModelJoint::Kind::fixed)
-      is_static[b] = true;
+    } else if ((p < 0 || is_world[p]) && m.joints[jk].kind == ModelJoint::Kind::fixed) {
+      is_static[b] = true;  // welded to the world
+    }
   }
 
   std::set<std::string> names;
@@ -258,24 +270,43 @@ void place_model(const Model& m, const ImportSpec& spec, Scene& scene, MeshLibra
     def.type = is_static[b] ? BodyType::static_body : BodyType::dynamic;
     BodyLook look;
     const Pose to_body_inv{-(def.q_WB.conjugate() * def.p_WB), def.q_WB.conjugate()};
+    // The file's mass properties (a link's stated inertial, else its shapes at their own
+    // densities) and the geometry's (its shapes scaled to the stated mass, else the same).
     MassAccumulator file_mass, geom_unit;
-    bool any_inertial = false;
     for (int l : pb.links) {
       const ModelLink& link = m.links[l];
       const Pose X_BL = to_body_inv * X[l];  // the link's frame in the body's
       const Mat3 R_BL = X_BL.q.toRotationMatrix();
-      // This link's geometry, weighed at unit density (collision shapes only).
-      MassAccumulator link_geom;
+      // This link's weighing shapes at unit density (to scale to a stated mass), and each at its
+      // own density or mass (the link's mass when it states none).
+      MassAccumulator link_geom, link_own;
       for (const ModelShape& s : link.shapes) {
         const Pose X_BS = X_BL * s.pose;
+        // A file's own floor (MJCF's worldbody plane) where the scene already has its ground.
+        if (s.kind == ModelShape::Kind::plane && scene.ground && is_static[b]) {
+          const Pose X_WS = X[l] * s.pose;
+          if ((X_WS.q * Vec3::UnitZ()).z() > 1 - 1e-12 &&
+              std::fabs(X_WS.p.z() - scene.ground->height) < 1e-9) {
+            scene.notes.push_back(s.src.str() + ": the file's floor plane is the scene's ground; left out");
+            continue;
+          }
+        }
         Collider c;
         try {
-          c = shape_collider(s, X_BS, meshes, s.collision, !is_static[b], scene.notes);
+          c = shape_collider(s, X_BS, meshes, s.collision || s.weighs, !is_static[b], scene.notes);
         } catch (const InputError& e) {
           throw InputError(s.src.str() + ": " + e.what());
         }
-        if (s.collision && s.kind != ModelShape::Kind::plane && !is_static[b])
-          link_geom.add(placed(c.props_C, c.q_BC.toRotationMatrix(), c.p_BC));
+        if (s.weighs && s.kind != ModelShape::Kind::plane && !is_static[b]) {
+          MassProperties u = placed(c.props_C, c.q_BC.toRotationMatrix(), c.p_BC);
+          link_geom.add(u);
+          const double rho = s.mass ? *s.mass / u.mass : s.density.value_or(1000.0);
+          if (rho > 0) {
+            u.mass *= rho;
+            u.inertia *= rho;
+            link_own.add(u);
+          }
+        }
         c.collide = s.collision;
         if (!s.collision) {  // drawn only: weighs nothing
           c.props_C.mass = 0;
@@ -285,7 +316,7 @@ void place_model(const Model& m, const ImportSpec& spec, Scene& scene, MeshLibra
         cl.drawn = spec.show_colliders ? s.collision : s.visual;
         if (spec.show_colliders) {
           cl.color = Rgb{0.90f, 0.45f, 0.10f};  // orange: what collides, for checking
-        } else if (!s.texture.empty() && s.kind == ModelShape::Kind::mesh) {
+        } else if (!s.texture.empty() && s.kind == ModelShape::Kind::mesh && !s.inline_mesh) {
           const auto file = meshes.file(s.mesh_file, s.scale);
           if (file->appearance && !file->appearance->corner_uv.empty()) {
             auto a = std::make_shared<MeshAppearance>();
@@ -300,7 +331,7 @@ void place_model(const Model& m, const ImportSpec& spec, Scene& scene, MeshLibra
             scene.notes.push_back(s.src.str() + ": " + s.mesh_file +
                                   " has no texture coordinates to lay its texture on; drawn in its colour");
           }
-        } else if (s.kind == ModelShape::Kind::mesh) {
+        } else if (s.kind == ModelShape::Kind::mesh && !s.inline_mesh) {
           const auto file = meshes.file(s.mesh_file, s.scale);
           if (file->appearance && file->appearance->varies) cl.appearance = file->appearance;
           if (file->color) cl.color = *file->color;
@@ -328,7 +359,6 @@ void place_model(const Model& m, const ImportSpec& spec, Scene& scene, MeshLibra
         f.com = link.inertial->com;
         f.inertia = link.inertial->inertia;
         file_mass.add(placed(f, R_BL, X_BL.p));
-        any_inertial = true;
       }
       if (link_geom.count() == 0) continue;
       MassProperties g = link_geom.result();  // link geometry at unit density, body frame
@@ -358,23 +388,23 @@ void place_model(const Model& m, const ImportSpec& spec, Scene& scene, MeshLibra
           }
         }
         geom_unit.add(g);
-      } else if (!is_static[b]) {
-        // No stated mass: weighed from its geometry as water-dense (1000 kg/m^3).
-        g.mass *= 1000;
-        g.inertia *= 1000;
-        geom_unit.add(g);
-        scene.notes.push_back(link.src.str() +
-                              ": no <inertial> mass: weighed from its collision geometry at "
-                              "1000 kg/m^3 (" +
-                              fmt(g.mass) + " kg)");
+      } else if (!is_static[b] && link_own.count() > 0) {
+        // No stated mass: each shape at its own density (MJCF's rule; URDF has none: water's).
+        const MassProperties own = link_own.result();
+        geom_unit.add(own);
+        file_mass.add(own);
+        if (m.format == "urdf")
+          scene.notes.push_back(link.src.str() +
+                                ": no <inertial> mass: weighed from its collision geometry at "
+                                "1000 kg/m^3 (" +
+                                fmt(own.mass) + " kg)");
       }
     }
-    if (!is_static[b]) {
-      const bool use_geometry = spec.inertia == InertiaPolicy::geometry || !any_inertial;
+    if (!is_static[b] && owner.helper_of < 0) {
+      const bool use_geometry = spec.inertia == InertiaPolicy::geometry;
       if (use_geometry && geom_unit.count() > 0) {
         def.mass_override = geom_unit.result();
-      } else if (any_inertial) {
-        // Links without a mass but with geometry add the geometry's weight.
+      } else if (file_mass.count() > 0) {
         def.mass_override = file_mass.result();
         if (spec.inertia == InertiaPolicy::geometry)
           scene.notes.push_back(owner.src.str() +
@@ -400,12 +430,33 @@ void place_model(const Model& m, const ImportSpec& spec, Scene& scene, MeshLibra
     scene.looks.push_back(std::move(look));
   }
 
+  // Helper links (a body's extra joints) weigh 1e-9 of the body they serve, as a small sphere at
+  // their origin: enough for every simreel body to have a mass, too little to show in any result.
+  int helpers = 0;
+  for (size_t b = 0; b < bodies.size(); ++b)
+    if (const int owner = m.links[bodies[b].link].helper_of; owner >= 0) {
+      const BodyDef& served = scene.bodies[bodies[body_of[owner]].index];
+      const double mass = served.mass_override ? served.mass_override->mass : 1.0;
+      MassProperties h;
+      h.mass = 1e-9 * mass;
+      h.com = Vec3::Zero();
+      h.inertia = Mat3::Identity() * (1e-9 * mass) * 1e-4;  // a 1.6 cm sphere's, scaled with the mass
+      scene.bodies[bodies[b].index].mass_override = h;
+      ++helpers;
+    }
+  if (helpers)
+    scene.notes.push_back(
+        m.file + ": " + std::to_string(helpers) +
+        " helper bodies (named BODY#k, 1e-9 of their body's mass) carry the extra joints of bodies "
+        "with more than one");
+
   // Joints.
   const size_t joints_before = scene.joints.size();
   for (size_t k = 0; k < m.joints.size(); ++k) {
     const ModelJoint& j = m.joints[k];
     using K = ModelJoint::Kind;
-    if (j.kind == K::fixed || j.kind == K::planar) continue;  // welded into its parent's body, or static
+    if (!j.loop && (j.kind == K::fixed || j.kind == K::planar))
+      continue;  // welded into its parent's body, or static
     if (j.kind == K::floating) {
       if (j.parent >= 0 && !is_world[j.parent])
         scene.notes.push_back(j.src.str() + ": a floating joint leaves its child free (six freedoms)");
@@ -413,8 +464,14 @@ void place_model(const Model& m, const ImportSpec& spec, Scene& scene, MeshLibra
     }
     JointDef d;
     d.name = prefix + j.name;
-    const int cb = body_of[j.child];
-    const int pb = j.parent < 0 || is_world[j.parent] ? -1 : body_of[j.parent];
+    int cb = body_of[j.child];
+    int pb = j.parent < 0 || is_world[j.parent] ? -1 : body_of[j.parent];
+    if (j.loop && is_static[cb] && pb >= 0 && !is_static[pb])
+      std::swap(cb, pb);  // the moving body is the child
+    if (j.loop && cb == pb) {
+      scene.notes.push_back(j.src.str() + ": joins two links of one rigid body; nothing to hold");
+      continue;
+    }
     d.child = bodies[cb].index;
     d.parent = pb < 0 ? -1 : bodies[pb].index;
     if (is_static[cb])
@@ -433,6 +490,9 @@ void place_model(const Model& m, const ImportSpec& spec, Scene& scene, MeshLibra
       case K::spherical:
         d.type = JointType::spherical;
         break;
+      case K::fixed:  // a loop's weld
+        d.type = JointType::fixed;
+        break;
       default:
         break;
     }
@@ -443,8 +503,8 @@ void place_model(const Model& m, const ImportSpec& spec, Scene& scene, MeshLibra
       d.limits = L;
     }
     if (j.damping > 0 || j.stiffness > 0) d.spring = JointSpring{j.stiffness, j.damping, j.rest - q0[k]};
-    if (j.kind != K::spherical) d.friction = j.friction;
-    if (spec.hold && j.kind != K::spherical) {
+    if (j.kind != K::spherical && j.kind != K::fixed) d.friction = j.friction;
+    if (spec.hold && (j.kind == K::revolute || j.kind == K::continuous || j.kind == K::prismatic)) {
       if (j.effort > 0) {
         JointMotor mo;
         mo.mode = JointMotor::Mode::position;

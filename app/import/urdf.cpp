@@ -319,6 +319,7 @@ class UrdfReader {
         s.src = src(v, sw);
         s.visual = visual;
         s.collision = !visual;
+        s.weighs = !visual;
         s.pose = origin(v, sw);
         if (!geometry(v, s, sw, tag)) continue;
         if (visual)

@@ -4,6 +4,7 @@
 
 #include <filesystem>
 
+#include "app/import/mjcf.hpp"
 #include "app/import/place.hpp"
 #include "app/import/urdf.hpp"
 #include "app/scene/mesh_library.hpp"
@@ -131,9 +132,9 @@ void load_imports(const YAML::Node& list, const std::string& path, Scene& scene,
     if (ext == ".urdf" || ext == ".xacro") {
       model = read_urdf(spec.file, spec.paths);
     } else if (ext == ".xml" || ext == ".mjcf") {
-      c.child("file").fail(n["file"], "MJCF files cannot be imported yet (URDF can)");
+      model = read_mjcf(spec.file, spec.paths);
     } else {
-      c.child("file").fail(n["file"], "'" + f + "' is not a URDF file (.urdf)");
+      c.child("file").fail(n["file"], "'" + f + "' is not a URDF (.urdf) or MJCF (.xml, .mjcf) file");
     }
     place_model(model, spec, scene, meshes);
   }

@@ -51,7 +51,7 @@ WorldImpl::WorldImpl(const WorldConfig& config, std::vector<BodyDef> bodies)
     if (std::fabs(d.q_WB.norm() - 1.0) > 1e-6)
       throw InputError(body_label(defs_, i) + ": orientation quaternion is not unit length (norm " +
                        std::to_string(d.q_WB.norm()) + ")");
-    if (d.colliders.empty() && !d.mass_override)
+    if (d.colliders.empty() && !d.mass_override && d.type != BodyType::static_body)
       throw InputError(body_label(defs_, i) + " has no colliders (and no stated mass properties)");
     m.is_static = d.type == BodyType::static_body;
     m.is_kinematic = d.type == BodyType::kinematic;

@@ -295,6 +295,76 @@ TEST(Import, MistakesAreNamedByFileAndLine) {
             std::string::npos);
 }
 
+// The same double pendulum in MJCF (nested bodies, inertials, a joint without a type is a hinge)
+// moves as the scene and the URDF do, to the bit.
+TEST(ImportMjcf, MechanismEqualsTheSameSceneBitForBit) {
+  const Scene a = load_scene(kData + "double_pendulum.yaml");
+  const Scene b = load_scene(kData + "double_pendulum_mjcf.yaml");
+  ASSERT_EQ(a.bodies.size(), b.bodies.size());
+  ASSERT_EQ(b.joints.size(), 2u);
+  World wa(world_config(a, 1), a.bodies), wb(world_config(b, 1), b.bodies);
+  for (int step = 0; step < 480; ++step) {
+    wa.step();
+    wb.step();
+  }
+  for (int i = 0; i < wa.body_count(); ++i) {
+    EXPECT_EQ(wa.origin_position(i), wb.origin_position(i)) << i;
+    EXPECT_EQ(wa.orientation(i).coeffs(), wb.orientation(i).coeffs()) << i;
+  }
+}
+
+// Default classes cascade (childclass, class, nested defaults, from an included file), capsules
+// from `fromto` weigh at their density, and an equality connect closes a loop that stays closed
+// while the linkage swings with its energy kept. Unknown elements and attributes are notes with
+// file and line.
+TEST(ImportMjcf, FourBarWithClassesIncludeAndLoop) {
+  const Scene s = load_scene(write("s.yaml", "simulation: { duration: 3 }\nimports: [ { file: " +
+                                                 fs::absolute(kData + "four_bar.xml").string() + " } ]\n"));
+  ASSERT_EQ(s.bodies.size(), 3u);
+  ASSERT_EQ(s.joints.size(), 4u);  // three hinges and the loop
+  EXPECT_EQ(s.joints[3].type, JointType::spherical);
+  const int coupler = body(s, "coupler"), crank = body(s, "crank");
+  ASSERT_EQ(s.bodies[coupler].colliders.size(), 1u);
+  EXPECT_EQ(s.bodies[coupler].colliders[0].radius, 0.01);  // class thin, inside bar
+  EXPECT_EQ(s.bodies[crank].colliders[0].radius, 0.02);
+  EXPECT_EQ(s.bodies[coupler].colliders[0].shape, ShapeKind::capsule);
+  const double r = 0.01, L = std::sqrt(0.7 * 0.7 + 0.4 * 0.4);
+  EXPECT_NEAR(s.bodies[coupler].mass_override->mass, 2700 * (M_PI * r * r * L + 4.0 / 3 * M_PI * r * r * r),
+              1e-12);
+  EXPECT_TRUE(has(s.notes, "four_bar.xml:16: <joint> has no attribute 'wobble' that simreel knows; ignored"));
+  EXPECT_TRUE(has(s.notes, "four_bar.xml:23: <flywheel> is not an MJCF element simreel knows; ignored"));
+  World w(world_config(s, 1), s.bodies);
+  Drift drift(w);
+  for (int i = 0; i < 3 * 240; ++i) {
+    w.step();
+    if (i % 8 == 0) drift.sample(w);
+  }
+  EXPECT_LT(drift.joint_gap(), 1e-9);
+  EXPECT_LT(drift.energy_rel(), 1e-8);
+  EXPECT_GT(std::fabs(w.joint_position(0)), 0.1);  // it moved
+}
+
+// An undefined class, a joint type MuJoCo does not have, a connect to a missing body.
+TEST(ImportMjcf, MistakesAreNamedByFileAndLine) {
+  auto err = [&](const std::string& xml) { return error_of(write("m.xml", xml)); };
+  EXPECT_NE(err("<mujoco>\n<default><default class=\"bar\"/></default>\n<worldbody>\n"
+                "<body><freejoint/><geom size=\"0.1\" class=\"baz\"/></body>\n</worldbody></mujoco>\n")
+                .find("m.xml:4: body 'body0', geom: class 'baz' is not defined; did you mean 'bar'?"),
+            std::string::npos);
+  EXPECT_NE(err("<mujoco><worldbody>\n<body name=\"b\"><joint type=\"twist\"/><geom size=\"0.1\"/></body>\n"
+                "</worldbody></mujoco>\n")
+                .find("m.xml:2: joint 'b/joint': unknown joint type 'twist' (hinge, slide, ball, free)"),
+            std::string::npos);
+  EXPECT_NE(
+      err("<mujoco><worldbody><body name=\"b\"><joint/><geom size=\"0.1\"/></body></worldbody>\n"
+          "<equality><connect body1=\"bb\" body2=\"b\" anchor=\"0 0 0\"/></equality></mujoco>\n")
+          .find(
+              "m.xml:2: equality connect 'connect1': body1 names body 'bb', which the file does not define; "
+              "did you mean 'b'?"),
+      std::string::npos);
+  EXPECT_NE(err("<robot/>\n").find("expected a <mujoco> element"), std::string::npos);
+}
+
 // The corpus: real files nobody here wrote (../shared/corpus; skipped when absent).
 const fs::path kCorpus = "../shared/corpus/bullet3/data";
 
@@ -358,6 +428,37 @@ TEST(ImportCorpus, R2d2AndRacecarRestOnTheirWheels) {
     }
     EXPECT_TRUE(touching);
   }
+}
+
+const fs::path kMujoco = "../shared/corpus/mujoco";
+
+// MuJoCo's own models: each loads; the humanoid (capsules, classes, bodies with two and three
+// hinges) falls as a ragdoll with its joints closed to 1e-6 m.
+TEST(ImportCorpus, MujocoModelsLoadAndTheHumanoidFallsAsARagdoll) {
+  if (!fs::exists(kMujoco)) GTEST_SKIP() << "no " << kMujoco << " (the shared corpus)";
+  for (const char* f : {"model/humanoid/humanoid.xml", "model/slider_crank/slider_crank.xml",
+                        "model/mug/mug.xml", "python/mujoco/testdata/model.xml", "model/sleep/dominos.xml",
+                        "model/replicate/newton_cradle.xml", "model/replicate/stonehenge.xml"}) {
+    SCOPED_TRACE(f);
+    const Scene s = load_scene((kMujoco / f).string());
+    World w(world_config(s, 1), s.bodies);
+  }
+  const Scene s = load_scene((kMujoco / "model/humanoid/humanoid.xml").string());
+  EXPECT_EQ(s.joints.size(), 21u);  // 22 in the file, the free joint being no joint here
+  int helpers = 0;
+  for (const BodyDef& b : s.bodies) helpers += b.name.find('#') != std::string::npos;
+  EXPECT_EQ(helpers, 9);  // abdomen 1, hips 2 + 2, ankles 1 + 1, shoulders 1 + 1
+  // 16 bodies less the head and hands (no joints: welded to their parents), the world's and the ground.
+  EXPECT_EQ((int)s.bodies.size() - helpers, 13 + 2);
+  World w(world_config(s, 1), s.bodies);
+  Drift drift(w);
+  const double z0 = w.centroid(body(s, "torso")).z();
+  for (int i = 0; i < 3 * 240; ++i) {
+    w.step();
+    if (i % 8 == 0) drift.sample(w);
+  }
+  EXPECT_LT(drift.joint_gap(), 1e-6);
+  EXPECT_LT(w.centroid(body(s, "torso")).z(), z0 - 0.5);  // it fell
 }
 
 // The kuka arm fixed to the ground and held by its joint motors (the file's effort limits) stays put.

@@ -1,0 +1,766 @@
+#include "app/import/mjcf.hpp"
+
+#include <tinyxml2.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <set>
+
+#include <simreel/error.hpp>
+#include "app/import/xml_util.hpp"
+#include "sim/geometry/convex_hull.hpp"
+
+namespace simreel {
+
+namespace fs = std::filesystem;
+using namespace xml;
+using tinyxml2::XMLElement;
+
+namespace {
+
+// Elements MuJoCo knows that describe no body, shape, joint or look simreel draws: skipped with
+// one note each (what they drive: actuators, sensors, tendons, ...).
+const std::set<std::string> kUnused = {"option",   "size",      "visual",  "statistic", "extension",
+                                       "custom",   "contact",   "tendon",  "actuator",  "sensor",
+                                       "keyframe", "light",     "camera",  "site",      "deformable",
+                                       "flexcomp", "replicate", "frame",   "composite", "plugin",
+                                       "skin",     "hfield",    "numeric", "text",      "tuple"};
+
+// MJCF's attributes per element (MuJoCo 3.x): read here or knowingly unused. Anything else is a
+// note (a typo, or an attribute newer than this list), never an error.
+const std::map<std::string, std::set<std::string>> kAttributes = {
+    {"body",
+     {"name", "childclass", "pos", "quat", "axisangle", "euler", "xyaxes", "zaxis", "mocap", "gravcomp",
+      "user", "sleep"}},
+    {"joint",
+     {"name",
+      "class",
+      "type",
+      "group",
+      "pos",
+      "axis",
+      "springdamper",
+      "solreflimit",
+      "solimplimit",
+      "solreffriction",
+      "solimpfriction",
+      "stiffness",
+      "range",
+      "limited",
+      "actuatorfrclimited",
+      "actuatorfrcrange",
+      "actuatorgravcomp",
+      "margin",
+      "ref",
+      "springref",
+      "armature",
+      "damping",
+      "frictionloss",
+      "user"}},
+    {"freejoint", {"name", "group", "align"}},
+    {"geom", {"name",         "class",    "type",       "contype",   "conaffinity", "condim", "group",
+              "priority",     "size",     "material",   "rgba",      "friction",    "mass",   "density",
+              "shellinertia", "solmix",   "solref",     "solimp",    "margin",      "gap",    "fromto",
+              "pos",          "quat",     "axisangle",  "xyaxes",    "zaxis",       "euler",  "hfield",
+              "mesh",         "fitscale", "fluidshape", "fluidcoef", "user"}},
+    {"inertial",
+     {"pos", "quat", "axisangle", "xyaxes", "zaxis", "euler", "mass", "diaginertia", "fullinertia"}},
+};
+
+struct MjMaterial {
+  std::optional<std::array<float, 4>> rgba;
+  std::string texture;  // texture asset name
+};
+struct MjMesh {
+  std::string file;  // resolved
+  Vec3 scale = Vec3::Ones();
+  std::shared_ptr<const TriangleMesh> inline_mesh;
+};
+
+class MjcfReader {
+ public:
+  MjcfReader(const std::string& path, const ImportPaths& paths) : path_(path), paths_(paths) {}
+
+  Model read() {
+    const std::string text = read_text(path_);
+    parse_xml(doc_, text, path_);
+    XMLElement* root = doc_.RootElement();
+    if (!root || std::string(root->Name()) != "mujoco")
+      throw InputError(path_ + ":" + std::to_string(root ? root->GetLineNum() : 1) +
+                       ": expected a <mujoco> element at the top of an MJCF file, found <" +
+                       (root ? root->Name() : "nothing") + ">");
+    expand_includes(root, fs::path(path_).parent_path(), 0);
+    m_.file = path_;
+    m_.format = "mjcf";
+    m_.name = attr_or(root, "model", fs::path(path_).stem().string());
+    const fs::path dir = fs::path(path_).parent_path();
+    meshdir_ = texturedir_ = dir;
+    for (XMLElement* c = root->FirstChildElement("compiler"); c; c = c->NextSiblingElement("compiler"))
+      compiler(c, dir);
+    for (XMLElement* d = root->FirstChildElement("default"); d; d = d->NextSiblingElement("default"))
+      defaults(d, "main", "");
+    for (XMLElement* a = root->FirstChildElement("asset"); a; a = a->NextSiblingElement("asset")) assets(a);
+    std::set<std::string> noted;
+    for (XMLElement* e = root->FirstChildElement(); e; e = e->NextSiblingElement()) {
+      const std::string tag = e->Name();
+      if (tag == "compiler" || tag == "default" || tag == "asset" || tag == "worldbody" || tag == "equality")
+        continue;
+      if (noted.insert(tag).second)
+        note(e, "<" + tag + "> is " +
+                    (kUnused.count(tag) ? "not used by simreel" : "not an MJCF element simreel knows") +
+                    "; ignored");
+    }
+    for (XMLElement* w = root->FirstChildElement("worldbody"); w; w = w->NextSiblingElement("worldbody"))
+      worldbody(w);
+    for (XMLElement* q = root->FirstChildElement("equality"); q; q = q->NextSiblingElement("equality"))
+      equality(q);
+    return std::move(m_);
+  }
+
+ private:
+  std::string path_;
+  const ImportPaths& paths_;
+  tinyxml2::XMLDocument doc_;
+  std::vector<std::unique_ptr<tinyxml2::XMLDocument>> included_;
+  std::map<const tinyxml2::XMLNode*, std::string> origin_;  // an included element: its file
+  Model m_;
+  bool degrees_ = true;
+  std::string eulerseq_ = "xyz";
+  fs::path meshdir_, texturedir_;
+  // Default classes: parent class, and per element tag the prototype element.
+  std::map<std::string, std::string> class_parent_;
+  std::map<std::string, std::map<std::string, const XMLElement*>> class_proto_;
+  std::map<std::string, MjMaterial> materials_;
+  std::map<std::string, std::string> textures_;  // name -> resolved file
+  std::map<std::string, MjMesh> meshes_;
+  std::map<std::string, int> body_index_;
+  std::set<std::string> noted_;
+
+  // ---- where things come from
+  std::string file_of(const tinyxml2::XMLNode* e) const {
+    for (const tinyxml2::XMLNode* n = e; n; n = n->Parent())
+      if (auto it = origin_.find(n); it != origin_.end()) return it->second;
+    return path_;
+  }
+  SourceRef src(const XMLElement* e, const std::string& what) const {
+    return {file_of(e), e->GetLineNum(), what};
+  }
+  [[noreturn]] void fail(const XMLElement* e, const std::string& what, const std::string& msg) const {
+    throw InputError(src(e, what).str() + ": " + msg);
+  }
+  void note(const XMLElement* e, const std::string& msg, const std::string& what = "") {
+    m_.notes.push_back(src(e, what).str() + ": " + msg);
+  }
+  void note_once(const XMLElement* e, const std::string& key, const std::string& msg) {
+    if (noted_.insert(key).second) note(e, msg);
+  }
+  // An attribute MJCF does not have on this element: a note (once per element and attribute).
+  void check_attributes(const XMLElement* e) {
+    const auto known = kAttributes.find(e->Name());
+    if (known == kAttributes.end()) return;
+    for (const tinyxml2::XMLAttribute* a = e->FirstAttribute(); a; a = a->Next())
+      if (!known->second.count(a->Name()))
+        note_once(e, std::string(e->Name()) + "@" + a->Name(),
+                  std::string("<") + e->Name() + "> has no attribute '" + a->Name() +
+                      "' that simreel knows; ignored");
+  }
+
+  void expand_includes(XMLElement* parent, const fs::path& dir, int depth) {
+    for (XMLElement* e = parent->FirstChildElement(); e;) {
+      XMLElement* next = e->NextSiblingElement();
+      if (std::string(e->Name()) == "include") {
+        if (depth > 16) fail(e, "include", "includes nest more than 16 deep (a file including itself?)");
+        const std::string f = attr_or(e, "file", "");
+        if (f.empty()) fail(e, "include", "<include> needs a file");
+        const fs::path p = fs::path(f).is_absolute() ? fs::path(f) : dir / f;
+        std::error_code ec;
+        if (!fs::is_regular_file(p, ec))
+          fail(e, "include",
+               "file '" + f + "' not found (looked for " + fs::absolute(p, ec).lexically_normal().string() +
+                   ")");
+        auto doc = std::make_unique<tinyxml2::XMLDocument>();
+        parse_xml(*doc, read_text(p.string()), p.string());
+        XMLElement* inc_root = doc->RootElement();
+        if (!inc_root || std::string(inc_root->Name()) != "mujoco")
+          fail(e, "include", "'" + f + "' has no <mujoco> element at its top");
+        expand_includes(inc_root, p.parent_path(), depth + 1);
+        tinyxml2::XMLNode* after = e;
+        for (XMLElement* c = inc_root->FirstChildElement(); c; c = c->NextSiblingElement()) {
+          tinyxml2::XMLNode* copy = c->DeepClone(&doc_);
+          parent->InsertAfterChild(after, copy);
+          origin_[copy] = file_of(c) == path_ ? p.lexically_normal().string() : file_of(c);
+          after = copy;
+        }
+        parent->DeleteChild(e);
+        included_.push_back(std::move(doc));
+      } else {
+        expand_includes(e, dir, depth);
+      }
+      e = next;
+    }
+  }
+
+  void compiler(const XMLElement* c, const fs::path& dir) {
+    const std::string angle = attr_or(c, "angle", "degree");
+    if (angle != "degree" && angle != "radian")
+      fail(c, "compiler", "angle must be degree or radian, got '" + angle + "'");
+    degrees_ = angle == "degree";
+    eulerseq_ = attr_or(c, "eulerseq", eulerseq_);
+    if (eulerseq_.size() != 3 || eulerseq_.find_first_not_of("xyzXYZ") != std::string::npos)
+      fail(c, "compiler",
+           "eulerseq must be three of x, y, z (lower case: moving axes, upper: fixed), got '" + eulerseq_ +
+               "'");
+    const std::string asset = attr_or(c, "assetdir", "");
+    if (!asset.empty()) meshdir_ = texturedir_ = dir / asset;
+    if (c->Attribute("meshdir")) meshdir_ = dir / c->Attribute("meshdir");
+    if (c->Attribute("texturedir")) texturedir_ = dir / c->Attribute("texturedir");
+    for (const char* a : {"coordinate"})
+      if (c->Attribute(a) && std::string(c->Attribute(a)) == "global")
+        fail(c, "compiler",
+             "coordinate=\"global\" (MuJoCo 1.x) is not read: convert the file to local coordinates");
+  }
+
+  // ---- default classes
+  void defaults(const XMLElement* d, const std::string& name, const std::string& parent) {
+    class_parent_[name] = parent;
+    for (const XMLElement* c = d->FirstChildElement(); c; c = c->NextSiblingElement()) {
+      const std::string tag = c->Name();
+      if (tag == "default") {
+        const std::string child = attr_or(c, "class", "");
+        if (child.empty()) fail(c, "default", "a nested <default> needs a class name");
+        defaults(c, child, name);
+      } else {
+        class_proto_[name][tag] = c;
+      }
+    }
+  }
+  // An attribute of `e` (tag `tag`): its own, else its class's default, else the class's parents'.
+  const char* get(const XMLElement* e, const char* key, const std::string& cls) const {
+    if (const char* v = e->Attribute(key)) return v;
+    for (std::string c = cls; !c.empty();) {
+      const auto p = class_proto_.find(c);
+      if (p != class_proto_.end()) {
+        const auto t = p->second.find(e->Name());
+        if (t != p->second.end())
+          if (const char* v = t->second->Attribute(key)) return v;
+      }
+      const auto up = class_parent_.find(c);
+      c = up == class_parent_.end() ? "" : up->second;
+    }
+    return nullptr;
+  }
+  std::string class_of(const XMLElement* e, const std::string& childclass,
+                       const std::string& what = "") const {
+    if (const char* c = e->Attribute("class")) {
+      if (!class_parent_.count(c)) {
+        std::vector<std::string> names;
+        for (const auto& [n, p] : class_parent_) names.push_back(n);
+        std::string msg = std::string("class '") + c + "' is not defined";
+        if (auto s = nearest_name(c, names)) msg += "; did you mean '" + *s + "'?";
+        fail(e, what.empty() ? std::string(e->Name()) : what, msg);
+      }
+      return c;
+    }
+    return childclass.empty() ? "main" : childclass;
+  }
+  // Numbers of an attribute through the defaults; nullopt when absent.
+  std::optional<std::vector<double>> nums(const XMLElement* e, const char* key, const std::string& cls,
+                                          const std::string& what) const {
+    const char* v = get(e, key, cls);
+    if (!v) return std::nullopt;
+    // Parse the text through a scratch element so messages name this element's line.
+    tinyxml2::XMLDocument scratch;
+    XMLElement* x = scratch.NewElement(e->Name());
+    x->SetAttribute(key, v);
+    try {
+      return number_list(x, key, file_of(e), what);
+    } catch (const InputError&) {
+      fail(e, what, std::string("<") + e->Name() + " " + key + "=\"" + v + "\">: expected numbers");
+    }
+  }
+  template <int N>
+  std::optional<Eigen::Matrix<double, N, 1>> vec(const XMLElement* e, const char* key, const std::string& cls,
+                                                 const std::string& what) const {
+    const auto v = nums(e, key, cls, what);
+    if (!v) return std::nullopt;
+    if ((int)v->size() != N)
+      fail(e, what,
+           std::string("<") + e->Name() + " " + key + ">: expected " + std::to_string(N) + " numbers, got " +
+               std::to_string(v->size()));
+    Eigen::Matrix<double, N, 1> out;
+    for (int i = 0; i < N; ++i) out[i] = (*v)[i];
+    return out;
+  }
+  double angle(double a) const { return degrees_ ? a * M_PI / 180 : a; }
+
+  // A frame's orientation: quat, axisangle, euler, xyaxes or zaxis (at most one).
+  Quat orientation(const XMLElement* e, const std::string& cls, const std::string& what) const {
+    int given = 0;
+    Quat q = Quat::Identity();
+    if (auto v = vec<4>(e, "quat", cls, what)) {
+      ++given;
+      if (!(v->norm() > 0)) fail(e, what, "quat must not be zero");
+      q = Quat((*v)[0], (*v)[1], (*v)[2], (*v)[3]).normalized();
+    }
+    if (auto v = vec<4>(e, "axisangle", cls, what)) {
+      ++given;
+      const Vec3 a = v->head<3>();
+      if (!(a.norm() > 0)) fail(e, what, "axisangle's axis must not be zero");
+      q = Quat(Eigen::AngleAxisd(angle((*v)[3]), a.normalized()));
+    }
+    if (auto v = vec<3>(e, "euler", cls, what)) {
+      ++given;
+      q = Quat::Identity();
+      for (int i = 0; i < 3; ++i) {
+        const char c = eulerseq_[i];
+        const Vec3 axis = Vec3::Unit(std::tolower(c) - 'x');
+        const Quat r(Eigen::AngleAxisd(angle((*v)[i]), axis));
+        q = std::islower(c) ? q * r : r * q;  // moving axes: intrinsic; fixed axes: extrinsic
+      }
+    }
+    if (auto v = nums(e, "xyaxes", cls, what)) {
+      ++given;
+      if (v->size() != 6) fail(e, what, "xyaxes needs 6 numbers");
+      Vec3 x((*v)[0], (*v)[1], (*v)[2]), y((*v)[3], (*v)[4], (*v)[5]);
+      if (!(x.norm() > 0)) fail(e, what, "xyaxes' x axis must not be zero");
+      x.normalize();
+      y -= x * x.dot(y);
+      if (!(y.norm() > 1e-12)) fail(e, what, "xyaxes' y axis must not be parallel to x");
+      y.normalize();
+      Mat3 R;
+      R << x, y, x.cross(y);
+      q = Quat(R).normalized();
+    }
+    if (auto v = vec<3>(e, "zaxis", cls, what)) {
+      ++given;
+      if (!(v->norm() > 0)) fail(e, what, "zaxis must not be zero");
+      q = Quat::FromTwoVectors(Vec3::UnitZ(), v->normalized());
+    }
+    if (given > 1) fail(e, what, "give one of quat, axisangle, euler, xyaxes, zaxis");
+    return q;
+  }
+  Pose frame(const XMLElement* e, const std::string& cls, const std::string& what) const {
+    Pose p;
+    if (auto v = vec<3>(e, "pos", cls, what)) p.p = *v;
+    p.q = orientation(e, cls, what);
+    return p;
+  }
+
+  // ---- assets
+  std::string asset_file(const XMLElement* e, const fs::path& dir, const char* what_kind) {
+    const std::string f = attr_or(e, "file", "");
+    return resolve_asset(f, dir.string(), file_of(e), paths_, src(e, std::string(what_kind)).str(), what_kind,
+                         m_.notes);
+  }
+  void assets(const XMLElement* a) {
+    for (const XMLElement* e = a->FirstChildElement(); e; e = e->NextSiblingElement()) {
+      const std::string tag = e->Name();
+      const std::string cls = class_of(e, "");
+      if (tag == "mesh") {
+        MjMesh mesh;
+        std::string name = attr_or(e, "name", "");
+        if (e->Attribute("file")) {
+          mesh.file = asset_file(e, meshdir_, "mesh");
+          if (name.empty()) name = fs::path(attr_or(e, "file", "")).stem().string();
+        } else if (auto v = nums(e, "vertex", cls, "mesh '" + name + "'")) {
+          if (v->size() % 3 != 0 || v->size() < 12)
+            fail(e, "mesh '" + name + "'", "vertex needs at least 4 points (x y z each)");
+          std::vector<Vec3> pts;
+          for (size_t i = 0; i + 2 < v->size(); i += 3) pts.emplace_back((*v)[i], (*v)[i + 1], (*v)[i + 2]);
+          if (auto s = vec<3>(e, "scale", cls, "mesh"))
+            for (Vec3& p : pts) p = p.cwiseProduct(*s);
+          if (e->Attribute("face"))
+            note(e, "faces are not read: the mesh is the convex hull of its vertices", "mesh '" + name + "'");
+          try {
+            mesh.inline_mesh = std::make_shared<const TriangleMesh>(convex_hull(pts));
+          } catch (const InputError& err) {
+            fail(e, "mesh '" + name + "'", err.what());
+          }
+        } else {
+          note(e, "a mesh with neither file nor vertex is left out", "mesh '" + name + "'");
+          continue;
+        }
+        if (!mesh.inline_mesh)
+          if (auto s = vec<3>(e, "scale", cls, "mesh '" + name + "'")) mesh.scale = *s;
+        meshes_[name] = mesh;
+      } else if (tag == "texture") {
+        const std::string name = attr_or(e, "name", "");
+        const std::string type = attr_or(e, "type", "cube");
+        if (e->Attribute("file") && type == "2d") {
+          try {
+            textures_[name] = asset_file(e, texturedir_, "texture");
+          } catch (const InputError& err) {
+            m_.notes.push_back(std::string(err.what()) + "; its materials are drawn in their colour");
+          }
+        } else if (type != "skybox") {
+          note_once(
+              e, "texture-" + type + (e->Attribute("builtin") ? "-builtin" : ""),
+              std::string("a ") + (e->Attribute("builtin") ? "built-in " : "") + type +
+                  " texture is not drawn (simreel lays 2D image files through a mesh's texture coordinates); "
+                  "its materials are drawn in their colour");
+        }
+      } else if (tag == "material") {
+        MjMaterial mat;
+        if (auto v = vec<4>(e, "rgba", cls, "material"))
+          mat.rgba = std::array<float, 4>{(float)(*v)[0], (float)(*v)[1], (float)(*v)[2], (float)(*v)[3]};
+        if (const char* t = get(e, "texture", cls)) mat.texture = t;
+        materials_[attr_or(e, "name", "")] = mat;
+      } else if (tag != "hfield" && tag != "skin" && tag != "model" && tag != "plugin") {
+        note(e, "<" + tag + "> asset is not used; ignored");
+      } else {
+        note_once(e, "asset-" + tag, "<" + tag + "> assets are not used by simreel; ignored");
+      }
+    }
+  }
+
+  // ---- bodies
+  int add_link(const std::string& name, const XMLElement* e, const Pose& pose) {
+    ModelLink l;
+    l.name = name;
+    l.pose = pose;
+    l.src = src(e, "body '" + name + "'");
+    m_.links.push_back(std::move(l));
+    return (int)m_.links.size() - 1;
+  }
+
+  void worldbody(const XMLElement* w) {
+    // Geoms straight in the world: one static link.
+    int world_link = -1;
+    for (const XMLElement* e = w->FirstChildElement(); e; e = e->NextSiblingElement()) {
+      const std::string tag = e->Name();
+      if (tag == "geom") {
+        if (world_link < 0) {
+          world_link = add_link("world", w, Pose{});
+          m_.links[world_link].name = "world";
+          ModelJoint j;  // welded to the world
+          j.name = "world";
+          j.kind = ModelJoint::Kind::fixed;
+          j.child = world_link;
+          j.src = src(w, "worldbody");
+          m_.joints.push_back(j);
+        }
+        geom(e, world_link, "");
+      } else if (tag == "body") {
+        body(e, -1, "");
+      } else {
+        note_once(e, "world-" + tag, "<" + tag + "> is not used by simreel; ignored");
+      }
+    }
+  }
+
+  void body(const XMLElement* e, int parent, const std::string& parent_childclass) {
+    std::string name = attr_or(e, "name", "");
+    if (name.empty()) name = "body" + std::to_string(m_.links.size());
+    const std::string what = "body '" + name + "'";
+    check_attributes(e);
+    if (body_index_.count(name)) fail(e, what, "another body already has this name");
+    const std::string childclass =
+        e->Attribute("childclass") ? std::string(e->Attribute("childclass")) : parent_childclass;
+    if (!childclass.empty() && !class_parent_.count(childclass))
+      fail(e, what, "childclass '" + childclass + "' is not defined");
+    const std::string cls = class_of(e, parent_childclass);
+    const Pose pose = frame(e, cls, what);
+    // Its joints, in order.
+    std::vector<const XMLElement*> joints;
+    bool free = false;
+    for (const XMLElement* c = e->FirstChildElement(); c; c = c->NextSiblingElement()) {
+      const std::string tag = c->Name();
+      if (tag == "freejoint" || tag == "joint") check_attributes(c);
+      if (tag == "freejoint")
+        free = true;
+      else if (tag == "joint") {
+        const char* t = get(c, "type", class_of(c, childclass));
+        if (t && std::string(t) == "free")
+          free = true;
+        else
+          joints.push_back(c);
+      }
+    }
+    if (free && (parent >= 0 || !joints.empty()))
+      fail(e, what,
+           parent >= 0 ? "a free joint is allowed only on a body in the worldbody"
+                       : "a body with a free joint has no other joints");
+    // A body with several joints: helper links carry all but the last (same frame, no offset).
+    int prev = parent;
+    Pose rel = pose;
+    std::vector<int> helpers;
+    for (size_t k = 0; k + 1 < joints.size(); ++k) {
+      const int h = add_link(name + "#" + std::to_string(k + 1), e, rel);
+      helpers.push_back(h);
+      joint(joints[k], prev, h, childclass);
+      prev = h;
+      rel = Pose{};
+    }
+    const int self = add_link(name, e, rel);
+    body_index_[name] = self;
+    for (int h : helpers) m_.links[h].helper_of = self;
+    if (!joints.empty()) {
+      joint(joints.back(), prev, self, childclass);
+    } else if (!free) {
+      ModelJoint j;  // welded to its parent (or to the world)
+      j.name = name + "/weld";
+      j.kind = ModelJoint::Kind::fixed;
+      j.parent = prev;
+      j.child = self;
+      j.src = src(e, what);
+      m_.joints.push_back(j);
+    }
+    for (const XMLElement* c = e->FirstChildElement(); c; c = c->NextSiblingElement()) {
+      const std::string tag = c->Name();
+      if (tag == "geom")
+        geom(c, self, childclass);
+      else if (tag == "inertial")
+        inertial(c, self, what);
+      else if (tag == "body")
+        body(c, self, childclass);
+      else if (tag == "joint" || tag == "freejoint")
+        continue;
+      else
+        note_once(c, "body-" + tag, "<" + tag + "> is not used by simreel; ignored");
+    }
+  }
+
+  void joint(const XMLElement* e, int parent, int child, const std::string& childclass) {
+    const std::string cls = class_of(e, childclass);
+    ModelJoint j;
+    j.name = attr_or(e, "name", m_.links[child].name + "/joint");
+    const std::string what = "joint '" + j.name + "'";
+    j.src = src(e, what);
+    j.parent = parent;
+    j.child = child;
+    const std::string type = get(e, "type", cls) ? get(e, "type", cls) : "hinge";
+    if (type == "hinge")
+      j.kind = ModelJoint::Kind::continuous;
+    else if (type == "slide")
+      j.kind = ModelJoint::Kind::prismatic;
+    else if (type == "ball")
+      j.kind = ModelJoint::Kind::spherical;
+    else
+      fail(e, what, "unknown joint type '" + type + "' (hinge, slide, ball, free)");
+    if (auto p = vec<3>(e, "pos", cls, what)) j.anchor = *p;
+    if (auto a = vec<3>(e, "axis", cls, what)) {
+      if (!(a->norm() > 0)) fail(e, what, "axis must not be zero");
+      j.axis = a->normalized();
+    } else {
+      j.axis = Vec3::UnitZ();
+    }
+    const char* limited = get(e, "limited", cls);
+    const auto range = vec<2>(e, "range", cls, what);
+    const bool on = range && !(limited && std::string(limited) == "false") && (*range)[0] < (*range)[1];
+    if (on && j.kind != ModelJoint::Kind::spherical) {
+      const double s = j.kind == ModelJoint::Kind::continuous ? angle(1) : 1;
+      j.limits = std::array<double, 2>{(*range)[0] * s, (*range)[1] * s};
+      if (j.kind == ModelJoint::Kind::continuous) j.kind = ModelJoint::Kind::revolute;
+    } else if (on) {
+      note(e, "a ball joint's range (a cone) is not simulated: it turns freely", what);
+    }
+    if (auto d = nums(e, "damping", cls, what); d && !d->empty()) j.damping = (*d)[0];
+    if (auto d = nums(e, "stiffness", cls, what); d && !d->empty()) j.stiffness = (*d)[0];
+    if (auto d = nums(e, "frictionloss", cls, what); d && !d->empty()) j.friction = (*d)[0];
+    if (auto d = nums(e, "springref", cls, what); d && !d->empty())
+      j.rest = j.kind == ModelJoint::Kind::prismatic ? (*d)[0] : angle((*d)[0]);
+    if (j.damping < 0 || j.stiffness < 0 || j.friction < 0)
+      fail(e, what, "damping, stiffness and frictionloss must not be negative");
+    if (j.kind == ModelJoint::Kind::spherical && (j.damping > 0 || j.stiffness > 0 || j.friction > 0)) {
+      note(e, "a ball joint's damping, stiffness and friction are not simulated", what);
+      j.damping = j.stiffness = j.friction = 0;
+    }
+    if (get(e, "armature", cls) && nums(e, "armature", cls, what)->at(0) > 0)
+      note_once(e, "armature", "joint armature (rotor inertia) is not simulated");
+    m_.joints.push_back(j);
+  }
+
+  void inertial(const XMLElement* e, int link, const std::string& what) {
+    check_attributes(e);
+    ModelInertial I;
+    I.src = src(e, what + ", inertial");
+    const Pose p = frame(e, "main", what);
+    const auto mass = nums(e, "mass", "main", what);
+    if (!mass || mass->size() != 1 || !((*mass)[0] > 0)) fail(e, what, "<inertial> needs a positive mass");
+    I.mass = (*mass)[0];
+    Mat3 J = Mat3::Zero();
+    if (auto d = vec<3>(e, "diaginertia", "main", what))
+      J = d->asDiagonal();
+    else if (auto f = nums(e, "fullinertia", "main", what)) {
+      if (f->size() != 6) fail(e, what, "fullinertia needs 6 numbers (ixx iyy izz ixy ixz iyz)");
+      const auto& v = *f;
+      J << v[0], v[3], v[4], v[3], v[1], v[5], v[4], v[5], v[2];
+    } else {
+      fail(e, what, "<inertial> needs diaginertia or fullinertia");
+    }
+    const Mat3 R = p.q.toRotationMatrix();
+    I.inertia = R * J * R.transpose();
+    I.com = p.p;
+    m_.links[link].inertial = I;
+  }
+
+  void geom(const XMLElement* e, int link, const std::string& childclass) {
+    ModelShape s;
+    const std::string name = attr_or(e, "name", "");
+    const std::string what =
+        m_.links[link].name == "world"
+            ? "worldbody geom" + (name.empty() ? "" : " '" + name + "'")
+            : "body '" + m_.links[link].name + "', geom" + (name.empty() ? "" : " '" + name + "'");
+    const std::string cls = class_of(e, childclass, what);
+    check_attributes(e);
+    s.src = src(e, what);
+    const std::string type = get(e, "type", cls) ? get(e, "type", cls) : "sphere";
+    const auto size = nums(e, "size", cls, what).value_or(std::vector<double>{});
+    auto sz = [&](size_t i) {
+      if (i >= size.size())
+        fail(e, what, "a " + type + " needs size with at least " + std::to_string(i + 1) + " numbers");
+      if (!(size[i] > 0) && type != "plane") fail(e, what, "size must be positive");
+      return size[i];
+    };
+    using K = ModelShape::Kind;
+    s.pose = frame(e, cls, what);
+    const auto fromto = nums(e, "fromto", cls, what);
+    if (fromto && fromto->size() != 6) fail(e, what, "fromto needs 6 numbers");
+    double half = 0;
+    if (fromto) {
+      const Vec3 a((*fromto)[0], (*fromto)[1], (*fromto)[2]), b((*fromto)[3], (*fromto)[4], (*fromto)[5]);
+      if (!((b - a).norm() > 0)) fail(e, what, "fromto's two points coincide");
+      s.pose.p = 0.5 * (a + b);
+      s.pose.q = Quat::FromTwoVectors(Vec3::UnitZ(), (b - a).normalized());
+      half = 0.5 * (b - a).norm();
+    }
+    if (type == "sphere") {
+      s.kind = K::sphere;
+      s.radius = sz(0);
+    } else if (type == "capsule" || type == "cylinder") {
+      s.kind = type == "capsule" ? K::capsule : K::cylinder;
+      s.radius = sz(0);
+      if (!fromto) half = sz(1);
+      s.length = 2 * half + (s.kind == K::capsule ? 2 * s.radius : 0);
+    } else if (type == "box") {
+      s.kind = K::box;
+      // With fromto, MuJoCo's box takes size[0] across and the segment's half-length along.
+      s.size = fromto ? Vec3(2 * sz(0), 2 * sz(0), 2 * half) : Vec3(2 * sz(0), 2 * sz(1), 2 * sz(2));
+    } else if (type == "ellipsoid") {
+      s.kind = K::ellipsoid;
+      s.radii = Vec3(sz(0), sz(1), sz(2));
+    } else if (type == "plane") {
+      s.kind = K::plane;
+      if (m_.links[link].name != "world") fail(e, what, "a plane must be a geom of the worldbody");
+    } else if (type == "mesh") {
+      s.kind = K::mesh;
+      const char* mn = get(e, "mesh", cls);
+      if (!mn) fail(e, what, "a mesh geom needs mesh=\"NAME\"");
+      const auto it = meshes_.find(mn);
+      if (it == meshes_.end()) fail(e, what, std::string("mesh '") + mn + "' is not an asset");
+      s.mesh_file = it->second.file;
+      s.scale = it->second.scale;
+      s.inline_mesh = it->second.inline_mesh;
+    } else {
+      note(e,
+           "geom type '" + type +
+               "' is not simulated (plane, sphere, capsule, ellipsoid, cylinder, box, mesh); left out",
+           what);
+      return;
+    }
+    // contype/conaffinity 0: drawn only. Groups 0-2 are drawn by MuJoCo's viewer by default, 3-5 hidden.
+    const auto ct = nums(e, "contype", cls, what), ca = nums(e, "conaffinity", cls, what);
+    const double contype = ct && !ct->empty() ? (*ct)[0] : 1, conaff = ca && !ca->empty() ? (*ca)[0] : 1;
+    s.collision = contype != 0 || conaff != 0;
+    if (s.collision && (contype != 1 || conaff != 1)) {
+      s.group = (uint32_t)contype;
+      s.mask = (uint32_t)conaff;
+    }
+    const auto group = nums(e, "group", cls, what);
+    s.visual = !(group && !group->empty() && (*group)[0] >= 3);
+    if (auto f = nums(e, "friction", cls, what); f && !f->empty()) s.friction = (*f)[0];
+    if (auto d = nums(e, "density", cls, what); d && !d->empty()) s.density = (*d)[0];
+    if (auto mm = nums(e, "mass", cls, what); mm && !mm->empty()) s.mass = (*mm)[0];
+    s.weighs = !(s.mass && *s.mass == 0) && !(s.density && *s.density == 0) && s.kind != K::plane;
+    // Colour: rgba, else the material's; MuJoCo's default grey.
+    std::optional<std::array<float, 4>> rgba;
+    if (auto v = vec<4>(e, "rgba", cls, what))
+      rgba = std::array<float, 4>{(float)(*v)[0], (float)(*v)[1], (float)(*v)[2], (float)(*v)[3]};
+    if (const char* mat = get(e, "material", cls)) {
+      const auto it = materials_.find(mat);
+      if (it == materials_.end())
+        note(e, std::string("material '") + mat + "' is not an asset; drawn in its colour", what);
+      else {
+        if (!e->Attribute("rgba") && it->second.rgba) rgba = it->second.rgba;
+        if (!it->second.texture.empty()) {
+          const auto t = textures_.find(it->second.texture);
+          if (t != textures_.end()) s.texture = t->second;
+        }
+      }
+    }
+    if (rgba && (*rgba)[3] == 0) s.visual = false;  // fully transparent: not drawn
+    if (rgba)
+      s.color = std::array<float, 3>{(*rgba)[0], (*rgba)[1], (*rgba)[2]};
+    else if (s.texture.empty())
+      s.color = std::array<float, 3>{0.5f, 0.5f, 0.5f};
+    if (!s.visual && !s.collision) return;  // neither drawn nor colliding: only its mass
+    m_.links[link].shapes.push_back(std::move(s));
+  }
+
+  void equality(const XMLElement* q) {
+    for (const XMLElement* e = q->FirstChildElement(); e; e = e->NextSiblingElement()) {
+      const std::string tag = e->Name();
+      const std::string name = attr_or(e, "name", tag + std::to_string(m_.joints.size()));
+      const std::string what = "equality " + tag + " '" + name + "'";
+      if (tag != "connect" && tag != "weld") {
+        note(e, "<" + tag + "> constraints are not simulated; ignored", what);
+        continue;
+      }
+      if (e->Attribute("active") && std::string(e->Attribute("active")) == "false") continue;
+      auto body_of = [&](const char* key, bool optional) -> int {
+        const char* n = e->Attribute(key);
+        if (!n) {
+          if (optional) return -1;
+          fail(e, what, std::string("needs ") + key);
+        }
+        if (std::string(n) == "world") return -1;
+        const auto it = body_index_.find(n);
+        if (it == body_index_.end()) {
+          std::vector<std::string> names;
+          for (const auto& [k, v] : body_index_) names.push_back(k);
+          std::string msg = std::string(key) + " names body '" + n + "', which the file does not define";
+          if (auto s = nearest_name(n, names)) msg += "; did you mean '" + *s + "'?";
+          fail(e, what, msg);
+        }
+        return it->second;
+      };
+      if (e->Attribute("site1") || e->Attribute("site2")) {
+        note(e, "site-based equality constraints are not read; ignored", what);
+        continue;
+      }
+      const int b1 = body_of("body1", false), b2 = body_of("body2", true);
+      ModelJoint j;
+      j.name = name;
+      j.loop = true;
+      j.src = src(e, what);
+      // simreel's child: body1 (the anchor is in its frame); the other body or the world the parent.
+      j.child = b1;
+      j.parent = b2;
+      j.kind = tag == "connect" ? ModelJoint::Kind::spherical : ModelJoint::Kind::fixed;
+      if (auto a = vec<3>(e, "anchor", "main", what))
+        j.anchor = *a;
+      else if (tag == "connect")
+        fail(e, what, "connect needs an anchor (in body1's frame)");
+      if (b1 < 0) {  // welded to the world: the body is the child (a weld's anchor only names a point)
+        if (tag == "connect" || b2 < 0) fail(e, what, "body1 must be a body, not the world");
+        std::swap(j.child, j.parent);
+        j.anchor = Vec3::Zero();
+      }
+      if (tag == "weld" && (e->Attribute("relpose") || e->Attribute("torquescale")))
+        note(e, "weld relpose and torquescale are not read: welded in the start pose", what);
+      m_.joints.push_back(j);
+    }
+  }
+};
+
+}  // namespace
+
+Model read_mjcf(const std::string& path, const ImportPaths& paths) {
+  MjcfReader r(path, paths);
+  Model m = r.read();
+  return m;
+}
+
+}  // namespace simreel
