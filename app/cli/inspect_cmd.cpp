@@ -1,7 +1,10 @@
-// simreel inspect: a mesh's volume, mass, inertia and principal axes, and its defects.
+// simreel inspect: a mesh's volume, mass, inertia and principal axes, and its defects; a robot
+// file's links, masses and joints as simreel reads them.
 #include <cctype>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -10,6 +13,8 @@
 #include "app/cli/cli.hpp"
 #include "app/cli/commands.hpp"
 #include "app/scene/mesh_import.hpp"
+#include "app/scene/scene.hpp"
+#include "app/scene/scene_imports.hpp"
 
 namespace simreel {
 
@@ -28,7 +33,9 @@ void inspect_table(CLI::App& app, InspectOptions& o) {
       app, "inspect",
       "Prints a mesh's mass properties: volume, mass, centroid, inertia tensor about the centroid (mesh "
       "axes), principal moments and axes, and what was found and done about defects (open, "
-      "inside-out, inconsistent winding, degenerate faces).",
+      "inside-out, inconsistent winding, degenerate faces), and its bounding box. Given a URDF or MJCF "
+      "file (.urdf, .xml), prints its bodies (mass, principal moments, shapes drawn and colliding) and "
+      "joints as simreel places them, with the notes and inertia warnings.",
       "");
   cli::add_positionals(app, o.meshes);
   app.add_flag("--json", o.json, "print one JSON object");
@@ -41,6 +48,86 @@ void inspect_table(CLI::App& app, InspectOptions& o) {
   app.add_option("--scale", o.scale, "multiply every coordinate (meshes authored in mm: 0.001)")
       ->type_name("S")
       ->check(cli::positive());
+}
+
+// A URDF or MJCF file as the importer places it (docs/import.md): each body with its links' mass
+// properties, each joint, and the notes and warnings.
+int inspect_model(const std::string& path, bool json) {
+  const Scene s = load_scene(path);
+  std::vector<int> bodies;
+  for (size_t i = 0; i < s.bodies.size(); ++i)
+    if (!(s.ground && i + 1 == s.bodies.size())) bodies.push_back((int)i);
+  auto name = [&](int i) { return i < 0 ? std::string("world") : s.bodies[i].name; };
+  if (json) {
+    using J = nlohmann::ordered_json;
+    auto vec = [](const Vec3& v) { return J::array({v.x(), v.y(), v.z()}); };
+    J o;
+    o["file"] = path;
+    J jb = J::array();
+    for (int i : bodies) {
+      const BodyDef& b = s.bodies[i];
+      J e;
+      e["name"] = b.name;
+      e["type"] = to_string(b.type);
+      if (b.mass_override) {
+        e["mass"] = b.mass_override->mass;
+        e["center_of_mass"] = vec(b.mass_override->com);
+        e["principal_moments"] = vec(principal_axes(b.mass_override->inertia).moments);
+      }
+      int drawn = 0, colliding = 0;
+      for (size_t k = 0; k < b.colliders.size(); ++k) {
+        drawn += s.looks[i].colliders[k].drawn;
+        colliding += b.colliders[k].collide;
+      }
+      e["shapes_drawn"] = drawn;
+      e["shapes_colliding"] = colliding;
+      jb.push_back(e);
+    }
+    J jj = J::array();
+    for (const JointDef& j : s.joints) {
+      J e;
+      e["name"] = j.name;
+      e["type"] = to_string(j.type);
+      e["parent"] = name(j.parent);
+      e["child"] = name(j.child);
+      e["anchor"] = vec(j.anchor_W);
+      e["axis"] = vec(j.axis_W);
+      if (j.limits) e["limits"] = J::array({j.limits->lower, j.limits->upper});
+      jj.push_back(e);
+    }
+    o["bodies"] = jb;
+    o["joints"] = jj;
+    o["notes"] = s.notes;
+    o["warnings"] = s.warnings;
+    std::printf("%s\n", o.dump(-1, ' ', false, J::error_handler_t::replace).c_str());
+    return kExitOk;
+  }
+  std::printf("%s: %zu bodies, %zu joints (as placed on the ground at the origin)\n", path.c_str(),
+              bodies.size(), s.joints.size());
+  for (int i : bodies) {
+    const BodyDef& b = s.bodies[i];
+    std::printf("  body %-28s %-8s", ("'" + b.name + "'").c_str(), to_string(b.type));
+    if (b.mass_override) {
+      const Vec3 m = principal_axes(b.mass_override->inertia).moments;
+      std::printf(" mass %.6g kg, principal moments [%.4g, %.4g, %.4g] kg m^2", b.mass_override->mass, m[0],
+                  m[1], m[2]);
+    }
+    int drawn = 0, colliding = 0;
+    for (size_t k = 0; k < b.colliders.size(); ++k) {
+      drawn += s.looks[i].colliders[k].drawn;
+      colliding += b.colliders[k].collide;
+    }
+    std::printf(", %d drawn / %d colliding shapes\n", drawn, colliding);
+  }
+  for (const JointDef& j : s.joints) {
+    std::printf("  joint %-27s %-9s %s -> %s", ("'" + j.name + "'").c_str(), to_string(j.type),
+                name(j.parent).c_str(), name(j.child).c_str());
+    if (j.limits) std::printf(", limits [%.4g, %.4g]", j.limits->lower, j.limits->upper);
+    std::printf("\n");
+  }
+  for (const std::string& n : s.notes) std::printf("  note: %s\n", n.c_str());
+  for (const std::string& w : s.warnings) std::printf("  warning: %s\n", w.c_str());
+  return kExitOk;
 }
 
 }  // namespace
@@ -57,6 +144,7 @@ int cmd_inspect(const std::vector<std::string>& args) {
   opt.mode = *mass_mode_from_name(o.mode);  // the table checked the name
   const double scale = o.scale;
   const std::string path = o.meshes[0];
+  if (is_model_file(path)) return inspect_model(path, o.json);
   {
     std::string ext = std::filesystem::path(path).extension().string();
     for (char& ch : ext) ch = (char)std::tolower((unsigned char)ch);
@@ -75,6 +163,13 @@ int cmd_inspect(const std::vector<std::string>& args) {
   }
   r.warnings.insert(r.warnings.begin(), im.notes.begin(), im.notes.end());
   const PrincipalAxes pa = principal_axes(r.props.inertia);
+  // The bounding box (mesh axes), and what it suggests about the file's units.
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (const Vec3& v : mesh.vertices) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+  if (const double big = (hi - lo).maxCoeff(); big > 50 && scale == 1)
+    r.warnings.push_back("the mesh is " + std::to_string((int)std::lround(big)) +
+                         " m across: if the file is in millimetres, weigh it with --scale 0.001 (a scene's "
+                         "collider: scale: 0.001)");
   // The file's look as render draws it (render/material.hpp): its materials (colour, image), and
   // whether it has texture coordinates and vertex colours.
   const MeshAppearance* look = im.appearance.get();
@@ -93,6 +188,9 @@ int cmd_inspect(const std::vector<std::string>& args) {
     o["precision"] = im.double_precision() ? "double" : "float32";
     o["mode"] = to_string(opt.mode);
     o["density"] = opt.density;
+    o["bounds_min"] = vec(lo);
+    o["bounds_max"] = vec(hi);
+    o["extents"] = vec(hi - lo);
     o["vertices"] = mesh.vertices.size();
     o["faces"] = mesh.triangles.size();
     o["volume"] = r.volume;
@@ -133,6 +231,8 @@ int cmd_inspect(const std::vector<std::string>& args) {
   std::printf("%s (%s, %zu vertices, %zu faces as loaded; read by %s in %s precision)\n", path.c_str(),
               to_string(opt.mode), mesh.vertices.size(), mesh.triangles.size(), im.reader.c_str(),
               im.double_precision() ? "double" : "single");
+  std::printf("  bounds:   %s .. %s m (extents %s)\n", row(lo).c_str(), row(hi).c_str(),
+              row(hi - lo).c_str());
   std::printf("  closed: %s, consistently oriented: %s\n", r.closed ? "yes" : "no",
               r.consistently_oriented ? "yes" : "no");
   std::printf("  volume:   %.12g m^3\n  area:     %.12g m^2\n  mass:     %.12g kg (density %g kg/m^3)\n",

@@ -219,11 +219,61 @@ std::optional<AntiAliasing> antialiasing_from_name(const std::string& name) {
 
 namespace {
 
+// The area of the hull's base when it rests on its side facing d: its faces facing d (within 8
+// degrees) that lie in the extreme plane along d (within 1% of the hull's size), m^2. Summed, as
+// qhull may leave a flat base as several coplanar faces.
+double base_area(const ConvexPolyhedron& h, const Vec3& d) {
+  double far = -std::numeric_limits<double>::infinity(), size = 0;
+  for (const Vec3& v : h.vertices)
+    far = std::max(far, v.dot(d)), size = std::max(size, (v - h.centroid).norm());
+  double area = 0;
+  for (size_t f = 0; f < h.faces.size(); ++f) {
+    if (h.faces[f].normal.dot(d) < std::cos(8 * M_PI / 180)) continue;
+    Vec3 sum = Vec3::Zero();
+    const int first = h.face_begin[f], last = h.face_begin[f + 1];
+    const Vec3& a = h.vertices[h.edges[h.face_edges[first]].origin];
+    if (a.dot(d) < far - 0.01 * size) continue;
+    for (int k = first + 1; k + 1 < last; ++k)
+      sum += (h.vertices[h.edges[h.face_edges[k]].origin] - a)
+                 .cross(h.vertices[h.edges[h.face_edges[k + 1]].origin] - a);
+    area += 0.5 * sum.norm();
+  }
+  return area;
+}
+
+// What a downloaded mesh's shape says about how it was authored: a file tens of metres across is
+// likely in millimetres; one that stands on a flat base at its lowest y but has none at its lowest
+// z (the bunny, the teapot, spot) was authored y-up and lies on its side in simreel's z-up world.
+// "" when nothing stands out.
+std::string authoring_hint(const TriangleMesh& m, const ConvexPolyhedron* hull, bool scaled, bool up_given) {
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (const Vec3& v : m.vertices) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+  const Vec3 e = hi - lo;
+  if (!scaled && e.maxCoeff() > 50) {
+    char b[200];
+    std::snprintf(b, sizeof b,
+                  "is %.4g m across: if the file is in millimetres, give the collider `scale: 0.001`",
+                  e.maxCoeff());
+    return b;
+  }
+  if (hull && !up_given && e.minCoeff() > 0) {
+    const double fy = base_area(*hull, -Vec3::UnitY()) / (e.x() * e.z());
+    const double fz = base_area(*hull, -Vec3::UnitZ()) / (e.x() * e.y());
+    if (fy > 0.05 && fz < 0.01)
+      return "stands on a flat base at its lowest y and has none at its lowest z: it was probably authored "
+             "y-up and "
+             "will lie on its side; `up_axis: y` stands it up";
+  }
+  return "";
+}
+
 struct Loader {
   Scene& scene;
   fs::path dir;
   fs::path assets;
-  MeshLibrary& library;                                                         // files, analyses, hulls
+  MeshLibrary& library;                  // files, analyses, hulls
+  std::vector<std::string> mesh_errors;  // meshes that cannot be weighed, reported together
+  std::set<std::string> hinted;          // files whose authoring hint was given
   std::map<std::string, std::shared_ptr<const MeshAppearance>> textured_looks;  // by mesh key + image
 
   // A mesh collider's `texture: IMAGE`: every face drawn with that image through the file's texture
@@ -466,8 +516,8 @@ struct Loader {
             if (file_look && file_look->varies) look.appearance = file_look;
           }
           if (!read->corner_normals.empty())
-            look.normals =
-                std::shared_ptr<const std::vector<std::array<Eigen::Vector3f, 3>>>(read, &read->corner_normals);
+            look.normals = std::shared_ptr<const std::vector<std::array<Eigen::Vector3f, 3>>>(
+                read, &read->corner_normals);
         };
         if (type == BodyType::static_body) {
           // A static body's mesh collides as its triangles, as given (open surfaces too: terrain, a
@@ -492,7 +542,16 @@ struct Loader {
           import_once();
           rep = library.analysis(file, scale, opt);
         } catch (const InputError& e) {
-          c.child("file").fail(n["file"], e.what());
+          // Every mesh that cannot be weighed is reported at once, each with its fix (five open
+          // downloads took five runs to find one at a time): a stand-in lets loading go on, and the
+          // scene is refused after its bodies.
+          std::string msg = e.what();
+          if (msg.find("(shell mode)") != std::string::npos)
+            msg += " (on this collider: `mode: shell`, or `mode: hull`)";
+          mesh_errors.push_back(c.child("file").message(n["file"], msg));
+          Collider stand_in = sphere_collider(0.1, 1000.0);
+          stand_in.label = file;
+          return stand_in;
         }
         use_mesh();
         for (const std::string& w : rep.warnings)
@@ -545,6 +604,12 @@ struct Loader {
               scene.notes.push_back(os.str());
             }
           }
+        }
+        if (hinted.insert(file).second) {
+          const std::string h =
+              authoring_hint(*col.mesh, col.hulls.size() == 1 ? col.hulls[0].get() : nullptr,
+                             (bool)n["scale"], (bool)n["up_axis"]);
+          if (!h.empty()) scene.notes.push_back(where(n["file"], c.child("file")) + ": " + file + " " + h);
         }
         return col;
       }
@@ -919,13 +984,14 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
     }
   }
   // `bodies` may be left out (or empty) when `imports` places the bodies.
-  const YAML::Node bodies = root["bodies"] ? root["bodies"] : root["imports"] ? YAML::Node(YAML::NodeType::Sequence)
-                                                                              : root["bodies"];
+  const YAML::Node bodies = root["bodies"]    ? root["bodies"]
+                            : root["imports"] ? YAML::Node(YAML::NodeType::Sequence)
+                                              : root["bodies"];
   if (!bodies) top.fail(root, "missing key 'bodies' (a list of bodies) or 'imports' (robot files)");
   if (!bodies.IsSequence() || (bodies.size() == 0 && !root["imports"]))
     top.child("bodies").fail(bodies, "expected a non-empty list of bodies, got " + show(bodies));
   MeshLibrary library(s.notes);
-  Loader L{s, fs::path(path).parent_path(), fs::path("assets"), library, {}};
+  Loader L{s, fs::path(path).parent_path(), fs::path("assets"), library, {}, {}, {}};
   // Assets next to the scene's folder (scenes/../assets) as well as the working directory's.
   const fs::path up_assets = fs::path(path).parent_path().parent_path() / "assets";
   if (fs::is_directory(up_assets, ec)) L.assets = up_assets;
@@ -954,6 +1020,12 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
     s.bodies.push_back(L.body(bodies[i], c, i, s.looks.back()));
     if (!names.insert(s.bodies.back().name).second)
       c.child("name").fail(bodies[i]["name"], "another body is already named '" + s.bodies.back().name + "'");
+  }
+  if (L.mesh_errors.size() == 1) throw InputError(L.mesh_errors[0]);
+  if (!L.mesh_errors.empty()) {
+    std::string msg = std::to_string(L.mesh_errors.size()) + " meshes cannot be weighed as they are:";
+    for (const std::string& e : L.mesh_errors) msg += "\n  " + e;
+    throw InputError(msg);
   }
   // Imported robots and rigs after the scene's own bodies (app/scene/scene_imports.cpp).
   if (root["imports"]) {

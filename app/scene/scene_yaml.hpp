@@ -24,11 +24,15 @@ class Ctx {
   Ctx child(const std::string& k) const { return Ctx(file_, key_.empty() ? k : key_ + "." + k); }
   Ctx index(size_t i) const { return Ctx(file_, key_ + "[" + std::to_string(i) + "]"); }
   [[noreturn]] void fail(const YAML::Node& n, const std::string& what) const {
+    throw InputError(message(n, what));
+  }
+  // What fail() would say: "FILE:LINE:COL: KEY: what".
+  std::string message(const YAML::Node& n, const std::string& what) const {
     std::ostringstream os;
     os << file_;
     if (n.IsDefined() && n.Mark().line >= 0) os << ":" << n.Mark().line + 1 << ":" << n.Mark().column + 1;
     os << ": " << (key_.empty() ? std::string("scene") : key_) << ": " << what;
-    throw InputError(os.str());
+    return os.str();
   }
   const std::string& key() const { return key_; }
   std::string where(const YAML::Node& n) const;  ///< "FILE:LINE: KEY", for notes

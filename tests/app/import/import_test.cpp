@@ -365,6 +365,45 @@ TEST(ImportMjcf, MistakesAreNamedByFileAndLine) {
   EXPECT_NE(err("<robot/>\n").find("expected a <mujoco> element"), std::string::npos);
 }
 
+// Downloaded meshes as users meet them: every mesh that cannot be weighed is reported in one run,
+// each with its fix; a millimetre file and a y-up file get a note with the key that fixes them.
+TEST(DownloadedAssets, EveryMeshProblemAtOnceAndAuthoringHints) {
+  const std::string open = fs::absolute("assets/open_box.obj").string();
+  const std::string e = error_of(write("open.yaml",
+                                       "bodies:\n"
+                                       "  - { name: a, colliders: [ { shape: mesh, file: " +
+                                           open +
+                                           " } ] }\n"
+                                           "  - { name: b, colliders: [ { shape: box, size: [1, 1, 1] } ] }\n"
+                                           "  - { name: c, colliders: [ { shape: mesh, file: " +
+                                           open + " } ] }\n"));
+  EXPECT_NE(e.find("2 meshes cannot be weighed as they are:"), std::string::npos) << e;
+  EXPECT_NE(e.find("open.yaml:2:"), std::string::npos) << e;
+  EXPECT_NE(e.find("open.yaml:4:"), std::string::npos) << e;
+  EXPECT_NE(e.find("(on this collider: `mode: shell`, or `mode: hull`)"), std::string::npos) << e;
+  const Scene s = load_scene(write("hints.yaml",
+                                   "bodies:\n"
+                                   "  - { name: a, colliders: [ { shape: mesh, file: " +
+                                       fs::absolute(kData + "y_up_pyramid.obj").string() +
+                                       " } ] }\n"
+                                       "  - { name: b, colliders: [ { shape: mesh, file: " +
+                                       fs::absolute(kData + "block_mm.obj").string() + " } ] }\n"));
+  EXPECT_TRUE(has(s.notes, "probably authored y-up and will lie on its side; `up_axis: y` stands it up"));
+  EXPECT_TRUE(
+      has(s.notes,
+          "block_mm.obj is 200 m across: if the file is in millimetres, give the collider `scale: 0.001`"));
+  // Given the fixes, no hints.
+  const Scene fixed = load_scene(write("fixed.yaml",
+                                       "bodies:\n"
+                                       "  - { name: a, colliders: [ { shape: mesh, up_axis: y, file: " +
+                                           fs::absolute(kData + "y_up_pyramid.obj").string() +
+                                           " } ] }\n"
+                                           "  - { name: b, colliders: [ { shape: mesh, scale: 0.001, file: " +
+                                           fs::absolute(kData + "block_mm.obj").string() + " } ] }\n"));
+  EXPECT_FALSE(has(fixed.notes, "authored y-up"));
+  EXPECT_FALSE(has(fixed.notes, "millimetres"));
+}
+
 // The corpus: real files nobody here wrote (../shared/corpus; skipped when absent).
 const fs::path kCorpus = "../shared/corpus/bullet3/data";
 
