@@ -402,6 +402,15 @@ TEST(DownloadedAssets, EveryMeshProblemAtOnceAndAuthoringHints) {
                                            fs::absolute(kData + "block_mm.obj").string() + " } ] }\n"));
   EXPECT_FALSE(has(fixed.notes, "authored y-up"));
   EXPECT_FALSE(has(fixed.notes, "millimetres"));
+  // center: com puts the pyramid's centre of mass (a quarter of its height up) at the position.
+  const Scene centred =
+      load_scene(write("c.yaml",
+                       "bodies:\n  - { name: a, position: [1, 2, 3], colliders: [ { shape: mesh, "
+                       "center: com, file: " +
+                           fs::absolute(kData + "y_up_pyramid.obj").string() + " } ] }\n"));
+  World w(world_config(centred, 1), centred.bodies);
+  EXPECT_NEAR((w.centroid(0) - Vec3(1, 2, 3)).norm(), 0, 1e-15);
+  EXPECT_NEAR(centred.bodies[0].colliders[0].p_BC.y(), -0.25, 1e-15);
 }
 
 // The corpus: real files nobody here wrote (../shared/corpus; skipped when absent).
