@@ -10,6 +10,7 @@
 
 #include <simreel/mesh.hpp>
 #include "app/scene/mesh_import.hpp"
+#include "sim/geometry/convex_decomposition.hpp"
 #include "sim/geometry/convex_hull.hpp"
 #include "sim/geometry/polyhedron.hpp"
 
@@ -36,8 +37,16 @@ class MeshLibrary {
   const Hulls& hulls(const std::string& file, const Vec3& scale, bool parts, int cap,
                      std::vector<HullReduction>* reductions = nullptr);
 
+  // Its approximate convex decomposition (sim/geometry/convex_decomposition.hpp), each part capped
+  // at `cap` hull vertices (0: 64). Kept on disk too, keyed by a hash of the file's bytes, the
+  // scale and the options: in SIMREEL_CACHE_DIR, else $XDG_CACHE_HOME/simreel, else
+  // ~/.cache/simreel (a folder that cannot be written is skipped). A cached decomposition is the
+  // same to the bit: the parts are rebuilt from the points they were made from.
+  const Decomposition& decomposition(const std::string& file, const Vec3& scale, int cap);
+
  private:
   std::vector<std::string>& notes_;
+  std::map<std::string, Decomposition> decompositions_;
   std::map<std::string, std::shared_ptr<const ImportedMesh>> files_;
   std::map<std::string, MeshReport> reports_;
   std::map<std::string, Hulls> hulls_;

@@ -505,18 +505,21 @@ struct Loader {
         }
         MeshMassOptions opt;
         opt.density = 1.0;
-        bool parts = false;  // collide as one convex hull per connected part, weigh as the solid
+        bool parts = false;      // collide as one convex hull per connected part, weigh as the solid
+        bool decompose = false;  // collide as an approximate convex decomposition, weigh as the solid
         if (n["mode"]) {
           const std::string m = text(n["mode"], c.child("mode"));
-          const auto mode = m == "parts" ? std::optional<MassMode>(MassMode::solid) : mass_mode_from_name(m);
+          const auto mode = m == "parts" || m == "decompose" ? std::optional<MassMode>(MassMode::solid)
+                                                             : mass_mode_from_name(m);
           if (!mode) {
-            std::string msg = "unknown mode '" + m + "' (solid, shell, hull or parts)";
-            if (auto sug = nearest(m, {"solid", "shell", "hull", "parts"}))
+            std::string msg = "unknown mode '" + m + "' (solid, shell, hull, parts or decompose)";
+            if (auto sug = nearest(m, {"solid", "shell", "hull", "parts", "decompose"}))
               msg += "; did you mean '" + *sug + "'?";
             c.child("mode").fail(n["mode"], msg);
           }
           opt.mode = *mode;
           parts = m == "parts";
+          decompose = m == "decompose";
         }
         if (n["thickness"]) {
           if (opt.mode != MassMode::shell)
@@ -593,11 +596,23 @@ struct Loader {
           int cap = 0;
           if (n["hull_vertices"]) cap = whole(n["hull_vertices"], c.child("hull_vertices"), 4, 1000000);
           std::vector<HullReduction> reductions;
-          try {
-            col.hulls = library.hulls(file, scale, parts, cap, &reductions);
-          } catch (const InputError& e) {
-            c.child("file").fail(n["file"], std::string("cannot build its collision hull: ") + e.what());
-          }
+          if (decompose) {
+            // Concave meshes collide as themselves: disjoint convex parts covering the solid.
+            const Decomposition& d = library.decomposition(file, scale, cap);
+            col.hulls = d.parts;
+            std::ostringstream os;
+            os << c.file() << ": body '" << body << "', " << c.key() << " (" << file << "): decomposed into "
+               << d.parts.size() << " convex parts whose hulls hold " << std::setprecision(3)
+               << 100 * std::fabs(d.excess()) << "% " << (d.excess() >= 0 ? "more" : "less")
+               << " volume than the mesh (its mass properties are the mesh's)";
+            if (!hinted.count("decompose|" + file)) scene.notes.push_back(os.str());
+            hinted.insert("decompose|" + file);
+          } else
+            try {
+              col.hulls = library.hulls(file, scale, parts, cap, &reductions);
+            } catch (const InputError& e) {
+              c.child("file").fail(n["file"], std::string("cannot build its collision hull: ") + e.what());
+            }
           // What a cap did, and where a large hull would gain from one (its pairs take GJK and EPA,
           // a few microseconds; a capped hull is faster still and a little smaller).
           for (size_t h = 0; h < reductions.size(); ++h) {
@@ -618,15 +633,15 @@ struct Loader {
             }
           }
           // A mesh collides as its convex hull: say so when that is visibly more than the mesh.
-          if (!parts && opt.mode != MassMode::shell && rep.volume > 0) {
+          if (!parts && !decompose && opt.mode != MassMode::shell && rep.volume > 0) {
             const double hv = polyhedron_volume(*col.hulls[0]);
             if (hv > rep.volume * (1 + 1e-3)) {
               std::ostringstream os;
               os << c.file() << ": body '" << body << "', " << c.key() << " (" << file
                  << "): the mesh is not convex; it collides as its convex hull, " << std::setprecision(3)
                  << 100 * (hv / rep.volume - 1)
-                 << "% larger in volume (its mass properties are the mesh's; `mode: parts` collides as one "
-                    "hull per connected part)";
+                 << "% larger in volume (its mass properties are the mesh's; `mode: decompose` collides as "
+                    "the mesh itself, `mode: parts` as one hull per connected part)";
               scene.notes.push_back(os.str());
             }
           }

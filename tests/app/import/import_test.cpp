@@ -413,6 +413,39 @@ TEST(DownloadedAssets, EveryMeshProblemAtOnceAndAuthoringHints) {
   EXPECT_NEAR(centred.bodies[0].colliders[0].p_BC.y(), -0.25, 1e-15);
 }
 
+// `mode: decompose`: a concave mesh collides as itself. A ball dropped over the inside corner of
+// the L-bracket falls past it to the ground (its convex hull, 64% larger, would hold it 0.1 m up),
+// and a second load reads the decomposition from the cache, moving the same to the bit.
+TEST(DownloadedAssets, ConcaveMeshCollidesAsItselfWhenDecomposed) {
+  const std::string cache = test::scratch("cache");
+  setenv("SIMREEL_CACHE_DIR", cache.c_str(), 1);
+  auto scene = [&](const char* mode) {
+    return load_scene(write(std::string(mode) + ".yaml",
+                            "simulation: { duration: 2 }\nground: true\nbodies:\n"
+                            "  - { name: bracket, colliders: [ { shape: mesh, mode: " +
+                                std::string(mode) +
+                                ", file: " + fs::absolute("assets/l_bracket.stl").string() +
+                                " } ] }\n"
+                                "  - { name: ball, position: [0.2, 0.2, 0.3], colliders: [ { shape: sphere, "
+                                "radius: 0.04 } ] }\n"));
+  };
+  auto rest_height = [](const Scene& s) {
+    World w(world_config(s, 1), s.bodies);
+    for (int i = 0; i < 2 * 240; ++i) w.step();
+    return w.centroid(1);
+  };
+  const Scene d = scene("decompose");
+  EXPECT_TRUE(has(d.notes, "decomposed into 2 convex parts"));
+  EXPECT_EQ(d.bodies[0].colliders[0].hulls.size(), 2u);
+  EXPECT_TRUE(fs::exists(fs::path(cache) / "decompose"));
+  const Vec3 down = rest_height(d);
+  EXPECT_NEAR(down.z(), 0.04, 5e-4);  // on the ground, between the legs (contacts settle within 0.3 mm)
+  EXPECT_NEAR(rest_height(scene("solid")).z(), 0.14, 5e-4);  // on the hull's top
+  const Vec3 cached = rest_height(scene("decompose"));
+  EXPECT_EQ(cached, down);
+  unsetenv("SIMREEL_CACHE_DIR");
+}
+
 // The corpus: real files nobody here wrote (../shared/corpus; skipped when absent).
 const fs::path kCorpus = "../shared/corpus/bullet3/data";
 
