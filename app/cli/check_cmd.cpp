@@ -109,6 +109,7 @@ void check_table(CLI::App& app, CheckOptions& o) {
          "those that fail; all: rewrite every checked frame; none: write nothing (the default when CI "
          "is set or output is not a terminal)")
       ->check(cli::choice({"missing", "changed", "all", "none"}));
+  add_package_path(app);
   app.add_option("--frames", o.frames,
                  "the moments to check, overriding the scene's test.frames (default \"0%, 25%, 50%, 75%, "
                  "100%\": by time, so a new fps keeps the goldens valid): frame numbers N, ranges A:B, times "

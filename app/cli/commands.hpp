@@ -58,6 +58,8 @@ struct RunOptions {
 };
 // Table rows: --width --height --fps (with `video`) --duration --integrator --timestep --threads.
 void add_scene_overrides(CLI::App& app, RunOptions& o, bool video);
+// --package-path DIR (repeatable): folders for package:// in URDF and MJCF files.
+void add_package_path(CLI::App& app);
 // Table rows: --json --quiet.
 void add_summary_flags(CLI::App& app, RunOptions& o);
 

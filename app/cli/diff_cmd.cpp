@@ -8,14 +8,14 @@
 #include <memory>
 #include <optional>
 
-#include "app/cli/metrics_report.hpp"
-#include "app/cli/video_frames.hpp"
+#include <simreel/error.hpp>
 #include "app/cli/cli.hpp"
 #include "app/cli/commands.hpp"
+#include "app/cli/metrics_report.hpp"
+#include "app/cli/video_frames.hpp"
 #include "app/regress/image.hpp"
 #include "app/regress/metrics.hpp"
 #include "app/report/report.hpp"
-#include <simreel/error.hpp>
 
 namespace simreel {
 

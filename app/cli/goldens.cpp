@@ -8,9 +8,9 @@
 #include <sstream>
 #include <stdexcept>
 
+#include <simreel/error.hpp>
 #include "app/scene/text.hpp"
 #include "sim/base/hash.hpp"
-#include <simreel/error.hpp>
 
 namespace simreel {
 

@@ -39,6 +39,7 @@ void inspect_table(CLI::App& app, InspectOptions& o) {
       "");
   cli::add_positionals(app, o.meshes);
   app.add_flag("--json", o.json, "print one JSON object");
+  add_package_path(app);
   app.add_option("--density", o.density, "kg/m^3, default 1000")->type_name("RHO")->check(cli::positive());
   app.add_option("--mode", o.mode, "solid (default), shell (mass on the surface), hull (convex hull)")
       ->check(cli::choice({"solid", "shell", "hull"}));

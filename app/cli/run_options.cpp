@@ -1,6 +1,7 @@
 // What every command that runs a scene shares (app/cli/commands.hpp): the scene overrides and
 // summary flags of its option table, the overrides applied to the loaded scene, the summary printed.
 #include <cstdio>
+#include <cstdlib>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -43,6 +44,22 @@ void add_scene_overrides(CLI::App& app, RunOptions& o, bool video) {
                      " are identical for any N); default 1")
       ->type_name("N")
       ->transform(cli::whole(1, 256));
+  add_package_path(app);
+}
+
+void add_package_path(CLI::App& app) {
+  // Read by the URDF and MJCF readers (app/import/urdf.cpp, resolve_asset) through the
+  // environment, before ROS_PACKAGE_PATH: set while the command line is parsed, before any thread.
+  app.add_option_function<std::vector<std::string>>(
+         "--package-path",
+         [](const std::vector<std::string>& dirs) {
+           std::string joined;
+           for (const std::string& d : dirs) joined += (joined.empty() ? "" : ":") + d;
+           setenv("SIMREEL_PACKAGE_PATH", joined.c_str(), 1);
+         },
+         "folder searched for package://NAME/... in URDF and MJCF files (the package folder or one holding "
+         "it; repeatable), after an import's package_paths, before ROS_PACKAGE_PATH")
+      ->type_name("DIR");
 }
 
 void add_summary_flags(CLI::App& app, RunOptions& o) {

@@ -64,11 +64,13 @@ std::string resolve_asset(const std::string& raw, const std::string& base_dir, c
     const std::string pkg = tail.substr(0, slash),
                       rest = slash == std::string::npos ? "" : tail.substr(slash + 1);
     std::vector<fs::path> dirs(paths.package_paths.begin(), paths.package_paths.end());
-    if (const char* env = std::getenv("ROS_PACKAGE_PATH")) {
-      std::stringstream ss(env);
-      for (std::string d; std::getline(ss, d, ':');)
-        if (!d.empty()) dirs.emplace_back(d);
-    }
+    // The command line's --package-path first (app/cli/run_options.cpp), then ROS's.
+    for (const char* var : {"SIMREEL_PACKAGE_PATH", "ROS_PACKAGE_PATH"})
+      if (const char* env = std::getenv(var)) {
+        std::stringstream ss(env);
+        for (std::string d; std::getline(ss, d, ':');)
+          if (!d.empty()) dirs.emplace_back(d);
+      }
     // The file's folder and its ancestors: a URDF inside its package (urdf/robot.urdf) finds it.
     for (fs::path d = fs::absolute(fs::path(base_dir)); !d.empty(); d = d.parent_path()) {
       dirs.push_back(d);
@@ -78,7 +80,7 @@ std::string resolve_asset(const std::string& raw, const std::string& base_dir, c
       if (auto p = in_package_dir(d, pkg, rest)) return p->lexically_normal().string();
     std::string msg = where + ": " + what + " '" + raw + "': package '" + pkg +
                       "' not found; give its folder in the import's `package_paths` (or the folder "
-                      "holding it), or ROS_PACKAGE_PATH (looked in";
+                      "holding it), --package-path, or ROS_PACKAGE_PATH (looked in";
     size_t shown = 0;
     for (const fs::path& d : dirs)
       if (shown++ < 8) msg += (shown > 1 ? ", " : " ") + d.string();

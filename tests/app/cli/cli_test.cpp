@@ -247,6 +247,39 @@ TEST(Cli, InspectReportsMassPropertiesAsJson) {
   EXPECT_EQ(run("inspect " + write("junk.obj", "this is not a mesh\n")).code, 2);
 }
 
+// A robot file alone: simulate counts its bodies and joints and lists its notes in --json,
+// package:// is found through --package-path, and inspect lists links and joints.
+TEST(Cli, RobotFilesDirectly) {
+  const std::string urdf = "tests/data/import/elsewhere.urdf";
+  const Result missing = run("simulate " + urdf + " --duration 0.1");
+  EXPECT_EQ(missing.code, 2);
+  EXPECT_NE(missing.out.find("package 'my_robot' not found"), std::string::npos) << missing.out;
+  const Result r = run("simulate " + urdf + " --duration 0.1 --json --package-path tests/data/import/pkg");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const nlohmann::json j = json_of(r.out);
+  EXPECT_EQ(j["bodies"], 2);  // the robot and the ground
+  const Result dp = run("simulate tests/data/import/double_pendulum.urdf --duration 0.1 --json");
+  ASSERT_EQ(dp.code, 0) << dp.out;
+  const nlohmann::json k = json_of(dp.out);
+  EXPECT_EQ(k["joints"], 2);
+  EXPECT_LT(k["joint_error_max"].get<double>(), 1e-12);
+  const Result mj = run("simulate tests/data/import/four_bar.xml --duration 0.1 --json");
+  ASSERT_EQ(mj.code, 0) << mj.out;
+  const nlohmann::json m = json_of(mj.out);
+  EXPECT_EQ(m["joints"], 4);
+  bool noted = false;
+  for (const auto& n : m["notes"])
+    noted = noted || n.get<std::string>().find("<flywheel>") != std::string::npos;
+  EXPECT_TRUE(noted) << mj.out;
+  const Result in = run("inspect tests/data/import/cart_pendulum.urdf --json");
+  ASSERT_EQ(in.code, 0) << in.out;
+  const nlohmann::json i = json_of(in.out);
+  EXPECT_EQ(i["bodies"].size(), 3u);
+  EXPECT_EQ(i["joints"].size(), 2u);
+  EXPECT_EQ(i["joints"][1]["name"], "hinge");
+  EXPECT_EQ(i["bodies"][0]["type"], "static");
+}
+
 // inspect says what render will draw of a file's look: its materials, their images (a missing one
 // as a warning), texture coordinates.
 TEST(Cli, InspectShowsTheFilesLook) {
