@@ -13,6 +13,7 @@
 #include "app/scene/mesh_library.hpp"
 #include "app/scene/scene.hpp"
 #include "render/material.hpp"
+#include "sim/geometry/convex_decomposition.hpp"
 
 namespace simreel {
 
@@ -39,7 +40,7 @@ std::string moments_str(const Vec3& m) {
 // mesh weighs as its hull, with a note), placed at `pose` in the body frame.
 // A static body's meshes collide as their triangles and weigh nothing (weigh_mesh false).
 Collider shape_collider(const ModelShape& s, const Pose& pose, MeshLibrary& meshes, bool weigh,
-                        bool weigh_mesh, std::vector<std::string>& notes) {
+                        bool weigh_mesh, bool decompose, std::vector<std::string>& notes) {
   Collider c;
   using K = ModelShape::Kind;
   switch (s.kind) {
@@ -92,6 +93,20 @@ Collider shape_collider(const ModelShape& s, const Pose& pose, MeshLibrary& mesh
     }
   } else if (weigh && s.kind != K::plane) {
     c.props_C = primitive_mass(c, 1.0);
+  }
+  // `collision: decompose`: a moving link's concave collision mesh collides as itself.
+  if (decompose && s.kind == K::mesh && s.collision && weigh_mesh && !s.inline_mesh) {
+    try {
+      const Decomposition& d = meshes.decomposition(s.mesh_file, s.scale, 0);
+      c.hulls = d.parts;
+      char b[160];
+      std::snprintf(b, sizeof b, ": decomposed into %zu convex parts holding %.3g%% %s volume than the mesh",
+                    d.parts.size(), 100 * std::fabs(d.excess()), d.excess() >= 0 ? "more" : "less");
+      notes.push_back(s.src.str() + b);
+    } catch (const InputError& e) {
+      notes.push_back(s.src.str() + ": " + s.mesh_file + " cannot be decomposed (" + e.what() +
+                      "); it collides as its convex hull");
+    }
   }
   if (s.friction) c.friction = *s.friction;
   c.group = s.group;
@@ -293,7 +308,8 @@ void place_model(const Model& m, const ImportSpec& spec, Scene& scene, MeshLibra
         }
         Collider c;
         try {
-          c = shape_collider(s, X_BS, meshes, s.collision || s.weighs, !is_static[b], scene.notes);
+          c = shape_collider(s, X_BS, meshes, s.collision || s.weighs, !is_static[b], spec.decompose,
+                             scene.notes);
         } catch (const InputError& e) {
           throw InputError(s.src.str() + ": " + e.what());
         }

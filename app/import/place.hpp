@@ -31,6 +31,7 @@ struct ImportSpec {
   bool show_colliders = false;  ///< draw the collision shapes instead of the visual ones
   bool hold = false;            ///< each moving joint held at its start by a motor (the file's effort)
   bool self_collision = false;  ///< the model's links collide with each other (not only parent-child)
+  bool decompose = false;       ///< moving links' collision meshes collide as convex decompositions
   /// Moved up or down so that the lowest point of its collision shapes rests at ground_height.
   bool on_ground = false;
   double ground_height = 0;  ///< m

@@ -53,9 +53,10 @@ void load_imports(const YAML::Node& list, const std::string& path, Scene& scene,
     const YAML::Node n = list[k];
     const Ctx c = top.index(k);
     if (!n.IsMap()) c.fail(n, "expected { file: robot.urdf, name, position, ... }, got " + show(n));
-    check_keys(n, c,
-               {"file", "name", "position", "orientation", "euler", "axis_angle", "fixed_base", "inertia",
-                "package_paths", "show", "hold", "self_collision", "on_ground", "joint_positions"});
+    check_keys(
+        n, c,
+        {"file", "name", "position", "orientation", "euler", "axis_angle", "fixed_base", "inertia",
+         "package_paths", "show", "hold", "self_collision", "on_ground", "joint_positions", "collision"});
     if (!n["file"]) c.fail(n, "missing key 'file' (a URDF file)");
     ImportSpec spec;
     const std::string f = text(n["file"], c.child("file"));
@@ -88,6 +89,12 @@ void load_imports(const YAML::Node& list, const std::string& path, Scene& scene,
         const std::string name = kv.first.as<std::string>();
         spec.joint_positions[name] = number(kv.second, jc.child(name));
       }
+    }
+    if (n["collision"]) {
+      const std::string v = text(n["collision"], c.child("collision"));
+      if (v != "hull" && v != "decompose")
+        c.child("collision").fail(n["collision"], "expected hull or decompose, got '" + v + "'");
+      spec.decompose = v == "decompose";
     }
     if (n["hold"]) spec.hold = boolean(n["hold"], c.child("hold"));
     if (n["self_collision"]) spec.self_collision = boolean(n["self_collision"], c.child("self_collision"));

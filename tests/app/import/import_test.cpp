@@ -446,6 +446,21 @@ TEST(DownloadedAssets, ConcaveMeshCollidesAsItselfWhenDecomposed) {
   unsetenv("SIMREEL_CACHE_DIR");
 }
 
+// An import's `collision: decompose`: a moving link's concave collision mesh collides as its parts.
+TEST(DownloadedAssets, ImportedConcaveMeshesDecompose) {
+  setenv("SIMREEL_CACHE_DIR", test::scratch("cache").c_str(), 1);
+  const std::string urdf = fs::absolute(kData + "bracket.urdf").string();
+  const Scene hull = load_scene(write("h.yaml", "imports: [ { file: " + urdf + ", inertia: file } ]\n"));
+  const Scene parts = load_scene(
+      write("d.yaml", "imports: [ { file: " + urdf + ", inertia: file, collision: decompose } ]\n"));
+  ASSERT_EQ(parts.bodies.size(), 1u);
+  EXPECT_EQ(hull.bodies[0].colliders[1].hulls.size(), 0u);  // built by the World: the convex hull
+  EXPECT_EQ(parts.bodies[0].colliders[1].hulls.size(), 2u);
+  EXPECT_TRUE(
+      has(parts.notes, "bracket.urdf:8: link 'bracket', collision 0: decomposed into 2 convex parts"));
+  unsetenv("SIMREEL_CACHE_DIR");
+}
+
 // The corpus: real files nobody here wrote (../shared/corpus; skipped when absent).
 const fs::path kCorpus = "../shared/corpus/bullet3/data";
 
