@@ -225,10 +225,8 @@ void place_model(const Model& m, const ImportSpec& spec, Scene& scene, MeshLibra
     bool welded = false;
     if (jk >= 0) {
       const ModelJoint& j = m.joints[jk];
-      if (j.kind == ModelJoint::Kind::planar)
-        scene.notes.push_back(j.src.str() +
-                              ": planar joints are not simulated yet: held fixed (write it as two "
-                              "prismatic joints and a revolute one through light links)");
+      if (j.kind == ModelJoint::Kind::planar)  // readers expand planar joints; one left is held
+        scene.notes.push_back(j.src.str() + ": a planar joint is held fixed");
       welded =
           (j.kind == ModelJoint::Kind::fixed || j.kind == ModelJoint::Kind::planar) && p >= 0 && !is_world[p];
     }

@@ -177,6 +177,7 @@ class UrdfReader {
     }
     for (auto* e = robot->FirstChildElement("joint"); e; e = e->NextSiblingElement("joint")) joint(e);
     check_tree();
+    expand_planar();
     return std::move(m_);
   }
 
@@ -405,6 +406,48 @@ class UrdfReader {
     if (const auto* mm = e->FirstChildElement("mimic"))
       note(mm, "<mimic> is not simulated: this joint moves on its own", what);
     m_.joints.push_back(std::move(j));
+  }
+
+  // A planar joint (two translations in the plane normal to its axis, one rotation about it) as
+  // simreel's joints allow: two sliders and a hinge through two helper links of 1e-9 of the
+  // child's mass (named CHILD#1, CHILD#2), the hinge's at the child's origin.
+  void expand_planar() {
+    const size_t joints = m_.joints.size();
+    for (size_t k = 0; k < joints; ++k) {
+      if (m_.joints[k].kind != ModelJoint::Kind::planar) continue;
+      const ModelJoint planar = m_.joints[k];
+      const int child = planar.child;
+      const Vec3 n = planar.axis;
+      const Vec3 u = n.unitOrthogonal(), v = n.cross(u);
+      int prev = planar.parent;
+      Pose rel = m_.links[child].pose;
+      for (int h = 0; h < 2; ++h) {
+        ModelLink helper;
+        helper.name = m_.links[child].name + "#" + std::to_string(h + 1);
+        helper.pose = rel;
+        helper.src = m_.links[child].src;
+        helper.helper_of = child;
+        m_.links.push_back(helper);
+        ModelJoint slide = planar;
+        slide.name = planar.name + (h ? "/y" : "/x");
+        slide.kind = ModelJoint::Kind::prismatic;
+        slide.axis = h ? v : u;
+        slide.parent = prev;
+        slide.child = (int)m_.links.size() - 1;
+        slide.limits.reset();
+        if (planar.limits) slide.limits = planar.limits;
+        m_.joints.push_back(slide);
+        prev = slide.child;
+        rel = Pose{};
+      }
+      m_.links[child].pose = Pose{};
+      ModelJoint& hinge = m_.joints[k];
+      hinge.kind = ModelJoint::Kind::continuous;
+      hinge.parent = prev;
+      hinge.limits.reset();
+      m_.notes.push_back(planar.src.str() + ": planar: two prismatic joints (" + planar.name + "/x, " +
+                         planar.name + "/y) and a hinge about its axis, through two helper links");
+    }
   }
 
   void check_tree() {

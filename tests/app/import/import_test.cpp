@@ -222,6 +222,33 @@ TEST(Import, FixedLinksJoinTheirParentAndVisualsOnlyDraw) {
   EXPECT_NEAR(w.joint_position(0), 0, 1e-9);
 }
 
+// A planar joint becomes two sliders and a hinge through helper links: a puck held in the plane
+// z = 1 under gravity tilted 1 m/s^2 along x slides x = t^2 / 2 with z kept exactly (closed form:
+// the helpers' 2e-9 of the mass changes it by 2e-9).
+TEST(Import, PlanarJointIsTwoSlidersAndAHinge) {
+  const std::string urdf = write("puck.urdf", R"(<?xml version="1.0"?>
+<robot name="puck">
+  <link name="world"/>
+  <link name="puck">
+    <inertial><mass value="2"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.016"/></inertial>
+    <collision><geometry><cylinder radius="0.125" length="0.05"/></geometry></collision>
+  </link>
+  <joint name="slide" type="planar"><parent link="world"/><child link="puck"/><origin xyz="0 0 1"/><axis xyz="0 0 1"/></joint>
+</robot>
+)");
+  const Scene s = load_scene(
+      write("p.yaml", "simulation: { gravity: [1, 0, -9.81], duration: 1 }\nimports: [ { file: " + urdf +
+                          ", inertia: file } ]\n"));
+  ASSERT_EQ(s.joints.size(), 3u);
+  EXPECT_TRUE(has(s.notes, "planar: two prismatic joints (slide/x, slide/y) and a hinge"));
+  const int puck = body(s, "puck");
+  World w(world_config(s, 1), s.bodies);
+  for (int i = 0; i < 240; ++i) w.step();
+  EXPECT_NEAR(w.centroid(puck).x(), 0.5, 1e-8);
+  EXPECT_NEAR(w.centroid(puck).z(), 1.0, 1e-14);
+  EXPECT_NEAR(w.centroid(puck).y(), 0.0, 1e-14);
+}
+
 // package:// through the file's own package, or `package_paths`; a Windows path from another
 // machine by its file name beside the URDF, with a note; capsules; ignored elements noted.
 TEST(Import, PathsPackagesAndTolerance) {
