@@ -105,7 +105,8 @@ class MjcfReader {
     std::set<std::string> noted;
     for (XMLElement* e = root->FirstChildElement(); e; e = e->NextSiblingElement()) {
       const std::string tag = e->Name();
-      if (tag == "compiler" || tag == "default" || tag == "asset" || tag == "worldbody" || tag == "equality")
+      if (tag == "compiler" || tag == "default" || tag == "asset" || tag == "worldbody" ||
+          tag == "equality" || tag == "contact")
         continue;
       if (noted.insert(tag).second)
         note(e, "<" + tag + "> is " +
@@ -116,6 +117,8 @@ class MjcfReader {
       worldbody(w);
     for (XMLElement* q = root->FirstChildElement("equality"); q; q = q->NextSiblingElement("equality"))
       equality(q);
+    for (XMLElement* q = root->FirstChildElement("contact"); q; q = q->NextSiblingElement("contact"))
+      contact(q);
     return std::move(m_);
   }
 
@@ -697,6 +700,26 @@ class MjcfReader {
       s.color = std::array<float, 3>{0.5f, 0.5f, 0.5f};
     if (!s.visual && !s.collision) return;  // neither drawn nor colliding: only its mass
     m_.links[link].shapes.push_back(std::move(s));
+  }
+
+  // <contact><exclude body1 body2>: pairs that never collide; <pair> (explicit contacts) is a note.
+  void contact(const XMLElement* q) {
+    for (const XMLElement* e = q->FirstChildElement(); e; e = e->NextSiblingElement()) {
+      if (std::string(e->Name()) != "exclude") {
+        note_once(e, std::string("contact-") + e->Name(),
+                  std::string("<contact><") + e->Name() + "> is not used; ignored");
+        continue;
+      }
+      const char* a = e->Attribute("body1");
+      const char* b = e->Attribute("body2");
+      const auto ia = a ? body_index_.find(a) : body_index_.end();
+      const auto ib = b ? body_index_.find(b) : body_index_.end();
+      if (ia == body_index_.end() || ib == body_index_.end())
+        fail(e, "contact exclude",
+             std::string("names body '") + (ia == body_index_.end() ? (a ? a : "") : (b ? b : "")) +
+                 "', which the file does not define");
+      m_.exclude.emplace_back(ia->second, ib->second);
+    }
   }
 
   void equality(const XMLElement* q) {

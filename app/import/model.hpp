@@ -100,7 +100,8 @@ struct Model {
   std::string name;    ///< the robot's or model's name
   std::vector<ModelLink> links;
   std::vector<ModelJoint> joints;
-  std::vector<std::string> notes;  ///< what was ignored or repaired, with file and line
+  std::vector<std::string> notes;            ///< what was ignored or repaired, with file and line
+  std::vector<std::pair<int, int>> exclude;  ///< link pairs that never collide (MJCF contact exclude)
 };
 
 }  // namespace simreel

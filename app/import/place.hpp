@@ -2,6 +2,7 @@
 // joints, its visual geometry what is drawn and its collision geometry what collides.
 #pragma once
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -30,8 +31,10 @@ struct ImportSpec {
   ImportPaths paths;
   bool show_colliders = false;  ///< draw the collision shapes instead of the visual ones
   bool hold = false;            ///< each moving joint held at its start by a motor (the file's effort)
-  bool self_collision = false;  ///< the model's links collide with each other (not only parent-child)
-  bool decompose = false;       ///< moving links' collision meshes collide as convex decompositions
+  /// The model's links collide with each other (never a body and its parent, nor pairs the file
+  /// excludes); unset: no (PyBullet's default).
+  std::optional<bool> self_collision;
+  bool decompose = false;  ///< moving links' collision meshes collide as convex decompositions
   /// Moved up or down so that the lowest point of its collision shapes rests at ground_height.
   bool on_ground = false;
   double ground_height = 0;  ///< m

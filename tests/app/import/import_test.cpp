@@ -54,23 +54,33 @@ int body(const Scene& s, const std::string& name) {
 // The same double pendulum written as scene YAML and as URDF (link frames at the joints, a
 // `world` link) moves the same to the last bit: the importer makes the very bodies and joints the
 // scene format makes.
-TEST(Import, UrdfMechanismEqualsTheSameSceneBitForBit) {
-  const Scene a = load_scene(kData + "double_pendulum.yaml");
-  const Scene b = load_scene(kData + "double_pendulum_import.yaml");
-  ASSERT_EQ(a.bodies.size(), b.bodies.size());
-  ASSERT_EQ(b.joints.size(), 2u);
+// Two scenes stepped side by side for 2 s: every body's pose and spin equal to the bit. Returns
+// the second world's bodies' origins.
+std::vector<Vec3> expect_same_motion(const std::string& yaml_a, const std::string& yaml_b) {
+  const Scene a = load_scene(kData + yaml_a);
+  const Scene b = load_scene(kData + yaml_b);
+  EXPECT_EQ(a.bodies.size(), b.bodies.size());
+  EXPECT_EQ(b.joints.size(), 2u);
   World wa(world_config(a, 1), a.bodies), wb(world_config(b, 1), b.bodies);
   for (int step = 0; step < 480; ++step) {
     wa.step();
     wb.step();
   }
-  for (int i = 0; i < wa.body_count(); ++i) {
+  std::vector<Vec3> out;
+  for (int i = 0; i < wa.body_count() && i < wb.body_count(); ++i) {
     EXPECT_EQ(wa.origin_position(i), wb.origin_position(i)) << i;
     EXPECT_EQ(wa.orientation(i).coeffs(), wb.orientation(i).coeffs()) << i;
     EXPECT_EQ(wa.angular_velocity(i), wb.angular_velocity(i)) << i;
+    out.push_back(wb.origin_position(i));
   }
+  return out;
+}
+
+TEST(Import, UrdfMechanismEqualsTheSameSceneBitForBit) {
+  const std::vector<Vec3> p = expect_same_motion("double_pendulum.yaml", "double_pendulum_import.yaml");
   // And it moved: released horizontal, the elbow is far below after 2 s.
-  EXPECT_LT(wb.origin_position(1).z(), 1.5);
+  ASSERT_EQ(p.size(), 2u);
+  EXPECT_LT(p[1].z(), 1.5);
 }
 
 // A cart on a rail with a bar hanging from it (the rail has no mass: fixed to the world). Small
@@ -325,19 +335,7 @@ TEST(Import, MistakesAreNamedByFileAndLine) {
 // The same double pendulum in MJCF (nested bodies, inertials, a joint without a type is a hinge)
 // moves as the scene and the URDF do, to the bit.
 TEST(ImportMjcf, MechanismEqualsTheSameSceneBitForBit) {
-  const Scene a = load_scene(kData + "double_pendulum.yaml");
-  const Scene b = load_scene(kData + "double_pendulum_mjcf.yaml");
-  ASSERT_EQ(a.bodies.size(), b.bodies.size());
-  ASSERT_EQ(b.joints.size(), 2u);
-  World wa(world_config(a, 1), a.bodies), wb(world_config(b, 1), b.bodies);
-  for (int step = 0; step < 480; ++step) {
-    wa.step();
-    wb.step();
-  }
-  for (int i = 0; i < wa.body_count(); ++i) {
-    EXPECT_EQ(wa.origin_position(i), wb.origin_position(i)) << i;
-    EXPECT_EQ(wa.orientation(i).coeffs(), wb.orientation(i).coeffs()) << i;
-  }
+  expect_same_motion("double_pendulum.yaml", "double_pendulum_mjcf.yaml");
 }
 
 // Default classes cascade (childclass, class, nested defaults, from an included file), capsules
@@ -369,6 +367,35 @@ TEST(ImportMjcf, FourBarWithClassesIncludeAndLoop) {
   EXPECT_LT(drift.joint_gap(), 1e-9);
   EXPECT_LT(drift.energy_rel(), 1e-8);
   EXPECT_GT(std::fabs(w.joint_position(0)), 0.1);  // it moved
+}
+
+// self_collision: true follows MuJoCo's rule: every pair of the model's bodies may touch but a
+// body and its parent (through helper bodies) and the pairs <contact><exclude> names.
+TEST(ImportMjcf, SelfCollisionSkipsParentsAndExcludedPairs) {
+  const std::string xml = write("m.xml", R"(<mujoco>
+  <worldbody>
+    <body name="a" pos="0 0 1"><freejoint/><geom size="0.1"/>
+      <body name="b" pos="0 0 -0.3"><joint axis="1 0 0"/><joint axis="0 1 0"/><geom size="0.1"/>
+        <body name="c" pos="0 0 -0.3"><joint axis="1 0 0"/><geom size="0.1"/></body>
+      </body>
+      <body name="d" pos="0.3 0 0"><joint axis="1 0 0"/><geom size="0.1"/></body>
+    </body>
+  </worldbody>
+  <contact><exclude body1="c" body2="d"/></contact>
+</mujoco>
+)");
+  const Scene off = load_scene(write("off.yaml", "imports: [ { file: " + xml + " } ]\n"));
+  const Scene on = load_scene(write("on.yaml", "imports: [ { file: " + xml + ", self_collision: true } ]\n"));
+  auto ignored = [&](const Scene& s, const char* x, const char* y) {
+    const int i = body(s, x), j = body(s, y);
+    const std::pair<int, int> p(std::min(i, j), std::max(i, j));
+    return std::find(s.ignore_pairs.begin(), s.ignore_pairs.end(), p) != s.ignore_pairs.end();
+  };
+  EXPECT_TRUE(ignored(off, "a", "c"));
+  EXPECT_TRUE(ignored(on, "a", "b"));   // parent, through the helper b#1
+  EXPECT_TRUE(ignored(on, "c", "d"));   // excluded by the file
+  EXPECT_FALSE(ignored(on, "a", "c"));  // grandparent: may touch
+  EXPECT_FALSE(ignored(on, "b", "d"));
 }
 
 // An undefined class, a joint type MuJoCo does not have, a connect to a missing body.

@@ -8,33 +8,15 @@
 #include <simreel/error.hpp>
 #include <simreel/mesh.hpp>
 #include "sim/geometry/convex_decomposition.hpp"
+#include "tests/sim/mass/mesh_fixtures.hpp"
 
 namespace simreel {
 namespace {
 
-// A prism over a simple polygon (counter-clockwise in xy), from z = 0 to z = h: a closed solid.
-TriangleMesh prism(const std::vector<Eigen::Vector2d>& poly, double h) {
-  TriangleMesh m;
-  const int n = (int)poly.size();
-  for (double z : {0.0, h})
-    for (const auto& p : poly) m.vertices.emplace_back(p.x(), p.y(), z);
-  // Caps by ear-free fans are wrong for a concave polygon: the L's caps as its two rectangles.
-  for (int i = 1; i + 1 < n; ++i) {
-    m.triangles.push_back({0, i + 1, i});          // bottom, facing -z
-    m.triangles.push_back({n, n + i, n + i + 1});  // top, facing +z
-  }
-  for (int i = 0; i < n; ++i) {
-    const int j = (i + 1) % n;
-    m.triangles.push_back({i, j, n + j});
-    m.triangles.push_back({i, n + j, n + i});
-  }
-  return m;
-}
-
 // An L of legs 0.1 thick, 0.4 long, 0.1 tall. The fan from corner 0 = (0, 0) covers it exactly
 // (the polygon is star-shaped from that corner).
-TriangleMesh l_prism() {
-  return prism({{0, 0}, {0.4, 0}, {0.4, 0.1}, {0.1, 0.1}, {0.1, 0.4}, {0, 0.4}}, 0.1);
+TriangleMesh thin_l() {
+  return test::prism({{0, 0}, {0.4, 0}, {0.4, 0.1}, {0.1, 0.1}, {0.1, 0.4}, {0, 0.4}}, 0.1);
 }
 
 TriangleMesh torus(double R, double r, int nu, int nv) {
@@ -56,7 +38,7 @@ TriangleMesh torus(double R, double r, int nu, int nv) {
 }
 
 TEST(ConvexDecomposition, AnLSplitsExactlyIntoItsTwoLegs) {
-  const Decomposition d = convex_decomposition(l_prism());
+  const Decomposition d = convex_decomposition(thin_l());
   ASSERT_EQ(d.parts.size(), 2u);
   EXPECT_NEAR(d.solid_volume, 0.007, 1e-15);
   EXPECT_NEAR(d.excess(), 0, 1e-12);  // its convex hull would hold 64% more
@@ -88,7 +70,7 @@ TEST(ConvexDecomposition, ATorusKeepsItsHole) {
 }
 
 TEST(ConvexDecomposition, AnOpenMeshIsRefused) {
-  TriangleMesh m = l_prism();
+  TriangleMesh m = thin_l();
   m.triangles.pop_back();
   EXPECT_THROW(convex_decomposition(m), InputError);
 }
