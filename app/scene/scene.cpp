@@ -29,6 +29,7 @@
 #include "app/scene/scene_joints.hpp"
 #include "sim/base/enum_names.hpp"
 #include "sim/dynamics/mesh_collider.hpp"
+#include "sim/geometry/convex_decomposition.hpp"
 #include "sim/geometry/convex_hull.hpp"
 #include "sim/mass/primitives.hpp"
 
@@ -566,21 +567,39 @@ struct Loader {
           return col;
         }
         MeshReport rep;
+        bool open_decomposed = false;  // an open mesh weighed as its decomposition's parts
         try {
           import_once();
           rep = library.analysis(file, scale, opt);
         } catch (const InputError& e) {
-          // Every mesh that cannot be weighed is reported at once, each with its fix (five open
-          // downloads took five runs to find one at a time): a stand-in lets loading go on, and the
-          // scene is refused after its bodies.
-          std::string msg = e.what();
-          if (msg.find("(shell mode)") != std::string::npos)
-            msg += " (on this collider: `mode: shell`, or `mode: hull`)";
-          mesh_errors.push_back(c.child("file").message(n["file"], msg));
-          Collider stand_in = sphere_collider(0.1, 1000.0);
-          stand_in.label = file;
-          return stand_in;
+          if (decompose && std::string(e.what()).find("mesh is open") != std::string::npos) {
+            // A scan with holes: decomposed as the solid it nearly bounds, and weighed as that
+            // (the parts are disjoint convex polyhedra, within a few percent of the solid).
+            const Decomposition& d = library.decomposition(file, scale, 0);
+            rep.props = decomposition_mass(d);
+            rep.volume = rep.props.mass;
+            open_decomposed = true;
+            std::ostringstream os;
+            os << c.file() << ": body '" << body << "', " << c.key() << " (" << file
+               << "): the mesh is open (" << e.what()
+               << "); it is weighed as its decomposition, as the solid it nearly bounds";
+            scene.notes.push_back(os.str());
+          }
         }
+        if (!open_decomposed && !(rep.props.mass > 0)) try {
+            rep = library.analysis(file, scale, opt);
+          } catch (const InputError& e) {
+            // Every mesh that cannot be weighed is reported at once, each with its fix (five open
+            // downloads took five runs to find one at a time): a stand-in lets loading go on, and the
+            // scene is refused after its bodies.
+            std::string msg = e.what();
+            if (msg.find("(shell mode)") != std::string::npos)
+              msg += " (on this collider: `mode: shell`, or `mode: hull`)";
+            mesh_errors.push_back(c.child("file").message(n["file"], msg));
+            Collider stand_in = sphere_collider(0.1, 1000.0);
+            stand_in.label = file;
+            return stand_in;
+          }
         use_mesh();
         for (const std::string& w : rep.warnings)
           scene.notes.push_back(c.file() + ": body '" + body + "', " + c.key() + " (" + file + "): " + w);

@@ -69,10 +69,21 @@ TEST(ConvexDecomposition, ATorusKeepsItsHole) {
   EXPECT_EQ(rebuilt.hull_volume, d.hull_volume);
 }
 
-TEST(ConvexDecomposition, AnOpenMeshIsRefused) {
+// A scan with a hole (one face of the L missing) is read as the solid it nearly bounds.
+TEST(ConvexDecomposition, AnOpenMeshIsReadAsTheSolidItNearlyBounds) {
   TriangleMesh m = thin_l();
   m.triangles.pop_back();
-  EXPECT_THROW(convex_decomposition(m), InputError);
+  const Decomposition d = convex_decomposition(m);
+  EXPECT_FALSE(d.closed);
+  ASSERT_EQ(d.parts.size(), 2u);
+  EXPECT_NEAR(d.hull_volume, 0.007, 1e-12);
+  const MassProperties mp = decomposition_mass(d);  // the L's own, as its two legs
+  EXPECT_NEAR(mp.mass, 0.007, 1e-12);
+  EXPECT_NEAR(mp.com.x(), (0.004 * 0.2 + 0.003 * 0.05) / 0.007, 1e-12);  // the leg along x, the other
+  TriangleMesh flat;
+  flat.vertices = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)};
+  flat.triangles = {{0, 1, 2}};
+  EXPECT_THROW(convex_decomposition(flat), InputError);
 }
 
 }  // namespace
