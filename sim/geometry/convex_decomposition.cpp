@@ -9,6 +9,7 @@
 
 #include <simreel/error.hpp>
 #include "sim/geometry/convex_hull.hpp"
+#include "sim/geometry/point_triangle.hpp"
 
 namespace simreel {
 
@@ -27,28 +28,6 @@ struct Cell {
   double concavity = 0;  // m, how far the hull's faces stand off the piece's surface (measure())
   double excess() const { return hull_volume - piece_volume; }
 };
-
-// Distance from a point to a triangle (Ericson, Real-Time Collision Detection, 5.1.5).
-double point_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
-  const Vec3 ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0 && d2 <= 0) return ap.norm();
-  const Vec3 bp = p - b;
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0 && d4 <= d3) return bp.norm();
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return (p - (a + ab * (d1 / (d1 - d3)))).norm();
-  const Vec3 cp = p - c;
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0 && d5 <= d6) return cp.norm();
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return (p - (a + ac * (d2 / (d2 - d6)))).norm();
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0)
-    return (p - (b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6))))).norm();
-  const double denom = 1 / (va + vb + vc);
-  return (p - (a + ab * (vb * denom) + ac * (vc * denom))).norm();
-}
 
 class Decomposer {
  public:
@@ -307,7 +286,7 @@ class Decomposer {
                   (std::fabs(centre[a] - blo[a]) < 1e-6 * h_ || std::fabs(centre[a] - bhi[a]) < 1e-6 * h_);
       if (on_side) continue;
       double d = std::numeric_limits<double>::infinity();
-      for (const auto& t : c.surface) d = std::min(d, point_triangle(centre, t[0], t[1], t[2]));
+      for (const auto& t : c.surface) d = std::min(d, point_triangle_distance(centre, t[0], t[1], t[2]));
       if (std::isfinite(d)) c.concavity = std::max(c.concavity, d);
     }
   }

@@ -13,6 +13,7 @@
 #include "app/import/urdf.hpp"
 #include "app/runner/run.hpp"
 #include "app/scene/scene.hpp"
+#include "sim/geometry/point_triangle.hpp"
 #include "tests/scratch.hpp"
 
 namespace simreel {
@@ -640,28 +641,6 @@ TEST(ImportCorpus, MujocoModelsLoadAndTheHumanoidFallsAsARagdoll) {
   EXPECT_LT(w.centroid(body(s, "torso")).z(), z0 - 0.5);  // it fell
 }
 
-// Distance from a point to a triangle (Ericson, Real-Time Collision Detection, 5.1.5).
-double point_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
-  const Vec3 ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0 && d2 <= 0) return (p - a).norm();
-  const Vec3 bp = p - b;
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0 && d4 <= d3) return (p - b).norm();
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return (p - (a + ab * (d1 / (d1 - d3)))).norm();
-  const Vec3 cp = p - c;
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0 && d5 <= d6) return (p - c).norm();
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return (p - (a + ac * (d2 / (d2 - d6)))).norm();
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0)
-    return (p - (b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6))))).norm();
-  const double denom = 1 / (va + vb + vc);
-  return (p - (a + ab * (vb * denom) + ac * (vc * denom))).norm();
-}
-
 // A pile of Stanford bunnies (a scan with holes: decomposed as the solid it nearly bounds). Where
 // two bunnies' collision shapes touch, the gap a viewer sees is the distance between the meshes
 // themselves there: the closest approach of one mesh's vertices to the other's surface within
@@ -710,7 +689,8 @@ TEST(ImportCorpus, DecomposedBunnyPileRestsWithoutHullSizedGaps) {
         for (const Vec3& v : m.vertices) {
           const Vec3 vw = world_point(a, v);
           if ((vw - at).norm() > 0.03) continue;
-          for (const auto& t : near) closest = std::min(closest, point_triangle(vw, t[0], t[1], t[2]));
+          for (const auto& t : near)
+            closest = std::min(closest, point_triangle_distance(vw, t[0], t[1], t[2]));
         }
       }
       worst = std::max(worst, closest);
