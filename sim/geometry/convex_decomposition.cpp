@@ -48,6 +48,19 @@ class Decomposer {
       tri_hi_[t] = b;
     }
     fill_voxels();
+    for (int a = 0; a < 3; ++a) {
+      const int b = (a + 1) % 3, c = (a + 2) % 3;
+      const double slant = 1e-3 * (n_[a] * h_) + 1e-9 * h_;
+      columns_[a].assign((size_t)n_[b] * n_[c], {});
+      for (size_t t = 0; t < m_.triangles.size(); ++t) {
+        const int j0 = std::clamp((int)std::floor((tri_lo_[t][b] - slant - lo_[b]) / h_), 0, n_[b] - 1);
+        const int j1 = std::clamp((int)std::floor((tri_hi_[t][b] + slant - lo_[b]) / h_), 0, n_[b] - 1);
+        const int k0 = std::clamp((int)std::floor((tri_lo_[t][c] - slant - lo_[c]) / h_), 0, n_[c] - 1);
+        const int k1 = std::clamp((int)std::floor((tri_hi_[t][c] + slant - lo_[c]) / h_), 0, n_[c] - 1);
+        for (int k = k0; k <= k1; ++k)
+          for (int j = j0; j <= j1; ++j) columns_[a][(size_t)k * n_[b] + j].push_back((int)t);
+      }
+    }
   }
 
   double voxel_volume() const {
@@ -109,7 +122,11 @@ class Decomposer {
   double h_ = 1;
   Idx n_{1, 1, 1};
   std::vector<Vec3> tri_lo_, tri_hi_;
-  std::vector<char> inside_;                           // per voxel: its centre is inside the solid
+  std::vector<char> inside_;  // per voxel: its centre is inside the solid
+  std::vector<long> sums_;    // inside_ summed over [0, x) x [0, y) x [0, z)
+  // Per axis a, per voxel column across it: the triangles a ray along a through the column can
+  // meet (their bounding boxes widened by the rays' 0.1% slant over the mesh's length).
+  std::vector<std::vector<int>> columns_[3];
   std::map<std::pair<Idx, int>, bool> corner_inside_;  // grid points (and octants) asked so far
 
   Vec3 at(const Idx& i) const { return lo_ + h_ * Vec3(i[0], i[1], i[2]); }
@@ -125,6 +142,16 @@ class Decomposer {
     for (int a = 0; a < 3; ++a) fill_along(a, votes);
     inside_.assign(votes.size(), 0);
     for (size_t v = 0; v < votes.size(); ++v) inside_[v] = votes[v] >= 2;
+    // Summed counts, so a box's count is eight lookups (a split tries 42 boxes).
+    const int X = n_[0] + 1, Y = n_[1] + 1;
+    sums_.assign((size_t)X * Y * (n_[2] + 1), 0);
+    auto S = [&](int x, int y, int z) -> long& { return sums_[((size_t)z * Y + y) * X + x]; };
+    for (int z = 1; z <= n_[2]; ++z)
+      for (int y = 1; y <= n_[1]; ++y)
+        for (int x = 1; x <= n_[0]; ++x)
+          S(x, y, z) = inside_[voxel(x - 1, y - 1, z - 1)] + S(x - 1, y, z) + S(x, y - 1, z) +
+                       S(x, y, z - 1) - S(x - 1, y - 1, z) - S(x - 1, y, z - 1) - S(x, y - 1, z - 1) +
+                       S(x - 1, y - 1, z - 1);
   }
   void fill_along(int a, std::vector<char>& votes) {
     const int b = (a + 1) % 3, c = (a + 2) % 3;
@@ -187,7 +214,10 @@ class Decomposer {
     for (int a = 0; a < 3; ++a) {
       const Vec3& d = kRays[a];
       int crossings = 0;
-      for (size_t t = 0; t < m_.triangles.size(); ++t) {
+      const int b = (a + 1) % 3, c = (a + 2) % 3;
+      const int j = std::clamp((int)std::floor((p[b] - lo_[b]) / h_), 0, n_[b] - 1);
+      const int k = std::clamp((int)std::floor((p[c] - lo_[c]) / h_), 0, n_[c] - 1);
+      for (const int t : columns_[a][(size_t)k * n_[b] + j]) {
         if (tri_hi_[t][a] < p[a]) continue;
         const Vec3& v0 = m_.vertices[m_.triangles[t][0]];
         const Vec3 e1 = m_.vertices[m_.triangles[t][1]] - v0, e2 = m_.vertices[m_.triangles[t][2]] - v0;
@@ -214,10 +244,20 @@ class Decomposer {
     c.points.clear();
     c.surface.clear();
     std::vector<Vec3> poly, next;
+    const double tol = 1e-6 * h_;
+    // Where the box's sides cut (not at the grid's outer faces), a point must be inside by tol.
+    Vec3 keep_lo, keep_hi;
+    for (int a = 0; a < 3; ++a) {
+      keep_lo[a] = c.lo[a] == 0 ? -std::numeric_limits<double>::infinity() : blo[a] + tol;
+      keep_hi[a] = c.hi[a] == n_[a] ? std::numeric_limits<double>::infinity() : bhi[a] - tol;
+    }
     for (int t : c.tris) {
       poly = {m_.vertices[m_.triangles[t][0]], m_.vertices[m_.triangles[t][1]],
               m_.vertices[m_.triangles[t][2]]};
-      for (int a = 0; a < 3 && !poly.empty(); ++a)
+      // Most triangles lie wholly inside: clipping would keep them as they are.
+      bool whole = true;
+      for (int a = 0; a < 3 && whole; ++a) whole = tri_lo_[t][a] >= keep_lo[a] && tri_hi_[t][a] <= keep_hi[a];
+      for (int a = 0; a < 3 && !poly.empty() && !whole; ++a)
         for (int side = 0; side < 2 && !poly.empty(); ++side) {
           // The grid's outer faces hold the whole mesh: nothing to clip there.
           if ((side ? c.hi[a] : c.lo[a]) == (side ? n_[a] : 0)) continue;
@@ -226,7 +266,6 @@ class Decomposer {
           // or edge lying in the cut (an L-bracket cut at its inner corner, float32 coordinates a
           // few ulps off) would otherwise stretch the other box's hull across empty space. The
           // pieces' cross-sections come from the faces that cross the plane.
-          const double tol = 1e-6 * h_;
           auto keep = [&](const Vec3& v) { return side ? v[a] <= bound - tol : v[a] >= bound + tol; };
           next.clear();
           for (size_t k = 0; k < poly.size(); ++k) {
@@ -259,10 +298,12 @@ class Decomposer {
         c.hull_volume = 0;
       }
     }
-    long count = 0;
-    for (int z = c.lo[2]; z < c.hi[2]; ++z)
-      for (int y = c.lo[1]; y < c.hi[1]; ++y)
-        for (int x = c.lo[0]; x < c.hi[0]; ++x) count += inside_[voxel(x, y, z)];
+    const int X = n_[0] + 1, Y = n_[1] + 1;
+    auto S = [&](int x, int y, int z) { return sums_[((size_t)z * Y + y) * X + x]; };
+    const Idx& a = c.lo;
+    const Idx& b = c.hi;
+    const long count = S(b[0], b[1], b[2]) - S(a[0], b[1], b[2]) - S(b[0], a[1], b[2]) - S(b[0], b[1], a[2]) +
+                       S(a[0], a[1], b[2]) + S(a[0], b[1], a[2]) + S(b[0], a[1], a[2]) - S(a[0], a[1], a[2]);
     c.piece_volume = count * h_ * h_ * h_;
   }
 
@@ -286,7 +327,17 @@ class Decomposer {
                   (std::fabs(centre[a] - blo[a]) < 1e-6 * h_ || std::fabs(centre[a] - bhi[a]) < 1e-6 * h_);
       if (on_side) continue;
       double d = std::numeric_limits<double>::infinity();
-      for (const auto& t : c.surface) d = std::min(d, point_triangle_distance(centre, t[0], t[1], t[2]));
+      for (const auto& t : c.surface) {
+        // A triangle whose bounding box is no nearer than the best so far cannot be nearer.
+        double box2 = 0;
+        for (int a = 0; a < 3; ++a) {
+          const double lo = std::min({t[0][a], t[1][a], t[2][a]}), hi = std::max({t[0][a], t[1][a], t[2][a]});
+          const double out = centre[a] < lo ? lo - centre[a] : centre[a] > hi ? centre[a] - hi : 0;
+          box2 += out * out;
+        }
+        if (box2 >= d * d) continue;
+        d = std::min(d, point_triangle_distance(centre, t[0], t[1], t[2]));
+      }
       if (std::isfinite(d)) c.concavity = std::max(c.concavity, d);
     }
   }
