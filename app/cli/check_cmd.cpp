@@ -255,6 +255,30 @@ int cmd_check(const std::vector<std::string>& args) {
     const std::string scene_hash = file_hash(path);
     if (have_manifest && !manifest.scene_hash.empty() && manifest.scene_hash != scene_hash && !quiet)
       std::fprintf(stderr, "note: %s changed since its goldens were written\n", path.c_str());
+    // The files it read: a mesh scaled by 2% changes physics and pixels, and the note says which.
+    std::map<std::string, std::string> inputs;
+    for (const std::string& f : scene.inputs) {
+      std::error_code ec;
+      std::string rel =
+          std::filesystem::relative(f, std::filesystem::path(path).parent_path(), ec).generic_string();
+      if (ec || rel.empty()) rel = f;
+      inputs[rel] = file_hash(f);
+    }
+    if (have_manifest && !manifest.inputs.empty() && !quiet) {
+      for (const auto& [f, h] : inputs) {
+        const auto it = manifest.inputs.find(f);
+        if (it == manifest.inputs.end())
+          std::fprintf(stderr, "note: %s: %s is read now but was not when its goldens were written\n",
+                       path.c_str(), f.c_str());
+        else if (it->second != h)
+          std::fprintf(stderr, "note: %s: %s changed since its goldens were written\n", path.c_str(),
+                       f.c_str());
+      }
+      for (const auto& [f, h] : manifest.inputs)
+        if (!inputs.count(f))
+          std::fprintf(stderr, "note: %s: %s was read when its goldens were written and is not now\n",
+                       path.c_str(), f.c_str());
+    }
     bool manifest_dirty = false;
     SceneOutcome so;
     for (Checked& c : got) {
@@ -406,6 +430,9 @@ int cmd_check(const std::vector<std::string>& args) {
                        ""});
       report.frames.push_back(std::move(rf));
     }
+    // --update changed or all also records what the scene reads now, when that is all that changed.
+    if ((update == Update::changed || update == Update::all) && have_manifest && manifest.inputs != inputs)
+      manifest_dirty = true;
     if (manifest_dirty) {
       if (update == Update::all) {  // exactly the frames checked now: drop those no longer asked for
         std::vector<GoldenFrame> keep;
@@ -423,6 +450,7 @@ int cmd_check(const std::vector<std::string>& args) {
                 [](const GoldenFrame& x, const GoldenFrame& y) { return x.time < y.time; });
       manifest.simreel_version = kVersion;
       manifest.scene_hash = scene_hash;
+      manifest.inputs = inputs;
       write_manifest(manifest_path, manifest);
     }
     if (!quiet)

@@ -77,6 +77,8 @@ Manifest read_manifest(const std::string& path) {
     m.simreel_version = j.at("simreel").get<std::string>();
     m.scene = j.at("scene").get<std::string>();
     m.scene_hash = j.value("scene_hash", "");
+    if (j.contains("inputs"))
+      for (const auto& [k, v] : j.at("inputs").items()) m.inputs[k] = v.get<std::string>();
     for (const json& f : j.at("frames")) {
       GoldenFrame g;
       g.time = f.at("time").get<double>();
@@ -114,6 +116,11 @@ void write_manifest(const std::string& path, const Manifest& m) {
   j["simreel"] = m.simreel_version;
   j["scene"] = m.scene;
   j["scene_hash"] = m.scene_hash;
+  if (!m.inputs.empty()) {
+    json in = json::object();
+    for (const auto& [k, v] : m.inputs) in[k] = v;
+    j["inputs"] = in;
+  }
   j["frames"] = json::array();
   for (const GoldenFrame& g : m.frames) {
     json f;

@@ -5,6 +5,7 @@
 //   wrote it, and every body's pose and velocity in double precision (17 significant digits).
 // Goldens are compared physics first (the body states, relative tolerance 1e-9), then pixels.
 #pragma once
+#include <map>
 #include <string>
 #include <utility>
 #include <vector>
@@ -41,6 +42,9 @@ struct Manifest {
   std::string simreel_version;
   std::string scene;       ///< scene name
   std::string scene_hash;  ///< of the scene file's bytes when written
+  /// The files the scene read (meshes, images, robot files; paths relative to the scene's folder)
+  /// and their hashes when written. Empty in manifests written before inputs were recorded.
+  std::map<std::string, std::string> inputs;
   std::vector<GoldenFrame> frames;
   const GoldenFrame* find(double time) const;  ///< the frame at this time (within 1e-9 s), or null
 };

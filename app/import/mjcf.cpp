@@ -93,6 +93,7 @@ class MjcfReader {
                        (root ? root->Name() : "nothing") + ">");
     expand_includes(root, fs::path(path_).parent_path(), 0);
     m_.file = path_;
+    m_.files.insert(m_.files.begin(), path_);
     m_.format = "mjcf";
     m_.name = attr_or(root, "model", fs::path(path_).stem().string());
     const fs::path dir = fs::path(path_).parent_path();
@@ -185,6 +186,7 @@ class MjcfReader {
                    ")");
         auto doc = std::make_unique<tinyxml2::XMLDocument>();
         parse_xml(*doc, read_text(p.string()), p.string());
+        m_.files.push_back(p.lexically_normal().string());
         XMLElement* inc_root = doc->RootElement();
         if (!inc_root || std::string(inc_root->Name()) != "mujoco")
           fail(e, "include", "'" + f + "' has no <mujoco> element at its top");

@@ -102,6 +102,7 @@ struct Model {
   std::vector<ModelJoint> joints;
   std::vector<std::string> notes;            ///< what was ignored or repaired, with file and line
   std::vector<std::pair<int, int>> exclude;  ///< link pairs that never collide (MJCF contact exclude)
+  std::vector<std::string> files;            ///< every file read: the model's and those it includes
 };
 
 }  // namespace simreel

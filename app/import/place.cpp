@@ -577,6 +577,11 @@ void place_model(const Model& m, const ImportSpec& spec, Scene& scene, MeshLibra
     scene.ignore_pairs.insert(scene.ignore_pairs.end(), pairs.begin(), pairs.end());
   }
   for (const std::string& note : m.notes) scene.notes.push_back(note);
+  // What the scene now depends on (its goldens notice when one changes).
+  scene.inputs.insert(scene.inputs.end(), m.files.begin(), m.files.end());
+  for (const ModelLink& l : m.links)
+    for (const ModelShape& s : l.shapes)
+      if (!s.texture.empty()) scene.inputs.push_back(s.texture);
 }
 
 }  // namespace simreel

@@ -143,6 +143,7 @@ class UrdfReader {
                        ": expected a <robot> element at the top of a URDF file, found <" +
                        (robot ? robot->Name() : "nothing") + ">");
     m_.file = path_;
+    m_.files = {path_};
     m_.format = "urdf";
     m_.name = attr_or(robot, "name", fs::path(path_).stem().string());
     // Named materials first: a visual may use one defined after it, at the top level or inside

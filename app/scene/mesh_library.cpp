@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -37,6 +38,20 @@ std::shared_ptr<const ImportedMesh> MeshLibrary::file(const std::string& path, c
     m = std::move(read);
   }
   return m;
+}
+
+std::vector<std::string> MeshLibrary::files() const {
+  std::vector<std::string> out;
+  for (const auto& [k, m] : files_) {
+    const std::string path = k.substr(0, k.rfind('|'));
+    if (out.empty() || out.back() != path) out.push_back(path);
+    if (m && m->appearance)  // the images its materials name (an MTL's map_Kd, a glTF's files)
+      for (const TextureSource& t : m->appearance->textures)
+        if (!t.file.empty()) out.push_back(t.file);
+  }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
 }
 
 std::shared_ptr<const TriangleMesh> MeshLibrary::surface(const std::string& path, const Vec3& scale) {

@@ -43,6 +43,9 @@ class MeshLibrary {
   // ~/.cache/simreel (a folder that cannot be written is skipped). A cached decomposition is the
   // same to the bit: the parts are rebuilt from the points they were made from.
   const Decomposition& decomposition(const std::string& file, const Vec3& scale, int cap);
+  // Every mesh file read so far and the image files their materials name (resolved paths), for
+  // what a scene depends on.
+  std::vector<std::string> files() const;
 
  private:
   std::vector<std::string>& notes_;

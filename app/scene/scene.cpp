@@ -285,6 +285,7 @@ struct Loader {
                                                  const std::string& mkey, const YAML::Node& n, const Ctx& c,
                                                  const std::string& mesh_file) {
     const std::string image = resolve(n, c, "image");
+    scene.inputs.push_back(image);
     auto& out = textured_looks[mkey + "|" + image];
     if (out) return out;
     if (!file_look || file_look->corner_uv.empty())
@@ -967,6 +968,7 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
         gc.child("texture").fail(g["texture"], "image '" + f + "' not found (looked for " +
                                                    fs::absolute(p, ec).lexically_normal().string() + ")");
       s.render.ground_texture = p.lexically_normal().string();
+      s.inputs.push_back(s.render.ground_texture);
     }
     if (g["texture_size"]) {
       if (!g["texture"]) gc.child("texture_size").fail(g["texture_size"], "applies with 'texture' only");
@@ -1179,6 +1181,9 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
     }
   }
   load_overlays(root, path, s);  // bodies' show: and overlays: (app/scene/scene_overlays.cpp)
+  for (const std::string& f : library.files()) s.inputs.push_back(f);
+  std::sort(s.inputs.begin(), s.inputs.end());
+  s.inputs.erase(std::unique(s.inputs.begin(), s.inputs.end()), s.inputs.end());
   return s;
 }
 

@@ -120,6 +120,9 @@ struct Scene {
   /// What is probably wrong in the input though it loads (an imported link's inertia that its own
   /// geometry contradicts): printed as `warning:` lines and listed in `--json` warnings.
   std::vector<std::string> warnings;
+  /// The files the scene read besides itself (meshes, images, robot files), as resolved: what its
+  /// goldens record so that `simreel check` notices when one changes.
+  std::vector<std::string> inputs;
 };
 
 // Throws InputError "FILE:LINE:COL: KEY: what is wrong" for anything a user could get wrong:

@@ -125,6 +125,36 @@ TEST(Check, GoldensWrittenThenCheckedCleanThenChangesCaught) {
 // fingerprint, so pixels are compared portably; but it is the same rasterizer, measured drawing
 // byte-identical frames, so the tight default tolerance applies, not the cross-renderer one that
 // misses small colour changes. A green +0.03 on the box is caught.
+// Goldens notice their inputs: scaling the scene's mesh file by 2% is named in a note (the scene
+// file itself is unchanged), and --update changed records the new hash.
+TEST(Check, GoldensNoticeTheirInputFiles) {
+  const fs::path base = simreel::test::scratch_dir();
+  const std::string goldens = (base / "goldens").string();
+  fs::create_directories(base / "a");
+  fs::copy_file("assets/tetra.off", base / "a" / "tetra.off");
+  const std::string scene =
+      write_scene(base / "a",
+                  "simulation: { duration: 1 }\nground: true\ntest: { width: 160, height: 90 }\n"
+                  "bodies:\n  - { name: t, position: [0, 0, 0.5], colliders: [ { shape: mesh, "
+                  "file: tetra.off } ] }\n");
+  ASSERT_EQ(run("check " + scene + " --goldens " + goldens + " --update missing --quiet").code, 0);
+  EXPECT_NE(simreel::test::slurp(fs::path(goldens) / "drop" / "manifest.json").find("\"tetra.off\""),
+            std::string::npos);
+  Result r = run("check " + scene + " --goldens " + goldens + " --update none");
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_EQ(r.out.find("changed since"), std::string::npos) << r.out;
+  // The same tetrahedron, 2% larger.
+  std::ofstream(base / "a" / "tetra.off") << "OFF\n4 4 0\n0 0 0\n0.306 0 0\n0 0.306 0\n0 0 0.306\n"
+                                             "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+  r = run("check " + scene + " --goldens " + goldens + " --update none");
+  EXPECT_NE(r.out.find("drop.yaml: tetra.off changed since its goldens were written"), std::string::npos)
+      << r.out;
+  EXPECT_EQ(r.code, 1) << r.out;  // and the frames differ
+  r = run("check " + scene + " --goldens " + goldens + " --update changed --quiet");
+  r = run("check " + scene + " --goldens " + goldens + " --update none");
+  EXPECT_EQ(r.out.find("changed since"), std::string::npos) << r.out;
+}
+
 TEST(Check, VectorWidthAloneKeepsTheTightPortableTolerance) {
   const fs::path base = simreel::test::scratch_dir();
   const std::string goldens = (base / "goldens").string();
