@@ -264,6 +264,11 @@ int cmd_check(const std::vector<std::string>& args) {
       if (ec || rel.empty()) rel = f;
       inputs[rel] = file_hash(f);
     }
+    std::string changed_inputs;  // ", "-joined: what a frame whose physics held but pixels moved blames
+    if (have_manifest)
+      for (const auto& [f, h] : inputs)
+        if (const auto it = manifest.inputs.find(f); it != manifest.inputs.end() && it->second != h)
+          changed_inputs += (changed_inputs.empty() ? "" : ", ") + f;
     if (have_manifest && !manifest.inputs.empty() && !quiet) {
       for (const auto& [f, h] : inputs) {
         const auto it = manifest.inputs.find(f);
@@ -349,10 +354,19 @@ int cmd_check(const std::vector<std::string>& args) {
             rf.messages.push_back(std::string("rendering changed (portable") +
                                   (same_gl ? "" : ", across renderers") + "): " + r.reason);
         }
-        if (!physics.empty() || g->step != c.target.step)
+        if (!physics.empty() || g->step != c.target.step) {
           rf.kind = "physics";
-        else if (!pixels_ok && rf.kind.empty())
+        } else if (!pixels_ok && rf.kind.empty() && !changed_inputs.empty()) {
+          // The bodies are where they were, but what they are drawn from is not (frame 0 of a
+          // rescaled mesh): the input, not the renderer.
+          rf.kind = "input";
+          rf.messages.insert(rf.messages.begin(),
+                             "input changed: " + changed_inputs +
+                                 " (since the goldens were written; the bodies are where "
+                                 "they were)");
+        } else if (!pixels_ok && rf.kind.empty()) {
           rf.kind = "rendering";
+        }
         pass = physics.empty() && g->step == c.target.step && pixels_ok;
         put_metrics(r, rf);
         if (report.golden_fingerprint.empty() || !pass) report.golden_fingerprint = g->fingerprint;
@@ -464,11 +478,12 @@ int cmd_check(const std::vector<std::string>& args) {
   }
 
   std::ostringstream summary;
-  int physics = 0, rendering = 0;
+  int physics = 0, rendering = 0, input = 0;
   for (const ReportFrame& f : report.frames)
-    if (f.status == "fail") (f.kind == "physics" ? physics : rendering)++;
-  summary << differ << " of " << frames_total << " frames differ (" << physics << " physics, " << rendering
-          << " rendering)";
+    if (f.status == "fail") (f.kind == "physics" ? physics : f.kind == "input" ? input : rendering)++;
+  summary << differ << " of " << frames_total << " frames differ (" << physics << " physics, ";
+  if (input) summary << input << " input, ";
+  summary << rendering << " rendering)";
   if (missing) summary << ", " << missing << " without a golden (--update missing writes them)";
   if (written_total) summary << ", " << written_total << " goldens written";
   if (bad_input)

@@ -275,6 +275,11 @@ std::string attribution(const ReportFrame& f) {
   } else if (f.kind == "rendering") {
     what = "Rendering changed";
     why = "the simulation matches the golden run; only the pixels differ";
+  } else if (f.kind == "input") {
+    what = "An input changed";
+    why =
+        "a file the scene reads (a mesh, an image) differs from when the goldens were written; the "
+        "bodies are where they were";
   } else if (f.kind == "size") {
     what = "Image size changed";
     why = "the two images have different sizes";

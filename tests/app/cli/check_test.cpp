@@ -135,6 +135,7 @@ TEST(Check, GoldensNoticeTheirInputFiles) {
   const std::string scene =
       write_scene(base / "a",
                   "simulation: { duration: 1 }\nground: true\ntest: { width: 160, height: 90 }\n"
+                  "camera: { position: [0.8, -0.8, 0.8], look_at: [0.1, 0.1, 0.5] }\n"
                   "bodies:\n  - { name: t, position: [0, 0, 0.5], colliders: [ { shape: mesh, "
                   "file: tetra.off } ] }\n");
   ASSERT_EQ(run("check " + scene + " --goldens " + goldens + " --update missing --quiet").code, 0);
@@ -149,6 +150,8 @@ TEST(Check, GoldensNoticeTheirInputFiles) {
   r = run("check " + scene + " --goldens " + goldens + " --update none");
   EXPECT_NE(r.out.find("drop.yaml: tetra.off changed since its goldens were written"), std::string::npos)
       << r.out;
+  EXPECT_NE(r.out.find("t=0s (input changed)"), std::string::npos) << "frame 0 is not blamed on rendering\n"
+                                                                   << r.out;
   EXPECT_EQ(r.code, 1) << r.out;  // and the frames differ
   r = run("check " + scene + " --goldens " + goldens + " --update changed --quiet");
   r = run("check " + scene + " --goldens " + goldens + " --update none");
