@@ -46,6 +46,20 @@ struct MeshAppearance {
   bool varies = false;
 };
 
+// One image laid over a whole mesh through the texture coordinates of `file_look` (which must
+// have them): a scene collider's `texture:`, a URDF or MJCF material's image. Its material colour
+// is -1, so the item's own colour tints the image.
+inline std::shared_ptr<MeshAppearance> image_on_uvs(const MeshAppearance& file_look,
+                                                    const std::string& image) {
+  auto a = std::make_shared<MeshAppearance>();
+  a->corner_uv = file_look.corner_uv;
+  a->materials.push_back({"texture", {-1.f, -1.f, -1.f}, 0});
+  a->textures.push_back({image, nullptr, image});
+  a->triangle_material.assign(a->corner_uv.size(), 0);
+  a->varies = true;
+  return a;
+}
+
 // Raw texels as an image's bytes (an embedded image some formats store uncompressed): this header,
 // then width x height RGBA8 texels, top row first; render/image.hpp decodes it like a PNG.
 inline constexpr char kRawRgbaMagic[8] = {'S', 'R', 'R', 'G', 'B', 'A', '1', 0};

@@ -275,15 +275,10 @@ class MjcfReader {
                                           const std::string& what) const {
     const char* v = get(e, key, cls);
     if (!v) return std::nullopt;
-    // Parse the text through a scratch element so messages name this element's line.
-    tinyxml2::XMLDocument scratch;
-    XMLElement* x = scratch.NewElement(e->Name());
-    x->SetAttribute(key, v);
-    try {
-      return number_list(x, key, file_of(e), what);
-    } catch (const InputError&) {
-      fail(e, what, std::string("<") + e->Name() + " " + key + "=\"" + v + "\">: expected numbers");
-    }
+    // The text may come from a default class: the message names this element's line.
+    auto out = parse_numbers(v);
+    if (!out) fail(e, what, std::string("<") + e->Name() + " " + key + "=\"" + v + "\">: expected numbers");
+    return out;
   }
   template <int N>
   std::optional<Eigen::Matrix<double, N, 1>> vec(const XMLElement* e, const char* key, const std::string& cls,

@@ -333,13 +333,7 @@ void place_model(const Model& m, const ImportSpec& spec, Scene& scene, MeshLibra
         } else if (!s.texture.empty() && s.kind == ModelShape::Kind::mesh && !s.inline_mesh) {
           const auto file = meshes.file(s.mesh_file, s.scale);
           if (file->appearance && !file->appearance->corner_uv.empty()) {
-            auto a = std::make_shared<MeshAppearance>();
-            a->corner_uv = file->appearance->corner_uv;
-            a->materials.push_back({"texture", {-1.f, -1.f, -1.f}, 0});
-            a->textures.push_back({s.texture, nullptr, s.texture});
-            a->triangle_material.assign(a->corner_uv.size(), 0);
-            a->varies = true;
-            cl.appearance = a;
+            cl.appearance = image_on_uvs(*file->appearance, s.texture);
             cl.color = Rgb{1, 1, 1};
           } else {
             scene.notes.push_back(s.src.str() + ": " + s.mesh_file +

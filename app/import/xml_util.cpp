@@ -1,6 +1,5 @@
 #include "app/import/xml_util.hpp"
 
-#include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -32,6 +31,22 @@ std::string attr_or(const tinyxml2::XMLElement* e, const char* name, const std::
   return v ? std::string(v) : fallback;
 }
 
+std::optional<std::vector<double>> parse_numbers(const char* v) {
+  std::vector<double> out;
+  const char* s = v;
+  auto gap = [](char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == ','; };
+  while (*s) {
+    while (gap(*s)) ++s;
+    if (!*s) break;
+    char* end = nullptr;
+    const double x = std::strtod(s, &end);
+    if (end == s || !std::isfinite(x) || (*end && !gap(*end))) return std::nullopt;
+    out.push_back(x);
+    s = end;
+  }
+  return out;
+}
+
 std::vector<double> number_list(const tinyxml2::XMLElement* e, const char* key, const std::string& path,
                                 const std::string& what) {
   const char* v = e->Attribute(key);
@@ -40,21 +55,9 @@ std::vector<double> number_list(const tinyxml2::XMLElement* e, const char* key, 
                      key + "=\"" + (v ? v : "") + "\">: " + msg);
   };
   if (!v) fail("missing");
-  std::vector<double> out;
-  const char* s = v;
-  while (*s) {
-    while (*s == ' ' || *s == '\t' || *s == '\n' || *s == '\r' || *s == ',') ++s;
-    if (!*s) break;
-    char* end = nullptr;
-    errno = 0;
-    const double x = std::strtod(s, &end);
-    if (end == s || !std::isfinite(x) ||
-        (*end && *end != ' ' && *end != '\t' && *end != '\n' && *end != '\r' && *end != ','))
-      fail("expected numbers");
-    out.push_back(x);
-    s = end;
-  }
-  return out;
+  auto out = parse_numbers(v);
+  if (!out) fail("expected numbers");
+  return *out;
 }
 
 double number_attr(const tinyxml2::XMLElement* e, const char* key, const std::string& path,

@@ -15,6 +15,8 @@ std::string read_text(const std::string& path);  ///< InputError if unreadable
 // Parses `text`; InputError "PATH:LINE: XML: what" if it is not well-formed XML.
 void parse_xml(tinyxml2::XMLDocument& doc, const std::string& text, const std::string& path);
 std::string attr_or(const tinyxml2::XMLElement* e, const char* name, const std::string& fallback);
+// The numbers of a whitespace- (or comma-) separated text; nullopt if any is not a finite number.
+std::optional<std::vector<double>> parse_numbers(const char* text);
 // All the numbers of a whitespace-separated attribute; InputError "PATH:LINE: WHAT: KEY=...".
 std::vector<double> number_list(const tinyxml2::XMLElement* e, const char* key, const std::string& path,
                                 const std::string& what);

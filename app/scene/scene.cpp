@@ -290,13 +290,7 @@ struct Loader {
     if (out) return out;
     if (!file_look || file_look->corner_uv.empty())
       c.fail(n, "mesh '" + mesh_file + "' has no texture coordinates to lay an image on");
-    auto a = std::make_shared<MeshAppearance>();
-    a->corner_uv = file_look->corner_uv;
-    a->materials.push_back({"texture", {-1.f, -1.f, -1.f}, 0});  // -1: the item's colour tints it
-    a->textures.push_back({image, nullptr, image});
-    a->triangle_material.assign(a->corner_uv.size(), 0);
-    a->varies = true;
-    out = a;
+    out = image_on_uvs(*file_look, image);
     return out;
   }
   std::string resolve(const YAML::Node& n, const Ctx& c, const std::string& what = "mesh file") {
@@ -568,39 +562,34 @@ struct Loader {
           return col;
         }
         MeshReport rep;
-        bool open_decomposed = false;  // an open mesh weighed as its decomposition's parts
         try {
           import_once();
-          rep = library.analysis(file, scale, opt);
-        } catch (const InputError& e) {
-          if (decompose && std::string(e.what()).find("mesh is open") != std::string::npos) {
+          try {
+            rep = library.analysis(file, scale, opt);
+          } catch (const InputError& e) {
+            if (!decompose || std::string(e.what()).find("mesh is open") == std::string::npos) throw;
             // A scan with holes: decomposed as the solid it nearly bounds, and weighed as that
             // (the parts are disjoint convex polyhedra, within a few percent of the solid).
-            const Decomposition& d = library.decomposition(file, scale, 0);
-            rep.props = decomposition_mass(d);
+            rep.props = decomposition_mass(library.decomposition(file, scale, 0));
             rep.volume = rep.props.mass;
-            open_decomposed = true;
             std::ostringstream os;
             os << c.file() << ": body '" << body << "', " << c.key() << " (" << file
                << "): the mesh is open (" << e.what()
                << "); it is weighed as its decomposition, as the solid it nearly bounds";
             scene.notes.push_back(os.str());
           }
+        } catch (const InputError& e) {
+          // Every mesh that cannot be weighed is reported at once, each with its fix (five open
+          // downloads took five runs to find one at a time): a stand-in lets loading go on, and the
+          // scene is refused after its bodies.
+          std::string msg = e.what();
+          if (msg.find("(shell mode)") != std::string::npos)
+            msg += " (on this collider: `mode: shell`, or `mode: hull`)";
+          mesh_errors.push_back(c.child("file").message(n["file"], msg));
+          Collider stand_in = sphere_collider(0.1, 1000.0);
+          stand_in.label = file;
+          return stand_in;
         }
-        if (!open_decomposed && !(rep.props.mass > 0)) try {
-            rep = library.analysis(file, scale, opt);
-          } catch (const InputError& e) {
-            // Every mesh that cannot be weighed is reported at once, each with its fix (five open
-            // downloads took five runs to find one at a time): a stand-in lets loading go on, and the
-            // scene is refused after its bodies.
-            std::string msg = e.what();
-            if (msg.find("(shell mode)") != std::string::npos)
-              msg += " (on this collider: `mode: shell`, or `mode: hull`)";
-            mesh_errors.push_back(c.child("file").message(n["file"], msg));
-            Collider stand_in = sphere_collider(0.1, 1000.0);
-            stand_in.label = file;
-            return stand_in;
-          }
         use_mesh();
         for (const std::string& w : rep.warnings)
           scene.notes.push_back(c.file() + ": body '" + body + "', " + c.key() + " (" + file + "): " + w);

@@ -15,8 +15,8 @@ SceneStyles styles_of(const Scene& scene) {
   for (size_t i = 0; i < scene.looks.size(); ++i) {
     const BodyLook& L = scene.looks[i];
     for (size_t k = 0; k < L.colliders.size(); ++k)
-      out[i].push_back({L.collider_color(k), L.drawn && L.colliders[k].drawn, L.colliders[k].plane_size, L.colliders[k].normals.get(),
-                        L.colliders[k].appearance.get()});
+      out[i].push_back({L.collider_color(k), L.drawn && L.colliders[k].drawn, L.colliders[k].plane_size,
+                        L.colliders[k].normals.get(), L.colliders[k].appearance.get()});
   }
   return out;
 }

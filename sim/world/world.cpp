@@ -59,7 +59,8 @@ WorldImpl::WorldImpl(const WorldConfig& config, std::vector<BodyDef> bodies)
     // static body made of those only is massless (it never moves).
     std::vector<Collider> massive;
     for (const Collider& c : d.colliders)
-      if (c.shape != ShapeKind::plane && !(m.is_static && c.shape == ShapeKind::mesh && c.props_C.mass == 0) &&
+      if (c.shape != ShapeKind::plane &&
+          !(m.is_static && c.shape == ShapeKind::mesh && c.props_C.mass == 0) &&
           !(!c.collide && c.props_C.mass == 0))  // drawn only (an imported link's visual shape)
         massive.push_back(c);
     // Stated mass properties weigh a body with no massive collider (an imported link that has an
