@@ -162,7 +162,10 @@ void place_model(const Model& m, const ImportSpec& spec, Scene& scene, MeshLibra
   // Start values: a coordinate whose limits leave out 0 starts at the nearer limit (simreel's joint
   // coordinates are zero at the start pose, so the limits are shifted by it).
   std::vector<double> q0(m.joints.size(), 0.0);
-  for (const auto& [name, value] : spec.joint_positions) {
+  for (const auto& entry : spec.joint_positions) {
+    // Named, not a structured binding: clang 14 cannot capture a binding in a lambda.
+    const std::string& name = entry.first;
+    const double value = entry.second;
     const auto it =
         std::find_if(m.joints.begin(), m.joints.end(), [&](const ModelJoint& j) { return j.name == name; });
     if (it == m.joints.end()) {
