@@ -9,6 +9,12 @@ namespace simreel {
 
 inline constexpr int kDefaultWidth = 1280, kDefaultHeight = 720;  ///< px, of a video and a frame
 
+// Frames between keyframes of an encoded video (the encoder's GOP): 2 s of video. A render split
+// into chunks cuts on these intervals (app/cli/chunks.hpp), so its join keeps this cadence.
+inline long keyframe_interval(double fps) {
+  return fps * 2 < 1 ? 1 : (long)(fps * 2);
+}
+
 // fxaa: edge anti-aliasing on the CPU after readback (cheap); msaa2/msaa4: GL multisampling
 // (smoother, ~13 ms more a 720p frame on llvmpipe); none.
 enum class AntiAliasing { none, fxaa, msaa2, msaa4 };

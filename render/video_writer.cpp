@@ -117,7 +117,7 @@ struct VideoWriter::Impl {
     enc->time_base = av_inv_q(rate);
     enc->framerate = rate;
     enc->pix_fmt = is_gif ? AV_PIX_FMT_PAL8 : AV_PIX_FMT_YUV420P;
-    enc->gop_size = (int)std::max(1.0, s.fps * 2);
+    enc->gop_size = (int)keyframe_interval(s.fps);
     if (!is_gif) {
       enc->color_range = AVCOL_RANGE_MPEG;
       enc->colorspace = AVCOL_SPC_BT709;

@@ -31,6 +31,8 @@ int cmd_inspect(const std::vector<std::string>& args);
 int cmd_render(const std::vector<std::string>& args);
 int cmd_check(const std::vector<std::string>& args);
 int cmd_diff(const std::vector<std::string>& args);
+int cmd_plan(const std::vector<std::string>& args);
+int cmd_join(const std::vector<std::string>& args);
 
 // The commands as `simreel --help` lists them; `synopsis` follows the name in usage lines.
 struct CommandInfo {
@@ -46,6 +48,9 @@ inline constexpr CommandInfo kCommands[] = {
     {"inspect", "MESH", "a mesh's volume, mass, inertia and principal axes, and its defects", cmd_inspect},
     {"check", "SCENE... --goldens DIR", "compare chosen frames of scenes with committed goldens", cmd_check},
     {"diff", "A B", "compare two PNGs, folders of PNGs or videos frame by frame", cmd_diff},
+    {"plan", "SCENE --chunks N",
+     "split a render into chunks for Slurm or GNU parallel (and their checkpoints)", cmd_plan},
+    {"join", "DIR -o OUT", "join the chunks `render --chunk` wrote, without re-encoding", cmd_join},
 };
 
 // Options simulate and render share: scene overrides and what is printed.

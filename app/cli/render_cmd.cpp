@@ -4,12 +4,16 @@
 #include <csignal>
 #include <cstdio>
 #include <cstring>
+#include <exception>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 
 #include <unistd.h>
 
 #include <algorithm>
 
+#include "app/cli/chunks.hpp"
 #include "app/cli/cli.hpp"
 #include "app/cli/commands.hpp"
 #include "app/runner/camera_fit.hpp"
@@ -19,6 +23,7 @@
 
 #ifdef SIMREEL_HAVE_RENDER
 #include "app/view/panes.hpp"
+#include "app/view/view_state.hpp"
 #include "render/png_writer.hpp"
 #include "render/renderer.hpp"
 #include "render/video_writer.hpp"
@@ -35,6 +40,7 @@ struct RenderOptions {
   std::optional<double> at;
   bool overwrite = false, no_video = false, no_shadows = false;
   std::optional<std::string> aa, gl;
+  std::optional<std::string> chunk, checkpoints;
   std::optional<int> crf, gif_width;
   std::optional<std::string> encoder;
   std::optional<double> gif_fps;
@@ -73,6 +79,20 @@ void render_table(CLI::App& app, RenderOptions& o) {
   app.add_flag("--overwrite", o.overwrite,
                "with --frames-dir: delete the frame_*.png files already there first");
   app.add_flag("--no-video", o.no_video, "with --frames-dir: PNG frames only");
+  app.add_option(
+         "--chunk", o.chunk,
+         "render chunk I of N (I from 0 to N-1, as SLURM_ARRAY_TASK_ID) as a segment that `simreel join` "
+         "copies into the whole clip: -o DIR/ (MP4 segments named after the scene) or -o DIR/NAME.EXT "
+         "(.mp4 .mov .mkv .webm; .gif: lossless PNG frames, the palette made once by join). Chunks "
+         "start on keyframes (`simreel plan` prints the table); with --frames-dir, a chunk writes and "
+         "refuses only its own frames in a shared folder")
+      ->type_name("I/N");
+  app.add_option(
+         "--checkpoints", o.checkpoints,
+         "with --chunk: start from the saved state `simreel plan --checkpoints DIR` wrote at the chunk's "
+         "first frame (no physics before it, no whole-run pre-pass); a checkpoint of another scene, "
+         "version or setting is refused")
+      ->type_name("DIR");
   add_scene_overrides(app, o.run, true);
   app.add_option(
          "--aa", o.aa,
@@ -158,25 +178,93 @@ bool is_frame_png(const std::filesystem::path& p) {
 
 // --frames-dir: a folder of this run's frames only. Stale frames of an earlier, longer run must
 // never mix with new ones: refuse a folder that holds frames unless --overwrite, which deletes
-// them (and nothing else) first.
-void prepare_frames_dir(const std::string& dir, bool overwrite) {
+// them (and nothing else) first. A chunk (`only`) shares the folder with the others: it looks at,
+// refuses and deletes only its own frames' names.
+void prepare_frames_dir(const std::string& dir, bool overwrite, const ChunkSpan* only = nullptr) {
   namespace fs = std::filesystem;
   std::error_code ec;
   if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
     throw UsageError("--frames-dir '" + dir + "' exists and is not a folder");
   if (fs::is_directory(dir, ec)) {
     std::vector<fs::path> old;
-    for (const auto& e : fs::directory_iterator(dir, ec))
-      if (is_frame_png(e.path())) old.push_back(e.path());
+    if (only) {
+      for (long k = only->first; k <= only->last; ++k) {
+        char name[32];
+        std::snprintf(name, sizeof name, "frame_%05ld.png", k);
+        if (fs::exists(fs::path(dir) / name, ec)) old.push_back(fs::path(dir) / name);
+      }
+    } else {
+      for (const auto& e : fs::directory_iterator(dir, ec))
+        if (is_frame_png(e.path())) old.push_back(e.path());
+    }
     if (!old.empty() && !overwrite)
       throw UsageError("--frames-dir '" + dir + "' already holds " + std::to_string(old.size()) +
-                       " frames (frame_*.png); add --overwrite to replace them, or choose another folder");
+                       (only ? " of this chunk's frames" : " frames (frame_*.png)") +
+                       "; add --overwrite to replace them, or choose another folder");
     for (const fs::path& p : old)
       if (!fs::remove(p, ec) || ec)
         throw std::runtime_error("cannot delete the old frame '" + p.string() + "'");
   }
   fs::create_directories(dir, ec);
   if (ec) throw std::runtime_error("cannot create '" + dir + "': " + ec.message());
+}
+
+// render --chunk I/N: where the chunk's segment and record go, and what it must share with the others.
+struct ChunkJob {
+  ChunkSpan span;
+  int chunks = 0;
+  long total = 0;  // frames of the whole clip
+  std::string ext, segment, record_path, segment_name;
+  bool frames = false;  // a GIF's chunk: lossless PNG frames in a folder of their own
+  ChunkManifest manifest;
+};
+
+// A checkpoint file's first bytes: simreel's mark, then the manifest it was made for.
+void read_checkpoint_header(std::istream& in, const std::string& file, const std::string& manifest) {
+  if (!in) throw InputError(file + ": cannot open the checkpoint");
+  std::string magic(sizeof kCheckpointMagic - 1, '\0');
+  in.read(magic.data(), (std::streamsize)magic.size());
+  if (!in || magic != kCheckpointMagic) throw InputError(file + ": not a checkpoint written by simreel plan");
+  std::string id;
+  get_str(in, id);
+  if (id != manifest)
+    throw InputError(file + ": a checkpoint of another scene, input, setting or version (manifest " + id +
+                     ", this chunk's " + manifest + ")");
+}
+
+ChunkJob chunk_job(const RenderOptions& r, const Scene& scene, long total) {
+  namespace fs = std::filesystem;
+  ChunkJob j;
+  const auto [i, n] = parse_chunk_arg(*r.chunk);
+  if (!r.out) throw UsageError("--chunk needs -o DIR/ (or -o DIR/NAME.mp4): the folder `simreel join` reads");
+  std::string dir = *r.out, stem = scene.name;
+  j.ext = ".mp4";
+  std::error_code ec;
+  if (!dir.empty() && dir.back() != '/' && !fs::is_directory(dir, ec)) {
+    const fs::path p(*r.out);
+    j.ext = lower_ext(*r.out);
+    const std::vector<std::string> exts = {".mp4", ".mov", ".mkv", ".webm", ".gif"};
+    if (std::find(exts.begin(), exts.end(), j.ext) == exts.end())
+      throw UsageError("-o '" + *r.out +
+                       "': with --chunk, give a folder (DIR/) or DIR/NAME with .mp4, .mov, "
+                       ".mkv, .webm or .gif");
+    dir = p.has_parent_path() ? p.parent_path().string() : ".";
+    stem = p.stem().string();
+  }
+  fs::create_directories(dir, ec);
+  if (ec) throw std::runtime_error("cannot create '" + dir + "': " + ec.message());
+  j.chunks = n;
+  j.total = total;
+  j.span = chunk_table(total, keyframe_interval(scene.video.fps), n)[(size_t)i];
+  j.frames = j.ext == ".gif";
+  const std::string cs = chunk_stem(stem, i, n);
+  j.segment_name = j.frames ? cs + ".frames" : cs + j.ext;
+  j.segment = (fs::path(dir) / j.segment_name).string();
+  j.record_path = (fs::path(dir) / (cs + ".json")).string();
+  j.manifest = chunk_manifest(r.scenes[0], scene, look_settings(r.aa, r.no_shadows));
+  // A record left by an earlier run of this chunk says "complete" only for what this run writes.
+  fs::remove(j.record_path, ec);
+  return j;
 }
 
 ViewOptions view_options(const RenderOptions& r) {
@@ -275,12 +363,62 @@ int cmd_render(const std::vector<std::string>& args) {
     w += w % 2, h += h % 2;
   }
   const int threads = r.run.threads;
+  // --checkpoints: `plan` ran the whole-run passes once; this chunk takes their products.
+  std::optional<CheckpointPlan> ckpt;
+  PrepassStore prepass(PrepassStore::Mode::replay);
+  if (r.checkpoints) {
+    if (!r.chunk) throw UsageError("--checkpoints needs --chunk");
+    ckpt = read_checkpoint_plan(*r.checkpoints);
+    const ChunkManifest m = chunk_manifest(r.scenes[0], scene, look_settings(r.aa, r.no_shadows));
+    const auto [i, n] = parse_chunk_arg(*r.chunk);
+    if (ckpt->manifest != m.id || ckpt->chunks != n)
+      throw InputError(*r.checkpoints + ": these checkpoints are of " +
+                       (ckpt->manifest != m.id
+                            ? "another scene, input file, setting or simreel version (manifest " +
+                                  ckpt->manifest + ", this chunk's " + m.id + ")"
+                            : "a split into " + std::to_string(ckpt->chunks) + " chunks") +
+                       ": run simreel plan " + r.scenes[0] + " --chunks " + std::to_string(n) +
+                       " --checkpoints " + *r.checkpoints + " again, with the chunks' options");
+    (void)i;
+    if (ckpt->fitted) {
+      scene.camera.fit = false;  // fitted over the whole run by plan
+      for (int k = 0; k < 3; ++k)
+        scene.camera.position[k] = ckpt->position[k], scene.camera.look_at[k] = ckpt->look_at[k];
+    }
+    std::ifstream in(std::filesystem::path(*r.checkpoints) / "prepass.bin", std::ios::binary);
+    read_checkpoint_header(in, *r.checkpoints + "/prepass.bin", m.id);
+    prepass.load(in);
+  }
   if (const std::string n = fit_camera(scene, threads); !n.empty() && !r.run.quiet)
     std::fprintf(stderr, "note: %s\n", n.c_str());
   FrameLoop loop(scene, threads);
   if (r.at) return render_at(r, scene, loop, w, h, stop);
 
   FrameTargets targets = loop.video_frames();
+  std::optional<ChunkJob> job;
+  // A chunk that fails says which one, for the scheduler's log (the error itself follows).
+  struct FailureNote {
+    const std::optional<ChunkJob>& job;
+    int pending = std::uncaught_exceptions();
+    ~FailureNote() {
+      if (job && std::uncaught_exceptions() > pending)
+        std::fprintf(stderr, "simreel render: chunk %d of %d (frames %ld to %ld) failed\n", job->span.index,
+                     job->chunks, job->span.first, job->span.last);
+    }
+  } failure_note{job};
+  if (r.chunk) {
+    if (r.frames) throw UsageError("--chunk renders its own frames: it does not go with --frames");
+    if (r.gif_width || r.gif_fps)
+      throw UsageError("give --gif-width and --gif-fps to `simreel join`, which makes the GIF");
+    job = chunk_job(r, scene, (long)targets.size());
+    if (job->frames && r.frames_dir)
+      throw UsageError("a GIF's chunk writes its PNG frames to " + job->segment +
+                       "/ already: leave out --frames-dir");
+    FrameTargets mine;
+    for (const FrameTarget& t : targets)
+      if (t.index >= job->span.first && t.index <= job->span.last) mine.push_back(t);
+    targets = std::move(mine);
+  }
   if (r.frames) {
     try {
       // Frames of the video: numbers and times of the clip (with a `time:` block, video time).
@@ -319,7 +457,14 @@ int cmd_render(const std::vector<std::string>& args) {
   } else if (gif && scene.video.fps > 50 && !r.run.quiet) {
     std::fprintf(stderr, "note: the GIF runs at 50 frames/s, the most GIF timing allows (--gif-fps)\n");
   }
-  if (!r.no_video) {
+  if (job && job->frames) {
+    vs.frames_dir = job->segment;  // the chunk's own folder: emptied of earlier frames
+    prepare_frames_dir(vs.frames_dir, true);
+  } else if (job && !r.no_video) {
+    vs.path = job->segment;
+    check_codec_limits(vs.path, w, h);
+    remove_stale_partials(vs.path);
+  } else if (!r.no_video) {
     vs.path = r.out ? *r.out : "out/" + scene.name + ".mp4";
     check_output(vs.path, {".mp4", ".mov", ".mkv", ".webm", ".gif"}, "a video");
     check_codec_limits(vs.path, w, h);
@@ -327,7 +472,7 @@ int cmd_render(const std::vector<std::string>& args) {
   }
   if (r.frames_dir) {
     vs.frames_dir = *r.frames_dir;
-    prepare_frames_dir(vs.frames_dir, r.overwrite);
+    prepare_frames_dir(vs.frames_dir, r.overwrite, job ? &job->span : nullptr);
   }
 
   ViewOptions o = view_options(r);
@@ -335,7 +480,33 @@ int cmd_render(const std::vector<std::string>& args) {
   o.threads = threads;
   // The post stage (FXAA, then the screen layer) runs on the writer's thread, overlapping the next
   // frame's rendering.
+  if (ckpt) o.prepass = &prepass;
   SceneFrames view(scene, loop, o, PostStage::caller);
+  if (ckpt && job->span.first > 0) {
+    // The world and the views' history at the frame before the chunk's first.
+    const std::string file = checkpoint_state_path(*r.checkpoints, job->span.index);
+    std::ifstream in(file, std::ios::binary);
+    if (!in)
+      throw InputError(file +
+                       ": missing (simreel plan --checkpoints writes one for each chunk after the first)");
+    read_checkpoint_header(in, file, job->manifest.id);
+    int32_t index = 0;
+    int64_t frame = 0, step = 0;
+    get(in, index);
+    get(in, frame);
+    get(in, step);
+    if (index != job->span.index || frame != job->span.first - 1)
+      throw InputError(file + ": the state of chunk " + std::to_string(index) + ", not of chunk " +
+                       std::to_string(job->span.index));
+    std::string world_bytes, history;
+    get_str(in, world_bytes);
+    get_str(in, history);
+    std::istringstream ws(world_bytes), hs(history);
+    loop.world().restore_state(ws);
+    loop.state_restored();
+    if (loop.world().steps() != step) throw InputError(file + ": its state is not at the step it names");
+    view.restore_history(hs);
+  }
   if (!r.run.quiet)
     for (const std::string& n : view.notes()) std::fprintf(stderr, "note: %s\n", n.c_str());
   vs.fxaa = view.caller_fxaa();
@@ -370,16 +541,38 @@ int cmd_render(const std::vector<std::string>& args) {
   hooks.progress = [&](long done) { progress.update(done); };
   // A full render goes on to the end of the duration, as simulate does, so both report the same
   // run; a partial one stops at its last frame.
-  const long done = loop.run(targets, hooks, !r.frames);
+  const long done = loop.run(targets, hooks, !r.frames && !job);
   progress.finish();
-  if (done > 0) writer.finish();  // with no frame at all, the destructor removes the partial file
+  if (job) {
+    // A chunk's segment exists only complete, with its record beside it: `join` takes nothing else.
+    if (done == job->span.count() && !stop.signal()) {
+      writer.finish();
+      ChunkRecord rec;
+      rec.manifest = job->manifest.id;
+      rec.index = job->span.index;
+      rec.chunks = job->chunks;
+      rec.first = job->span.first;
+      rec.last = job->span.last;
+      rec.total_frames = job->total;
+      rec.keyint = keyframe_interval(scene.video.fps);
+      rec.fps = scene.video.fps;
+      rec.segment = job->segment_name;
+      rec.kind = job->frames ? "frames" : r.no_video ? "none" : job->ext.substr(1);
+      rec.width = w;
+      rec.height = h;
+      rec.scene = r.scenes[0];
+      write_chunk_record(job->record_path, rec);
+    }
+  } else if (done > 0) {
+    writer.finish();  // with no frame at all, the destructor removes the partial file
+  }
 
   RunSummary s = make_summary(scene, loop.world(), loop.drift(), (int)done, loop.step_seconds());
   s.render_seconds = render_s;
   s.renderer = view.description();
   s.encode_seconds = writer.encode_seconds();
   s.encoder = writer.encoder_name();
-  if (done > 0) s.output = vs.path.empty() ? vs.frames_dir : vs.path;
+  if (done > 0 && (!job || done == job->span.count())) s.output = vs.path.empty() ? vs.frames_dir : vs.path;
   if (done > 0 && empty * 2 > done) {
     std::string msg =
         std::to_string(empty) + " of " + std::to_string(done) +
@@ -413,6 +606,14 @@ int cmd_check(const std::vector<std::string>&) {
 }
 int cmd_diff(const std::vector<std::string>&) {
   std::fprintf(stderr, "simreel diff: this build has no renderer (configured with -DSIMREEL_RENDER=OFF)\n");
+  return kExitFailure;
+}
+int cmd_plan(const std::vector<std::string>&) {
+  std::fprintf(stderr, "simreel plan: this build has no renderer (configured with -DSIMREEL_RENDER=OFF)\n");
+  return kExitFailure;
+}
+int cmd_join(const std::vector<std::string>&) {
+  std::fprintf(stderr, "simreel join: this build has no renderer (configured with -DSIMREEL_RENDER=OFF)\n");
   return kExitFailure;
 }
 #endif

@@ -55,6 +55,18 @@ Vec3 CameraOrbit::eye(double t, const Vec3& centre) const {
   return centre + Vec3(radius * std::cos(a), radius * std::sin(a), height);
 }
 
+DampedFollow::State DampedFollow::state() const {
+  State s;
+  s.started = started_, s.step = step_, s.t = t_;
+  for (int k = 0; k < 3; ++k) s.x[k] = x_[k], s.v[k] = v_[k], s.p[k] = p_[k];
+  return s;
+}
+
+void DampedFollow::set_state(const State& s) {
+  started_ = s.started, step_ = s.step, t_ = s.t;
+  for (int k = 0; k < 3; ++k) x_[k] = s.x[k], v_[k] = s.v[k], p_[k] = s.p[k];
+}
+
 void DampedFollow::track(long step, double t, const Vec3& p) {
   if (!started_) {
     started_ = true;

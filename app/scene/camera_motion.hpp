@@ -82,6 +82,15 @@ class DampedFollow {
   bool started() const { return started_; }
   const Vec3& position() const { return x_; }  ///< m
   const Vec3& velocity() const { return v_; }  ///< m/s
+  // The whole state, for a render that resumes mid-clip.
+  struct State {
+    bool started = false;
+    long step = 0;
+    double t = 0;                            ///< s
+    double x[3] = {}, v[3] = {}, p[3] = {};  ///< m, m/s, m
+  };
+  State state() const;
+  void set_state(const State& s);
 
  private:
   double w_;  // 1/s

@@ -181,8 +181,68 @@ void SceneOverlays::prepass(const Scene& scene, int threads, bool magnitudes, st
   loop.run({}, h, true);
 }
 
+void SceneOverlays::save_prepass(std::ostream& os, const std::vector<Magnitudes>& mags,
+                                 double contact_kth) const {
+  put_vec(os, mags);
+  put(os, contact_kth);
+  put(os, (uint64_t)plots_.size());
+  for (const Plot& p : plots_) {
+    put_vec(os, p.t);
+    put(os, (uint64_t)p.values.size());
+    for (const std::vector<float>& v : p.values) put_vec(os, v);
+  }
+}
+
+void SceneOverlays::load_prepass(std::istream& is, std::vector<Magnitudes>& mags, double& contact_kth) {
+  const size_t bodies = mags.size();
+  get_vec(is, mags);
+  get(is, contact_kth);
+  uint64_t n = 0;
+  get(is, n);
+  if (mags.size() != bodies || n != plots_.size())
+    throw InputError("a checkpoint's pre-pass is of another scene (bodies or plots differ)");
+  for (Plot& p : plots_) {
+    get_vec(is, p.t);
+    uint64_t q = 0;
+    get(is, q);
+    if (q != p.values.size()) throw InputError("a checkpoint's plot has other quantities than the scene's");
+    for (std::vector<float>& v : p.values) get_vec(is, v);
+  }
+}
+
+void SceneOverlays::save_history(std::ostream& os) const {
+  put(os, (uint64_t)trails_.size());
+  for (const Trail& t : trails_) {
+    put_vec(os, t.points);
+    put_vec(os, t.steps);
+    put(os, (uint64_t)t.head);
+    put(os, (uint64_t)t.count);
+    put(os, t.last);
+  }
+  periods_.save(os);
+}
+
+void SceneOverlays::restore_history(std::istream& is) {
+  uint64_t n = 0;
+  get(is, n);
+  if (n != trails_.size()) throw InputError("a checkpoint's trails are not the scene's");
+  for (Trail& t : trails_) {
+    const size_t cap = t.points.size();
+    get_vec(is, t.points);
+    get_vec(is, t.steps);
+    if (t.points.size() != cap || t.steps.size() != cap)
+      throw InputError("a checkpoint's trail is of another length than the scene's");
+    uint64_t head = 0, count = 0;
+    get(is, head);
+    get(is, count);
+    t.head = (size_t)head, t.count = (size_t)count;
+    get(is, t.last);
+  }
+  periods_.restore(is);
+}
+
 SceneOverlays::SceneOverlays(const Scene& scene, const World& world, const std::vector<double>& body_radius,
-                             int width, int height, int threads)
+                             int width, int height, int threads, PrepassStore* store)
     : width_(width),
       height_(height),
       dt_(scene.timestep),
@@ -256,19 +316,34 @@ SceneOverlays::SceneOverlays(const Scene& scene, const World& world, const std::
     plots_.push_back(std::move(p));
   }
   std::vector<Magnitudes> mags((size_t)world.body_count());
-  std::vector<double> contact_forces;
-  if (need_scales || contacts_auto || !plots_.empty())
-    prepass(scene, threads, need_scales, mags, contact_forces);
+  double contact_kth = 0;  // N, the contact forces' kContactQuantile quantile; 0: none seen
+  if (store && store->mode() == PrepassStore::Mode::replay) {
+    std::istringstream in = store->next();
+    load_prepass(in, mags, contact_kth);
+  } else {
+    std::vector<double> contact_forces;
+    if (need_scales || contacts_auto || !plots_.empty())
+      prepass(scene, threads, need_scales, mags, contact_forces);
+    if (contacts_auto && !contact_forces.empty()) {
+      const size_t k =
+          std::min(contact_forces.size() - 1, (size_t)(kContactQuantile * contact_forces.size()));
+      std::nth_element(contact_forces.begin(), contact_forces.begin() + (long)k, contact_forces.end());
+      contact_kth = contact_forces[k];
+    }
+    if (store) {
+      std::ostringstream out;
+      save_prepass(out, mags, contact_kth);
+      store->add(out.str());
+    }
+  }
   // Contacts: one scale for every body showing them, so that forces compare across the pile.
   double contact_scale = 0;
-  if (contacts_auto && !contact_forces.empty()) {
-    const size_t k = std::min(contact_forces.size() - 1, (size_t)(kContactQuantile * contact_forces.size()));
-    std::nth_element(contact_forces.begin(), contact_forces.begin() + (long)k, contact_forces.end());
+  if (contacts_auto && contact_kth > 0) {
     double R = 0;
     int n = 0;
     for (const Item& it : items_)
       if (it.spec.kind == ShowKind::contacts && !it.spec.scale) R += body_radius_[it.body], ++n;
-    contact_scale = kContactReach * (R / n) / contact_forces[k];
+    contact_scale = kContactReach * (R / n) / contact_kth;
   }
   const Vec3 g = world.config().gravity;
   for (Item& it : items_) {

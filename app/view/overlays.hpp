@@ -20,6 +20,7 @@
 
 #include <simreel/world.hpp>
 #include "app/scene/scene.hpp"
+#include "app/view/view_state.hpp"
 #include "render/draw_list.hpp"
 #include "render/plot.hpp"
 #include "render/text.hpp"
@@ -93,6 +94,9 @@ class JointPeriods {
   double period(int joint, int coord) const;
   // The turning times seen so far (for tests): +1 the coordinate's maxima, -1 its minima.
   const std::vector<double>& turns(int joint, int coord, int direction) const;
+  // What record() has gathered, for a render that resumes mid-clip (app/view/view_state.hpp).
+  void save(std::ostream& os) const;
+  void restore(std::istream& is);
 
  private:
   struct Meter {
@@ -120,8 +124,10 @@ class SceneOverlays {
  public:
   // `body_radius`: m per body, its drawn size about its centre of mass. Runs the pre-pass if an
   // arrow scales itself. width x height: the frame (text sizes follow its height).
+  // `store`: where the pre-pass's products are recorded, or replayed from instead of running it
+  // (a chunk of a render, app/view/view_state.hpp); null: run it.
   SceneOverlays(const Scene& scene, const World& world, const std::vector<double>& body_radius, int width,
-                int height, int threads = 1);
+                int height, int threads = 1, PrepassStore* store = nullptr);
   ~SceneOverlays();
   bool empty() const { return items_.empty() && !has_screen_; }
   bool has_trails() const { return !trails_.empty(); }
@@ -134,6 +140,9 @@ class SceneOverlays {
 
   // FrameLoop::Hooks::step: records the trails and the joints' periods.
   void record(const World& w);
+  // The history record() gathered (trails, periods), for a render that resumes mid-clip.
+  void save_history(std::ostream& os) const;
+  void restore_history(std::istream& is);
   // The world's present state into dl.overlay and dl.screen (dl.camera set already). frame: the
   // frame's number in the clip (HUD {frame}).
   void build(const World& w, long frame, DrawList& dl);
@@ -225,6 +234,8 @@ class SceneOverlays {
   void build_ropes(const Item& it, const World& w, const CameraView& cam, OverlayList& out);
   void prepass(const Scene& scene, int threads, bool magnitudes, std::vector<Magnitudes>& mags,
                std::vector<double>& contact_forces);
+  void save_prepass(std::ostream& os, const std::vector<Magnitudes>& mags, double contact_kth) const;
+  void load_prepass(std::istream& is, std::vector<Magnitudes>& mags, double& contact_kth);
   void make_screen(const Scene& scene, const World& world);
   void fill_legend(const Scene& scene);
 

@@ -99,6 +99,32 @@ void JointPeriods::record(const World& w) {
   }
 }
 
+void JointPeriods::save(std::ostream& os) const {
+  put(os, (uint64_t)meters_.size());
+  for (const Meter& m : meters_) {
+    put(os, m.last_step);
+    put(os, m.t);
+    put(os, m.s);
+    put(os, m.period);
+    put_vec(os, m.up);
+    put_vec(os, m.down);
+  }
+}
+
+void JointPeriods::restore(std::istream& is) {
+  uint64_t n = 0;
+  get(is, n);
+  if (n != meters_.size()) throw InputError("a checkpoint measures other joints' periods than the scene");
+  for (Meter& m : meters_) {
+    get(is, m.last_step);
+    get(is, m.t);
+    get(is, m.s);
+    get(is, m.period);
+    get_vec(is, m.up);
+    get_vec(is, m.down);
+  }
+}
+
 double JointPeriods::period(int joint, int coord) const {
   for (const Meter& m : meters_)
     if (m.joint == joint && m.coord == coord) return m.period;

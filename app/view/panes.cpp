@@ -171,6 +171,39 @@ std::function<void(const World&)> SceneFrames::step_hook() {
   };
 }
 
+void SceneFrames::save_history(std::ostream& os) const {
+  put(os, (uint64_t)variants_.size());
+  for (const auto& v : variants_) {
+    put(os, (uint8_t)v->started);
+    std::ostringstream w;
+    v->loop->world().save_state(w);
+    put_str(os, w.str());
+  }
+  put(os, (uint64_t)(view_ ? 1 : panes_.size()));
+  if (view_) view_->save_history(os);
+  for (const auto& p : panes_) p->view->save_history(os);
+}
+
+void SceneFrames::restore_history(std::istream& is) {
+  uint64_t n = 0;
+  get(is, n);
+  if (n != variants_.size()) throw InputError("a checkpoint's variants are not the scene's");
+  for (auto& v : variants_) {
+    uint8_t started = 0;
+    get(is, started);
+    v->started = started != 0;
+    std::string bytes;
+    get_str(is, bytes);
+    std::istringstream w(bytes);
+    v->loop->world().restore_state(w);
+    v->loop->state_restored();
+  }
+  get(is, n);
+  if (n != (view_ ? 1 : panes_.size())) throw InputError("a checkpoint's panes are not the scene's");
+  if (view_) view_->restore_history(is);
+  for (auto& p : panes_) p->view->restore_history(is);
+}
+
 void SceneFrames::advance_variants(const World& main) {
   for (auto& v : variants_) {
     FrameLoop& loop = *v->loop;

@@ -63,6 +63,14 @@ class SceneFrames {
   // For the warning about empty frames: whether the frame shows no body at all to a camera fixed
   // in the world (false when no pane's camera is: a following or riding camera always sees one).
   bool shows_nothing(const World& main) const;
+  // The variants advanced to the main world's present time, as draw() does first.
+  void sync(const World& main) { advance_variants(main); }
+  // Everything the frames depend on besides the main world's present state: the variants' worlds
+  // (advanced to the main world's time: sync() first) and every view's history (trails, periods, a
+  // damped follow). A render that restores the main world's state and this at a frame draws the
+  // frames after it as a straight render does (app/view/view_state.hpp).
+  void save_history(std::ostream& os) const;
+  void restore_history(std::istream& is);
   // Every world drawn, main first, then the variants in order (check compares all their states).
   std::vector<const World*> worlds() const;
   /// The variants' notes and the images that could not be decoded (SceneMeshes::notes).

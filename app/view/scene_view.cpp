@@ -76,7 +76,7 @@ SceneView::SceneView(const Scene& scene, const World& world, const ViewOptions& 
   rs.cache_ground = follow < 0 && ride < 0 && !moving();
   if (scene.overlays.any())
     overlays = std::make_unique<SceneOverlays>(scene, world, body_radii(world, meshes), rs.width, rs.height,
-                                               std::max(1, o.threads));
+                                               std::max(1, o.threads), o.prepass);
   for (const BodyLook& l : scene.looks)
     if (l.ghost.on && !ghosts) ghosts = std::make_unique<GhostView>(scene, world);
 }
@@ -109,6 +109,27 @@ const uint8_t* SceneView::draw(Renderer& r, const World& world, uint8_t* out, lo
     ghosts->build(world, meshes, dl_);
   }
   return r.render(dl_, out);
+}
+
+void SceneView::save_history(std::ostream& os) const {
+  put(os, (uint8_t)(overlays ? 1 : 0));
+  if (overlays) overlays->save_history(os);
+  put(os, (uint8_t)(damped ? 1 : 0));
+  if (damped) put(os, damped->state());
+}
+
+void SceneView::restore_history(std::istream& is) {
+  uint8_t has = 0;
+  get(is, has);
+  if (has != (overlays ? 1 : 0)) throw InputError("a checkpoint's overlays are not the scene's");
+  if (overlays) overlays->restore_history(is);
+  get(is, has);
+  if (has != (damped ? 1 : 0)) throw InputError("a checkpoint's camera follow is not the scene's");
+  if (damped) {
+    DampedFollow::State st;
+    get(is, st);
+    damped->set_state(st);
+  }
 }
 
 std::function<void(const World&)> SceneView::step_hook() {

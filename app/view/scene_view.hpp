@@ -21,8 +21,9 @@ struct ViewOptions {
   int width = 0, height = 0;  ///< px; 0: the scene's (odd sizes round up to even for video)
   std::string aa;             ///< "": the scene's; fxaa, msaa2, msaa4, none
   bool no_shadows = false;
-  std::string gl;   ///< "": the default backend; osmesa, egl
-  int threads = 1;  ///< for the overlays' pre-pass (frames are the same for any count)
+  std::string gl;                   ///< "": the default backend; osmesa, egl
+  int threads = 1;                  ///< for the overlays' pre-pass (frames are the same for any count)
+  PrepassStore* prepass = nullptr;  ///< record or replay the pre-passes (app/view/view_state.hpp)
 };
 
 struct SceneView {
@@ -57,6 +58,10 @@ struct SceneView {
   // For FrameLoop::Hooks::step: records trails and joints' periods, and advances a damped follow,
   // at every physics step (empty if there is none of these).
   std::function<void(const World&)> step_hook();
+  // What step_hook() has gathered (trails, periods, the damped follow), for a render that resumes
+  // mid-clip (app/view/view_state.hpp).
+  void save_history(std::ostream& os) const;
+  void restore_history(std::istream& is);
 
  private:
   DrawList dl_;
