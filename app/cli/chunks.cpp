@@ -156,6 +156,7 @@ void write_chunk_record(const std::string& path, const ChunkRecord& r) {
   j["width"] = r.width;
   j["height"] = r.height;
   j["scene"] = r.scene;
+  j["command"] = r.command;
   AtomicFile f(path);
   const std::string text = j.dump(2) + "\n";
   if (std::fwrite(text.data(), 1, text.size(), f.get()) != text.size())
@@ -182,6 +183,8 @@ ChunkRecord read_chunk_record(const std::string& path) {
     r.width = j.at("width").get<int>();
     r.height = j.at("height").get<int>();
     r.scene = j.value("scene", "");
+    r.command = j.value("command", "");
+    r.folder = std::filesystem::path(path).parent_path().string();
   } catch (const json::exception& e) {
     throw InputError(path + ": not a chunk record written by simreel render --chunk (" + e.what() + ")");
   }

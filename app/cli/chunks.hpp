@@ -57,6 +57,8 @@ struct ChunkRecord {
   std::string kind;     ///< "mp4", "mov", "mkv", "webm" (packets), "frames" (PNGs for a GIF join)
   int width = 0, height = 0;
   std::string scene;
+  std::string command;  ///< the chunk's render command, "{}" where its I/N stands
+  std::string folder;   ///< where the record was read (not stored): the segment is beside it
 };
 std::string chunk_stem(const std::string& stem, int index, int chunks);  ///< "<stem>.chunk-02-of-04"
 

@@ -71,9 +71,12 @@ int cmd_join(const std::vector<std::string>& args) {
   CLI::App app;
   join_table(app, o);
   if (!cli::parse(app, args)) return kExitOk;
-  if (o.dirs.size() != 1) throw UsageError("join takes one folder of chunks");
+  if (o.dirs.empty()) throw UsageError("join takes the folder of the chunks (or several folders)");
   if (!o.out) throw UsageError("join needs -o OUT (.mp4, .mov, .mkv, .webm or .gif)");
-  const std::string dir = o.dirs[0], out = *o.out, ext = lower_ext(out);
+  // The folders, for messages: "parts" or "parts/0, parts/1, ...".
+  std::string dir;
+  for (const std::string& d : o.dirs) dir += (dir.empty() ? "" : ", ") + d;
+  const std::string out = *o.out, ext = lower_ext(out);
   const std::vector<std::string> exts = {".mp4", ".mov", ".mkv", ".webm", ".gif"};
   if (std::find(exts.begin(), exts.end(), ext) == exts.end())
     throw UsageError("-o '" + out + "' must end in .mp4, .mov, .mkv, .webm or .gif");
@@ -81,16 +84,18 @@ int cmd_join(const std::vector<std::string>& args) {
   if ((o.gif_width || o.gif_fps) && !gif)
     throw UsageError("--gif-width and --gif-fps apply to a .gif output");
   std::error_code ec;
-  if (!fs::is_directory(dir, ec)) throw InputError(dir + ": no such folder");
+  for (const std::string& d : o.dirs)
+    if (!fs::is_directory(d, ec)) throw InputError(d + ": no such folder");
 
   // The records, grouped by clip: NAME.chunk-I-of-N.json.
   const std::regex pat(R"((.+)\.chunk-(\d+)-of-(\d+)\.json)");
   std::map<std::string, std::vector<fs::path>> clips;
-  for (const auto& e : fs::directory_iterator(dir, ec)) {
-    std::smatch m;
-    const std::string f = e.path().filename().string();
-    if (std::regex_match(f, m, pat)) clips[m[1].str()].push_back(e.path());
-  }
+  for (const std::string& d : o.dirs)
+    for (const auto& e : fs::directory_iterator(d, ec)) {
+      std::smatch m;
+      const std::string f = e.path().filename().string();
+      if (std::regex_match(f, m, pat)) clips[m[1].str()].push_back(e.path());
+    }
   if (o.name) {
     const auto it = clips.find(*o.name);
     if (it == clips.end()) throw InputError(dir + ": no chunks named " + *o.name + ".chunk-*");
@@ -138,9 +143,12 @@ int cmd_join(const std::vector<std::string>& args) {
   for (int i = 0; i < r0.chunks; ++i)
     if (!have[(size_t)i]) {
       ++nmissing;
+      std::string cmd = r0.command;
+      const std::string id = std::to_string(i) + "/" + std::to_string(r0.chunks);
+      if (const size_t at = cmd.find("{}"); at != std::string::npos) cmd.replace(at, 2, id);
+      if (cmd.empty()) cmd = "simreel render " + r0.scene + " --chunk " + id + " -o " + o.dirs[0] + "/";
       missing += "\n  chunk " + std::to_string(i) + " (frames " + std::to_string(table[(size_t)i].first) +
-                 " to " + std::to_string(table[(size_t)i].last) + "): simreel render " + r0.scene +
-                 " --chunk " + std::to_string(i) + "/" + std::to_string(r0.chunks) + " -o " + dir + "/";
+                 " to " + std::to_string(table[(size_t)i].last) + "): " + cmd;
     }
   if (nmissing)
     throw InputError(dir + ": " + std::to_string(nmissing) + " of " + std::to_string(r0.chunks) +
@@ -158,8 +166,8 @@ int cmd_join(const std::vector<std::string>& args) {
     throw InputError(dir + ": the chunks end at frame " + std::to_string(recs.back().last) + " of " +
                      std::to_string(r0.total_frames));
   if (gif != (r0.kind == "frames"))
-    throw UsageError(gif ? dir + ": a GIF is made from lossless chunks: render them with -o " + dir + "/" +
-                               name + ".gif (PNG frames), not " + r0.kind + " segments"
+    throw UsageError(gif ? dir + ": a GIF is made from lossless chunks: render them with -o " + o.dirs[0] +
+                               "/" + name + ".gif (PNG frames), not " + r0.kind + " segments"
                          : dir +
                                ": these chunks are PNG frames for a GIF: join them with -o NAME.gif, or "
                                "render the chunks with -o " +
@@ -173,7 +181,8 @@ int cmd_join(const std::vector<std::string>& args) {
   double duration = 0;
   if (!gif) {
     std::vector<JoinSegment> segs;
-    for (const ChunkRecord& r : recs) segs.push_back({(fs::path(dir) / r.segment).string(), r.first, r.last});
+    for (const ChunkRecord& r : recs)
+      segs.push_back({(fs::path(r.folder) / r.segment).string(), r.first, r.last});
     const JoinResult jr = join_segments(segs, r0.fps, out);
     packets = jr.packets;
     duration = jr.duration;
@@ -199,7 +208,7 @@ int cmd_join(const std::vector<std::string>& args) {
       for (long k = r.first; k <= r.last; ++k) {
         char f[32];
         std::snprintf(f, sizeof f, "frame_%05ld.png", k);
-        const fs::path p = fs::path(dir) / r.segment / f;
+        const fs::path p = fs::path(r.folder) / r.segment / f;
         const Image img = read_png(p.string());
         if (img.width != r0.width || img.height != r0.height)
           throw InputError(p.string() + ": " + std::to_string(img.width) + "x" + std::to_string(img.height) +

@@ -343,8 +343,9 @@ int cmd_render(const std::vector<std::string>& args) {
   if (r.scenes.size() != 1) throw UsageError("render takes one scene file");
   if (r.no_video && !r.frames_dir) throw UsageError("--no-video needs --frames-dir");
   if (r.overwrite && !r.frames_dir) throw UsageError("--overwrite needs --frames-dir");
-  if (r.at && (r.frames || r.frames_dir || r.no_video))
-    throw UsageError("--at writes one PNG: it does not go with --frames, --frames-dir or --no-video");
+  if (r.at && (r.frames || r.frames_dir || r.no_video || r.chunk))
+    throw UsageError(
+        "--at writes one PNG: it does not go with --frames, --frames-dir, --no-video or --chunk");
   const bool gif = r.out && !r.at && !r.no_video && lower_ext(*r.out) == ".gif";
   if ((r.gif_width || r.gif_fps) && !gif)
     throw UsageError(std::string(r.gif_width ? "--gif-width" : "--gif-fps") +
@@ -561,6 +562,15 @@ int cmd_render(const std::vector<std::string>& args) {
       rec.width = w;
       rec.height = h;
       rec.scene = r.scenes[0];
+      // The command that made it, for join's list of missing chunks: the same options, "{}" for I/N.
+      rec.command = g_invoked_as + " render";
+      for (size_t a = 0; a < args.size(); ++a) {
+        std::string arg = args[a];
+        if (arg.rfind("--chunk=", 0) == 0) arg = "--chunk={}";
+        if (a > 0 && args[a - 1] == "--chunk") arg = "{}";
+        if (arg.find_first_of(" '\"$") != std::string::npos) arg = "'" + arg + "'";
+        rec.command += " " + arg;
+      }
       write_chunk_record(job->record_path, rec);
     }
   } else if (done > 0) {

@@ -231,6 +231,21 @@ TEST(Chunks, PlotTrailAndAutoCameraSameChunkedAsStraight) {
   EXPECT_EQ(run("diff " + d + "joined.mp4 " + d + "straight.mp4 --tolerance exact --quiet").code, 0);
 }
 
+// A variant's world, a damped following camera, motion blur and trails in two panes: the same
+// frames from checkpoints as straight.
+TEST(Chunks, VariantsDampedFollowAndBlurSameFromCheckpoints) {
+  const std::string d = scratch("");
+  const std::string scene = "tests/data/chunks/variants_blur.yaml";
+  ASSERT_EQ(run("render " + scene + " --no-video --quiet --frames-dir " + d + "straight").code, 0);
+  ASSERT_EQ(run("plan " + scene + " --chunks 3 --quiet --checkpoints " + d + "ck").code, 0);
+  for (int i = 0; i < 3; ++i) {
+    const auto r = run("render " + scene + " --quiet --no-video --chunk " + std::to_string(i) +
+                       "/3 --checkpoints " + d + "ck -o " + d + "parts/ --frames-dir " + d + "resumed");
+    ASSERT_EQ(r.code, 0) << r.out;
+  }
+  expect_same_frames(d + "straight", d + "resumed", 51);
+}
+
 // A GIF has one palette for the clip: chunks render lossless frames and join makes the palette.
 TEST(Chunks, GifJoinedEqualsStraightGif) {
   const std::string d = scratch("");
@@ -256,7 +271,9 @@ TEST(Chunks, MissingForeignAndStaleChunksAreRefused) {
   auto j = run("join " + d + "parts -o " + d + "x.mp4");
   EXPECT_EQ(j.code, 2);
   EXPECT_NE(j.out.find("1 of 3 chunks missing"), std::string::npos) << j.out;
-  EXPECT_NE(j.out.find("chunk 1 (frames 20 to 39): simreel render " + kBoxes + " --chunk 1/3"),
+  // ... with the command that makes it: the others' options, its own I/N.
+  EXPECT_NE(j.out.find("chunk 1 (frames 20 to 39): " + std::string(SIMREEL_BIN) + " render " + kBoxes +
+                       " --quiet --chunk 1/3 -o " + d + "parts/"),
             std::string::npos)
       << j.out;
   EXPECT_FALSE(fs::exists(d + "x.mp4"));
@@ -321,15 +338,30 @@ TEST(Chunks, ParallelOverSshLoopback) {
     if (!pid.empty()) sh("kill " + pid);
     GTEST_SKIP() << "sshd started but takes no login: " << slurp(d + "sshd.log");
   }
+  // A shared file system: the remote side works in this folder, the chunks land where join reads.
   const std::string cwd = fs::current_path().string();
   const auto p = sh("parallel --ssh '" + ssh + "' -S 2/127.0.0.1 --workdir " + cwd + " --halt now,fail=1 " +
                     std::string(SIMREEL_BIN) + " render " + kBoxes + " --chunk {}/3 --crf 0 --quiet -o " + d +
                     "parts/ ::: 0 1 2");
+  // None: the scene goes out (--basefile) and is removed after (--cleanup), each chunk's folder comes
+  // back (--return); the remote side works in a folder of its own.
+  fs::create_directories(d + "local");
+  fs::copy_file(kBoxes, d + "local/boxes.yaml");
+  const auto q =
+      sh("cd " + d + "local && parallel --ssh '" + ssh + "' -S 2/127.0.0.1 --workdir " + d +
+         "remote --basefile boxes.yaml --return parts/{}/ --cleanup --halt now,fail=1 " +
+         std::string(SIMREEL_BIN) + " render boxes.yaml --chunk {}/3 --crf 0 --quiet -o parts/{}/ ::: 0 1 2");
   sh("kill " + pid);
   ASSERT_EQ(p.code, 0) << p.out;
   ASSERT_EQ(run("join " + d + "parts -o " + d + "joined.mp4 --quiet").code, 0);
   ASSERT_EQ(run("render " + kBoxes + " --crf 0 --quiet -o " + d + "straight.mp4").code, 0);
   EXPECT_EQ(run("diff " + d + "joined.mp4 " + d + "straight.mp4 --tolerance exact --quiet").code, 0);
+  ASSERT_EQ(q.code, 0) << q.out;
+  EXPECT_FALSE(fs::exists(d + "remote/boxes.yaml")) << "--cleanup left the scene sent";
+  const auto j = run("join " + d + "local/parts/0 " + d + "local/parts/1 " + d + "local/parts/2 -o " + d +
+                     "joined2.mp4 --quiet");
+  ASSERT_EQ(j.code, 0) << j.out;
+  EXPECT_EQ(run("diff " + d + "joined2.mp4 " + d + "straight.mp4 --tolerance exact --quiet").code, 0);
 }
 
 }  // namespace

@@ -648,12 +648,12 @@ TEST(Cli, ReadmeUsageBlockAndHelpListTheSameOptions) {
       EXPECT_TRUE(help.count(o)) << "the README gives simreel " << command << " " << o
                                  << ", which --help does not list";
   }
-  EXPECT_EQ(commands, 5) << top.out;
+  EXPECT_EQ(commands, 7) << top.out;
 }
 
 // Help comes from the option tables, in one layout; --help wins over any other error.
 TEST(Cli, HelpIsGeneratedFromTheTables) {
-  for (const char* c : {"render", "simulate", "inspect", "check", "diff"}) {
+  for (const char* c : {"render", "simulate", "inspect", "check", "diff", "plan", "join"}) {
     const Result h = run(std::string(c) + " --bogus --width 1 --help");
     EXPECT_EQ(h.code, 0) << c << ": " << h.out;
     EXPECT_EQ(h.out.rfind(std::string("usage: simreel ") + c + " ", 0), 0u) << h.out;

@@ -67,13 +67,20 @@ TEST(Slurm, JobArrayRendersChunksAndTheDependentJobJoinsThem) {
     SKIP_OR_FAIL("the single-node Slurm of this test runs as root (or through sudo without a password)");
   const std::string d = test::scratch("");
   const int base = 21000 + (getpid() % 2000) * 2;
+  // slurmd's spool holds Unix sockets, whose paths are at most 108 bytes: a short folder of its own.
+  char spool_tmpl[] = "/tmp/slurm-XXXXXX";
+  ASSERT_NE(mkdtemp(spool_tmpl), nullptr);
+  const std::string spool = spool_tmpl;
+  struct RemoveSpool {
+    std::string dir;
+    ~RemoveSpool() { sh("rm -rf " + dir); }
+  } remove_spool{spool};
   fs::create_directories(d + "state");
-  fs::create_directories(d + "spool");
   std::ofstream(d + "slurm.conf")
       << "ClusterName=simreeltest\nSlurmctldHost=localhost(127.0.0.1)\nSlurmctldPort=" << base
       << "\nSlurmdPort=" << base + 1 << "\nAuthType=auth/none\nCredType=cred/none\n"
-      << "SlurmUser=root\nSlurmdUser=root\nStateSaveLocation=" << d << "state\nSlurmdSpoolDir=" << d
-      << "spool\nSlurmctldPidFile=" << d << "slurmctld.pid\nSlurmdPidFile=" << d
+      << "SlurmUser=root\nSlurmdUser=root\nStateSaveLocation=" << d << "state\nSlurmdSpoolDir=" << spool
+      << "\nSlurmctldPidFile=" << d << "slurmctld.pid\nSlurmdPidFile=" << d
       << "slurmd.pid\nSlurmctldLogFile=" << d << "slurmctld.log\nSlurmdLogFile=" << d << "slurmd.log\n"
       << "ProctrackType=proctrack/linuxproc\nTaskPlugin=task/none\n"
       << "SelectType=select/cons_tres\nSelectTypeParameters=CR_Core\nMpiDefault=none\n"
@@ -108,9 +115,11 @@ TEST(Slurm, JobArrayRendersChunksAndTheDependentJobJoinsThem) {
   ASSERT_EQ(array.code, 0) << array.out;
   const std::string job = trim(array.out);
   const auto join =
-      sh(env + "sbatch --parsable --wait --chdir=" + cwd + " --dependency=afterok:" + job + " --output=" + d +
-         "join.log --wrap '" + bin + " join " + d + "parts -o " + d + "joined.mp4'");
-  ASSERT_EQ(join.code, 0) << join.out << test::slurp(d + "join.log") << test::slurp(d + "chunk-0.log");
+      // --wait returns when the join has run; a job Slurm cannot launch stays queued: a timeout.
+      sh(env + "timeout 240 sbatch --parsable --wait --chdir=" + cwd + " --dependency=afterok:" + job +
+         " --output=" + d + "join.log --wrap '" + bin + " join " + d + "parts -o " + d + "joined.mp4'");
+  ASSERT_EQ(join.code, 0) << join.out << test::slurp(d + "join.log") << test::slurp(d + "chunk-0.log")
+                          << sh(env + "squeue").out << test::slurp(d + "slurmd.log");
   EXPECT_NE(test::slurp(d + "join.log").find("joined 4 chunks of boxes, 66 frames"), std::string::npos)
       << test::slurp(d + "join.log");
   ASSERT_EQ(test::run("render " + scene + " -o " + d + "straight.mp4" + opts).code, 0);
