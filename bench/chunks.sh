@@ -7,8 +7,10 @@
 #
 #   bash bench/chunks.sh [BUILD_DIR] > bench/results/chunks.csv      # ~10 min CPU
 #
-# Scenes: scenes/pile.yaml at 1920x1080 (render-bound: 27 bodies) and a pile of 800 boxes at
-# 640x360 written here (physics-bound). Also printed: S, the fixed cost of a process (load, GL
+# Scenes: scenes/pile.yaml at 1920x1080 for 16 s (render-bound: 27 bodies) and a pile of 800 boxes
+# at 640x360 for 8 s written here (physics-bound). Both are 8 keyframe intervals long exactly (480
+# and 240 frames at 30 fps, a keyframe every 60), so 1, 2 and 4 chunks are even: chunks are whole
+# intervals, and a clip one frame longer would leave the last chunk one frame. Also printed: S, the fixed cost of a process (load, GL
 # context, the first frame: `render --at 0`), P, the physics (`simulate`), and R = straight - P - S.
 set -euo pipefail
 BUILD=${1:-build}
@@ -18,11 +20,11 @@ TMP=$(mktemp -d)
 trap 'rm -rf "$TMP"' EXIT
 
 # 800 boxes in a loose 10 x 10 x 8 lattice dropped on the ground: contacts on every body for most of
-# the 4 s.
+# the 8 s.
 python3 - "$TMP/heavy.yaml" <<'EOF'
 import sys
 rows = ["# 800 boxes dropped in a lattice (bench/chunks.sh)",
-        "simulation: { duration: 4.0, timestep: 0.004166666666666667 }",
+        "simulation: { duration: 7.95, timestep: 0.004166666666666667 }",
         "video: { width: 640, height: 360, fps: 30 }",
         "camera: { position: [9, -9, 6], look_at: [0, 0, 1.5], up: [0, 0, 1], fov: 45 }",
         "ground: { size: 20 }", "bodies:"]
@@ -46,11 +48,11 @@ cpu() {
 echo "scene,size,mode,chunks,plan_cpu_s,chunk_cpu_max_s,chunk_cpu_sum_s,join_cpu_s,total_cpu_s,straight_cpu_s,S_s,P_s,R_s,makespan_s,speedup,cpu_ratio"
 run_scene() {
   local name=$1 scene=$2 w=$3 h=$4
-  local size="--width $w --height $h"
+  local size="--width $w --height $h ${5:-}"
   local straight S P R
   straight=$(cpu "$SIMREEL" render "$scene" $size --quiet -o "$TMP/straight.mp4")
   S=$(cpu "$SIMREEL" render "$scene" $size --quiet --at 0 -o "$TMP/first.png")
-  P=$(cpu "$SIMREEL" simulate "$scene" --quiet)
+  P=$(cpu "$SIMREEL" simulate "$scene" ${5:-} --quiet)
   R=$(awk -v a="$straight" -v p="$P" -v s="$S" 'BEGIN { printf "%.3f", a - p - s }')
   for mode in replay checkpoints; do
     for n in 1 2 4; do
@@ -76,5 +78,5 @@ run_scene() {
     done
   done
 }
-run_scene pile scenes/pile.yaml 1920 1080
+run_scene pile scenes/pile.yaml 1920 1080 "--duration 15.95"
 run_scene heavy800 "$TMP/heavy.yaml" 640 360
