@@ -165,6 +165,10 @@ int cmd_join(const std::vector<std::string>& args) {
   if (recs.back().last != r0.total_frames - 1)
     throw InputError(dir + ": the chunks end at frame " + std::to_string(recs.back().last) + " of " +
                      std::to_string(r0.total_frames));
+  if (r0.kind == "none")
+    throw UsageError(dir +
+                     ": these chunks were rendered with --no-video (PNG frames only, in their --frames-dir): "
+                     "there is no video to join");
   if (gif != (r0.kind == "frames"))
     throw UsageError(gif ? dir + ": a GIF is made from lossless chunks: render them with -o " + o.dirs[0] +
                                "/" + name + ".gif (PNG frames), not " + r0.kind + " segments"
