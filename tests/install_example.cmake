@@ -38,3 +38,20 @@ endif()
 if(NOT EXISTS ${WORK}/prefix/bin/simreel)
   message(FATAL_ERROR "simreel was not installed")
 endif()
+# The Python package, where it was built: under PREFIX/lib/python3/dist-packages, importable from
+# there and nowhere else (PYTHONPATH is the installed folder, not the build's).
+if(PYTHON)
+  if(NOT EXISTS ${WORK}/prefix/lib/python3/dist-packages/simreel/__init__.py)
+    message(FATAL_ERROR "the Python package was not installed under PREFIX/lib/python3/dist-packages")
+  endif()
+  # (a file: the code's line breaks would otherwise be CMake list separators)
+  file(WRITE ${WORK}/installed.py "import simreel\n"
+       "sim = simreel.Scene('x').add_body('b', shape='sphere', radius=0.1).build()\n"
+       "sim.step(240)\n"
+       "print(simreel.__file__, sim.time, sim.positions[0][2])\n")
+  step(${CMAKE_COMMAND} -E env PYTHONPATH=${WORK}/prefix/lib/python3/dist-packages ${PYTHON} ${WORK}/installed.py)
+  message(STATUS "${OUT}")
+  if(NOT OUT MATCHES "^${WORK}/prefix/lib/python3/dist-packages/simreel/__init__.py 1.0 ")
+    message(FATAL_ERROR "the installed Python package did not run as expected:\n${OUT}")
+  endif()
+endif()
