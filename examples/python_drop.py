@@ -7,6 +7,7 @@ The ball falls from 2 m; before the first bounce its height is 2 - g t^2 / 2 exa
 integrator is exact for constant gravity), it lands at t = sqrt(2 h / g) = 0.639 s, and each bounce
 returns it at `restitution` times the speed it arrived with.
 """
+# %% The scene, built in code
 import math
 import sys
 
@@ -25,6 +26,7 @@ scene.add_body("ball", shape="sphere", radius=0.1, density=800, position=[0, 0, 
                color=[0.85, 0.35, 0.2], restitution=0.7)
 sim = scene.build()
 
+# %% Step it, read the height, write the frames
 g, h0 = 9.81, 2.0  # m/s^2; the ball's lowest point starts 2 m up
 print("   t (s)   height (m)   closed form (m)")
 heights = []
@@ -37,6 +39,7 @@ with simreel.Renderer(sim) as renderer, simreel.VideoWriter(out, fps=30) as vide
             print(f"{sim.time:8.3f} {z:12.6f} {h0 - g * sim.time**2 / 2:14.6f}")
         video.write(renderer.render(out=frame))
         sim.step(8)  # 1/30 s
+# %% Compare with the closed form
 land = math.sqrt(2 * h0 / g)
 up = next(k for k, (t, z, vz) in enumerate(heights) if vz > 0)  # the first frame going up again
 print(f"first landing: closed form {land:.4f} s; simulated: between the frames at {heights[up - 1][0]:.4f} "
