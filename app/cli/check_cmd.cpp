@@ -87,9 +87,19 @@ struct SceneOutcome {
 
 struct CheckOptions {
   std::vector<std::string> scenes;
-  std::optional<std::string> goldens, update, frames, tolerance, report, junit, gl;
+  std::optional<std::string> goldens, update, frames, tolerance, report, junit, gl, golden_names;
   bool quiet = false;
 };
+
+// Whether the environment says CI: the variable set to anything but "", 0, false, no or off (in
+// any case): CI=false on a developer's machine is not CI.
+bool ci_env() {
+  const char* v = std::getenv("CI");
+  if (!v) return false;
+  std::string s = v;
+  for (char& c : s) c = (char)std::tolower((unsigned char)c);
+  return !(s.empty() || s == "0" || s == "false" || s == "no" || s == "off");
+}
 
 // check's option table.
 void check_table(CLI::App& app, CheckOptions& o) {
@@ -127,6 +137,11 @@ void check_table(CLI::App& app, CheckOptions& o) {
   app.add_option("--junit", o.junit, "write JUnit XML (one test case per scene and frame) for CI systems")
       ->type_name("FILE");
   app.add_option("--gl", o.gl, "OpenGL context: osmesa or egl")->check(cli::choice({"osmesa", "egl"}));
+  app.add_option("--golden-names", o.golden_names,
+                 "stem (default): a scene's goldens are in DIR/<file name without extension>; path: in "
+                 "DIR/<its path from the current folder without extension>, so that two scenes with one "
+                 "file name in different folders can be checked together")
+      ->check(cli::choice({"stem", "path"}));
   app.add_flag("--quiet", o.quiet, "print only failures and the summary");
 }
 
@@ -140,8 +155,26 @@ int cmd_check(const std::vector<std::string>& args) {
   if (o.scenes.empty()) throw UsageError("check takes one or more scene files");
   if (!o.goldens) throw UsageError("check needs --goldens DIR");
   const std::string goldens = *o.goldens;
-  Update update = std::getenv("CI") || !isatty(1) ? Update::none : Update::missing;
+  // Why nothing is written without --update: said when goldens are missing.
+  const char* no_update_reason = ci_env()     ? "CI is set"
+                                 : !isatty(1) ? "the output is not a terminal"
+                                              : nullptr;
+  Update update = no_update_reason ? Update::none : Update::missing;
   if (o.update) update = kUpdates.parse(*o.update).value_or(Update::none);  // names checked by the table
+  if (o.update) no_update_reason = nullptr;
+  {
+    // A wrong --goldens path must not read as every golden missing.
+    std::error_code ec;
+    if (std::filesystem::exists(goldens, ec) && !std::filesystem::is_directory(goldens, ec))
+      throw UsageError("--goldens '" + goldens + "' is not a folder");
+    if (!std::filesystem::exists(goldens, ec) && update == Update::none)
+      throw InputError(
+          "--goldens '" + goldens + "': no such folder (a first run writes it: --update missing" +
+          std::string(no_update_reason
+                          ? std::string(", which is not the default here since ") + no_update_reason
+                          : "") +
+          ")");
+  }
   Tolerance tolerance = Tolerance::automatic;
   if (o.tolerance) tolerance = kTolerances.parse(*o.tolerance).value_or(Tolerance::automatic);
   ViewOptions vo;
@@ -188,9 +221,24 @@ int cmd_check(const std::vector<std::string>& args) {
       scene_error(path, e.what());
       continue;
     }
-    if (!names.insert(scene.name).second) {
-      scene_error(path, path + ": another scene named '" + scene.name + "' uses the same golden folder " +
-                            goldens + "/" + scene.name);
+    // The golden folder's name: the file's stem, or with --golden-names path its path from here.
+    std::string golden_name = scene.name;
+    if (o.golden_names && *o.golden_names == "path") {
+      std::error_code ec;
+      std::filesystem::path rel = std::filesystem::relative(path, std::filesystem::current_path(), ec);
+      if (ec || rel.empty() || *rel.begin() == "..") {
+        scene_error(path, path +
+                              ": --golden-names path names goldens by the scene's path from the current "
+                              "folder, and this scene is outside it: run check from a folder above it");
+        continue;
+      }
+      golden_name = rel.replace_extension().generic_string();
+    }
+    if (!names.insert(golden_name).second) {
+      scene_error(
+          path, path + ": another scene named '" + golden_name + "' uses the same golden folder " + goldens +
+                    "/" + golden_name +
+                    (o.golden_names ? "" : " (--golden-names path names them by their paths instead)"));
       continue;
     }
     fit_camera(scene, 1);  // camera: { auto: true }
@@ -203,7 +251,7 @@ int cmd_check(const std::vector<std::string>& args) {
       scene_error(path, path + ": --frames / test.frames: " + e.what());
       continue;
     }
-    const std::string dir = (std::filesystem::path(goldens) / scene.name).string();
+    const std::string dir = (std::filesystem::path(goldens) / golden_name).string();
     const std::string manifest_path = (std::filesystem::path(dir) / "manifest.json").string();
     Manifest manifest;
     bool have_manifest = std::filesystem::exists(manifest_path);
@@ -216,6 +264,11 @@ int cmd_check(const std::vector<std::string>& args) {
       }
     }
     manifest.scene = scene.name;
+    // What the bodies weigh: a changed mass or inertia is physics, from frame 0 on (where the
+    // bodies have not moved yet and only the pixels would otherwise differ).
+    const std::vector<BodyMass> masses = body_masses(loop.world());
+    const std::vector<std::string> mass_changes =
+        have_manifest ? compare_masses(manifest.masses, masses) : std::vector<std::string>{};
 
     // Run: the physics through every step, a frame drawn only at the checked moments.
     vo.width = scene.test.width;
@@ -312,7 +365,8 @@ int cmd_check(const std::vector<std::string>& args) {
       bool pass = false;
       if (golden_ok) {
         // Physics first: a changed trajectory explains any changed picture.
-        const std::vector<std::string> physics = compare_states(g->bodies, c.bodies);
+        std::vector<std::string> physics = mass_changes;
+        for (const std::string& m : compare_states(g->bodies, c.bodies)) physics.push_back(m);
         for (const std::string& m : physics) rf.messages.push_back("physics changed: " + m);
         if (g->step != c.target.step)
           rf.messages.push_back("physics changed: the frame is taken at step " +
@@ -445,7 +499,8 @@ int cmd_check(const std::vector<std::string>& args) {
       report.frames.push_back(std::move(rf));
     }
     // --update changed or all also records what the scene reads now, when that is all that changed.
-    if ((update == Update::changed || update == Update::all) && have_manifest && manifest.inputs != inputs)
+    if ((update == Update::changed || update == Update::all) && have_manifest &&
+        (manifest.inputs != inputs || manifest.masses.empty() || !mass_changes.empty()))
       manifest_dirty = true;
     if (manifest_dirty) {
       if (update == Update::all) {  // exactly the frames checked now: drop those no longer asked for
@@ -465,6 +520,7 @@ int cmd_check(const std::vector<std::string>& args) {
       manifest.simreel_version = kVersion;
       manifest.scene_hash = scene_hash;
       manifest.inputs = inputs;
+      manifest.masses = masses;
       write_manifest(manifest_path, manifest);
     }
     if (!quiet)
@@ -484,7 +540,12 @@ int cmd_check(const std::vector<std::string>& args) {
   summary << differ << " of " << frames_total << " frames differ (" << physics << " physics, ";
   if (input) summary << input << " input, ";
   summary << rendering << " rendering)";
-  if (missing) summary << ", " << missing << " without a golden (--update missing writes them)";
+  if (missing)
+    summary << ", " << missing << " without a golden (--update missing writes them"
+            << (no_update_reason ? std::string("; nothing was written since ") + no_update_reason +
+                                       ", where --update defaults to none"
+                                 : std::string())
+            << ")";
   if (written_total) summary << ", " << written_total << " goldens written";
   if (bad_input)
     summary << ", " << bad_input << (bad_input == 1 ? " scene" : " scenes") << " could not be checked";

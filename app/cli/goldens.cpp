@@ -79,6 +79,17 @@ Manifest read_manifest(const std::string& path) {
     m.scene_hash = j.value("scene_hash", "");
     if (j.contains("inputs"))
       for (const auto& [k, v] : j.at("inputs").items()) m.inputs[k] = v.get<std::string>();
+    if (j.contains("masses"))
+      for (const json& b : j.at("masses")) {
+        BodyMass bm;
+        bm.name = b.at("name").get<std::string>();
+        bm.mass = b.at("mass").get<double>();
+        bm.center_of_mass = vec3(b.at("center_of_mass"));
+        const json& I = b.at("inertia");
+        if (!I.is_array() || I.size() != 6) throw std::invalid_argument("inertia: expected 6 numbers");
+        for (int k = 0; k < 6; ++k) bm.inertia[k] = I.at(k).get<double>();
+        m.masses.push_back(bm);
+      }
     for (const json& f : j.at("frames")) {
       GoldenFrame g;
       g.time = f.at("time").get<double>();
@@ -120,6 +131,16 @@ void write_manifest(const std::string& path, const Manifest& m) {
     json in = json::object();
     for (const auto& [k, v] : m.inputs) in[k] = v;
     j["inputs"] = in;
+  }
+  if (!m.masses.empty()) {
+    json ms = json::array();
+    for (const BodyMass& b : m.masses)
+      ms.push_back({{"name", b.name},
+                    {"mass", b.mass},
+                    {"center_of_mass", vec(b.center_of_mass)},
+                    {"inertia", json::array({b.inertia[0], b.inertia[1], b.inertia[2], b.inertia[3],
+                                             b.inertia[4], b.inertia[5]})}});
+    j["masses"] = std::move(ms);
   }
   j["frames"] = json::array();
   for (const GoldenFrame& g : m.frames) {
@@ -194,6 +215,58 @@ std::vector<std::string> compare_states(const std::vector<BodyState>& golden,
     bool known = false;
     for (const BodyState& g : golden) known |= g.name == c.name;
     if (!known) out.push_back("body '" + c.name + "' is new");
+  }
+  return out;
+}
+
+std::vector<BodyMass> body_masses(const World& w) {
+  std::vector<BodyMass> out;
+  for (int i = 0; i < w.body_count(); ++i) {
+    BodyMass b;
+    b.name = w.def(i).name;
+    b.mass = w.mass(i);
+    b.center_of_mass = w.local_centroid(i);
+    const Mat3 I = w.inertia_world(i);
+    const double v[6] = {I(0, 0), I(1, 1), I(2, 2), I(0, 1), I(0, 2), I(1, 2)};
+    for (int k = 0; k < 6; ++k) b.inertia[k] = v[k];
+    out.push_back(b);
+  }
+  return out;
+}
+
+std::vector<std::string> compare_masses(const std::vector<BodyMass>& golden, const std::vector<BodyMass>& now,
+                                        double rtol) {
+  std::vector<std::string> out;
+  auto fmt = [](double v) {
+    char b[40];
+    std::snprintf(b, sizeof b, "%.10g", v);
+    return std::string(b);
+  };
+  auto differs = [&](double g, double n) {
+    return !(std::fabs(n - g) <= rtol * std::max(1.0, std::fabs(g)));
+  };
+  for (const BodyMass& g : golden) {
+    const BodyMass* n = nullptr;
+    for (const BodyMass& c : now)
+      if (c.name == g.name) n = &c;
+    if (!n) continue;  // compare_states names bodies that are gone
+    if (differs(g.mass, n->mass)) {
+      out.push_back("body '" + g.name + "': mass " + fmt(n->mass) + " kg (golden " + fmt(g.mass) + " kg)");
+      continue;
+    }
+    for (int k = 0; k < 3; ++k)
+      if (differs(g.center_of_mass[k], n->center_of_mass[k])) {
+        out.push_back("body '" + g.name + "': centre of mass " + "xyz"[k] + " " + fmt(n->center_of_mass[k]) +
+                      " m in the body frame (golden " + fmt(g.center_of_mass[k]) + " m)");
+        break;
+      }
+    static const char* names[6] = {"xx", "yy", "zz", "xy", "xz", "yz"};
+    for (int k = 0; k < 6; ++k)
+      if (differs(g.inertia[k], n->inertia[k])) {
+        out.push_back("body '" + g.name + "': inertia I" + names[k] + " " + fmt(n->inertia[k]) +
+                      " kg m^2 (golden " + fmt(g.inertia[k]) + " kg m^2)");
+        break;
+      }
   }
   return out;
 }

@@ -38,6 +38,21 @@ struct GoldenFrame {
   std::vector<BodyState> bodies;
 };
 
+// What a body weighs as the scene builds it (mass properties at the start): a golden records them,
+// so that a changed mass or inertia is named as physics from frame 0 on.
+struct BodyMass {
+  std::string name;
+  double mass = 0;                     ///< kg
+  Vec3 center_of_mass = Vec3::Zero();  ///< m, body frame
+  double inertia[6] = {0, 0, 0,
+                       0, 0, 0};  ///< kg m^2 about the centre of mass, world axes at t = 0: xx yy zz xy xz yz
+};
+std::vector<BodyMass> body_masses(const World& w);
+// One message per body whose mass, centre of mass or inertia differs beyond rtol (relative, floor
+// rtol in SI units): "body 'ball': mass 0.42 kg (golden 0.4 kg)"; bodies added or gone are named.
+std::vector<std::string> compare_masses(const std::vector<BodyMass>& golden, const std::vector<BodyMass>& now,
+                                        double rtol = 1e-9);
+
 struct Manifest {
   std::string simreel_version;
   std::string scene;       ///< scene name
@@ -45,6 +60,8 @@ struct Manifest {
   /// The files the scene read (meshes, images, robot files; paths relative to the scene's folder)
   /// and their hashes when written. Empty in manifests written before inputs were recorded.
   std::map<std::string, std::string> inputs;
+  /// Every body's mass properties when written; empty in manifests written before they were recorded.
+  std::vector<BodyMass> masses;
   std::vector<GoldenFrame> frames;
   const GoldenFrame* find(double time) const;  ///< the frame at this time (within 1e-9 s), or null
 };

@@ -6,6 +6,8 @@
 namespace simreel {
 
 inline void put_metrics(const CompareResult& r, ReportFrame& f) {
+  // Images of another size were not compared: no metrics (they would read as a perfect match).
+  if (!r.same_size) return;
   f.differing = r.differing;
   f.antialiased = r.antialiased;
   f.diff_ratio = r.diff_ratio;

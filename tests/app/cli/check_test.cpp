@@ -121,12 +121,77 @@ TEST(Check, GoldensWrittenThenCheckedCleanThenChangesCaught) {
   EXPECT_EQ(r.code, 0) << r.out;
 }
 
+// A changed mass is physics from frame 0 on (where nothing has moved yet); a wrong --goldens path
+// is an error naming it; CI counts only when truthy, and a run that writes nothing says why; a
+// frame of another size shows no metrics; two scenes with one file name coexist by their paths.
+TEST(Check, MassesFoldersCiSizesAndNames) {
+  const fs::path base = simreel::test::scratch_dir();
+  const std::string goldens = (base / "goldens").string();
+  const std::string scene = write_scene(base / "a", scene_text());
+  Result r = run("check " + scene + " --goldens " + (base / "nowhere").string());
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("nowhere': no such folder"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("since the output is not a terminal"), std::string::npos) << r.out;
+  fs::create_directories(goldens);
+  // CI=false is not CI: the reason given is the terminal; CI=1 is.
+  r = simreel::test::run("check " + scene + " --goldens " + goldens, "CI=false");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("nothing was written since the output is not a terminal"), std::string::npos) << r.out;
+  r = simreel::test::run("check " + scene + " --goldens " + goldens, "CI=1");
+  EXPECT_NE(r.out.find("nothing was written since CI is set"), std::string::npos) << r.out;
+  ASSERT_EQ(run("check " + scene + " --goldens " + goldens + " --update missing").code, 0);
+  EXPECT_NE(slurp(fs::path(goldens) / "drop" / "manifest.json").find("\"masses\""), std::string::npos);
+
+  // The box 10% denser, same shape: at t = 0 the bodies have not moved, and the change is physics.
+  std::string denser = scene_text();
+  denser.replace(denser.find("shape: box, size: [0.8, 0.5, 0.3]"), 33,
+                 "shape: box, size: [0.8, 0.5, 0.3], density: 1100");
+  r = run("check " + write_scene(base / "denser", denser) + " --goldens " + goldens +
+          " --update none --frames 0%");
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_NE(r.out.find("FAIL drop t=0s (physics changed)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("physics changed: body 'box': mass 132 kg (golden 120 kg)"), std::string::npos)
+      << r.out;
+
+  // Another frame size: "size changed", and no PSNR or SSIM (nothing was compared).
+  std::string wider = scene_text();
+  wider.replace(wider.find("test: { width: 160"), 18, "test: { width: 200");
+  r = run("check " + write_scene(base / "wider", wider) + " --goldens " + goldens +
+          " --update none --frames 0%");
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_NE(r.out.find("size changed"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("PSNR"), std::string::npos) << r.out;
+
+  // Two drop.yaml in two folders: refused by name, checked by path (from the current folder).
+  write_scene(base / "x", scene_text());
+  write_scene(base / "y", scene_text("0.6"));
+  const std::string in_base = "cd " + base.string() + " && env -u CI " + std::string(SIMREEL_BIN) +
+                              " check x/drop.yaml y/drop.yaml --goldens g --update missing";
+  auto sh = [](const std::string& cmd) {
+    FILE* p = popen((cmd + " 2>&1").c_str(), "r");
+    std::string out;
+    char buf[4096];
+    size_t n;
+    while ((n = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
+    const int st = pclose(p);
+    return Result{WIFEXITED(st) ? WEXITSTATUS(st) : -1, out};
+  };
+  r = sh(in_base);
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("--golden-names path"), std::string::npos) << r.out;
+  r = sh(in_base + " --golden-names path");
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_TRUE(fs::exists(base / "g" / "x" / "drop" / "manifest.json"));
+  EXPECT_TRUE(fs::exists(base / "g" / "y" / "drop" / "manifest.json"));
+}
+
 // llvmpipe's vector width (128 or 256 bits: the CPU, or LP_NATIVE_VECTOR_WIDTH) changes the
 // fingerprint, so pixels are compared portably; but it is the same rasterizer, measured drawing
 // byte-identical frames, so the tight default tolerance applies, not the cross-renderer one that
 // misses small colour changes. A green +0.03 on the box is caught.
 // Goldens notice their inputs: scaling the scene's mesh file by 2% is named in a note (the scene
-// file itself is unchanged), and --update changed records the new hash.
+// file itself is unchanged), frame 0 is a physics change (the body's mass changed), and --update
+// changed records the new hash.
 TEST(Check, GoldensNoticeTheirInputFiles) {
   const fs::path base = simreel::test::scratch_dir();
   const std::string goldens = (base / "goldens").string();
@@ -150,8 +215,10 @@ TEST(Check, GoldensNoticeTheirInputFiles) {
   r = run("check " + scene + " --goldens " + goldens + " --update none");
   EXPECT_NE(r.out.find("drop.yaml: tetra.off changed since its goldens were written"), std::string::npos)
       << r.out;
-  EXPECT_NE(r.out.find("t=0s (input changed)"), std::string::npos) << "frame 0 is not blamed on rendering\n"
-                                                                   << r.out;
+  // Frame 0: the bodies have not moved, but the tetrahedron weighs 6% more: physics, not rendering.
+  EXPECT_NE(r.out.find("t=0s (physics changed)"), std::string::npos) << "frame 0 is not blamed on rendering\n"
+                                                                     << r.out;
+  EXPECT_NE(r.out.find("physics changed: body 't': mass"), std::string::npos) << r.out;
   EXPECT_EQ(r.code, 1) << r.out;  // and the frames differ
   r = run("check " + scene + " --goldens " + goldens + " --update changed --quiet");
   r = run("check " + scene + " --goldens " + goldens + " --update none");
