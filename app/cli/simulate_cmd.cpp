@@ -32,7 +32,7 @@ void simulate_table(CLI::App& app, SimulateOptions& o) {
       app, "simulate",
       "Runs the physics of SCENE with no rendering and prints a summary: steps, bodies, wall time "
       "spent stepping, and the relative drift of total energy and angular momentum (about the centre "
-      "of mass).",
+      "of mass) where the scene conserves them (else what does not: contacts, a pivot, drag, ...).",
       "Ctrl-C (SIGINT), SIGTERM, SIGHUP or SIGQUIT stops the run between steps: the CSV keeps the rows "
       "done and --save-state the state reached; exit 128 + the signal (130, 143, 129, 131).");
   cli::add_positionals(app, o.scenes);

@@ -52,9 +52,57 @@ WorldConfig world_config(const Scene& s, int threads) {
   return c;
 }
 
+Conservation conservation(const Scene& scene, const World& world) {
+  Conservation c;
+  auto breaks = [](bool& flag, std::string& why, const std::string& reason) {
+    if (!flag) return;  // the first reason is enough
+    flag = false;
+    why = reason;
+  };
+  bool fixed_body = false;  // a static or kinematic body: something outside the moving system
+  for (int i = 0; i < world.body_count(); ++i)
+    if (world.type(i) != BodyType::dynamic) fixed_body = true;
+  for (const JointDef& j : scene.joints) {
+    const bool outside = j.parent < 0 || world.type(j.parent) != BodyType::dynamic;
+    if (outside)
+      breaks(c.angular_momentum, c.angular_momentum_why,
+             "a joint holds '" + world.def(j.child).name + "' to " +
+                 (j.parent < 0 ? std::string("the world") : "'" + world.def(j.parent).name + "'"));
+    if (j.friction > 0) breaks(c.energy, c.energy_why, "joint friction takes energy");
+    if (j.motor) breaks(c.energy, c.energy_why, "a joint's motor gives and takes energy");
+    if (j.spring && j.spring->damping > 0) breaks(c.energy, c.energy_why, "a joint's damper takes energy");
+    if (j.limits) breaks(c.energy, c.energy_why, "a joint's limits stop it inelastically");
+    if (outside && world.type(j.parent < 0 ? j.child : j.parent) == BodyType::kinematic)
+      breaks(c.energy, c.energy_why, "a kinematic body drives the mechanism");
+  }
+  // Contacts that happened (a ground the pendulum never reaches takes nothing from it).
+  if (world.has_contacts() && world.contact_stats().contacts_max > 0) {
+    if (fixed_body)
+      breaks(c.angular_momentum, c.angular_momentum_why,
+             "contacts with the ground or a fixed body push from outside");
+    breaks(c.energy, c.energy_why, "contacts take energy (friction, impacts that are not perfectly elastic)");
+  }
+  for (const ForceDef& f : scene.forces) {
+    const bool windowed = std::isfinite(f.from) || std::isfinite(f.to);
+    if (f.kind == ForceKind::spring) {
+      if (f.body_b < 0)
+        breaks(c.angular_momentum, c.angular_momentum_why, "a spring is anchored to the world");
+      if (f.damping > 0) breaks(c.energy, c.energy_why, "a spring's dashpot takes energy");
+      if (windowed) breaks(c.energy, c.energy_why, "a spring acts for part of the run only");
+      continue;
+    }
+    const char* what = f.kind == ForceKind::drag ? "drag" : "applied forces and torques";
+    breaks(c.angular_momentum, c.angular_momentum_why, std::string(what) + " act from outside");
+    breaks(c.energy, c.energy_why,
+           std::string(what) + (f.kind == ForceKind::drag ? " takes energy" : " do work"));
+  }
+  return c;
+}
+
 RunSummary make_summary(const Scene& scene, const World& world, const Drift& drift, int frames,
                         double step_seconds) {
   RunSummary s;
+  s.conserved = conservation(scene, world);
   s.scene = scene.path;
   s.integrator = scene.integrator;
   s.timestep = scene.timestep;
@@ -116,8 +164,16 @@ std::string summary_text(const RunSummary& s) {
   if (s.render_seconds >= 0)
     o << "  rendering: " << s.render_seconds << " s, encoding thread busy " << s.encode_seconds << " s"
       << (s.encoder.empty() ? "" : " (" + s.encoder + ")") << " (" << s.renderer << ")\n";
-  o << "  energy drift: " << s.energy_rel_drift
-    << " (relative), angular momentum drift: " << s.momentum_rel_drift << "\n";
+  // Drift only of what the physics conserves here; what it does not, with the reason.
+  if (s.conserved.energy)
+    o << "  energy (conserved here): drift " << s.energy_rel_drift << " (relative)\n";
+  else
+    o << "  energy is not conserved here: " << s.conserved.energy_why << "\n";
+  if (s.conserved.angular_momentum)
+    o << "  angular momentum about the centre of mass (conserved here): drift " << s.momentum_rel_drift
+      << " (relative)\n";
+  else
+    o << "  angular momentum is not conserved here: " << s.conserved.angular_momentum_why << "\n";
   if (s.contacts)
     o << "  contacts: at most " << s.contacts_max << " points in a step, deepest overlap "
       << s.max_penetration << " m, largest energy rise between frames " << s.energy_gained << " J, "
@@ -174,6 +230,10 @@ std::string summary_json(const RunSummary& s) {
   o["step_seconds"] = s.step_seconds;
   o["energy_rel_drift"] = s.energy_rel_drift;
   o["momentum_rel_drift"] = s.momentum_rel_drift;
+  o["energy_conserved"] = s.conserved.energy;
+  o["angular_momentum_conserved"] = s.conserved.angular_momentum;
+  if (!s.conserved.energy) o["energy_not_conserved"] = s.conserved.energy_why;
+  if (!s.conserved.angular_momentum) o["angular_momentum_not_conserved"] = s.conserved.angular_momentum_why;
   o["contacts_max"] = s.contacts_max;
   o["max_penetration"] = s.max_penetration;
   o["energy_gained"] = s.energy_gained;

@@ -30,6 +30,17 @@ class Drift {
 
 WorldConfig world_config(const Scene& s, int threads);
 
+// What the scene's physics conserves, so that the summary reports drift only for that: the angular
+// momentum about the system's centre of mass when nothing outside pushes (uniform gravity exerts no
+// torque about it; contacts and springs between moving bodies are internal), the energy (kinetic,
+// gravitational and springs') when nothing takes or gives any (no contacts, friction, dashpots,
+// motors, drag or applied forces). `why`: what breaks it, "" when conserved.
+struct Conservation {
+  bool energy = true, angular_momentum = true;
+  std::string energy_why, angular_momentum_why;
+};
+Conservation conservation(const Scene& scene, const World& world);
+
 // The summary of a run: text for people, one JSON object for scripts.
 struct RunSummary {
   std::string scene;
@@ -39,6 +50,7 @@ struct RunSummary {
   int bodies = 0, dynamic_bodies = 0, frames = 0;
   double step_seconds = 0;  ///< wall time inside World::step only
   double energy_rel_drift = 0, momentum_rel_drift = 0;
+  Conservation conserved;             ///< what the drifts are meaningful for
   bool contacts = false;              ///< the scene has colliding shapes
   int contacts_max = 0;               ///< most contact points in a step
   double max_penetration = 0;         ///< m, over the run

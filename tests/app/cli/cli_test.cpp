@@ -122,6 +122,28 @@ TEST(Cli, SimulateWritesTheCsvAtEveryFrameAndAJsonSummary) {
 // --profile: time per stage and what each stage skipped. kGood plus a static box: the box is
 // gyroscopic, the sphere isotropic (auto gives it no gyroscopic work), the static box is never
 // integrated; no force field or wrench, so forces and clear are skipped in every step.
+// The summary reports drift only for what the scene conserves, and says what breaks the rest: a
+// pendulum keeps its energy (the ground it never reaches takes nothing) but not its angular
+// momentum (the pivot holds it); a free tumbling body keeps both; a pile keeps neither.
+TEST(Cli, SummaryReportsDriftOnlyForWhatIsConserved) {
+  Result r = run("simulate scenes/pendulum.yaml --duration 1");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("energy (conserved here): drift"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("angular momentum is not conserved here: a joint holds 'pendulum' to the world"),
+            std::string::npos)
+      << r.out;
+  EXPECT_EQ(r.out.find("angular momentum drift"), std::string::npos) << r.out;
+  r = run("simulate scenes/dzhanibekov.yaml --duration 1 --json");
+  EXPECT_NE(r.out.find("\"energy_conserved\":true"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\"angular_momentum_conserved\":true"), std::string::npos) << r.out;
+  r = run("simulate scenes/pile.yaml --duration 1");
+  EXPECT_NE(r.out.find("energy is not conserved here: contacts take energy"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("angular momentum is not conserved here: contacts with the ground"), std::string::npos)
+      << r.out;
+  r = run("simulate scenes/spring_pendulum.yaml --duration 1");
+  EXPECT_NE(r.out.find("energy is not conserved here: drag takes energy"), std::string::npos) << r.out;
+}
+
 TEST(Cli, ProfileShowsStagesAndWhatWasSkipped) {
   const std::string scene = std::string(kGood) +
                             "  - name: floor\n    static: true\n    position: [0, 0, -50]\n"
