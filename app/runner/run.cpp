@@ -80,7 +80,14 @@ Conservation conservation(const Scene& scene, const World& world) {
     if (fixed_body)
       breaks(c.angular_momentum, c.angular_momentum_why,
              "contacts with the ground or a fixed body push from outside");
-    breaks(c.energy, c.energy_why, "contacts take energy (friction, impacts that are not perfectly elastic)");
+    // Every collider frictionless and perfectly elastic (restitution 1): impacts keep the energy.
+    bool elastic = true;
+    for (int i = 0; i < world.body_count(); ++i)
+      for (const Collider& k : world.def(i).colliders)
+        elastic = elastic && k.friction == 0 && k.restitution == 1;
+    if (!elastic)
+      breaks(c.energy, c.energy_why,
+             "contacts take energy (friction, impacts that are not perfectly elastic)");
   }
   for (const ForceDef& f : scene.forces) {
     const bool windowed = std::isfinite(f.from) || std::isfinite(f.to);

@@ -46,9 +46,9 @@ std::string line_text(const YAML::Node& n, const Ctx& w) {
   return n.Scalar();
 }
 
-constexpr EnumNames<ShowKind, 14> kShowKinds{
+constexpr EnumNames<ShowKind, 15> kShowKinds{
     {"axes", "angular_velocity", "angular_momentum", "velocity", "center_of_mass", "trail", "inertia_box",
-     "inertia_ellipsoid", "cones", "poinsot", "forces", "contacts", "joints", "joint_forces"}};
+     "inertia_ellipsoid", "cones", "poinsot", "forces", "contacts", "joints", "joint_forces", "momentum"}};
 static_assert(kShowKinds.complete());
 
 // The keys each kind takes.
@@ -59,6 +59,7 @@ std::vector<std::string> keys_of(ShowKind k) {
     case ShowKind::angular_velocity:
     case ShowKind::angular_momentum:
     case ShowKind::velocity:
+    case ShowKind::momentum:
       return {"color", "scale", "width", "opacity", "xray"};
     case ShowKind::center_of_mass:
       return {"color", "scale", "opacity", "xray"};
@@ -546,7 +547,7 @@ HudField parse_quantity(const std::string& field_in, const Scene& s, int default
     std::string msg = "unknown quantity '" + f.name + "'";
     if (auto sug = nearest(f.name, all)) msg += "; did you mean '" + *sug + "'?";
     msg +=
-        " (t, video_t, frame, E, E_drift, L_drift; per body omega, omega_body, L, v, position, tilt, "
+        " (t, video_t, frame, E, E_drift, L_drift, P; per body omega, omega_body, L, v, p, position, tilt, "
         "precession; per joint angle, speed, period, angle2, speed2, period2)";
     bad(msg);
   }
@@ -557,7 +558,10 @@ HudField parse_quantity(const std::string& field_in, const Scene& s, int default
   if (scalar && (!body.empty() || f.component >= 0 || f.norm))
     bad("'" + f.name + "' is a number of the whole scene: no body, component or |...|");
   if (body_scalar && (f.component >= 0 || f.norm)) bad("'" + f.name + "' is a number: no component or |...|");
-  if (vector) {
+  if (vector && f.name == "P") {  // the whole scene's total momentum: a vector of no one body
+    if (!body.empty()) bad("'P' is the total momentum of all moving bodies: no body (a body's own is p)");
+    f.body = -1;
+  } else if (vector) {
     if (body.empty()) {
       f.body = default_body;
       for (size_t b = 0; b < s.bodies.size() && f.body < 0; ++b)
@@ -594,7 +598,7 @@ const std::vector<std::string>& hud_scalar_names() {
   return v;
 }
 const std::vector<std::string>& hud_body_names() {
-  static const std::vector<std::string> v = {"omega", "omega_body", "L", "v", "position"};
+  static const std::vector<std::string> v = {"omega", "omega_body", "L", "v", "p", "position", "P"};
   return v;
 }
 const std::vector<std::string>& hud_body_scalar_names() {

@@ -48,6 +48,7 @@ enum class ShowKind {
   contacts,           ///< contact points, normals and contact forces on the body
   joints,             ///< the joint holding the body to its parent: the pivot (a ball), the axis, the limits
   joint_forces,       ///< the force and torque the parent exerts on the body through that joint
+  momentum,           ///< linear momentum m v, kg m/s, arrow from the centre of mass
 };
 const char* to_string(ShowKind k);
 

@@ -18,7 +18,8 @@ GhostView::GhostView(const Scene& scene, const World& world) {
       const std::array<float, 3> c =
           g.color ? *g.color
                   : std::array<float, 3>{0.5f + 0.5f * base[0], 0.5f + 0.5f * base[1], 0.5f + 0.5f * base[2]};
-      ghosts_.push_back({i, ghost_motion(world, i), world.principal_orientation(i).conjugate() * world.orientation(i),
+      ghosts_.push_back({i, ghost_motion(world, i),
+                         world.principal_orientation(i).conjugate() * world.orientation(i),
                          world.local_centroid(i), Rgba{c[0], c[1], c[2], (float)g.opacity}, g.offset});
     } catch (const std::domain_error& e) {
       throw InputError(scene.path + ": bodies[" + std::to_string(i) + "].ghost: body '" + world.def(i).name +

@@ -49,6 +49,8 @@ int default_color(ShowKind k) {
       return 0;  // black: reads on the sky and on light and dark bodies alike
     case ShowKind::joint_forces:
       return 6;  // vermillion, as `forces`
+    case ShowKind::momentum:
+      return 8;  // dark yellow (okabe_ito(8)): p and v share a direction but not a colour
   }
   return 0;
 }
@@ -59,7 +61,8 @@ bool is_rope(const JointDef& j) {
 }
 
 bool is_arrow(ShowKind k) {
-  return k == ShowKind::angular_velocity || k == ShowKind::angular_momentum || k == ShowKind::velocity;
+  return k == ShowKind::angular_velocity || k == ShowKind::angular_momentum || k == ShowKind::velocity ||
+         k == ShowKind::momentum;
 }
 
 Vec3 quantity(const World& w, int i, ShowKind k) {
@@ -70,6 +73,8 @@ Vec3 quantity(const World& w, int i, ShowKind k) {
       return w.angular_momentum(i);
     case ShowKind::velocity:
       return w.linear_velocity(i);
+    case ShowKind::momentum:
+      return w.mass(i) * w.linear_velocity(i);
     default:
       return Vec3::Zero();
   }
@@ -77,14 +82,20 @@ Vec3 quantity(const World& w, int i, ShowKind k) {
 
 // The largest component of each magnitude, per body.
 double largest(const Magnitudes& m, ShowKind k) {
-  return k == ShowKind::angular_velocity ? m.omega : k == ShowKind::angular_momentum ? m.L : m.v;
+  return k == ShowKind::angular_velocity   ? m.omega
+         : k == ShowKind::angular_momentum ? m.L
+         : k == ShowKind::momentum         ? m.p
+                                           : m.v;
 }
 
 }  // namespace
 
 Rgba okabe_ito(int index, float alpha) {
-  static const int hex[8] = {0x000000, 0xE69F00, 0x56B4E9, 0x009E73, 0xF0E442, 0x0072B2, 0xD55E00, 0xCC79A7};
-  const int h = hex[((index % 8) + 8) % 8];
+  // Index 8: Okabe-Ito's yellow darkened to 75% (#B4AB32), which its own yellow (#F0E442) is too
+  // light to read as on a light ground.
+  static const int hex[9] = {0x000000, 0xE69F00, 0x56B4E9, 0x009E73, 0xF0E442,
+                             0x0072B2, 0xD55E00, 0xCC79A7, 0xB4AB32};
+  const int h = hex[((index % 9) + 9) % 9];
   return {srgb_to_linear(h >> 16), srgb_to_linear((h >> 8) & 255), srgb_to_linear(h & 255), alpha};
 }
 
@@ -97,6 +108,7 @@ void accumulate(const World& w, std::vector<Magnitudes>& m) {
     m[i].omega = std::max(m[i].omega, w.angular_velocity(i).norm());
     m[i].L = std::max(m[i].L, w.angular_momentum(i).norm());
     m[i].v = std::max(m[i].v, w.linear_velocity(i).norm());
+    m[i].p = std::max(m[i].p, w.mass(i) * w.linear_velocity(i).norm());
   }
   if (!w.has_forces()) return;
   struct Max : ForceVisitor {
@@ -724,6 +736,7 @@ void SceneOverlays::build(const World& w, long frame, DrawList& dl) {
       case ShowKind::angular_velocity:
       case ShowKind::angular_momentum:
       case ShowKind::velocity:
+      case ShowKind::momentum:
         dl.overlay.arrow(c, quantity(w, i, s.kind) * it.scale, radius, color, xray);
         break;
       case ShowKind::axes: {

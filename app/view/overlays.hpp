@@ -41,6 +41,7 @@ struct Magnitudes {
   double omega = 0;   ///< rad/s
   double L = 0;       ///< kg m^2/s
   double v = 0;       ///< m/s
+  double p = 0;       ///< kg m/s
   double force = 0;   ///< N, the largest applied force drawn as an arrow (force, spring and drag entries)
   double torque = 0;  ///< N m, the largest torque entry
   double joint_force = 0;   ///< N, the largest reaction force through the joint holding the body
@@ -111,7 +112,7 @@ class JointPeriods {
 
 // Okabe-Ito colour-blind-safe palette (B. Wong, Nature Methods 8, 441, 2011), as linear RGB.
 Rgba okabe_ito(int index, float alpha = 1);  ///< 0 black, 1 orange, 2 sky blue, 3 bluish green, 4 yellow,
-                                             ///< 5 blue, 6 vermillion, 7 reddish purple
+                                             ///< 5 blue, 6 vermillion, 7 reddish purple, 8 dark yellow
 
 // The colour an item is drawn in: its `color` or its kind's Okabe-Ito colour, with its opacity.
 Rgba item_color(const ShowItem& s);

@@ -42,10 +42,12 @@ namespace {
 // A per-body vector quantity of the HUD's names.
 Vec3 body_vector(const HudField& f, const World& w) {
   const int i = f.body;
+  if (f.name == "P") return w.total_momentum();  // the scene's, of every moving body
   if (f.name == "omega") return w.angular_velocity(i);
   if (f.name == "omega_body") return w.angular_velocity_principal(i);
   if (f.name == "L") return w.angular_momentum(i);
   if (f.name == "v") return w.linear_velocity(i);
+  if (f.name == "p") return w.mass(i) * w.linear_velocity(i);
   if (f.name == "position") return w.centroid(i);
   return Vec3::Zero();
 }
@@ -146,7 +148,7 @@ double quantity_value(const HudField& f, const World& w, long frame, double E0, 
     if (f.name.starts_with("speed")) return w.joint_speed(f.joint, f.coord);
     return periods ? periods->period(f.joint, f.coord) : std::numeric_limits<double>::quiet_NaN();
   }
-  if (f.body < 0) {
+  if (f.body < 0 && f.name != "P") {
     const double E = w.kinetic_energy() + w.potential_energy();
     if (f.name == "t") return w.time();
     if (f.name == "video_t") return fps > 0 ? (double)frame / fps : w.time();
@@ -179,7 +181,8 @@ void format_hud_line(const HudLine& line, const World& w, long frame, double E0,
       out += buf;
       continue;
     }
-    if (f.body < 0 || f.norm || f.component >= 0 || f.name == "tilt" || f.name == "precession") {
+    if ((f.body < 0 && f.name != "P") || f.norm || f.component >= 0 || f.name == "tilt" ||
+        f.name == "precession") {
       const double v = quantity_value(f, w, frame, E0, L0, fps, periods);
       if (std::isnan(v)) {
         out += "\u2014";  // not known yet (a period before two turns)
@@ -289,6 +292,9 @@ void SceneOverlays::fill_legend(const Scene& scene) {
           break;
         case ShowKind::velocity:
           add("velocity v", c);
+          break;
+        case ShowKind::momentum:
+          add("momentum p = m v", c);
           break;
         case ShowKind::center_of_mass:
           add("centre of mass", c);

@@ -379,3 +379,41 @@ TEST(OverlaysScreen, TheHudPeriodIsADashUntilMeasured) {
 
 }  // namespace
 }  // namespace simreel
+
+namespace simreel {
+namespace {
+
+// scenes/momentum.yaml: a 1 kg ball at 2 m/s meets a 3 kg ball at -0.5 m/s, elastic, in free space.
+// The HUD's p and P are m v and the total; after the collision they are the closed form of a 1D
+// elastic collision, p_a' = m_a ((m_a - m_b) v_a + 2 m_b v_b) / (m_a + m_b) = -1.75 kg m/s and
+// p_b' = 2.25, and P = 0.5 kg m/s throughout (to the contact solver's 1e-9: it is an impulse
+// exchange between the two, which conserves momentum to round-off). The momentum arrows' automatic
+// scale is the velocity arrows' times 1/m: the largest |p| drawn 2 body radii long.
+TEST(OverlaysScreen, MomentumOfAnElasticCollision) {
+  Drawn d("scenes/momentum.yaml");
+  const SceneOverlays& o = *d.view->overlays;
+  const HudLine& pa = d.scene.overlays.hud[1];
+  ASSERT_EQ(pa.fields[0].name, "p");
+  const HudField P = d.scene.overlays.hud[3].fields[0];
+  ASSERT_EQ(P.name, "P");
+  ASSERT_EQ(P.body, -1);
+  for (long k : {0L, 10L, 40L, 72L}) {  // before (t = 0, 0.33 s) and after (1.33, 2.4 s) the impact
+    d.draw_frame(k);
+    const World& w = d.loop->world();
+    EXPECT_NEAR(quantity_value(P, w, k, 0, Vec3::Zero()), 0.5, 1e-9) << "frame " << k;
+    const double p_a = quantity_value(pa.fields[0], w, k, 0, Vec3::Zero());
+    EXPECT_NEAR(p_a, k <= 10 ? 2.0 : -1.75, 1e-9) << "frame " << k;
+    EXPECT_NEAR(quantity_value(d.scene.overlays.hud[2].fields[0], w, k, 0, Vec3::Zero()),
+                k <= 10 ? -1.5 : 2.25, 1e-9);
+  }
+  // Given scale: 0.4 m per kg m/s, as the scene says.
+  EXPECT_EQ(o.arrow_scale(0, ShowKind::momentum), 0.4);
+  // The unknown-quantity message lists p and P; a body's P is refused.
+  EXPECT_THROW(load_scene_text("bodies: [ { name: a, colliders: [ { shape: sphere, radius: 1 } ] } ]\n"
+                               "overlays: { hud: ['{a.P.x}'] }\n",
+                               "p.yaml"),
+               InputError);
+}
+
+}  // namespace
+}  // namespace simreel
