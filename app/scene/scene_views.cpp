@@ -43,6 +43,93 @@ PaneCamera pane_camera(const YAML::Node& n, const Ctx& c, const Scene& s) {
   return pc;
 }
 
+int body_index(const Scene& s, const YAML::Node& n, const Ctx& c) {
+  const std::string name = text(n, c);
+  check_body(s, name, n, c);
+  for (size_t b = 0; b < s.bodies.size(); ++b)
+    if (s.bodies[b].name == name) return (int)b;
+  return -1;
+}
+
+// The joints at body b (as parent or child).
+std::vector<const JointDef*> joints_at(const Scene& s, int b) {
+  std::vector<const JointDef*> out;
+  for (const JointDef& j : s.joints)
+    if (j.parent == b || j.child == b) out.push_back(&j);
+  return out;
+}
+
+// `bodies: { NAME: { position, orientation | euler | axis_angle, linear_velocity, angular_velocity } }`
+std::vector<VariantStart> variant_starts(const YAML::Node& n, const Ctx& c, const Scene& s) {
+  if (!n.IsMap() || n.size() == 0)
+    c.fail(n,
+           "expected { BODY: { position, orientation, linear_velocity, angular_velocity } }, got " + show(n));
+  std::vector<VariantStart> out;
+  for (const auto& kv : n) {
+    const Ctx bc = c.child(kv.first.as<std::string>());
+    VariantStart v;
+    v.body = body_index(s, kv.first, bc);
+    const YAML::Node b = kv.second;
+    if (!b.IsMap())
+      bc.fail(b, "expected { position, orientation, linear_velocity, angular_velocity }, got " + show(b));
+    check_keys(b, bc,
+               {"position", "orientation", "euler", "axis_angle", "linear_velocity", "angular_velocity"});
+    if (const std::vector<const JointDef*> js = joints_at(s, v.body); !js.empty())
+      bc.fail(kv.first, "is held by joint '" + js[0]->name +
+                            "': a jointed body's start is its mechanism's (turn a mechanism with 'turn:')");
+    if (s.bodies[v.body].type != BodyType::dynamic) bc.fail(kv.first, "is not a moving body");
+    if (b["position"]) v.position = vec<3>(b["position"], bc.child("position"));
+    Quat q;
+    if (orientation(b, bc, q)) v.orientation = q;
+    if (b["linear_velocity"]) v.linear_velocity = vec<3>(b["linear_velocity"], bc.child("linear_velocity"));
+    if (b["angular_velocity"])
+      v.angular_velocity = vec<3>(b["angular_velocity"], bc.child("angular_velocity"));
+    out.push_back(v);
+  }
+  return out;
+}
+
+// `turn: { bodies: [A, B], about: [x, y, z], axis: [x, y, z], angle: degrees }`
+VariantTurn variant_turn(const YAML::Node& n, const Ctx& c, const Scene& s) {
+  if (!n.IsMap())
+    c.fail(n,
+           "expected { bodies: [...], about: [x, y, z], axis: [x, y, z], angle: degrees }, got " + show(n));
+  check_keys(n, c, {"bodies", "about", "axis", "angle"});
+  for (const char* k : {"bodies", "about", "axis", "angle"})
+    if (!n[k]) c.fail(n, std::string("needs '") + k + "' (bodies, about, axis, angle in degrees)");
+  VariantTurn t;
+  const YAML::Node bl = n["bodies"];
+  if (!bl.IsSequence() || bl.size() == 0)
+    c.child("bodies").fail(bl, "expected a list of body names, got " + show(bl));
+  for (size_t k = 0; k < bl.size(); ++k) {
+    const int b = body_index(s, bl[k], c.child("bodies").index(k));
+    if (s.bodies[b].type != BodyType::dynamic) c.child("bodies").index(k).fail(bl[k], "is not a moving body");
+    t.bodies.push_back(b);
+  }
+  t.about = vec<3>(n["about"], c.child("about"));
+  const Vec3 axis = vec<3>(n["axis"], c.child("axis"));
+  if (!(axis.norm() > 0)) c.child("axis").fail(n["axis"], "must not be zero");
+  t.axis = axis.normalized();
+  t.angle = number(n["angle"], c.child("angle")) * M_PI / 180;
+  // A joint from a turned body to the rest must not be torn: its anchor on the line, its axis along it.
+  auto turned = [&](int b) { return std::find(t.bodies.begin(), t.bodies.end(), b) != t.bodies.end(); };
+  for (const JointDef& j : s.joints) {
+    if (turned(j.child) == (j.parent >= 0 && turned(j.parent))) continue;  // both turned, or neither
+    const Vec3 d = j.anchor_W - t.about;
+    const double off = (d - d.dot(t.axis) * t.axis).norm();
+    const bool has_axis = j.type == JointType::revolute || j.type == JointType::prismatic ||
+                          j.type == JointType::universal || j.type == JointType::wheel;
+    const bool distance = j.type == JointType::distance || j.type == JointType::pulley;
+    if (off > 1e-9 * std::max(1.0, d.norm()) || distance)
+      c.fail(n, "would tear joint '" + j.name +
+                    "' (it holds a turned body to one that is not): turn about a line "
+                    "through its anchor");
+    if (has_axis && j.axis_W.normalized().cross(t.axis).norm() > 1e-9)
+      c.fail(n, "would tear joint '" + j.name + "': turn about its axis");
+  }
+  return t;
+}
+
 std::string variant_title(const Scene& s, const VariantSpec* v) {
   const Integrator in = v && v->integrator ? *v->integrator : s.integrator;
   const double dt = v && v->timestep ? *v->timestep : s.timestep;
@@ -78,7 +165,7 @@ void load_views(const YAML::Node& root, const std::string& path, Scene& s) {
       const Ctx e = c.index(k);
       const YAML::Node n = v[k];
       if (!n.IsMap()) e.fail(n, "expected { name: N, integrator: I, timestep: DT }, got " + show(n));
-      check_keys(n, e, {"name", "integrator", "timestep"});
+      check_keys(n, e, {"name", "integrator", "timestep", "bodies", "turn"});
       VariantSpec var;
       if (!n["name"]) e.fail(n, "needs 'name' (what a pane's 'variant:' calls it)");
       var.name = text(n["name"], e.child("name"));
@@ -91,8 +178,10 @@ void load_views(const YAML::Node& root, const std::string& path, Scene& s) {
         if (*var.timestep > s.duration)
           e.child("timestep").fail(n["timestep"], "is longer than the duration");
       }
-      if (!var.integrator && !var.timestep)
-        e.fail(n, "variant '" + var.name + "' changes nothing: give integrator or timestep");
+      if (n["bodies"]) var.starts = variant_starts(n["bodies"], e.child("bodies"), s);
+      if (n["turn"]) var.turn = variant_turn(n["turn"], e.child("turn"), s);
+      if (!var.integrator && !var.timestep && var.starts.empty() && !var.turn)
+        e.fail(n, "variant '" + var.name + "' changes nothing: give integrator, timestep, bodies or turn");
       vs.variants.push_back(var);
     }
   }
@@ -173,6 +262,37 @@ Scene variant_scene(const Scene& s, const VariantSpec& v) {
   Scene out = s;
   out.views = {};
   out.notes.clear();
+  for (const VariantStart& st : v.starts) {
+    BodyDef& b = out.bodies[st.body];
+    if (st.position) b.p_WB = *st.position;
+    if (st.orientation) b.q_WB = *st.orientation;
+    if (st.linear_velocity) b.v_W = *st.linear_velocity;
+    if (st.angular_velocity) b.w_W = *st.angular_velocity;
+  }
+  if (v.turn) {
+    const VariantTurn& t = *v.turn;
+    const Quat R(Eigen::AngleAxisd(t.angle, t.axis));
+    auto point = [&](const Vec3& p) -> Vec3 {
+      return t.about + R * (p - t.about);
+    };  // a Vec3: not an Eigen expression of temporaries
+    for (int b : t.bodies) {
+      BodyDef& d = out.bodies[b];
+      // The origin turns about the line; the velocities of the centre of mass and the spin turn with the
+      // body.
+      d.p_WB = point(d.p_WB);
+      d.q_WB = (R * d.q_WB).normalized();
+      d.v_W = R * d.v_W;
+      d.w_W = R * d.w_W;
+    }
+    auto turned = [&](int b) { return std::find(t.bodies.begin(), t.bodies.end(), b) != t.bodies.end(); };
+    for (JointDef& j : out.joints)
+      if (turned(j.child) && j.parent >= 0 && turned(j.parent)) {  // inside the turned set: turns with it
+        j.anchor_W = point(j.anchor_W);
+        j.anchor2_W = point(j.anchor2_W);
+        j.axis_W = R * j.axis_W;
+        j.axis2_W = R * j.axis2_W;
+      }
+  }
   if (v.integrator) {
     out.integrator = *v.integrator;
     for (BodyDef& b : out.bodies) b.integrator.reset();

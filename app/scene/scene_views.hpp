@@ -18,11 +18,32 @@ namespace simreel {
 
 struct Scene;
 
-// The same scene with other settings, run as its own World.
+// A variant's own start for a body that no joint holds: any of its pose and velocities.
+struct VariantStart {
+  int body = -1;
+  std::optional<Vec3> position;  ///< m, body origin
+  std::optional<Quat> orientation;
+  std::optional<Vec3> linear_velocity, angular_velocity;  ///< m/s, rad/s, world
+};
+
+// A variant's start turned rigidly: `bodies` rotated by `angle` about the line through `about`
+// along `axis`, with their velocities and the joints among them (a mechanism stays assembled). A
+// joint from a turned body to one that is not (or to the world) must have its anchor on that line
+// and, if it has an axis, the axis along it: turning a pendulum about its pivot.
+struct VariantTurn {
+  std::vector<int> bodies;
+  Vec3 about = Vec3::Zero();  ///< m
+  Vec3 axis = Vec3::UnitZ();  ///< unit
+  double angle = 0;           ///< rad
+};
+
+// The same scene with other settings or another start, run as its own World.
 struct VariantSpec {
   std::string name;
   std::optional<Integrator> integrator;  ///< every body's (per-body overrides dropped)
   std::optional<double> timestep;        ///< s (shortened as the scene's is, to divide 1/fps)
+  std::vector<VariantStart> starts;      ///< `bodies:`
+  std::optional<VariantTurn> turn;       ///< `turn:`
 };
 
 // A pane's camera: the scene's camera (after camera.auto) with these keys over it. Positions are

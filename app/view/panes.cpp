@@ -233,6 +233,11 @@ void SceneFrames::compose(const World& main, uint8_t* img, long frame) {
       q.y0 = std::clamp(q.y0, 0, r.height) + r.y0, q.y1 = std::clamp(q.y1, 0, r.height) + r.y0;
       screen_.rects.push_back(q);
     }
+    // Plots' axes and curves: moved likewise (a plot lies inside its pane).
+    for (ScreenLine l : p->view->screen().lines) {
+      l.x0 += (float)r.x0, l.x1 += (float)r.x0, l.y0 += (float)r.y0, l.y1 += (float)r.y0;
+      screen_.lines.push_back(l);
+    }
     for (ScreenGlyph g : p->view->screen().glyphs) {
       g.x += r.x0, g.y += r.y0;
       screen_.glyphs.push_back(g);

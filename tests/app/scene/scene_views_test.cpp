@@ -4,8 +4,11 @@
 
 #include <gtest/gtest.h>
 
-#include "app/scene/scene.hpp"
+#include <cmath>
+
 #include <simreel/error.hpp>
+#include "app/runner/frame_loop.hpp"
+#include "app/scene/scene.hpp"
 
 namespace simreel {
 namespace {
@@ -120,6 +123,58 @@ TEST(SceneViews, MistakesNameTheKey) {
     EXPECT_NE(e.find(x.says), std::string::npos) << "error: '" << e << "' for\n" << x.yaml;
     EXPECT_NE(e.find("v.yaml:"), std::string::npos) << e;
   }
+}
+
+// A variant's own start: a free body's pose and velocities, or a mechanism turned rigidly about its
+// pivot. Checked against chaos.yaml's second pendulum, whose start was computed by hand (the same
+// 1e-6 rad about the same pivot, 10 cm behind): the variant's elbow follows it to 1e-9 rad at 3 s,
+// where both have left the unturned pendulum by 1.5e-5 rad.
+TEST(SceneViews, VariantsChangeTheStart) {
+  const Scene s = load_scene("scenes/chaos_variants.yaml");
+  ASSERT_EQ(s.views.variants.size(), 1u);
+  const Scene v = variant_scene(s, s.views.variants[0]);
+  FrameLoop main(s, 1), nudged(v, 1);
+  EXPECT_LT(nudged.world().joint_gap(), 1e-12) << "the turned mechanism is assembled";
+  EXPECT_NEAR(nudged.world().centroid(1).z(), 2 - 0.9 * std::sin(1e-6), 1e-15);
+  const Scene hand = load_scene("scenes/chaos.yaml");
+  FrameLoop ref(hand, 1);
+  const long steps = std::lround(3.0 / s.timestep);
+  main.advance_to(steps, {});
+  nudged.advance_to(steps, {});
+  ref.advance_to(steps, {});
+  const double a = main.world().joint_position(1), b = nudged.world().joint_position(1);
+  const double r = ref.world().joint_position(3);  // elbow_b
+  EXPECT_GT(std::fabs(a - b), 5e-6) << "the nudge has grown";
+  EXPECT_NEAR(b, r, 1e-9) << "the variant is chaos.yaml's hand-made second pendulum";
+  EXPECT_NEAR(a, ref.world().joint_position(1), 1e-9) << "and the main one its first";
+
+  // A free body's start; a jointed one's is refused, as is a turn that would tear a joint.
+  const Scene f =
+      load(std::string("bodies:") + kHandle +
+           "variants: [{ name: faster, bodies: { handle: { angular_velocity: [0.02, 7, 0.02] } } }]\n");
+  EXPECT_EQ(variant_scene(f, f.views.variants[0]).bodies[0].w_W, Vec3(0.02, 7, 0.02));
+  std::string bad =
+      "simulation: { duration: 1 }\nbodies:\n"
+      "  - { name: bar, position: [0.3, 0, 2], colliders: [ { shape: box, size: [0.6, 0.05, 0.03] } ] }\n"
+      "joints: [ { name: pivot, type: revolute, bodies: [world, bar], anchor: [0, 0, 2], axis: [0, 1, 0] } "
+      "]\n";
+  auto err = [&](const std::string& variant) {
+    try {
+      load_scene_text(bad + "variants: [" + variant + "]\n", "t.yaml");
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(err("{ name: n, bodies: { bar: { position: [0, 0, 1] } } }").find("is held by joint 'pivot'"),
+            std::string::npos);
+  EXPECT_NE(err("{ name: n, turn: { bodies: [bar], about: [0.1, 0, 2], axis: [0, 1, 0], angle: 1 } }")
+                .find("would tear joint 'pivot'"),
+            std::string::npos);
+  EXPECT_NE(err("{ name: n, turn: { bodies: [bar], about: [0, 0, 2], axis: [0, 0, 1], angle: 1 } }")
+                .find("turn about its axis"),
+            std::string::npos);
+  EXPECT_EQ(err("{ name: n, turn: { bodies: [bar], about: [0, 0, 2], axis: [0, 1, 0], angle: 1 } }"), "");
 }
 
 TEST(Ghost, OnlyWhereAClosedFormExists) {

@@ -221,6 +221,28 @@ TEST(Panes, APaneShowsItsOwnItems) {
   EXPECT_EQ(differing(c, b, 0), 0) << "the other pane is the scene's (no items)";
 }
 
+// A plot in a pane: its axes and curve are in the frame, inside the pane that holds it (they were
+// dropped when the panes' screen layers were gathered: the plot's panel and labels came, its lines
+// did not).
+TEST(Panes, PlotsInPanesKeepTheirCurves) {
+  Frames f(std::string(kHandle) +
+           "panes:\n  - { title: a }\n  - { title: b }\n"
+           "overlays: { plots: [ { quantities: [omega_body.y], rect: [0.5, 0.5, 0.45, 0.45] } ] }\n");
+  f.draw({20});
+  const ScreenLayer& layer = f.frames->screen();
+  ASSERT_FALSE(layer.lines.empty()) << "the plots' axes and curves";
+  const int W = f.frames->width(), H = f.frames->height();
+  const std::vector<PaneRect> r = layout_panes(2, 0, W, H, 0);
+  long left = 0, right = 0;
+  for (const ScreenLine& l : layer.lines) {
+    EXPECT_GE(std::min(l.x0, l.x1), 0.0f);
+    EXPECT_LE(std::max(l.x0, l.x1), (float)W);
+    (l.x0 < r[1].x0 ? left : right)++;
+  }
+  EXPECT_GT(left, 5);
+  EXPECT_EQ(left, right) << "one plot in each pane, the same lines moved";
+}
+
 TEST(Panes, AVariantPaneShowsItsOwnRunAndGhostsShowTheDrift) {
   // The scene on the default integrator beside the `seed` variant, each with its ghost over it,
   // and the same without ghosts (the bodies' silhouettes).
