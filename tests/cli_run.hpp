@@ -16,11 +16,9 @@ struct Result {
   std::string out;  ///< stdout and stderr together
 };
 
-// `env` is prepended as `env VARS...` (e.g. "LP_NUM_THREADS=1" or "-u CI").
-inline Result run(const std::string& args, const std::string& env = "") {
-  const std::string cmd =
-      (env.empty() ? "" : "env " + env + " ") + std::string(SIMREEL_BIN) + " " + args + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
+// A shell command line's exit code and everything it printed (stdout and stderr).
+inline Result shell(const std::string& command) {
+  FILE* p = popen((command + " 2>&1").c_str(), "r");
   std::string out;
   char buf[4096];
   size_t n;
@@ -28,6 +26,13 @@ inline Result run(const std::string& args, const std::string& env = "") {
   const int st = pclose(p);
   return {WIFEXITED(st) ? WEXITSTATUS(st) : -1, out};
 }
+
+#ifdef SIMREEL_BIN
+// `env` is prepended as `env VARS...` (e.g. "LP_NUM_THREADS=1" or "-u CI").
+inline Result run(const std::string& args, const std::string& env = "") {
+  return shell((env.empty() ? "" : "env " + env + " ") + std::string(SIMREEL_BIN) + " " + args);
+}
+#endif
 
 // A whole file's bytes ("" if it cannot be read).
 inline std::string slurp(const std::filesystem::path& p) {

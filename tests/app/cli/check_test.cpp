@@ -167,15 +167,7 @@ TEST(Check, MassesFoldersCiSizesAndNames) {
   write_scene(base / "y", scene_text("0.6"));
   const std::string in_base = "cd " + base.string() + " && env -u CI " + std::string(SIMREEL_BIN) +
                               " check x/drop.yaml y/drop.yaml --goldens g --update missing";
-  auto sh = [](const std::string& cmd) {
-    FILE* p = popen((cmd + " 2>&1").c_str(), "r");
-    std::string out;
-    char buf[4096];
-    size_t n;
-    while ((n = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
-    const int st = pclose(p);
-    return Result{WIFEXITED(st) ? WEXITSTATUS(st) : -1, out};
-  };
+  auto sh = [](const std::string& cmd) { return simreel::test::shell(cmd); };
   r = sh(in_base);
   EXPECT_EQ(r.code, 2) << r.out;
   EXPECT_NE(r.out.find("--golden-names path"), std::string::npos) << r.out;

@@ -35,13 +35,7 @@ const std::string kPendulum = "tests/data/chunks/pendulum_plot.yaml";  // the sa
 
 // A shell command's exit code and output (stdout and stderr).
 test::Result sh(const std::string& cmd) {
-  FILE* p = popen((cmd + " 2>&1").c_str(), "r");
-  std::string out;
-  char buf[4096];
-  size_t n;
-  while ((n = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
-  const int st = pclose(p);
-  return {WIFEXITED(st) ? WEXITSTATUS(st) : -1, out};
+  return test::shell(cmd);
 }
 
 bool have(const std::string& tool) {
