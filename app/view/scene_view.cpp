@@ -24,14 +24,25 @@ SceneStyles styles_of(const Scene& scene) {
 }  // namespace
 
 // Each body's drawn size: the radius about its centre of mass that holds its drawn colliders.
+// m per body: the radius of the sphere about its centre of mass holding everything drawn of it,
+// from the drawn vertices themselves. (The meshes' own bounding spheres are about their collider
+// origins: a mesh whose file origin lies far from its shape, Blender's Suzanne exported 2.5 m
+// off, would size its arrows, axes and labels by that distance.)
 static std::vector<double> body_radii(const World& w, const SceneMeshes& sm) {
   std::vector<double> r((size_t)w.body_count(), 0.0);
   for (int i = 0; i < w.body_count(); ++i) {
     const BodyDef& d = w.def(i);
+    const Vec3 c = w.local_centroid(i);
     for (size_t k = 0; k < d.colliders.size(); ++k) {
       const int m = sm.mesh_of[i][k];
       if (m < 0) continue;
-      r[i] = std::max(r[i], (d.colliders[k].p_BC - w.local_centroid(i)).norm() + sm.meshes[m].radius);
+      const Collider& col = d.colliders[k];
+      const std::vector<float>& v = sm.meshes[m].vertices;  // x y z nx ny nz, collider frame
+      const Mat3 R = col.q_BC.toRotationMatrix();
+      double r2 = 0;
+      for (size_t a = 0; a + 5 < v.size(); a += 6)
+        r2 = std::max(r2, (col.p_BC + R * Vec3(v[a], v[a + 1], v[a + 2]) - c).squaredNorm());
+      r[i] = std::max(r[i], std::sqrt(r2));
     }
     if (r[i] <= 0) r[i] = 0.5;
   }

@@ -751,3 +751,31 @@ TEST(Overlays, TheJointsItemDrawsARopeBetweenItsMovingEnds) {
 
 }  // namespace
 }  // namespace simreel
+
+namespace simreel {
+namespace {
+
+// Overlay sizes come from what is drawn, about the centre of mass: a mesh whose file origin lies
+// 2.5 m from its shape (as Blender's Suzanne once exported) gets the same axes as the same shape
+// at its origin, 1.25 times the distance from its centre of mass to its farthest vertex.
+TEST(Overlays, SizesAreAboutTheCentreOfMassNotTheFileOrigin) {
+  const std::string tet = "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+  test::scratch_file("near.off", "OFF\n4 4 0\n0 0 0\n0.3 0 0\n0 0.3 0\n0 0 0.3\n" + tet);
+  test::scratch_file("far.off", "OFF\n4 4 0\n2.5 0 0\n2.8 0 0\n2.5 0.3 0\n2.5 0 0.3\n" + tet);
+  auto axes = [&](const std::string& file) {
+    Drawn d(write_scene(file + ".yaml",
+                        "simulation: { duration: 1, gravity: [0, 0, 0] }\n"
+                        "video: { width: 160, height: 90, fps: 10 }\n"
+                        "bodies:\n  - { name: t, show: [axes], colliders: [ { shape: mesh, file: " +
+                            file + ".off } ] }\n"));
+    return d.view->overlays->arrow_scale(0, ShowKind::axes);
+  };
+  const double near = axes("near"), far = axes("far");
+  // The tetrahedron's centroid is at (0.075, 0.075, 0.075) from its right-angle corner; its
+  // farthest vertex, (0.3, 0, 0), is sqrt(0.225^2 + 2 * 0.075^2) = 0.2598 m away.
+  EXPECT_NEAR(near, 1.25 * std::sqrt(0.225 * 0.225 + 2 * 0.075 * 0.075), 1e-6);
+  EXPECT_NEAR(far, near, 1e-6) << "sized by the file origin, 2.5 m away";
+}
+
+}  // namespace
+}  // namespace simreel
