@@ -52,8 +52,10 @@ class Parser {
   explicit Parser(TexText& out) : out_(out) {}
 
   // Parses src at `shift` with `accent`; scripts (_ ^) only at the top level.
-  void parse(std::string_view s, int8_t shift, TexAccent accent, bool top) {
-    fresh_ = true;  // a group starts a span of its own (two accents side by side stay apart)
+  // `fresh`: start a span of its own (two accents side by side stay apart); a fraction's sides
+  // continue the span they are in (one bar over a whole \sqrt{\frac{L}{g}}).
+  void parse(std::string_view s, int8_t shift, TexAccent accent, bool top, bool fresh = true) {
+    if (fresh) fresh_ = true;
     size_t i = 0;
     while (i < s.size()) {
       const char c = s[i];
@@ -109,6 +111,36 @@ class Parser {
       emit("\\", shift, accent);
       return i + 1;
     }
+    if (name == "sqrt" || name == "frac") {
+      // \sqrt{x}: the radical sign, then x under a bar (the vinculum). \frac{a}{b}: a/b inline,
+      // each side in parentheses when it is more than one term ("(a+b)/2").
+      size_t k = j;
+      if (k < s.size() && s[k] == ' ') ++k;
+      const size_t close = k < s.size() && s[k] == '{' ? group_end(s, k) : std::string_view::npos;
+      if (name == "sqrt" && close != std::string_view::npos && close > k + 1 && accent == TexAccent::none) {
+        emit("\u221a", shift, accent);
+        parse(s.substr(k + 1, close - k - 1), shift, TexAccent::overline, false);
+        fresh_ = true;
+        return close + 1;
+      }
+      if (name == "frac" && close != std::string_view::npos && close + 1 < s.size() && s[close + 1] == '{') {
+        const size_t close2 = group_end(s, close + 1);
+        if (close2 != std::string_view::npos) {
+          const std::string_view num = s.substr(k + 1, close - k - 1),
+                                 den = s.substr(close + 2, close2 - close - 2);
+          auto side = [&](std::string_view part) {
+            const bool wrap = part.find_first_of("+- ") != std::string_view::npos;
+            if (wrap) emit("(", shift, accent);
+            parse(part, shift, accent, shift == 0 && accent == TexAccent::none, false);
+            if (wrap) emit(")", shift, accent);
+          };
+          side(num);
+          emit("/", shift, accent);
+          side(den);
+          return close2 + 1;
+        }
+      }
+    }
     if (const TexAccent a = accent_of(name); a != TexAccent::none && accent == TexAccent::none) {
       size_t k = j;
       if (k < s.size() && s[k] == ' ') ++k;
@@ -134,6 +166,20 @@ class Parser {
     }
     emit(s.substr(i, j - i), shift, accent);  // unknown: as written
     return j;
+  }
+
+  // The '}' closing the group that opens at s[k] == '{' (groups inside it counted), or npos.
+  static size_t group_end(std::string_view s, size_t k) {
+    int depth = 0;
+    for (size_t i = k; i < s.size(); ++i) {
+      if (s[i] == '\\') {
+        ++i;  // an escaped brace is no brace
+        continue;
+      }
+      if (s[i] == '{') ++depth;
+      if (s[i] == '}' && --depth == 0) return i;
+    }
+    return std::string_view::npos;
   }
 
   // The end of one character or one \command starting at s[i].

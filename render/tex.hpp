@@ -8,6 +8,8 @@
 //                              raised, when the character after it is not a letter or a digit
 //   I_{xx}  e^{-t}             a group of any length
 //   \vec{L}  \vec L            an arrow over the letter(s); \dot, \ddot, \hat, \bar likewise
+//   \sqrt{L/g}                 the radical sign with its argument under a rule: √ and L/g overlined
+//   \frac{a+b}{2}              a fraction inline, a side of more than one term in parentheses: (a+b)/2
 //   \\  \{  \}  \_  \^         the character itself; "\," a thin space
 //
 // Everything else is plain text, drawn as written: "omega_body" and "E_drift" stay as they are
@@ -21,7 +23,9 @@
 
 namespace simreel {
 
-enum class TexAccent : uint8_t { none, vec, dot, ddot, hat, bar };
+// bar: a macron centred over the span (\bar x); overline: a rule over the span's whole width (a
+// square root's vinculum).
+enum class TexAccent : uint8_t { none, vec, dot, ddot, hat, bar, overline };
 
 struct TexSpan {
   uint32_t begin = 0, end = 0;  ///< bytes of TexText::text (UTF-8)

@@ -137,7 +137,18 @@ int Typeface::draw(std::string_view tex, int x, int baseline, const Rgba8& color
     const int base = baseline - (sp.shift > 0 ? sup_ : sp.shift < 0 ? -sub_ : 0);
     const size_t first = out ? out->glyphs.size() : 0;
     const int adv = f.draw(s, pen, base, color, out);
-    if (out && sp.accent != TexAccent::none && out->glyphs.size() > first) {
+    if (out && sp.accent == TexAccent::overline && out->glyphs.size() > first) {
+      // A rule over the span's ink, a gap above its top: a square root's vinculum, from the
+      // radical's top across its argument.
+      int left = 1 << 30, right = -(1 << 30), top = 1 << 30;
+      for (size_t k = first; k < out->glyphs.size(); ++k) {
+        const ScreenGlyph& g = out->glyphs[k];
+        left = std::min(left, g.x), right = std::max(right, g.x + g.bitmap->width);
+        top = std::min(top, g.y);
+      }
+      const int gap = std::max(1, main_->pixel_size() / 12), thick = std::max(1, main_->pixel_size() / 16);
+      out->rects.push_back({left - gap, top - gap - thick, right, top - gap, color});
+    } else if (out && sp.accent != TexAccent::none && out->glyphs.size() > first) {
       // The ink box of the span, then the accent's glyph centred over it, a gap above its top.
       int left = 1 << 30, right = -(1 << 30), top = 1 << 30;
       for (size_t k = first; k < out->glyphs.size(); ++k) {

@@ -68,6 +68,20 @@ TEST(Tex, CommandsScriptsAndAccents) {
   EXPECT_EQ(spans("a_{open"), (std::vector<Span>{{"a_{open", 0, kNone}}));
 }
 
+// \sqrt and \frac print no braces: the radical sign with its argument under a bar, a fraction
+// inline with a side of several terms in parentheses.
+TEST(Tex, SquareRootsAndFractions) {
+  constexpr TexAccent kBar = TexAccent::overline;
+  EXPECT_EQ(spans("T = 2\\pi\\sqrt{L/g}"), (std::vector<Span>{{"T = 2π√", 0, kNone}, {"L/g", 0, kBar}}));
+  EXPECT_EQ(spans("\\frac{a+b}{2}"), (std::vector<Span>{{"(a+b)/2", 0, kNone}}));
+  EXPECT_EQ(spans("\\sqrt{\\frac{L}{g}}"), (std::vector<Span>{{"√", 0, kNone}, {"L/g", 0, kBar}}));
+  EXPECT_EQ(spans("\\frac{m v^2}{2}"),
+            (std::vector<Span>{{"(m v", 0, kNone}, {"2", 1, kNone}, {")/2", 0, kNone}}));
+  // Without a group, as before: the symbol alone, the name as written.
+  EXPECT_EQ(spans("\\sqrt 2"), (std::vector<Span>{{"√ 2", 0, kNone}}));
+  EXPECT_EQ(spans("\\frac{a}"), (std::vector<Span>{{"\\frac{a}", 0, kNone}}));
+}
+
 TEST(Tex, LayoutPlainTextIsFontDrawExactly) {
   Typeface tf(default_font_path(), 24);
   Font f(default_font_path(), 24);
