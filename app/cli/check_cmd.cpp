@@ -534,11 +534,13 @@ int cmd_check(const std::vector<std::string>& args) {
   }
 
   std::ostringstream summary;
-  int physics = 0, rendering = 0, input = 0;
+  int physics = 0, rendering = 0, input = 0, size = 0;
   for (const ReportFrame& f : report.frames)
-    if (f.status == "fail") (f.kind == "physics" ? physics : f.kind == "input" ? input : rendering)++;
+    if (f.status == "fail")
+      (f.kind == "physics" ? physics : f.kind == "input" ? input : f.kind == "size" ? size : rendering)++;
   summary << differ << " of " << frames_total << " frames differ (" << physics << " physics, ";
   if (input) summary << input << " input, ";
+  if (size) summary << size << " of another size, ";
   summary << rendering << " rendering)";
   if (missing)
     summary << ", " << missing << " without a golden (--update missing writes them"

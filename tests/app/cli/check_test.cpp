@@ -161,6 +161,7 @@ TEST(Check, MassesFoldersCiSizesAndNames) {
   EXPECT_EQ(r.code, 1) << r.out;
   EXPECT_NE(r.out.find("size changed"), std::string::npos) << r.out;
   EXPECT_EQ(r.out.find("PSNR"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("(0 physics, 1 of another size, 0 rendering)"), std::string::npos) << r.out;
 
   // Two drop.yaml in two folders: refused by name, checked by path (from the current folder).
   write_scene(base / "x", scene_text());
