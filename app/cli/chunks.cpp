@@ -11,6 +11,7 @@
 #include "app/cli/commands.hpp"
 #include "app/cli/goldens.hpp"
 #include "app/scene/text.hpp"
+#include "app/view/view_state.hpp"
 #include "sim/base/hash.hpp"
 
 namespace simreel {
@@ -130,8 +131,84 @@ CheckpointPlan read_checkpoint_plan(const std::string& dir) {
   return p;
 }
 
-std::string checkpoint_state_path(const std::string& dir, int index) {
+namespace {
+
+constexpr char kCheckpointMagic[] = "simreel checkpoint 1\n";
+
+size_t write_checkpoint_file(const std::string& path, const std::string& manifest, const std::string& body) {
+  std::ostringstream os;
+  os.write(kCheckpointMagic, sizeof kCheckpointMagic - 1);
+  put_str(os, manifest);
+  const std::string bytes = os.str() + body;
+  AtomicFile f(path);
+  if (std::fwrite(bytes.data(), 1, bytes.size(), f.get()) != bytes.size())
+    throw std::runtime_error(path + ": could not write the checkpoint");
+  f.commit();
+  return bytes.size();
+}
+
+// Opens a checkpoint file and reads past its mark and manifest, which must be `manifest`.
+std::ifstream open_checkpoint_file(const std::string& path, const std::string& manifest,
+                                   const char* missing) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path + ": " + missing);
+  std::string magic(sizeof kCheckpointMagic - 1, '\0');
+  in.read(magic.data(), (std::streamsize)magic.size());
+  if (!in || magic != kCheckpointMagic) throw InputError(path + ": not a checkpoint written by simreel plan");
+  std::string id;
+  get_str(in, id);
+  if (id != manifest)
+    throw InputError(path + ": a checkpoint of another scene, input, setting or version (manifest " + id +
+                     ", this chunk's " + manifest + ")");
+  return in;
+}
+
+std::string state_path(const std::string& dir, int index) {
   return (std::filesystem::path(dir) / ("chunk-" + std::to_string(index) + ".state")).string();
+}
+
+}  // namespace
+
+size_t write_checkpoint_state(const std::string& dir, const std::string& manifest, const CheckpointState& s) {
+  std::ostringstream os;
+  put(os, (int32_t)s.index);
+  put(os, (int64_t)s.frame);
+  put(os, (int64_t)s.step);
+  put_str(os, s.world);
+  put_str(os, s.history);
+  return write_checkpoint_file(state_path(dir, s.index), manifest, os.str());
+}
+
+CheckpointState read_checkpoint_state(const std::string& dir, int index, const std::string& manifest) {
+  const std::string path = state_path(dir, index);
+  std::ifstream in = open_checkpoint_file(
+      path, manifest, "missing (simreel plan --checkpoints writes one for each chunk after the first)");
+  CheckpointState s;
+  int32_t i = 0;
+  int64_t frame = 0, step = 0;
+  get(in, i);
+  get(in, frame);
+  get(in, step);
+  if (i != index)
+    throw InputError(path + ": the state of chunk " + std::to_string(i) + ", not of chunk " +
+                     std::to_string(index));
+  s.index = i, s.frame = (long)frame, s.step = (long)step;
+  get_str(in, s.world);
+  get_str(in, s.history);
+  return s;
+}
+
+size_t write_checkpoint_prepass(const std::string& dir, const std::string& manifest,
+                                const PrepassStore& store) {
+  std::ostringstream os;
+  store.save(os);
+  return write_checkpoint_file((std::filesystem::path(dir) / "prepass.bin").string(), manifest, os.str());
+}
+
+void read_checkpoint_prepass(const std::string& dir, const std::string& manifest, PrepassStore& store) {
+  std::ifstream in = open_checkpoint_file((std::filesystem::path(dir) / "prepass.bin").string(), manifest,
+                                          "missing (written by simreel plan --checkpoints)");
+  store.load(in);
 }
 
 std::string chunk_stem(const std::string& stem, int index, int chunks) {

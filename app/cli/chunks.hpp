@@ -16,6 +16,8 @@
 
 namespace simreel {
 
+class PrepassStore;
+
 struct ChunkSpan {
   int index = 0;
   long first = 0, last = 0;  ///< video frames, both included
@@ -75,9 +77,20 @@ struct CheckpointPlan {
 };
 void write_checkpoint_plan(const std::string& dir, const CheckpointPlan& p);
 CheckpointPlan read_checkpoint_plan(const std::string& dir);  ///< throws InputError naming the file
-std::string checkpoint_state_path(const std::string& dir, int index);
-// The first bytes of prepass.bin and chunk-I.state, then the manifest's id.
-inline constexpr char kCheckpointMagic[] = "simreel checkpoint 1\n";
+// DIR/chunk-I.state: chunk I's start, taken at the video frame before its first.
+struct CheckpointState {
+  int index = 0;
+  long frame = 0, step = 0;  ///< that frame, and the world's step there
+  std::string world;         ///< World::save_state
+  std::string history;       ///< SceneFrames::save_history
+};
+// Each file starts with simreel's mark and the manifest's id; a reader refuses another manifest
+// (InputError naming the file). The writers return the bytes written.
+size_t write_checkpoint_state(const std::string& dir, const std::string& manifest, const CheckpointState& s);
+CheckpointState read_checkpoint_state(const std::string& dir, int index, const std::string& manifest);
+size_t write_checkpoint_prepass(const std::string& dir, const std::string& manifest,
+                                const PrepassStore& store);
+void read_checkpoint_prepass(const std::string& dir, const std::string& manifest, PrepassStore& store);
 void write_chunk_record(const std::string& path, const ChunkRecord& r);
 ChunkRecord read_chunk_record(const std::string& path);  ///< throws InputError naming the file
 

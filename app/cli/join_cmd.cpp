@@ -58,12 +58,6 @@ void join_table(CLI::App& app, JoinOptions& o) {
   app.add_flag("--quiet", o.quiet, "print nothing but errors");
 }
 
-std::string lower_ext(const std::string& path) {
-  std::string e = fs::path(path).extension().string();
-  for (char& c : e) c = (char)std::tolower((unsigned char)c);
-  return e;
-}
-
 }  // namespace
 
 int cmd_join(const std::vector<std::string>& args) {
@@ -76,7 +70,7 @@ int cmd_join(const std::vector<std::string>& args) {
   // The folders, for messages: "parts" or "parts/0, parts/1, ...".
   std::string dir;
   for (const std::string& d : o.dirs) dir += (dir.empty() ? "" : ", ") + d;
-  const std::string out = *o.out, ext = lower_ext(out);
+  const std::string out = *o.out, ext = lower_extension(out);
   const std::vector<std::string> exts = {".mp4", ".mov", ".mkv", ".webm", ".gif"};
   if (std::find(exts.begin(), exts.end(), ext) == exts.end())
     throw UsageError("-o '" + out + "' must end in .mp4, .mov, .mkv, .webm or .gif");

@@ -131,20 +131,7 @@ int cmd_plan(const std::vector<std::string>& args) {
     vo.threads = o.run.threads;
     vo.prepass = &store;
     SceneFrames view(scene, loop, vo);  // runs the views' pre-passes, recording their products
-    auto write_file = [&](const std::string& file, const std::string& body) {
-      AtomicFile f(file);
-      if (std::fwrite(body.data(), 1, body.size(), f.get()) != body.size())
-        throw std::runtime_error(file + ": could not write the checkpoint");
-      f.commit();
-      checkpoint_bytes += body.size();
-    };
-    {
-      std::ostringstream os;
-      os.write(kCheckpointMagic, sizeof kCheckpointMagic - 1);
-      put_str(os, manifest.id);
-      store.save(os);
-      write_file((fs::path(dir) / "prepass.bin").string(), os.str());
-    }
+    checkpoint_bytes += write_checkpoint_prepass(dir, manifest.id, store);
     // The frames before each chunk's first: there the world and the views' history are saved.
     FrameTargets at;
     for (const ChunkSpan& c : table)
@@ -155,20 +142,15 @@ int cmd_plan(const std::vector<std::string>& args) {
     size_t next = 1;
     hooks.frame = [&](const FrameTarget& t, const World& world) {
       view.sync(world);  // the variants where a straight render has them at this frame
-      const ChunkSpan& c = table[next];
-      std::ostringstream os;
-      os.write(kCheckpointMagic, sizeof kCheckpointMagic - 1);
-      put_str(os, manifest.id);
-      put(os, (int32_t)c.index);
-      put(os, (int64_t)t.index);
-      put(os, (int64_t)world.steps());
+      CheckpointState st;
+      st.index = table[next++].index;
+      st.frame = t.index;
+      st.step = world.steps();
       std::ostringstream ws, hs;
       world.save_state(ws);
       view.save_history(hs);
-      put_str(os, ws.str());
-      put_str(os, hs.str());
-      write_file(checkpoint_state_path(dir, c.index), os.str());
-      ++next;
+      st.world = ws.str(), st.history = hs.str();
+      checkpoint_bytes += write_checkpoint_state(dir, manifest.id, st);
     };
     const long done = loop.run(at, hooks, false);
     if (stop.signal() || done != (long)at.size()) {

@@ -6,7 +6,6 @@
 #include <cstring>
 #include <exception>
 #include <filesystem>
-#include <fstream>
 #include <sstream>
 
 #include <unistd.h>
@@ -129,16 +128,10 @@ void render_table(CLI::App& app, RenderOptions& o) {
 }
 
 #ifdef SIMREEL_HAVE_RENDER
-std::string lower_ext(const std::string& path) {
-  std::string e = std::filesystem::path(path).extension().string();
-  for (char& c : e) c = (char)std::tolower((unsigned char)c);
-  return e;
-}
-
 // The output must be a file simreel can write, in a folder that exists or can be made: checked
 // before anything runs, so a wrong name fails at once and leaves nothing behind.
 void check_output(const std::string& path, const std::vector<std::string>& exts, const char* what) {
-  const std::string e = lower_ext(path);
+  const std::string e = lower_extension(path);
   if (std::find(exts.begin(), exts.end(), e) == exts.end()) {
     std::string list;
     for (const std::string& x : exts) list += (list.empty() ? "" : ", ") + x;
@@ -155,7 +148,7 @@ void check_output(const std::string& path, const std::vector<std::string>& exts,
 // allows 139264 macroblocks of 16 x 16 px a frame, and a side of at most sqrt(8 x 139264) = 1055
 // macroblocks; VP9 takes sides up to 65536 px, GIF up to 65535.
 void check_codec_limits(const std::string& path, int w, int h) {
-  const std::string e = lower_ext(path);
+  const std::string e = lower_extension(path);
   if (e == ".gif") {
     if (w > 65535 || h > 65535)
       throw UsageError("a GIF's sides are at most 65535 px, asked " + std::to_string(w) + "x" +
@@ -173,7 +166,7 @@ void check_codec_limits(const std::string& path, int w, int h) {
 
 bool is_frame_png(const std::filesystem::path& p) {
   const std::string n = p.filename().string();
-  return n.rfind("frame_", 0) == 0 && lower_ext(n) == ".png";
+  return n.rfind("frame_", 0) == 0 && lower_extension(n) == ".png";
 }
 
 // --frames-dir: a folder of this run's frames only. Stale frames of an earlier, longer run must
@@ -219,20 +212,7 @@ struct ChunkJob {
   ChunkManifest manifest;
 };
 
-// A checkpoint file's first bytes: simreel's mark, then the manifest it was made for.
-void read_checkpoint_header(std::istream& in, const std::string& file, const std::string& manifest) {
-  if (!in) throw InputError(file + ": cannot open the checkpoint");
-  std::string magic(sizeof kCheckpointMagic - 1, '\0');
-  in.read(magic.data(), (std::streamsize)magic.size());
-  if (!in || magic != kCheckpointMagic) throw InputError(file + ": not a checkpoint written by simreel plan");
-  std::string id;
-  get_str(in, id);
-  if (id != manifest)
-    throw InputError(file + ": a checkpoint of another scene, input, setting or version (manifest " + id +
-                     ", this chunk's " + manifest + ")");
-}
-
-ChunkJob chunk_job(const RenderOptions& r, const Scene& scene, long total) {
+ChunkJob chunk_job(const RenderOptions& r, const Scene& scene, long total, const ChunkManifest& manifest) {
   namespace fs = std::filesystem;
   ChunkJob j;
   const auto [i, n] = parse_chunk_arg(*r.chunk);
@@ -242,7 +222,7 @@ ChunkJob chunk_job(const RenderOptions& r, const Scene& scene, long total) {
   std::error_code ec;
   if (!dir.empty() && dir.back() != '/' && !fs::is_directory(dir, ec)) {
     const fs::path p(*r.out);
-    j.ext = lower_ext(*r.out);
+    j.ext = lower_extension(*r.out);
     const std::vector<std::string> exts = {".mp4", ".mov", ".mkv", ".webm", ".gif"};
     if (std::find(exts.begin(), exts.end(), j.ext) == exts.end())
       throw UsageError("-o '" + *r.out +
@@ -261,7 +241,7 @@ ChunkJob chunk_job(const RenderOptions& r, const Scene& scene, long total) {
   j.segment_name = j.frames ? cs + ".frames" : cs + j.ext;
   j.segment = (fs::path(dir) / j.segment_name).string();
   j.record_path = (fs::path(dir) / (cs + ".json")).string();
-  j.manifest = chunk_manifest(r.scenes[0], scene, look_settings(r.aa, r.no_shadows));
+  j.manifest = manifest;
   // A record left by an earlier run of this chunk says "complete" only for what this run writes.
   fs::remove(j.record_path, ec);
   return j;
@@ -346,7 +326,7 @@ int cmd_render(const std::vector<std::string>& args) {
   if (r.at && (r.frames || r.frames_dir || r.no_video || r.chunk))
     throw UsageError(
         "--at writes one PNG: it does not go with --frames, --frames-dir, --no-video or --chunk");
-  const bool gif = r.out && !r.at && !r.no_video && lower_ext(*r.out) == ".gif";
+  const bool gif = r.out && !r.at && !r.no_video && lower_extension(*r.out) == ".gif";
   if ((r.gif_width || r.gif_fps) && !gif)
     throw UsageError(std::string(r.gif_width ? "--gif-width" : "--gif-fps") +
                      " applies to a .gif output (-o clip.gif)");
@@ -367,10 +347,13 @@ int cmd_render(const std::vector<std::string>& args) {
   // --checkpoints: `plan` ran the whole-run passes once; this chunk takes their products.
   std::optional<CheckpointPlan> ckpt;
   PrepassStore prepass(PrepassStore::Mode::replay);
+  // What every chunk of one join shares (hashes of the scene and each file it reads: once).
+  std::optional<ChunkManifest> manifest;
+  if (r.chunk) manifest = chunk_manifest(r.scenes[0], scene, look_settings(r.aa, r.no_shadows));
   if (r.checkpoints) {
     if (!r.chunk) throw UsageError("--checkpoints needs --chunk");
     ckpt = read_checkpoint_plan(*r.checkpoints);
-    const ChunkManifest m = chunk_manifest(r.scenes[0], scene, look_settings(r.aa, r.no_shadows));
+    const ChunkManifest& m = *manifest;
     const auto [i, n] = parse_chunk_arg(*r.chunk);
     if (ckpt->manifest != m.id || ckpt->chunks != n)
       throw InputError(*r.checkpoints + ": these checkpoints are of " +
@@ -386,9 +369,7 @@ int cmd_render(const std::vector<std::string>& args) {
       for (int k = 0; k < 3; ++k)
         scene.camera.position[k] = ckpt->position[k], scene.camera.look_at[k] = ckpt->look_at[k];
     }
-    std::ifstream in(std::filesystem::path(*r.checkpoints) / "prepass.bin", std::ios::binary);
-    read_checkpoint_header(in, *r.checkpoints + "/prepass.bin", m.id);
-    prepass.load(in);
+    read_checkpoint_prepass(*r.checkpoints, m.id, prepass);
   }
   if (const std::string n = fit_camera(scene, threads); !n.empty() && !r.run.quiet)
     std::fprintf(stderr, "note: %s\n", n.c_str());
@@ -411,7 +392,7 @@ int cmd_render(const std::vector<std::string>& args) {
     if (r.frames) throw UsageError("--chunk renders its own frames: it does not go with --frames");
     if (r.gif_width || r.gif_fps)
       throw UsageError("give --gif-width and --gif-fps to `simreel join`, which makes the GIF");
-    job = chunk_job(r, scene, (long)targets.size());
+    job = chunk_job(r, scene, (long)targets.size(), *manifest);
     if (job->frames && r.frames_dir)
       throw UsageError("a GIF's chunk writes its PNG frames to " + job->segment +
                        "/ already: leave out --frames-dir");
@@ -485,27 +466,16 @@ int cmd_render(const std::vector<std::string>& args) {
   SceneFrames view(scene, loop, o, PostStage::caller);
   if (ckpt && job->span.first > 0) {
     // The world and the views' history at the frame before the chunk's first.
-    const std::string file = checkpoint_state_path(*r.checkpoints, job->span.index);
-    std::ifstream in(file, std::ios::binary);
-    if (!in)
-      throw InputError(file +
-                       ": missing (simreel plan --checkpoints writes one for each chunk after the first)");
-    read_checkpoint_header(in, file, job->manifest.id);
-    int32_t index = 0;
-    int64_t frame = 0, step = 0;
-    get(in, index);
-    get(in, frame);
-    get(in, step);
-    if (index != job->span.index || frame != job->span.first - 1)
-      throw InputError(file + ": the state of chunk " + std::to_string(index) + ", not of chunk " +
-                       std::to_string(job->span.index));
-    std::string world_bytes, history;
-    get_str(in, world_bytes);
-    get_str(in, history);
-    std::istringstream ws(world_bytes), hs(history);
+    const CheckpointState st = read_checkpoint_state(*r.checkpoints, job->span.index, job->manifest.id);
+    if (st.frame != job->span.first - 1)
+      throw InputError(*r.checkpoints + ": chunk " + std::to_string(st.index) + "'s state is at frame " +
+                       std::to_string(st.frame) + ", not before frame " + std::to_string(job->span.first));
+    std::istringstream ws(st.world), hs(st.history);
     loop.world().restore_state(ws);
     loop.state_restored();
-    if (loop.world().steps() != step) throw InputError(file + ": its state is not at the step it names");
+    if (loop.world().steps() != st.step)
+      throw InputError(*r.checkpoints + ": chunk " + std::to_string(st.index) +
+                       "'s state is not at the step it names");
     view.restore_history(hs);
   }
   if (!r.run.quiet)

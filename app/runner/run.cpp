@@ -71,7 +71,7 @@ Conservation conservation(const Scene& scene, const World& world) {
     if (j.friction > 0) breaks(c.energy, c.energy_why, "joint friction takes energy");
     if (j.motor) breaks(c.energy, c.energy_why, "a joint's motor gives and takes energy");
     if (j.spring && j.spring->damping > 0) breaks(c.energy, c.energy_why, "a joint's damper takes energy");
-    if (j.limits) breaks(c.energy, c.energy_why, "a joint's limits stop it inelastically");
+    if (j.limits) breaks(c.energy, c.energy_why, "a joint's limits stop it inelastically when reached");
     if (outside && world.type(j.parent < 0 ? j.child : j.parent) == BodyType::kinematic)
       breaks(c.energy, c.energy_why, "a kinematic body drives the mechanism");
   }

@@ -22,6 +22,7 @@
 
 #include <simreel/error.hpp>
 #include "app/scene/mesh_import.hpp"
+#include "app/scene/text.hpp"
 
 #if defined(__SANITIZE_ADDRESS__)
 #define SIMREEL_ASAN 1
@@ -394,12 +395,6 @@ RawMesh contained_read(const std::string& path, const char* who, const std::func
 }  // namespace detail
 
 namespace {
-
-std::string lower_extension(const std::string& path) {
-  std::string e = std::filesystem::path(path).extension().string();
-  for (char& ch : e) ch = (char)std::tolower((unsigned char)ch);
-  return e;
-}
 
 // Where a material's image is: beside the mesh as written (relative), as written (absolute), else,
 // for a path from another machine (Windows drive letters and backslashes, an absolute path that is

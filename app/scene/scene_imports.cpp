@@ -10,22 +10,15 @@
 #include "app/scene/mesh_library.hpp"
 #include "app/scene/scene.hpp"
 #include "app/scene/scene_yaml.hpp"
+#include "app/scene/text.hpp"
 
 namespace simreel {
 
 using namespace scene_yaml;
 namespace fs = std::filesystem;
 
-namespace {
-std::string lower_ext(const std::string& path) {
-  std::string e = fs::path(path).extension().string();
-  for (char& c : e) c = (char)std::tolower((unsigned char)c);
-  return e;
-}
-}  // namespace
-
 bool is_model_file(const std::string& path) {
-  const std::string e = lower_ext(path);
+  const std::string e = lower_extension(path);
   return e == ".urdf" || e == ".xacro" || e == ".xml" || e == ".mjcf";
 }
 
@@ -134,7 +127,7 @@ void load_imports(const YAML::Node& list, const std::string& path, Scene& scene,
         spec.show_colliders = true;
       }
     }
-    const std::string ext = lower_ext(spec.file);
+    const std::string ext = lower_extension(spec.file);
     Model model;
     if (ext == ".urdf" || ext == ".xacro") {
       model = read_urdf(spec.file, spec.paths);

@@ -136,6 +136,12 @@ const std::atomic<int>& StopSignals::flag() const {
   return g_stop;
 }
 
+std::string lower_extension(const std::string& path) {
+  std::string e = std::filesystem::path(path).extension().string();
+  for (char& c : e) c = (char)std::tolower((unsigned char)c);
+  return e;
+}
+
 bool ensure_parent_dir(const std::string& path, std::string* err) {
   const std::filesystem::path p = std::filesystem::path(path).parent_path();
   if (p.empty()) return true;

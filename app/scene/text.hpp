@@ -61,6 +61,9 @@ class StopSignals {
   int signal() const { return flag().load(); }
 };
 
+// A file name's extension in lower case, with its dot: "Mesh.OBJ" -> ".obj" ("" without one).
+std::string lower_extension(const std::string& path);
+
 // Creates the parent folder of `path` if needed; returns false with a message if it cannot.
 bool ensure_parent_dir(const std::string& path, std::string* err);
 

@@ -29,6 +29,13 @@ def _vec(v, n, what):
     return out
 
 
+def _put(d, **keys):
+    """d[key] = convert(value) for each key=(value, convert) whose value is given (None: not)."""
+    for key, (value, convert) in keys.items():
+        if value is not None:
+            d[key] = convert(value) if convert else value
+
+
 class Scene:
     """A scene: read from a YAML file or text, or built in code.
 
@@ -68,55 +75,29 @@ class Scene:
     def set_simulation(self, duration=None, timestep=None, integrator=None, gravity=None, **more):
         """The `simulation:` block: duration (s), timestep (s), integrator, gravity (m/s^2), ..."""
         sim = self._builder()["simulation"]
-        if duration is not None:
-            sim["duration"] = float(duration)
-        if timestep is not None:
-            sim["timestep"] = float(timestep)
-        if integrator is not None:
-            sim["integrator"] = str(integrator)
-        if gravity is not None:
-            sim["gravity"] = _vec(gravity, 3, "gravity")
+        _put(sim, duration=(duration, float), timestep=(timestep, float), integrator=(integrator, str),
+             gravity=(gravity, lambda v: _vec(v, 3, "gravity")))
         sim.update(more)
         return self
 
     def set_video(self, width=None, height=None, fps=None):
         """The `video:` block: width and height (px), fps (frames per second of simulated time)."""
-        v = self._builder()["video"]
-        if width is not None:
-            v["width"] = int(width)
-        if height is not None:
-            v["height"] = int(height)
-        if fps is not None:
-            v["fps"] = float(fps)
+        _put(self._builder()["video"], width=(width, int), height=(height, int), fps=(fps, float))
         return self
 
     def set_camera(self, position=None, look_at=None, up=None, fov=None, auto=None, follow=None, **more):
         """The `camera:` block: position and look_at (m), up, fov (degrees), auto, follow, ..."""
         c = self._builder().setdefault("camera", {})
-        if position is not None:
-            c["position"] = _vec(position, 3, "camera position")
-        if look_at is not None:
-            c["look_at"] = _vec(look_at, 3, "camera look_at")
-        if up is not None:
-            c["up"] = _vec(up, 3, "camera up")
-        if fov is not None:
-            c["fov"] = float(fov)
-        if auto is not None:
-            c["auto"] = bool(auto)
-        if follow is not None:
-            c["follow"] = follow
+        _put(c, position=(position, lambda v: _vec(v, 3, "camera position")),
+             look_at=(look_at, lambda v: _vec(v, 3, "camera look_at")), up=(up, lambda v: _vec(v, 3, "camera up")),
+             fov=(fov, float), auto=(auto, bool), follow=(follow, None))
         c.update(more)
         return self
 
     def add_ground(self, size=None, friction=None, restitution=None, **more):
         """A static ground plane at z = 0, drawn (size: m, the drawn square's side)."""
         g = {}
-        if size is not None:
-            g["size"] = float(size)
-        if friction is not None:
-            g["friction"] = float(friction)
-        if restitution is not None:
-            g["restitution"] = float(restitution)
+        _put(g, size=(size, float), friction=(friction, float), restitution=(restitution, float))
         g.update(more)
         self._builder()["ground"] = g
         return self
@@ -129,41 +110,25 @@ class Scene:
         default 1000) or `mass` (kg); or `colliders`, a list of collider dicts as in the scene format.
         position (m, world), orientation (w, x, y, z), linear_velocity (m/s), angular_velocity
         (rad/s, world), color (linear RGB 0-1), type ("dynamic", "static", "kinematic")."""
+        def vec(n, what):
+            return lambda v: _vec(v, n, f"body {name}: {what}")
+
         b = {"name": str(name)}
-        if position is not None:
-            b["position"] = _vec(position, 3, f"body {name}: position")
-        if orientation is not None:
-            b["orientation"] = _vec(orientation, 4, f"body {name}: orientation")
-        if linear_velocity is not None:
-            b["linear_velocity"] = _vec(linear_velocity, 3, f"body {name}: linear_velocity")
-        if angular_velocity is not None:
-            b["angular_velocity"] = _vec(angular_velocity, 3, f"body {name}: angular_velocity")
-        if color is not None:
-            b["color"] = _vec(color, 3, f"body {name}: color")
-        if type is not None:
-            b["type"] = str(type)
-        if show is not None:
-            b["show"] = show
+        _put(b, position=(position, vec(3, "position")), orientation=(orientation, vec(4, "orientation")),
+             linear_velocity=(linear_velocity, vec(3, "linear_velocity")),
+             angular_velocity=(angular_velocity, vec(3, "angular_velocity")), color=(color, vec(3, "color")),
+             type=(type, str), show=(show, None))
         if colliders is None:
             if shape is None and mesh is None:
                 raise ValueError(f"body {name}: give a shape (box, sphere, capsule, cylinder, mesh) or colliders")
             c = {"shape": "mesh" if shape is None else str(shape)}
-            if size is not None:
-                c["size"] = _vec(size, 3, f"body {name}: size")
-            if radius is not None:
-                c["radius"] = float(radius)
-            if height is not None:
-                c["height"] = float(height)
-            if mesh is not None:
-                c["file"] = os.path.abspath(os.fspath(mesh))
+            _put(c, size=(size, vec(3, "size")), radius=(radius, float), height=(height, float),
+                 file=(mesh, lambda m: os.path.abspath(os.fspath(m))), friction=(friction, float),
+                 restitution=(restitution, float))
             if mass is not None:
                 c["mass"] = float(mass)
             else:
                 c["density"] = float(1000 if density is None else density)
-            if friction is not None:
-                c["friction"] = float(friction)
-            if restitution is not None:
-                c["restitution"] = float(restitution)
             colliders = [c]
         b["colliders"] = list(colliders)
         b.update(more)
