@@ -31,6 +31,7 @@
 #include <string>
 #include <vector>
 
+#include <simreel/world.hpp>
 #include "app/runner/frame_loop.hpp"
 #include "app/view/overlays.hpp"
 #include "bench/bench_util.hpp"
@@ -41,7 +42,6 @@
 #include "render/video_writer.hpp"
 #include "render/yuv.hpp"
 #include "tests/fixtures/reference_scenes.hpp"
-#include <simreel/world.hpp>
 
 using namespace simreel;
 
@@ -120,15 +120,20 @@ Scene overlay_scene(const Boxes& b, int frames, int parts = 3) {  // parts: 1 ar
   omega.kind = ShowKind::angular_velocity;
   sc.overlays.show.assign(b.bodies.size(), {});
   if (parts & 1) sc.overlays.show.assign(b.bodies.size(), {omega});
-  auto line = [](std::vector<std::string> text, std::vector<HudField> fields) {
+  auto field = [](const char* name, int body, bool norm, const char* printf) {
+    HudField f;
+    f.name = name, f.body = body, f.norm = norm, f.printf = printf;
+    return f;
+  };
+  auto line = [](std::vector<std::string> text, HudField f) {
     HudLine l;
     l.text = std::move(text);
-    l.fields = std::move(fields);
+    l.fields = {std::move(f)};
     return l;
   };
-  sc.overlays.hud = {line({"t = ", " s"}, {{"t", -1, -1, false, "%.2f"}}),
-                     line({"E/E\u2080 \u2212 1 = ", ""}, {{"E_drift", -1, -1, false, "%+.1e"}}),
-                     line({"|\u03c9| of box0 = ", " rad/s"}, {{"omega", 0, -1, true, "%.3f"}})};
+  sc.overlays.hud = {line({"t = ", " s"}, field("t", -1, false, "%.2f")),
+                     line({"E/E\u2080 \u2212 1 = ", ""}, field("E_drift", -1, false, "%+.1e")),
+                     line({"|\u03c9| of box0 = ", " rad/s"}, field("omega", 0, true, "%.3f"))};
   sc.overlays.title = "100 boxes";
   if (!(parts & 2)) sc.overlays.hud.clear(), sc.overlays.title.clear();
   return sc;

@@ -27,6 +27,7 @@
 #include "app/scene/scene_forces.hpp"
 #include "app/scene/scene_imports.hpp"
 #include "app/scene/scene_joints.hpp"
+#include "app/scene/scene_repeat.hpp"
 #include "sim/base/enum_names.hpp"
 #include "sim/dynamics/mesh_collider.hpp"
 #include "sim/geometry/convex_decomposition.hpp"
@@ -840,6 +841,7 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
   const Ctx top(path, "");
   if (!root.IsMap())
     top.fail(root, "a scene is a mapping with keys simulation, video, camera, render, ground, bodies");
+  expand_repeats(root, path);
   check_keys(root, top,
              {"simulation", "video", "camera", "render", "ground", "bodies", "test", "forces", "joints",
               "overlays", "time", "panes", "variants", "imports"});

@@ -46,9 +46,10 @@ std::string line_text(const YAML::Node& n, const Ctx& w) {
   return n.Scalar();
 }
 
-constexpr EnumNames<ShowKind, 15> kShowKinds{
+constexpr EnumNames<ShowKind, 17> kShowKinds{
     {"axes", "angular_velocity", "angular_momentum", "velocity", "center_of_mass", "trail", "inertia_box",
-     "inertia_ellipsoid", "cones", "poinsot", "forces", "contacts", "joints", "joint_forces", "momentum"}};
+     "inertia_ellipsoid", "cones", "poinsot", "forces", "contacts", "joints", "joint_forces", "momentum",
+     "angular_momentum_about", "snapshot"}};
 static_assert(kShowKinds.complete());
 
 // The keys each kind takes.
@@ -61,6 +62,10 @@ std::vector<std::string> keys_of(ShowKind k) {
     case ShowKind::velocity:
     case ShowKind::momentum:
       return {"color", "scale", "width", "opacity", "xray"};
+    case ShowKind::angular_momentum_about:
+      return {"color", "scale", "width", "opacity", "xray", "point"};
+    case ShowKind::snapshot:
+      return {"at", "color", "opacity"};
     case ShowKind::center_of_mass:
       return {"color", "scale", "opacity", "xray"};
     case ShowKind::trail:
@@ -119,6 +124,13 @@ ShowItem show_item(const YAML::Node& n, const Ctx& w, double duration) {
   if (item.kind == ShowKind::forces) item.xray = 0.35;
   if (item.kind == ShowKind::joints) item.xray = 0.5;         // a pivot sits half inside its body
   if (item.kind == ShowKind::joint_forces) item.xray = 0.35;  // as `forces`: arrows start at the pivot
+  if (item.kind == ShowKind::snapshot) {
+    item.opacity = 0.35;
+    if (!opts || opts.IsNull() || !opts["at"])
+      w.fail(n,
+             "snapshot: missing key 'at' (the time of the copy, s, or a list of times): "
+             "{ snapshot: { at: [0.5, 1.5] } }");
+  }
   if (!opts || opts.IsNull()) return item;
   const Ctx c = w.child(name);
   check_keys(opts, c, keys_of(item.kind));
@@ -135,6 +147,16 @@ ShowItem show_item(const YAML::Node& n, const Ctx& w, double duration) {
       item.xray = in_range(x, c.child("xray"), 0, 1);
   }
   if (opts["point"]) item.point = vec3(opts["point"], c.child("point"));
+  if (const YAML::Node a = opts["at"]) {
+    const Ctx ac = c.child("at");
+    if (a.IsSequence()) {
+      if (a.size() == 0) ac.fail(a, "expected a time (s) or a list of times, got an empty list");
+      for (size_t k = 0; k < a.size(); ++k) item.at.push_back(in_range(a[k], ac.index(k), 0, duration));
+    } else {
+      item.at.push_back(in_range(a, ac, 0, duration));
+    }
+    std::sort(item.at.begin(), item.at.end());
+  }
   if (const YAML::Node f = opts["frame"]) {
     const std::string fr = text(f, c.child("frame"));
     if (fr != "body" && fr != "world")
@@ -242,7 +264,7 @@ HudLine hud_line(const YAML::Node& n, const Ctx& w, const Scene& s) {
     std::string field = src.substr(i + 1, close - i - 1), spec;
     if (const size_t colon = field.find(':'); colon != std::string::npos)
       spec = field.substr(colon + 1), field = field.substr(0, colon);
-    HudField f = parse_quantity(field, s, -1, bad);
+    HudField f = parse_field(field, s, -1, bad);
     if (!printf_of(spec, f.name == "frame", f.printf))
       bad("format '" + spec + "' of {" + field + "} is not [+][width][.precision][f|e|g" +
           (f.name == "frame" ? "|d" : "") + "]");
@@ -257,6 +279,14 @@ HudLine hud_line(const YAML::Node& n, const Ctx& w, const Scene& s) {
 
 // A quantity's name in the TeX subset: omega_body.y -> \omega_2, |L| -> |L|, v.x -> v_x.
 std::string default_plot_label(const HudField& f, const Scene& s) {
+  if (f.is_expr() || f.is_meter()) {  // as written, its TeX characters escaped
+    std::string out;
+    for (char c : f.source) {
+      if (c == '_' || c == '^' || c == '{' || c == '}' || c == '\\') out += '\\';
+      out += c;
+    }
+    return out;
+  }
   std::string base = f.name;
   bool body_axes = false;
   if (f.name == "omega") base = "\\omega";
@@ -413,13 +443,12 @@ void load_plots(const YAML::Node& n, const Ctx& w, Scene& s) {
       const std::function<void(const std::string&)> bad = [&](const std::string& m) {
         qc.fail(q[j], "'" + name + "': " + m);
       };
-      HudField f = parse_quantity(name, s, body, bad);
-      if (f.name == "frame" || f.name == "t" || f.name == "video_t")
+      HudField f = parse_field(name, s, body, bad);
+      if (f.name == "t" || f.name == "video_t" || f.name == "frame")
         bad("plots are against time already: plot another quantity");
-      const auto& angles = hud_body_scalar_names();
-      if (f.body >= 0 && !f.norm && f.component < 0 &&
-          std::find(angles.begin(), angles.end(), f.name) == angles.end())
-        bad("a vector: plot a component (" + name + ".x) or its magnitude (|" + name + "|)");
+      if (f.uses("frame") || f.uses("video_t"))
+        bad("a plot is sampled at physics steps, where there is no video frame: use t");
+      if (!f.scalar()) bad("a vector: plot a component (" + name + ".x) or its magnitude (|" + name + "|)");
       f.printf = "%.6g";
       p.quantities.push_back(f);
       p.labels.push_back(default_plot_label(f, s));
@@ -460,6 +489,53 @@ void load_plots(const YAML::Node& n, const Ctx& w, Scene& s) {
     if (e["title"]) p.title = text(e["title"], c.child("title"));
     s.overlays.plots.push_back(p);
   }
+}
+
+// `system:` (one mapping or a list): { bodies: [a, b] (default: every moving body), show: [momentum,
+// velocity, angular_momentum, center_of_mass], name: "system" }.
+void load_systems(const YAML::Node& n, const Ctx& w, Scene& s) {
+  auto one = [&](const YAML::Node& e, const Ctx& c) {
+    if (!e.IsMap())
+      c.fail(e, "expected { bodies: [a, b], show: [momentum, center_of_mass, angular_momentum] }, got " +
+                    show(e));
+    check_keys(e, c, {"bodies", "show", "name"});
+    SystemSpec y;
+    if (const YAML::Node b = e["bodies"]) {
+      const Ctx bc = c.child("bodies");
+      const YAML::Node l = list_of(b, bc, "bodies");
+      for (size_t k = 0; k < l.size(); ++k) {
+        const int i = body_index(l[k], bc.index(k), s);
+        if (s.bodies[i].type != BodyType::dynamic)
+          bc.index(k).fail(l[k],
+                           "body '" + s.bodies[i].name + "' does not move: a system is of moving bodies");
+        if (std::find(y.bodies.begin(), y.bodies.end(), i) != y.bodies.end())
+          bc.index(k).fail(l[k], "body '" + s.bodies[i].name + "' is listed twice");
+        y.bodies.push_back(i);
+      }
+    } else {
+      for (size_t i = 0; i < s.bodies.size(); ++i)
+        if (s.bodies[i].type == BodyType::dynamic) y.bodies.push_back((int)i);
+    }
+    if (y.bodies.empty()) c.fail(e, "a system needs at least one moving body");
+    if (!e["show"]) c.fail(e, "missing key 'show' (momentum, velocity, angular_momentum, center_of_mass)");
+    const Ctx sc = c.child("show");
+    const YAML::Node l = list_of(e["show"], sc, "show");
+    for (size_t k = 0; k < l.size(); ++k) {
+      ShowItem item = show_item(l[k], sc.index(k), s.duration);
+      if (item.kind != ShowKind::momentum && item.kind != ShowKind::velocity &&
+          item.kind != ShowKind::angular_momentum && item.kind != ShowKind::center_of_mass)
+        sc.index(k).fail(l[k], std::string("a system shows momentum, velocity, angular_momentum or "
+                                           "center_of_mass (of its bodies taken together), not ") +
+                                   to_string(item.kind));
+      y.show.push_back(item);
+    }
+    if (e["name"]) y.name = text(e["name"], c.child("name"));
+    s.overlays.systems.push_back(std::move(y));
+  };
+  if (n.IsSequence())
+    for (size_t k = 0; k < n.size(); ++k) one(n[k], w.index(k));
+  else
+    one(n, w);
 }
 
 }  // namespace
@@ -548,7 +624,7 @@ HudField parse_quantity(const std::string& field_in, const Scene& s, int default
     if (auto sug = nearest(f.name, all)) msg += "; did you mean '" + *sug + "'?";
     msg +=
         " (t, video_t, frame, E, E_drift, L_drift, P; per body omega, omega_body, L, v, p, position, tilt, "
-        "precession; per joint angle, speed, period, angle2, speed2, period2)";
+        "precession, m, KE; per joint angle, speed, period, angle2, speed2, period2)";
     bad(msg);
   }
   if (joint) {
@@ -602,7 +678,7 @@ const std::vector<std::string>& hud_body_names() {
   return v;
 }
 const std::vector<std::string>& hud_body_scalar_names() {
-  static const std::vector<std::string> v = {"tilt", "precession"};
+  static const std::vector<std::string> v = {"tilt", "precession", "m", "KE"};
   return v;
 }
 const std::vector<std::string>& hud_joint_names() {
@@ -626,7 +702,7 @@ bool joint_sides(const JointDef& j, const std::vector<BodyDef>& bodies, int& par
 
 bool OverlaySpec::any() const {
   if (!hud.empty() || !title.empty() || !captions.empty() || !labels.empty() || legend.shown ||
-      !plots.empty())
+      !plots.empty() || !systems.empty())
     return true;
   for (const auto& b : show)
     if (!b.empty()) return true;
@@ -685,7 +761,7 @@ void load_overlays(const YAML::Node& root, const std::string& path, Scene& s) {
   const YAML::Node ov = root["overlays"];
   if (!ov) return;
   const Ctx w = top.child("overlays");
-  check_keys(ov, w, {"hud", "title", "text_size", "captions", "labels", "legend", "plots"});
+  check_keys(ov, w, {"hud", "title", "text_size", "captions", "labels", "legend", "plots", "system"});
   if (const YAML::Node h = ov["hud"]) {
     const Ctx hw = w.child("hud");
     // A copy binds to the node (operator= would write into `h`; reset() throws on a missing key).
@@ -705,6 +781,7 @@ void load_overlays(const YAML::Node& root, const std::string& path, Scene& s) {
   if (const YAML::Node l = ov["labels"]) load_labels(l, w.child("labels"), s);
   if (const YAML::Node l = ov["legend"]) load_legend(l, w.child("legend"), s);
   if (const YAML::Node p = ov["plots"]) load_plots(p, w.child("plots"), s);
+  if (const YAML::Node y = ov["system"]) load_systems(y, w.child("system"), s);
 }
 
 }  // namespace simreel

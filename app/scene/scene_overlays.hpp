@@ -49,6 +49,8 @@ enum class ShowKind {
   joints,             ///< the joint holding the body to its parent: the pivot (a ball), the axis, the limits
   joint_forces,       ///< the force and torque the parent exerts on the body through that joint
   momentum,           ///< linear momentum m v, kg m/s, arrow from the centre of mass
+  angular_momentum_about,  ///< L_O = L + (c - O) x m v about a fixed world point O, arrow from O
+  snapshot,                ///< a translucent copy of the body as it was at given times, kept on screen after
 };
 const char* to_string(ShowKind k);
 
@@ -63,7 +65,8 @@ struct ShowItem {
   double width = 1;    ///< thickness factor (arrows, axes); trails: px
   double opacity = 1;  ///< in [0, 1]; inertia shapes default to 0.35
   double xray = 0;     ///< opacity of the parts hidden behind bodies (0: not drawn; `xray: true` is 0.35)
-  Vec3 point = Vec3::Zero();    ///< trail: m, the body point traced (in `frame` at t = 0)
+  Vec3 point = Vec3::Zero();    ///< trail: m, the body point traced (in `frame` at t = 0);
+                                ///< angular_momentum_about: m, the world point O
   bool point_in_world = false;  ///< trail `frame: world`: `point` is where the point is at t = 0
   double length = 3;            ///< trail: s of history shown
   /// forces, joint_forces: m per N m for torques (none: automatic, as `scale`).
@@ -74,20 +77,46 @@ struct ShowItem {
   bool points = true;         ///< contacts: a dot at each contact point
   bool normals = true;        ///< contacts: the contact normal at each point
   bool arrows = true;         ///< contacts: the contact force at each point (forces: the arrows)
+  std::vector<double> at;     ///< snapshot: s, the times the copies show the body at
   bool springs = true;        ///< forces: springs drawn as zig-zag lines
   bool spring_lines = false;  ///< forces: ... or as straight lines (`springs: line`: strings, cords)
 };
 
-// One field of a HUD line: {name}, {body.name}, {name.x}, {|name|}, {joint.name}, each with an
-// optional Python-style spec after ':' ([+][width][.precision][f|e|g|d]).
+// One field of a HUD line: a quantity ({name}, {body.name}, {name.x}, {|name|}, {joint.name}), or an
+// expression over quantities ({a.m * a.v.x + b.m * b.v.x}, {deg(arm.angle)}, {mean(top.precession, 2)}),
+// each with an optional Python-style spec after ':' ([+][width][.precision][f|e|g|d]).
 struct HudField {
   std::string name;    ///< t, frame, E, E_drift, L_drift; omega, omega_body, L, v, position; angle, ...
-  int body = -1;       ///< per-body quantities: the body's index
+                       ///< "expr": an expression; mean, period_of, last_zero, first_contact: measured
+  int body = -1;       ///< per-body quantities: the body's index (first_contact: the first body or -1)
   int component = -1;  ///< 0 1 2 for .x .y .z; -1 the whole vector or a scalar
   bool norm = false;   ///< |name|
   std::string printf;  ///< the spec as a printf conversion, e.g. "%+.1e"
   int joint = -1;      ///< per-joint quantities (angle, speed, period and their 2nd-coordinate forms)
   int coord = 0;       ///< ... the joint coordinate: 0, or 1 for angle2, speed2, period2
+
+  // An expression: postfix code over `terms` (quantities, numbers and measured values), evaluated on
+  // a fixed stack of kMaxDepth values (app/view/quantities.hpp).
+  struct Op {
+    enum Kind : uint8_t { number, term, add, sub, mul, div, pow, neg, fn1, atan2 } kind = number;
+    double value = 0;                ///< number: the value
+    int arg = -1;                    ///< term: index into terms
+    double (*fn)(double) = nullptr;  ///< fn1: sqrt, abs, deg, rad, sin, cos, tan, exp, log
+  };
+  static constexpr int kMaxDepth = 32;
+  std::vector<Op> code;
+  std::vector<HudField> terms;  ///< expr: its operands; a measured value: its argument (terms[0])
+  double window = 0;            ///< mean: s, over the last `window` seconds (0: since t = 0)
+  int body2 = -1;               ///< first_contact(a, b): the other body
+  std::string source;           ///< as written (a measured value's identity)
+  bool is_expr() const { return name == "expr"; }
+  bool is_meter() const {
+    return name == "mean" || name == "period_of" || name == "last_zero" || name == "first_contact";
+  }
+  /// A number, not a vector printed as (x, y, z).
+  bool scalar() const;
+  /// Whether the field or any of its terms is the quantity `name`.
+  bool uses(const std::string& name) const;
 };
 struct HudLine {
   std::vector<std::string> text;  ///< literal text before each field, then the text after the last
@@ -133,6 +162,14 @@ struct PlotSpec {
   std::string title;            ///< over the plot, optional
 };
 
+// Arrows of a group of bodies taken together (`overlays: system:`): its centre of mass C, total
+// momentum P, velocity of C (P / M) and angular momentum about C, drawn from C.
+struct SystemSpec {
+  std::vector<int> bodies;      ///< the members (moving bodies)
+  std::vector<ShowItem> show;   ///< momentum, velocity, angular_momentum, center_of_mass
+  std::string name = "system";  ///< the legend's word for it
+};
+
 struct OverlaySpec {
   std::vector<std::vector<ShowItem>> show;  ///< per body, parallel to Scene::bodies
   std::vector<HudLine> hud;                 ///< lines, top first
@@ -143,6 +180,7 @@ struct OverlaySpec {
   std::vector<BodyLabel> labels;
   Legend legend;
   std::vector<PlotSpec> plots;
+  std::vector<SystemSpec> systems;
   bool any() const;
 };
 
@@ -162,10 +200,17 @@ std::vector<ShowItem> read_show_list(const YAML::Node& list, const scene_yaml::C
 HudField parse_quantity(const std::string& field, const Scene& s, int default_body,
                         const std::function<void(const std::string&)>& fail);
 
+// A HUD field or plot quantity: a quantity as parse_quantity reads it, or an expression
+// (docs in scenes/README.md, "HUD expressions"): numbers, quantities, + - * / ^, parentheses,
+// |x|, sqrt abs deg rad sin cos tan exp log atan2, and the values measured over the physics steps
+// mean(q) and mean(q, T), period(q), last_zero(q), first_contact, first_contact(a), first_contact(a, b).
+HudField parse_field(const std::string& field, const Scene& s, int default_body,
+                     const std::function<void(const std::string&)>& fail);
+
 // The scalar names and the per-body vector names a HUD field may use.
 const std::vector<std::string>& hud_scalar_names();
 const std::vector<std::string>& hud_body_names();
-const std::vector<std::string>& hud_body_scalar_names();  ///< tilt, precession: a number per body
+const std::vector<std::string>& hud_body_scalar_names();  ///< tilt, precession, m, KE: a number per body
 /// angle, speed, period, angle2, speed2, period2: a number per joint (rad or m, rad/s or m/s, s)
 const std::vector<std::string>& hud_joint_names();
 

@@ -7,13 +7,19 @@
 #pragma once
 #include <vector>
 
+#include <simreel/world.hpp>
 #include "app/scene/scene.hpp"
 #include "render/draw_list.hpp"
-#include <simreel/world.hpp>
 
 namespace simreel {
 
 inline constexpr double kGhostInflate = 1.03;
+
+// Body `body`'s render meshes as translucent overlay triangles with its centre of mass at x and its
+// body frame at q_WB, grown by `inflate` about the centre of mass and lit by a headlight (the
+// ghosts, and the `snapshot` item's copies of a body as it was).
+void draw_body_copy(const World& w, const SceneMeshes& meshes, int body, const Vec3& x, const Quat& q_WB,
+                    const Rgba& color, double inflate, DrawList& dl);
 
 class GhostView {
  public:
@@ -30,7 +36,6 @@ class GhostView {
     int body;
     FreeMotion motion;
     Quat q_PB;  // body frame to principal axes
-    Vec3 c_B;   // m, centre of mass in the body frame
     Rgba color;
     Vec3 offset;
   };

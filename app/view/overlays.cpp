@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "app/runner/frame_loop.hpp"
+#include "app/view/ghost_view.hpp"
 #include "render/camera.hpp"
 
 namespace simreel {
@@ -51,8 +52,105 @@ int default_color(ShowKind k) {
       return 6;  // vermillion, as `forces`
     case ShowKind::momentum:
       return 8;  // dark yellow (okabe_ito(8)): p and v share a direction but not a colour
+    case ShowKind::angular_momentum_about:
+      return 5;  // blue, as L (another colour where L is shown too: resolve_colors)
+    case ShowKind::snapshot:
+      return 0;  // (its own: the body's colour, lightened)
   }
   return 0;
+}
+
+// Arrows of different meanings in different colours, so that a legend never shows one colour
+// twice: axes keep e1 e2 e3 = vermillion, green, blue; each arrow kind in turn keeps its own colour
+// unless an earlier meaning took it, and then takes the first free one of kFallback (Okabe-Ito's
+// yellow, index 4, is too light on a light ground; black is the markers'). Kinds of bodies first,
+// then of systems. Only items without a `color` take part; a colour is set only where it changes.
+// `others`: the other panes' items, so that one quantity has one colour across a split screen.
+constexpr ShowKind kArrowOrder[] = {
+    ShowKind::angular_velocity,       ShowKind::angular_momentum, ShowKind::velocity, ShowKind::momentum,
+    ShowKind::angular_momentum_about, ShowKind::forces,           ShowKind::contacts, ShowKind::joint_forces};
+constexpr int kFallback[] = {2, 1, 8, 7, 5, 3, 6};
+
+void resolve_colors(std::vector<std::vector<ShowItem>>& show, std::vector<SystemSpec>& systems,
+                    const std::vector<const std::vector<ShowItem>*>& others) {
+  bool taken[9] = {};
+  auto uncoloured = [](const std::vector<ShowItem>& items, ShowKind k) {
+    for (const ShowItem& s : items)
+      if (s.kind == k && !s.color) return true;
+    return false;
+  };
+  auto pick = [&](ShowKind k) {
+    int c = default_color(k);
+    for (int f : kFallback)
+      if (taken[c]) c = f;
+    taken[c] = true;
+    return c;
+  };
+  auto apply = [](std::vector<ShowItem>& items, ShowKind k, int c) {
+    if (c == default_color(k)) return;
+    const Rgba rgb = okabe_ito(c);
+    for (ShowItem& s : items)
+      if (s.kind == k && !s.color) s.color = ShowRgb{rgb[0], rgb[1], rgb[2]};
+  };
+  auto has_axes = [](const std::vector<ShowItem>& items) {
+    for (const ShowItem& s : items)
+      if (s.kind == ShowKind::axes) return true;
+    return false;
+  };
+  for (const auto& items : show)
+    if (has_axes(items)) taken[6] = taken[3] = taken[5] = true;
+  for (const auto* items : others)
+    if (has_axes(*items)) taken[6] = taken[3] = taken[5] = true;
+  for (ShowKind k : kArrowOrder) {
+    bool present = false;
+    for (const auto& items : show) present = present || uncoloured(items, k);
+    for (const auto* items : others) present = present || uncoloured(*items, k);
+    if (!present) continue;
+    const int c = pick(k);
+    for (auto& items : show) apply(items, k, c);
+  }
+  for (ShowKind k : {ShowKind::momentum, ShowKind::velocity, ShowKind::angular_momentum}) {
+    bool present = false;
+    for (const SystemSpec& y : systems) present = present || uncoloured(y.show, k);
+    if (!present) continue;
+    const int c = pick(k);
+    for (SystemSpec& y : systems) apply(y.show, k, c);
+  }
+}
+
+// A group of bodies taken together: mass M, centre of mass C, momentum P, angular momentum about C.
+struct SystemState {
+  double M = 0;
+  Vec3 C = Vec3::Zero(), P = Vec3::Zero(), L = Vec3::Zero();
+};
+SystemState system_state(const World& w, const std::vector<int>& bodies) {
+  SystemState y;
+  for (int i : bodies) {
+    const double m = w.mass(i);
+    y.M += m;
+    y.C += m * w.centroid(i);
+    y.P += m * w.linear_velocity(i);
+  }
+  y.C /= y.M;
+  for (int i : bodies)
+    y.L += w.angular_momentum(i) + (w.centroid(i) - y.C).cross(w.mass(i) * w.linear_velocity(i));
+  return y;
+}
+
+// L_O = L + (c - O) x m v: body i's angular momentum about the fixed world point O.
+Vec3 momentum_about(const World& w, int i, const Vec3& O) {
+  return w.angular_momentum(i) + (w.centroid(i) - O).cross(w.mass(i) * w.linear_velocity(i));
+}
+
+// A system item's quantity (the vector its arrow draws).
+Vec3 system_quantity(const SystemState& y, ShowKind k) {
+  return k == ShowKind::momentum ? y.P : k == ShowKind::velocity ? Vec3(y.P / y.M) : y.L;
+}
+
+void accumulate_system(const SystemState& y, Magnitudes& m) {
+  m.p = std::max(m.p, y.P.norm());
+  m.v = std::max(m.v, y.P.norm() / y.M);
+  m.L = std::max(m.L, y.L.norm());
 }
 
 // A distance or pulley joint: never a tree edge (docs/joints.md); `joints` draws it as a rope.
@@ -62,7 +160,7 @@ bool is_rope(const JointDef& j) {
 
 bool is_arrow(ShowKind k) {
   return k == ShowKind::angular_velocity || k == ShowKind::angular_momentum || k == ShowKind::velocity ||
-         k == ShowKind::momentum;
+         k == ShowKind::momentum || k == ShowKind::angular_momentum_about;
 }
 
 Vec3 quantity(const World& w, int i, ShowKind k) {
@@ -82,10 +180,11 @@ Vec3 quantity(const World& w, int i, ShowKind k) {
 
 // The largest component of each magnitude, per body.
 double largest(const Magnitudes& m, ShowKind k) {
-  return k == ShowKind::angular_velocity   ? m.omega
-         : k == ShowKind::angular_momentum ? m.L
-         : k == ShowKind::momentum         ? m.p
-                                           : m.v;
+  return k == ShowKind::angular_velocity         ? m.omega
+         : k == ShowKind::angular_momentum       ? m.L
+         : k == ShowKind::momentum               ? m.p
+         : k == ShowKind::angular_momentum_about ? m.L_about
+                                                 : m.v;
 }
 
 }  // namespace
@@ -146,7 +245,7 @@ std::vector<Magnitudes> measure_magnitudes(const Scene& scene, int threads) {
 }
 
 void SceneOverlays::prepass(const Scene& scene, int threads, bool magnitudes, std::vector<Magnitudes>& mags,
-                            std::vector<double>& contact_forces) {
+                            std::vector<Magnitudes>& system_mags, std::vector<double>& contact_forces) {
   FrameLoop loop(scene, threads);
   const World& w0 = loop.world();
   mags.assign((size_t)w0.body_count(), Magnitudes{});
@@ -162,14 +261,21 @@ void SceneOverlays::prepass(const Scene& scene, int threads, bool magnitudes, st
       reactions.push_back({it.body, joints_[it.joint].index});
   // Contact forces sampled about 60 times a simulated second (a landing lasts a few steps).
   const long contact_every = std::max(1L, std::lround(1.0 / (60.0 * dt_)));
-  JointPeriods periods;  // the plots' {NAME.period}, measured over the pre-pass's own steps
+  StepMeters meters;  // the plots' measured values, over the pre-pass's own steps
+  meters.set_reference(E0, L0);
   for (const Plot& p : plots_)
-    for (const HudField& f : p.spec.quantities) periods.track(f);
+    for (const HudField& f : p.spec.quantities) meters.track(f, dt_);
   FrameLoop::Hooks h;
   h.step = [&](const World& w) {
-    if (!periods.empty()) periods.record(w);
+    if (!meters.empty()) meters.record(w);
     if (magnitudes) {
       accumulate(w, mags);
+      for (const Item& it : items_)
+        if (it.spec.kind == ShowKind::angular_momentum_about)
+          mags[it.body].L_about =
+              std::max(mags[it.body].L_about, momentum_about(w, it.body, it.spec.point).norm());
+      for (size_t k = 0; k < systems_.size(); ++k)
+        accumulate_system(system_state(w, systems_[k].spec.bodies), system_mags[k]);
       for (const auto& [b, j] : reactions) {
         Vec3 F, tau;
         w.joint_reaction(j, F, tau);
@@ -187,15 +293,16 @@ void SceneOverlays::prepass(const Scene& scene, int threads, bool magnitudes, st
       if (s % p.every != 0) continue;
       p.t.push_back(w.time());
       for (size_t q = 0; q < p.spec.quantities.size(); ++q)
-        p.values[q].push_back((float)quantity_value(p.spec.quantities[q], w, -1, E0, L0, 0, &periods));
+        p.values[q].push_back((float)quantity_value(p.spec.quantities[q], w, -1, E0, L0, 0, &meters));
     }
   };
   loop.run({}, h, true);
 }
 
 void SceneOverlays::save_prepass(std::ostream& os, const std::vector<Magnitudes>& mags,
-                                 double contact_kth) const {
+                                 const std::vector<Magnitudes>& system_mags, double contact_kth) const {
   put_vec(os, mags);
+  put_vec(os, system_mags);
   put(os, contact_kth);
   put(os, (uint64_t)plots_.size());
   for (const Plot& p : plots_) {
@@ -205,9 +312,13 @@ void SceneOverlays::save_prepass(std::ostream& os, const std::vector<Magnitudes>
   }
 }
 
-void SceneOverlays::load_prepass(std::istream& is, std::vector<Magnitudes>& mags, double& contact_kth) {
-  const size_t bodies = mags.size();
+void SceneOverlays::load_prepass(std::istream& is, std::vector<Magnitudes>& mags,
+                                 std::vector<Magnitudes>& system_mags, double& contact_kth) {
+  const size_t bodies = mags.size(), systems = system_mags.size();
   get_vec(is, mags);
+  get_vec(is, system_mags);
+  if (system_mags.size() != systems)
+    throw InputError("a checkpoint's pre-pass is of other systems than the scene's");
   get(is, contact_kth);
   uint64_t n = 0;
   get(is, n);
@@ -231,7 +342,13 @@ void SceneOverlays::save_history(std::ostream& os) const {
     put(os, (uint64_t)t.count);
     put(os, t.last);
   }
-  periods_.save(os);
+  meters_.save(os);
+  put(os, (uint64_t)snapshots_.size());
+  for (const Snapshot& s : snapshots_) {
+    put(os, (uint8_t)s.taken);
+    const double pose[7] = {s.x[0], s.x[1], s.x[2], s.q.w(), s.q.x(), s.q.y(), s.q.z()};
+    put(os, pose);
+  }
 }
 
 void SceneOverlays::restore_history(std::istream& is) {
@@ -250,7 +367,18 @@ void SceneOverlays::restore_history(std::istream& is) {
     t.head = (size_t)head, t.count = (size_t)count;
     get(is, t.last);
   }
-  periods_.restore(is);
+  meters_.restore(is);
+  get(is, n);
+  if (n != snapshots_.size()) throw InputError("a checkpoint's snapshots are not the scene's");
+  for (Snapshot& s : snapshots_) {
+    uint8_t taken = 0;
+    double pose[7];
+    get(is, taken);
+    get(is, pose);
+    s.taken = taken != 0;
+    s.x = Vec3(pose[0], pose[1], pose[2]);
+    s.q = Quat(pose[3], pose[4], pose[5], pose[6]);
+  }
 }
 
 SceneOverlays::SceneOverlays(const Scene& scene, const World& world, const std::vector<double>& body_radius,
@@ -269,15 +397,42 @@ SceneOverlays::SceneOverlays(const Scene& scene, const World& world, const std::
       legend_(scene.overlays.legend) {
   const OverlaySpec& o = scene.overlays;
   bool need_scales = false;
-  shows_forces_.assign(o.show.size(), 0);
-  for (size_t i = 0; i < o.show.size(); ++i)
-    for (const ShowItem& s : o.show[i]) {
+  show_ = o.show;
+  std::vector<SystemSpec> systems = o.systems;
+  std::vector<const std::vector<ShowItem>*> panes;
+  for (const PaneSpec& p : scene.views.panes)
+    for (const auto& [body, items] : p.show) panes.push_back(&items);
+  resolve_colors(show_, systems, panes);
+  for (SystemSpec& y : systems) {
+    SystemLook look;
+    look.spec = std::move(y);
+    look.scale.assign(look.spec.show.size(), 0.0);
+    for (int i : look.spec.bodies) look.size = std::max(look.size, body_radius_[i]);
+    for (const ShowItem& s : look.spec.show) need_scales = need_scales || (is_arrow(s.kind) && !s.scale);
+    systems_.push_back(std::move(look));
+  }
+  shows_forces_.assign(show_.size(), 0);
+  for (size_t i = 0; i < show_.size(); ++i)
+    for (const ShowItem& s : show_[i]) {
       if (s.kind == ShowKind::trail) {
         add_trail(
             (int)i, s, Source::point,
             s.color ? with_alpha(*s.color, s.opacity) : okabe_ito(default_color(s.kind), (float)s.opacity),
             height);
         trails_.back().p_B = s.point_in_world ? world.world_to_local((int)i, s.point) : s.point;
+        continue;
+      }
+      if (s.kind == ShowKind::snapshot) {
+        // Default: the body's colour, lightened halfway to white (as a ghost's).
+        std::array<float, 3> base =
+            i < scene.looks.size() ? scene.looks[i].color : std::array<float, 3>{0.7f, 0.7f, 0.7f};
+        for (float& x : base) x = 0.5f + 0.5f * x;
+        const ShowRgb c = s.color ? *s.color : ShowRgb{base[0], base[1], base[2]};
+        for (double t : s.at) {
+          Snapshot snap;
+          snap.body = (int)i, snap.at = t, snap.color = with_alpha(c, s.opacity);
+          snapshots_.push_back(snap);
+        }
         continue;
       }
       if (s.kind == ShowKind::poinsot) {
@@ -309,9 +464,9 @@ SceneOverlays::SceneOverlays(const Scene& scene, const World& world, const std::
       items_.push_back(it);
     }
   for (const HudLine& l : o.hud)
-    for (const HudField& f : l.fields) periods_.track(f);
+    for (const HudField& f : l.fields) meters_.track(f, dt_);
   for (const PlotSpec& ps : o.plots)
-    for (const HudField& f : ps.quantities) periods_.track(f);
+    for (const HudField& f : ps.quantities) meters_.track(f, dt_);
   bool contacts_auto = false;
   for (const Item& it : items_)
     contacts_auto = contacts_auto || (it.spec.kind == ShowKind::contacts && !it.spec.scale);
@@ -327,15 +482,15 @@ SceneOverlays::SceneOverlays(const Scene& scene, const World& world, const std::
     for (auto& v : p.values) v.reserve(p.t.capacity());
     plots_.push_back(std::move(p));
   }
-  std::vector<Magnitudes> mags((size_t)world.body_count());
+  std::vector<Magnitudes> mags((size_t)world.body_count()), system_mags(systems_.size());
   double contact_kth = 0;  // N, the contact forces' kContactQuantile quantile; 0: none seen
   if (store && store->mode() == PrepassStore::Mode::replay) {
     std::istringstream in = store->next();
-    load_prepass(in, mags, contact_kth);
+    load_prepass(in, mags, system_mags, contact_kth);
   } else {
     std::vector<double> contact_forces;
     if (need_scales || contacts_auto || !plots_.empty())
-      prepass(scene, threads, need_scales, mags, contact_forces);
+      prepass(scene, threads, need_scales, mags, system_mags, contact_forces);
     if (contacts_auto && !contact_forces.empty()) {
       const size_t k =
           std::min(contact_forces.size() - 1, (size_t)(kContactQuantile * contact_forces.size()));
@@ -344,7 +499,7 @@ SceneOverlays::SceneOverlays(const Scene& scene, const World& world, const std::
     }
     if (store) {
       std::ostringstream out;
-      save_prepass(out, mags, contact_kth);
+      save_prepass(out, mags, system_mags, contact_kth);
       store->add(out.str());
     }
   }
@@ -410,8 +565,30 @@ SceneOverlays::SceneOverlays(const Scene& scene, const World& world, const std::
       it.scale = it.spec.scale ? *it.spec.scale : kArrowReach * R;  // slant: an auto-scaled omega's length
     }
   }
+  // A system's arrow takes the scale of its members' arrows of the same kind where they show one,
+  // so that the drawn p_a + p_b adds up to the drawn P; else its own largest is kArrowReach times
+  // its largest member's radius.
+  for (size_t k = 0; k < systems_.size(); ++k) {
+    SystemLook& y = systems_[k];
+    y.radius = 0.028 * y.size;
+    for (size_t j = 0; j < y.spec.show.size(); ++j) {
+      const ShowItem& s = y.spec.show[j];
+      if (s.kind == ShowKind::center_of_mass) {
+        y.scale[j] = s.scale ? *s.scale : 0.1 * y.size;
+        continue;
+      }
+      double member = 0;
+      for (const Item& it : items_)
+        if (it.spec.kind == s.kind && member == 0 &&
+            std::find(y.spec.bodies.begin(), y.spec.bodies.end(), it.body) != y.spec.bodies.end())
+          member = it.scale;
+      const double big = largest(system_mags[k], s.kind);
+      y.scale[j] = s.scale ? *s.scale : member > 0 ? member : big > 0 ? kArrowReach * y.size / big : 0;
+    }
+  }
   E0_ = world.kinetic_energy() + world.potential_energy();
   L0_ = world.total_angular_momentum();
+  meters_.set_reference(E0_, L0_);
   make_screen(scene, world);
 }
 
@@ -698,6 +875,45 @@ void SceneOverlays::build_joint(const Item& it, const World& w, const CameraView
   }
 }
 
+void SceneOverlays::system_arrow(int k, int j, const World& w, Vec3& from, Vec3& vec) const {
+  const SystemLook& y = systems_[k];
+  const SystemState st = system_state(w, y.spec.bodies);
+  const ShowKind kind = y.spec.show[j].kind;
+  from = st.C;
+  vec = kind == ShowKind::center_of_mass ? Vec3::Zero() : Vec3(system_quantity(st, kind) * y.scale[j]);
+}
+
+Rgba SceneOverlays::color_of(int body, ShowKind kind) const {
+  for (const ShowItem& s : show_[body])
+    if (s.kind == kind) return item_color(s);
+  return okabe_ito(default_color(kind));
+}
+
+void SceneOverlays::build_systems(const World& w, const CameraView& cam, OverlayList& out) {
+  for (size_t k = 0; k < systems_.size(); ++k) {
+    const SystemLook& y = systems_[k];
+    for (size_t j = 0; j < y.spec.show.size(); ++j) {
+      const ShowItem& s = y.spec.show[j];
+      const Rgba color = item_color(s);
+      Vec3 from, vec;
+      system_arrow((int)k, (int)j, w, from, vec);
+      if (s.kind == ShowKind::center_of_mass) {
+        out.ellipsoid(from, Mat3::Identity(), Vec3::Constant(y.scale[j]), color, (float)s.xray);
+        continue;
+      }
+      // Thicker than the members' arrows (1.5 times, and twice the least): the sum reads as the sum.
+      const double px = pixel_size_at(cam, height_, std::max((from - cam.eye).norm(), 1e-3));
+      const double radius = std::max(1.5 * y.radius * s.width, 2 * min_arrow_radius(px) * s.width);
+      out.arrow(from, vec, radius, color, (float)s.xray);
+    }
+  }
+}
+
+void SceneOverlays::build_snapshots(const World& w, const SceneMeshes& meshes, DrawList& dl) const {
+  for (const Snapshot& s : snapshots_)
+    if (s.taken) draw_body_copy(w, meshes, s.body, s.x, s.q, s.color, kGhostInflate, dl);
+}
+
 double SceneOverlays::arrow_scale(int body, ShowKind kind, bool torque) const {
   for (const Item& it : items_)
     if (it.body == body && it.spec.kind == kind) return torque ? it.torque_scale : it.scale;
@@ -705,7 +921,10 @@ double SceneOverlays::arrow_scale(int body, ShowKind kind, bool torque) const {
 }
 
 void SceneOverlays::record(const World& w) {
-  if (!periods_.empty()) periods_.record(w);
+  if (!meters_.empty()) meters_.record(w);
+  for (Snapshot& s : snapshots_)
+    if (!s.taken && w.time() >= s.at - 0.5 * dt_)
+      s.taken = true, s.x = w.centroid(s.body), s.q = w.orientation(s.body);
   const long s = w.steps();
   for (Trail& t : trails_) {
     if (s <= t.last) continue;
@@ -729,15 +948,17 @@ void SceneOverlays::build(const World& w, long frame, DrawList& dl) {
     const Rgba color =
         s.color ? with_alpha(*s.color, s.opacity) : okabe_ito(default_color(s.kind), (float)s.opacity);
     const float xray = (float)s.xray;
-    // Thin next to a small body seen from far away: at least 1.5 px (times `width`) thick.
     const double px = pixel_size_at(dl.camera, height_, std::max((c - eye).norm(), 1e-3));
-    const double radius = std::max(it.radius, 0.75 * px * s.width);
+    const double radius = std::max(it.radius, min_arrow_radius(px) * s.width);
     switch (s.kind) {
       case ShowKind::angular_velocity:
       case ShowKind::angular_momentum:
       case ShowKind::velocity:
       case ShowKind::momentum:
         dl.overlay.arrow(c, quantity(w, i, s.kind) * it.scale, radius, color, xray);
+        break;
+      case ShowKind::angular_momentum_about:
+        dl.overlay.arrow(s.point, momentum_about(w, i, s.point) * it.scale, radius, color, xray);
         break;
       case ShowKind::axes: {
         const Mat3 R = w.principal_orientation(i).toRotationMatrix();
@@ -796,9 +1017,11 @@ void SceneOverlays::build(const World& w, long frame, DrawList& dl) {
       case ShowKind::trail:
       case ShowKind::poinsot:  // below, after every other item: translucent
       case ShowKind::cones:
+      case ShowKind::snapshot:  // build_snapshots
         break;
     }
   }
+  build_systems(w, dl.camera, dl.overlay);
   for (const Item& it : items_) {
     if (it.spec.kind != ShowKind::poinsot || !(it.scale > 0)) continue;
     // Poinsot: in omega-space scaled by k (m per rad/s), the energy ellipsoid omega.I.omega = 2T

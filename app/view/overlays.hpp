@@ -6,8 +6,8 @@
 // magnitude is drawn kArrowReach times the body's radius, unless the item gives `scale:`.
 // Trails record a body point at a fixed cadence of physics steps through FrameLoop::Hooks::step,
 // into ring buffers sized up front: a frame's trail is a function of the steps before it, the
-// same in a partial render (--frames A:B, --at) as in the full one. Joints' measured periods (HUD
-// and plot `{NAME.period}`, JointPeriods below) are recorded through the same hook.
+// same in a partial render (--frames A:B, --at) as in the full one. Measured values (a joint's
+// period, mean(q), ...: StepMeters, app/view/quantities.hpp) are recorded through the same hook.
 // Frames are a function of (state, history of steps, camera, settings): no per-frame allocation
 // once the buffers have grown (text glyphs are rasterised once, on first use).
 #pragma once
@@ -20,6 +20,7 @@
 
 #include <simreel/world.hpp>
 #include "app/scene/scene.hpp"
+#include "app/view/quantities.hpp"
 #include "app/view/view_state.hpp"
 #include "render/draw_list.hpp"
 #include "render/plot.hpp"
@@ -34,16 +35,22 @@ inline constexpr double kContactReach =
 inline constexpr double kContactQuantile = 0.9;  ///< ... is the contact forces' 90th percentile
 inline constexpr double kReactionFloor =
     1e-6;  ///< joint_forces: a largest reaction under this fraction of its scale is round-off, not drawn
-inline constexpr long kMaxTrailPoints = 16384;  ///< a trail's samples at most (long trails sample sparser)
+/// px at 720 lines: the least thickness of an arrow (times its `width`). An auto-scaled arrow is
+/// 0.056 body radii thick: an 8 cm bob seen from 3 m at 720 lines is 2.6 px, from 6 m 1.3 px,
+/// which reads as a hairline; 3 px reads as an arrow in a 1280x720 clip and in its GIF.
+inline constexpr double kMinArrowPx = 3.0;
+inline constexpr double kMinArrowPxSmall = 2.4;  ///< px: the least on any frame
+inline constexpr long kMaxTrailPoints = 16384;   ///< a trail's samples at most (long trails sample sparser)
 
 // The largest magnitudes over a run, per body.
 struct Magnitudes {
-  double omega = 0;   ///< rad/s
-  double L = 0;       ///< kg m^2/s
-  double v = 0;       ///< m/s
-  double p = 0;       ///< kg m/s
-  double force = 0;   ///< N, the largest applied force drawn as an arrow (force, spring and drag entries)
-  double torque = 0;  ///< N m, the largest torque entry
+  double omega = 0;    ///< rad/s
+  double L = 0;        ///< kg m^2/s
+  double v = 0;        ///< m/s
+  double p = 0;        ///< kg m/s
+  double L_about = 0;  ///< kg m^2/s, angular momentum about an `angular_momentum_about` item's point
+  double force = 0;    ///< N, the largest applied force drawn as an arrow (force, spring and drag entries)
+  double torque = 0;   ///< N m, the largest torque entry
   double joint_force = 0;   ///< N, the largest reaction force through the joint holding the body
   double joint_torque = 0;  ///< N m, ... and the largest reaction torque (World::joint_reaction)
 };
@@ -73,43 +80,6 @@ void visit_contacts(const World& w, int body, F&& f) {
     for (int j = 0; j < c.count; ++j) f(c.points[j].p_W, c.normal_W, c.points[j].force_W);
 }
 
-// `{NAME.period}`: the most recent full period of a joint coordinate, measured from the physics
-// steps. At each step the coordinate's rate is read (World::joint_speed); where it changes sign
-// between two steps the coordinate has turned, and the turning time is interpolated linearly
-// between the two steps (s_a > 0 >= s_b: t_a + h s_a / (s_a - s_b); a step at exactly 0 followed
-// by motion counts, so a release from rest is a turning point at t = 0). The period is the time
-// between the latest turning point and the one before it in the same direction (maximum to
-// maximum, minimum to minimum): it updates every half swing, and is NaN (the HUD prints an em
-// dash) until two turns in one direction have been seen. Resolution: linear interpolation puts
-// each turn within |q'''| h^2 / (8 |q''|) of the true one (h the physics step); at a pendulum's
-// turn q''' = -w0^2 cos(theta) q' vanishes, so the error is at most w0^2 h^3 / 8 per turn
-// (w0^2 = m g d / I_pivot) and w0^2 h^3 / 4 on a period: 1.8e-7 s for w0^2 = 10 / s^2 at 1/240 s.
-class JointPeriods {
- public:
-  // Measures the coordinate a period field names (f.joint, f.coord); others are ignored.
-  void track(const HudField& f);
-  bool empty() const { return meters_.empty(); }
-  // FrameLoop::Hooks::step: every physics step in order (a step seen twice is skipped).
-  void record(const World& w);
-  // s, the latest full period of joint j's coordinate k; NaN until measured (or not tracked).
-  double period(int joint, int coord) const;
-  // The turning times seen so far (for tests): +1 the coordinate's maxima, -1 its minima.
-  const std::vector<double>& turns(int joint, int coord, int direction) const;
-  // What record() has gathered, for a render that resumes mid-clip (app/view/view_state.hpp).
-  void save(std::ostream& os) const;
-  void restore(std::istream& is);
-
- private:
-  struct Meter {
-    int joint = -1, coord = 0;
-    long last_step = -1;
-    double t = 0, s = 0;           // the previous step's time and rate
-    std::vector<double> up, down;  // turning times at maxima (rate + to -) and at minima
-    double period = std::numeric_limits<double>::quiet_NaN();
-  };
-  std::vector<Meter> meters_;
-};
-
 // Okabe-Ito colour-blind-safe palette (B. Wong, Nature Methods 8, 441, 2011), as linear RGB.
 Rgba okabe_ito(int index, float alpha = 1);  ///< 0 black, 1 orange, 2 sky blue, 3 bluish green, 4 yellow,
                                              ///< 5 blue, 6 vermillion, 7 reddish purple, 8 dark yellow
@@ -133,20 +103,24 @@ class SceneOverlays {
   bool empty() const { return items_.empty() && !has_screen_; }
   bool has_trails() const { return !trails_.empty(); }
   // Whether record() must see every physics step: trails, or a joint's measured period.
-  bool records_steps() const { return !trails_.empty() || !periods_.empty(); }
-  const JointPeriods& periods() const { return periods_; }
+  bool records_steps() const { return !trails_.empty() || !meters_.empty() || !snapshots_.empty(); }
+  const StepMeters& meters() const { return meters_; }
   // Samples trail k can hold (its ring's size), and the physics steps between its samples.
   size_t trail_capacity(int k) const { return trails_[k].points.size(); }
   long trail_every(int k) const { return trails_[k].every; }
 
-  // FrameLoop::Hooks::step: records the trails and the joints' periods.
+  // FrameLoop::Hooks::step: records the trails and the measured values.
   void record(const World& w);
-  // The history record() gathered (trails, periods), for a render that resumes mid-clip.
+  // The history record() gathered (trails, measured values), for a render that resumes mid-clip.
   void save_history(std::ostream& os) const;
   void restore_history(std::istream& is);
   // The world's present state into dl.overlay and dl.screen (dl.camera set already). frame: the
   // frame's number in the clip (HUD {frame}).
   void build(const World& w, long frame, DrawList& dl);
+  // The `snapshot` items' copies taken by now, drawn with the bodies' render meshes into dl.overlay
+  // (after build()).
+  void build_snapshots(const World& w, const SceneMeshes& meshes, DrawList& dl) const;
+  bool has_snapshots() const { return !snapshots_.empty(); }
 
   // The scale in use for a body's arrow item (m per unit), for tests. Forces, joint forces: m per N;
   // torques (kind forces or joint_forces, torque = true): m per N m; contacts: m per N.
@@ -155,6 +129,14 @@ class SceneOverlays {
   const InsetPlot& plot(int k) const { return *plots_[k].plot; }
   const std::vector<double>& plot_times(int k) const { return plots_[k].t; }
   const std::vector<float>& plot_values(int k, int q) const { return plots_[k].values[q]; }
+  // What system k's item j draws at the world's state: an arrow from `from` along `vec` (m; for
+  // center_of_mass, vec is zero and `from` the centre). For tests.
+  void system_arrow(int k, int j, const World& w, Vec3& from, Vec3& vec) const;
+  // The legend's entries as drawn (filled from the show items when the scene lists none).
+  const Legend& legend() const { return legend_; }
+  // The colour the item of kind `kind` of body `body` is drawn in (its colour resolved against
+  // the other items', resolve_colors in overlays.cpp).
+  Rgba color_of(int body, ShowKind kind) const;
   // The title's size after shrinking it to fit the frame (px).
   int title_pixel_size() const { return title_font_ ? title_font_->pixel_size() : 0; }
 
@@ -234,10 +216,18 @@ class SceneOverlays {
   int add_rope_looks(const Scene& scene, int body);  // the ropes at `body` (drawn by it or another)
   void build_ropes(const Item& it, const World& w, const CameraView& cam, OverlayList& out);
   void prepass(const Scene& scene, int threads, bool magnitudes, std::vector<Magnitudes>& mags,
-               std::vector<double>& contact_forces);
-  void save_prepass(std::ostream& os, const std::vector<Magnitudes>& mags, double contact_kth) const;
-  void load_prepass(std::istream& is, std::vector<Magnitudes>& mags, double& contact_kth);
+               std::vector<Magnitudes>& system_mags, std::vector<double>& contact_forces);
+  void save_prepass(std::ostream& os, const std::vector<Magnitudes>& mags,
+                    const std::vector<Magnitudes>& system_mags, double contact_kth) const;
+  void load_prepass(std::istream& is, std::vector<Magnitudes>& mags, std::vector<Magnitudes>& system_mags,
+                    double& contact_kth);
   void make_screen(const Scene& scene, const World& world);
+  void build_systems(const World& w, const CameraView& cam, OverlayList& out);
+  // m: an arrow's least shaft radius where a pixel is `px` m: kMinArrowPx thick at 720 lines, in
+  // proportion on taller frames, and never under kMinArrowPxSmall on small ones (a GIF, a golden).
+  double min_arrow_radius(double px) const {
+    return 0.5 * std::max(kMinArrowPx * height_ / 720.0, kMinArrowPxSmall) * px;
+  }
   void fill_legend(const Scene& scene);
 
   Vec3 sample(const Trail& t, const World& w) const;                   // what a trail records now
@@ -251,13 +241,32 @@ class SceneOverlays {
   std::vector<Trail> trails_;
   std::vector<JointLook> joints_;
   std::vector<RopeLook> ropes_;
-  JointPeriods periods_;  // the HUD's and plot cursors' {NAME.period}
+  StepMeters meters_;  // the HUD's and plot cursors' periods and measured values
   std::vector<HudLine> hud_;
   std::string hud_corner_, title_;
   std::vector<Caption> captions_;
   std::vector<BodyLabel> labels_;
   Legend legend_;
   std::vector<Plot> plots_;
+  // `system:` groups, their items' scales (m per unit; center_of_mass: m radius) and shaft radius.
+  struct SystemLook {
+    SystemSpec spec;
+    std::vector<double> scale;
+    double radius = 0, size = 0;  // m: the arrows' shaft, the members' largest drawn radius
+  };
+  std::vector<SystemLook> systems_;
+  // A `snapshot` item's copy: the body's pose at the first step at or after `at` (half a step's
+  // tolerance), recorded by record() and drawn from then on.
+  struct Snapshot {
+    int body = -1;
+    double at = 0;
+    Rgba color;
+    bool taken = false;
+    Vec3 x = Vec3::Zero();  // m, the centre of mass
+    Quat q = Quat::Identity();
+  };
+  std::vector<Snapshot> snapshots_;
+  std::vector<std::vector<ShowItem>> show_;  // the scene's items, their colours resolved (legend)
   bool has_screen_ = false;
   size_t max_lines_ = 0;            // screen lines a frame may hold (plots), reserved once
   std::vector<char> shows_forces_;  // per body: has a `forces` item (springs drawn once)
@@ -269,16 +278,6 @@ class SceneOverlays {
   std::vector<Vec3> spring_points_;  // a spring's zig-zag, reused
   std::vector<Rgba> spring_colors_;
 };
-
-// A HUD line with its fields filled from the world; `out` keeps its storage. `fps`: the video's,
-// for {video_t} = frame / fps (app/scene/scene_time.hpp; 0: the simulated time). `periods`: what
-// {NAME.period} reads (none: not measured). A value not known yet (NaN) prints as an em dash.
-void format_hud_line(const HudLine& line, const World& w, long frame, double E0, const Vec3& L0,
-                     std::string& out, double fps = 0, const JointPeriods* periods = nullptr);
-// The value of a scalar quantity (a HUD field with a component, |...|, a scene scalar or a joint's
-// number: World::joint_position, joint_speed, or the period from `periods`, NaN without).
-double quantity_value(const HudField& f, const World& w, long frame, double E0, const Vec3& L0,
-                      double fps = 0, const JointPeriods* periods = nullptr);
 
 // A linear RGB colour as the screen layer's display (sRGB-encoded) bytes.
 Rgba8 to_display(const Rgba& linear);

@@ -72,7 +72,7 @@ void SceneOverlays::build_forces(const Item& it, const World& w, const CameraVie
   const Vec3 c = w.centroid(i);
   const double R = body_radius_[i];
   const double px = pixel_size_at(cam, height_, std::max((c - cam.eye).norm(), 1e-3));
-  const double radius = std::max(it.radius, 1.2 * px * s.width);  // at least 2.4 px thick
+  const double radius = std::max(it.radius, min_arrow_radius(px) * s.width);
   if (s.arrows) {
     struct Draw : ForceVisitor {
       OverlayList& out;
@@ -155,7 +155,7 @@ void SceneOverlays::build_contacts(const Item& it, const World& w, const CameraV
   const float xray = (float)s.xray;
   const double R = body_radius_[i];
   const double px = pixel_size_at(cam, height_, std::max((w.centroid(i) - cam.eye).norm(), 1e-3));
-  const double radius = std::max(it.radius, 1.2 * px * s.width);
+  const double radius = std::max(it.radius, min_arrow_radius(px) * s.width);
   const double dot = std::max(0.045 * R, 2.0 * px), normal = 0.4 * R;
   const Rgba ink = okabe_ito(0, (float)s.opacity);
   visit_contacts(w, i, [&](const Vec3& p, const Vec3& n, const Vec3& F) {
@@ -176,7 +176,7 @@ void SceneOverlays::build_joint_forces(const Item& it, const World& w, const Cam
   const float xray = (float)s.xray;
   const Vec3 p = w.local_to_world(L.child, L.anchor_C);
   const double px = pixel_size_at(cam, height_, std::max((p - cam.eye).norm(), 1e-3));
-  const double radius = std::max(it.radius, 1.2 * px * s.width);  // at least 2.4 px thick, as `forces`
+  const double radius = std::max(it.radius, min_arrow_radius(px) * s.width);
   Vec3 F, tau;
   w.joint_reaction(L.index, F, tau);
   if (it.scale > 0) out.arrow(p, F * it.scale, radius, color, xray);

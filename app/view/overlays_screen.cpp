@@ -9,6 +9,7 @@
 #include <numbers>
 
 #include "app/view/overlays.hpp"
+#include "app/view/quantities.hpp"
 #include "render/camera.hpp"
 
 namespace simreel {
@@ -35,174 +36,6 @@ const int kPlotColors[8] = {6, 3, 2, 4, 1, 7, 5, 0};
 
 Rgba8 to_display(const Rgba& c) {
   return {encode(c[0]), encode(c[1]), encode(c[2]), (uint8_t)std::lround(255 * std::clamp(c[3], 0.0f, 1.0f))};
-}
-
-namespace {
-
-// A per-body vector quantity of the HUD's names.
-Vec3 body_vector(const HudField& f, const World& w) {
-  const int i = f.body;
-  if (f.name == "P") return w.total_momentum();  // the scene's, of every moving body
-  if (f.name == "omega") return w.angular_velocity(i);
-  if (f.name == "omega_body") return w.angular_velocity_principal(i);
-  if (f.name == "L") return w.angular_momentum(i);
-  if (f.name == "v") return w.linear_velocity(i);
-  if (f.name == "p") return w.mass(i) * w.linear_velocity(i);
-  if (f.name == "position") return w.centroid(i);
-  return Vec3::Zero();
-}
-
-// A per-body number: `tilt`, the angle of the body's z axis from the world's vertical (deg; for a
-// disk or coin with its axis along z, the angle between the disk and a level floor), or
-// `precession`, the rate at which that axis turns about the vertical (rad/s, counter-clockwise
-// seen from above; the line of nodes' rate, Omega of Euler's disk).
-bool body_scalar(const HudField& f, const World& w, double& out) {
-  if (f.name != "tilt" && f.name != "precession") return false;
-  const Vec3 a = w.local_to_world_vec(f.body, Vec3::UnitZ());
-  if (f.name == "tilt") {
-    out = std::acos(std::clamp(a.z(), -1.0, 1.0)) * 180.0 / std::numbers::pi;
-  } else {
-    const Vec3 da = w.angular_velocity(f.body).cross(a);
-    const double h2 = a.x() * a.x() + a.y() * a.y();
-    out = h2 > 1e-24 ? (a.x() * da.y() - a.y() * da.x()) / h2 : 0.0;
-  }
-  return true;
-}
-
-}  // namespace
-
-void JointPeriods::track(const HudField& f) {
-  if (f.joint < 0 || !f.name.starts_with("period")) return;
-  for (const Meter& m : meters_)
-    if (m.joint == f.joint && m.coord == f.coord) return;
-  Meter m;
-  m.joint = f.joint, m.coord = f.coord;
-  meters_.push_back(m);
-}
-
-void JointPeriods::record(const World& w) {
-  const long step = w.steps();
-  const double t = w.time();
-  for (Meter& m : meters_) {
-    if (step <= m.last_step) continue;
-    const double s = w.joint_speed(m.joint, m.coord);
-    if (m.last_step >= 0) {
-      // A turn between the previous step (rate m.s) and this one: + to - at a maximum, - to + at a
-      // minimum; the rate's zero interpolated linearly between the two.
-      const int dir = m.s >= 0 && s < 0 ? 1 : m.s <= 0 && s > 0 ? -1 : 0;
-      if (dir) {
-        const double tc = m.t + (t - m.t) * (m.s / (m.s - s));
-        std::vector<double>& v = dir > 0 ? m.up : m.down;
-        v.push_back(tc);
-        if (v.size() >= 2) m.period = v.back() - v[v.size() - 2];
-      }
-    }
-    m.last_step = step, m.t = t, m.s = s;
-  }
-}
-
-void JointPeriods::save(std::ostream& os) const {
-  put(os, (uint64_t)meters_.size());
-  for (const Meter& m : meters_) {
-    put(os, m.last_step);
-    put(os, m.t);
-    put(os, m.s);
-    put(os, m.period);
-    put_vec(os, m.up);
-    put_vec(os, m.down);
-  }
-}
-
-void JointPeriods::restore(std::istream& is) {
-  uint64_t n = 0;
-  get(is, n);
-  if (n != meters_.size()) throw InputError("a checkpoint measures other joints' periods than the scene");
-  for (Meter& m : meters_) {
-    get(is, m.last_step);
-    get(is, m.t);
-    get(is, m.s);
-    get(is, m.period);
-    get_vec(is, m.up);
-    get_vec(is, m.down);
-  }
-}
-
-double JointPeriods::period(int joint, int coord) const {
-  for (const Meter& m : meters_)
-    if (m.joint == joint && m.coord == coord) return m.period;
-  return std::numeric_limits<double>::quiet_NaN();
-}
-
-const std::vector<double>& JointPeriods::turns(int joint, int coord, int direction) const {
-  static const std::vector<double> none;
-  for (const Meter& m : meters_)
-    if (m.joint == joint && m.coord == coord) return direction > 0 ? m.up : m.down;
-  return none;
-}
-
-double quantity_value(const HudField& f, const World& w, long frame, double E0, const Vec3& L0, double fps,
-                      const JointPeriods* periods) {
-  if (f.name == "frame") return (double)frame;
-  if (f.joint >= 0) {
-    if (f.name.starts_with("angle")) return w.joint_position(f.joint, f.coord);
-    if (f.name.starts_with("speed")) return w.joint_speed(f.joint, f.coord);
-    return periods ? periods->period(f.joint, f.coord) : std::numeric_limits<double>::quiet_NaN();
-  }
-  if (f.body < 0 && f.name != "P") {
-    const double E = w.kinetic_energy() + w.potential_energy();
-    if (f.name == "t") return w.time();
-    if (f.name == "video_t") return fps > 0 ? (double)frame / fps : w.time();
-    if (f.name == "E") return E;
-    if (f.name == "E_drift") return E0 != 0 ? (E - E0) / std::fabs(E0) : E - E0;
-    if (f.name == "joint_gap") return w.joint_gap();
-    if (f.name == "L_drift") {
-      const double n0 = L0.norm();
-      return n0 > 0 ? (w.total_angular_momentum() - L0).norm() / n0
-                    : (w.total_angular_momentum() - L0).norm();
-    }
-    return 0;
-  }
-  double x;
-  if (body_scalar(f, w, x)) return x;
-  const Vec3 v = body_vector(f, w);
-  return f.norm ? v.norm() : f.component >= 0 ? v[f.component] : 0.0;
-}
-
-void format_hud_line(const HudLine& line, const World& w, long frame, double E0, const Vec3& L0,
-                     std::string& out, double fps, const JointPeriods* periods) {
-  out.clear();
-  char buf[96];
-  for (size_t k = 0; k < line.fields.size(); ++k) {
-    out += line.text[k];
-    const HudField& f = line.fields[k];
-    const char* fmt = f.printf.c_str();
-    if (f.name == "frame") {
-      std::snprintf(buf, sizeof buf, fmt, frame);
-      out += buf;
-      continue;
-    }
-    if ((f.body < 0 && f.name != "P") || f.norm || f.component >= 0 || f.name == "tilt" ||
-        f.name == "precession") {
-      const double v = quantity_value(f, w, frame, E0, L0, fps, periods);
-      if (std::isnan(v)) {
-        out += "\u2014";  // not known yet (a period before two turns)
-        continue;
-      }
-      std::snprintf(buf, sizeof buf, fmt, v);
-      out += buf;
-      continue;
-    }
-    // A whole vector: (x, y, z), the format applied to each.
-    const Vec3 v = body_vector(f, w);
-    out += '(';
-    for (int c = 0; c < 3; ++c) {
-      std::snprintf(buf, sizeof buf, fmt, v[c]);
-      out += buf;
-      if (c < 2) out += ", ";
-    }
-    out += ')';
-  }
-  out += line.text.back();
 }
 
 void SceneOverlays::make_screen(const Scene& scene, const World& world) {
@@ -273,9 +106,8 @@ void SceneOverlays::fill_legend(const Scene& scene) {
     int body;
   };
   std::vector<E> all;
-  const OverlaySpec& o = scene.overlays;
-  for (size_t b = 0; b < o.show.size(); ++b)
-    for (const ShowItem& s : o.show[b]) {
+  for (size_t b = 0; b < show_.size(); ++b)
+    for (const ShowItem& s : show_[b]) {
       const Rgba c = item_color(s);
       auto add = [&](const std::string& t, const Rgba& col) {
         all.push_back({t, {col[0], col[1], col[2], 1}, (int)b});
@@ -296,6 +128,19 @@ void SceneOverlays::fill_legend(const Scene& scene) {
         case ShowKind::momentum:
           add("momentum p = m v", c);
           break;
+        case ShowKind::angular_momentum_about:
+          add("angular momentum about O, L_O", c);
+          break;
+        case ShowKind::snapshot: {
+          std::string t = "translucent: as it was at t =";
+          char buf[32];
+          for (size_t k = 0; k < s.at.size(); ++k) {
+            std::snprintf(buf, sizeof buf, "%s %g", k ? "," : "", s.at[k]);
+            t += buf;
+          }
+          add(t + " s", {0.75f, 0.75f, 0.78f, 1});  // each body's copy is its own colour, lightened
+          break;
+        }
         case ShowKind::center_of_mass:
           add("centre of mass", c);
           break;
@@ -363,6 +208,18 @@ void SceneOverlays::fill_legend(const Scene& scene) {
           break;
       }
     }
+  for (const SystemLook& y : systems_)
+    for (const ShowItem& s : y.spec.show) {
+      const Rgba c = item_color(s);
+      const std::string of = y.spec.name == "system" ? "" : " (" + y.spec.name + ")";
+      const std::string t =
+          s.kind == ShowKind::momentum   ? "total momentum P" + of
+          : s.kind == ShowKind::velocity ? "velocity of the centre of mass" + of
+          : s.kind == ShowKind::angular_momentum
+              ? "total angular momentum about the centre of mass" + of
+              : "centre of mass of the " + (of.empty() ? std::string("system") : y.spec.name);
+      all.push_back({t, {c[0], c[1], c[2], 1}, y.spec.bodies[0]});
+    }
   // One entry per text and colour; a text drawn in several colours names each body.
   for (size_t k = 0; k < all.size(); ++k) {
     bool seen = false, several = false;
@@ -421,7 +278,7 @@ void SceneOverlays::build_screen(const World& w, long frame, const CameraView& c
     out.lines.reserve(max_lines_);  // once: curves grow
   for (Plot& p : plots_) {
     for (size_t q = 0; q < p.spec.quantities.size(); ++q)
-      p.now[q] = (float)quantity_value(p.spec.quantities[q], w, frame, E0_, L0_, 0, &periods_);
+      p.now[q] = (float)quantity_value(p.spec.quantities[q], w, frame, E0_, L0_, 0, &meters_);
     p.plot->draw(p.t.data(), p.series.data(), (int)p.t.size(), t, out, p.now.data());
   }
 
@@ -429,7 +286,7 @@ void SceneOverlays::build_screen(const World& w, long frame, const CameraView& c
     Typeface& f = *font_;
     int widest = 0;
     for (size_t k = 0; k < hud_.size(); ++k) {
-      format_hud_line(hud_[k], w, frame, E0_, L0_, lines_[k], fps_, &periods_);
+      format_hud_line(hud_[k], w, frame, E0_, L0_, lines_[k], fps_, &meters_);
       widest = std::max(widest, f.width(lines_[k]));
     }
     const int pad = f.pixel_size() / 2, lh = f.line_height();

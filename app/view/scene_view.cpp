@@ -115,6 +115,7 @@ const uint8_t* SceneView::draw(Renderer& r, const World& world, uint8_t* out, lo
     dl_.camera.up = world.local_to_world_vec(ride, cam.up);
   }
   if (overlays) overlays->build(world, frame >= 0 ? frame : std::lround(world.time() * fps_), dl_);
+  if (overlays && overlays->has_snapshots()) overlays->build_snapshots(world, meshes, dl_);
   if (ghosts) {
     if (!overlays) dl_.overlay.clear();
     ghosts->build(world, meshes, dl_);

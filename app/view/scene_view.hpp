@@ -53,6 +53,8 @@ struct SceneView {
   const ScreenLayer& screen() const { return dl_.screen; }
   // The camera of the last draw(), in the world (after path, orbit, follow and riding).
   const CameraView& drawn_camera() const { return dl_.camera; }
+  // The last frame's overlay geometry (arrows, ghosts, snapshots), for tests.
+  const OverlayList& overlay() const { return dl_.overlay; }
   // Whether the camera moves by path or orbit (a fixed camera otherwise, unless it follows or rides).
   bool moving() const { return !path.empty() || orbit.has_value(); }
   // For FrameLoop::Hooks::step: records trails and joints' periods, and advances a damped follow,

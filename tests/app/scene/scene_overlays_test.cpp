@@ -411,7 +411,9 @@ TEST(SceneOverlays, TheJointForcesItemIsForABodyAJointHolds) {
                 .find("unknown item 'joint_force'; did you mean 'joint_forces'?"),
             std::string::npos)
       << error_of(put("arm", "[ joint_force ]"));
-  EXPECT_NE(error_of(put("arm", "[ zzz ]")).find("joints, joint_forces, momentum)"), std::string::npos)
+  EXPECT_NE(error_of(put("arm", "[ zzz ]"))
+                .find("joints, joint_forces, momentum, angular_momentum_about, snapshot)"),
+            std::string::npos)
       << error_of(put("arm", "[ zzz ]"));
 }
 

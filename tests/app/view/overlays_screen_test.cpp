@@ -278,7 +278,7 @@ TEST(OverlaysScreen, JointQuantitiesAreTheWorldsJointCoordinates) {
     d.draw_frame(k);
     const World& w = d.loop->world();
     std::string line;
-    format_hud_line(d.scene.overlays.hud[0], w, k, 0, Vec3::Zero(), line, 10, &o.periods());
+    format_hud_line(d.scene.overlays.hud[0], w, k, 0, Vec3::Zero(), line, 10, &o.meters());
     char want[512];
     std::snprintf(want, sizeof want, "%.17g %.17g %.17g %.17g %.17g", w.joint_position(0), w.joint_speed(1),
                   w.joint_position(2, 0), w.joint_position(2, 1), w.joint_speed(2, 1));
@@ -316,7 +316,7 @@ double elliptic_K(double k) {
 // {pivot.period} of the pendulum demo (scenes/pendulum.yaml): every period measured from the
 // turns, maximum to maximum and minimum to minimum, is the exact period of a compound pendulum
 // released from rest at 120 degrees, T = 4 sqrt(I_p / (m g d)) K(sin 60 deg), within the method's
-// resolution w0^2 h^3 / 4 (JointPeriods, app/view/overlays.hpp). The reference is the closed form
+// resolution w0^2 h^3 / 4 (StepMeters, app/view/quantities.hpp). The reference is the closed form
 // from the scene's dimensions, not the World's mass properties.
 TEST(OverlaysScreen, PendulumDemoPeriodIsTheEllipticPeriod) {
   const Scene scene = load_scene("scenes/pendulum.yaml");
@@ -336,8 +336,8 @@ TEST(OverlaysScreen, PendulumDemoPeriodIsTheEllipticPeriod) {
   ASSERT_NEAR(loop.world().mass(0), m, 1e-9 * m) << "the scene's pendulum is the one the reference describes";
   const HudField& f = scene.overlays.hud[2].fields[0];
   ASSERT_EQ(f.name, "period");
-  JointPeriods P;
-  P.track(f);
+  StepMeters P;
+  P.track(f, h);
   FrameLoop::Hooks hk;
   hk.step = [&](const World& w) { P.record(w); };
   loop.run({}, hk, true);
@@ -367,10 +367,10 @@ TEST(OverlaysScreen, TheHudPeriodIsADashUntilMeasured) {
   const HudLine& line = d.scene.overlays.hud[2];
   std::string out;
   d.draw_frame(30);  // 1 s: one maximum (the release) and one minimum seen
-  format_hud_line(line, d.loop->world(), 30, 0, Vec3::Zero(), out, 30, &d.view->overlays->periods());
+  format_hud_line(line, d.loop->world(), 30, 0, Vec3::Zero(), out, 30, &d.view->overlays->meters());
   EXPECT_EQ(out, "T measured \u2014 s");
   d.draw_frame(270);  // 9 s
-  format_hud_line(line, d.loop->world(), 270, 0, Vec3::Zero(), out, 30, &d.view->overlays->periods());
+  format_hud_line(line, d.loop->world(), 270, 0, Vec3::Zero(), out, 30, &d.view->overlays->meters());
   EXPECT_EQ(out, "T measured 2.73273 s");
   // Without the measured periods the value is not known.
   format_hud_line(line, d.loop->world(), 270, 0, Vec3::Zero(), out, 30);
@@ -395,12 +395,22 @@ TEST(OverlaysScreen, MomentumOfAnElasticCollision) {
   const HudLine& pa = d.scene.overlays.hud[1];
   ASSERT_EQ(pa.fields[0].name, "p");
   const HudField P = d.scene.overlays.hud[3].fields[0];
-  ASSERT_EQ(P.name, "P");
-  ASSERT_EQ(P.body, -1);
+  ASSERT_TRUE(P.is_expr()) << "a.m * a.v.x + b.m * b.v.x";
+  HudField total;
+  total.name = "P", total.component = 0;
+  const HudField contact = d.scene.overlays.hud[5].fields[0];
+  ASSERT_EQ(contact.name, "first_contact");
   for (long k : {0L, 10L, 40L, 72L}) {  // before (t = 0, 0.33 s) and after (1.33, 2.4 s) the impact
     d.draw_frame(k);
     const World& w = d.loop->world();
     EXPECT_NEAR(quantity_value(P, w, k, 0, Vec3::Zero()), 0.5, 1e-9) << "frame " << k;
+    EXPECT_NEAR(quantity_value(total, w, k, 0, Vec3::Zero()), 0.5, 1e-9) << "frame " << k;
+    // The gap 2.6 - 0.488 m closes at 2.5 m/s: contact at 0.8448 s, read within a step (0.8458).
+    const double tc = quantity_value(contact, w, k, 0, Vec3::Zero(), 30, &d.view->overlays->meters());
+    if (k <= 10)
+      EXPECT_TRUE(std::isnan(tc)) << "frame " << k;
+    else
+      EXPECT_NEAR(tc, 2.112 / 2.5, d.scene.timestep) << "frame " << k;
     const double p_a = quantity_value(pa.fields[0], w, k, 0, Vec3::Zero());
     EXPECT_NEAR(p_a, k <= 10 ? 2.0 : -1.75, 1e-9) << "frame " << k;
     EXPECT_NEAR(quantity_value(d.scene.overlays.hud[2].fields[0], w, k, 0, Vec3::Zero()),
