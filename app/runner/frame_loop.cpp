@@ -74,6 +74,7 @@ void FrameLoop::advance_to(long step, const Hooks& hooks) {
         break;
       }
       world_.step();
+      drift_.step(world_);
       if (hooks.step) hooks.step(world_);
     }
     step_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

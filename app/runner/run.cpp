@@ -15,6 +15,27 @@ Drift::Drift(const World& w)
     : E0_(w.kinetic_energy() + w.potential_energy()), L0_(w.total_angular_momentum()) {
   scale_ = std::max(std::fabs(E0_), w.kinetic_energy());
   prev_E_ = E0_;
+  const std::vector<JointDef>& joints = w.config().joints;
+  for (size_t j = 0; j < joints.size(); ++j)
+    if (joints[j].limits) limited_.push_back((int)j);
+}
+
+void Drift::step(const World& w) {
+  if (limit_reached_) return;
+  // A limit stops its coordinate in the step that would carry it past the bound, so a coordinate
+  // that would pass a bound within the next step at its present rate has reached it.
+  const std::vector<JointDef>& joints = w.config().joints;
+  const double h = w.config().dt;
+  for (int j : limited_) {
+    const JointLimits& l = *joints[j].limits;
+    const double eps = 1e-9 * (1 + std::max(std::fabs(l.lower), std::fabs(l.upper)));
+    const int coords = joints[j].type == JointType::universal ? 2 : 1;
+    for (int k = 0; k < coords; ++k) {
+      const double q = w.joint_position(j, k), v = w.joint_speed(j, k);
+      if (q + h * std::min(0.0, v) <= l.lower + eps || q + h * std::max(0.0, v) >= l.upper - eps)
+        limit_reached_ = true;
+    }
+  }
 }
 
 void Drift::sample(const World& w) {
@@ -52,7 +73,7 @@ WorldConfig world_config(const Scene& s, int threads) {
   return c;
 }
 
-Conservation conservation(const Scene& scene, const World& world) {
+Conservation conservation(const Scene& scene, const World& world, const Drift* drift) {
   Conservation c;
   auto breaks = [](bool& flag, std::string& why, const std::string& reason) {
     if (!flag) return;  // the first reason is enough
@@ -71,7 +92,8 @@ Conservation conservation(const Scene& scene, const World& world) {
     if (j.friction > 0) breaks(c.energy, c.energy_why, "joint friction takes energy");
     if (j.motor) breaks(c.energy, c.energy_why, "a joint's motor gives and takes energy");
     if (j.spring && j.spring->damping > 0) breaks(c.energy, c.energy_why, "a joint's damper takes energy");
-    if (j.limits) breaks(c.energy, c.energy_why, "a joint's limits stop it inelastically when reached");
+    if (j.limits && (!drift || drift->limit_reached()))
+      breaks(c.energy, c.energy_why, "a joint reached its limits, which stop it inelastically");
     if (outside && world.type(j.parent < 0 ? j.child : j.parent) == BodyType::kinematic)
       breaks(c.energy, c.energy_why, "a kinematic body drives the mechanism");
   }
@@ -109,7 +131,7 @@ Conservation conservation(const Scene& scene, const World& world) {
 RunSummary make_summary(const Scene& scene, const World& world, const Drift& drift, int frames,
                         double step_seconds) {
   RunSummary s;
-  s.conserved = conservation(scene, world);
+  s.conserved = conservation(scene, world, &drift);
   s.scene = scene.path;
   s.integrator = scene.integrator;
   s.timestep = scene.timestep;

@@ -22,10 +22,16 @@ class Drift {
   double energy_gained() const { return max_rise_ > 1e-9 * scale_ ? max_rise_ : 0.0; }
   double joint_gap() const { return max_gap_; }          ///< m, largest anchor gap of any joint
   double joint_angle_gap() const { return max_angle_; }  ///< rad, largest axis misalignment
+  // Every step (FrameLoop): whether any joint has reached its limits yet (a limit that is never
+  // reached takes no energy). Cheap: only joints with limits are read, and only until one is reached.
+  void step(const World& w);
+  bool limit_reached() const { return limit_reached_; }
 
  private:
   double E0_, scale_, max_dE_ = 0, max_dL_ = 0, prev_E_ = 0, max_rise_ = 0, max_gap_ = 0, max_angle_ = 0;
   Vec3 L0_;
+  std::vector<int> limited_;  // joints with limits
+  bool limit_reached_ = false;
 };
 
 WorldConfig world_config(const Scene& s, int threads);
@@ -39,7 +45,9 @@ struct Conservation {
   bool energy = true, angular_momentum = true;
   std::string energy_why, angular_momentum_why;
 };
-Conservation conservation(const Scene& scene, const World& world);
+// `drift`: what the run saw (a joint's limits break the energy only once reached); none: limits
+// count as reached.
+Conservation conservation(const Scene& scene, const World& world, const Drift* drift = nullptr);
 
 // The summary of a run: text for people, one JSON object for scripts.
 struct RunSummary {

@@ -27,6 +27,7 @@
 #include "app/scene/scene_forces.hpp"
 #include "app/scene/scene_imports.hpp"
 #include "app/scene/scene_joints.hpp"
+#include "app/scene/scene_place.hpp"
 #include "app/scene/scene_repeat.hpp"
 #include "sim/base/enum_names.hpp"
 #include "sim/dynamics/mesh_collider.hpp"
@@ -710,7 +711,7 @@ struct Loader {
     check_keys(n, c,
                {"name", "position", "orientation", "euler", "axis_angle", "linear_velocity",
                 "angular_velocity", "angular_velocity_body", "type", "static", "color", "integrator",
-                "colliders", "show", "ghost", "mass_properties", "bullet"});
+                "colliders", "show", "ghost", "mass_properties", "bullet", "place"});
     BodyDef b;
     b.name = n["name"] ? text(n["name"], c.child("name")) : "body" + std::to_string(i);
     if (n["position"]) b.p_WB = vec<3>(n["position"], c.child("position"));
@@ -1115,6 +1116,7 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
     look.colliders.resize(1);
     s.looks.push_back(look);
   }
+  apply_placements(bodies, path, s, s.gravity);
   if (root["simulation"] && root["simulation"]["ignore_pairs"]) {
     const YAML::Node ip = root["simulation"]["ignore_pairs"];
     const Ctx c = top.child("simulation").child("ignore_pairs");

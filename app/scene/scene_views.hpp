@@ -4,6 +4,7 @@
 // own World, shown in their own panes.
 #pragma once
 #include <yaml-cpp/yaml.h>
+#include <array>
 
 #include <optional>
 #include <string>
@@ -44,6 +45,11 @@ struct VariantSpec {
   std::optional<double> timestep;        ///< s (shortened as the scene's is, to divide 1/fps)
   std::vector<VariantStart> starts;      ///< `bodies:`
   std::optional<VariantTurn> turn;       ///< `turn:`
+  /// `overlay:`: drawn over the scene's own bodies in the panes (or the single view) of the scene
+  /// as given, as translucent copies in this colour, instead of in a pane of its own.
+  bool overlay = false;
+  std::array<float, 3> overlay_color{0, 0, 0};  ///< linear RGB
+  double overlay_opacity = 0.75;
 };
 
 // A pane's camera: the scene's camera (after camera.auto) with these keys over it. Positions are

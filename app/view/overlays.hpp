@@ -12,6 +12,7 @@
 // once the buffers have grown (text glyphs are rasterised once, on first use).
 #pragma once
 #include <algorithm>
+#include <array>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -132,6 +133,9 @@ class SceneOverlays {
   // What system k's item j draws at the world's state: an arrow from `from` along `vec` (m; for
   // center_of_mass, vec is zero and `from` the centre). For tests.
   void system_arrow(int k, int j, const World& w, Vec3& from, Vec3& vec) const;
+  // The labels of the last frame drawn: box centre x, y and size w, h (px, before the clamp into
+  // the frame), and the label's index. For tests.
+  const std::vector<std::array<double, 5>>& label_boxes() const { return label_boxes_; }
   // The legend's entries as drawn (filled from the show items when the scene lists none).
   const Legend& legend() const { return legend_; }
   // The colour the item of kind `kind` of body `body` is drawn in (its colour resolved against
@@ -273,9 +277,10 @@ class SceneOverlays {
   double E0_ = 0;
   Vec3 L0_ = Vec3::Zero();
   std::unique_ptr<Typeface> font_, title_font_, small_font_;
-  std::vector<std::string> lines_;   // HUD text this frame, storage reused
-  std::string scratch_text_;         // storage reused
-  std::vector<Vec3> spring_points_;  // a spring's zig-zag, reused
+  std::vector<std::string> lines_;                  // HUD text this frame, storage reused
+  std::vector<std::array<double, 5>> label_boxes_;  // labels this frame: centre x, y, w, h (px), index
+  std::string scratch_text_;                        // storage reused
+  std::vector<Vec3> spring_points_;                 // a spring's zig-zag, reused
   std::vector<Rgba> spring_colors_;
 };
 

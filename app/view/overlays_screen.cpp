@@ -47,6 +47,7 @@ void SceneOverlays::make_screen(const Scene& scene, const World& world) {
   font_ = std::make_unique<Typeface>(path, px);
   small_font_ = std::make_unique<Typeface>(path, std::max(8, (int)std::lround(0.8 * px)));
   lines_.resize(hud_.size());
+  label_boxes_.reserve(labels_.size());
   if (!title_.empty()) {
     // A title wider than the frame is set smaller until it fits (with its panel and a margin).
     int tp = std::max(12, (int)std::lround(px * 1.4));
@@ -220,6 +221,10 @@ void SceneOverlays::fill_legend(const Scene& scene) {
               : "centre of mass of the " + (of.empty() ? std::string("system") : y.spec.name);
       all.push_back({t, {c[0], c[1], c[2], 1}, y.spec.bodies[0]});
     }
+  for (const VariantSpec& v : scene.views.variants)
+    if (v.overlay)
+      all.push_back(
+          {"variant " + v.name, {v.overlay_color[0], v.overlay_color[1], v.overlay_color[2], 1}, 0});
   // One entry per text and colour; a text drawn in several colours names each body.
   for (size_t k = 0; k < all.size(); ++k) {
     bool seen = false, several = false;
@@ -320,14 +325,19 @@ void SceneOverlays::build_screen(const World& w, long frame, const CameraView& c
     }
   }
 
-  for (const BodyLabel& l : labels_) {
+  // Labels: each box where its body puts it, then pushed apart where boxes overlap (a few rounds of
+  // pairwise separation along the axis of least overlap, half each way, in a fixed order: the same
+  // every run), then kept inside the frame below the title.
+  label_boxes_.clear();
+  for (size_t k = 0; k < labels_.size(); ++k) {
+    const BodyLabel& l = labels_[k];
     double depth = 0;
     const Vec3 c = w.centroid(l.body);
     const Eigen::Vector2d p = project_to_pixel(cam, width_, height_, c, &depth);
     if (!(depth > 0)) continue;  // behind the camera
     Typeface& f = *font_;
     const int tw = f.width(l.text), pad = f.pixel_size() / 2;
-    const int bw = tw + 2 * pad, bh = f.ascent() + f.descent() + pad;
+    const double bw = tw + 2 * pad, bh = f.ascent() + f.descent() + pad;
     double cx, cy;  // the box's centre
     if (l.has_offset) {
       cx = p.x() + l.dx * height_ / 720.0, cy = p.y() - l.dy * height_ / 720.0;
@@ -336,8 +346,68 @@ void SceneOverlays::build_screen(const World& w, long frame, const CameraView& c
       const double r = body_radius_[l.body] / pixel_size_at(cam, height_, depth);
       cx = p.x(), cy = p.y() - r - pad - 0.5 * bh;
     }
+    label_boxes_.push_back({cx, cy, bw, bh, (double)k});
+  }
+  // The panels drawn so far (title, HUD, legend, plots) stand still; labels move out of them.
+  const size_t panels = out.rects.size();
+  const double gap = std::max(2.0, 0.004 * height_);
+  auto clamp_box = [&](std::array<double, 5>& b) {
+    b[0] = std::clamp(b[0], margin + 0.5 * b[2], std::max(margin + 0.5 * b[2], width_ - margin - 0.5 * b[2]));
+    b[1] = std::clamp(b[1], top + margin + 0.5 * b[3],
+                      std::max(top + margin + 0.5 * b[3], height_ - margin - 0.5 * b[3]));
+  };
+  // Moves a and b (by shares sa, sb of the overlap) apart along the axis where they overlap least.
+  auto separate = [&](std::array<double, 5>& a, std::array<double, 5>& b, double sa, double sb,
+                      bool a_first) {
+    const double ox = 0.5 * (a[2] + b[2]) + gap - std::fabs(a[0] - b[0]);
+    const double oy = 0.5 * (a[3] + b[3]) + gap - std::fabs(a[1] - b[1]);
+    if (ox <= 0 || oy <= 0) return false;
+    if (oy <= ox) {  // apart vertically: the upper one up
+      const double dir = a[1] < b[1] || (a[1] == b[1] && a_first) ? -1 : 1;
+      a[1] += dir * sa * oy, b[1] -= dir * sb * oy;
+    } else {
+      const double dir = a[0] < b[0] || (a[0] == b[0] && a_first) ? -1 : 1;
+      a[0] += dir * sa * ox, b[0] -= dir * sb * ox;
+    }
+    return true;
+  };
+  for (auto& b : label_boxes_) clamp_box(b);
+  for (int round = 0; round < 32; ++round) {
+    bool moved = false;
+    for (size_t i = 0; i < label_boxes_.size(); ++i) {
+      for (size_t j = i + 1; j < label_boxes_.size(); ++j)
+        moved = separate(label_boxes_[i], label_boxes_[j], 0.5, 0.5, true) || moved;
+      // Out of each panel by the shortest of the four moves (left, right, up, down) that leaves
+      // the label inside the frame and clear of it.
+      for (size_t r = 0; r < panels; ++r) {
+        const ScreenRect& q = out.rects[r];
+        auto& l = label_boxes_[i];
+        const double hw = 0.5 * l[2] + gap, hh = 0.5 * l[3] + gap;
+        if (!(l[0] + hw > q.x0 && l[0] - hw < q.x1 && l[1] + hh > q.y0 && l[1] - hh < q.y1)) continue;
+        const double moves[4][2] = {
+            {q.x0 - hw - l[0], 0}, {q.x1 + hw - l[0], 0}, {0, q.y0 - hh - l[1]}, {0, q.y1 + hh - l[1]}};
+        double best = 1e300;
+        std::array<double, 5> pick = l;
+        for (const auto& m : moves) {
+          std::array<double, 5> c = l;
+          c[0] += m[0], c[1] += m[1];
+          clamp_box(c);
+          const bool clear = !(c[0] + hw > q.x0 && c[0] - hw < q.x1 && c[1] + hh > q.y0 && c[1] - hh < q.y1);
+          const double d = std::hypot(c[0] - l[0], c[1] - l[1]);
+          if (clear && d < best) best = d, pick = c;
+        }
+        if (best < 1e300) l = pick, moved = true;
+      }
+      clamp_box(label_boxes_[i]);
+    }
+    if (!moved) break;
+  }
+  for (const auto& box : label_boxes_) {
+    const BodyLabel& l = labels_[(size_t)box[4]];
+    Typeface& f = *font_;
+    const int pad = f.pixel_size() / 2, bw = (int)box[2], bh = (int)box[3];
     // Kept inside the frame, whole.
-    int x0 = (int)std::lround(cx - 0.5 * bw), y0 = (int)std::lround(cy - 0.5 * bh);
+    int x0 = (int)std::lround(box[0] - 0.5 * bw), y0 = (int)std::lround(box[1] - 0.5 * bh);
     x0 = std::clamp(x0, margin, std::max(margin, width_ - margin - bw));
     y0 = std::clamp(y0, top + margin, std::max(top + margin, height_ - margin - bh));  // below the title
     const Rgba8 ink = l.color ? to_display({(*l.color)[0], (*l.color)[1], (*l.color)[2], 1}) : kInk;

@@ -85,8 +85,25 @@ SceneFrames::SceneFrames(const Scene& scene, FrameLoop& main, const ViewOptions&
     blur_ = std::make_unique<BlurAccumulator>(blur_spec_.samples);
     frame_steps_ = std::max(1L, std::lround(1 / (scene.video.fps * main.world().config().dt)));
   }
+  for (const VariantSpec& v : scene.views.variants) {
+    auto var = std::make_unique<Variant>();
+    var->scene = variant_scene(scene, v);
+    for (const std::string& n : var->scene.notes) notes_.push_back(n);
+    var->loop = std::make_unique<FrameLoop>(var->scene, std::max(1, o.threads));
+    variants_.push_back(std::move(var));
+  }
+  // The overlaid variants' worlds, drawn over every view of the scene as given.
+  std::vector<std::pair<const World*, Rgba>> overlaid;
+  for (size_t k = 0; k < scene.views.variants.size(); ++k) {
+    const VariantSpec& v = scene.views.variants[k];
+    if (v.overlay)
+      overlaid.push_back(
+          {&variants_[k]->loop->world(),
+           {v.overlay_color[0], v.overlay_color[1], v.overlay_color[2], (float)v.overlay_opacity}});
+  }
   if (!scene.views.split()) {
     view_ = std::make_unique<SceneView>(scene, main.world(), o);
+    view_->overlaid = overlaid;
     notes_ = view_->meshes.notes;  // images that could not be decoded
     // With blur the renderer's images are summed first: the post stage runs on their average.
     view_->settings.post = blur_ ? PostStage::caller : post;
@@ -106,13 +123,6 @@ SceneFrames::SceneFrames(const Scene& scene, FrameLoop& main, const ViewOptions&
     const int tw = title_font_->width(title_);
     const int base = (band_ + title_font_->ascent() - title_font_->descent()) / 2;
     title_font_->draw(title_, (width_ - tw) / 2, base, {255, 255, 255, 255}, &title_layer_);
-  }
-  for (const VariantSpec& v : scene.views.variants) {
-    auto var = std::make_unique<Variant>();
-    var->scene = variant_scene(scene, v);
-    for (const std::string& n : var->scene.notes) notes_.push_back(n);
-    var->loop = std::make_unique<FrameLoop>(var->scene, std::max(1, o.threads));
-    variants_.push_back(std::move(var));
   }
   const std::vector<PaneSpec>& specs = scene.views.panes;
   std::vector<PaneRect> rects;
@@ -136,6 +146,7 @@ SceneFrames::SceneFrames(const Scene& scene, FrameLoop& main, const ViewOptions&
     po.height = pane->rect.height;
     const World& w = pane->world ? variants_[pane->world - 1]->loop->world() : main.world();
     pane->view = std::make_unique<SceneView>(pane->scene, w, po);
+    if (pane->world == 0) pane->view->overlaid = overlaid;
     for (const std::string& n : pane->view->meshes.notes)
       if (std::find(notes_.begin(), notes_.end(), n) == notes_.end()) notes_.push_back(n);
     // FXAA and the text run once over the whole frame (on the video writer's thread in render).
@@ -252,13 +263,19 @@ void SceneFrames::post(uint8_t* img) {
 }
 
 const uint8_t* SceneFrames::raw(const World& main, long frame) {
-  if (view_) return view_->draw(*renderer_, main, nullptr, frame);
+  if (view_) {
+    advance_variants(main);  // (overlaid ones)
+    return view_->draw(*renderer_, main, nullptr, frame);
+  }
   compose(main, raw_.data(), frame);
   return raw_.data();
 }
 
 const uint8_t* SceneFrames::draw(const World& main, uint8_t* out, long frame) {
-  if (!blur_ && view_) return view_->draw(*renderer_, main, out, frame);
+  if (!blur_ && view_) {
+    advance_variants(main);  // (overlaid ones)
+    return view_->draw(*renderer_, main, out, frame);
+  }
   uint8_t* img = out ? out : frame_.data();
   if (!blur_) {
     compose(main, img, frame);

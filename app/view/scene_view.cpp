@@ -115,11 +115,14 @@ const uint8_t* SceneView::draw(Renderer& r, const World& world, uint8_t* out, lo
     dl_.camera.up = world.local_to_world_vec(ride, cam.up);
   }
   if (overlays) overlays->build(world, frame >= 0 ? frame : std::lround(world.time() * fps_), dl_);
+  if (!overlays) dl_.overlay.clear();
   if (overlays && overlays->has_snapshots()) overlays->build_snapshots(world, meshes, dl_);
-  if (ghosts) {
-    if (!overlays) dl_.overlay.clear();
-    ghosts->build(world, meshes, dl_);
-  }
+  if (ghosts) ghosts->build(world, meshes, dl_);
+  for (const auto& [other, color] : overlaid)
+    for (int i = 0; i < other->body_count(); ++i)
+      if (other->type(i) == BodyType::dynamic)
+        draw_body_copy(*other, meshes, i, other->centroid(i), other->orientation(i), color, kGhostInflate,
+                       dl_);
   return r.render(dl_, out);
 }
 

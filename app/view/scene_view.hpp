@@ -42,6 +42,9 @@ struct SceneView {
   AntiAliasing aa = AntiAliasing::fxaa;
   std::unique_ptr<SceneOverlays> overlays;  ///< null for a scene without `show:` or `overlays:`
   std::unique_ptr<GhostView> ghosts;        ///< null for a scene without `ghost:`
+  /// Other worlds of the same scene (overlaid variants) drawn over this one's bodies as translucent
+  /// copies of their moving bodies, each in its colour (with its opacity).
+  std::vector<std::pair<const World*, Rgba>> overlaid;
   // Throws UsageError-like std::invalid_argument for an unknown backend or mode. `world` must be
   // at the scene's initial state (trails given in world coordinates, the HUD's E0 and L0).
   SceneView(const Scene& scene, const World& world, const ViewOptions& o);

@@ -189,4 +189,11 @@ render tex 0.5
 handle "[ axes ]" '
 overlays:
   title: "A title much wider than this small frame is set smaller instead of cut"' > "$tmp/title.yaml" && render title 0.5
+# The demos of expressions, systems, snapshots, placement and overlaid variants, at 640 x 360.
+demo() {  # $1: scene, $2: picture name, $3: time
+  "$bin" render "scenes/$1.yaml" --quiet --at "$3" --width 640 --height 360 -o "$out/$2.png" > /dev/null
+}
+demo momentum system 1.8
+demo ramp_race place 1.2
+demo chaos_overlay variants_overlay 11
 ls -l "$out"/*.png

@@ -142,6 +142,27 @@ TEST(Cli, SummaryReportsDriftOnlyForWhatIsConserved) {
       << r.out;
   r = run("simulate scenes/spring_pendulum.yaml --duration 1");
   EXPECT_NE(r.out.find("energy is not conserved here: drag takes energy"), std::string::npos) << r.out;
+  // A hinge's limits take energy only once reached: a pendulum let go 60 degrees from the vertical
+  // swings its coordinate (zero at the start) through 120 degrees either way; with limits at
+  // +-150 degrees it keeps its energy, with limits at +-100 it does not.
+  auto limited = [&](double deg) {
+    const double rad = deg * 3.14159265358979 / 180;
+    const std::string scene =
+        "simulation: { duration: 3 }\n"
+        "bodies:\n"
+        "  - { name: bob, position: [0, 0, 1], place: { about: [0, 0, 2], axis: [0, 1, 0], angle: 60 },\n"
+        "      colliders: [ { shape: sphere, radius: 0.1 } ] }\n"
+        "joints:\n"
+        "  - { name: pivot, type: revolute, bodies: [world, bob], anchor: [0, 0, 2], axis: [0, 1, 0],\n"
+        "      limits: [" +
+        std::to_string(-rad) + ", " + std::to_string(rad) + "] }\n";
+    return run("simulate " + write("limited.yaml", scene) + " --json");
+  };
+  r = limited(150);
+  EXPECT_NE(r.out.find("\"energy_conserved\":true"), std::string::npos) << r.out;
+  r = limited(100);
+  EXPECT_NE(r.out.find("\"energy_conserved\":false"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("a joint reached its limits"), std::string::npos) << r.out;
 }
 
 TEST(Cli, ProfileShowsStagesAndWhatWasSkipped) {

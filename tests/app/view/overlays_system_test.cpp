@@ -6,6 +6,7 @@
 #include <set>
 #include <string>
 
+#include "app/view/panes.hpp"
 #include "tests/app/view/overlay_fixtures.hpp"
 
 namespace simreel {
@@ -153,6 +154,97 @@ TEST(Systems, LegendColoursDoNotRepeat) {
                       "  - { name: top, angular_velocity: [0.3, 0, 5], show: [ angular_momentum ],\n"
                       "      colliders: [ { shape: box, size: [0.4, 0.3, 0.1], mass: 1 } ] }\n"));
   EXPECT_EQ(e.view->overlays->color_of(0, ShowKind::angular_momentum), blue);
+}
+
+}  // namespace
+}  // namespace simreel
+
+namespace simreel {
+namespace {
+
+// Labels of neighbouring bodies are pushed apart: four balls 12 cm apart in a row, each labelled,
+// seen from 6 m (their labels, each wider than the gap, would sit on top of each other); no two
+// boxes overlap, and each stays within a box height of where its body puts it.
+TEST(Systems, LabelsOfNeighboursDoNotOverlap) {
+  std::string text =
+      "simulation: { duration: 1, gravity: [0, 0, 0] }\n"
+      "video: { width: 640, height: 360 }\n"
+      "camera: { position: [0, -6, 0], look_at: [0, 0, 0] }\n"
+      "bodies:\n"
+      "  - { name: ball, position: [-0.18, 0, 0], repeat: { count: 4, step: [0.12, 0, 0] },\n"
+      "      colliders: [ { shape: sphere, radius: 0.05 } ] }\n"
+      "overlays:\n"
+      "  labels:\n";
+  for (int k = 1; k <= 4; ++k)
+    text += "    - { body: ball_" + std::to_string(k) + ", text: 'ball number " + std::to_string(k) + "' }\n";
+  Drawn d(write_scene("labels.yaml", text));
+  d.draw_frame(0);
+  const auto& boxes = d.view->overlays->label_boxes();
+  ASSERT_EQ(boxes.size(), 4u);
+  for (size_t i = 0; i < boxes.size(); ++i)
+    for (size_t j = i + 1; j < boxes.size(); ++j) {
+      const bool apart = std::fabs(boxes[i][0] - boxes[j][0]) >= 0.5 * (boxes[i][2] + boxes[j][2]) ||
+                         std::fabs(boxes[i][1] - boxes[j][1]) >= 0.5 * (boxes[i][3] + boxes[j][3]);
+      EXPECT_TRUE(apart) << "labels " << i << " and " << j;
+    }
+}
+
+}  // namespace
+}  // namespace simreel
+
+namespace simreel {
+namespace {
+
+// scenes/chaos_overlay.yaml: three variants with `overlay:` make no panes (one view), take three
+// different default colours, advance with the main world, and are drawn over it as translucent
+// copies of their moving bodies; at t = 0 they sit within 3e-6 rad of the main pendulum, by the end
+// (14 s) they have gone their own ways.
+TEST(Systems, OverlaidVariantsAreDrawnInTheSameView) {
+  const Scene scene = load_scene("scenes/chaos_overlay.yaml");
+  ASSERT_EQ(scene.views.variants.size(), 3u);
+  EXPECT_FALSE(scene.views.split()) << "overlaid variants make no panes";
+  std::set<std::array<float, 3>> colours;
+  for (const VariantSpec& v : scene.views.variants) {
+    EXPECT_TRUE(v.overlay);
+    colours.insert(v.overlay_color);
+  }
+  EXPECT_EQ(colours.size(), 3u);
+  FrameLoop loop(scene, 1);
+  ViewOptions o;
+  o.width = 320, o.height = 180, o.aa = "none";
+  SceneFrames frames(scene, loop, o);
+  FrameLoop::Hooks h;
+  h.frame = [&](const FrameTarget& t, const World& w) { frames.draw(w, nullptr, t.index); };
+  std::vector<FrameTarget> targets{plan_target(loop.video_plan(), 0, scene.video.fps)};
+  loop.run(targets, h, false);
+  std::vector<const World*> worlds = frames.worlds();
+  ASSERT_EQ(worlds.size(), 4u);
+  const double lower0 = worlds[0]->centroid(1).z();
+  for (const World* w : worlds) {
+    EXPECT_EQ(w->time(), worlds[0]->time());
+    EXPECT_NEAR(w->centroid(1).z(), lower0, 1e-5);
+  }
+  targets = {plan_target(loop.video_plan(), loop.video_plan().frames - 1, scene.video.fps)};
+  loop.run(targets, h, false);
+  worlds = frames.worlds();
+  for (size_t k = 1; k < worlds.size(); ++k) {
+    EXPECT_EQ(worlds[k]->time(), worlds[0]->time());
+    EXPECT_GT((worlds[k]->centroid(1) - worlds[0]->centroid(1)).norm(), 0.05) << "variant " << k;
+  }
+  // The copies are in the frame: the same moment drawn without the variants differs in many pixels.
+  const uint8_t* px = frames.draw(loop.world());
+  const std::vector<uint8_t> with(px, px + 320 * 180 * 4);
+  Scene alone = scene;
+  alone.views = {};
+  FrameLoop loop2(alone, 1);
+  SceneFrames frames2(alone, loop2, o);
+  loop2.run(targets, {}, false);
+  const uint8_t* q = frames2.draw(loop2.world());
+  int differ = 0;
+  for (size_t i = 0; i < with.size(); i += 4)
+    differ +=
+        std::abs(with[i] - q[i]) + std::abs(with[i + 1] - q[i + 1]) + std::abs(with[i + 2] - q[i + 2]) > 60;
+  EXPECT_GT(differ, 200) << "pixels where the variants' copies show";
 }
 
 }  // namespace
