@@ -240,6 +240,21 @@ TEST(Chunks, VariantsDampedFollowAndBlurSameFromCheckpoints) {
   expect_same_frames(d + "straight", d + "resumed", 51);
 }
 
+// Measured HUD values, snapshots, a system's arrows and an overlaid variant: the same frames from
+// checkpoints as straight.
+TEST(Chunks, MeasuredValuesSnapshotsAndOverlaidVariantsSameFromCheckpoints) {
+  const std::string d = scratch("");
+  const std::string scene = "tests/data/chunks/meters_snapshots.yaml";
+  ASSERT_EQ(run("render " + scene + " --no-video --quiet --frames-dir " + d + "straight").code, 0);
+  ASSERT_EQ(run("plan " + scene + " --chunks 3 --quiet --checkpoints " + d + "ck").code, 0);
+  for (int i = 0; i < 3; ++i) {
+    const auto r = run("render " + scene + " --quiet --no-video --chunk " + std::to_string(i) +
+                       "/3 --checkpoints " + d + "ck -o " + d + "parts/ --frames-dir " + d + "resumed");
+    ASSERT_EQ(r.code, 0) << r.out;
+  }
+  expect_same_frames(d + "straight", d + "resumed", 51);
+}
+
 // A GIF has one palette for the clip: chunks render lossless frames and join makes the palette.
 TEST(Chunks, GifJoinedEqualsStraightGif) {
   const std::string d = scratch("");
