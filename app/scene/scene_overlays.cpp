@@ -768,7 +768,8 @@ void load_overlays(const YAML::Node& root, const std::string& path, Scene& s) {
     const YAML::Node lines = h.IsMap() ? h["lines"] : h;
     if (h.IsMap()) {
       check_keys(h, hw, {"lines", "corner"});
-      if (const YAML::Node c = h["corner"]) o.hud_corner = corner(c, hw.child("corner"));
+      if (const YAML::Node c = h["corner"])
+        o.hud_corner = c.IsScalar() && c.Scalar() == "auto" ? "auto" : corner(c, hw.child("corner"));
       if (!lines) hw.fail(h, "missing key 'lines' (a list of text lines)");
     }
     const Ctx lw = h.IsMap() ? hw.child("lines") : hw;

@@ -173,9 +173,11 @@ struct SystemSpec {
 struct OverlaySpec {
   std::vector<std::vector<ShowItem>> show;  ///< per body, parallel to Scene::bodies
   std::vector<HudLine> hud;                 ///< lines, top first
-  std::string hud_corner = "top_left";      ///< top_left, top_right, bottom_left, bottom_right
-  std::string title;                        ///< drawn at the top centre (shrunk to fit the width)
-  double text_size = 1;                     ///< factor on the default text size (3.2% of the height)
+  /// top_left, top_right, bottom_left, bottom_right, or auto: the corner the moving bodies cross
+  /// least over the clip (app/view/overlays.hpp), top_left on a tie or with a moving camera
+  std::string hud_corner = "auto";
+  std::string title;     ///< drawn at the top centre (shrunk to fit the width)
+  double text_size = 1;  ///< factor on the default text size (3.2% of the height)
   std::vector<Caption> captions;
   std::vector<BodyLabel> labels;
   Legend legend;

@@ -261,6 +261,9 @@ void SceneOverlays::prepass(const Scene& scene, int threads, bool magnitudes, st
       reactions.push_back({it.body, joints_[it.joint].index});
   // Contact forces sampled about 60 times a simulated second (a landing lasts a few steps).
   const long contact_every = std::max(1L, std::lround(1.0 / (60.0 * dt_)));
+  // The bodies' paths for the HUD's corner: about 100 samples over the run.
+  const long hud_every = std::max(1L, std::lround(duration_ / dt_ / 100.0));
+  hud_samples_.clear();
   StepMeters meters;  // the plots' measured values, over the pre-pass's own steps
   meters.set_reference(E0, L0);
   for (const Plot& p : plots_)
@@ -289,6 +292,8 @@ void SceneOverlays::prepass(const Scene& scene, int threads, bool magnitudes, st
         visit_contacts(w, b, [&](const Vec3&, const Vec3&, const Vec3& F) {
           if (F.norm() > 0) contact_forces.push_back(F.norm());
         });
+    if (hud_camera_ && s % hud_every == 0)
+      for (int b : hud_bodies_) hud_samples_.push_back(w.centroid(b));
     for (Plot& p : plots_) {
       if (s % p.every != 0) continue;
       p.t.push_back(w.time());
@@ -303,6 +308,7 @@ void SceneOverlays::save_prepass(std::ostream& os, const std::vector<Magnitudes>
                                  const std::vector<Magnitudes>& system_mags, double contact_kth) const {
   put_vec(os, mags);
   put_vec(os, system_mags);
+  put_vec(os, hud_samples_);
   put(os, contact_kth);
   put(os, (uint64_t)plots_.size());
   for (const Plot& p : plots_) {
@@ -317,6 +323,7 @@ void SceneOverlays::load_prepass(std::istream& is, std::vector<Magnitudes>& mags
   const size_t bodies = mags.size(), systems = system_mags.size();
   get_vec(is, mags);
   get_vec(is, system_mags);
+  get_vec(is, hud_samples_);
   if (system_mags.size() != systems)
     throw InputError("a checkpoint's pre-pass is of other systems than the scene's");
   get(is, contact_kth);
@@ -382,7 +389,8 @@ void SceneOverlays::restore_history(std::istream& is) {
 }
 
 SceneOverlays::SceneOverlays(const Scene& scene, const World& world, const std::vector<double>& body_radius,
-                             int width, int height, int threads, PrepassStore* store)
+                             int width, int height, int threads, PrepassStore* store,
+                             const CameraView* fixed_camera)
     : width_(width),
       height_(height),
       dt_(scene.timestep),
@@ -482,6 +490,16 @@ SceneOverlays::SceneOverlays(const Scene& scene, const World& world, const std::
     for (auto& v : p.values) v.reserve(p.t.capacity());
     plots_.push_back(std::move(p));
   }
+  // The HUD's `auto` corner is chosen against the bodies' paths when the camera stands still.
+  if (!hud_.empty() && hud_corner_ == "auto") {
+    if (fixed_camera) {
+      hud_camera_ = *fixed_camera;
+      for (int i = 0; i < world.body_count(); ++i)
+        if (world.type(i) == BodyType::dynamic) hud_bodies_.push_back(i);
+      if (hud_bodies_.empty()) hud_camera_.reset();
+    }
+    if (!hud_camera_) hud_corner_ = "top_left";
+  }
   std::vector<Magnitudes> mags((size_t)world.body_count()), system_mags(systems_.size());
   double contact_kth = 0;  // N, the contact forces' kContactQuantile quantile; 0: none seen
   if (store && store->mode() == PrepassStore::Mode::replay) {
@@ -489,7 +507,7 @@ SceneOverlays::SceneOverlays(const Scene& scene, const World& world, const std::
     load_prepass(in, mags, system_mags, contact_kth);
   } else {
     std::vector<double> contact_forces;
-    if (need_scales || contacts_auto || !plots_.empty())
+    if (need_scales || contacts_auto || !plots_.empty() || hud_camera_)
       prepass(scene, threads, need_scales, mags, system_mags, contact_forces);
     if (contacts_auto && !contact_forces.empty()) {
       const size_t k =

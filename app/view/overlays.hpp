@@ -98,8 +98,11 @@ class SceneOverlays {
   // arrow scales itself. width x height: the frame (text sizes follow its height).
   // `store`: where the pre-pass's products are recorded, or replayed from instead of running it
   // (a chunk of a render, app/view/view_state.hpp); null: run it.
+  // `fixed_camera`: the camera when it stands still over the clip (the HUD's `auto` corner is
+  // chosen against the bodies' paths as it sees them; none: top_left).
   SceneOverlays(const Scene& scene, const World& world, const std::vector<double>& body_radius, int width,
-                int height, int threads = 1, PrepassStore* store = nullptr);
+                int height, int threads = 1, PrepassStore* store = nullptr,
+                const CameraView* fixed_camera = nullptr);
   ~SceneOverlays();
   bool empty() const { return items_.empty() && !has_screen_; }
   bool has_trails() const { return !trails_.empty(); }
@@ -136,6 +139,8 @@ class SceneOverlays {
   // The labels of the last frame drawn: box centre x, y and size w, h (px, before the clamp into
   // the frame), and the label's index. For tests.
   const std::vector<std::array<double, 5>>& label_boxes() const { return label_boxes_; }
+  // The HUD's corner (`auto` resolved).
+  const std::string& hud_corner() const { return hud_corner_; }
   // The legend's entries as drawn (filled from the show items when the scene lists none).
   const Legend& legend() const { return legend_; }
   // The colour the item of kind `kind` of body `body` is drawn in (its colour resolved against
@@ -277,10 +282,16 @@ class SceneOverlays {
   double E0_ = 0;
   Vec3 L0_ = Vec3::Zero();
   std::unique_ptr<Typeface> font_, title_font_, small_font_;
-  std::vector<std::string> lines_;                  // HUD text this frame, storage reused
-  std::vector<std::array<double, 5>> label_boxes_;  // labels this frame: centre x, y, w, h (px), index
-  std::string scratch_text_;                        // storage reused
-  std::vector<Vec3> spring_points_;                 // a spring's zig-zag, reused
+  std::vector<std::string> lines_;  // HUD text this frame, storage reused
+  std::vector<std::array<double, 5>> label_boxes_;
+  // The HUD's `auto` corner: the moving bodies' centres of mass sampled over the pre-pass (every
+  // kHudSampleEvery-th of the run, each sample all of them), and the fixed camera that sees them.
+  std::vector<Vec3> hud_samples_;
+  std::vector<int> hud_bodies_;
+  std::optional<CameraView> hud_camera_;
+  void choose_hud_corner(const World& world);  // labels this frame: centre x, y, w, h (px), index
+  std::string scratch_text_;                   // storage reused
+  std::vector<Vec3> spring_points_;            // a spring's zig-zag, reused
   std::vector<Rgba> spring_colors_;
 };
 

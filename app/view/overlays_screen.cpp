@@ -61,6 +61,12 @@ void SceneOverlays::make_screen(const Scene& scene, const World& world) {
     }
   }
   if (legend_.shown && legend_.items.empty()) fill_legend(scene);
+  if (hud_corner_ == "auto") {
+    if (hud_camera_ && !hud_bodies_.empty())
+      choose_hud_corner(world);
+    else
+      hud_corner_ = "top_left";
+  }
   for (Plot& p : plots_) {
     const PlotSpec& ps = p.spec;
     PlotLayout L;
@@ -98,6 +104,53 @@ void SceneOverlays::make_screen(const Scene& scene, const World& world) {
     max_lines_ += 256 + p.values.size() * (p.t.size() + 1) + 1;
   }
   (void)world;
+}
+
+// The HUD's box at the start (10% wider: its numbers change) in each corner, scored by how much of
+// it the moving bodies cover over the clip: the sum over the pre-pass's samples of the overlap of
+// each body's projected square (its drawn radius about its centre of mass) with the box. The least
+// covered corner wins; ties go to top_left, top_right, bottom_left, bottom_right in that order. A
+// legend in the same corner counts against it (its box is stacked there).
+void SceneOverlays::choose_hud_corner(const World& world) {
+  Typeface& f = *font_;
+  std::string line;
+  int widest = 0;
+  for (const HudLine& l : hud_) {
+    format_hud_line(l, world, 0, E0_, L0_, line, fps_, &meters_);
+    widest = std::max(widest, f.width(line));
+  }
+  const int pad = f.pixel_size() / 2, lh = f.line_height(), margin = pad;
+  const double bw = 1.1 * widest + 2 * pad,
+               bh = (double)hud_.size() * lh + 2 * pad - (lh - f.ascent() - f.descent());
+  int top = 0;
+  if (title_font_) {
+    const int tp = title_font_->pixel_size() / 2;
+    top = tp + title_font_->ascent() + tp / 2 + title_font_->descent() + tp / 2;
+  }
+  const char* names[4] = {"top_left", "top_right", "bottom_left", "bottom_right"};
+  double score[4] = {0, 0, 0, 0};
+  const CameraView& cam = *hud_camera_;
+  const size_t n = hud_bodies_.size();
+  for (size_t s = 0; s + n <= hud_samples_.size(); s += n)
+    for (size_t k = 0; k < n; ++k) {
+      double depth = 0;
+      const Eigen::Vector2d p = project_to_pixel(cam, width_, height_, hud_samples_[s + k], &depth);
+      if (!(depth > 0)) continue;
+      const double r = body_radius_[hud_bodies_[k]] / pixel_size_at(cam, height_, depth);
+      for (int c = 0; c < 4; ++c) {
+        const double x0 = c % 2 ? width_ - margin - bw : margin,
+                     y0 = c < 2 ? top + margin : height_ - margin - bh;
+        const double ox = std::min(x0 + bw, p.x() + r) - std::max(x0, p.x() - r);
+        const double oy = std::min(y0 + bh, p.y() + r) - std::max(y0, p.y() - r);
+        if (ox > 0 && oy > 0) score[c] += ox * oy;
+      }
+    }
+  int best = 0;
+  for (int c = 1; c < 4; ++c) {
+    const double legend = legend_.shown && legend_.corner == names[c] ? 1e-9 : 0;  // (a tie-break)
+    if (score[c] + legend < score[best]) best = c;
+  }
+  hud_corner_ = names[best];
 }
 
 void SceneOverlays::fill_legend(const Scene& scene) {

@@ -87,7 +87,8 @@ SceneView::SceneView(const Scene& scene, const World& world, const ViewOptions& 
   rs.cache_ground = follow < 0 && ride < 0 && !moving();
   if (scene.overlays.any())
     overlays = std::make_unique<SceneOverlays>(scene, world, body_radii(world, meshes), rs.width, rs.height,
-                                               std::max(1, o.threads), o.prepass);
+                                               std::max(1, o.threads), o.prepass,
+                                               follow < 0 && ride < 0 && !moving() ? &camera : nullptr);
   for (const BodyLook& l : scene.looks)
     if (l.ghost.on && !ghosts) ghosts = std::make_unique<GhostView>(scene, world);
 }

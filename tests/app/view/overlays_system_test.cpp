@@ -249,3 +249,36 @@ TEST(Systems, OverlaidVariantsAreDrawnInTheSameView) {
 
 }  // namespace
 }  // namespace simreel
+
+namespace simreel {
+namespace {
+
+// The HUD's corner by default (`auto`): where the moving bodies pass least. A ball flying through
+// the top left of the view pushes the HUD to the top right; one in the middle leaves it top left;
+// a corner the scene names is kept; a moving camera keeps top left.
+TEST(Systems, TheHudKeepsOutOfTheBodiesWay) {
+  auto corner = [](const std::string& ball, const std::string& hud) {
+    Drawn d(write_scene("hud_corner.yaml",
+                        "simulation: { duration: 1, gravity: [0, 0, 0] }\n"
+                        "video: { width: 320, height: 180 }\n"
+                        "camera: { position: [0, -6, 0], look_at: [0, 0, 0] }\n"
+                        "bodies:\n"
+                        "  - { name: ball, " +
+                            ball +
+                            ", colliders: [ { shape: sphere, radius: 0.3 } ] }\n"
+                            "overlays: { hud: " +
+                            hud + " }\n"));
+    return d.view->overlays->hud_corner();
+  };
+  const std::string hud = "['t = {t:.2f} s', 'v = {|ball.v|:.2f} m/s']";
+  EXPECT_EQ(corner("position: [-3.2, 0, 1.6], linear_velocity: [1, 0, 0]", hud), "top_right");
+  EXPECT_EQ(corner("position: [0, 0, 0]", hud), "top_left");
+  EXPECT_EQ(corner("position: [-3.2, 0, 1.6], linear_velocity: [1, 0, 0]",
+                   "{ corner: top_left, lines: " + hud + " }"),
+            "top_left");
+  EXPECT_EQ(corner("position: [3.2, 0, 1.6], linear_velocity: [-6.4, 0, 0]", hud), "bottom_left")
+      << "top left and top right both crossed: the bottom";
+}
+
+}  // namespace
+}  // namespace simreel
