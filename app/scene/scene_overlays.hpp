@@ -174,7 +174,8 @@ struct OverlaySpec {
   std::vector<std::vector<ShowItem>> show;  ///< per body, parallel to Scene::bodies
   std::vector<HudLine> hud;                 ///< lines, top first
   /// top_left, top_right, bottom_left, bottom_right, or auto: the corner the moving bodies cross
-  /// least over the clip (app/view/overlays.hpp), top_left on a tie or with a moving camera
+  /// least over the clip (their paths from a pre-pass that runs anyway, else where they start;
+  /// app/view/overlays_screen.cpp), top_left on a tie or with a moving camera
   std::string hud_corner = "auto";
   std::string title;     ///< drawn at the top centre (shrunk to fit the width)
   double text_size = 1;  ///< factor on the default text size (3.2% of the height)

@@ -507,8 +507,14 @@ SceneOverlays::SceneOverlays(const Scene& scene, const World& world, const std::
     load_prepass(in, mags, system_mags, contact_kth);
   } else {
     std::vector<double> contact_forces;
-    if (need_scales || contacts_auto || !plots_.empty() || hud_camera_)
+    if (need_scales || contacts_auto || !plots_.empty()) {
       prepass(scene, threads, need_scales, mags, system_mags, contact_forces);
+    } else if (hud_camera_) {
+      // The HUD alone does not pay for a pre-pass: its corner is chosen against where the bodies
+      // start (a pre-pass that runs anyway gives their paths over the whole clip).
+      hud_samples_.clear();
+      for (int b : hud_bodies_) hud_samples_.push_back(world.centroid(b));
+    }
     if (contacts_auto && !contact_forces.empty()) {
       const size_t k =
           std::min(contact_forces.size() - 1, (size_t)(kContactQuantile * contact_forces.size()));

@@ -108,7 +108,8 @@ void SceneOverlays::make_screen(const Scene& scene, const World& world) {
 
 // The HUD's box at the start (10% wider: its numbers change) in each corner, scored by how much of
 // it the moving bodies cover over the clip: the sum over the pre-pass's samples of the overlap of
-// each body's projected square (its drawn radius about its centre of mass) with the box. The least
+// each body's projected square (its drawn radius about its centre of mass) with the box (without a
+// pre-pass, which the HUD alone does not run, the bodies' start positions are the one sample). The least
 // covered corner wins; ties go to top_left, top_right, bottom_left, bottom_right in that order. A
 // legend in the same corner counts against it (its box is stacked there).
 void SceneOverlays::choose_hud_corner(const World& world) {
