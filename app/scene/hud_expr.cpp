@@ -81,10 +81,12 @@ std::string strip(const std::string& s) {
 class Parser {
  public:
   Parser(const std::string& src, const Scene& s, int default_body,
-         const std::function<void(const std::string&)>& bad)
-      : src_(src), s_(s), body_(default_body), bad_(bad) {}
+         const std::function<void(const std::string&)>& bad, int nest = 0)
+      : src_(src), s_(s), body_(default_body), bad_(bad), nest_(nest) {}
 
   HudField run() {
+    // Nesting is recursion here: a bound keeps a hostile line from exhausting the stack.
+    if (nest_ > kMaxNest) fail("nested more than " + std::to_string(kMaxNest) + " deep");
     HudField f;
     f.name = "expr";
     f.source = src_;
@@ -198,7 +200,9 @@ class Parser {
       return;
     }
     if (eat('(')) {
+      if (++nest_ > kMaxNest) fail("nested more than " + std::to_string(kMaxNest) + " deep");
       expr();
+      --nest_;
       if (!eat(')')) fail("a '(' without its ')'");
       return;
     }
@@ -208,7 +212,7 @@ class Parser {
       if (close == std::string::npos) fail("a '|' without its closing '|'");
       const std::string inner = src_.substr(i_, close - i_);
       i_ = close + 1;
-      Parser sub(inner, s_, body_, bad_);
+      Parser sub(inner, s_, body_, bad_, nest_ + 1);
       HudField in = sub.run();
       // |v| of a vector quantity is its length; of a number, its absolute value.
       if (in.code.size() == 1 && in.code[0].kind == HudField::Op::term && !in.terms[0].scalar()) {
@@ -284,7 +288,7 @@ class Parser {
 
   // A measured value's argument: a number of the present state, not itself measured.
   HudField argument(const std::string& fn, const std::string& text) {
-    Parser sub(text, s_, body_, bad_);
+    Parser sub(text, s_, body_, bad_, nest_ + 1);
     HudField a = sub.run();
     for (const HudField& t : a.terms) {
       if (t.is_meter() || t.name.starts_with("period"))
@@ -320,7 +324,7 @@ class Parser {
     for (const Fn1& f : kFns)
       if (fn == f.name) {
         count(1, 1);
-        Parser sub(args[0], s_, body_, bad_);
+        Parser sub(args[0], s_, body_, bad_, nest_ + 1);
         splice(sub.run());
         HudField::Op op;
         op.kind = HudField::Op::fn1, op.fn = f.fn;
@@ -330,7 +334,7 @@ class Parser {
     if (fn == "atan2") {
       count(2, 2);
       for (int k = 0; k < 2; ++k) {
-        Parser sub(args[k], s_, body_, bad_);
+        Parser sub(args[k], s_, body_, bad_, nest_ + 1);
         splice(sub.run());
       }
       emit(HudField::Op::atan2);
@@ -389,10 +393,12 @@ class Parser {
     emit_term(std::move(m));
   }
 
+  static constexpr int kMaxNest = 64;
   const std::string& src_;
   const Scene& s_;
   int body_;
   const std::function<void(const std::string&)>& bad_;
+  int nest_ = 0;
   size_t i_ = 0;
   HudField* out_ = nullptr;
 };

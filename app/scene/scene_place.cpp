@@ -111,6 +111,7 @@ void apply_placements(const YAML::Node& bodies, const std::string& path, Scene& 
   const Vec3 up = gravity.norm() > 0 ? Vec3(-gravity.normalized()) : Vec3::UnitZ();
   // A body resting on a placed body is placed after it (0: to do, 1: being placed, 2: done).
   std::vector<int> state(s.bodies.size(), 0);
+  int depth = 0;  // bodies resting on placed bodies, nested (recursion: bounded)
   std::function<void(size_t)> place = [&](size_t i) {
     if (i >= bodies.size() || !bodies[i].IsMap() || !bodies[i]["place"] || state[i] == 2) return;
     const YAML::Node p = bodies[i]["place"];
@@ -152,7 +153,9 @@ void apply_placements(const YAML::Node& bodies, const std::string& path, Scene& 
       c.child("on").fail(p["on"], msg);
     }
     if (on == (int)i) c.child("on").fail(p["on"], "a body cannot rest on itself");
+    if (++depth > 1000) c.child("on").fail(p["on"], "bodies rest on placed bodies more than 1000 deep");
     place((size_t)on);
+    --depth;
     const BodyDef& base = s.bodies[on];
     int k = -1;
     if (p["collider"]) {

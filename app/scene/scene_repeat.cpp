@@ -122,7 +122,12 @@ void expand_repeats(YAML::Node& root, const std::string& path) {
   if (!root.IsMap()) return;
   const Ctx top(path, "");
   std::map<std::string, long> repeated;  // a body template's name -> its count
+  long copies = 0;                       // bodies made, bounded as a scene's bodies are
   expand_list(root, "bodies", top, [&](const YAML::Node& b, const Ctx& c, const Repeat& r, YAML::Node& out) {
+    copies += r.count;
+    if (copies > kMaxCopies * 10)
+      c.child("repeat").fail(b["repeat"], "the repeats make more than " + std::to_string(kMaxCopies * 10) +
+                                              " bodies: a scene holds at most 100000");
     if (!b["name"]) c.fail(b, "a repeated body needs a 'name': its copies are NAME_1 .. NAME_N");
     const std::string name = scene_yaml::text(b["name"], c.child("name"));
     const Vec3 p0 = b["position"] ? scene_yaml::vec<3>(b["position"], c.child("position")) : Vec3::Zero();

@@ -184,6 +184,11 @@ TEST(HudExpressions, ErrorsSayWhatIsWrong) {
   EXPECT_NE(message("'{a.m:d}'").find("is not [+][width][.precision][f|e|g]"), std::string::npos);
   EXPECT_NE(message("'{sqrt}'").find("'sqrt' is a function: write sqrt(x)"), std::string::npos);
   EXPECT_NE(message("'{sqrt(1, 2)}'").find("sqrt(...) takes 1 argument, got 2"), std::string::npos);
+  // Nesting is bounded (the parser recurses): a hostile line is an error, not a stack overflow.
+  EXPECT_NE(message("'{" + std::string(100, '(') + "1" + std::string(100, ')') + "}'")
+                .find("nested more than 64 deep"),
+            std::string::npos);
+  EXPECT_EQ(message("'{" + std::string(60, '(') + "1" + std::string(60, ')') + "}'"), "no error");
   // A line and column point at the HUD line.
   EXPECT_NE(message("'{a.v * 2}'").find("e.yaml:7:"), std::string::npos) << message("'{a.v * 2}'");
 }
