@@ -225,11 +225,10 @@ TEST(Chunks, PlotTrailAndAutoCameraSameChunkedAsStraight) {
   EXPECT_EQ(run("diff " + d + "joined.mp4 " + d + "straight.mp4 --tolerance exact --quiet").code, 0);
 }
 
-// A variant's world, a damped following camera, motion blur and trails in two panes: the same
-// frames from checkpoints as straight.
-TEST(Chunks, VariantsDampedFollowAndBlurSameFromCheckpoints) {
+// A scene rendered straight, then in 3 chunks from `plan --checkpoints` (each chunk resumed from its
+// checkpoint, one after another): the same 51 frames.
+void expect_checkpointed_chunks_equal_straight(const std::string& scene) {
   const std::string d = scratch("");
-  const std::string scene = "tests/data/chunks/variants_blur.yaml";
   ASSERT_EQ(run("render " + scene + " --no-video --quiet --frames-dir " + d + "straight").code, 0);
   ASSERT_EQ(run("plan " + scene + " --chunks 3 --quiet --checkpoints " + d + "ck").code, 0);
   for (int i = 0; i < 3; ++i) {
@@ -240,19 +239,16 @@ TEST(Chunks, VariantsDampedFollowAndBlurSameFromCheckpoints) {
   expect_same_frames(d + "straight", d + "resumed", 51);
 }
 
+// A variant's world, a damped following camera, motion blur and trails in two panes: the same
+// frames from checkpoints as straight.
+TEST(Chunks, VariantsDampedFollowAndBlurSameFromCheckpoints) {
+  expect_checkpointed_chunks_equal_straight("tests/data/chunks/variants_blur.yaml");
+}
+
 // Measured HUD values, snapshots, a system's arrows and an overlaid variant: the same frames from
 // checkpoints as straight.
 TEST(Chunks, MeasuredValuesSnapshotsAndOverlaidVariantsSameFromCheckpoints) {
-  const std::string d = scratch("");
-  const std::string scene = "tests/data/chunks/meters_snapshots.yaml";
-  ASSERT_EQ(run("render " + scene + " --no-video --quiet --frames-dir " + d + "straight").code, 0);
-  ASSERT_EQ(run("plan " + scene + " --chunks 3 --quiet --checkpoints " + d + "ck").code, 0);
-  for (int i = 0; i < 3; ++i) {
-    const auto r = run("render " + scene + " --quiet --no-video --chunk " + std::to_string(i) +
-                       "/3 --checkpoints " + d + "ck -o " + d + "parts/ --frames-dir " + d + "resumed");
-    ASSERT_EQ(r.code, 0) << r.out;
-  }
-  expect_same_frames(d + "straight", d + "resumed", 51);
+  expect_checkpointed_chunks_equal_straight("tests/data/chunks/meters_snapshots.yaml");
 }
 
 // A GIF has one palette for the clip: chunks render lossless frames and join makes the palette.

@@ -159,6 +159,28 @@ TEST(EulersDisk, RollingWithFrictionHoldsTheSteadyMotion) {
   EXPECT_LT(r.energy, 0.01);
 }
 
+// Steps w for `seconds` and returns the energy it lost, with `work` the integral (trapezoids over
+// the steps) of mu_r r N |w| for body 1: its rolling resistance's power, N its contacts' normal
+// force as the solver reports it, w its spin (the ground's is zero).
+double lost_and_resistance_work(World& w, double mu_r, double r, double seconds, double& work) {
+  const double E0 = contact_test::energy(w), h = w.config().dt;
+  std::vector<ContactData> cs;
+  double prev = -1;
+  work = 0;
+  for (long k = 0; k < std::lround(seconds / h); ++k) {
+    w.step();
+    cs.clear();
+    w.body_contacts(1, cs);
+    double N = 0;
+    for (const ContactData& c : cs)
+      for (int j = 0; j < c.count; ++j) N += c.points[j].normal_force;
+    const double power = mu_r * r * N * w.angular_velocity(1).norm();
+    if (prev >= 0) work += 0.5 * (prev + power) * h;
+    prev = power;
+  }
+  return E0 - contact_test::energy(w);
+}
+
 // Rolling resistance is a torque of mu_r a N against the spin relative to the ground, so it takes
 // energy at the rate mu_r a N |w| (the most a torque of that size can take: it acts like Coulomb
 // friction against a slip). Checked on Euler's disk (the contact's normal force N read from the
@@ -173,21 +195,8 @@ TEST(EulersDisk, RollingResistanceTakesMuRaNTimesTheSpin) {
   cfg.contacts.substeps = 16;
   cfg.contacts.rolling_resistance = mu_r;
   World w(cfg, {ground(d.friction), steady_disk(d, 20 * kDeg, 0, 1e-4)});
-  const double E0 = contact_test::energy(w), h = w.config().dt;
-  std::vector<ContactData> cs;
-  double work = 0, prev = -1;
-  for (long k = 0; k < std::lround(2.0 / h); ++k) {
-    w.step();
-    cs.clear();
-    w.body_contacts(1, cs);
-    double N = 0;
-    for (const ContactData& c : cs)
-      for (int j = 0; j < c.count; ++j) N += c.points[j].normal_force;
-    const double power = mu_r * d.a * N * w.angular_velocity(1).norm();
-    if (prev >= 0) work += 0.5 * (prev + power) * h;
-    prev = power;
-  }
-  const double lost = E0 - contact_test::energy(w);
+  double work = 0;
+  const double lost = lost_and_resistance_work(w, mu_r, d.a, 2.0, work);
   std::printf(
       "[measure] Euler's disk, mu_r %.3g, 2 s: energy lost %.6f J, integral of mu_r a N |w| %.6f J "
       "(%.2f%%)\n",
@@ -220,22 +229,7 @@ TEST(EulersDisk, RollingResistanceActsAgainstTheSpinNotAlongIOmega) {
     mp.inertia = Vec3(0.004, 0.004, 0.0075).asDiagonal();
     ball.mass_override = mp;
     World w(cfg, {ground(0.0), ball});
-    const double E0 = contact_test::energy(w), h = w.config().dt;
-    std::vector<ContactData> cs;
-    double prev = -1;
-    work = 0;
-    for (long k = 0; k < std::lround(0.5 / h); ++k) {
-      w.step();
-      cs.clear();
-      w.body_contacts(1, cs);
-      double N = 0;
-      for (const ContactData& d : cs)
-        for (int j = 0; j < d.count; ++j) N += d.points[j].normal_force;
-      const double power = mu_r * r * N * w.angular_velocity(1).norm();
-      if (prev >= 0) work += 0.5 * (prev + power) * h;
-      prev = power;
-    }
-    return E0 - contact_test::energy(w);
+    return lost_and_resistance_work(w, mu_r, r, 0.5, work);
   };
   double work = 0, none = 0;
   const double lost = run(0.02, work), base = run(0.0, none);
