@@ -1,4 +1,5 @@
 #include "app/import/place.hpp"
+#include "app/scene/scene_place.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -114,33 +115,10 @@ Collider shape_collider(const ModelShape& s, const Pose& pose, MeshLibrary& mesh
   return c;
 }
 
-// The lowest world z of a collider of a body at (p_WB, q_WB).
+// The lowest world z of a collider of a body at (p_WB, q_WB): its reach down from the body origin.
 double lowest_z(const Collider& c, const Vec3& p_WB, const Quat& q_WB) {
-  const Quat q = q_WB * c.q_BC;
-  const Vec3 o = p_WB + q_WB * c.p_BC;
-  const Mat3 R = q.toRotationMatrix();
-  const Vec3 r = R.row(2).transpose();  // the collider axes' z components
-  switch (c.shape) {
-    case ShapeKind::box:
-      return o.z() - 0.5 * (r.cwiseAbs().dot(c.size));
-    case ShapeKind::sphere:
-      return o.z() - c.radius;
-    case ShapeKind::cylinder:
-      return o.z() -
-             (std::fabs(r.z()) * 0.5 * c.height + c.radius * std::sqrt(std::max(0.0, 1 - r.z() * r.z())));
-    case ShapeKind::capsule:
-      return o.z() - (std::fabs(r.z()) * (0.5 * c.height - c.radius) + c.radius);
-    case ShapeKind::ellipsoid:
-      return o.z() - r.cwiseProduct(c.radii).norm();
-    case ShapeKind::mesh: {
-      double lo = std::numeric_limits<double>::infinity();
-      for (const Vec3& v : c.mesh->vertices) lo = std::min(lo, (o + q * v).z());
-      return lo;
-    }
-    case ShapeKind::plane:
-      break;
-  }
-  return std::numeric_limits<double>::infinity();
+  if (c.shape == ShapeKind::plane) return std::numeric_limits<double>::infinity();
+  return p_WB.z() - collider_reach(c, q_WB.conjugate() * Vec3(0, 0, -1));
 }
 
 }  // namespace

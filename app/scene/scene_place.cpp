@@ -17,10 +17,7 @@ namespace simreel {
 
 using scene_yaml::Ctx;
 
-namespace {
-
-// The farthest point of collider c along direction d_B (body frame), in the body frame.
-Vec3 support(const Collider& c, const Vec3& d_B) {
+Vec3 collider_support(const Collider& c, const Vec3& d_B) {
   const Mat3 R = c.q_BC.toRotationMatrix();
   const Vec3 d = R.transpose() * d_B;  // collider frame
   Vec3 p = Vec3::Zero();
@@ -59,6 +56,12 @@ Vec3 support(const Collider& c, const Vec3& d_B) {
   return c.p_BC + R * p;
 }
 
+double collider_reach(const Collider& c, const Vec3& d_B) {
+  return collider_support(c, d_B).dot(d_B);
+}
+
+namespace {
+
 // How far the body reaches along d_B from its origin: the largest support over its colliding
 // colliders (all of them if none collides).
 double reach(const BodyDef& b, const Vec3& d_B) {
@@ -66,7 +69,7 @@ double reach(const BodyDef& b, const Vec3& d_B) {
   for (const Collider& c : b.colliders) any = any || c.collide;
   double best = -1e300;
   for (const Collider& c : b.colliders)
-    if ((c.collide || !any) && c.shape != ShapeKind::plane) best = std::max(best, support(c, d_B).dot(d_B));
+    if ((c.collide || !any) && c.shape != ShapeKind::plane) best = std::max(best, collider_reach(c, d_B));
   return best;
 }
 

@@ -10,6 +10,13 @@
 namespace simreel {
 
 struct Scene;
+struct Collider;
+
+// The farthest point of collider c (sphere, box, cylinder, capsule, ellipsoid, or a mesh's farthest
+// vertex; not a plane) along the direction d_B, in the body frame B (its offset p_BC included), and
+// how far that is along d_B (d_B a unit vector).
+Vec3 collider_support(const Collider& c, const Vec3& d_B);
+double collider_reach(const Collider& c, const Vec3& d_B);
 
 // For each body of the scene's `bodies:` list (`bodies`, parallel to s.bodies) with a `place:`:
 //   { on: BODY, at: s | [along, across], across: m, collider: k }: rests it on BODY's top face (the

@@ -181,18 +181,7 @@ void load_views(const YAML::Node& root, const std::string& path, Scene& s) {
       if (n["bodies"]) var.starts = variant_starts(n["bodies"], e.child("bodies"), s);
       if (n["turn"]) var.turn = variant_turn(n["turn"], e.child("turn"), s);
       if (const YAML::Node o = n["overlay"]) {
-        // Default colours in turn: Okabe-Ito sky blue, orange, reddish purple, bluish green,
-        // vermillion, blue, which read over the scene's own bodies.
-        static const int kColors[6] = {0x56B4E9, 0xE69F00, 0xCC79A7, 0x009E73, 0xD55E00, 0x0072B2};
-        auto linear = [](int c) {
-          const double x = c / 255.0;
-          return (float)(x <= 0.04045 ? x / 12.92 : std::pow((x + 0.055) / 1.055, 2.4));
-        };
-        int overlaid = 0;
-        for (const VariantSpec& o2 : vs.variants) overlaid += o2.overlay ? 1 : 0;
         const Ctx oc = e.child("overlay");
-        const int hex = kColors[overlaid % 6];
-        var.overlay_color = {linear(hex >> 16), linear((hex >> 8) & 255), linear(hex & 255)};
         if (o.IsMap()) {
           check_keys(o, oc, {"color", "opacity"});
           var.overlay = true;
@@ -201,7 +190,7 @@ void load_views(const YAML::Node& root, const std::string& path, Scene& s) {
             for (int i = 0; i < 3; ++i)
               if (c[i] < 0 || c[i] > 1)
                 oc.child("color").fail(o["color"], "expected [r, g, b] in [0, 1] (linear RGB)");
-            var.overlay_color = {(float)c[0], (float)c[1], (float)c[2]};
+            var.overlay_color = std::array<float, 3>{(float)c[0], (float)c[1], (float)c[2]};
           }
           if (o["opacity"]) {
             var.overlay_opacity = unit_interval(o["opacity"], oc.child("opacity"));

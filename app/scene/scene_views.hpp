@@ -48,7 +48,8 @@ struct VariantSpec {
   /// `overlay:`: drawn over the scene's own bodies in the panes (or the single view) of the scene
   /// as given, as translucent copies in this colour, instead of in a pane of its own.
   bool overlay = false;
-  std::array<float, 3> overlay_color{0, 0, 0};  ///< linear RGB
+  /// linear RGB; none: the next of the overlay palette (app/view/overlays.hpp, variant_color)
+  std::optional<std::array<float, 3>> overlay_color;
   double overlay_opacity = 0.75;
 };
 

@@ -14,10 +14,7 @@ GhostView::GhostView(const Scene& scene, const World& world) {
     if (!g.on) continue;
     try {
       // Default colour: the body's, lightened halfway to white.
-      const std::array<float, 3> base = scene.looks[i].color;
-      const std::array<float, 3> c =
-          g.color ? *g.color
-                  : std::array<float, 3>{0.5f + 0.5f * base[0], 0.5f + 0.5f * base[1], 0.5f + 0.5f * base[2]};
+      const std::array<float, 3> c = g.color ? *g.color : lightened(scene.looks[i].color);
       ghosts_.push_back({i, ghost_motion(world, i),
                          world.principal_orientation(i).conjugate() * world.orientation(i),
                          Rgba{c[0], c[1], c[2], (float)g.opacity}, g.offset});

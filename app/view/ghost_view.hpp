@@ -5,6 +5,7 @@
 // wraps it in a thin translucent skin (no depth fighting with the body's own faces); where the
 // integrator has drifted, it stands out. A frame's ghost is a function of the frame's time alone.
 #pragma once
+#include <array>
 #include <vector>
 
 #include <simreel/world.hpp>
@@ -14,6 +15,11 @@
 namespace simreel {
 
 inline constexpr double kGhostInflate = 1.03;
+
+// A body's colour lightened halfway to white: a ghost's and a snapshot's default.
+inline std::array<float, 3> lightened(const std::array<float, 3>& c) {
+  return {0.5f + 0.5f * c[0], 0.5f + 0.5f * c[1], 0.5f + 0.5f * c[2]};
+}
 
 // Body `body`'s render meshes as translucent overlay triangles with its centre of mass at x and its
 // body frame at q_WB, grown by `inflate` about the centre of mass and lit by a headlight (the

@@ -223,6 +223,16 @@ void accumulate(const World& w, std::vector<Magnitudes>& m) {
 
 }  // namespace
 
+Rgba variant_color(const ViewsSpec& views, size_t k) {
+  const VariantSpec& v = views.variants[k];
+  const float a = (float)v.overlay_opacity;
+  if (v.overlay_color) return with_alpha(*v.overlay_color, a);
+  static const int kOrder[6] = {2, 1, 7, 3, 6, 5};
+  int before = 0;
+  for (size_t j = 0; j < k; ++j) before += views.variants[j].overlay ? 1 : 0;
+  return okabe_ito(kOrder[before % 6], a);
+}
+
 Rgba item_color(const ShowItem& s) {
   return s.color ? with_alpha(*s.color, s.opacity) : okabe_ito(default_color(s.kind), (float)s.opacity);
 }
@@ -432,10 +442,10 @@ SceneOverlays::SceneOverlays(const Scene& scene, const World& world, const std::
       }
       if (s.kind == ShowKind::snapshot) {
         // Default: the body's colour, lightened halfway to white (as a ghost's).
-        std::array<float, 3> base =
-            i < scene.looks.size() ? scene.looks[i].color : std::array<float, 3>{0.7f, 0.7f, 0.7f};
-        for (float& x : base) x = 0.5f + 0.5f * x;
-        const ShowRgb c = s.color ? *s.color : ShowRgb{base[0], base[1], base[2]};
+        const ShowRgb c = s.color
+                              ? *s.color
+                              : lightened(i < scene.looks.size() ? scene.looks[i].color
+                                                                 : std::array<float, 3>{0.7f, 0.7f, 0.7f});
         for (double t : s.at) {
           Snapshot snap;
           snap.body = (int)i, snap.at = t, snap.color = with_alpha(c, s.opacity);
@@ -899,6 +909,25 @@ void SceneOverlays::build_joint(const Item& it, const World& w, const CameraView
   }
 }
 
+void SceneOverlays::arrow_of(const Item& it, const World& w, Vec3& from, Vec3& vec) const {
+  if (it.spec.kind == ShowKind::angular_momentum_about) {
+    from = it.spec.point;
+    vec = momentum_about(w, it.body, it.spec.point) * it.scale;
+  } else {
+    from = w.centroid(it.body);
+    vec = quantity(w, it.body, it.spec.kind) * it.scale;
+  }
+}
+
+bool SceneOverlays::item_arrow(int body, ShowKind kind, const World& w, Vec3& from, Vec3& vec) const {
+  for (const Item& it : items_)
+    if (it.body == body && it.spec.kind == kind && is_arrow(kind)) {
+      arrow_of(it, w, from, vec);
+      return true;
+    }
+  return false;
+}
+
 void SceneOverlays::system_arrow(int k, int j, const World& w, Vec3& from, Vec3& vec) const {
   const SystemLook& y = systems_[k];
   const SystemState st = system_state(w, y.spec.bodies);
@@ -979,11 +1008,12 @@ void SceneOverlays::build(const World& w, long frame, DrawList& dl) {
       case ShowKind::angular_momentum:
       case ShowKind::velocity:
       case ShowKind::momentum:
-        dl.overlay.arrow(c, quantity(w, i, s.kind) * it.scale, radius, color, xray);
+      case ShowKind::angular_momentum_about: {
+        Vec3 from, vec;
+        arrow_of(it, w, from, vec);
+        dl.overlay.arrow(from, vec, radius, color, xray);
         break;
-      case ShowKind::angular_momentum_about:
-        dl.overlay.arrow(s.point, momentum_about(w, i, s.point) * it.scale, radius, color, xray);
-        break;
+      }
       case ShowKind::axes: {
         const Mat3 R = w.principal_orientation(i).toRotationMatrix();
         // e1 e2 e3 red, green, blue: Okabe-Ito's vermillion, bluish green and blue.

@@ -85,6 +85,11 @@ void visit_contacts(const World& w, int body, F&& f) {
 Rgba okabe_ito(int index, float alpha = 1);  ///< 0 black, 1 orange, 2 sky blue, 3 bluish green, 4 yellow,
                                              ///< 5 blue, 6 vermillion, 7 reddish purple, 8 dark yellow
 
+// The colour overlaid variant k of `views` is drawn in, with its opacity: its `overlay.color`, else
+// in turn Okabe-Ito sky blue, orange, reddish purple, bluish green, vermillion, blue (they read over
+// the scene's own bodies).
+Rgba variant_color(const ViewsSpec& views, size_t k);
+
 // The colour an item is drawn in: its `color` or its kind's Okabe-Ito colour, with its opacity.
 Rgba item_color(const ShowItem& s);
 
@@ -136,9 +141,16 @@ class SceneOverlays {
   // What system k's item j draws at the world's state: an arrow from `from` along `vec` (m; for
   // center_of_mass, vec is zero and `from` the centre). For tests.
   void system_arrow(int k, int j, const World& w, Vec3& from, Vec3& vec) const;
-  // The labels of the last frame drawn: box centre x, y and size w, h (px, before the clamp into
-  // the frame), and the label's index. For tests.
-  const std::vector<std::array<double, 5>>& label_boxes() const { return label_boxes_; }
+  // What body `body`'s arrow item of `kind` (angular_velocity, angular_momentum, velocity, momentum,
+  // angular_momentum_about) draws: from `from` along `vec` (m). False: the body shows none.
+  bool item_arrow(int body, ShowKind kind, const World& w, Vec3& from, Vec3& vec) const;
+  // A label's box on screen: centre x, y and size w, h (px), and which label it is.
+  struct LabelBox {
+    double x, y, w, h;
+    size_t label;
+  };
+  // The labels of the last frame drawn, placed (kept apart and inside the frame). For tests.
+  const std::vector<LabelBox>& label_boxes() const { return label_boxes_; }
   // The HUD's corner (`auto` resolved).
   const std::string& hud_corner() const { return hud_corner_; }
   // The legend's entries as drawn (filled from the show items when the scene lists none).
@@ -232,6 +244,7 @@ class SceneOverlays {
                     double& contact_kth);
   void make_screen(const Scene& scene, const World& world);
   void build_systems(const World& w, const CameraView& cam, OverlayList& out);
+  void arrow_of(const Item& it, const World& w, Vec3& from, Vec3& vec) const;  // an arrow item's
   // m: an arrow's least shaft radius where a pixel is `px` m: kMinArrowPx thick at 720 lines, in
   // proportion on taller frames, and never under kMinArrowPxSmall on small ones (a GIF, a golden).
   double min_arrow_radius(double px) const {
@@ -282,8 +295,8 @@ class SceneOverlays {
   double E0_ = 0;
   Vec3 L0_ = Vec3::Zero();
   std::unique_ptr<Typeface> font_, title_font_, small_font_;
-  std::vector<std::string> lines_;  // HUD text this frame, storage reused
-  std::vector<std::array<double, 5>> label_boxes_;
+  std::vector<std::string> lines_;     // HUD text this frame, storage reused
+  std::vector<LabelBox> label_boxes_;  // labels this frame
   // The HUD's `auto` corner: the moving bodies' centres of mass sampled over the pre-pass (every
   // kHudSampleEvery-th of the run, each sample all of them), and the fixed camera that sees them.
   std::vector<Vec3> hud_samples_;

@@ -110,8 +110,8 @@ void SceneOverlays::make_screen(const Scene& scene, const World& world) {
 // it the moving bodies cover over the clip: the sum over the pre-pass's samples of the overlap of
 // each body's projected square (its drawn radius about its centre of mass) with the box (without a
 // pre-pass, which the HUD alone does not run, the bodies' start positions are the one sample). The least
-// covered corner wins; ties go to top_left, top_right, bottom_left, bottom_right in that order. A
-// legend in the same corner counts against it (its box is stacked there).
+// covered corner wins; on a tie, one without the legend (whose box would stack there), then
+// top_left, top_right, bottom_left, bottom_right in that order.
 void SceneOverlays::choose_hud_corner(const World& world) {
   Typeface& f = *font_;
   std::string line;
@@ -146,11 +146,11 @@ void SceneOverlays::choose_hud_corner(const World& world) {
         if (ox > 0 && oy > 0) score[c] += ox * oy;
       }
     }
+  // Least covered; on a tie, a corner without the legend, then the order of `names`.
+  auto key = [&](int c) { return std::make_pair(score[c], legend_.shown && legend_.corner == names[c]); };
   int best = 0;
-  for (int c = 1; c < 4; ++c) {
-    const double legend = legend_.shown && legend_.corner == names[c] ? 1e-9 : 0;  // (a tie-break)
-    if (score[c] + legend < score[best]) best = c;
-  }
+  for (int c = 1; c < 4; ++c)
+    if (key(c) < key(best)) best = c;
   hud_corner_ = names[best];
 }
 
@@ -275,10 +275,11 @@ void SceneOverlays::fill_legend(const Scene& scene) {
               : "centre of mass of the " + (of.empty() ? std::string("system") : y.spec.name);
       all.push_back({t, {c[0], c[1], c[2], 1}, y.spec.bodies[0]});
     }
-  for (const VariantSpec& v : scene.views.variants)
-    if (v.overlay)
-      all.push_back(
-          {"variant " + v.name, {v.overlay_color[0], v.overlay_color[1], v.overlay_color[2], 1}, 0});
+  for (size_t k = 0; k < scene.views.variants.size(); ++k)
+    if (scene.views.variants[k].overlay) {
+      const Rgba c = variant_color(scene.views, k);
+      all.push_back({"variant " + scene.views.variants[k].name, {c[0], c[1], c[2], 1}, 0});
+    }
   // One entry per text and colour; a text drawn in several colours names each body.
   for (size_t k = 0; k < all.size(); ++k) {
     bool seen = false, several = false;
@@ -400,28 +401,28 @@ void SceneOverlays::build_screen(const World& w, long frame, const CameraView& c
       const double r = body_radius_[l.body] / pixel_size_at(cam, height_, depth);
       cx = p.x(), cy = p.y() - r - pad - 0.5 * bh;
     }
-    label_boxes_.push_back({cx, cy, bw, bh, (double)k});
+    label_boxes_.push_back({cx, cy, bw, bh, k});
   }
   // The panels drawn so far (title, HUD, legend, plots) stand still; labels move out of them.
   const size_t panels = out.rects.size();
   const double gap = std::max(2.0, 0.004 * height_);
-  auto clamp_box = [&](std::array<double, 5>& b) {
-    b[0] = std::clamp(b[0], margin + 0.5 * b[2], std::max(margin + 0.5 * b[2], width_ - margin - 0.5 * b[2]));
-    b[1] = std::clamp(b[1], top + margin + 0.5 * b[3],
-                      std::max(top + margin + 0.5 * b[3], height_ - margin - 0.5 * b[3]));
+  auto clamp_box = [&](LabelBox& b) {
+    b.x = std::clamp(b.x, margin + 0.5 * b.w, std::max(margin + 0.5 * b.w, width_ - margin - 0.5 * b.w));
+    b.y = std::clamp(b.y, top + margin + 0.5 * b.h,
+                     std::max(top + margin + 0.5 * b.h, height_ - margin - 0.5 * b.h));
   };
-  // Moves a and b (by shares sa, sb of the overlap) apart along the axis where they overlap least.
-  auto separate = [&](std::array<double, 5>& a, std::array<double, 5>& b, double sa, double sb,
-                      bool a_first) {
-    const double ox = 0.5 * (a[2] + b[2]) + gap - std::fabs(a[0] - b[0]);
-    const double oy = 0.5 * (a[3] + b[3]) + gap - std::fabs(a[1] - b[1]);
+  // Moves a and b apart, half the overlap each, along the axis where they overlap least (a, the
+  // earlier label, goes up or left on a tie).
+  auto separate = [&](LabelBox& a, LabelBox& b) {
+    const double ox = 0.5 * (a.w + b.w) + gap - std::fabs(a.x - b.x);
+    const double oy = 0.5 * (a.h + b.h) + gap - std::fabs(a.y - b.y);
     if (ox <= 0 || oy <= 0) return false;
     if (oy <= ox) {  // apart vertically: the upper one up
-      const double dir = a[1] < b[1] || (a[1] == b[1] && a_first) ? -1 : 1;
-      a[1] += dir * sa * oy, b[1] -= dir * sb * oy;
+      const double dir = a.y <= b.y ? -1 : 1;
+      a.y += dir * 0.5 * oy, b.y -= dir * 0.5 * oy;
     } else {
-      const double dir = a[0] < b[0] || (a[0] == b[0] && a_first) ? -1 : 1;
-      a[0] += dir * sa * ox, b[0] -= dir * sb * ox;
+      const double dir = a.x <= b.x ? -1 : 1;
+      a.x += dir * 0.5 * ox, b.x -= dir * 0.5 * ox;
     }
     return true;
   };
@@ -430,24 +431,24 @@ void SceneOverlays::build_screen(const World& w, long frame, const CameraView& c
     bool moved = false;
     for (size_t i = 0; i < label_boxes_.size(); ++i) {
       for (size_t j = i + 1; j < label_boxes_.size(); ++j)
-        moved = separate(label_boxes_[i], label_boxes_[j], 0.5, 0.5, true) || moved;
+        moved = separate(label_boxes_[i], label_boxes_[j]) || moved;
       // Out of each panel by the shortest of the four moves (left, right, up, down) that leaves
       // the label inside the frame and clear of it.
       for (size_t r = 0; r < panels; ++r) {
         const ScreenRect& q = out.rects[r];
         auto& l = label_boxes_[i];
-        const double hw = 0.5 * l[2] + gap, hh = 0.5 * l[3] + gap;
-        if (!(l[0] + hw > q.x0 && l[0] - hw < q.x1 && l[1] + hh > q.y0 && l[1] - hh < q.y1)) continue;
+        const double hw = 0.5 * l.w + gap, hh = 0.5 * l.h + gap;
+        if (!(l.x + hw > q.x0 && l.x - hw < q.x1 && l.y + hh > q.y0 && l.y - hh < q.y1)) continue;
         const double moves[4][2] = {
-            {q.x0 - hw - l[0], 0}, {q.x1 + hw - l[0], 0}, {0, q.y0 - hh - l[1]}, {0, q.y1 + hh - l[1]}};
+            {q.x0 - hw - l.x, 0}, {q.x1 + hw - l.x, 0}, {0, q.y0 - hh - l.y}, {0, q.y1 + hh - l.y}};
         double best = 1e300;
-        std::array<double, 5> pick = l;
+        LabelBox pick = l;
         for (const auto& m : moves) {
-          std::array<double, 5> c = l;
-          c[0] += m[0], c[1] += m[1];
+          LabelBox c = l;
+          c.x += m[0], c.y += m[1];
           clamp_box(c);
-          const bool clear = !(c[0] + hw > q.x0 && c[0] - hw < q.x1 && c[1] + hh > q.y0 && c[1] - hh < q.y1);
-          const double d = std::hypot(c[0] - l[0], c[1] - l[1]);
+          const bool clear = !(c.x + hw > q.x0 && c.x - hw < q.x1 && c.y + hh > q.y0 && c.y - hh < q.y1);
+          const double d = std::hypot(c.x - l.x, c.y - l.y);
           if (clear && d < best) best = d, pick = c;
         }
         if (best < 1e300) l = pick, moved = true;
@@ -457,11 +458,11 @@ void SceneOverlays::build_screen(const World& w, long frame, const CameraView& c
     if (!moved) break;
   }
   for (const auto& box : label_boxes_) {
-    const BodyLabel& l = labels_[(size_t)box[4]];
+    const BodyLabel& l = labels_[box.label];
     Typeface& f = *font_;
-    const int pad = f.pixel_size() / 2, bw = (int)box[2], bh = (int)box[3];
+    const int pad = f.pixel_size() / 2, bw = (int)box.w, bh = (int)box.h;
     // Kept inside the frame, whole.
-    int x0 = (int)std::lround(box[0] - 0.5 * bw), y0 = (int)std::lround(box[1] - 0.5 * bh);
+    int x0 = (int)std::lround(box.x - 0.5 * bw), y0 = (int)std::lround(box.y - 0.5 * bh);
     x0 = std::clamp(x0, margin, std::max(margin, width_ - margin - bw));
     y0 = std::clamp(y0, top + margin, std::max(top + margin, height_ - margin - bh));  // below the title
     const Rgba8 ink = l.color ? to_display({(*l.color)[0], (*l.color)[1], (*l.color)[2], 1}) : kInk;

@@ -95,11 +95,8 @@ SceneFrames::SceneFrames(const Scene& scene, FrameLoop& main, const ViewOptions&
   // The overlaid variants' worlds, drawn over every view of the scene as given.
   std::vector<std::pair<const World*, Rgba>> overlaid;
   for (size_t k = 0; k < scene.views.variants.size(); ++k) {
-    const VariantSpec& v = scene.views.variants[k];
-    if (v.overlay)
-      overlaid.push_back(
-          {&variants_[k]->loop->world(),
-           {v.overlay_color[0], v.overlay_color[1], v.overlay_color[2], (float)v.overlay_opacity}});
+    if (scene.views.variants[k].overlay)
+      overlaid.push_back({&variants_[k]->loop->world(), variant_color(scene.views, k)});
   }
   if (!scene.views.split()) {
     view_ = std::make_unique<SceneView>(scene, main.world(), o);

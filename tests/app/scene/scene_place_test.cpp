@@ -9,6 +9,7 @@
 
 #include "app/runner/frame_loop.hpp"
 #include "app/scene/scene.hpp"
+#include "tests/app/scene/scene_error.hpp"
 
 namespace simreel {
 namespace {
@@ -16,12 +17,7 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 
 std::string error_of(const std::string& text) {
-  try {
-    load_scene_text(text, "place.yaml");
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "no error";
+  return test::scene_error(text, "place.yaml");
 }
 
 // scenes/ramp_race.yaml: a 3 m x 1.3 m x 0.1 m ramp pitched 15 degrees about y, centred at

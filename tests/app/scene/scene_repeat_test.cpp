@@ -5,6 +5,7 @@
 #include <string>
 
 #include "app/scene/scene.hpp"
+#include "tests/app/scene/scene_error.hpp"
 
 namespace simreel {
 namespace {
@@ -22,12 +23,7 @@ const char* kRow =
     "      repeat: { count: 5, step: [0.101, 0, 0] } }\n";
 
 std::string error_of(const std::string& text) {
-  try {
-    load_scene_text(text, "row.yaml");
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "no error";
+  return test::scene_error(text, "row.yaml");
 }
 
 std::string replaced(std::string s, const std::string& a, const std::string& b) {

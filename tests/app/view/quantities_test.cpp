@@ -9,6 +9,7 @@
 
 #include "app/runner/frame_loop.hpp"
 #include "app/view/quantities.hpp"
+#include "tests/app/scene/scene_error.hpp"
 #include "tests/app/view/overlay_fixtures.hpp"
 
 namespace simreel {
@@ -163,14 +164,7 @@ TEST(HudExpressions, MetersResumeExactly) {
 
 // Bad expressions are refused at load with what is wrong.
 TEST(HudExpressions, ErrorsSayWhatIsWrong) {
-  auto message = [](const std::string& hud) {
-    try {
-      load_scene_text(collision_scene(hud), "e.yaml");
-    } catch (const InputError& e) {
-      return std::string(e.what());
-    }
-    return std::string("no error");
-  };
+  auto message = [](const std::string& hud) { return test::scene_error(collision_scene(hud), "e.yaml"); };
   EXPECT_NE(message("'{a.v * 2}'").find("'a.v' is a vector: take a component (a.v.x) or its length |a.v|"),
             std::string::npos);
   EXPECT_NE(message("'{sqr(a.m)}'").find("unknown function 'sqr'; did you mean 'sqrt'?"), std::string::npos);
