@@ -872,10 +872,11 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
     if (sim["sleep"]) s.contacts.sleep = boolean(sim["sleep"], c.child("sleep"));
     if (const YAML::Node k = sim["contacts"]) {
       const Ctx kc = c.child("contacts");
-      check_keys(k, kc,
-                 {"substeps", "iterations", "passes", "contact_hertz", "damping_ratio", "max_push_out",
-                  "restitution_threshold", "speculative_distance", "linear_slop", "rolling_resistance",
-                  "slip_speed", "sleep_speed", "sleep_time", "continuous", "compound_shapes"});
+      check_keys(
+          k, kc,
+          {"substeps", "iterations", "passes", "contact_hertz", "damping_ratio", "max_push_out",
+           "restitution_threshold", "speculative_distance", "linear_slop", "rolling_resistance", "slip_speed",
+           "rolling", "rolling_tolerance", "sleep_speed", "sleep_time", "continuous", "compound_shapes"});
       ContactSettings& cs = s.contacts;
       if (k["substeps"]) cs.substeps = whole(k["substeps"], kc.child("substeps"), 0, 1000);  // 0: automatic
       if (k["iterations"]) cs.iterations = whole(k["iterations"], kc.child("iterations"), 1, 1000);
@@ -892,6 +893,12 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
       if (k["rolling_resistance"])
         cs.rolling_resistance = non_negative(k["rolling_resistance"], kc.child("rolling_resistance"));
       if (k["slip_speed"]) cs.slip_speed = non_negative(k["slip_speed"], kc.child("slip_speed"));
+      if (k["rolling"]) cs.rolling = boolean(k["rolling"], kc.child("rolling"));
+      if (k["rolling_tolerance"]) {
+        cs.rolling_tolerance = positive(k["rolling_tolerance"], kc.child("rolling_tolerance"));
+        if (cs.rolling_tolerance >= 1e-2)
+          kc.child("rolling_tolerance").fail(k["rolling_tolerance"], "must be below 0.01");
+      }
       if (k["sleep_speed"]) cs.sleep_speed = non_negative(k["sleep_speed"], kc.child("sleep_speed"));
       if (k["sleep_time"]) cs.sleep_time = non_negative(k["sleep_time"], kc.child("sleep_time"));
       if (k["continuous"]) cs.continuous = boolean(k["continuous"], kc.child("continuous"));

@@ -9,6 +9,7 @@ enum class Stage {
   forces,
   update_broad_phase,
   collide,
+  roll,
   prepare_contacts,
   integrate_velocities,
   warm_start,
@@ -46,6 +47,7 @@ struct Profile {
   long fat_box_moves = 0;     ///< shapes that left their fat box (a tree update and query each), summed
   long contact_points = 0;    ///< manifold points, summed over steps
   long solver_bodies = 0;     ///< bodies stepped by the contact solver, summed over steps
+  long rolling_bodies = 0;    ///< bodies stepped as rolling on a fixed surface, summed over steps
   long sweeps = 0;            ///< the contact solver's solve and relax sweeps, summed over steps
   long impact_substeps = 0;   ///< substeps with an impact (one more sweep: kImpactSpeed)
   long body_warm_starts = 0;  ///< substeps warm-started per body (ContactSolver::warm_start)

@@ -42,6 +42,14 @@ struct ContactSettings {
   /// m/s: sliding friction below this slip speed is viscous, mu N v / slip_speed, instead of sticking
   /// (the regularised Coulomb law of tippe-top models: a spinning contact patch never sticks); 0 = off
   double slip_speed = 0;
+  /// Rolling without slip (docs/contacts.md, "Rolling contact"): a smooth shape (sphere,
+  /// ellipsoid, a capsule's end, a cylinder's rim) touching a fixed flat surface at one point, not
+  /// slipping, is stepped as the rolling constraint's exact equations of motion by an adaptive
+  /// 5th-order integrator instead of the soft solver's substeps (which lose energy to the curving
+  /// contact); false: the soft solver for every contact. Off by itself with rolling resistance or
+  /// a slip speed (they are the soft solver's).
+  bool rolling = true;
+  double rolling_tolerance = 1e-10;  ///< dimensionless, local error per internal step (relative)
   // Continuous collision (docs/continuous-collision.md): bodies moving more than half their
   // smallest width in a step, and bodies flagged `bullet`, are swept and stopped before they pass
   // through anything. Scene: simulation.contacts.continuous.

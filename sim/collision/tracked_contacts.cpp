@@ -3,17 +3,13 @@
 #include <cmath>
 
 #include "sim/collision/contact.hpp"
+#include "sim/collision/smooth_support.hpp"
 #include "sim/solver/contact_solver.hpp"
 
 namespace simreel {
 
 namespace {
 
-// Below this sine between the normal and a cylinder's end face the cylinder stands on the face
-// (the narrow phase's cap test, collide/internal.hpp kSinTol): no single rim point.
-constexpr double kRimMinSine = 0.04471;
-// A capsule whose axis is within this sine of the surface lies on its side (two points).
-constexpr double kCapsuleMinSine = 1e-6;
 // A sphere whose centre is this close to the body's centre of mass keeps its contact point under
 // the centre of mass: the step's constraint is exact for it (docs/contacts.md "Rolling on a
 // curved surface"), nothing to track.
@@ -34,49 +30,14 @@ bool flat_at(const ShapeRecord& O, const MotionState& s, const Vec3& n) {
   }
 }
 
-// The shape's support point p along the unit direction d, both in the shape frame C, and its
-// derivative J = dp/dd (the surface's radii of curvature at p, as a map of the direction's change
-// to the point's). p(d) is homogeneous of degree 0 in d, so J d = 0 and J acts in the tangent plane.
-//   sphere (radius rho):  p = rho d,  J = rho (1 - d d^T);
-//   capsule:              the end sphere's: p = sign(d_z) L z + rho d, J as the sphere's;
-//   ellipsoid A = diag(a^2, b^2, c^2) (x^T A^-1 x = 1): p = A d / s with s = sqrt(d^T A d), so
-//                         J = A / s - (A d)(A d)^T / s^3 (the reference of tests/sim/
-//                         rattleback_reference.hpp derives the same, independently);
-//   cylinder rim:         p = sign(d_z) L z + rho e, e = d_xy / |d_xy| the rim's unit radius
-//                         towards d, so J = rho (1 - e e^T - z z^T) / |d_xy| = rho t t^T / |d_xy|,
-//                         t = z x e the rim's tangent (only the rim angle moves).
-// False where p is not unique (a cylinder on its end face, a capsule on its side).
+// The tracked shape's support point along d and its derivative (sim/collision/smooth_support.hpp).
 bool support(const TrackedContact& t, const Vec3& d, Vec3& p, Mat3& J) {
-  switch (t.kind) {
-    case CollideKind::sphere:
-      p = t.radius * d;
-      J = t.radius * (Mat3::Identity() - d * d.transpose());
-      return true;
-    case CollideKind::capsule:
-      if (std::fabs(d.z()) <= kCapsuleMinSine) return false;
-      p = Vec3(0, 0, d.z() > 0 ? t.half_length : -t.half_length) + t.radius * d;
-      J = t.radius * (Mat3::Identity() - d * d.transpose());
-      return true;
-    case CollideKind::ellipsoid: {
-      const Vec3 A = t.radii.cwiseProduct(t.radii);
-      const Vec3 Ad = A.cwiseProduct(d);
-      const double s = std::sqrt(d.dot(Ad));
-      p = Ad / s;
-      J = Mat3(A.asDiagonal()) / s - Ad * Ad.transpose() / (s * s * s);
-      return true;
-    }
-    case CollideKind::cylinder: {
-      const double len = std::hypot(d.x(), d.y());
-      if (len <= kRimMinSine) return false;
-      const Vec3 e(d.x() / len, d.y() / len, 0);
-      const Vec3 tan(-e.y(), e.x(), 0);  // z x e
-      p = Vec3(0, 0, d.z() >= 0 ? t.half_length : -t.half_length) + t.radius * e;
-      J = (t.radius / len) * tan * tan.transpose();
-      return true;
-    }
-    default:
-      return false;
-  }
+  CollideShape g;
+  g.kind = t.kind;
+  g.radius = t.radius;
+  g.half_length = t.half_length;
+  g.radii = t.radii;
+  return smooth_support(g, d, 0, p, J);
 }
 
 }  // namespace

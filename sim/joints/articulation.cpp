@@ -11,6 +11,7 @@
 
 #include <simreel/error.hpp>
 
+#include "sim/base/dormand_prince.hpp"
 #include "sim/base/enum_names.hpp"
 #include "sim/dynamics/forces.hpp"
 
@@ -77,19 +78,6 @@ void normalize_quaternions(const Mechanism& m, double* q) {
   }
 }
 
-// Dormand & Prince, "A family of embedded Runge-Kutta formulae", J. Comp. Appl. Math. 6 (1980):
-// the RK5(4)7M tableau; b is the 5th-order solution, e = b - b* the error estimate's weights.
-constexpr double kC[7] = {0, 1.0 / 5, 3.0 / 10, 4.0 / 5, 8.0 / 9, 1, 1};
-constexpr double kA[7][6] = {{},
-                             {1.0 / 5},
-                             {3.0 / 40, 9.0 / 40},
-                             {44.0 / 45, -56.0 / 15, 32.0 / 9},
-                             {19372.0 / 6561, -25360.0 / 2187, 64448.0 / 6561, -212.0 / 729},
-                             {9017.0 / 3168, -355.0 / 33, 46732.0 / 5247, 49.0 / 176, -5103.0 / 18656},
-                             {35.0 / 384, 0, 500.0 / 1113, 125.0 / 192, -2187.0 / 6784, 11.0 / 84}};
-constexpr double kB[7] = {35.0 / 384, 0, 500.0 / 1113, 125.0 / 192, -2187.0 / 6784, 11.0 / 84, 0};
-constexpr double kBstar[7] = {5179.0 / 57600, 0,       7571.0 / 16695, 393.0 / 640, -92097.0 / 339200,
-                              187.0 / 2100,   1.0 / 40};
 }  // namespace
 
 const char* to_string(JointType t) {
@@ -286,7 +274,7 @@ double Mechanism::rk_step(double hs, const Vec3& g, const Wrench* wr, const Moti
   for (int s = 1; s < 7; ++s) {
     for (int j = 0; j < ny; ++j) {
       double acc = 0;
-      for (int r = 0; r < s; ++r) acc += kA[s][r] * k_[r][j];
+      for (int r = 0; r < s; ++r) acc += dopri::kA[s][r] * k_[r][j];
       ys_[j] = y0_[j] + hs * acc;
     }
     // Loads switch only at steps' ends (advance cuts steps there): a step's stages all see the
@@ -298,7 +286,7 @@ double Mechanism::rk_step(double hs, const Vec3& g, const Wrench* wr, const Moti
   double e2 = 0;
   for (int j = 0; j < ny; ++j) {
     double e = 0;
-    for (int r = 0; r < 7; ++r) e += (kB[r] - kBstar[r]) * k_[r][j];
+    for (int r = 0; r < 7; ++r) e += (dopri::kB[r] - dopri::kBstar[r]) * k_[r][j];
     e *= hs;
     y1_[j] = ys_[j];
     const double sc = tol * (1 + std::max(std::abs(y0_[j]), std::abs(y1_[j])));
@@ -355,8 +343,7 @@ bool Mechanism::advance(double dt, const Vec3& g, const Wrench* wr, const Motion
     have_k1 = true;
     const double err = rk_step(hs, g, wr, st, tol);
     if (!std::isfinite(err)) return false;
-    // Step-size control (Hairer, Norsett & Wanner I, II.4): safety 0.9, growth within [0.2, 5].
-    const double fac = std::clamp(0.9 * std::pow(std::max(err, 1e-10), -0.2), 0.2, 5.0);
+    const double fac = dopri::step_factor(err);
     if (err > 1) {
       h = hs * std::min(fac, 1.0);
       ++steps_rejected;

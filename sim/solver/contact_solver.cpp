@@ -654,6 +654,15 @@ void ContactSolver::integrate_velocity(int k, double h) {
   b.v += h * accel_[k];
   b.w += h * ang_accel_[k];
   if (gyro_[k] == 1) {
+    // The world inertia of the body as turned so far in the step (its inverse in the impulses stays
+    // the step's): with the step's, a body of unequal moments in contact turned its angular
+    // momentum off |L| at the first order in dt (2.8% in 0.5 s for a ball with I = (4, 4, 7.5)
+    // g m^2 spinning on a frictionless floor; 0.36% refreshed, 0.09% at 16 substeps).
+    if (inertia_due_) {
+      const int i = bodies_[k - 1];
+      const Mat3 R = (b.dq * in_.state[i].q_WP).toRotationMatrix();
+      I_W_[k] = R * in_.model[i].I_P.asDiagonal() * R.transpose();
+    }
     b.w = midpoint_gyro(I_W_[k], b.w, b.w, h);
   } else if (gyro_[k] == 2) {
     gyro_w0_[k] = b.w;  // a tracked body's: after the warm start (see there)
@@ -1430,6 +1439,7 @@ void ContactSolver::run_substeps(int& settle, StageClock& clock, Profile& profil
     const bool art = !art_->empty();
     {
       StageClock::Scope t(clock, Stage::integrate_velocities);
+      inertia_due_ = sub > 0;  // the first substep's is prepare's
       integrate_velocities(h);
       if (art) art_->integrate_velocities(h);
     }

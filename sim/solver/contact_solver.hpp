@@ -250,6 +250,8 @@ class ContactSolver {
   std::vector<TrackedContact> track_scratch_;
   std::vector<int> track_candidate_of_;  ///< per constraint (contact order): its index there, or -1
   Softness soft_, static_soft_;
+  bool inertia_due_ =
+      false;  ///< the gyroscopic bodies' world inertia follows their turn (substeps after the first)
   bool any_restitution_ = false;  ///< some constraint has restitution > 0 (else the stage is empty)
   bool need_dR_ = true;           ///< SolverBody::dR is read this step (the scalar path, tracked points)
   // The warm start per body (warm_start): every constraint is on the wide path; warm starts done

@@ -81,6 +81,10 @@ void WorldImpl::init_contacts() {
   collide_enabled_ = any_moving && (sweep_shapes_.size() + plane_shapes_.size() >= 2);
   contacts_.init(n);
   solver_index_.assign(n, 0);
+  rolling_.resize(n);
+  rolled_.assign(n, 0);
+  roll_excluded_.assign(n, 0);
+  for (int i = 0; i < n; ++i) roll_excluded_[i] = joints_.jointed(i) ? 1 : 0;
   free_.resize(groups_.size());
   if (!collide_enabled_) return;
   // Bodies overlapping at the start: a warning naming the pair and the depth.
@@ -284,13 +288,6 @@ bool WorldImpl::stage_solve_contacts() {
   const ContactSettings& cs = cfg_.contacts;
   // Jointed bodies in contact are stepped with their mechanisms (sim/joints/contact_rows.hpp).
   const std::vector<int>* all = &contacts_.bodies();
-  if (!joints_.empty()) {
-    solver_bodies_.clear();
-    for (int i : *all)
-      if (!joints_.jointed(i)) solver_bodies_.push_back(i);
-    all = &solver_bodies_;
-  }
-  const std::vector<int>& contact_bodies = *all;
   char* in_contact = contacts_.in_contact();
   // Automatic substeps: at least base_substeps_ (substeps of <= 1/240 s), more while a body in
   // contact turns fast, so that none turns more than kContactMaxSubstepAngle per substep (the
@@ -303,6 +300,45 @@ bool WorldImpl::stage_solve_contacts() {
     for (int i : contacts_.bodies()) w_max = std::max(w_max, state_[i].w_P.norm());
     const double need = std::ceil(w_max * cfg_.dt / kContactMaxSubstepAngle - 1e-9);
     substeps_ = std::max(substeps_, (int)std::min(need, (double)kContactMaxSubsteps));
+  }
+  // Bodies rolling on a fixed surface are stepped first, by their own equations
+  // (sim/solver/rolling_contact.hpp); the solver takes the rest. Jointed bodies in contact are
+  // stepped with their mechanisms (sim/joints/contact_rows.hpp).
+  if (cs.rolling) {
+    StageClock::Scope t(clock_, Stage::roll);
+    for (int i : rolled_list_) rolled_[i] = 0;
+    RollingContacts::Input in;
+    in.model = model_.data();
+    in.state = state_.data();
+    in.wrench = wrench_dirty_ ? wrench_.data() : nullptr;
+    in.shapes = shapes_.get();
+    in.gravity = cfg_.gravity;
+    in.dt = cfg_.dt;
+    in.settings = cs;
+    in.excluded = roll_excluded_.data();
+    rolling_.step(in, *all, contacts_.active(), substeps_, rolled_);
+    rolled_list_.clear();
+    for (int i : *all)
+      if (rolled_[i]) rolled_list_.push_back(i);
+  }
+  if (rolled_list_.empty())
+    clock_.skipped(Stage::roll);
+  else
+    clock_.ran(Stage::roll);
+  profile_.rolling_bodies += (long)rolled_list_.size();
+  if (!joints_.empty() || !rolled_list_.empty()) {
+    solver_bodies_.clear();
+    for (int i : *all)
+      if (!joints_.jointed(i) && !rolled_[i]) solver_bodies_.push_back(i);
+    all = &solver_bodies_;
+  }
+  const std::vector<int>& contact_bodies = *all;
+  if (contact_bodies.empty() && joints_.empty()) {  // every body in contact rolled
+    for (Stage st : {Stage::prepare_contacts, Stage::integrate_velocities, Stage::warm_start, Stage::solve,
+                     Stage::integrate_positions, Stage::relax, Stage::restitution, Stage::store_impulses})
+      clock_.skipped(st);
+    refresh_free_lists();
+    return true;
   }
   {
     StageClock::Scope t(clock_, Stage::prepare_contacts);
@@ -343,16 +379,22 @@ bool WorldImpl::stage_solve_contacts() {
       sum += s.q_WP.w() + s.x_W.x() + s.x_W.y() + s.x_W.z() + s.v_W.x() + s.w_P.x();
     }
     finite = std::isfinite(sum);
-    for (size_t g = 0; g < groups_.size(); ++g) {
-      free_[g].clear();
-      for (int i : groups_[g].bodies)
-        if (!in_contact[i] && !islands_.asleep(i)) free_[g].push_back(i);
-    }
+    refresh_free_lists();
     profile_.solver_bodies += solved;
     if (pool_) profile_.pool_runs = pool_->runs(), profile_.pool_alone_runs = pool_->alone_runs();
   }
   clock_.ran(Stage::store_impulses);
   return finite;
+}
+
+// The bodies the free-flight integrators step: those touching nothing this step, awake.
+void WorldImpl::refresh_free_lists() {
+  const char* in_contact = contacts_.in_contact();
+  for (size_t g = 0; g < groups_.size(); ++g) {
+    free_[g].clear();
+    for (int i : groups_[g].bodies)
+      if (!in_contact[i] && !islands_.asleep(i)) free_[g].push_back(i);
+  }
 }
 
 // Kinematic bodies move at their given velocity, exactly: x += h v, and a constant world angular

@@ -212,6 +212,16 @@ void WorldImpl::save_state(std::ostream& os) const {
       for (const Mechanism::Tether& t : m.tethers) o.i32(t.taut);  // slack or taut ropes
     }
   }
+  // Version 4: the rolling bodies' proposed next internal step.
+  const std::vector<double>& roll_h = rolling_.proposals();
+  uint32_t rolling = 0;
+  for (double h : roll_h) rolling += h > 0 ? 1 : 0;
+  o.u32(rolling);
+  for (size_t i = 0; i < roll_h.size(); ++i)
+    if (roll_h[i] > 0) {
+      o.i32((int32_t)i);
+      o.f64(roll_h[i]);
+    }
   if (!os) throw std::runtime_error("could not write the saved state");
 }
 
@@ -359,7 +369,23 @@ void WorldImpl::restore_state(std::istream& is) {
       for (size_t t = 0; t < m.tethers.size(); ++t) m.tethers[t].taut = md[1 + 4 * m.dofs.size() + t];
     }
   }
+  std::vector<double> roll_h(state_.size(), 0.0);
+  if (version >= 4) {
+    const uint32_t rolling = in.u32();
+    if (rolling > state_.size()) throw InputError("saved state is damaged (rolling bodies)");
+    int prev = -1;
+    for (uint32_t k = 0; k < rolling; ++k) {
+      const int i = in.i32();
+      const double h = in.f64();
+      if (i <= prev || i >= (int)state_.size() || !(h > 0) || !std::isfinite(h))
+        throw InputError("saved state is damaged (rolling body " + std::to_string(k) + ")");
+      roll_h[i] = h;
+      prev = i;
+    }
+  }
   forces_.restore_fired(std::move(fired));
+  if (!roll_h.empty() && rolling_.proposals().size() == roll_h.size())
+    rolling_.restore_proposals(std::move(roll_h));
   settle_substeps_ = settle;
   state_ = std::move(state);
   wrench_ = std::move(wrench);

@@ -12,6 +12,9 @@
 //   per point: u32 id, p_W (3), separation, normal_impulse; friction impulse (3), twist impulse,
 //   rolling impulse (3); the narrow-phase cache: u8 type, i32 a, b; friction, restitution;
 //   u32 force count, per force: u8 1 if it is an impulse already applied, else 0.
+// Version 3 adds the impact settling substeps and each body's still time and island, then the
+// mechanisms' coordinates, velocities, step proposals and modes; version 4 then u32 n and n times
+// (i32 body, f64 s): the rolling bodies' proposed next internal step (sim/solver/rolling_contact.hpp).
 // The fingerprint also covers the force list (kinds and bodies) when there is one.
 #pragma once
 #include <cstdint>
@@ -19,6 +22,6 @@
 
 namespace simreel {
 
-constexpr uint32_t kStateVersion = 3;
+constexpr uint32_t kStateVersion = 4;
 
 }  // namespace simreel

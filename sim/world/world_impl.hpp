@@ -49,6 +49,7 @@
 #include "sim/joints/articulation.hpp"
 #include "sim/solver/contact_settings.hpp"
 #include "sim/solver/contact_solver.hpp"
+#include "sim/solver/rolling_contact.hpp"
 #include "sim/world/applied_forces.hpp"
 #include "sim/world/contact_set.hpp"
 #include "sim/world/continuous.hpp"
@@ -182,7 +183,8 @@ class WorldImpl {
   void after_restore(std::vector<double> still,
                      std::vector<int> asleep);  ///< caches of the broad phase and the islands
   ContactSet::Step collide_step() const;        ///< what the collide stage reads of the world this step
-  bool stage_solve_contacts();                  ///< false if a non-finite value appeared
+  void refresh_free_lists();
+  bool stage_solve_contacts();  ///< false if a non-finite value appeared
   void stage_kinematic();
   void init_sleep();
   void stage_sleep();
@@ -270,10 +272,14 @@ class WorldImpl {
 
   // ---- The contact solver's step (sim/solver/contact_solver.hpp), and the bodies it leaves to the
   // free-flight integrators.
-  std::vector<int> solver_index_;       ///< per body, this step (0: not in the solver)
-  std::vector<char> touched_none_;      ///< per solver body: received no impulse this step
-  int substeps_ = 1;                    ///< contact solver substeps this step
-  int base_substeps_ = 1;               ///< the least (settings, or 1/240 s substeps)
+  std::vector<int> solver_index_;    ///< per body, this step (0: not in the solver)
+  RollingContacts rolling_;          ///< bodies rolling on a fixed surface (sim/solver/rolling_contact.hpp)
+  std::vector<char> rolled_;         ///< per body: rolled this step (not the solver's)
+  std::vector<int> rolled_list_;     ///< the bodies that rolled this step, ascending
+  std::vector<char> roll_excluded_;  ///< per body: may not roll (jointed)
+  std::vector<char> touched_none_;   ///< per solver body: received no impulse this step
+  int substeps_ = 1;                 ///< contact solver substeps this step
+  int base_substeps_ = 1;            ///< the least (settings, or 1/240 s substeps)
   std::vector<std::vector<int>> free_;  ///< per group: its bodies not in contact this step
   ContactSolver solver_;
 
