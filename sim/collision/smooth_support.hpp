@@ -12,6 +12,12 @@ constexpr double kRimMinSine = 0.04471;
 // A capsule whose axis is within this sine of the surface lies on its side (two points).
 constexpr double kCapsuleMinSine = 1e-6;
 
+// Whether a shape has a smooth surface where it can touch a flat one at a single point.
+inline bool smooth_kind(CollideKind k) {
+  return k == CollideKind::sphere || k == CollideKind::ellipsoid || k == CollideKind::capsule ||
+         k == CollideKind::cylinder;
+}
+
 // The support point p of shape g along the unit direction d, both in the shape frame C, and its
 // derivative J = dp/dd (the surface's radii of curvature at p, as a map of the direction's change
 // to the point's). p(d) is homogeneous of degree 0 in d, so J d = 0 and J acts in the tangent plane.

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <utility>
 
 #include <Eigen/Cholesky>
 
@@ -15,6 +17,9 @@ namespace {
 // Most internal steps in one frame step before the body is given back to the soft solver (a
 // rolling body needs a few; thousands mean something the ODE does not model well).
 constexpr int kMaxInternalSteps = 2000;
+// Most landings of lifted feet in one frame step (a foot hopping faster than this is chattering,
+// which the solver's soft contact settles).
+constexpr int kMaxLandings = 1000;
 // A face of a static box or hull (or a cylinder's cap) is the plane the body rolls on when the
 // contact's normal is the face's to this cosine (the narrow phase gives the face normal to
 // rounding; an edge or corner contact's normal turns as the body rolls).
@@ -201,12 +206,10 @@ void RollingContacts::project(const Problem& p, bool positions, Quat& q, Vec3& x
   }
 }
 
-// Feet whose contact would pull (N < 0 with the others held) lift: taken out of the problem,
-// the one pulling hardest first, while more than one is left. A lifted foot is watched: the step
-// fails if it comes back down (lifted_clear), and the solver takes the landing.
-void RollingContacts::lift_pulling_feet(Problem& p, const MotionState& s) {
-  Y y;
-  y << s.q_WP.w(), s.q_WP.x(), s.q_WP.y(), s.q_WP.z(), s.q_WP * s.w_P, s.x_W, s.v_W;
+// Feet whose contact would pull (N < 0 with the others standing) lift: taken out of the problem,
+// the one pulling hardest first, while more than one is left. A lifted foot is watched
+// (landing_gap) and lands as a plastic impact (land).
+void RollingContacts::lift_pulling_feet(Problem& p, const Y& y) {
   while (p.feet > 1) {
     const Rate k = rate(p, y);
     int worst = -1;
@@ -216,34 +219,116 @@ void RollingContacts::lift_pulling_feet(Problem& p, const MotionState& s) {
       if (fn < least) least = fn, worst = j;
     }
     if (worst < 0) return;
-    // Move it past the standing feet (the order of the rest is kept).
-    const Foot f = p.foot[worst];
-    for (int j = worst; j + 1 < p.feet + p.lifted; ++j) p.foot[j] = p.foot[j + 1];
-    p.foot[p.feet + p.lifted - 1] = f;
+    // Past the standing feet, first of the lifted ones (the order of the rest is kept); it lifts
+    // from where it stands.
+    Foot f = p.foot[worst];
+    Vec3 r;
+    const Mat3 R = Quat(y[0], y[1], y[2], y[3]).normalized().toRotationMatrix();
+    if (contact_arm(f, R, r, nullptr)) f.offset = f.n.dot(Vec3(y.segment<3>(7)) - r);
+    for (int j = worst; j + 1 < p.feet; ++j) p.foot[j] = p.foot[j + 1];
+    p.foot[p.feet - 1] = f;
     --p.feet;
     ++p.lifted;
   }
 }
 
-// Whether every lifted foot stays above its floor (its surface, less the slop and any overlap it
-// had) at state y.
-bool RollingContacts::lifted_clear(const Problem& p, const Y& y) {
-  if (p.lifted == 0) return true;
+// The lowest lifted foot's height above where it stood (m; +inf with none lifted), and which.
+double RollingContacts::landing_gap(const Problem& p, const Y& y, int* which) {
+  double g = std::numeric_limits<double>::infinity();
+  if (p.lifted == 0) return g;
   const Mat3 R = Quat(y[0], y[1], y[2], y[3]).normalized().toRotationMatrix();
   const Vec3 x = y.segment<3>(7);
   for (int k = p.feet; k < p.feet + p.lifted; ++k) {
-    Vec3 r;
     const Foot& f = p.foot[k];
-    if (!contact_arm(f, R, r, nullptr) || f.n.dot(x - r) < f.floor) return false;
+    Vec3 r;
+    if (!contact_arm(f, R, r, nullptr)) return -g;  // off its smooth part: the solver's
+    const double gk = f.n.dot(x - r) - f.offset + kLandingSlack;
+    if (gk < g) {
+      g = gk;
+      if (which) *which = k;
+    }
   }
-  return true;
+  return g;
 }
 
-bool RollingContacts::advance(Problem& p, MotionState& s, double dt, double tol, double& h,
-                              Vec3 (&impulse)[kMaxFeet]) {
+// A lifted foot lands (land), or a body comes from the solver's hands (impact alone): a plastic
+// impact at the standing feet, each impulse along its foot's e = n - mu s / max(|s|, v_s) (the
+// friction law's impulsive limit, the slip held over the instant), sized so that no foot's
+// material point keeps moving into or off its surface; a foot whose impulse would pull leaves the
+// impact and lifts. False if no foot is left standing.
+bool RollingContacts::land(Problem& p, Y& y, int landing) {
+  std::swap(p.foot[landing], p.foot[p.feet]);
+  ++p.feet;
+  --p.lifted;
+  return impact(p, y);
+}
+
+bool RollingContacts::impact(Problem& p, Y& y) {
+  const Mat3 R = Quat(y[0], y[1], y[2], y[3]).normalized().toRotationMatrix();
+  const Mat3 inv_I_W = R * p.m->inv_I_P.asDiagonal() * R.transpose();
+  Vec3 w = y.segment<3>(4), v = y.segment<3>(10);
+  while (p.feet > 0) {
+    Vec3 rho[kMaxFeet], e[kMaxFeet], dw[kMaxFeet];
+    for (int j = 0; j < p.feet; ++j) {
+      Vec3 r;
+      if (!contact_arm(p.foot[j], R, r, nullptr)) return false;
+      rho[j] = -r;
+      const Vec3& n = p.foot[j].n;
+      const Vec3 slip = v + w.cross(rho[j]);
+      const Vec3 st = slip - n.dot(slip) * n;
+      e[j] = n - p.foot[j].mu / std::max(st.norm(), p.slip_speed) * st;
+      dw[j] = inv_I_W * rho[j].cross(e[j]);
+    }
+    Small A(p.feet, p.feet);
+    SmallVec d(p.feet);
+    for (int k = 0; k < p.feet; ++k) {
+      const Vec3& n = p.foot[k].n;
+      for (int j = 0; j < p.feet; ++j) A(k, j) = n.dot(e[j] / p.m->mass + dw[j].cross(rho[k]));
+      d[k] = -n.dot(v + w.cross(rho[k]));
+    }
+    const SmallVec L = A.partialPivLu().solve(d);
+    int worst = -1;
+    for (int j = 0; j < p.feet; ++j)  // (an impulse of rounding's size is none)
+      if (L[j] < -1e-12 * p.m->mass && (worst < 0 || L[j] < L[worst])) worst = j;
+    if (worst >= 0) {  // it would pull: it lifts from where it is, and the impact is made without it
+      Foot f = p.foot[worst];
+      f.offset = f.n.dot(Vec3(y.segment<3>(7)) + rho[worst]);
+      for (int j = worst; j + 1 < p.feet; ++j) p.foot[j] = p.foot[j + 1];
+      p.foot[p.feet - 1] = f;
+      --p.feet;
+      ++p.lifted;
+      continue;
+    }
+    for (int j = 0; j < p.feet; ++j) {
+      v += L[j] / p.m->mass * e[j];
+      w += L[j] * dw[j];
+      p.foot[j].impulse += L[j] * e[j];
+    }
+    y.segment<3>(4) = w;
+    y.segment<3>(10) = v;
+    return true;
+  }
+  return false;
+}
+
+// The six stages of a Dormand-Prince step of length hs from y0 (k[0] its rate there): k[1..6] and
+// the 5th-order solution ys. False if a stage left a foot's smooth part.
+bool RollingContacts::stages(const Problem& p, const Y& y0, Rate (&k)[7], double hs, Y& ys) {
+  for (int st = 1; st < 7; ++st) {
+    Y acc = Y::Zero();
+    for (int j = 0; j < st; ++j) acc += dopri::kA[st][j] * k[j].dy;
+    ys = y0 + hs * acc;
+    k[st] = rate(p, ys);
+    if (!k[st].smooth) return false;
+  }
+  return true;  // the 7th stage is at the 5th-order solution (its row of A is b): ys holds y1
+}
+
+bool RollingContacts::advance(Problem& p, MotionState& s, double dt, double tol, double& h) {
   Y y0;
   y0 << s.q_WP.w(), s.q_WP.x(), s.q_WP.y(), s.q_WP.z(), s.q_WP * s.w_P, s.x_W, s.v_W;
-  for (int j = 0; j < p.feet; ++j) impulse[j].setZero();
+  for (Foot& f : p.foot) f.impulse.setZero();
+  if (p.slide) lift_pulling_feet(p, y0);
   // The contact holds (pushes; without slip, inside its friction cone) at every internal step's
   // ends (the first stage of each).
   Rate k[7];
@@ -251,19 +336,12 @@ bool RollingContacts::advance(Problem& p, MotionState& s, double dt, double tol,
   if (!holds(p, k[0])) return false;
   Y ys;
   double t = 0;
-  int steps = 0;
+  int steps = 0, landings = 0;
   while (t < dt) {
     if (++steps > kMaxInternalSteps) return false;
     const bool last = h >= dt - t;
-    const double hs = last ? dt - t : h;
-    for (int st = 1; st < 7; ++st) {
-      Y acc = Y::Zero();
-      for (int j = 0; j < st; ++j) acc += dopri::kA[st][j] * k[j].dy;
-      ys = y0 + hs * acc;
-      k[st] = rate(p, ys);
-      if (!k[st].smooth) return false;
-    }
-    // The 7th stage is at the 5th-order solution (its row of A is b): ys holds y1.
+    double hs = last ? dt - t : h;
+    if (!stages(p, y0, k, hs, ys)) return false;
     double e2 = 0;
     for (int j = 0; j < kDim; ++j) {
       double e = 0;
@@ -278,12 +356,49 @@ bool RollingContacts::advance(Problem& p, MotionState& s, double dt, double tol,
       h = hs * std::min(fac, 1.0);
       continue;
     }
-    if (!holds(p, k[6]) || !lifted_clear(p, ys)) return false;
+    int landing = -1;
+    bool landed = false;
+    if (landing_gap(p, ys, &landing) < 0) {
+      // A lifted foot comes down within the step: the step is cut at its landing, located on the
+      // step's length by regula falsi (Illinois) to 1e-12 of it, and the landing made there.
+      if (++landings > kMaxLandings) return false;
+      const double g_start = landing_gap(p, y0, nullptr);
+      if (!(g_start >= 0)) return false;
+      double a = 0, b = hs, ga = g_start, gb = landing_gap(p, ys, nullptr);
+      int side = 0;
+      for (int it = 0; it < 100 && b - a > 1e-12 * hs; ++it) {
+        double c = a + (b - a) * ga / (ga - gb);
+        c = std::clamp(c, a + 1e-3 * (b - a), b - 1e-3 * (b - a));
+        if (!stages(p, y0, k, c, ys)) return false;
+        const double gc = landing_gap(p, ys, nullptr);
+        if (gc < 0) {
+          b = c, gb = gc;
+          if (side == -1) ga *= 0.5;
+          side = -1;
+        } else {
+          a = c, ga = gc;
+          if (side == 1) gb *= 0.5;
+          side = 1;
+        }
+      }
+      hs = b;
+      if (!stages(p, y0, k, hs, ys)) return false;
+      landing_gap(p, ys, &landing);
+      landed = true;
+    }
+    if (!holds(p, k[6])) return false;
     // The contact's impulse over the internal step, by the same quadrature as the state's.
     for (int j = 0; j < p.feet; ++j)
-      for (int st = 0; st < 7; ++st) impulse[j] += hs * dopri::kB[st] * k[st].force[j];
-    t = last ? dt : t + hs;
+      for (int st = 0; st < 7; ++st) p.foot[j].impulse += hs * dopri::kB[st] * k[st].force[j];
+    t = landed ? t + hs : last ? dt : t + hs;
     y0 = ys;
+    if (landed) {
+      if (!land(p, y0, landing)) return false;
+      lift_pulling_feet(p, y0);
+      k[0] = rate(p, y0);
+      if (!holds(p, k[0])) return false;
+      continue;  // the step-size proposal stands
+    }
     k[0] = k[6];  // first same as last
     // A step cut short to land on the frame step's end does not set the next proposal.
     if (!last || hs >= h) h = hs * fac;
@@ -349,8 +464,11 @@ void RollingContacts::step(const Input& in, const std::vector<int>& bodies, std:
       p.tau = in.wrench[i].tau_W;
     }
     // Every manifold of the body: against a fixed flat surface, one point touching (a smooth
-    // shape's support point: a foot), any other apart and not closing within the step.
+    // shape's support point: a foot), any other apart and not closing within the step; with slip,
+    // a manifold apart but closing is a lifted foot, whose landing the step makes.
     bool ok = head_[i] >= 0;
+    Foot lifted[kMaxFeet];
+    int nl = 0;
     for (int l = head_[i]; ok && l >= 0; l = link_[l]) {
       const int ci = l / 2;
       const bool is_a = (l & 1) == 0;
@@ -358,11 +476,11 @@ void RollingContacts::step(const Input& in, const std::vector<int>& bodies, std:
       const int other_body = is_a ? c.body_b : c.body_a;
       const ShapeRecord& sh = shapes[is_a ? c.shape_a : c.shape_b];
       const ShapeRecord& other = shapes[is_a ? c.shape_b : c.shape_a];
-      if (!in.model[other_body].is_static || p.feet == kMaxFeet) {
+      if (!in.model[other_body].is_static || !smooth_kind(sh.geom.kind) || p.feet + nl == kMaxFeet) {
         ok = false;
         break;
       }
-      Foot& f = p.foot[p.feet];
+      Foot f;
       f.shape = &sh;
       f.contact = ci;
       f.body_is_a = is_a;
@@ -373,20 +491,20 @@ void RollingContacts::step(const Input& in, const std::vector<int>& bodies, std:
         ok = false;
         break;
       }
-      int touching = 0;
+      int touching = 0, closing = 0;
       for (int j = 0; j < c.count; ++j) {
         const ContactPoint& cp = c.points[j];
         if (cp.separation <= slop + 1e-6) {
           ++touching;
           f.point = j;
-        } else {
-          const double closing = -f.n.dot(s.v_W + w.cross(cp.p_W - s.x_W));
-          if (cp.separation - closing * in.dt <= slop) ok = false;
+        } else if (cp.separation + f.n.dot(s.v_W + w.cross(cp.p_W - s.x_W)) * in.dt <= slop) {
+          ++closing;
+          if (touching == 0) f.point = j;
         }
       }
-      if (touching > 1) ok = false;
+      if (touching > 1 || (touching == 1 && closing > 0) || (closing > 0 && !slide)) ok = false;
       if (!ok) break;
-      if (touching == 0) continue;  // near, not touching, and not closing within the step
+      if (touching == 0 && closing == 0) continue;  // near, not touching, and not closing within the step
       const Vec3 u_C = sh.R_PC.transpose() * (R.transpose() * -f.n);
       f.end = u_C.z() >= 0 ? 1 : -1;
       Vec3 r;
@@ -395,14 +513,21 @@ void RollingContacts::step(const Input& in, const std::vector<int>& bodies, std:
         break;
       }
       const double gap = f.n.dot(s.x_W - r) - plane;
+      if (touching == 0) {  // lifted: it lands on the surface itself
+        f.offset = plane;
+        ok = gap > 0;
+        lifted[nl++] = f;
+        continue;
+      }
       if (gap < -(2 * slop + 1e-6) || gap > slop + 1e-6) {
         ok = false;
         break;
       }
-      f.offset = f.n.dot(s.x_W - r);                // the gap it has is kept
-      f.floor = std::min(gap, 0.0) - slop + plane;  // as a lifted foot: how deep it may go
-      ++p.feet;
+      f.offset = f.n.dot(s.x_W - r);  // the gap it has is kept
+      p.foot[p.feet++] = f;
     }
+    for (int k = 0; k < nl; ++k) p.foot[p.feet + k] = lifted[k];
+    p.lifted = nl;
     if (!ok || p.feet == 0 || (!slide && p.feet > 1)) continue;
     // Entering: the plastic impulse that stops each foot's material point (without slip) or its
     // normal motion (with slip); zero for a body that was rolling last step.
@@ -428,21 +553,17 @@ void RollingContacts::step(const Input& in, const std::vector<int>& bodies, std:
         slow = slow && std::fabs(p.foot[k].n.dot(s.v_W - w.cross(r))) <= v_tol;
       }
       if (!slow) continue;
-      Vec3 w1 = w;
-      double lambda[kMaxFeet];
-      project(p, false, s.q_WP, s.x_W, s.v_W, w1, lambda);
-      bool pulls = false;
-      for (int k = 0; k < p.feet; ++k) {
-        pulls = pulls || lambda[k] < -1e-12 * m.mass * v_tol;
-        J0[k] = lambda[k] * p.foot[k].n;
-      }
-      if (pulls) continue;
-      s.w_P = R.transpose() * w1;
+      Y y;
+      y << s.q_WP.w(), s.q_WP.x(), s.q_WP.y(), s.q_WP.z(), w, s.x_W, s.v_W;
+      for (Foot& f : p.foot) f.impulse.setZero();
+      if (!impact(p, y)) continue;  // every foot is leaving
+      for (int k = 0; k < p.feet + p.lifted; ++k) J0[k] = p.foot[k].impulse;
+      s.v_W = y.segment<3>(10);
+      s.w_P = R.transpose() * Vec3(y.segment<3>(4));
     }
-    if (slide) lift_pulling_feet(p, s);
+    for (int k = 0; k < p.feet + p.lifted; ++k) p.foot[k].entry = J0[k];
     double h = h_[i] > 0 ? h_[i] : in.dt / subs;
-    Vec3 J[kMaxFeet];
-    if (!advance(p, s, in.dt, cs.rolling_tolerance, h, J)) continue;
+    if (!advance(p, s, in.dt, cs.rolling_tolerance, h)) continue;
     in.state[i] = s;
     h_[i] = h;
     rolled[i] = 1;
@@ -451,7 +572,7 @@ void RollingContacts::step(const Input& in, const std::vector<int>& bodies, std:
     for (int k = 0; k < p.feet + p.lifted; ++k) {
       const Foot& f = p.foot[k];
       Contact& c = contacts[f.contact];
-      const Vec3 P_B = k < p.feet ? Vec3((f.body_is_a ? -1.0 : 1.0) * (J[k] + J0[k]) / subs) : Vec3::Zero();
+      const Vec3 P_B = (f.body_is_a ? -1.0 : 1.0) * (f.impulse + f.entry) / subs;
       for (int j = 0; j < c.count; ++j) c.points[j].normal_impulse = 0;
       c.points[f.point].normal_impulse = std::max(0.0, P_B.dot(c.normal_W));
       c.friction_impulse_W = P_B - P_B.dot(c.normal_W) * c.normal_W;

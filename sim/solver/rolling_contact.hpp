@@ -21,8 +21,9 @@
 //
 // A body is taken while every foot pushes (N > 0), without slip inside its friction cone, and
 // stays on its shape's smooth part, and nothing else touches it or closes on it within the step;
-// with slip, a foot that would pull lifts (it is watched, and its landing is the solver's). A step
-// that breaks any of this is given back, untouched, to the soft solver. A body comes from the
+// with slip, a foot that would pull lifts, and a lifted foot (or one closing on its surface) is
+// watched: the internal step is cut where it lands and the landing made as a plastic impact. A
+// step that breaks any of this is given back, untouched, to the soft solver. A body comes from the
 // solver's hands when each foot is within twice linear_slop of overlap and its material point
 // nearly at rest along the normal (without slip: entirely) to linear_slop per step; the leftover
 // is removed by the plastic impulse that stops it, the only energy the change takes.
@@ -82,7 +83,8 @@ class RollingContacts {
     int end = 1;                  ///< capsule and cylinder: which end (+1 or -1 along z_C) touches
     Vec3 n = Vec3::UnitZ();       ///< the surface's normal, world, toward the body
     double offset = 0;            ///< m, n . P for the contact point P (the surface plus the kept gap)
-    double floor = 0;             ///< m, lowest n . P once lifted (lift_pulling_feet)
+    Vec3 impulse = Vec3::Zero();  ///< N s, on the body over the step (advance)
+    Vec3 entry = Vec3::Zero();    ///< N s, the impulse that brought the body in
     double mu = 0;                ///< friction coefficient
     int contact = -1, point = 0;  ///< the manifold and its point
     bool body_is_a = true;
@@ -111,11 +113,16 @@ class RollingContacts {
   static bool contact_arm(const Foot& f, const Mat3& R, Vec3& r, Mat3* dP);
   static Rate rate(const Problem& p, const Y& y);
   static bool holds(const Problem& p, const Rate& k);
-  static void lift_pulling_feet(Problem& p, const MotionState& s);
-  static bool lifted_clear(const Problem& p, const Y& y);
+  static void lift_pulling_feet(Problem& p, const Y& y);
+  static double landing_gap(const Problem& p, const Y& y, int* which);
+  static bool land(Problem& p, Y& y, int landing);
+  static bool impact(Problem& p, Y& y);
+  static bool stages(const Problem& p, const Y& y0, Rate (&k)[7], double hs, Y& ys);
   static void project(const Problem& p, bool positions, Quat& q, Vec3& x, Vec3& v, Vec3& w, double* lambda);
   // One body's step: false if it may not roll (the state is left as it was).
-  bool advance(Problem& p, MotionState& s, double dt, double tol, double& h, Vec3 (&impulse)[kMaxFeet]);
+  bool advance(Problem& p, MotionState& s, double dt, double tol, double& h);
+  // m, a lifted foot lands this far below where it stood (the integrator's rounding is not a landing).
+  static constexpr double kLandingSlack = 1e-9;
 
   std::vector<double> h_;
   std::vector<int> head_, link_;  ///< each body's touching contacts: a list through 2 ci + side

@@ -7,6 +7,7 @@
 
 #include <simreel/error.hpp>
 #include "sim/base/worker_pool.hpp"
+#include "sim/collision/smooth_support.hpp"
 #include "sim/world/world_impl.hpp"
 
 namespace simreel {
@@ -25,6 +26,8 @@ void WorldImpl::init_contacts() {
       !(cs.restitution_threshold >= 0) || !(cs.speculative_distance >= 0) || !(cs.linear_slop >= 0) ||
       !(cs.rolling_resistance >= 0) || !(cs.slip_speed >= 0))
     throw InputError("contacts: settings must be non-negative numbers");
+  if (!(cs.rolling_tolerance > 0 && cs.rolling_tolerance < 1e-2))
+    throw InputError("contacts: rolling_tolerance must be a number in (0, 0.01)");
   std::vector<std::string> notes;
   shapes_ = std::make_unique<ShapeTable>(defs_, model_, notes);
   extents_.build(*shapes_, n);
@@ -83,8 +86,12 @@ void WorldImpl::init_contacts() {
   solver_index_.assign(n, 0);
   rolling_.resize(n);
   rolled_.assign(n, 0);
-  roll_excluded_.assign(n, 0);
-  for (int i = 0; i < n; ++i) roll_excluded_[i] = joints_.jointed(i) ? 1 : 0;
+  // Only bodies with a smooth colliding shape can roll; jointed ones move with their mechanisms.
+  roll_excluded_.assign(n, 1);
+  for (const ShapeRecord& sh : st.shapes())
+    if (smooth_kind(sh.geom.kind)) roll_excluded_[sh.body] = 0;
+  for (int i = 0; i < n; ++i)
+    if (joints_.jointed(i)) roll_excluded_[i] = 1;
   free_.resize(groups_.size());
   if (!collide_enabled_) return;
   // Bodies overlapping at the start: a warning naming the pair and the depth.

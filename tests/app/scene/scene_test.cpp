@@ -407,7 +407,8 @@ TEST(Scene, ContactSettings) {
       "simulation:\n  contacts: { substeps: 8, iterations: 2, passes: 3, contact_hertz: 60, damping_ratio: "
       "5,\n"
       "    max_push_out: 1, restitution_threshold: 0.5, speculative_distance: 0.01, linear_slop: 0.001,\n"
-      "    rolling_resistance: 0.02, slip_speed: 0.01, compound_shapes: 3 }\nbodies:\n  - name: a\n" +
+      "    rolling_resistance: 0.02, slip_speed: 0.01, compound_shapes: 3, rolling: false,\n"
+      "    rolling_tolerance: 1e-8 }\nbodies:\n  - name: a\n" +
           std::string(kBox)));
   EXPECT_EQ(s.contacts.substeps, 8);
   EXPECT_EQ(s.contacts.iterations, 2);
@@ -425,6 +426,8 @@ TEST(Scene, ContactSettings) {
   EXPECT_EQ(wc.contacts.rolling_resistance, 0.02);
   EXPECT_EQ(wc.contacts.slip_speed, 0.01);
   EXPECT_EQ(wc.contacts.compound_shapes, 3);
+  EXPECT_FALSE(wc.contacts.rolling);
+  EXPECT_EQ(wc.contacts.rolling_tolerance, 1e-8);
   const Scene d = load_scene(write_scene("cs2.yaml", "bodies:\n  - name: a\n" + std::string(kBox)));
   EXPECT_EQ(d.contacts.substeps, ContactSettings{}.substeps);  // defaults untouched
 
@@ -443,6 +446,9 @@ TEST(Scene, ContactSettings) {
              "simulation.contacts.speculative_distance: must not be negative");
   EXPECT_HAS(error_of("simulation:\n  contacts: { slip_speed: -0.01 }\n" + b),
              "simulation.contacts.slip_speed: must not be negative");
+  EXPECT_HAS(error_of("simulation:\n  contacts: { rolling_tolerance: 0.5 }\n" + b),
+             "bad.yaml:2:34: simulation.contacts.rolling_tolerance: must be below 0.01");
+  EXPECT_HAS(error_of("simulation:\n  contacts: { rolling: maybe }\n" + b), "simulation.contacts.rolling:");
   EXPECT_HAS(error_of("simulation:\n  contacts: { compound_shapes: -2 }\n" + b),
              "simulation.contacts.compound_shapes: expected a whole number from 0");
   EXPECT_HAS(error_of("simulation:\n  contacts: { substep: 4 }\n" + b),

@@ -167,5 +167,71 @@ TEST(RollingContact, ResumedRunEqualsStraightRun) {
   EXPECT_EQ(state_hash(straight), state_hash(resumed));
 }
 
+// A dumbbell (two balls of radius r at the ends of a massless rod, 2 L apart) on a frictionless
+// floor with regularised friction on (so its two balls are feet of one problem), one ball down and
+// the other raised by theta0, let go. The floor pushes only upward, so G falls straight down and
+// the rod's angle obeys (M L^2 cos^2 th + I) th'' - M L^2 cos th sin th th'^2 + M g L cos th = 0
+// (Lagrange; integrated here by RK4 at 1e-6 s). The raised ball lands when th = 0, as a plastic
+// impact at both balls: both stop moving along the normal, which for this body is every motion, so
+// it lies at rest from that step on. The energy is kept until then (1e-8 of M g L sin th0).
+TEST(RollingContact, ALiftedFootLandsWhereTheMotionSaysAndStops) {
+  const double r = 0.05, L = 0.2, M = 1.0, I = 0.012, g = 9.81, th0 = deg(30);
+  // The reference's landing time.
+  double th = th0, om = 0, t_land = 0;
+  const double hr = 1e-6;
+  auto acc = [&](double a, double w) {
+    return (M * L * L * std::cos(a) * std::sin(a) * w * w - M * g * L * std::cos(a)) /
+           (M * L * L * std::cos(a) * std::cos(a) + I);
+  };
+  while (th > 0) {
+    const double k1a = om, k1w = acc(th, om);
+    const double k2a = om + hr / 2 * k1w, k2w = acc(th + hr / 2 * k1a, om + hr / 2 * k1w);
+    const double k3a = om + hr / 2 * k2w, k3w = acc(th + hr / 2 * k2a, om + hr / 2 * k2w);
+    const double k4a = om + hr * k3w, k4w = acc(th + hr * k3a, om + hr * k3w);
+    const double th1 = th + hr / 6 * (k1a + 2 * k2a + 2 * k3a + k4a);
+    om += hr / 6 * (k1w + 2 * k2w + 2 * k3w + k4w);
+    t_land += th1 > 0 ? hr : hr * th / (th - th1);
+    th = th1;
+  }
+  BodyDef b;
+  b.name = "dumbbell";
+  for (double side : {-1.0, 1.0}) {
+    Collider c = sphere_collider(r, 1000, 0.0, 0.0);
+    c.p_BC = Vec3(side * L, 0, 0);
+    b.add_collider(c);
+  }
+  b.mass_override = MassProperties{M, Vec3::Zero(), Vec3(0.002, I, I).asDiagonal()};
+  b.q_WB = Quat(Eigen::AngleAxisd(-th0, Vec3::UnitY()));  // the +x ball raised
+  b.p_WB = Vec3(0, 0, r + L * std::sin(th0));
+  WorldConfig cfg;
+  cfg.contacts.sleep = false;
+  cfg.contacts.slip_speed = 0.01;
+  World w(cfg, {ground(0.0), b});
+  const double E0 = energy(w);
+  double drift = 0, t_rest = -1, moving_after = 0, height_after = 0;
+  while (w.time() < t_land + 0.5) {
+    w.step();
+    const double speed = w.linear_velocity(1).norm() + w.angular_velocity(1).norm() * L;
+    if (t_rest < 0 && speed < 1e-9) t_rest = w.time();
+    if (t_rest < 0) drift = std::max(drift, std::fabs(energy(w) - E0));
+    if (t_rest >= 0) {
+      moving_after = std::max(moving_after, speed);
+      height_after = std::max(height_after, std::fabs(w.centroid(1).z() - r));
+    }
+  }
+  std::printf(
+      "[measure] dumbbell: lands at rest in the step ending %.6f s (the motion's landing %.6f s); energy "
+      "kept to "
+      "%.1e of M g L sin th0 before; after: speed <= %.1e, |z_G - r| <= %.1e m; %ld of %ld steps rolled\n",
+      t_rest, t_land, drift / (M * g * L * std::sin(th0)), moving_after, height_after,
+      w.profile().rolling_bodies, w.profile().steps);
+  EXPECT_GE(t_rest, t_land);
+  EXPECT_LE(t_rest, t_land + cfg.dt);
+  EXPECT_LT(drift, 1e-8 * M * g * L * std::sin(th0));
+  EXPECT_LT(moving_after, 1e-9);
+  EXPECT_LT(height_after, 1e-9);
+  EXPECT_EQ(w.profile().rolling_bodies, w.profile().steps);
+}
+
 }  // namespace
 }  // namespace simreel
