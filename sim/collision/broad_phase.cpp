@@ -71,6 +71,12 @@ void AabbTree::move(int leaf, const Aabb& box) {
   insert_leaf(leaf);
 }
 
+void AabbTree::enlarge(int leaf, const Aabb& box) {
+  nodes_[leaf].box = box;
+  for (int p = nodes_[leaf].parent; p >= 0 && !encloses(nodes_[p].box, box); p = nodes_[p].parent)
+    nodes_[p].box = merge(nodes_[p].box, box);
+}
+
 // Descends from the root toward the sibling whose union with the leaf costs least (the new
 // parent's area plus the growth inherited by every ancestor), then puts a new parent above it.
 void AabbTree::insert_leaf(int leaf) {

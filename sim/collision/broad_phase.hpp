@@ -4,12 +4,15 @@
 // tree (AabbTree: Box2D's b2DynamicTree, in 3D: leaves inserted where they grow the tree's surface
 // area least, AVL rotations keep it balanced). A shape is looked at only when the caller lists it
 // as active (its box may have changed: World lists the shapes of awake moving bodies); when its box
-// has left its fat box it gets a new fat box, its leaf moves, and a query of the tree with the new
-// fat box finds its new candidate pairs. Candidates persist from step to step in a sorted list: a
-// pair leaves it only when one of its shapes moved and the two fat boxes no longer overlap. Planes
-// are tested against the fat boxes of the moved shapes (the box's lowest corner along the normal
-// must reach the plane's side). Shapes that do not move (asleep, static, at rest inside their fat
-// box) cost nothing but their candidates' share of the final filter.
+// has left its fat box it gets a new fat box, its leaf takes it in place (the ancestors grow to hold
+// it; the tree is rebuilt once the moves since the last build reach the leaf count), and a query of
+// the tree with the new fat box finds its new candidate pairs. (Removing and reinserting the leaf
+// instead walked the tree's whole height twice per move: among 100,000 falling boxes the broad
+// phase took 1.45x the time, among 1,000 1.6x; a pile's was the same.) Candidates persist from step to step
+// in a sorted list: a pair leaves it only when one of its shapes moved and the two fat boxes no longer
+// overlap. Planes are tested against the fat boxes of the moved shapes (the box's lowest corner along the
+// normal must reach the plane's side). Shapes that do not move (asleep, static, at rest inside their fat box)
+// cost nothing but their candidates' share of the final filter.
 //
 // The output is the candidates whose boxes overlap this step (for a plane: reach its side), sorted
 // by (shape a, shape b), a < b, in two lists: the live pairs (a shape of the pair is active) and
@@ -40,6 +43,10 @@ class AabbTree {
   int insert(const Aabb& box, int user);  ///< returns the leaf's id
   void remove(int leaf);
   void move(int leaf, const Aabb& box);  ///< remove and insert again (the id stays valid)
+  // The leaf's box replaced and its ancestors grown until one holds it (never shrunk, no change of
+  // shape: Box2D v3's enlarge-in-place). A few nodes where move walks the whole height twice; the
+  // tree loosens until the next rebuild.
+  void enlarge(int leaf, const Aabb& box);
   // Every node anew by binned SAH, in depth-first order; leaves get new ids: remap()[old id].
   // False (nothing changed) under three leaves.
   bool rebuild();
@@ -254,7 +261,7 @@ void BroadPhase::update(const std::vector<Aabb>& boxes, const std::vector<int>& 
     for (int s : active) {
       if (contains(fat_[s], boxes[s])) continue;
       fat_[s] = drift_ ? fatten(boxes[s], kDriftSteps * (*drift_)[s]) : fatten(boxes[s]);
-      tree_.move(leaf_[s], fat_[s]);
+      tree_.enlarge(leaf_[s], fat_[s]);
       moved_.push_back(s);
     }
     moves_since_rebuild_ += (long)moved_.size();

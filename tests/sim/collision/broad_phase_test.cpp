@@ -29,8 +29,8 @@ std::vector<int> brute_query(const std::vector<Aabb>& boxes, const std::vector<c
   return out;
 }
 
-// Inserts, moves and removes at random: the tree stays valid (parents, heights, enclosing boxes,
-// AVL balance) and every query returns exactly the brute-force set.
+// Inserts, moves, enlargements in place and removes at random: the tree stays valid (parents,
+// heights, enclosing boxes, AVL balance) and every query returns exactly the brute-force set.
 TEST(AabbTree, QueriesEqualBruteForceThroughInsertMoveRemove) {
   SplitMix64 r(7);
   const int n = 600;
@@ -45,9 +45,12 @@ TEST(AabbTree, QueriesEqualBruteForceThroughInsertMoveRemove) {
       boxes[i] = random_box(r, 20, 2);
       leaf[i] = t.insert(boxes[i], i);
       present[i] = 1;
-    } else if (op < 0.7) {
+    } else if (op < 0.35) {
       boxes[i] = random_box(r, 20, 2);
       t.move(leaf[i], boxes[i]);
+    } else if (op < 0.7) {  // anywhere, as a new fat box may be (the ancestors only grow)
+      boxes[i] = random_box(r, 20, 2);
+      t.enlarge(leaf[i], boxes[i]);
     } else {
       t.remove(leaf[i]);
       present[i] = 0;
