@@ -171,9 +171,8 @@ bool RollingContacts::holds(const Problem& p, const Rate& k) {
 // The normal-only corrections that put every foot back on its surface (positions) and stop its
 // material point's normal motion (velocities): impulses lambda along the normals through
 // B_kj = n_k . (n_j / m + (I_W^-1 (rho_j x n_j)) x rho_k), the feet's normal effective-mass matrix,
-// one Newton step (the residuals are the integrator's, 1e-10, or an entering body's).
-void RollingContacts::project(const Problem& p, bool positions, Quat& q, Vec3& x, Vec3& v, Vec3& w,
-                              double* lambda) {
+// one Newton step (the residuals are the integrator's, 1e-10).
+void RollingContacts::project(const Problem& p, bool positions, Quat& q, Vec3& x, Vec3& v, Vec3& w) {
   const Mat3 R = q.toRotationMatrix();
   const Mat3 inv_I_W = R * p.m->inv_I_P.asDiagonal() * R.transpose();
   Vec3 rho[kMaxFeet];
@@ -195,7 +194,6 @@ void RollingContacts::project(const Problem& p, bool positions, Quat& q, Vec3& x
   for (int j = 0; j < p.feet; ++j) {
     dx += l[j] / p.m->mass * p.foot[j].n;
     dth += l[j] * (inv_I_W * rho[j].cross(p.foot[j].n));
-    if (lambda) lambda[j] = l[j];
   }
   if (positions) {
     x += dx;
@@ -416,8 +414,8 @@ bool RollingContacts::advance(Problem& p, MotionState& s, double dt, double tol,
     x += (p.foot[0].offset + n.dot(r) - n.dot(x)) * n;
     v = w.cross(r);
   } else {
-    project(p, true, q, x, v, w, nullptr);
-    project(p, false, q, x, v, w, nullptr);
+    project(p, true, q, x, v, w);
+    project(p, false, q, x, v, w);
   }
   if (!all_finite(x) || !all_finite(v) || !all_finite(w)) return false;
   s.q_WP = q;

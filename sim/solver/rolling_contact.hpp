@@ -118,7 +118,7 @@ class RollingContacts {
   static bool land(Problem& p, Y& y, int landing);
   static bool impact(Problem& p, Y& y);
   static bool stages(const Problem& p, const Y& y0, Rate (&k)[7], double hs, Y& ys);
-  static void project(const Problem& p, bool positions, Quat& q, Vec3& x, Vec3& v, Vec3& w, double* lambda);
+  static void project(const Problem& p, bool positions, Quat& q, Vec3& x, Vec3& v, Vec3& w);
   // One body's step: false if it may not roll (the state is left as it was).
   bool advance(Problem& p, MotionState& s, double dt, double tol, double& h);
   // m, a lifted foot lands this far below where it stood (the integrator's rounding is not a landing).
