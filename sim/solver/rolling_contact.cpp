@@ -72,6 +72,12 @@ using SmallVec = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, RollingContacts::kM
 
 }  // namespace
 
+RollingContacts::Y RollingContacts::state_vector(const MotionState& s) {
+  Y y;
+  y << s.q_WP.w(), s.q_WP.x(), s.q_WP.y(), s.q_WP.z(), s.q_WP * s.w_P, s.x_W, s.v_W;
+  return y;
+}
+
 bool RollingContacts::contact_arm(const Foot& f, const Mat3& R, Vec3& r, Mat3* dP) {
   const ShapeRecord& sh = *f.shape;
   const Vec3 d_C = sh.R_PC.transpose() * (R.transpose() * -f.n);
@@ -324,8 +330,7 @@ bool RollingContacts::stages(const Problem& p, const Y& y0, Rate (&k)[7], double
 }
 
 bool RollingContacts::advance(Problem& p, MotionState& s, double dt, double tol, double& h) {
-  Y y0;
-  y0 << s.q_WP.w(), s.q_WP.x(), s.q_WP.y(), s.q_WP.z(), s.q_WP * s.w_P, s.x_W, s.v_W;
+  Y y0 = state_vector(s);
   for (Foot& f : p.foot) f.impulse.setZero();
   if (p.slide) lift_pulling_feet(p, y0);
   // The contact holds (pushes; without slip, inside its friction cone) at every internal step's
@@ -530,7 +535,6 @@ void RollingContacts::step(const Input& in, const std::vector<int>& bodies, std:
     if (!ok || p.feet == 0 || (!slide && p.feet > 1)) continue;
     // Entering: the plastic impulse that stops each foot's material point (without slip) or its
     // normal motion (with slip); zero for a body that was rolling last step.
-    Vec3 J0[kMaxFeet];
     const Mat3 inv_I_W = R * m.inv_I_P.asDiagonal() * R.transpose();
     if (!slide) {
       Vec3 r;
@@ -540,10 +544,11 @@ void RollingContacts::step(const Input& in, const std::vector<int>& bodies, std:
       // K J = -v_P, K = 1/m - [rho]x I_W^-1 [rho]x with rho = P - G.
       const Mat3 rho_x = cross_matrix(-r);
       const Mat3 K = m.inv_mass * Mat3::Identity() - rho_x * inv_I_W * rho_x;
-      J0[0] = K.ldlt().solve(-v_P);
-      if (J0[0].dot(p.foot[0].n) < -1e-12 * m.mass * v_tol) continue;  // it would pull: a body leaving
-      s.v_W += m.inv_mass * J0[0];
-      s.w_P = R.transpose() * (w + inv_I_W * (-r).cross(J0[0]));
+      const Vec3 J = K.ldlt().solve(-v_P);
+      if (J.dot(p.foot[0].n) < -1e-12 * m.mass * v_tol) continue;  // it would pull: a body leaving
+      s.v_W += m.inv_mass * J;
+      s.w_P = R.transpose() * (w + inv_I_W * (-r).cross(J));
+      p.foot[0].entry = J;
     } else {
       bool slow = true;
       for (int k = 0; k < p.feet; ++k) {
@@ -552,15 +557,13 @@ void RollingContacts::step(const Input& in, const std::vector<int>& bodies, std:
         slow = slow && std::fabs(p.foot[k].n.dot(s.v_W - w.cross(r))) <= v_tol;
       }
       if (!slow) continue;
-      Y y;
-      y << s.q_WP.w(), s.q_WP.x(), s.q_WP.y(), s.q_WP.z(), w, s.x_W, s.v_W;
+      Y y = state_vector(s);
       for (Foot& f : p.foot) f.impulse.setZero();
       if (!impact(p, y)) continue;  // every foot is leaving
-      for (int k = 0; k < p.feet + p.lifted; ++k) J0[k] = p.foot[k].impulse;
+      for (Foot& f : p.foot) f.entry = f.impulse;
       s.v_W = y.segment<3>(10);
       s.w_P = R.transpose() * Vec3(y.segment<3>(4));
     }
-    for (int k = 0; k < p.feet + p.lifted; ++k) p.foot[k].entry = J0[k];
     double h = h_[i] > 0 ? h_[i] : in.dt / subs;
     if (!advance(p, s, in.dt, cs.rolling_tolerance, h)) continue;
     in.state[i] = s;

@@ -109,6 +109,7 @@ class RollingContacts {
     Vec3 force[kMaxFeet];  ///< N, each foot's contact force on the body
     bool smooth = true;    ///< false: a foot left its shape's smooth part
   };
+  static Y state_vector(const MotionState& s);  ///< y from a body's state
   // A foot's arm r = G - P, world, and the derivative of its support point (P frame).
   static bool contact_arm(const Foot& f, const Mat3& R, Vec3& r, Mat3* dP);
   static Rate rate(const Problem& p, const Y& y);

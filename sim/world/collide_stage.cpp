@@ -293,7 +293,6 @@ ContactSet::Step WorldImpl::collide_step() const {
 // The soft step over the bodies in contact (sim/solver/contact_solver.hpp), then their new state.
 bool WorldImpl::stage_solve_contacts() {
   const ContactSettings& cs = cfg_.contacts;
-  // Jointed bodies in contact are stepped with their mechanisms (sim/joints/contact_rows.hpp).
   const std::vector<int>* all = &contacts_.bodies();
   char* in_contact = contacts_.in_contact();
   // Automatic substeps: at least base_substeps_ (substeps of <= 1/240 s), more while a body in

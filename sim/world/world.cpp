@@ -14,9 +14,9 @@ namespace simreel {
 
 namespace {
 constexpr EnumNames<Stage, (std::size_t)Stage::count> kStages{
-    {"forces", "update_broad_phase", "collide", "roll", "prepare_contacts", "integrate_velocities", "warm_start",
-     "solve", "integrate_positions", "relax", "restitution", "store_impulses", "joints", "integrate", "check",
-     "continuous", "sleep", "clear"}};
+    {"forces", "update_broad_phase", "collide", "roll", "prepare_contacts", "integrate_velocities",
+     "warm_start", "solve", "integrate_positions", "relax", "restitution", "store_impulses", "joints",
+     "integrate", "check", "continuous", "sleep", "clear"}};
 static_assert(kStages.complete());
 }  // namespace
 
