@@ -80,6 +80,42 @@ JointLimits load_limits(const YAML::Node& l, const Ctx& c, JointType type) {
   return out;
 }
 
+// A ball joint's `limits: { cone, twist: [lower, upper], restitution }` (rad).
+BallLimits load_ball_limits(const YAML::Node& l, const Ctx& c) {
+  constexpr double kPi = 3.14159265358979323846;
+  if (!l.IsMap())
+    c.fail(l,
+           "a spherical joint's limits are { cone: rad, twist: [lower, upper], restitution } (stops "
+           "about its axis), got " +
+               show(l));
+  check_keys(l, c, {"cone", "twist", "restitution"});
+  if (!l["cone"] && !l["twist"])
+    c.fail(l,
+           "a spherical joint's limits need 'cone' (rad: how far the child's axis may tilt) or 'twist' "
+           "([lower, upper] rad: how far it may turn about its axis)");
+  BallLimits out;
+  if (const YAML::Node k = l["cone"]) {
+    out.cone = positive(k, c.child("cone"));
+    if (out.cone >= kPi) c.child("cone").fail(k, "the cone's half angle must be under pi rad");
+  }
+  if (const YAML::Node t = l["twist"]) {
+    const Ctx tc = c.child("twist");
+    if (!t.IsSequence() || t.size() != 2) tc.fail(t, "expected [lower, upper] (rad), got " + show(t));
+    out.twist_lower = number(t[0], tc.index(0));
+    out.twist_upper = number(t[1], tc.index(1));
+    std::ostringstream range;
+    range << "[" << out.twist_lower << ", " << out.twist_upper << "]";
+    if (!(out.twist_lower < out.twist_upper))
+      tc.fail(t, "twist limits out of order: lower must be below upper, got " + range.str());
+    if (out.twist_lower > 0 || out.twist_upper < 0)
+      tc.fail(t, "the twist is 0 in the start pose, so its limits must contain 0, got " + range.str());
+    if (out.twist_lower < -kPi || out.twist_upper > kPi)
+      tc.fail(t, "a twist is an angle in [-pi, pi], got " + range.str());
+  }
+  if (l["restitution"]) out.restitution = unit_interval(l["restitution"], c.child("restitution"));
+  return out;
+}
+
 // `motor: { speed, max_torque }` or `{ position, max_torque, speed, time_constant }` (max_force on
 // a slider).
 JointMotor load_motor(const YAML::Node& m, const Ctx& c, JointType type) {
@@ -333,7 +369,7 @@ std::vector<JointDef> load_joints(const YAML::Node& list, const std::string& fil
     const bool axial = j.type == JointType::revolute || j.type == JointType::prismatic ||
                        j.type == JointType::universal || j.type == JointType::wheel;
     if (n["axis"]) {
-      if (!axial)
+      if (!axial && j.type != JointType::spherical)
         c.child("axis").fail(n["axis"], std::string("a ") + to_string(j.type) + " joint has no axis");
       j.axis_W = vec<3>(n["axis"], c.child("axis"));
       if (j.axis_W.norm() < 1e-12) c.child("axis").fail(n["axis"], "the axis must not be zero");
@@ -357,8 +393,11 @@ std::vector<JointDef> load_joints(const YAML::Node& list, const std::string& fil
       const Ctx sc = c.child("spring");
       if (!s.IsMap()) sc.fail(s, "expected { stiffness: k, damping: c, rest: q0 }, got " + show(s));
       check_keys(s, sc, {"stiffness", "damping", "rest"});
-      if (j.type == JointType::spherical || j.type == JointType::fixed)
-        sc.fail(s, std::string("a ") + to_string(j.type) + " joint has no coordinate for a spring");
+      if (j.type == JointType::fixed) sc.fail(s, "a fixed joint has no coordinate for a spring");
+      if (j.type == JointType::spherical && s["rest"])
+        sc.child("rest").fail(s["rest"],
+                              "a spherical joint's spring rests at the start pose: it pulls the child's "
+                              "rotation vector back to 0 (leave out 'rest')");
       JointSpring sp;
       if (s["stiffness"]) sp.stiffness = non_negative(s["stiffness"], sc.child("stiffness"));
       if (s["damping"]) sp.damping = non_negative(s["damping"], sc.child("damping"));
@@ -368,7 +407,17 @@ std::vector<JointDef> load_joints(const YAML::Node& list, const std::string& fil
         sp.rest = number(s["rest"], sc.child("rest"));
       j.spring = sp;
     }
-    if (const YAML::Node l = n["limits"]) j.limits = load_limits(l, c.child("limits"), j.type);
+    if (const YAML::Node l = n["limits"]) {
+      if (j.type == JointType::spherical) {
+        j.ball_limits = load_ball_limits(l, c.child("limits"));
+        if (!n["axis"])
+          c.fail(n,
+                 "a spherical joint with limits needs 'axis' ([x, y, z], a world direction at t = 0: "
+                 "the child's axis that the cone holds and the twist turns about)");
+      } else {
+        j.limits = load_limits(l, c.child("limits"), j.type);
+      }
+    }
     if (const YAML::Node m = n["motor"]) j.motor = load_motor(m, c.child("motor"), j.type);
     if (const YAML::Node m = n["steering"]) {
       const Ctx sc = c.child("steering");

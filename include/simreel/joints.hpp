@@ -7,6 +7,7 @@
 // start pose. A mechanism whose joints form a tree is simulated in joint coordinates, so its joints
 // never open; its bodies' positions and velocities are read out as every other body's.
 #pragma once
+#include <limits>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -42,7 +43,9 @@ const char*
 joint_type_names();  ///< "revolute, prismatic, spherical, fixed, universal, wheel, distance, pulley"
 
 /// A spring along a joint's coordinate: generalised force -stiffness (q - rest) - damping q'.
-/// Revolute and universal: N m/rad, N m s/rad, rad; prismatic: N/m, N s/m, m.
+/// Revolute and universal: N m/rad, N m s/rad, rad; prismatic: N/m, N s/m, m. Spherical: a torque
+/// -stiffness phi - damping w (N m/rad, N m s/rad), phi the child's rotation vector relative to the
+/// parent since the start pose (|phi| <= pi) and w their relative angular velocity; rest is 0.
 struct JointSpring {
   double stiffness = 0;
   double damping = 0;
@@ -57,6 +60,20 @@ struct JointLimits {
   double lower = 0;
   double upper = 0;
   double restitution = 0;  ///< in [0, 1]
+};
+
+/// Stops on a ball joint (spherical), by the swing-twist decomposition of the child's rotation
+/// relative to the parent about the joint's `axis` (a world direction at t = 0, fixed in both
+/// bodies from then on): the swing tilts the child's axis away from the parent's by at most `cone`
+/// rad; the twist turns the child about its own axis, between twist_lower and twist_upper (rad).
+/// Reaching either is an impact on that angle alone (its rate reverses to -restitution times
+/// itself, the rest of the mechanism takes the impulse through its inertia), and an angle left at
+/// rest on its stop stays there while the stop pushes.
+struct BallLimits {
+  double cone = std::numeric_limits<double>::infinity();          ///< rad, in (0, pi); inf: none
+  double twist_lower = -std::numeric_limits<double>::infinity();  ///< rad, in [-pi, 0]; -inf: none
+  double twist_upper = std::numeric_limits<double>::infinity();   ///< rad, in [0, pi]; inf: none
+  double restitution = 0;                                         ///< in [0, 1]
 };
 
 /// A motor on a revolute or prismatic joint's coordinate, with a bounded force: while it can, it
@@ -81,11 +98,13 @@ struct JointDef {
   int parent = -1;               ///< body index, or -1 for the fixed world
   int child = -1;                ///< body index (dynamic)
   Vec3 anchor_W = Vec3::Zero();  ///< m, world point at t = 0
-  Vec3 axis_W = Vec3::UnitZ();   ///< revolute, prismatic, universal: world direction at t = 0
+  Vec3 axis_W = Vec3::UnitZ();   ///< revolute, prismatic, universal; spherical with ball_limits: world
+                                 ///< direction at t = 0
   Vec3 axis2_W = Vec3::UnitX();  ///< universal: the child's axis at t = 0
   std::optional<JointSpring> spring;
-  std::optional<JointLimits> limits;  ///< revolute, prismatic, universal (both coordinates)
-  std::optional<JointMotor> motor;    ///< revolute, prismatic
+  std::optional<JointLimits> limits;      ///< revolute, prismatic, universal (both coordinates)
+  std::optional<JointMotor> motor;        ///< revolute, prismatic
+  std::optional<BallLimits> ball_limits;  ///< spherical: cone and twist stops about axis_W
   /// Coulomb friction on the coordinate: N m (revolute, universal) or N (prismatic); it holds the
   /// joint still while the load needs no more, and otherwise acts against the motion.
   double friction = 0;

@@ -129,7 +129,8 @@ class World {
   /// mechanism's equations at its current state (a contact's push on the mechanism is not in it).
   void joint_reaction(int j, Vec3& force_W, Vec3& torque_W) const;
   /// The largest distance between the two anchor points of any joint, m (0 up to round-off: the
-  /// mechanisms move in joint coordinates), and the largest angle between hinge or slider axes, rad.
+  /// mechanisms move in joint coordinates), and the largest angle between hinge or slider axes or
+  /// by which a ball joint's swing or twist is past its stop, rad.
   double joint_gap() const;
   double joint_angular_gap() const;
 

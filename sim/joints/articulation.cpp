@@ -4,6 +4,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <numbers>
 #include <sstream>
 
 #include <Eigen/Cholesky>
@@ -21,6 +22,8 @@ namespace {
 constexpr EnumNames<JointType, 8> kJointTypes{
     {"revolute", "prismatic", "spherical", "fixed", "universal", "wheel", "distance", "pulley"}};
 static_assert(kJointTypes.complete());
+constexpr double kPi = std::numbers::pi;
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 inline Quat joint_rotation(const Link& l, const double* q) {
   switch (l.kind) {
@@ -234,6 +237,12 @@ void Mechanism::derivative(const double* y, double* dy, const Vec3& g, const Wre
       const MatXX6 D = l.S.transpose() * w.U;
       w.Dinv = D.inverse();
       w.u = -l.S.transpose() * w.pA;
+      if (l.kind == LinkJoint::spherical && (l.stiffness != 0 || l.damping != 0)) {
+        // A ball joint's spring: the torque -k phi - c w (phi's gradient of k |phi|^2 / 2 along w
+        // is phi itself: phi is the fixed vector of the rotation's Jacobian).
+        const Vec3 phi = ball_rotation_vector(l, q);
+        for (int k = 0; k < 3; ++k) w.u[k] -= l.stiffness * phi[k] + l.damping * v[l.iv + k];
+      }
       Ia.noalias() -= w.U * w.Dinv * w.U.transpose();
       pa += w.U * (w.Dinv * w.u);
     }
@@ -551,9 +560,8 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
         throw InputError(name_of(j) + ": axis2 must be perpendicular to axis");
     }
     if (d.spring) {
-      if (d.type == JointType::spherical || d.type == JointType::fixed)
-        throw InputError(name_of(j) + ": a spring needs a joint with one coordinate per axis (not " +
-                         to_string(d.type) + ")");
+      if (d.type == JointType::fixed)
+        throw InputError(name_of(j) + ": a spring needs a joint that moves (not " + to_string(d.type) + ")");
       if (!std::isfinite(d.spring->stiffness) || !std::isfinite(d.spring->damping) ||
           !std::isfinite(d.spring->rest) || d.spring->stiffness < 0 || d.spring->damping < 0)
         throw InputError(name_of(j) + ": spring stiffness and damping must be non-negative numbers");
@@ -572,6 +580,26 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
       if (!(L.restitution >= 0 && L.restitution <= 1))
         throw InputError(name_of(j) + ": limit restitution must be in [0, 1]");
     }
+    if (d.ball_limits) {
+      const BallLimits& B = *d.ball_limits;
+      if (d.type != JointType::spherical)
+        throw InputError(name_of(j) + ": cone and twist limits are a spherical joint's (not a " +
+                         to_string(d.type) + " joint's)");
+      if (!(d.axis_W.norm() > 1e-12) || !d.axis_W.allFinite())
+        throw InputError(name_of(j) + ": a ball joint's limits need its axis (nonzero)");
+      if (!(B.cone > 0) || (B.cone >= kPi && B.cone != kInfinity))
+        throw InputError(name_of(j) + ": the cone's half angle must be in (0, pi) rad");
+      if (!(B.twist_lower <= 0 && B.twist_lower >= -kPi) && !(B.twist_lower == -kInfinity))
+        throw InputError(name_of(j) + ": the twist's lower stop must be in [-pi, 0] rad");
+      if (!(B.twist_upper >= 0 && B.twist_upper <= kPi) && !(B.twist_upper == kInfinity))
+        throw InputError(name_of(j) + ": the twist's upper stop must be in [0, pi] rad");
+      if (!(B.twist_lower < B.twist_upper))
+        throw InputError(name_of(j) + ": the twist's stops must be in order (lower < upper)");
+      if (!(B.restitution >= 0 && B.restitution <= 1))
+        throw InputError(name_of(j) + ": limit restitution must be in [0, 1]");
+    }
+    if (d.spring && d.type == JointType::spherical && d.spring->rest != 0)
+      throw InputError(name_of(j) + ": a ball joint's spring rests at the start pose (rest 0)");
     if (d.motor) {
       const JointMotor& M = *d.motor;
       if (d.type != JointType::revolute && d.type != JointType::prismatic && !wheel)
@@ -617,7 +645,7 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
                          ": closes a loop; a wheel joint cannot close one (close the loop with another "
                          "joint and put the wheel on the tree)");
       if (d.spring) throw InputError(name_of(j) + ": a joint that closes a loop cannot carry a spring yet");
-      if (d.limits || d.motor || d.friction > 0)
+      if (d.limits || d.ball_limits || d.motor || d.friction > 0)
         throw InputError(name_of(j) +
                          ": a joint that closes a loop cannot carry limits, a motor or friction yet");
       loop_joints.push_back(j);
@@ -973,6 +1001,34 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
     joint_link_[j] = {mi, -1 - (int)(m.loops.size() - 1)};  // negative: a loop's index
   }
   for (int j : tether_joints) build_tether(j, model, state);
+  // A ball joint's stops: its swing and twist, each a slack rope between its bounds.
+  for (int j = 0; j < (int)joints_.size(); ++j) {
+    const JointDef& d = joints_[j];
+    if (!d.ball_limits || is_loop[j]) continue;
+    const auto [mi, li] = joint_link_[j];
+    Mechanism& m = mechanisms_[mi];
+    const BallLimits& B = *d.ball_limits;
+    Mechanism::Tether t;
+    t.joint = j;
+    t.link = li;
+    t.axis = d.axis_W.normalized();  // the joint frame is the world's axes at t = 0
+    t.restitution = B.restitution;
+    if (std::isfinite(B.cone)) {
+      t.measure = Mechanism::Tether::Measure::swing;
+      t.has_hi = true;
+      t.hi = B.cone;
+      m.tethers.push_back(t);
+    }
+    if (std::isfinite(B.twist_lower) || std::isfinite(B.twist_upper)) {
+      t.measure = Mechanism::Tether::Measure::twist;
+      t.has_hi = std::isfinite(B.twist_upper);
+      t.hi = t.has_hi ? B.twist_upper : 0.0;
+      t.has_lo = std::isfinite(B.twist_lower);
+      t.lo = t.has_lo ? B.twist_lower : 0.0;
+      m.tethers.push_back(t);
+    }
+    m.allocate();
+  }
   // Row scratch for every mechanism: the contact rows use its mass matrix too.
   for (Mechanism& m : mechanisms_) m.allocate_loops();
   // Start velocities: the joint velocities whose body motion is closest to the given one in the
@@ -1350,11 +1406,14 @@ void Articulations::reaction(int j, const MotionState* st, const Vec3& g, Vec3& 
 double Articulations::spring_energy() const {
   double e = 0;
   for (const Mechanism& m : mechanisms_) {
-    for (const Link& l : m.links)
+    for (const Link& l : m.links) {
       if (l.stiffness != 0 && l.nq == 1) {
         const double x = m.q[l.iq] - l.rest;
         e += 0.5 * l.stiffness * x * x;
       }
+      if (l.stiffness != 0 && l.kind == LinkJoint::spherical)
+        e += 0.5 * l.stiffness * Mechanism::ball_rotation_vector(l, m.q.data()).squaredNorm();
+    }
     for (int t = 0; t < (int)m.tethers.size(); ++t)
       if (m.tethers[t].stiffness != 0) {
         const double x = m.tether_length(t) - m.tethers[t].rest;
@@ -1394,6 +1453,12 @@ double Articulations::angular_gap(const MotionState* st) const {
   double worst = 0;
   for (size_t j = 0; j < joints_.size(); ++j) {
     const JointDef& d = joints_[j];
+    if (d.ball_limits) {  // how far a ball joint's swing or twist is past its stop
+      const Mechanism& m = mechanisms_[joint_link_[j].first];
+      for (int t = 0; t < (int)m.tethers.size(); ++t)
+        if (m.tethers[t].joint == (int)j) worst = std::max(worst, m.tether_gap(t));
+      continue;
+    }
     if (d.type != JointType::revolute && d.type != JointType::prismatic) continue;
     const Side& s = sides_[j];
     const bool moving_parent = d.parent >= 0 && jointed(d.parent);

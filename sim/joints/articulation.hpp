@@ -115,8 +115,15 @@ class Mechanism {
   // without slipping. A rod holds s at its length always; a rope is a hybrid mode like a
   // coordinate's stops: slack, or taut at its max (min) length, where it only pulls (pushes), its
   // multiplier the force along it. A spring acts along s as a force on the segments' ends.
+  //
+  // The same rows keep a ball joint's stops (BallLimits): s is then the swing or the twist angle
+  // (rad) of link `link`'s joint, measured from its coordinates about `axis` (its joint frame), a
+  // slack rope between the stops' bounds.
   struct Tether {
     int joint = -1;
+    enum class Measure { length, swing, twist } measure = Measure::length;
+    int link = -1;              ///< swing, twist: the ball joint's link
+    Vec3 axis = Vec3::UnitZ();  ///< swing, twist: unit, joint frame
     int nseg = 1;
     int la[2] = {-1, -1}, lb[2] = {-1, -1};  ///< links (-1: the fixed base)
     Vec3 pa[2], pb[2];                       ///< the points in the links' frames (the base's: world)
@@ -142,6 +149,10 @@ class Mechanism {
   // segment's; and its residual (m) against the row it keeps (0 when slack within its bounds).
   double tether_length(int t, int seg = -1, double* rate = nullptr) const;
   double tether_gap(int t) const;
+  // A ball joint's swing or twist (rad) and its rate at the last written poses.
+  double ball_readout(const Tether& t, double* rate = nullptr) const;
+  // A ball joint's rotation vector (rad; |phi| <= pi) from its coordinates: its spring's stretch.
+  static Vec3 ball_rotation_vector(const Link& l, const double* q);
   bool events_on() const { return !dofs.empty() || !tethers.empty(); }
   bool projected() const { return !loops.empty() || !tethers.empty(); }  ///< rows that need projection
 
@@ -274,6 +285,11 @@ class Mechanism {
   double tether_rate(const Tether& t, const std::vector<Vec6>& V, double wheel_rate) const;
   double tether_acceleration(const Tether& t, const std::vector<Vec6>& V, const std::vector<Vec6>& A,
                              double wheel_acc) const;
+  // A ball joint's swing or twist (Tether::Measure) at the current kinematics: the angle, its rate
+  // for link velocities V, its second derivative for V and true link accelerations A.
+  double ball_angle(const Tether& t) const;
+  double ball_rate(const Tether& t, const std::vector<Vec6>& V) const;
+  double ball_acceleration(const Tether& t, const std::vector<Vec6>& V, const std::vector<Vec6>& A) const;
   // Springs along tethers: their forces on the segments' ends into the links' bias forces (pass 1
   // of the ABA done: kinematics and velocities); f_out (per tether, N) when given.
   void tether_springs();
@@ -317,6 +333,11 @@ class Mechanism {
   // were moving out, then put back on the bound. True when any was.
   bool catch_stretched(double* y, const Vec3& g, const Wrench* wr);
   std::vector<int> rebound_;  ///< catch_stretched's scratch (sized once, at the first catch)
+  // The same for coordinates found past a stop and moving further out: a contact substep's first-
+  // order travel can take a coordinate over its stop between two event checks, or start from a
+  // hair past it (its release read the holding force without the contacts' push). Each is put on
+  // its stop with the stop's impact. True when any was.
+  bool catch_past_stops(double* y, const Vec3& g, const Wrench* wr);
   // Contacts' inverse inertia leaves taut ropes out (contact_begin): a rope cannot push, so an
   // impact may not be stopped by it; a rope an impulse stretches is caught at the substep's end.
   bool ropes_free_ = false;

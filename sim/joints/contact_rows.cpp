@@ -97,6 +97,8 @@ void Mechanism::contact_positions(double hs, const Vec3& g) {
     }
     if (!tethers.empty() && catch_stretched(y0_.data(), g, nullptr) && projected())
       project_velocities(y0_.data(), y0_.data() + nq);
+    if (!dofs.empty() && catch_past_stops(y0_.data(), g, nullptr) && projected())
+      project_velocities(y0_.data(), y0_.data() + nq);
   }
   kinematics(y0_.data());
 }

@@ -205,6 +205,7 @@ void Mechanism::loop_acceleration_rows(const std::vector<Vec6>& V, const std::ve
 // (the second term: n_k turns as the segment swings). A segment shorter than 1e-12 m has no
 // direction and adds nothing.
 double Mechanism::tether_position(const Tether& t, const double* q) const {
+  if (t.measure != Tether::Measure::length) return ball_angle(t);
   double s = 0;
   for (int k = 0; k < t.nseg; ++k)
     s += t.w[k] * (point_W(t.lb[k], t.pb[k]) - point_W(t.la[k], t.pa[k])).norm();
@@ -213,6 +214,7 @@ double Mechanism::tether_position(const Tether& t, const double* q) const {
 }
 
 double Mechanism::tether_rate(const Tether& t, const std::vector<Vec6>& V, double wheel_rate) const {
+  if (t.measure != Tether::Measure::length) return ball_rate(t, V);
   double r = t.wheel_iv >= 0 ? t.wheel_c * wheel_rate : 0.0;
   for (int k = 0; k < t.nseg; ++k) {
     const Vec3 d = point_W(t.lb[k], t.pb[k]) - point_W(t.la[k], t.pa[k]);
@@ -229,6 +231,7 @@ double Mechanism::tether_rate(const Tether& t, const std::vector<Vec6>& V, doubl
 
 double Mechanism::tether_acceleration(const Tether& t, const std::vector<Vec6>& V, const std::vector<Vec6>& A,
                                       double wheel_acc) const {
+  if (t.measure != Tether::Measure::length) return ball_acceleration(t, V, A);
   double r = t.wheel_iv >= 0 ? t.wheel_c * wheel_acc : 0.0;
   for (int k = 0; k < t.nseg; ++k) {
     const Vec3 d = point_W(t.lb[k], t.pb[k]) - point_W(t.la[k], t.pa[k]);
@@ -333,6 +336,8 @@ void Mechanism::apply_loads(std::vector<Vec6>* f) {
 }
 
 void Mechanism::tether_loads(const Tether& t, double force, std::vector<Vec6>& f) const {
+  // A ball joint's stop acts between the joint's own two links: what the joint transmits.
+  if (t.measure != Tether::Measure::length) return;
   for (int k = 0; k < t.nseg; ++k) {
     const Vec3 d = point_W(t.lb[k], t.pb[k]) - point_W(t.la[k], t.pa[k]);
     const double L = d.norm();
@@ -593,6 +598,7 @@ namespace simreel {
 
 double Mechanism::tether_length(int ti, int seg, double* rate) const {
   const Tether& t = tethers[ti];
+  if (t.measure != Tether::Measure::length) return ball_readout(t, rate);
   auto point = [&](int l, const Vec3& p) { return l < 0 ? p : Vec3(out_x_[l] + out_q_[l] * p); };
   auto velocity = [&](int l, const Vec3& p) {
     return l < 0 ? Vec3::Zero() : Vec3(out_q_[l] * point_velocity(out_v_[l], p));

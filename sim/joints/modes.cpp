@@ -259,6 +259,27 @@ bool Mechanism::catch_stretched(double* y, const Vec3& g, const Wrench* wr) {
   return true;
 }
 
+bool Mechanism::catch_past_stops(double* y, const Vec3& g, const Wrench* wr) {
+  double* q = y;
+  double* v = y + nq;
+  bool any = false;
+  std::fill(vtarget_.begin(), vtarget_.end(), std::numeric_limits<double>::quiet_NaN());
+  for (size_t i = 0; i < dofs.size(); ++i) {
+    Dof& d = dofs[i];
+    if (d.at_stop != 0) continue;
+    const double qk = q[d.iq], vk = v[d.iv];
+    const bool lower = d.has_lo && qk < d.lo && vk < 0, upper = d.has_hi && qk > d.hi && vk > 0;
+    if (!lower && !upper) continue;
+    stop_impact(d, lower, q, v, vtarget_[i]);
+    any = true;
+  }
+  if (!any) return false;
+  keep_held_rows();
+  impulse(q, v, vtarget_);
+  settle_modes(y, g, wr);
+  return true;
+}
+
 void Mechanism::keep_held_rows() {
   // Coordinates on their stops stay there, rods and taut ropes keep their lengths.
   for (size_t i = 0; i < dofs.size(); ++i)

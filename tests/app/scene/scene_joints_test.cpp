@@ -144,9 +144,51 @@ TEST(SceneJoints, LimitsMotorsAndFrictionLoad) {
   EXPECT_EQ(elbow.friction, 0.0);
 }
 
+TEST(SceneJoints, BallJointLimitsAndSpringLoad) {
+  const Scene s = load_scene(write_scene(
+      "ball.yaml", one_joint(kSpherical,
+                             "axis: [0, 0, -2],\n      limits: { cone: 0.6, twist: [-0.3, 0.4], "
+                             "restitution: 0.2 },\n      spring: { stiffness: 3, damping: 0.1 }")));
+  const JointDef& j = s.joints.at(0);
+  ASSERT_TRUE(j.ball_limits);
+  EXPECT_EQ(j.ball_limits->cone, 0.6);
+  EXPECT_EQ(j.ball_limits->twist_lower, -0.3);
+  EXPECT_EQ(j.ball_limits->twist_upper, 0.4);
+  EXPECT_EQ(j.ball_limits->restitution, 0.2);
+  EXPECT_FALSE(j.limits);
+  EXPECT_EQ(j.axis_W, Vec3(0, 0, -2));
+  ASSERT_TRUE(j.spring);
+  EXPECT_EQ(j.spring->stiffness, 3.0);
+  EXPECT_EQ(j.spring->damping, 0.1);
+  // A cone alone: no twist stops.
+  const Scene c =
+      load_scene(write_scene("cone.yaml", one_joint(kSpherical, "axis: [1, 0, 0], limits: { cone: 1 }")));
+  EXPECT_TRUE(std::isinf(c.joints.at(0).ball_limits->twist_upper));
+}
+
+TEST(SceneJoints, BallJointLimitsAreAConeAndATwistAboutAnAxis) {
+  EXPECT_JOINT_ERROR(kSpherical, "axis: [0, 0, 1], limits: [-1, 1]", 11,
+                     "joints[0].limits: a spherical joint's limits are { cone: rad, twist: [lower, upper]");
+  EXPECT_JOINT_ERROR(kSpherical, "limits: { cone: 0.5 }", 10, "a spherical joint with limits needs 'axis'");
+  EXPECT_JOINT_ERROR(kSpherical, "axis: [0, 0, 1], limits: { restitution: 1 }", 11,
+                     "joints[0].limits: a spherical joint's limits need 'cone'");
+  EXPECT_JOINT_ERROR(kSpherical, "axis: [0, 0, 1], limits: { cone: 3.5 }", 11,
+                     "joints[0].limits.cone: the cone's half angle must be under pi rad");
+  EXPECT_JOINT_ERROR(kSpherical, "axis: [0, 0, 1], limits: { cone: 0 }", 11, "joints[0].limits.cone:");
+  EXPECT_JOINT_ERROR(
+      kSpherical, "axis: [0, 0, 1], limits: { twist: [0.2, 0.5] }", 11,
+      "joints[0].limits.twist: the twist is 0 in the start pose, so its limits must contain 0");
+  EXPECT_JOINT_ERROR(kSpherical, "axis: [0, 0, 1], limits: { twist: [0.5, -0.5] }", 11,
+                     "joints[0].limits.twist: twist limits out of order");
+  EXPECT_JOINT_ERROR(kSpherical, "axis: [0, 0, 1], limits: { twist: [-4, 1] }", 11,
+                     "joints[0].limits.twist: a twist is an angle in [-pi, pi]");
+  EXPECT_JOINT_ERROR(kSpherical, "axis: [0, 0, 1], limits: { cone: 1, swing: 1 }", 11, "joints[0].limits");
+  EXPECT_JOINT_ERROR(kSpherical, "spring: { stiffness: 1, rest: 0.2 }", 11,
+                     "joints[0].spring.rest: a spherical joint's spring rests at the start pose");
+  EXPECT_JOINT_ERROR(kFixed, "axis: [0, 0, 1]", 11, "joints[0].axis: a fixed joint has no axis");
+}
+
 TEST(SceneJoints, LimitsNeedACoordinate) {
-  EXPECT_JOINT_ERROR(kSpherical, "limits: [-1, 1]", 11,
-                     "joints[0].limits: a spherical joint has no coordinate for limits");
   EXPECT_JOINT_ERROR(kFixed, "limits: { lower: -1, upper: 1 }", 11,
                      "joints[0].limits: a fixed joint has no coordinate for limits");
 }

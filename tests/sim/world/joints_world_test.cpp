@@ -115,6 +115,25 @@ TEST(Joints, ResumedRunEqualsStraightRun) {
   EXPECT_EQ(saved(a), saved(b));
 }
 
+// Runs `a` 240 steps, saving every 40th; a fresh world resumed from each save must reach the same
+// bytes at the end.
+static void expect_resumes_bit_identically(World& a, const WorldConfig& cfg,
+                                           const std::vector<BodyDef>& bodies) {
+  std::vector<std::string> mids;
+  for (int i = 0; i < 240; ++i) {
+    a.step();
+    if (i % 40 == 0) mids.push_back(saved(a));
+  }
+  const std::string end = saved(a);
+  for (size_t k = 0; k < mids.size(); ++k) {
+    World b(cfg, bodies);
+    std::istringstream is(mids[k]);
+    b.restore_state(is);
+    for (int i = 40 * (int)k + 1; i < 240; ++i) b.step();
+    EXPECT_EQ(saved(b), end) << "resumed from step " << 40 * k;
+  }
+}
+
 // With stops, a motor and friction the modes are state too: a save taken while the bar rests on
 // its stop under a saturated motor (between events), resumed, takes the same later events.
 TEST(Joints, ResumedRunWithLimitsMotorAndFrictionEqualsStraightRun) {
@@ -127,23 +146,31 @@ TEST(Joints, ResumedRunWithLimitsMotorAndFrictionEqualsStraightRun) {
   j.motor = m;
   j.friction = 0.05;
   World a(p.cfg, p.bodies);
-  std::vector<std::string> mids;
-  for (int i = 0; i < 240; ++i) {
-    a.step();
-    if (i % 40 == 0) mids.push_back(saved(a));
-  }
-  const std::string end = saved(a);
+  expect_resumes_bit_identically(a, p.cfg, p.bodies);
   EXPECT_LT(a.joint_gap(), 1e-14);
-  for (size_t k = 0; k < mids.size(); ++k) {
-    World b(p.cfg, p.bodies);
-    std::istringstream is(mids[k]);
-    b.restore_state(is);
-    for (int i = 40 * (int)k + 1; i < 240; ++i) b.step();
-    EXPECT_EQ(saved(b), end) << "resumed from step " << 40 * k;
-  }
   // It met its stops: the coordinate stays within them and reached one.
   EXPECT_GE(a.joint_position(0), -0.8);
   EXPECT_LE(a.joint_position(0), 0.5);
+}
+
+// A ball joint's cone and twist stops are modes too: the bar on a ball joint, thrown against its
+// cone (restitution 0.5) and twist stops, resumed from saves taken free, on a stop and after.
+TEST(Joints, ResumedRunWithBallJointStopsEqualsStraightRun) {
+  BarPendulum p(1.0);
+  JointDef& j = p.cfg.joints[0];
+  j.type = JointType::spherical;
+  j.axis_W = p.bodies[0].q_WB * Vec3(0, 0, -1);  // along the bar
+  BallLimits b;
+  b.cone = 0.7;
+  b.twist_lower = -0.4;
+  b.twist_upper = 0.3;
+  b.restitution = 0.5;
+  j.ball_limits = b;
+  p.bodies[0].w_W = Vec3(1.5, 0, 4);
+  p.bodies[0].v_W = p.bodies[0].w_W.cross(p.bodies[0].p_WB - Vec3(0, 0, 2));
+  World a(p.cfg, p.bodies);
+  expect_resumes_bit_identically(a, p.cfg, p.bodies);
+  EXPECT_LT(a.joint_angular_gap(), 1e-9);  // never past a stop
 }
 
 TEST(Joints, SameBitsOnOneAndTwoThreads) {
