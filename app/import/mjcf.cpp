@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <numbers>
 #include <set>
 
 #include <simreel/error.hpp>
@@ -554,7 +555,14 @@ class MjcfReader {
       j.limits = std::array<double, 2>{(*range)[0] * s, (*range)[1] * s};
       if (j.kind == ModelJoint::Kind::continuous) j.kind = ModelJoint::Kind::revolute;
     } else if (on) {
-      note(e, "a ball joint's range (a cone) is not simulated: it turns freely", what);
+      // A ball joint's range bounds its rotation's angle from the reference pose: range[1] only.
+      const double hi = (*range)[1] * angle(1);
+      if ((*range)[0] != 0)
+        note(e, "a ball joint's range uses only its second number (the first should be 0)", what);
+      if (hi < std::numbers::pi)
+        j.limits = std::array<double, 2>{0.0, hi};
+      else
+        note(e, "a ball joint's range of pi or more leaves it free", what);
     }
     if (auto d = nums(e, "damping", cls, what); d && !d->empty()) j.damping = (*d)[0];
     if (auto d = nums(e, "stiffness", cls, what); d && !d->empty()) j.stiffness = (*d)[0];
@@ -563,10 +571,13 @@ class MjcfReader {
       j.rest = j.kind == ModelJoint::Kind::prismatic ? (*d)[0] : angle((*d)[0]);
     if (j.damping < 0 || j.stiffness < 0 || j.friction < 0)
       fail(e, what, "damping, stiffness and frictionloss must not be negative");
-    if (j.kind == ModelJoint::Kind::spherical && (j.damping > 0 || j.stiffness > 0 || j.friction > 0)) {
-      note(e, "a ball joint's damping, stiffness and friction are not simulated", what);
-      j.damping = j.stiffness = j.friction = 0;
+    // A ball joint's stiffness and damping are its spring (-k phi - c w, as MuJoCo's passive force
+    // on the quaternion difference); its frictionloss has no model here.
+    if (j.kind == ModelJoint::Kind::spherical && j.friction > 0) {
+      note(e, "a ball joint's frictionloss is not simulated", what);
+      j.friction = 0;
     }
+    if (j.kind == ModelJoint::Kind::spherical) j.rest = 0;
     if (get(e, "armature", cls) && nums(e, "armature", cls, what)->at(0) > 0)
       note_once(e, "armature", "joint armature (rotor inertia) is not simulated");
     m_.joints.push_back(j);

@@ -485,7 +485,11 @@ void place_model(const Model& m, const ImportSpec& spec, Scene& scene, MeshLibra
       default:
         break;
     }
-    if (j.limits && j.kind != K::spherical) {
+    if (j.limits && j.kind == K::spherical) {
+      BallLimits B;
+      B.angle = (*j.limits)[1];
+      d.ball_limits = B;
+    } else if (j.limits) {
       JointLimits L;
       L.lower = (*j.limits)[0] - q0[k];
       L.upper = (*j.limits)[1] - q0[k];

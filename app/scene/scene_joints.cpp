@@ -80,7 +80,7 @@ JointLimits load_limits(const YAML::Node& l, const Ctx& c, JointType type) {
   return out;
 }
 
-// A ball joint's `limits: { cone, twist: [lower, upper], restitution }` (rad).
+// A ball joint's `limits: { cone, twist: [lower, upper], angle, restitution }` (rad).
 BallLimits load_ball_limits(const YAML::Node& l, const Ctx& c) {
   constexpr double kPi = 3.14159265358979323846;
   if (!l.IsMap())
@@ -88,12 +88,17 @@ BallLimits load_ball_limits(const YAML::Node& l, const Ctx& c) {
            "a spherical joint's limits are { cone: rad, twist: [lower, upper], restitution } (stops "
            "about its axis), got " +
                show(l));
-  check_keys(l, c, {"cone", "twist", "restitution"});
-  if (!l["cone"] && !l["twist"])
+  check_keys(l, c, {"cone", "twist", "angle", "restitution"});
+  if (!l["cone"] && !l["twist"] && !l["angle"])
     c.fail(l,
-           "a spherical joint's limits need 'cone' (rad: how far the child's axis may tilt) or 'twist' "
-           "([lower, upper] rad: how far it may turn about its axis)");
+           "a spherical joint's limits need 'cone' (rad: how far the child's axis may tilt), 'twist' "
+           "([lower, upper] rad: how far it may turn about its axis) or 'angle' (rad: how far it may "
+           "turn from the start pose, about any axis)");
   BallLimits out;
+  if (const YAML::Node k = l["angle"]) {
+    out.angle = positive(k, c.child("angle"));
+    if (out.angle >= kPi) c.child("angle").fail(k, "a rotation's angle is under pi rad");
+  }
   if (const YAML::Node k = l["cone"]) {
     out.cone = positive(k, c.child("cone"));
     if (out.cone >= kPi) c.child("cone").fail(k, "the cone's half angle must be under pi rad");
@@ -410,10 +415,11 @@ std::vector<JointDef> load_joints(const YAML::Node& list, const std::string& fil
     if (const YAML::Node l = n["limits"]) {
       if (j.type == JointType::spherical) {
         j.ball_limits = load_ball_limits(l, c.child("limits"));
-        if (!n["axis"])
-          c.fail(n,
-                 "a spherical joint with limits needs 'axis' ([x, y, z], a world direction at t = 0: "
-                 "the child's axis that the cone holds and the twist turns about)");
+        if (!n["axis"] && (l["cone"] || l["twist"]))
+          c.fail(
+              n,
+              "a spherical joint with a cone or twist needs 'axis' ([x, y, z], a world direction at t = 0: "
+              "the child's axis that the cone holds and the twist turns about)");
       } else {
         j.limits = load_limits(l, c.child("limits"), j.type);
       }

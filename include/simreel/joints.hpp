@@ -66,11 +66,13 @@ struct JointLimits {
 /// relative to the parent about the joint's `axis` (a world direction at t = 0, fixed in both
 /// bodies from then on): the swing tilts the child's axis away from the parent's by at most `cone`
 /// rad; the twist turns the child about its own axis, between twist_lower and twist_upper (rad).
-/// Reaching either is an impact on that angle alone (its rate reverses to -restitution times
-/// itself, the rest of the mechanism takes the impulse through its inertia), and an angle left at
-/// rest on its stop stays there while the stop pushes.
+/// Or, without an axis, `angle` bounds the whole rotation's angle from the start pose (MJCF's ball
+/// joint range). Reaching any is an impact on that angle alone (its rate reverses to -restitution
+/// times itself, the rest of the mechanism takes the impulse through its inertia), and an angle
+/// left at rest on its stop stays there while the stop pushes.
 struct BallLimits {
   double cone = std::numeric_limits<double>::infinity();          ///< rad, in (0, pi); inf: none
+  double angle = std::numeric_limits<double>::infinity();         ///< rad, in (0, pi); inf: none
   double twist_lower = -std::numeric_limits<double>::infinity();  ///< rad, in [-pi, 0]; -inf: none
   double twist_upper = std::numeric_limits<double>::infinity();   ///< rad, in [0, pi]; inf: none
   double restitution = 0;                                         ///< in [0, 1]
@@ -104,7 +106,7 @@ struct JointDef {
   std::optional<JointSpring> spring;
   std::optional<JointLimits> limits;      ///< revolute, prismatic, universal (both coordinates)
   std::optional<JointMotor> motor;        ///< revolute, prismatic
-  std::optional<BallLimits> ball_limits;  ///< spherical: cone and twist stops about axis_W
+  std::optional<BallLimits> ball_limits;  ///< spherical: cone and twist stops about axis_W, angle
   /// Coulomb friction on the coordinate: N m (revolute, universal) or N (prismatic); it holds the
   /// joint still while the load needs no more, and otherwise acts against the motion.
   double friction = 0;

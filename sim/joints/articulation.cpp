@@ -585,10 +585,13 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
       if (d.type != JointType::spherical)
         throw InputError(name_of(j) + ": cone and twist limits are a spherical joint's (not a " +
                          to_string(d.type) + " joint's)");
-      if (!(d.axis_W.norm() > 1e-12) || !d.axis_W.allFinite())
-        throw InputError(name_of(j) + ": a ball joint's limits need its axis (nonzero)");
+      const bool axial = B.cone != kInfinity || B.twist_lower != -kInfinity || B.twist_upper != kInfinity;
+      if (axial && (!(d.axis_W.norm() > 1e-12) || !d.axis_W.allFinite()))
+        throw InputError(name_of(j) + ": a ball joint's cone and twist need its axis (nonzero)");
       if (!(B.cone > 0) || (B.cone >= kPi && B.cone != kInfinity))
         throw InputError(name_of(j) + ": the cone's half angle must be in (0, pi) rad");
+      if (!(B.angle > 0) || (B.angle >= kPi && B.angle != kInfinity))
+        throw InputError(name_of(j) + ": a ball joint's largest rotation angle must be in (0, pi) rad");
       if (!(B.twist_lower <= 0 && B.twist_lower >= -kPi) && !(B.twist_lower == -kInfinity))
         throw InputError(name_of(j) + ": the twist's lower stop must be in [-pi, 0] rad");
       if (!(B.twist_upper >= 0 && B.twist_upper <= kPi) && !(B.twist_upper == kInfinity))
@@ -1011,12 +1014,19 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
     Mechanism::Tether t;
     t.joint = j;
     t.link = li;
-    t.axis = d.axis_W.normalized();  // the joint frame is the world's axes at t = 0
+    t.axis = d.axis_W.norm() > 0 ? Vec3(d.axis_W.normalized())
+                                 : Vec3::UnitZ();  // joint frame = world axes at t = 0
     t.restitution = B.restitution;
     if (std::isfinite(B.cone)) {
       t.measure = Mechanism::Tether::Measure::swing;
       t.has_hi = true;
       t.hi = B.cone;
+      m.tethers.push_back(t);
+    }
+    if (std::isfinite(B.angle)) {
+      t.measure = Mechanism::Tether::Measure::angle;
+      t.has_hi = true;
+      t.hi = B.angle;
       m.tethers.push_back(t);
     }
     if (std::isfinite(B.twist_lower) || std::isfinite(B.twist_upper)) {

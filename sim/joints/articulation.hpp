@@ -117,12 +117,12 @@ class Mechanism {
   // multiplier the force along it. A spring acts along s as a force on the segments' ends.
   //
   // The same rows keep a ball joint's stops (BallLimits): s is then the swing or the twist angle
-  // (rad) of link `link`'s joint, measured from its coordinates about `axis` (its joint frame), a
-  // slack rope between the stops' bounds.
+  // (rad) of link `link`'s joint, measured from its coordinates about `axis` (its joint frame), or
+  // its whole rotation's angle, a slack rope between the stops' bounds.
   struct Tether {
     int joint = -1;
-    enum class Measure { length, swing, twist } measure = Measure::length;
-    int link = -1;              ///< swing, twist: the ball joint's link
+    enum class Measure { length, swing, twist, angle } measure = Measure::length;
+    int link = -1;              ///< swing, twist, angle: the ball joint's link
     Vec3 axis = Vec3::UnitZ();  ///< swing, twist: unit, joint frame
     int nseg = 1;
     int la[2] = {-1, -1}, lb[2] = {-1, -1};  ///< links (-1: the fixed base)

@@ -1,5 +1,5 @@
-// A ball joint's stops (BallLimits; articulation.hpp, Mechanism::Tether with Measure swing or
-// twist): the angles whose bounds the tether rows keep, and their first two time derivatives.
+// A ball joint's stops (BallLimits; articulation.hpp, Mechanism::Tether with Measure swing,
+// twist or angle): the angles whose bounds the tether rows keep, and their first two time derivatives.
 //
 // The joint's coordinate is the child's rotation R relative to the parent (joint frames), with
 // R' = R [w]x, w the relative angular velocity in the child's joint frame (the link's velocities).
@@ -11,8 +11,11 @@
 //          q' = q (0, w) / 2: s' = -v . w / 2, v' = (s w + v x w) / 2, so
 //          psi' = J . w, J = (s^2 a + s a x v + x v) / (s^2 + x^2), x = a . v, and on the stop
 //          (J . w = 0) psi'' = J . w'.
-// Both are singular only where they are not used: the swing's rate at theta = 0 (a cone stop is
-// never at 0), the twist at a swing of pi.
+//   angle  phi = 2 atan2(|v|, s), the whole rotation's: phi' = u . w with u = v / |v| (the
+//          rotation's axis, the same in both frames), phi'' = u . w' + u' . w,
+//          u' = (v' - u (u . v')) / |v|.
+// All are singular only where they are not used: the swing's and the angle's rates at 0 (their
+// stops are never at 0), the twist at a swing of pi.
 #include <cmath>
 
 #include "sim/joints/articulation.hpp"
@@ -64,13 +67,53 @@ double twist_derivative(const Vec3& a, const Mat3& R, const Vec3& w, const Vec3*
   return J.dot(*wd);
 }
 
+double rotation_angle(const Mat3& R) {
+  const Quat q = unit_quaternion(R);
+  return 2 * std::atan2(q.vec().norm(), q.w());
+}
+
+double rotation_angle_derivative(const Mat3& R, const Vec3& w, const Vec3* wd) {
+  const Quat q = unit_quaternion(R);
+  const Vec3 v = q.vec();
+  const double n = v.norm();
+  if (n < 1e-12) return 0;
+  const Vec3 u = v / n;
+  if (!wd) return u.dot(w);
+  const Vec3 dv = 0.5 * (q.w() * w + v.cross(w));
+  return u.dot(*wd) + ((dv - u * u.dot(dv)) / n).dot(w);
+}
+
+using Measure = Mechanism::Tether::Measure;
+
+double measure_angle(const Mechanism::Tether& t, const Mat3& R) {
+  switch (t.measure) {
+    case Measure::swing:
+      return swing_angle(t.axis, R);
+    case Measure::twist:
+      return twist_angle(t.axis, R);
+    default:
+      return rotation_angle(R);
+  }
+}
+
+double measure_derivative(const Mechanism::Tether& t, const Mat3& R, const Vec3& w, const Vec3* wd) {
+  switch (t.measure) {
+    case Measure::swing:
+      return swing_derivative(t.axis, R, w, wd);
+    case Measure::twist:
+      return twist_derivative(t.axis, R, w, wd);
+    default:
+      return rotation_angle_derivative(R, w, wd);
+  }
+}
+
 }  // namespace
 
 double Mechanism::ball_angle(const Tether& t) const {
   // R from the link's transform: E^T = R_pF R R_cF^T (kinematics).
   const Link& l = links[t.link];
   const Mat3 R = l.R_pF.transpose() * work_[t.link].E.transpose() * l.R_cF;
-  return t.measure == Tether::Measure::swing ? swing_angle(t.axis, R) : twist_angle(t.axis, R);
+  return measure_angle(t, R);
 }
 
 namespace {
@@ -87,8 +130,7 @@ double Mechanism::ball_rate(const Tether& t, const std::vector<Vec6>& V) const {
   const Mat3& E = work_[t.link].E;
   const Mat3 R = l.R_pF.transpose() * E.transpose() * l.R_cF;
   const Vec3 w = relative_rate(l, E, V, t.link);
-  return t.measure == Tether::Measure::swing ? swing_derivative(t.axis, R, w, nullptr)
-                                             : twist_derivative(t.axis, R, w, nullptr);
+  return measure_derivative(t, R, w, nullptr);
 }
 
 double Mechanism::ball_acceleration(const Tether& t, const std::vector<Vec6>& V,
@@ -102,8 +144,7 @@ double Mechanism::ball_acceleration(const Tether& t, const std::vector<Vec6>& V,
   Vec3 al = A[t.link].head<3>() - V[t.link].head<3>().cross(l.R_cF * w);
   if (l.parent >= 0) al -= E * A[l.parent].head<3>();
   const Vec3 wd = l.R_cF.transpose() * al;
-  return t.measure == Tether::Measure::swing ? swing_derivative(t.axis, R, w, &wd)
-                                             : twist_derivative(t.axis, R, w, &wd);
+  return measure_derivative(t, R, w, &wd);
 }
 
 double Mechanism::ball_readout(const Tether& t, double* rate) const {
@@ -113,14 +154,12 @@ double Mechanism::ball_readout(const Tether& t, double* rate) const {
   const Mat3 Rp = l.parent < 0 ? Mat3::Identity() : out_q_[l.parent].toRotationMatrix();
   const Mat3 Rrel = Rp.transpose() * Rc;
   const Mat3 R = l.R_pF.transpose() * Rrel * l.R_cF;
-  const bool swing = t.measure == Tether::Measure::swing;
   if (rate) {
     Vec3 w = out_v_[t.link].head<3>();
     if (l.parent >= 0) w -= Rrel.transpose() * out_v_[l.parent].head<3>();
-    w = l.R_cF.transpose() * w;
-    *rate = swing ? swing_derivative(t.axis, R, w, nullptr) : twist_derivative(t.axis, R, w, nullptr);
+    *rate = measure_derivative(t, R, l.R_cF.transpose() * w, nullptr);
   }
-  return swing ? swing_angle(t.axis, R) : twist_angle(t.axis, R);
+  return measure_angle(t, R);
 }
 
 Vec3 Mechanism::ball_rotation_vector(const Link& l, const double* q) {

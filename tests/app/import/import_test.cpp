@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <numbers>
 #include <string>
 
 #include <simreel/error.hpp>
@@ -397,6 +398,35 @@ TEST(ImportMjcf, SelfCollisionSkipsParentsAndExcludedPairs) {
   EXPECT_TRUE(ignored(on, "c", "d"));   // excluded by the file
   EXPECT_FALSE(ignored(on, "a", "c"));  // grandparent: may touch
   EXPECT_FALSE(ignored(on, "b", "d"));
+}
+
+// A ball joint's range bounds its rotation's angle (the second number; degrees by default) and its
+// stiffness and damping are a spring on the rotation vector, as in MuJoCo.
+TEST(ImportMjcf, BallJointRangeAndSpringLoad) {
+  const Scene s = load_scene(write("ball.xml",
+                                   "<mujoco><worldbody><body name=\"limb\" pos=\"0 0 1\">\n"
+                                   "<joint name=\"shoulder\" type=\"ball\" range=\"0 60\" stiffness=\"2\" "
+                                   "damping=\"0.1\" frictionloss=\"0.3\"/>\n"
+                                   "<geom type=\"capsule\" fromto=\"0 0 0 0 0 -0.4\" size=\"0.05\"/>\n"
+                                   "</body></worldbody></mujoco>\n"));
+  ASSERT_EQ(s.joints.size(), 1u);
+  const JointDef& j = s.joints[0];
+  EXPECT_EQ(j.type, JointType::spherical);
+  ASSERT_TRUE(j.ball_limits);
+  EXPECT_NEAR(j.ball_limits->angle, std::numbers::pi / 3, 1e-15);
+  EXPECT_TRUE(std::isinf(j.ball_limits->cone));
+  ASSERT_TRUE(j.spring);
+  EXPECT_EQ(j.spring->stiffness, 2.0);
+  EXPECT_EQ(j.spring->damping, 0.1);
+  EXPECT_EQ(j.spring->rest, 0.0);
+  EXPECT_TRUE(has(s.notes, "ball.xml:2: joint 'shoulder': a ball joint's frictionloss is not simulated"));
+  const Scene wide = load_scene(write("wide.xml",
+                                      "<mujoco><worldbody><body name=\"limb\" pos=\"0 0 1\">\n"
+                                      "<joint type=\"ball\" range=\"0 200\"/>\n"
+                                      "<geom type=\"sphere\" size=\"0.05\"/>\n"
+                                      "</body></worldbody></mujoco>\n"));
+  EXPECT_FALSE(wide.joints.at(0).ball_limits);
+  EXPECT_TRUE(has(wide.notes, "a ball joint's range of pi or more leaves it free"));
 }
 
 // An undefined class, a joint type MuJoCo does not have, a connect to a missing body.

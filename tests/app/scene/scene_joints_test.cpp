@@ -160,6 +160,10 @@ TEST(SceneJoints, BallJointLimitsAndSpringLoad) {
   ASSERT_TRUE(j.spring);
   EXPECT_EQ(j.spring->stiffness, 3.0);
   EXPECT_EQ(j.spring->damping, 0.1);
+  // The whole turn's angle needs no axis.
+  const Scene a = load_scene(write_scene("angle.yaml", one_joint(kSpherical, "limits: { angle: 1.1 }")));
+  EXPECT_EQ(a.joints.at(0).ball_limits->angle, 1.1);
+  EXPECT_TRUE(std::isinf(a.joints.at(0).ball_limits->cone));
   // A cone alone: no twist stops.
   const Scene c =
       load_scene(write_scene("cone.yaml", one_joint(kSpherical, "axis: [1, 0, 0], limits: { cone: 1 }")));
@@ -169,7 +173,10 @@ TEST(SceneJoints, BallJointLimitsAndSpringLoad) {
 TEST(SceneJoints, BallJointLimitsAreAConeAndATwistAboutAnAxis) {
   EXPECT_JOINT_ERROR(kSpherical, "axis: [0, 0, 1], limits: [-1, 1]", 11,
                      "joints[0].limits: a spherical joint's limits are { cone: rad, twist: [lower, upper]");
-  EXPECT_JOINT_ERROR(kSpherical, "limits: { cone: 0.5 }", 10, "a spherical joint with limits needs 'axis'");
+  EXPECT_JOINT_ERROR(kSpherical, "limits: { cone: 0.5 }", 10,
+                     "a spherical joint with a cone or twist needs 'axis'");
+  EXPECT_JOINT_ERROR(kSpherical, "limits: { angle: 3.2 }", 11,
+                     "joints[0].limits.angle: a rotation's angle is under pi rad");
   EXPECT_JOINT_ERROR(kSpherical, "axis: [0, 0, 1], limits: { restitution: 1 }", 11,
                      "joints[0].limits: a spherical joint's limits need 'cone'");
   EXPECT_JOINT_ERROR(kSpherical, "axis: [0, 0, 1], limits: { cone: 3.5 }", 11,

@@ -240,6 +240,53 @@ TEST(BallLimits, TwistStopIsWorklessWhileItHolds) {
   EXPECT_LT(worst_E, 1e-10);
 }
 
+TEST(BallLimits, AngleStopReversesATurnElastically) {
+  // The whole rotation's angle (MJCF's ball range): turning at a constant 2 rad/s about +y, or
+  // spinning at 2 rad/s about the rod's own axis, the angle grows at the rate until 0.5 rad, and
+  // with restitution 1 the turn reverses through the start to the other side: a triangle wave.
+  for (const Vec3& w : {Vec3(0, 2, 0), Vec3(0, 0, 2)}) {
+    BallLimits L;
+    L.angle = 0.5;
+    L.restitution = 1;
+    Limb r(-Vec3::UnitZ(), w, 0, &L);
+    const Quat q0 = r.s().q_WP;
+    double worst = 0;
+    for (int f = 1; f <= 120; ++f) {
+      ASSERT_TRUE(r.step());
+      // The signed turn about w's direction since the start.
+      const Quat rel = r.s().q_WP * q0.conjugate();
+      const double turn = 2 * std::atan2(rel.vec().dot(w.normalized()), rel.w());
+      worst = std::max(worst, std::abs(turn - triangle(f / 60.0, 2, 0.5)));
+    }
+    EXPECT_LT(worst, 1e-9) << "turning about " << w.transpose();
+    EXPECT_EQ(r.mech().events, 4);  // at 0.25, 0.75, 1.25, 1.75 s
+  }
+}
+
+TEST(BallLimits, AngleStopIsWorklessWhileItHolds) {
+  // Held out along +x, swung sideways at 3 rad/s under gravity, restitution 0: the rotation's
+  // angle reaches its 0.5 rad stop and the rod then moves on the stop's boundary (every rotation
+  // of angle 0.5 from the start), pressed on it by gravity; held, the stop does no work.
+  const double g = 9.81;
+  BallLimits L;
+  L.angle = 0.5;
+  Limb r(Vec3::UnitX(), Vec3(0, 0, 3), g, &L);
+  int held_moving = 0;
+  double worst_E = 0;
+  for (int f = 0; f < 300; ++f) {
+    const double E0 = r.energy();
+    const long ev = r.mech().events;
+    const bool held0 = r.mech().tethers[0].taut != 0;
+    ASSERT_TRUE(r.step());
+    if (!(held0 && r.mech().tethers[0].taut != 0 && r.mech().events == ev)) continue;
+    worst_E = std::max(worst_E, std::abs(r.energy() - E0) / (m * g * d));
+    if (r.s().w_P.norm() > 0.5) ++held_moving;
+  }
+  std::printf("on the angle stop: %d frames held and moving, energy %.1e m g d\n", held_moving, worst_E);
+  EXPECT_GE(held_moving, 30);
+  EXPECT_LT(worst_E, 1e-10);
+}
+
 // The swing and twist of a rod about the joint's axis a (world, at t = 0), from its rotation
 // since the start: R a makes the swing angle with a, and the twist is the angle about a of the
 // quaternion's part along a (swing-twist decomposition).
