@@ -171,6 +171,31 @@ TEST(BallLimits, LimbRestsOnItsConeHeldByTheStop) {
   EXPECT_NEAR((T - Vec3(0, -m * g * d * std::cos(c), 0)).norm(), 0, 1e-9) << T.transpose();
 }
 
+// Steps `frames` frames and, over the steps that begin and end on the stop (tether 0 held, no
+// event between), measures the largest energy change (m g d) and counts those in which the rod
+// moved (|w| > 0.5 rad/s); `on_held` sees each such moving step (with its count).
+struct HeldRun {
+  int moving = 0;
+  double worst_E = 0;
+};
+template <class F>
+HeldRun run_held(Limb& r, int frames, F&& on_held) {
+  HeldRun out;
+  for (int f = 0; f < frames; ++f) {
+    const double E0 = r.energy();
+    const long ev = r.mech().events;
+    const bool held0 = r.mech().tethers[0].taut != 0;
+    if (!r.step()) {
+      ADD_FAILURE() << "the step failed at frame " << f;
+      return out;
+    }
+    if (!(held0 && r.mech().tethers[0].taut != 0 && r.mech().events == ev)) continue;
+    out.worst_E = std::max(out.worst_E, std::abs(r.energy() - E0) / (m * r.g * d));
+    if (r.s().w_P.norm() > 0.5) on_held(++out.moving);
+  }
+  return out;
+}
+
 TEST(BallLimits, ConeIsAWorklessWallWhileItHolds) {
   // Held out along +x, swung sideways at 3 rad/s under gravity, restitution 0: the rod reaches
   // the cone obliquely, loses its rate into the wall and then slides round the wall, pressed on
@@ -180,24 +205,15 @@ TEST(BallLimits, ConeIsAWorklessWallWhileItHolds) {
   BallLimits L;
   L.cone = c;
   Limb r(Vec3::UnitX(), Vec3(0, 0, 3), g, &L);
-  int held_moving = 0;
-  double worst_E = 0, worst_tilt = 0;
-  for (int f = 0; f < 300; ++f) {
-    const double E0 = r.energy();
-    const long ev = r.mech().events;
-    const bool held0 = r.mech().tethers[0].taut != 0;
-    ASSERT_TRUE(r.step());
-    const bool held = held0 && r.mech().tethers[0].taut != 0 && r.mech().events == ev;
-    if (!held) continue;
+  double worst_tilt = 0;
+  const HeldRun h = run_held(r, 300, [&](int) {
     const Vec3 rod = r.rod();
     worst_tilt = std::max(worst_tilt, std::abs(std::atan2(rod.cross(Vec3::UnitX()).norm(), rod.x()) - c));
-    worst_E = std::max(worst_E, std::abs(r.energy() - E0) / (m * g * d));
-    if (r.s().w_P.norm() > 0.5) ++held_moving;
-  }
-  std::printf("on the cone's wall: %d frames held and moving, energy %.1e m g d, tilt %.1e rad\n",
-              held_moving, worst_E, worst_tilt);
-  EXPECT_GE(held_moving, 60);
-  EXPECT_LT(worst_E, 1e-10);
+  });
+  std::printf("on the cone's wall: %d frames held and moving, energy %.1e m g d, tilt %.1e rad\n", h.moving,
+              h.worst_E, worst_tilt);
+  EXPECT_GE(h.moving, 60);
+  EXPECT_LT(h.worst_E, 1e-10);
   EXPECT_LT(worst_tilt, 1e-12);
 }
 
@@ -211,33 +227,23 @@ TEST(BallLimits, TwistStopIsWorklessWhileItHolds) {
   L.twist_lower = -0.3;
   L.twist_upper = 0.3;
   Limb r(Vec3::UnitX(), Vec3(2, 0, 3), g, &L);
-  int held_moving = 0;
-  double worst_E = 0;
-  for (int f = 0; f < 240; ++f) {
-    const double E0 = r.energy();
-    const long ev = r.mech().events;
-    const bool held0 = r.mech().tethers[0].taut != 0;
-    ASSERT_TRUE(r.step());
-    if (!(held0 && r.mech().tethers[0].taut != 0 && r.mech().events == ev)) continue;
-    worst_E = std::max(worst_E, std::abs(r.energy() - E0) / (m * g * d));
-    if (r.s().w_P.norm() > 0.5 && ++held_moving == 20) {
-      // The stop's torque, against the rod's rate of change of angular momentum about the pivot
-      // less gravity's moment (a central difference over 2e-4 s: 1e-8 of the torque).
-      Limb p = r;
-      auto L = [&] { return p.b.angular_momentum(); };
-      const Vec3 L0 = L();
-      ASSERT_TRUE(p.step(1e-4));
-      Vec3 F, T;
-      p.art.reaction(0, p.b.state.data(), Vec3(0, 0, -g), F, T);
-      const Vec3 gravity_moment = p.s().x_W.cross(Vec3(0, 0, -m * g));
-      ASSERT_TRUE(p.step(1e-4));
-      const Vec3 T_fd = (L() - L0) / 2e-4 - gravity_moment;
-      EXPECT_LT((T - T_fd).norm(), 1e-6) << T.transpose() << " against " << T_fd.transpose();
-    }
-  }
-  std::printf("on the twist stop: %d frames held and moving, energy %.1e m g d\n", held_moving, worst_E);
-  EXPECT_GE(held_moving, 30);
-  EXPECT_LT(worst_E, 1e-10);
+  const HeldRun h = run_held(r, 240, [&](int k) {
+    if (k != 20) return;
+    // The stop's torque, against the rod's rate of change of angular momentum about the pivot
+    // less gravity's moment (a central difference over 2e-4 s: 1e-8 of the torque).
+    Limb p = r;
+    const Vec3 L0 = p.b.angular_momentum();
+    ASSERT_TRUE(p.step(1e-4));
+    Vec3 F, T;
+    p.art.reaction(0, p.b.state.data(), Vec3(0, 0, -g), F, T);
+    const Vec3 gravity_moment = p.s().x_W.cross(Vec3(0, 0, -m * g));
+    ASSERT_TRUE(p.step(1e-4));
+    const Vec3 T_fd = (p.b.angular_momentum() - L0) / 2e-4 - gravity_moment;
+    EXPECT_LT((T - T_fd).norm(), 1e-6) << T.transpose() << " against " << T_fd.transpose();
+  });
+  std::printf("on the twist stop: %d frames held and moving, energy %.1e m g d\n", h.moving, h.worst_E);
+  EXPECT_GE(h.moving, 30);
+  EXPECT_LT(h.worst_E, 1e-10);
 }
 
 TEST(BallLimits, AngleStopReversesATurnElastically) {
@@ -271,20 +277,10 @@ TEST(BallLimits, AngleStopIsWorklessWhileItHolds) {
   BallLimits L;
   L.angle = 0.5;
   Limb r(Vec3::UnitX(), Vec3(0, 0, 3), g, &L);
-  int held_moving = 0;
-  double worst_E = 0;
-  for (int f = 0; f < 300; ++f) {
-    const double E0 = r.energy();
-    const long ev = r.mech().events;
-    const bool held0 = r.mech().tethers[0].taut != 0;
-    ASSERT_TRUE(r.step());
-    if (!(held0 && r.mech().tethers[0].taut != 0 && r.mech().events == ev)) continue;
-    worst_E = std::max(worst_E, std::abs(r.energy() - E0) / (m * g * d));
-    if (r.s().w_P.norm() > 0.5) ++held_moving;
-  }
-  std::printf("on the angle stop: %d frames held and moving, energy %.1e m g d\n", held_moving, worst_E);
-  EXPECT_GE(held_moving, 30);
-  EXPECT_LT(worst_E, 1e-10);
+  const HeldRun h = run_held(r, 300, [](int) {});
+  std::printf("on the angle stop: %d frames held and moving, energy %.1e m g d\n", h.moving, h.worst_E);
+  EXPECT_GE(h.moving, 30);
+  EXPECT_LT(h.worst_E, 1e-10);
 }
 
 // The swing and twist of a rod about the joint's axis a (world, at t = 0), from its rotation
