@@ -20,11 +20,11 @@ namespace {
 
 using namespace scene_yaml;
 
-constexpr const char* kKeys[] = {"name",           "type",       "bodies",     "anchor",
-                                 "axis",           "axis2",      "spring",     "collide_connected",
-                                 "limits",         "motor",      "friction",   "steering",
-                                 "anchors",        "min_length", "max_length", "restitution",
-                                 "pulley_anchors", "ratio",      "wheel"};
+constexpr const char* kKeys[] = {"name",        "type",           "bodies",     "anchor",
+                                 "axis",        "axis2",          "spring",     "collide_connected",
+                                 "limits",      "motor",          "motor2",     "friction",
+                                 "steering",    "anchors",        "min_length", "max_length",
+                                 "restitution", "pulley_anchors", "ratio",      "wheel"};
 
 std::string metres(double x) {
   std::ostringstream os;
@@ -126,9 +126,6 @@ BallLimits load_ball_limits(const YAML::Node& l, const Ctx& c) {
 JointMotor load_motor(const YAML::Node& m, const Ctx& c, JointType type) {
   if (type == JointType::spherical || type == JointType::fixed)
     c.fail(m, std::string("a ") + to_string(type) + " joint has no coordinate for a motor");
-  if (type == JointType::universal)
-    c.fail(m,
-           "a motor drives one coordinate: revolute and prismatic joints only (a universal joint has two)");
   const bool slider = type == JointType::prismatic;  // a wheel's motor drives its axle: N m
   const char* max_key = slider ? "max_force" : "max_torque";
   const char* wrong_key = slider ? "max_torque" : "max_force";
@@ -425,6 +422,11 @@ std::vector<JointDef> load_joints(const YAML::Node& list, const std::string& fil
       }
     }
     if (const YAML::Node m = n["motor"]) j.motor = load_motor(m, c.child("motor"), j.type);
+    if (const YAML::Node m = n["motor2"]) {
+      if (j.type != JointType::universal)
+        c.child("motor2").fail(m, "only a universal joint has motor2 (the motor on its angle about axis2)");
+      j.motor2 = load_motor(m, c.child("motor2"), j.type);
+    }
     if (const YAML::Node m = n["steering"]) {
       const Ctx sc = c.child("steering");
       if (j.type != JointType::wheel) sc.fail(m, "only a wheel joint steers");

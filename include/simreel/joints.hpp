@@ -78,7 +78,8 @@ struct BallLimits {
   double restitution = 0;                                         ///< in [0, 1]
 };
 
-/// A motor on a revolute or prismatic joint's coordinate, with a bounded force: while it can, it
+/// A motor on a revolute or prismatic joint's coordinate (or one of a universal joint's angles),
+/// with a bounded force: while it can, it
 /// holds the coordinate's rate at its target exactly; when the load needs more than max_force it
 /// pushes with max_force.
 ///   speed     target rate `speed` (rad/s, m/s)
@@ -104,8 +105,10 @@ struct JointDef {
                                  ///< direction at t = 0
   Vec3 axis2_W = Vec3::UnitX();  ///< universal: the child's axis at t = 0
   std::optional<JointSpring> spring;
-  std::optional<JointLimits> limits;      ///< revolute, prismatic, universal (both coordinates)
-  std::optional<JointMotor> motor;        ///< revolute, prismatic
+  std::optional<JointLimits> limits;  ///< revolute, prismatic, universal (both coordinates)
+  std::optional<JointMotor>
+      motor;  ///< revolute, prismatic, wheel (its axle); universal: the angle about axis
+  std::optional<JointMotor> motor2;       ///< universal: the angle about axis2
   std::optional<BallLimits> ball_limits;  ///< spherical: cone and twist stops about axis_W, angle
   /// Coulomb friction on the coordinate: N m (revolute, universal) or N (prismatic); it holds the
   /// joint still while the load needs no more, and otherwise acts against the motion.

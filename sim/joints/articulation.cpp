@@ -603,11 +603,15 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
     }
     if (d.spring && d.type == JointType::spherical && d.spring->rest != 0)
       throw InputError(name_of(j) + ": a ball joint's spring rests at the start pose (rest 0)");
-    if (d.motor) {
-      const JointMotor& M = *d.motor;
-      if (d.type != JointType::revolute && d.type != JointType::prismatic && !wheel)
-        throw InputError(name_of(j) + ": a motor needs a revolute, prismatic or wheel joint (not " +
-                         to_string(d.type) + ")");
+    if (d.motor && d.type != JointType::revolute && d.type != JointType::prismatic && !wheel &&
+        d.type != JointType::universal)
+      throw InputError(name_of(j) + ": a motor needs a revolute, prismatic, universal or wheel joint (not " +
+                       to_string(d.type) + ")");
+    if (d.motor2 && d.type != JointType::universal)
+      throw InputError(name_of(j) + ": only a universal joint has a second motor (motor2)");
+    for (const std::optional<JointMotor>* mo : {&d.motor, &d.motor2}) {
+      if (!*mo) continue;
+      const JointMotor& M = **mo;
       if (!(M.max_force > 0) || !std::isfinite(M.max_force))
         throw InputError(name_of(j) + ": a motor needs a positive, finite max force (torque)");
       if (M.mode == JointMotor::Mode::speed && !std::isfinite(M.speed))
@@ -648,7 +652,7 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
                          ": closes a loop; a wheel joint cannot close one (close the loop with another "
                          "joint and put the wheel on the tree)");
       if (d.spring) throw InputError(name_of(j) + ": a joint that closes a loop cannot carry a spring yet");
-      if (d.limits || d.ball_limits || d.motor || d.friction > 0)
+      if (d.limits || d.ball_limits || d.motor || d.motor2 || d.friction > 0)
         throw InputError(name_of(j) +
                          ": a joint that closes a loop cannot carry limits, a motor or friction yet");
       loop_joints.push_back(j);
@@ -875,10 +879,11 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
       if (l.nv != 1 || l.joint < 0) continue;
       const JointDef& d = joints_[l.joint];
       // Which of the joint's options act on this coordinate: all of them on a one-coordinate joint
-      // (a universal's limits and friction on both); on a wheel, the stops on the suspension, the
+      // (a universal's limits and friction on both, its motor on the first, motor2 on the
+      // second); on a wheel, the stops on the suspension, the
       // steering motor on the steering hinge, the motor and friction on the axle.
       std::optional<JointLimits> limits = d.limits;
-      std::optional<JointMotor> motor = d.motor;
+      std::optional<JointMotor> motor = d.type == JointType::universal && l.dof == 1 ? d.motor2 : d.motor;
       double friction = d.friction;
       if (d.type == JointType::wheel) {
         const bool suspension = l.dof == 0, axle = l.kind == LinkJoint::revolute && l.body >= 0;
@@ -1100,7 +1105,7 @@ void Articulations::validate_tether(JointDef& d, const std::vector<BodyDef>& def
   const std::string name = "joint '" + d.name + "'";
   auto fixed_base = [&](int b) { return b < 0 || model[b].is_static; };
   const bool pulley = d.type == JointType::pulley;
-  if (d.limits || d.motor || d.friction != 0 || d.steering)
+  if (d.limits || d.motor || d.motor2 || d.friction != 0 || d.steering)
     throw InputError(name + ": a " + to_string(d.type) +
                      " joint takes no limits, motor, friction or steering (a rope's bounds are "
                      "min_length and max_length)");

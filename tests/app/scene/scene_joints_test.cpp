@@ -200,13 +200,28 @@ TEST(SceneJoints, LimitsNeedACoordinate) {
                      "joints[0].limits: a fixed joint has no coordinate for limits");
 }
 
-TEST(SceneJoints, MotorsDriveRevoluteAndPrismaticJointsOnly) {
+TEST(SceneJoints, MotorsNeedACoordinateToDrive) {
   EXPECT_JOINT_ERROR(kSpherical, "motor: { speed: 1, max_torque: 1 }", 11,
                      "joints[0].motor: a spherical joint has no coordinate for a motor");
   EXPECT_JOINT_ERROR(kFixed, "motor: { speed: 1, max_torque: 1 }", 11,
                      "joints[0].motor: a fixed joint has no coordinate for a motor");
-  EXPECT_JOINT_ERROR(kUniversal, "motor: { speed: 1, max_torque: 1 }", 11,
-                     "joints[0].motor: a motor drives one coordinate: revolute and prismatic joints only");
+  EXPECT_JOINT_ERROR(kRevolute, "motor2: { speed: 1, max_torque: 1 }", 11,
+                     "joints[0].motor2: only a universal joint has motor2");
+}
+
+TEST(SceneJoints, UniversalJointsTakeAMotorOnEachAngle) {
+  const Scene s = load_scene(
+      write_scene("u.yaml", one_joint(kUniversal,
+                                      "motor: { speed: 1.5, max_torque: 2 },\n      motor2: { position: 0.4, "
+                                      "max_torque: 3, time_constant: 0.2 }")));
+  const JointDef& j = s.joints.at(0);
+  ASSERT_TRUE(j.motor && j.motor2);
+  EXPECT_EQ(j.motor->speed, 1.5);
+  EXPECT_EQ(j.motor2->mode, JointMotor::Mode::position);
+  EXPECT_EQ(j.motor2->position, 0.4);
+  EXPECT_EQ(j.motor2->max_force, 3.0);
+  EXPECT_JOINT_ERROR(kUniversal, "motor2: { speed: 1, max_force: 1 }", 11,
+                     "joints[0].motor2.max_force: a universal joint's motor takes 'max_torque'");
 }
 
 TEST(SceneJoints, FrictionNeedsACoordinate) {

@@ -356,6 +356,60 @@ TEST(JointMotor, PositionMotorApproachesExponentiallyUnderLoad) {
   EXPECT_LT(ef, 1e-7);
 }
 
+// A universal joint with a motor on each angle: a body hanging 0.5 m below the joint (axis x in
+// the parent, axis2 y in the child), under gravity, its first angle held at 1.5 rad/s by a speed
+// motor and its second driven to 0.4 rad by a position motor (time constant 0.2 s, no speed cap),
+// started at both motors' target rates: each angle follows its motor's law exactly whatever the
+// load, q1 = 1.5 t and q2 = 0.4 (1 - exp(-t / 0.2)), while the torques stay within their bounds.
+// With a bound of 0.05 N m under the load the first motor saturates and pushes with exactly it.
+TEST(JointMotor, UniversalJointsMotorsDriveEachAngle) {
+  for (double bound : {100.0, 0.05}) {
+    Bodies b;
+    const Vec3 x(0, 0, -0.5);
+    b.add("gimbal", 1, Vec3(0.02, 0.03, 0.04), x);
+    const Vec3 w = 1.5 * Vec3::UnitX() + 2.0 * Vec3::UnitY();
+    b.state[0].w_P = w;
+    b.state[0].v_W = w.cross(x);
+    JointDef j;
+    j.name = "cardan";
+    j.type = JointType::universal;
+    j.parent = -1;
+    j.child = 0;
+    j.anchor_W = Vec3::Zero();
+    j.axis_W = Vec3::UnitX();
+    j.axis2_W = Vec3::UnitY();
+    j.motor = JointMotor{.mode = JointMotor::Mode::speed, .speed = 1.5, .max_force = bound};
+    j.motor2 = JointMotor{.mode = JointMotor::Mode::position,
+                          .speed = std::numeric_limits<double>::infinity(),
+                          .position = 0.4,
+                          .time_constant = 0.2,
+                          .max_force = 100};
+    Articulations art;
+    build(art, b, {j});
+    double e1 = 0, e2 = 0, over = 0;
+    int saturated = 0;
+    for (int i = 1; i <= 180; ++i) {
+      ASSERT_TRUE(art.step(1.0 / 60, Vec3(0, 0, -9.81), nullptr, b.state.data()));
+      const double t = i / 60.0;
+      e1 = std::max(e1, std::abs(art.position(0, 0) - 1.5 * t));
+      e2 = std::max(e2, std::abs(art.position(0, 1) - 0.4 * (1 - std::exp(-t / 0.2))));
+      over = std::max(over, std::abs(art.force(0, 0)) - bound);
+      if (std::abs(std::abs(art.force(0, 0)) - bound) < 1e-12) ++saturated;
+    }
+    std::printf("universal motors, bound %g N m: q1 %.1e rad, q2 %.1e rad, %d frames saturated\n", bound, e1,
+                e2, saturated);
+    EXPECT_LE(over, 1e-12);
+    if (bound > 1) {
+      EXPECT_LT(e1, 1e-9);
+      EXPECT_LT(e2, 1e-9);
+      EXPECT_EQ(saturated, 0);
+    } else {
+      EXPECT_GT(e1, 1e-3);  // it could not hold its speed
+      EXPECT_GT(saturated, 10);
+    }
+  }
+}
+
 // The same with a speed cap of 0.8 rad/s, target 1.5 rad: the target rate clamp((1.5 - q)/0.5,
 // -0.8, 0.8) is the cap until q = 1.5 - 0.8 * 0.5 = 1.1, reached at t_c = 1.1 / 0.8 = 1.375 s
 // (mid-frame); then the exponential. Started at the cap:
