@@ -700,6 +700,9 @@ int SceneOverlays::add_joint_look(const Scene& scene, const World& world, int bo
     // its coordinate keeps its meaning (sim/joints): the child turns (slides) about -axis.
     if (L.child != j.child && (j.type == JointType::revolute || j.type == JointType::prismatic)) L.sign = -1;
     L.limits = j.limits;
+    L.ball = j.ball_limits;
+    L.q_P0 = q_P;
+    L.q_C0 = c.q_WB;
     // The child's start direction: from the anchor to its centre of mass at t = 0, in the plane
     // perpendicular to the axis; where that is degenerate (the centre of mass on the axis), a
     // perpendicular of the axis.
@@ -842,10 +845,18 @@ void SceneOverlays::build_joint(const Item& it, const World& w, const CameraView
       axis(w.local_to_world_vec(L.child, L.axis2_C));
       break;
     case JointType::spherical:
+      if (L.ball && (std::isfinite(L.ball->cone) || std::isfinite(L.ball->twist_lower) ||
+                     std::isfinite(L.ball->twist_upper)))
+        axis(a);
+      break;
     case JointType::fixed:
     case JointType::distance:  // ropes and rods are drawn by build_ropes
     case JointType::pulley:
       break;
+  }
+  if (L.type == JointType::spherical && L.ball) {
+    ball_limits(L, w, p, a, len, shaft, ball, color, xray, out);
+    return;
   }
   if (!L.limits) return;
   // Limits. A hinge's range: an arc about the axis at the pivot, half the axis's length in radius,
@@ -907,6 +918,63 @@ void SceneOverlays::build_joint(const Item& it, const World& w, const CameraView
     case JointType::fixed:
       break;
   }
+}
+
+void SceneOverlays::ball_limits(const JointLook& L, const World& w, const Vec3& p, const Vec3& a, double len,
+                                double shaft, double ball, const Rgba& color, float xray,
+                                OverlayList& out) const {
+  // A ball joint's stops: the cone about the parent's axis a (a ring at its rim and four of its
+  // lines, fixed in the parent), the child's axis as a needle from the pivot to a dot, and the
+  // twist's range as an arc about the child's axis, from the swing-only pose (the child's axis
+  // carried to where it points by the shortest turn), with a needle at the present twist.
+  const BallLimits& B = *L.ball;
+  const Quat q_P = L.parent >= 0 ? w.orientation(L.parent) : Quat::Identity();
+  const Quat turn_P = q_P * L.q_P0.conjugate();  // the parent's turn since t = 0
+  const Quat rel =
+      turn_P.conjugate() * (w.orientation(L.child) * L.q_C0.conjugate());  // the joint's, world axes at t = 0
+  const Vec3 a0 = L.q_P0 * L.axis_P;                                       // the axis at t = 0 (world)
+  const Vec3 c = turn_P * (rel * a0);                                      // the child's axis now
+  const double r = len;
+  Vec3 u, v;
+  orthonormal_basis(a, u, v);
+  if (std::isfinite(B.cone)) {
+    const double s = std::sin(B.cone), k = std::cos(B.cone);
+    const int n = 48;
+    Vec3 prev = p + r * (k * a + s * u);
+    for (int i = 1; i <= n; ++i) {
+      const double t = 2 * M_PI * i / n;
+      const Vec3 next = p + r * (k * a + s * (std::cos(t) * u + std::sin(t) * v));
+      out.rod(prev, next, shaft, color, xray);
+      if (i % 12 == 0) out.rod(p, next, 0.5 * shaft, color, xray);
+      prev = next;
+    }
+  }
+  out.rod(p, p + r * c, 0.6 * shaft, color, xray);
+  out.ellipsoid(p + r * c, Mat3::Identity(), Vec3::Constant(0.55 * ball), color, xray);
+  if (!std::isfinite(B.twist_lower) && !std::isfinite(B.twist_upper)) return;
+  // The twist: R = R_swing R_twist about a0; the reference direction u0 (perpendicular to a0) is
+  // carried by the swing alone to the twist's zero, by the whole turn to its present value.
+  Vec3 u0, v0;
+  orthonormal_basis(a0, u0, v0);
+  const Quat swing = Quat::FromTwoVectors(a0, rel * a0);
+  const Vec3 zero = turn_P * (swing * u0), now = turn_P * (rel * u0);
+  const double lo = std::isfinite(B.twist_lower) ? B.twist_lower : -M_PI;
+  const double hi = std::isfinite(B.twist_upper) ? B.twist_upper : M_PI;
+  const Vec3 centre = p + 0.6 * r * c;
+  const double rt = 0.4 * r;
+  const int n = std::max(2, (int)std::ceil((hi - lo) / (M_PI / 36)));
+  Vec3 prev = centre + rt * at_angle(c, zero, lo);
+  for (int i = 1; i <= n; ++i) {
+    const Vec3 next = centre + rt * at_angle(c, zero, lo + (hi - lo) * i / n);
+    out.rod(prev, next, shaft, color, xray);
+    prev = next;
+  }
+  for (double t : {lo, hi}) {
+    const Vec3 e = at_angle(c, zero, t);
+    out.rod(centre + 0.7 * rt * e, centre + 1.3 * rt * e, shaft, color, xray);
+  }
+  out.rod(centre, centre + rt * now, 0.6 * shaft, color, xray);
+  out.ellipsoid(centre + rt * now, Mat3::Identity(), Vec3::Constant(0.45 * ball), color, xray);
 }
 
 void SceneOverlays::arrow_of(const Item& it, const World& w, Vec3& from, Vec3& vec) const {

@@ -184,6 +184,8 @@ class SceneOverlays {
     double sign = 1;  // -1: written [child, world], the coordinate turns (slides) about -axis
     std::optional<JointLimits> limits;
     Vec3 start_P = Vec3::Zero(), start2_P = Vec3::Zero(), axis2_P = Vec3::Zero(), anchor_P = Vec3::Zero();
+    std::optional<BallLimits> ball;  // a ball joint's cone and twist stops (about axis)
+    Quat q_P0 = Quat::Identity(), q_C0 = Quat::Identity();  // the bodies' start orientations
   };
   // A rope (a distance or pulley joint) as the `joints` item of one of its end bodies draws it:
   // each end's point fixed in its body (in the world where that end is the world or a static
@@ -232,6 +234,9 @@ class SceneOverlays {
   void build_forces(const Item& it, const World& w, const CameraView& cam, OverlayList& out);
   void build_contacts(const Item& it, const World& w, const CameraView& cam, OverlayList& out);
   void build_joint(const Item& it, const World& w, const CameraView& cam, OverlayList& out);
+  // A ball joint's cone and twist stops (build_joint's, for a spherical joint with BallLimits).
+  void ball_limits(const JointLook& L, const World& w, const Vec3& p, const Vec3& a, double len, double shaft,
+                   double ball, const Rgba& color, float xray, OverlayList& out) const;
   void build_joint_forces(const Item& it, const World& w, const CameraView& cam, OverlayList& out);
   int add_joint_look(const Scene& scene, const World& world, int body);  // index into joints_, or -1
   int add_rope_looks(const Scene& scene, int body);  // the ropes at `body` (drawn by it or another)

@@ -591,6 +591,66 @@ TEST(Overlays, AJointsRangeTurnsWithTheParentAndItsDotWithTheChild) {
   }
 }
 
+// A ball joint's stops: the cone as a ring at its rim (every segment end r from the pivot at the
+// cone's angle from the parent's axis), the child's axis as a needle to a dot r from the pivot,
+// and the twist's needle a dot 0.4 r from a point 0.6 r down the child's axis, in the plane across it.
+TEST(Overlays, ABallJointsConeIsARingAboutItsAxisAndItsDotTheChildsAxis) {
+  const std::string scene =
+      "simulation: { duration: 1 }\n"
+      "video: { width: 160, height: 120, fps: 20 }\n"
+      "render: { sky: flat, shadows: false }\n"
+      "camera: { position: [0.9, -1.0, 1.75], look_at: [0, 0, 1.3], fov: 45 }\n"
+      "bodies:\n"
+      "  - { name: limb, position: [0, 0, 1.25], angular_velocity: [2.5, 1.5, 2.0], linear_velocity: "
+      "[-0.375, "
+      "0.625, 0],\n"
+      "      show: [ { joints: { scale: 0.35 } } ],\n"
+      "      colliders: [ { shape: capsule, radius: 0.05, height: 0.5, density: 1000 } ] }\n"
+      "joints:\n"
+      "  - { name: shoulder, type: spherical, bodies: [world, limb], anchor: [0, 0, 1.5], axis: [0, 0, -1],\n"
+      "      limits: { cone: 0.6, twist: [-0.5, 0.5], restitution: 1 } }\n";
+  Drawn d(write_scene("ball.yaml", scene));
+  const long k = 6;
+  d.draw_frame(k);
+  const World& w = d.loop->world();
+  DrawList dl;
+  dl.camera = d.view->camera;
+  d.view->overlays->build(w, k, dl);
+  std::vector<Vec3> dots, ends;
+  for (const OverlayInstance& s : dl.overlay.instances[(int)OverlayShape::sphere])
+    dots.push_back(s.model.block<3, 1>(0, 3).cast<double>());
+  for (const OverlayInstance& c : dl.overlay.instances[(int)OverlayShape::cylinder]) {
+    const Vec3 from = c.model.block<3, 1>(0, 3).cast<double>(),
+               along = c.model.block<3, 1>(0, 2).cast<double>();
+    ends.push_back(from);
+    ends.push_back(from + along);
+  }
+  const Vec3 p(0, 0, 1.5), a(0, 0, -1);
+  const double r = 0.35;
+  int rim = 0;
+  for (const Vec3& e : ends) {
+    const Vec3 v = e - p;
+    if (std::fabs(v.norm() - r) < 1e-5 && std::fabs(std::acos(v.normalized().dot(a)) - 0.6) < 1e-5) ++rim;
+  }
+  EXPECT_GE(rim, 48) << "the cone's ring";
+  auto nearest = [](const std::vector<Vec3>& v, const Vec3& x) {
+    double best = 1e9;
+    for (const Vec3& y : v) best = std::min(best, (y - x).norm());
+    return best;
+  };
+  // The child's axis now (independently: from the pivot to the limb's centre of mass).
+  const Vec3 c = (w.centroid(0) - p).normalized();
+  ASSERT_GT(std::acos(c.dot(a)), 0.05) << "the limb has swung";
+  EXPECT_LT(nearest(dots, p + r * c), 1e-5);
+  // The twist's dot: 0.4 r from 0.6 r down the axis, across it.
+  const Vec3 centre = p + 0.6 * r * c;
+  int twist_dots = 0;
+  for (const Vec3& x : dots)
+    if (std::fabs((x - centre).norm() - 0.4 * r) < 1e-5 && std::fabs((x - centre).dot(c)) < 1e-5)
+      ++twist_dots;
+  EXPECT_EQ(twist_dots, 1);
+}
+
 // A cart on an inclined slider with limits, seen from the front: the bar along the axis from
 // lower to upper (from where the cart carried the anchor at t = 0), with a tick across each end.
 std::string slider_with_limits(const std::string& show) {
