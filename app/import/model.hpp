@@ -88,6 +88,9 @@ struct ModelJoint {
   double damping = 0;                           ///< N m s/rad or N s/m
   double friction = 0;                          ///< N m or N
   double stiffness = 0, rest = 0;               ///< a spring on the coordinate (MJCF)
+  /// URDF mimic: this coordinate is multiplier times joint `mimic_joint`'s plus offset.
+  std::string mimic_joint;
+  double mimic_multiplier = 1, mimic_offset = 0;
   /// Closes a loop (MJCF's equality connect or weld): not a tree edge; `anchor` is then in the
   /// child's frame and `parent` may be -1 (the world).
   bool loop = false;

@@ -170,6 +170,30 @@ void place_model(const Model& m, const ImportSpec& spec, Scene& scene, MeshLibra
       scene.notes.push_back(m.joints[k].src.str() + ": limits [" + fmt((*L)[0]) + ", " + fmt((*L)[1]) +
                             "] leave out 0: the joint starts at " + fmt(q0[k]));
     }
+  // A mimic's leader, by name; the follower starts where the mimic puts it (its own limits and
+  // joint_positions give way: the coupling decides its value).
+  std::vector<int> leader_of(m.joints.size(), -1);
+  for (size_t k = 0; k < m.joints.size(); ++k) {
+    const ModelJoint& j = m.joints[k];
+    if (j.mimic_joint.empty()) continue;
+    using K = ModelJoint::Kind;
+    auto one = [](K x) { return x == K::revolute || x == K::continuous || x == K::prismatic; };
+    for (size_t i = 0; i < m.joints.size(); ++i)
+      if (m.joints[i].name == j.mimic_joint) leader_of[k] = (int)i;
+    const int l = leader_of[k];
+    if (l < 0 || l == (int)k || !one(j.kind) || !one(m.joints[l].kind) || !m.joints[l].mimic_joint.empty() ||
+        j.mimic_multiplier == 0) {
+      scene.notes.push_back(j.src.str() + ": <mimic joint=\"" + j.mimic_joint + "\"> " +
+                            (l < 0 ? "names no joint of the file"
+                                   : "cannot be held (simreel couples a revolute or "
+                                     "prismatic joint to another that mimics none, "
+                                     "with a nonzero multiplier)") +
+                            ": this joint moves on its own");
+      leader_of[k] = -1;
+      continue;
+    }
+    q0[k] = j.mimic_multiplier * q0[l] + j.mimic_offset;
+  }
   // World poses of the links at the start, root first.
   std::vector<Pose> X(n);
   std::vector<bool> done(n, false);
@@ -441,6 +465,7 @@ void place_model(const Model& m, const ImportSpec& spec, Scene& scene, MeshLibra
 
   // Joints.
   const size_t joints_before = scene.joints.size();
+  std::vector<int> scene_joint(m.joints.size(), -1);  // the model's joint k as the scene's
   for (size_t k = 0; k < m.joints.size(); ++k) {
     const ModelJoint& j = m.joints[k];
     using K = ModelJoint::Kind;
@@ -497,7 +522,9 @@ void place_model(const Model& m, const ImportSpec& spec, Scene& scene, MeshLibra
     }
     if (j.damping > 0 || j.stiffness > 0) d.spring = JointSpring{j.stiffness, j.damping, j.rest - q0[k]};
     if (j.kind != K::spherical && j.kind != K::fixed) d.friction = j.friction;
-    if (spec.hold && (j.kind == K::revolute || j.kind == K::continuous || j.kind == K::prismatic)) {
+    // A mimic's follower is passive: the coupling, not a motor, holds it.
+    if (spec.hold && leader_of[k] < 0 &&
+        (j.kind == K::revolute || j.kind == K::continuous || j.kind == K::prismatic)) {
       if (j.effort > 0) {
         JointMotor mo;
         mo.mode = JointMotor::Mode::position;
@@ -509,8 +536,13 @@ void place_model(const Model& m, const ImportSpec& spec, Scene& scene, MeshLibra
         scene.notes.push_back(j.src.str() + ": no effort limit: no motor holds it");
       }
     }
+    scene_joint[k] = (int)scene.joints.size();
     scene.joints.push_back(std::move(d));
   }
+  for (size_t k = 0; k < m.joints.size(); ++k)
+    if (leader_of[k] >= 0 && scene_joint[k] >= 0 && scene_joint[leader_of[k]] >= 0)
+      scene.joints[scene_joint[k]].mimic =
+          JointMimic{scene_joint[leader_of[k]], m.joints[k].mimic_multiplier};
 
   // Lifted (or lowered) so that the lowest point of what collides rests on the ground.
   if (spec.on_ground) {

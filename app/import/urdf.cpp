@@ -404,8 +404,13 @@ class UrdfReader {
       if (d->Attribute("friction")) j.friction = number_attr(d, "friction", path_, what);
       if (j.damping < 0 || j.friction < 0) fail(d, what, "damping and friction must not be negative");
     }
-    if (const auto* mm = e->FirstChildElement("mimic"))
-      note(mm, "<mimic> is not simulated: this joint moves on its own", what);
+    if (const auto* mm = e->FirstChildElement("mimic")) {
+      const char* leader = mm->Attribute("joint");
+      if (!leader) fail(mm, what, "<mimic> needs joint=\"NAME\" (the joint it follows)");
+      j.mimic_joint = leader;
+      if (mm->Attribute("multiplier")) j.mimic_multiplier = number_attr(mm, "multiplier", path_, what);
+      if (mm->Attribute("offset")) j.mimic_offset = number_attr(mm, "offset", path_, what);
+    }
     m_.joints.push_back(std::move(j));
   }
 

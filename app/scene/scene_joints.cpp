@@ -24,7 +24,8 @@ constexpr const char* kKeys[] = {"name",        "type",           "bodies",     
                                  "axis",        "axis2",          "spring",     "collide_connected",
                                  "limits",      "motor",          "motor2",     "friction",
                                  "steering",    "anchors",        "min_length", "max_length",
-                                 "restitution", "pulley_anchors", "ratio",      "wheel"};
+                                 "restitution", "pulley_anchors", "ratio",      "wheel",
+                                 "mimic"};
 
 std::string metres(double x) {
   std::ostringstream os;
@@ -468,6 +469,44 @@ std::vector<JointDef> load_joints(const YAML::Node& list, const std::string& fil
       }
     }
     out.push_back(std::move(j));
+  }
+  // A mimic names its leader, which may come later in the list.
+  for (size_t k = 0; k < out.size(); ++k) {
+    const YAML::Node mm = list[k]["mimic"];
+    if (!mm) continue;
+    const Ctx mc = top.index((int)k).child("mimic");
+    if (out[k].type != JointType::revolute && out[k].type != JointType::prismatic)
+      mc.fail(mm, std::string("only a revolute or prismatic joint can mimic another (this is ") +
+                      to_string(out[k].type) + ")");
+    if (!mm.IsMap()) mc.fail(mm, "expected { joint: NAME, multiplier: m }, got " + show(mm));
+    check_keys(mm, mc, {"joint", "multiplier"});
+    if (!mm["joint"]) mc.fail(mm, "missing key 'joint' (the joint whose coordinate this one follows)");
+    const std::string leader = text(mm["joint"], mc.child("joint"));
+    std::vector<std::string> names;
+    int found = -1;
+    for (size_t i = 0; i < out.size(); ++i) {
+      if (i != k) names.push_back(out[i].name);
+      if (out[i].name == leader) found = (int)i;
+    }
+    if (found < 0) {
+      std::string msg = "no joint is named '" + leader + "'";
+      if (auto n = nearest(leader, names)) msg += "; did you mean '" + *n + "'?";
+      mc.child("joint").fail(mm["joint"], msg);
+    }
+    if (found == (int)k) mc.child("joint").fail(mm["joint"], "a joint cannot mimic itself");
+    if (out[found].type != JointType::revolute && out[found].type != JointType::prismatic)
+      mc.child("joint").fail(mm["joint"],
+                             "'" + leader + "' is a " + to_string(out[found].type) +
+                                 " joint: a mimic follows a revolute or prismatic joint's coordinate");
+    JointMimic m;
+    m.leader = found;
+    if (mm["multiplier"]) {
+      m.multiplier = number(mm["multiplier"], mc.child("multiplier"));
+      if (m.multiplier == 0)
+        mc.child("multiplier")
+            .fail(mm["multiplier"], "must not be 0 (a coordinate held at 0 is a fixed joint)");
+    }
+    out[k].mimic = m;
   }
   // A pulley's wheel turns on a revolute joint (one of its two bodies), which may come later in the list.
   for (size_t k = 0; k < out.size(); ++k) {

@@ -95,6 +95,15 @@ struct JointMotor {
   double max_force = 0;        ///< N m (revolute) or N (prismatic), > 0
 };
 
+/// A coordinate that follows another's (URDF's mimic; a pair of gears, a belt): this joint's
+/// coordinate q stays multiplier times joint `leader`'s, both zero in the start pose, by a
+/// constraint row, so the two move as one freedom and the row's force is what couples them. The
+/// follower and its leader are revolute or prismatic joints of the tree (neither closes a loop).
+struct JointMimic {
+  int leader = -1;  ///< joint index
+  double multiplier = 1;
+};
+
 struct JointDef {
   std::string name;  ///< for messages and read-outs; unique
   JointType type = JointType::revolute;
@@ -109,6 +118,7 @@ struct JointDef {
   std::optional<JointMotor>
       motor;  ///< revolute, prismatic, wheel (its axle); universal: the angle about axis
   std::optional<JointMotor> motor2;       ///< universal: the angle about axis2
+  std::optional<JointMimic> mimic;        ///< revolute, prismatic: follows another coordinate
   std::optional<BallLimits> ball_limits;  ///< spherical: cone and twist stops about axis_W, angle
   /// Coulomb friction on the coordinate: N m (revolute, universal) or N (prismatic); it holds the
   /// joint still while the load needs no more, and otherwise acts against the motion.

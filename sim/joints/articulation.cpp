@@ -665,6 +665,31 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
   std::vector<int> base_joints;
   std::vector<char> is_loop(joints_.size(), 0);
   for (int j : loop_joints) is_loop[j] = 1;
+  // A mimic: both coordinates one-coordinate tree joints, the leader not itself a follower.
+  for (int j = 0; j < (int)joints_.size(); ++j) {
+    const JointDef& d = joints_[j];
+    if (!d.mimic) continue;
+    const int l = d.mimic->leader;
+    auto one = [](const JointDef& x) {
+      return x.type == JointType::revolute || x.type == JointType::prismatic;
+    };
+    if (!one(d))
+      throw InputError(name_of(j) + ": only a revolute or prismatic joint can mimic another (not " +
+                       to_string(d.type) + ")");
+    if (l < 0 || l >= (int)joints_.size() || l == j)
+      throw InputError(name_of(j) + ": mimics no other joint of the scene");
+    if (!one(joints_[l]))
+      throw InputError(name_of(j) + ": mimics " + name_of(l) +
+                       ", which is not a revolute or prismatic joint");
+    if (joints_[l].mimic)
+      throw InputError(name_of(j) + ": mimics " + name_of(l) +
+                       ", which mimics another itself (follow the first)");
+    if (is_loop[j] || is_loop[l])
+      throw InputError(name_of(j) + ": a mimic's joints must be tree joints; " + name_of(is_loop[j] ? j : l) +
+                       " closes a loop");
+    if (!std::isfinite(d.mimic->multiplier) || d.mimic->multiplier == 0)
+      throw InputError(name_of(j) + ": the mimic's multiplier must be a finite, nonzero number");
+  }
   // Mechanisms: bodies joined by any joint (loops included) move together; union-find over them.
   std::vector<int> group(nb);
   for (int b = 0; b < nb; ++b) group[b] = b;
@@ -683,6 +708,8 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
   }
   for (const auto& [a, b] : bonds)
     if (!fixed_base(a) && !fixed_base(b)) group[root_of(a)] = root_of(b);
+  for (const JointDef& d : joints_)  // a mimic couples its two joints' mechanisms
+    if (d.mimic) group[root_of(d.child)] = root_of(joints_[d.mimic->leader].child);
   std::vector<int> mech_of_group(nb, -1);
   auto mechanism_for = [&](int body) {
     int& m = mech_of_group[root_of(body)];
@@ -1042,6 +1069,26 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
       t.lo = t.has_lo ? B.twist_lower : 0.0;
       m.tethers.push_back(t);
     }
+    m.allocate();
+  }
+  // Mimics: s = q_follower - multiplier q_leader held at 0, a rod's row.
+  for (int j = 0; j < (int)joints_.size(); ++j) {
+    const JointDef& d = joints_[j];
+    if (!d.mimic) continue;
+    const auto [mi, li] = joint_link_[j];
+    const auto [mi2, li2] = joint_link_[d.mimic->leader];
+    Mechanism& m = mechanisms_[mi];
+    Mechanism::Tether t;
+    t.joint = j;
+    t.measure = Mechanism::Tether::Measure::coupling;
+    t.link = li;
+    t.link2 = li2;
+    t.ratio = d.mimic->multiplier;
+    t.rod = true;
+    t.has_hi = true;
+    t.hi = 0;
+    (void)mi2;  // the same mechanism: the union above
+    m.tethers.push_back(t);
     m.allocate();
   }
   // Row scratch for every mechanism: the contact rows use its mass matrix too.

@@ -121,8 +121,10 @@ class Mechanism {
   // its whole rotation's angle, a slack rope between the stops' bounds.
   struct Tether {
     int joint = -1;
-    enum class Measure { length, swing, twist, angle } measure = Measure::length;
-    int link = -1;              ///< swing, twist, angle: the ball joint's link
+    enum class Measure { length, swing, twist, angle, coupling } measure = Measure::length;
+    int link = -1;              ///< swing, twist, angle: the ball joint's link; coupling: the follower's
+    int link2 = -1;             ///< coupling: the leader's link (s = q_link - ratio q_link2, held at 0)
+    double ratio = 1;           ///< coupling: the mimic's multiplier
     Vec3 axis = Vec3::UnitZ();  ///< swing, twist: unit, joint frame
     int nseg = 1;
     int la[2] = {-1, -1}, lb[2] = {-1, -1};  ///< links (-1: the fixed base)
@@ -290,6 +292,10 @@ class Mechanism {
   double ball_angle(const Tether& t) const;
   double ball_rate(const Tether& t, const std::vector<Vec6>& V) const;
   double ball_acceleration(const Tether& t, const std::vector<Vec6>& V, const std::vector<Vec6>& A) const;
+  // A one-coordinate link's rate and acceleration from link velocities V and true link
+  // accelerations A: V_i - X_i V_p = s q', A_i - X_i A_p = s q'' + V_i x s q'.
+  double coordinate_rate(int link, const std::vector<Vec6>& V) const;
+  double coordinate_acceleration(int link, const std::vector<Vec6>& V, const std::vector<Vec6>& A) const;
   // Springs along tethers: their forces on the segments' ends into the links' bias forces (pass 1
   // of the ABA done: kinematics and velocities); f_out (per tether, N) when given.
   void tether_springs();

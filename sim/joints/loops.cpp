@@ -204,7 +204,23 @@ void Mechanism::loop_acceleration_rows(const std::vector<Vec6>& V, const std::ve
 //   s'' = sum w_k [n_k . d_k'' + (|d_k'|^2 - (n_k . d_k')^2) / |d_k|]
 // (the second term: n_k turns as the segment swings). A segment shorter than 1e-12 m has no
 // direction and adds nothing.
+double Mechanism::coordinate_rate(int i, const std::vector<Vec6>& V) const {
+  const Link& l = links[i];
+  Vec6 d = V[i];
+  if (l.parent >= 0) d -= transform_motion(work_[i].E, work_[i].r, V[l.parent]);
+  return l.s1.dot(d) / l.s1.squaredNorm();
+}
+
+double Mechanism::coordinate_acceleration(int i, const std::vector<Vec6>& V,
+                                          const std::vector<Vec6>& A) const {
+  const Link& l = links[i];
+  Vec6 d = A[i] - cross_motion(V[i], l.s1 * coordinate_rate(i, V));
+  if (l.parent >= 0) d -= transform_motion(work_[i].E, work_[i].r, A[l.parent]);
+  return l.s1.dot(d) / l.s1.squaredNorm();
+}
+
 double Mechanism::tether_position(const Tether& t, const double* q) const {
+  if (t.measure == Tether::Measure::coupling) return q[links[t.link].iq] - t.ratio * q[links[t.link2].iq];
   if (t.measure != Tether::Measure::length) return ball_angle(t);
   double s = 0;
   for (int k = 0; k < t.nseg; ++k)
@@ -214,6 +230,8 @@ double Mechanism::tether_position(const Tether& t, const double* q) const {
 }
 
 double Mechanism::tether_rate(const Tether& t, const std::vector<Vec6>& V, double wheel_rate) const {
+  if (t.measure == Tether::Measure::coupling)
+    return coordinate_rate(t.link, V) - t.ratio * coordinate_rate(t.link2, V);
   if (t.measure != Tether::Measure::length) return ball_rate(t, V);
   double r = t.wheel_iv >= 0 ? t.wheel_c * wheel_rate : 0.0;
   for (int k = 0; k < t.nseg; ++k) {
@@ -231,6 +249,8 @@ double Mechanism::tether_rate(const Tether& t, const std::vector<Vec6>& V, doubl
 
 double Mechanism::tether_acceleration(const Tether& t, const std::vector<Vec6>& V, const std::vector<Vec6>& A,
                                       double wheel_acc) const {
+  if (t.measure == Tether::Measure::coupling)
+    return coordinate_acceleration(t.link, V, A) - t.ratio * coordinate_acceleration(t.link2, V, A);
   if (t.measure != Tether::Measure::length) return ball_acceleration(t, V, A);
   double r = t.wheel_iv >= 0 ? t.wheel_c * wheel_acc : 0.0;
   for (int k = 0; k < t.nseg; ++k) {
@@ -336,7 +356,8 @@ void Mechanism::apply_loads(std::vector<Vec6>* f) {
 }
 
 void Mechanism::tether_loads(const Tether& t, double force, std::vector<Vec6>& f) const {
-  // A ball joint's stop acts between the joint's own two links: what the joint transmits.
+  // A ball joint's stop acts between the joint's own two links, a coupling along its joints' own
+  // axes (as a motor): what the joints transmit.
   if (t.measure != Tether::Measure::length) return;
   for (int k = 0; k < t.nseg; ++k) {
     const Vec3 d = point_W(t.lb[k], t.pb[k]) - point_W(t.la[k], t.pa[k]);
@@ -598,6 +619,11 @@ namespace simreel {
 
 double Mechanism::tether_length(int ti, int seg, double* rate) const {
   const Tether& t = tethers[ti];
+  if (t.measure == Tether::Measure::coupling) {
+    const Link &f = links[t.link], &l = links[t.link2];
+    if (rate) *rate = v[f.iv] - t.ratio * v[l.iv];
+    return q[f.iq] - t.ratio * q[l.iq];
+  }
   if (t.measure != Tether::Measure::length) return ball_readout(t, rate);
   auto point = [&](int l, const Vec3& p) { return l < 0 ? p : Vec3(out_x_[l] + out_q_[l] * p); };
   auto velocity = [&](int l, const Vec3& p) {

@@ -263,6 +263,48 @@ TEST(Import, PlanarJointIsTwoSlidersAndAHinge) {
 
 // package:// through the file's own package, or `package_paths`; a Windows path from another
 // machine by its file name beside the URDF, with a note; capsules; ignored elements noted.
+// URDF's mimic: a follower joint's coordinate is multiplier times its leader's plus offset. Two
+// hinged bars, the second mimicking the first with multiplier -1 and offset 0.3 rad: it starts
+// turned by 0.3 rad, moves as minus the first (in simreel's coordinates, zero at the start), and
+// `hold` puts no motor on it.
+TEST(Import, UrdfMimicCouplesTheFollowerToItsLeader) {
+  const std::string bar =
+      "<inertial><mass value=\"1\"/><origin xyz=\"0 0 -0.5\"/><inertia ixx=\"0.08\" iyy=\"0.08\" "
+      "izz=\"0.001\" ixy=\"0\" ixz=\"0\" iyz=\"0\"/></inertial>";
+  const std::string urdf =
+      write("mimic.urdf",
+            "<robot name=\"pair\">\n<link name=\"world\"/>\n<link name=\"a\">" + bar +
+                "</link>\n<link name=\"b\">" + bar +
+                "</link>\n"
+                "<joint name=\"left\" type=\"continuous\"><parent link=\"world\"/><child link=\"a\"/>"
+                "<origin xyz=\"0 0 1\" rpy=\"0 0.8 0\"/><axis xyz=\"0 1 0\"/>"
+                "<limit effort=\"100\" velocity=\"5\"/></joint>\n"
+                "<joint name=\"right\" type=\"continuous\"><parent link=\"world\"/><child link=\"b\"/>"
+                "<origin xyz=\"2 0 1\"/><axis xyz=\"0 1 0\"/>"
+                "<mimic joint=\"left\" multiplier=\"-1\" offset=\"0.3\"/></joint>\n</robot>\n");
+  const Scene s = load_scene(urdf);
+  ASSERT_EQ(s.joints.size(), 2u);
+  ASSERT_TRUE(s.joints[1].mimic);
+  EXPECT_EQ(s.joints[1].mimic->leader, 0);
+  EXPECT_EQ(s.joints[1].mimic->multiplier, -1.0);
+  const int b = body(s, "b");
+  // Turned by the offset about +y at the start: its centre of mass 0.5 m down the turned bar.
+  World w(world_config(s, 1), s.bodies);
+  const Vec3 c0 = w.centroid(b) - Vec3(2, 0, 1);
+  EXPECT_NEAR(c0.x(), -0.5 * std::sin(0.3), 1e-12);
+  EXPECT_NEAR(c0.z(), -0.5 * std::cos(0.3), 1e-12);
+  double worst = 0;
+  for (int i = 0; i < 240; ++i) {
+    w.step();
+    worst = std::max(worst, std::abs(w.joint_position(1) + w.joint_position(0)));
+  }
+  EXPECT_GT(std::abs(w.joint_position(0)), 0.1);
+  EXPECT_LT(worst, 1e-12);
+  const Scene held = load_scene(write("held.yaml", "imports: [ { file: " + urdf + ", hold: true } ]\n"));
+  EXPECT_TRUE(held.joints[0].motor);
+  EXPECT_FALSE(held.joints[1].motor);
+}
+
 TEST(Import, PathsPackagesAndTolerance) {
   const Scene in_pkg = load_scene(kData + "pkg/my_robot/urdf/box_robot.urdf");
   EXPECT_EQ(in_pkg.bodies.size(), 2u);  // the robot and the ground

@@ -195,6 +195,48 @@ TEST(SceneJoints, BallJointLimitsAreAConeAndATwistAboutAnAxis) {
   EXPECT_JOINT_ERROR(kFixed, "axis: [0, 0, 1]", 11, "joints[0].axis: a fixed joint has no axis");
 }
 
+// A joint that mimics another: named by the joint it follows (later in the list too), with a
+// multiplier; every mistake named at its key.
+TEST(SceneJoints, MimicFollowsANamedJoint) {
+  auto scene = [](const std::string& mimic, const char* leader_type = "revolute") {
+    return std::string(kBodies) +
+           "  - { name: gear_b, type: revolute, bodies: [world, arm2], anchor: [15, 0, 2], "
+           "axis: [0, 1, 0],\n      mimic: " +
+           mimic + " }\n  - { name: gear_a, type: " + leader_type +
+           ", bodies: [world, arm], anchor: [0, 0, 2], axis: [0, 1, 0] }\n";
+  };
+  const Scene s = load_scene(write_scene("mimic.yaml", scene("{ joint: gear_a, multiplier: -0.5 }")));
+  ASSERT_TRUE(s.joints.at(0).mimic);
+  EXPECT_EQ(s.joints[0].mimic->leader, 1);
+  EXPECT_EQ(s.joints[0].mimic->multiplier, -0.5);
+  auto error = [&](const std::string& text) {
+    try {
+      load_scene(write_scene("m.yaml", text));
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("loaded");
+  };
+  EXPECT_NE(error(scene("{ joint: gear_c }"))
+                .find("m.yaml:11:23: joints[0].mimic.joint: no joint is named "
+                      "'gear_c'; did you mean 'gear_a'?"),
+            std::string::npos)
+      << error(scene("{ joint: gear_c }"));
+  EXPECT_NE(error(scene("{ joint: gear_b }")).find("joints[0].mimic.joint: a joint cannot mimic itself"),
+            std::string::npos);
+  EXPECT_NE(
+      error(scene("{ joint: gear_a, multiplier: 0 }")).find("joints[0].mimic.multiplier: must not be 0"),
+      std::string::npos);
+  // A hinge may follow a slider (a rack and pinion: the multiplier in rad/m).
+  EXPECT_EQ(error(scene("{ joint: gear_a, multiplier: 10 }", "prismatic")), "loaded");
+  EXPECT_NE(error(scene("{ multiplier: 2 }")).find("joints[0].mimic: missing key 'joint'"),
+            std::string::npos);
+  EXPECT_NE(
+      error(scene("{ joint: gear_a }", "spherical"))
+          .find("'gear_a' is a spherical joint: a mimic follows a revolute or prismatic joint's coordinate"),
+      std::string::npos);
+}
+
 TEST(SceneJoints, LimitsNeedACoordinate) {
   EXPECT_JOINT_ERROR(kFixed, "limits: { lower: -1, upper: 1 }", 11,
                      "joints[0].limits: a fixed joint has no coordinate for limits");
