@@ -578,8 +578,14 @@ class MjcfReader {
       j.friction = 0;
     }
     if (j.kind == ModelJoint::Kind::spherical) j.rest = 0;
-    if (get(e, "armature", cls) && nums(e, "armature", cls, what)->at(0) > 0)
-      note_once(e, "armature", "joint armature (rotor inertia) is not simulated");
+    if (get(e, "armature", cls)) {
+      const double a = nums(e, "armature", cls, what)->at(0);
+      if (a < 0) fail(e, what, "armature must not be negative");
+      if (a > 0 && j.kind == ModelJoint::Kind::spherical)
+        note(e, "a ball joint's armature is not simulated", what);
+      else
+        j.armature = a;
+    }
     m_.joints.push_back(j);
   }
 

@@ -88,6 +88,7 @@ struct ModelJoint {
   double damping = 0;                           ///< N m s/rad or N s/m
   double friction = 0;                          ///< N m or N
   double stiffness = 0, rest = 0;               ///< a spring on the coordinate (MJCF)
+  double armature = 0;                          ///< kg m^2 or kg: rotor inertia (MJCF)
   /// URDF mimic: this coordinate is multiplier times joint `mimic_joint`'s plus offset.
   std::string mimic_joint;
   double mimic_multiplier = 1, mimic_offset = 0;

@@ -25,7 +25,7 @@ constexpr const char* kKeys[] = {"name",        "type",           "bodies",     
                                  "limits",      "motor",          "motor2",     "friction",
                                  "steering",    "anchors",        "min_length", "max_length",
                                  "restitution", "pulley_anchors", "ratio",      "wheel",
-                                 "mimic"};
+                                 "mimic",       "armature"};
 
 std::string metres(double x) {
   std::ostringstream os;
@@ -440,6 +440,15 @@ std::vector<JointDef> load_joints(const YAML::Node& list, const std::string& fil
       if (j.type == JointType::spherical || j.type == JointType::fixed)
         fc.fail(f, std::string("a ") + to_string(j.type) + " joint has no coordinate for friction");
       j.friction = non_negative(f, fc);
+    }
+    if (const YAML::Node a = n["armature"]) {
+      const Ctx ac = c.child("armature");
+      if (j.type != JointType::revolute && j.type != JointType::prismatic && j.type != JointType::universal)
+        ac.fail(a,
+                std::string("a ") + to_string(j.type) +
+                    " joint has no armature: it is a rotor's inertia on a revolute, prismatic or universal "
+                    "joint's coordinate");
+      j.armature = positive(a, ac);
     }
     if (n["collide_connected"])
       j.collide_connected = boolean(n["collide_connected"], c.child("collide_connected"));

@@ -120,6 +120,11 @@ struct JointDef {
   std::optional<JointMotor> motor2;       ///< universal: the angle about axis2
   std::optional<JointMimic> mimic;        ///< revolute, prismatic: follows another coordinate
   std::optional<BallLimits> ball_limits;  ///< spherical: cone and twist stops about axis_W, angle
+  /// Rotor inertia on the coordinate (MJCF's armature; a geared motor's reflected inertia): kg m^2
+  /// on a revolute joint (each angle of a universal one), kg on a prismatic one. It adds to the
+  /// mechanism's mass matrix on that coordinate only; its kinetic energy armature q'^2 / 2 is part of
+  /// World::kinetic_energy.
+  double armature = 0;
   /// Coulomb friction on the coordinate: N m (revolute, universal) or N (prismatic); it holds the
   /// joint still while the load needs no more, and otherwise acts against the motion.
   double friction = 0;

@@ -224,7 +224,7 @@ void Mechanism::derivative(const double* y, double* dy, const Vec3& g, const Wre
     Vec6& pa = w.pA;
     if (l.nv == 1) {
       w.U1 = mat6_vec(w.IA, l.s1);
-      w.Dinv1 = 1 / l.s1.dot(w.U1);
+      w.Dinv1 = 1 / (l.s1.dot(w.U1) + l.armature);  // a rotor's inertia adds on its coordinate alone
       w.u1 = -l.s1.dot(w.pA);
       if (l.stiffness != 0 || l.damping != 0) w.u1 += -l.stiffness * (q[l.iq] - l.rest) - l.damping * v[l.iv];
       if (l.dof_index >= 0) w.u1 += tau_[l.iv];
@@ -601,6 +601,12 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
       if (!(B.restitution >= 0 && B.restitution <= 1))
         throw InputError(name_of(j) + ": limit restitution must be in [0, 1]");
     }
+    if (d.armature != 0 &&
+        (!(d.armature > 0) || !std::isfinite(d.armature) ||
+         (d.type != JointType::revolute && d.type != JointType::prismatic && d.type != JointType::universal)))
+      throw InputError(name_of(j) +
+                       ": armature (rotor inertia) is a positive number on a revolute, prismatic or "
+                       "universal joint");
     if (d.spring && d.type == JointType::spherical && d.spring->rest != 0)
       throw InputError(name_of(j) + ": a ball joint's spring rests at the start pose (rest 0)");
     if (d.motor && d.type != JointType::revolute && d.type != JointType::prismatic && !wheel &&
@@ -782,6 +788,7 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
       l.R_cF = l.q_cF.toRotationMatrix();
     };
     auto set_spring = [&](Link& l) {
+      l.armature = d.armature;
       if (!d.spring) return;
       l.stiffness = d.spring->stiffness;
       l.damping = d.spring->damping;
@@ -1482,6 +1489,14 @@ double Articulations::spring_energy() const {
         e += 0.5 * m.tethers[t].stiffness * x * x;
       }
   }
+  return e;
+}
+
+double Articulations::armature_energy() const {
+  double e = 0;
+  for (const Mechanism& m : mechanisms_)
+    for (const Link& l : m.links)
+      if (l.armature != 0 && l.nv == 1) e += 0.5 * l.armature * m.v[l.iv] * m.v[l.iv];
   return e;
 }
 

@@ -57,6 +57,7 @@ struct Link {
   Mat6X S;                                      ///< motion subspace in the link frame (6 x nv), constant
   Vec6 s1 = Vec6::Zero();                       ///< S when nv = 1 (hinges and sliders: the common case)
   double stiffness = 0, damping = 0, rest = 0;  ///< a 1-coordinate joint's spring
+  double armature = 0;                          ///< kg m^2 or kg: rotor inertia on a 1-coordinate joint
   int dof_index = -1;                           ///< its Mechanism::Dof (limits, motor, friction), or -1
 };
 
@@ -438,6 +439,8 @@ class Articulations {
   /// J, what the joints' springs store now: k (q - rest)^2 / 2 per sprung coordinate, and
   /// k (L - rest)^2 / 2 per sprung distance joint (from the poses of the last frame).
   double spring_energy() const;
+  /// J, the joints' rotor inertias' kinetic energy: armature q'^2 / 2 per coordinate that has one.
+  double armature_energy() const;
   double angular_gap(const MotionState* st) const;
   // An impulse P (N s, world) at the world point at_W and an angular impulse L (N m s) on jointed
   // body `body`: its mechanism's velocities jump (Mechanism::apply_impulse) and its bodies' states

@@ -388,6 +388,7 @@ void Mechanism::mass_matrix() {
     for (int c = 0; c < l.nv; ++c) {
       Vec6 F = work_[i].Ic * l.S.col(c);
       for (int c2 = 0; c2 < l.nv; ++c2) M_(l.iv + c2, l.iv + c) = l.S.col(c2).dot(F);
+      if (l.nv == 1) M_(l.iv, l.iv) += l.armature;
       for (int j = i; links[j].parent >= 0;) {
         F = transform_force_back(work_[j].E, work_[j].r, F);
         j = links[j].parent;

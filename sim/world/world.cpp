@@ -517,6 +517,7 @@ double WorldImpl::kinetic_energy() const {
     const MotionState& s = state_[i];
     e += 0.5 * m.mass * s.v_W.squaredNorm() + 0.5 * s.w_P.dot(m.I_P.cwiseProduct(s.w_P));
   }
+  if (!joints_.empty()) e += joints_.armature_energy();  // rotors turning with joint coordinates
   return e;
 }
 

@@ -457,6 +457,7 @@ TEST(ImportMjcf, BallJointRangeAndSpringLoad) {
   ASSERT_TRUE(j.ball_limits);
   EXPECT_NEAR(j.ball_limits->angle, std::numbers::pi / 3, 1e-15);
   EXPECT_TRUE(std::isinf(j.ball_limits->cone));
+  EXPECT_EQ(j.armature, 0.0);
   ASSERT_TRUE(j.spring);
   EXPECT_EQ(j.spring->stiffness, 2.0);
   EXPECT_EQ(j.spring->damping, 0.1);
@@ -469,6 +470,22 @@ TEST(ImportMjcf, BallJointRangeAndSpringLoad) {
                                       "</body></worldbody></mujoco>\n"));
   EXPECT_FALSE(wide.joints.at(0).ball_limits);
   EXPECT_TRUE(has(wide.notes, "a ball joint's range of pi or more leaves it free"));
+}
+
+// A hinge's armature is its rotor inertia; a ball joint's is a note.
+TEST(ImportMjcf, ArmatureIsTheCoordinatesRotorInertia) {
+  const Scene s = load_scene(write("arm.xml",
+                                   "<mujoco><worldbody><body name=\"a\" pos=\"0 0 1\">\n"
+                                   "<joint name=\"h\" axis=\"0 1 0\" armature=\"0.02\"/>\n"
+                                   "<geom type=\"sphere\" size=\"0.05\"/>\n"
+                                   "<body name=\"b\" pos=\"0 0 -0.5\"><joint name=\"k\" type=\"ball\" "
+                                   "armature=\"0.01\"/>\n"
+                                   "<geom type=\"sphere\" size=\"0.05\"/></body>\n"
+                                   "</body></worldbody></mujoco>\n"));
+  ASSERT_EQ(s.joints.size(), 2u);
+  EXPECT_EQ(s.joints[0].armature, 0.02);
+  EXPECT_EQ(s.joints[1].armature, 0.0);
+  EXPECT_TRUE(has(s.notes, "arm.xml:4: joint 'k': a ball joint's armature is not simulated"));
 }
 
 // An undefined class, a joint type MuJoCo does not have, a connect to a missing body.

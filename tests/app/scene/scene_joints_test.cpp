@@ -237,6 +237,14 @@ TEST(SceneJoints, MimicFollowsANamedJoint) {
       std::string::npos);
 }
 
+TEST(SceneJoints, ArmatureIsARotorOnACoordinate) {
+  const Scene s = load_scene(write_scene("arm.yaml", one_joint(kRevolute, "armature: 0.25")));
+  EXPECT_EQ(s.joints.at(0).armature, 0.25);
+  EXPECT_JOINT_ERROR(kSpherical, "armature: 0.1", 11,
+                     "joints[0].armature: a spherical joint has no armature");
+  EXPECT_JOINT_ERROR(kRevolute, "armature: -1", 11, "joints[0].armature:");
+}
+
 TEST(SceneJoints, LimitsNeedACoordinate) {
   EXPECT_JOINT_ERROR(kFixed, "limits: { lower: -1, upper: 1 }", 11,
                      "joints[0].limits: a fixed joint has no coordinate for limits");

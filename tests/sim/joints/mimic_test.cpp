@@ -1,7 +1,9 @@
 // A joint that mimics another (JointMimic: URDF's mimic, a pair of gears; sim/joints/articulation.hpp,
 // a coupling row) against closed forms: geared to a flywheel, a pendulum swings as one with the
 // flywheel's inertia reflected through the gear ratio squared (the elliptic-integral period with
-// I_p + n^2 I_w), the two angles keep their ratio to round-off, and energy is kept.
+// I_p + n^2 I_w), the two angles keep their ratio to round-off, and energy is kept. A joint's rotor
+// inertia (armature) is that reflected inertia: a pendulum with armature n^2 I_w moves as the
+// geared one.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -45,6 +47,50 @@ struct GearedPendulum {
   }
   bool step(double dt) { return art.step(dt, Vec3(0, 0, -g), nullptr, b.state.data()); }
 };
+
+// The same pendulum with the flywheel left out and a rotor inertia (armature) of n^2 I_w on its
+// hinge instead: the reflected inertia the gear gave it, so the same motion.
+struct RotorPendulum {
+  static constexpr double m = 1, d = 1, Icm = 1e-3, g = 9.81;
+  Bodies b;
+  Articulations art;
+  explicit RotorPendulum(double armature) {
+    b.add("bob", m, Vec3::Constant(Icm), Vec3(-d, 0, 0));
+    JointDef pivot;
+    pivot.name = "pivot";
+    pivot.type = JointType::revolute;
+    pivot.child = 0;
+    pivot.axis_W = Vec3::UnitY();
+    pivot.armature = armature;
+    std::vector<std::string> warnings;
+    art.build({pivot}, {}, b.defs, b.model, b.state, warnings);
+  }
+  bool step(double dt) { return art.step(dt, Vec3(0, 0, -g), nullptr, b.state.data()); }
+};
+
+TEST(JointArmature, RotorInertiaIsTheGearsReflectedInertia) {
+  const double n = -2, Iw = GearedPendulum::Iw;
+  GearedPendulum geared(n);
+  RotorPendulum rotor(n * n * Iw);
+  const double E0 = rotor.b.energy(rotor.g) + rotor.art.armature_energy();
+  double apart = 0, energy = 0;
+  for (int i = 1; i <= 240; ++i) {
+    ASSERT_TRUE(geared.step(1.0 / 60));
+    ASSERT_TRUE(rotor.step(1.0 / 60));
+    apart = std::max(apart, std::abs(geared.art.position(0) - rotor.art.position(0)));
+    energy = std::max(
+        energy, std::abs(rotor.b.energy(rotor.g) + rotor.art.armature_energy() - E0) / (rotor.m * rotor.g));
+  }
+  std::printf("rotor against gear: %.1e rad apart over 4 s, energy %.1e m g d\n", apart, energy);
+  // Two integrations of the same equations at tolerance 1e-10: their difference, not round-off.
+  EXPECT_LT(apart, 1e-8);
+  EXPECT_LT(energy, 1e-8);
+  EXPECT_GT(std::abs(rotor.art.position(0)), 0.5);
+  // Without the armature the rotor pendulum is faster: the difference is not small.
+  RotorPendulum bare(0), with(n * n * Iw);
+  for (int i = 1; i <= 30; ++i) ASSERT_TRUE(bare.step(1.0 / 60) && with.step(1.0 / 60));
+  EXPECT_GT(std::abs(bare.art.position(0) - with.art.position(0)), 0.1);
+}
 
 TEST(JointMimic, GearedPendulumSwingsWithTheReflectedInertia) {
   // Released at rest from phi0 = pi/2, the pendulum reaches the bottom after a quarter of its
