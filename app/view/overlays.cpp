@@ -811,6 +811,28 @@ Vec3 at_angle(const Vec3& a, const Vec3& u, double t) {
   return std::cos(t) * u + std::sin(t) * a.cross(u);
 }
 
+// A coordinate's range about axis a at c: an arc of radius r from `lower` to `upper` (from u;
+// 5 degrees a segment, a range over a turn drawn once round), a tick across each end, and the
+// present value q as a needle to a dot of radius `dot`.
+void range_arc(OverlayList& out, const Vec3& c, const Vec3& a, const Vec3& u, double r, double lower,
+               double upper, double q, double shaft, double dot, const Rgba& color, float xray) {
+  const double t1 = std::min(upper, lower + 2 * M_PI);
+  const int n = std::max(2, (int)std::ceil((t1 - lower) / (M_PI / 36)));
+  Vec3 prev = c + r * at_angle(a, u, lower);
+  for (int k = 1; k <= n; ++k) {
+    const Vec3 next = c + r * at_angle(a, u, lower + (t1 - lower) * k / n);
+    out.rod(prev, next, shaft, color, xray);
+    prev = next;
+  }
+  for (double t : {lower, upper}) {
+    const Vec3 e = at_angle(a, u, t);
+    out.rod(c + 0.7 * r * e, c + 1.3 * r * e, shaft, color, xray);
+  }
+  const Vec3 e = at_angle(a, u, q);
+  out.rod(c, c + r * e, 0.6 * shaft, color, xray);
+  out.ellipsoid(c + r * e, Mat3::Identity(), Vec3::Constant(dot), color, xray);
+}
+
 }  // namespace
 
 void SceneOverlays::build_joint(const Item& it, const World& w, const CameraView& cam, OverlayList& out) {
@@ -866,21 +888,7 @@ void SceneOverlays::build_joint(const Item& it, const World& w, const CameraView
   // the first angle.
   const double lower = L.limits->lower, upper = L.limits->upper, r = 0.5 * len;
   auto range = [&](const Vec3& c, const Vec3& ax, const Vec3& u, double q) {
-    const double t1 = std::min(upper, lower + 2 * M_PI);  // a range over a turn: the full circle once
-    const int n = std::max(2, (int)std::ceil((t1 - lower) / (M_PI / 36)));  // 5 degrees a segment
-    Vec3 prev = c + r * at_angle(ax, u, lower);
-    for (int k = 1; k <= n; ++k) {
-      const Vec3 next = c + r * at_angle(ax, u, lower + (t1 - lower) * k / n);
-      out.rod(prev, next, shaft, color, xray);
-      prev = next;
-    }
-    for (double t : {lower, upper}) {
-      const Vec3 e = at_angle(ax, u, t);
-      out.rod(c + 0.7 * r * e, c + 1.3 * r * e, shaft, color, xray);
-    }
-    const Vec3 e = at_angle(ax, u, q);
-    out.rod(c, c + r * e, 0.6 * shaft, color, xray);
-    out.ellipsoid(c + r * e, Mat3::Identity(), Vec3::Constant(0.55 * ball), color, xray);
+    range_arc(out, c, ax, u, r, lower, upper, q, shaft, 0.55 * ball, color, xray);
   };
   switch (L.type) {
     case JointType::revolute:
@@ -960,21 +968,9 @@ void SceneOverlays::ball_limits(const JointLook& L, const World& w, const Vec3& 
   const Vec3 zero = turn_P * (swing * u0), now = turn_P * (rel * u0);
   const double lo = std::isfinite(B.twist_lower) ? B.twist_lower : -M_PI;
   const double hi = std::isfinite(B.twist_upper) ? B.twist_upper : M_PI;
-  const Vec3 centre = p + 0.6 * r * c;
-  const double rt = 0.4 * r;
-  const int n = std::max(2, (int)std::ceil((hi - lo) / (M_PI / 36)));
-  Vec3 prev = centre + rt * at_angle(c, zero, lo);
-  for (int i = 1; i <= n; ++i) {
-    const Vec3 next = centre + rt * at_angle(c, zero, lo + (hi - lo) * i / n);
-    out.rod(prev, next, shaft, color, xray);
-    prev = next;
-  }
-  for (double t : {lo, hi}) {
-    const Vec3 e = at_angle(c, zero, t);
-    out.rod(centre + 0.7 * rt * e, centre + 1.3 * rt * e, shaft, color, xray);
-  }
-  out.rod(centre, centre + rt * now, 0.6 * shaft, color, xray);
-  out.ellipsoid(centre + rt * now, Mat3::Identity(), Vec3::Constant(0.45 * ball), color, xray);
+  // The present twist: now's angle from zero about the child's axis c.
+  const double twist = std::atan2(c.dot(zero.cross(now)), zero.dot(now));
+  range_arc(out, p + 0.6 * r * c, c, zero, 0.4 * r, lo, hi, twist, shaft, 0.45 * ball, color, xray);
 }
 
 void SceneOverlays::arrow_of(const Item& it, const World& w, Vec3& from, Vec3& vec) const {
