@@ -6,6 +6,7 @@
 #include <cmath>
 #include <iomanip>
 #include <limits>
+#include <numbers>
 #include <sstream>
 #include <tuple>
 #include <utility>
@@ -51,8 +52,7 @@ int body_index(const YAML::Node& n, const Ctx& c, const std::vector<BodyDef>& bo
 
 // `limits: [lower, upper]` or `{ lower, upper, restitution }` (rad, or m for a slider).
 JointLimits load_limits(const YAML::Node& l, const Ctx& c, JointType type) {
-  if (type == JointType::spherical || type == JointType::fixed)
-    c.fail(l, std::string("a ") + to_string(type) + " joint has no coordinate for limits");
+  if (type == JointType::fixed) c.fail(l, "a fixed joint has no coordinate for limits");
   JointLimits out;
   if (l.IsSequence()) {
     if (l.size() != 2)
@@ -83,11 +83,11 @@ JointLimits load_limits(const YAML::Node& l, const Ctx& c, JointType type) {
 
 // A ball joint's `limits: { cone, twist: [lower, upper], angle, restitution }` (rad).
 BallLimits load_ball_limits(const YAML::Node& l, const Ctx& c) {
-  constexpr double kPi = 3.14159265358979323846;
+  constexpr double kPi = std::numbers::pi;
   if (!l.IsMap())
     c.fail(l,
-           "a spherical joint's limits are { cone: rad, twist: [lower, upper], restitution } (stops "
-           "about its axis), got " +
+           "a spherical joint's limits are { cone: rad, twist: [lower, upper], angle: rad, restitution } "
+           "(stops about its axis, or on its whole turn), got " +
                show(l));
   check_keys(l, c, {"cone", "twist", "angle", "restitution"});
   if (!l["cone"] && !l["twist"] && !l["angle"])

@@ -701,6 +701,11 @@ int SceneOverlays::add_joint_look(const Scene& scene, const World& world, int bo
     if (L.child != j.child && (j.type == JointType::revolute || j.type == JointType::prismatic)) L.sign = -1;
     L.limits = j.limits;
     L.ball = j.ball_limits;
+    if (L.ball && L.child != j.child) {  // written [child, world]: the twist the other way (sim/joints)
+      const double lower = L.ball->twist_lower;
+      L.ball->twist_lower = -L.ball->twist_upper;
+      L.ball->twist_upper = -lower;
+    }
     L.q_P0 = q_P;
     L.q_C0 = c.q_WB;
     // The child's start direction: from the anchor to its centre of mass at t = 0, in the plane

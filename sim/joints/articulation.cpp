@@ -534,6 +534,15 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
       // The parent's motion relative to the child about (along) the axis by q is the child's
       // about (along) the reversed axis by q: the coordinate keeps the meaning the joint gave it.
       if (d.type == JointType::revolute || d.type == JointType::prismatic) d.axis_W = -d.axis_W;
+      // A ball joint's twist of the parent relative to the child is minus the child's (its
+      // quaternion's vector part changes sign): the stops swap and change sign. Its swing, whole
+      // angle and spring are the same either way.
+      if (d.ball_limits) {
+        BallLimits& B = *d.ball_limits;
+        const double lower = B.twist_lower;
+        B.twist_lower = -B.twist_upper;
+        B.twist_upper = -lower;
+      }
     }
     if ((d.child >= 0 && model[d.child].is_kinematic) || (d.parent >= 0 && model[d.parent].is_kinematic))
       throw InputError(name_of(j) + ": kinematic bodies cannot be jointed yet (body " +

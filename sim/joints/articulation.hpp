@@ -119,7 +119,8 @@ class Mechanism {
   //
   // The same rows keep a ball joint's stops (BallLimits): s is then the swing or the twist angle
   // (rad) of link `link`'s joint, measured from its coordinates about `axis` (its joint frame), or
-  // its whole rotation's angle, a slack rope between the stops' bounds.
+  // its whole rotation's angle, a slack rope between the stops' bounds; and a mimic (JointMimic):
+  // s = q_link - ratio q_link2, held at 0 as a rod.
   struct Tether {
     int joint = -1;
     enum class Measure { length, swing, twist, angle, coupling } measure = Measure::length;
@@ -152,7 +153,7 @@ class Mechanism {
   // segment's; and its residual (m) against the row it keeps (0 when slack within its bounds).
   double tether_length(int t, int seg = -1, double* rate = nullptr) const;
   double tether_gap(int t) const;
-  // A ball joint's swing or twist (rad) and its rate at the last written poses.
+  // A ball joint's swing, twist or whole angle (rad) and its rate at the last written poses.
   double ball_readout(const Tether& t, double* rate = nullptr) const;
   // A ball joint's rotation vector (rad; |phi| <= pi) from its coordinates: its spring's stretch.
   static Vec3 ball_rotation_vector(const Link& l, const double* q);
@@ -288,8 +289,8 @@ class Mechanism {
   double tether_rate(const Tether& t, const std::vector<Vec6>& V, double wheel_rate) const;
   double tether_acceleration(const Tether& t, const std::vector<Vec6>& V, const std::vector<Vec6>& A,
                              double wheel_acc) const;
-  // A ball joint's swing or twist (Tether::Measure) at the current kinematics: the angle, its rate
-  // for link velocities V, its second derivative for V and true link accelerations A.
+  // A ball joint's swing, twist or whole angle (Tether::Measure) at the current kinematics: the angle, its
+  // rate for link velocities V, its second derivative for V and true link accelerations A.
   double ball_angle(const Tether& t) const;
   double ball_rate(const Tether& t, const std::vector<Vec6>& V) const;
   double ball_acceleration(const Tether& t, const std::vector<Vec6>& V, const std::vector<Vec6>& A) const;

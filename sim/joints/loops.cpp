@@ -198,12 +198,8 @@ void Mechanism::loop_acceleration_rows(const std::vector<Vec6>& V, const std::ve
   }
 }
 
-// A tether's length s = sum_k w_k |d_k| (+ c theta), d_k = x_b - x_a. Its rates are the
-// projections of the ends' relative motion on n_k = d_k / |d_k|:
-//   s'  = sum w_k n_k . d_k'
-//   s'' = sum w_k [n_k . d_k'' + (|d_k'|^2 - (n_k . d_k')^2) / |d_k|]
-// (the second term: n_k turns as the segment swings). A segment shorter than 1e-12 m has no
-// direction and adds nothing.
+// A one-coordinate link's rate and acceleration (a mimic's coupling row reads them): the joint's
+// relative motion V_i - X_i V_p = s q', and A_i - X_i A_p = s q'' + V_i x s q' (Featherstone 7.1).
 double Mechanism::coordinate_rate(int i, const std::vector<Vec6>& V) const {
   const Link& l = links[i];
   Vec6 d = V[i];
@@ -219,6 +215,12 @@ double Mechanism::coordinate_acceleration(int i, const std::vector<Vec6>& V,
   return l.s1.dot(d) / l.s1.squaredNorm();
 }
 
+// A tether's length s = sum_k w_k |d_k| (+ c theta), d_k = x_b - x_a. Its rates are the
+// projections of the ends' relative motion on n_k = d_k / |d_k|:
+//   s'  = sum w_k n_k . d_k'
+//   s'' = sum w_k [n_k . d_k'' + (|d_k'|^2 - (n_k . d_k')^2) / |d_k|]
+// (the second term: n_k turns as the segment swings). A segment shorter than 1e-12 m has no
+// direction and adds nothing.
 double Mechanism::tether_position(const Tether& t, const double* q) const {
   if (t.measure == Tether::Measure::coupling) return q[links[t.link].iq] - t.ratio * q[links[t.link2].iq];
   if (t.measure != Tether::Measure::length) return ball_angle(t);

@@ -35,7 +35,7 @@ struct Limb {
   Articulations art;
   double g;
   Limb(const Vec3& dir, const Vec3& w_W, double gravity, const BallLimits* limits,
-       const JointSpring* spring = nullptr, double tolerance = JointSettings{}.tolerance)
+       const JointSpring* spring = nullptr, bool reversed = false)
       : g(gravity) {
     const Quat q = Quat::FromTwoVectors(Vec3::UnitZ(), dir);
     b.add("rod", m, Vec3(I1, I1, I3), d * dir, q);
@@ -44,16 +44,14 @@ struct Limb {
     JointDef j;
     j.name = "shoulder";
     j.type = JointType::spherical;
-    j.parent = -1;
-    j.child = 0;
+    j.parent = reversed ? 0 : -1;  // reversed: written [rod, world]
+    j.child = reversed ? -1 : 0;
     j.anchor_W = Vec3::Zero();
     j.axis_W = dir;
     if (limits) j.ball_limits = *limits;
     if (spring) j.spring = *spring;
     std::vector<std::string> warnings;
-    JointSettings js;
-    js.tolerance = tolerance;
-    art.build({j}, js, b.defs, b.model, b.state, warnings);
+    art.build({j}, {}, b.defs, b.model, b.state, warnings);
     EXPECT_TRUE(warnings.empty()) << warnings.front();
   }
   bool step(double dt = 1.0 / 60) { return art.step(dt, Vec3(0, 0, -g), nullptr, b.state.data()); }
@@ -150,6 +148,27 @@ TEST(BallLimits, TwistStopsReverseASpin) {
   std::printf("twist, e = 1: angle error %.1e rad, events %ld\n", worst, r.mech().events);
   EXPECT_LT(worst, 1e-9);
   EXPECT_GE(r.mech().events, 5);
+}
+
+TEST(BallLimits, AJointWrittenTheOtherWayRoundTwistsTheOtherWay) {
+  // Written [rod, world], the joint's twist is the world's relative to the rod: minus the rod's.
+  // Stops at [-0.6, 0.4] that way round are the rod's [-0.4, 0.6]: the same motion, bit for bit.
+  BallLimits L, R;
+  L.twist_lower = -0.4;
+  L.twist_upper = 0.6;
+  R.twist_lower = -0.6;
+  R.twist_upper = 0.4;
+  L.cone = R.cone = 0.5;
+  L.restitution = R.restitution = 0.7;
+  const Vec3 dir = Vec3(1, 0, -1).normalized(), w(1.5, 2, 3);
+  Limb a(dir, w, 9.81, &L), b(dir, w, 9.81, &R, nullptr, true);
+  for (int f = 0; f < 180; ++f) {
+    ASSERT_TRUE(a.step());
+    ASSERT_TRUE(b.step());
+  }
+  EXPECT_GE(a.mech().events, 3);
+  EXPECT_EQ(a.s().q_WP.coeffs(), b.s().q_WP.coeffs());
+  EXPECT_EQ(a.s().w_P, b.s().w_P);
 }
 
 TEST(BallLimits, LimbRestsOnItsConeHeldByTheStop) {
