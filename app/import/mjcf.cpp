@@ -572,11 +572,8 @@ class MjcfReader {
     if (j.damping < 0 || j.stiffness < 0 || j.friction < 0)
       fail(e, what, "damping, stiffness and frictionloss must not be negative");
     // A ball joint's stiffness and damping are its spring (-k phi - c w, as MuJoCo's passive force
-    // on the quaternion difference); its frictionloss has no model here.
-    if (j.kind == ModelJoint::Kind::spherical && j.friction > 0) {
-      note(e, "a ball joint's frictionloss is not simulated", what);
-      j.friction = 0;
-    }
+    // on the quaternion difference); its frictionloss bounds the torque about each of the child's
+    // axes, as MuJoCo's one friction row per degree of freedom does.
     if (j.kind == ModelJoint::Kind::spherical) j.rest = 0;
     if (get(e, "armature", cls)) {
       const double a = nums(e, "armature", cls, what)->at(0);

@@ -521,7 +521,7 @@ void place_model(const Model& m, const ImportSpec& spec, Scene& scene, MeshLibra
       d.limits = L;
     }
     if (j.damping > 0 || j.stiffness > 0) d.spring = JointSpring{j.stiffness, j.damping, j.rest - q0[k]};
-    if (j.kind != K::spherical && j.kind != K::fixed) d.friction = j.friction;
+    if (j.kind != K::fixed) d.friction = j.friction;  // a ball joint's: about each of its axes
     if (j.kind == K::revolute || j.kind == K::continuous || j.kind == K::prismatic) d.armature = j.armature;
     // A mimic's follower is passive: the coupling, not a motor, holds it.
     if (spec.hold && leader_of[k] < 0 &&

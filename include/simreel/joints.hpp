@@ -86,13 +86,24 @@ struct BallLimits {
 ///   position  drives the coordinate to `position` (rad, m): target rate
 ///             clamp((position - q) / time_constant, -speed, speed), so the approach is exponential
 ///             with that time constant once within speed * time_constant of the target
+///
+/// On a spherical joint the motor drives the child's angular velocity relative to the parent, w,
+/// in the child's axes (the world's at the start pose), with max_force bounding the torque about
+/// each of those three axes (a box, as MuJoCo's and Jolt's per-axis motor limits):
+///   speed     w = `angular_velocity` (rad/s): a constant vector, so a turn about a fixed axis
+///   position  drives the rotation from the start pose to `rotation` (a rotation vector, rad: axis
+///             times angle, its axis in the world's axes at the start pose): w = e / time_constant
+///             with e the rotation vector still to go (in the child's axes), its length capped at
+///             `speed`; e then shrinks along its own axis as exp(-t / time_constant)
 struct JointMotor {
   enum class Mode { speed, position };
   Mode mode = Mode::speed;
   double speed = 0;            ///< rad/s or m/s; position mode: the largest approach rate (inf: none)
   double position = 0;         ///< rad or m (position mode)
   double time_constant = 0.1;  ///< s (position mode)
-  double max_force = 0;        ///< N m (revolute) or N (prismatic), > 0
+  double max_force = 0;        ///< N m (revolute, spherical: per axis) or N (prismatic), > 0
+  Vec3 angular_velocity = Vec3::Zero();  ///< rad/s, spherical speed mode (child's axes)
+  Vec3 rotation = Vec3::Zero();          ///< rad, spherical position mode (rotation vector, |.| < pi)
 };
 
 /// A coordinate that follows another's (URDF's mimic; a pair of gears, a belt): this joint's
@@ -116,7 +127,7 @@ struct JointDef {
   std::optional<JointSpring> spring;
   std::optional<JointLimits> limits;  ///< revolute, prismatic, universal (both coordinates)
   std::optional<JointMotor>
-      motor;  ///< revolute, prismatic, wheel (its axle); universal: the angle about axis
+      motor;  ///< revolute, prismatic, wheel (its axle), spherical; universal: the angle about axis
   std::optional<JointMotor> motor2;       ///< universal: the angle about axis2
   std::optional<JointMimic> mimic;        ///< revolute, prismatic: follows another coordinate
   std::optional<BallLimits> ball_limits;  ///< spherical: cone and twist stops about axis_W, angle
@@ -126,7 +137,8 @@ struct JointDef {
   /// World::kinetic_energy.
   double armature = 0;
   /// Coulomb friction on the coordinate: N m (revolute, universal) or N (prismatic); it holds the
-  /// joint still while the load needs no more, and otherwise acts against the motion.
+  /// joint still while the load needs no more, and otherwise acts against the motion. On a
+  /// spherical joint: N m about each of the child's axes (MuJoCo's frictionloss on a ball joint).
   double friction = 0;
   /// wheel: a steering coordinate about `axis`, driven to its position by this motor (position
   /// mode; without it the wheel does not steer).

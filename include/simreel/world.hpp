@@ -121,7 +121,8 @@ class World {
   double joint_position(int j, int k = 0) const;
   double joint_speed(int j, int k = 0) const;  ///< its rate, rad/s or m/s (spherical: |relative w|)
   /// The generalised force that coordinate k of joint j's limits, motor and friction apply,
-  /// N m or N, at the end of the last step (0 for a joint without them).
+  /// N m or N, at the end of the last step (0 for a joint without them); spherical: the torque of
+  /// its motor and friction about the child's axis k = 0, 1, 2.
   double joint_force(int j, int k = 0) const;
   /// The force (N) and torque (N m) that joint j's parent exerts on its child through the joint,
   /// at the anchor, world frame, at the end of the last step: what holds the joint together plus

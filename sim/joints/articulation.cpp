@@ -19,6 +19,10 @@
 namespace simreel {
 
 namespace {
+template <class T>
+const T* opt_ptr(const std::optional<T>& o) {
+  return o ? &*o : nullptr;
+}
 constexpr EnumNames<JointType, 8> kJointTypes{
     {"revolute", "prismatic", "spherical", "fixed", "universal", "wheel", "distance", "pulley"}};
 static_assert(kJointTypes.complete());
@@ -243,6 +247,8 @@ void Mechanism::derivative(const double* y, double* dy, const Vec3& g, const Wre
         const Vec3 phi = ball_rotation_vector(l, q);
         for (int k = 0; k < 3; ++k) w.u[k] -= l.stiffness * phi[k] + l.damping * v[l.iv + k];
       }
+      if (l.dof_index >= 0)  // a ball joint's saturated motor and sliding friction
+        for (int k = 0; k < l.nv; ++k) w.u[k] += tau_[l.iv + k];
       Ia.noalias() -= w.U * w.Dinv * w.U.transpose();
       pa += w.U * (w.Dinv * w.u);
     }
@@ -537,6 +543,12 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
       // A ball joint's twist of the parent relative to the child is minus the child's (its
       // quaternion's vector part changes sign): the stops swap and change sign. Its swing, whole
       // angle and spring are the same either way.
+      // Its motor's target turns the other way: minus the angular velocity, the inverse rotation
+      // (whose rotation vector is minus the same axis-angle, in either body's axes).
+      if (d.type == JointType::spherical && d.motor) {
+        d.motor->angular_velocity = -d.motor->angular_velocity;
+        d.motor->rotation = -d.motor->rotation;
+      }
       if (d.ball_limits) {
         BallLimits& B = *d.ball_limits;
         const double lower = B.twist_lower;
@@ -619,9 +631,19 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
     if (d.spring && d.type == JointType::spherical && d.spring->rest != 0)
       throw InputError(name_of(j) + ": a ball joint's spring rests at the start pose (rest 0)");
     if (d.motor && d.type != JointType::revolute && d.type != JointType::prismatic && !wheel &&
-        d.type != JointType::universal)
-      throw InputError(name_of(j) + ": a motor needs a revolute, prismatic, universal or wheel joint (not " +
+        d.type != JointType::universal && d.type != JointType::spherical)
+      throw InputError(name_of(j) +
+                       ": a motor needs a revolute, prismatic, universal, spherical or wheel joint (not " +
                        to_string(d.type) + ")");
+    if (d.motor && d.type == JointType::spherical) {
+      const JointMotor& M = *d.motor;
+      if (!M.angular_velocity.allFinite() || !M.rotation.allFinite())
+        throw InputError(name_of(j) + ": a ball joint motor's angular velocity and rotation must be finite");
+      if (M.mode == JointMotor::Mode::position && !(M.rotation.norm() < kPi))
+        throw InputError(name_of(j) +
+                         ": a ball joint motor's rotation is a rotation vector under pi rad long (axis "
+                         "times angle)");
+    }
     if (d.motor2 && d.type != JointType::universal)
       throw InputError(name_of(j) + ": only a universal joint has a second motor (motor2)");
     for (const std::optional<JointMotor>* mo : {&d.motor, &d.motor2}) {
@@ -648,7 +670,7 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
             "and max torque");
     }
     if (d.friction != 0) {
-      if (!one_coordinate)
+      if (!one_coordinate && d.type != JointType::spherical)
         throw InputError(name_of(j) + ": a " + to_string(d.type) + " joint has no coordinate for friction");
       if (!(d.friction > 0) || !std::isfinite(d.friction))
         throw InputError(name_of(j) + ": friction must be a non-negative number");
@@ -919,6 +941,32 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
     // Limits, motors and friction: one Dof per coordinate that has any.
     for (size_t li = 0; li < m.links.size(); ++li) {
       Link& l = m.links[li];
+      if (l.kind == LinkJoint::spherical && l.joint >= 0) {
+        // A ball joint's motor and friction act on each of its three rates (child's axes).
+        const JointDef& d = joints_[l.joint];
+        if (!d.motor && !(d.friction > 0)) continue;
+        l.dof_index = (int)m.dofs.size();
+        for (int k = 0; k < 3; ++k) {
+          Mechanism::Dof f;
+          f.iq = l.iq;
+          f.iv = l.iv + k;
+          f.ball = k;
+          f.joint = l.joint;
+          if (d.motor) {
+            const JointMotor& M = *d.motor;
+            const bool speed = M.mode == JointMotor::Mode::speed;
+            f.motor = speed ? 1 : 2;
+            f.speed = speed ? M.angular_velocity[k] : M.speed;
+            const double a = M.rotation.norm();
+            f.target = a > 0 ? Quat(Eigen::AngleAxisd(a, M.rotation / a)) : Quat::Identity();
+            f.time_constant = M.time_constant;
+            f.max_force = M.max_force;
+          }
+          f.friction = d.friction;
+          m.dofs.push_back(f);
+        }
+        continue;
+      }
       if (l.nv != 1 || l.joint < 0) continue;
       const JointDef& d = joints_[l.joint];
       // Which of the joint's options act on this coordinate: all of them on a one-coordinate joint
@@ -926,12 +974,13 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
       // second); on a wheel, the stops on the suspension, the
       // steering motor on the steering hinge, the motor and friction on the axle.
       std::optional<JointLimits> limits = d.limits;
-      std::optional<JointMotor> motor = d.type == JointType::universal && l.dof == 1 ? d.motor2 : d.motor;
+      const JointMotor* motor =
+          d.type == JointType::universal && l.dof == 1 ? opt_ptr(d.motor2) : opt_ptr(d.motor);
       double friction = d.friction;
       if (d.type == JointType::wheel) {
         const bool suspension = l.dof == 0, axle = l.kind == LinkJoint::revolute && l.body >= 0;
         if (!suspension) limits.reset();
-        motor = axle ? d.motor : suspension ? std::nullopt : d.steering;
+        motor = axle ? opt_ptr(d.motor) : suspension ? nullptr : opt_ptr(d.steering);
         if (!axle) friction = 0;
       }
       if (!limits && !motor && !(friction > 0)) continue;
@@ -1442,7 +1491,9 @@ double Articulations::force(int j, int k) const {
   if (joint_link_[j].second < 0) return 0;
   const Mechanism* m;
   const Link& l = coordinate_link(j, k, m);
-  return l.dof_index >= 0 ? m->dofs[l.dof_index].force : 0.0;
+  if (l.dof_index < 0) return 0.0;
+  // A ball joint's three: the torque of its motor and friction about the child's axis k.
+  return m->dofs[l.dof_index + (l.kind == LinkJoint::spherical ? std::clamp(k, 0, 2) : 0)].force;
 }
 
 void Articulations::reaction(int j, const MotionState* st, const Vec3& g, Vec3& force_W,

@@ -167,12 +167,17 @@ class Mechanism {
   // reaching the motor's target or zero, a constraint force reaching its bound). In a mode where
   // the coordinate is held (on a stop, at the motor's rate, stuck by friction) it is one more
   // constraint row, q''_k = a*, whose multiplier is the force holding it.
+  // A scalar velocity coordinate with stops, a motor or friction: a hinge's or slider's (iq its
+  // coordinate), or one of a ball joint's three angular velocities in the child's axes (ball the
+  // component, iq the joint's quaternion, iv - ball its first rate; no stops: those are tethers).
   struct Dof {
     int iq = 0, iv = 0, joint = -1;
+    int ball = -1;
     bool has_lo = false, has_hi = false;
     double lo = 0, hi = 0, restitution = 0;
     int motor = 0;  ///< 0 none, 1 speed, 2 position
     double speed = 0, position = 0, time_constant = 0.1, max_force = 0;
+    Quat target = Quat::Identity();  ///< a ball joint's position motor: the joint rotation to reach
     double friction = 0;
     // Mode (saved state).
     int at_stop = 0;     ///< -1 resting on the lower stop, +1 on the upper, 0 free
@@ -185,7 +190,10 @@ class Mechanism {
     double lower_bound() const;  ///< the holding row's multiplier bounds in the current mode
     double upper_bound() const;
     bool active() const { return at_stop != 0 || hold || stick; }
-    double target_rate(double q) const;  ///< the motor's target rate at coordinate q
+    double target_rate(const double* q) const;  ///< the motor's target rate at coordinates q
+    // d/dt of the target rate at q, v while the coordinate is held (a position motor's target
+    // moves with q; every other target is constant).
+    double target_acceleration(const double* q, const double* v) const;
   };
   std::vector<Dof> dofs;
   bool started = false;  ///< the modes were settled at the first step (saved state)

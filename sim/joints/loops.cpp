@@ -495,10 +495,7 @@ void Mechanism::constrain_accelerations(const double* q, const double* v, double
     const Dof& f = dofs[d];
     double r = 0;
     if (f.active()) {
-      double a = 0;
-      if (f.at_stop == 0 && f.hold && f.motor == 2 &&
-          std::abs(f.position - q[f.iq]) < f.speed * f.time_constant)
-        a = -v[f.iv] / f.time_constant;
+      const double a = f.at_stop == 0 && f.hold ? f.target_acceleration(q, v) : 0.0;
       r = a - qdd[f.iv];
     }
     rhs_(loop_rows + (int)d) = r;
@@ -579,7 +576,7 @@ void Mechanism::project_velocities(const double* q, double* v) {
   rhs_.noalias() = -(G_ * vv);
   for (size_t d = 0; d < dofs.size(); ++d) {
     const Dof& f = dofs[d];
-    if (f.active()) rhs_(loop_rows + (int)d) += f.at_stop != 0 || f.stick ? 0.0 : f.target_rate(q[f.iq]);
+    if (f.active()) rhs_(loop_rows + (int)d) += f.at_stop != 0 || f.stick ? 0.0 : f.target_rate(q);
   }
   solve_rows();
   vv += dv_;

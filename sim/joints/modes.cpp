@@ -44,10 +44,49 @@ inline int sign(double x) {
 }
 }  // namespace
 
-double Mechanism::Dof::target_rate(double qk) const {
+namespace {
+// A ball joint's position motor: the rotation vector e still to go, in the child's axes (E = Q^-1
+// Q_t, the target seen from the current pose), and the target angular velocity e / time_constant
+// with its length capped at `speed`.
+Vec3 ball_error(const Mechanism::Dof& d, const double* q) {
+  const Quat Q = Quat(q[d.iq], q[d.iq + 1], q[d.iq + 2], q[d.iq + 3]).normalized();
+  Quat E = Q.conjugate() * d.target;
+  if (E.w() < 0) E.coeffs() = -E.coeffs();  // the shorter way round
+  const double sn = E.vec().norm();
+  return sn < 1e-300 ? Vec3::Zero() : Vec3((2 * std::atan2(sn, E.w()) / sn) * E.vec());
+}
+Vec3 ball_target(const Mechanism::Dof& d, const Vec3& e) {
+  const double n = e.norm();
+  return n > d.speed * d.time_constant ? Vec3(d.speed / n * e) : Vec3(e / d.time_constant);
+}
+}  // namespace
+
+double Mechanism::Dof::target_rate(const double* q) const {
   if (motor == 1) return speed;
-  if (motor == 2) return std::clamp((position - qk) / time_constant, -speed, speed);
-  return 0;
+  if (motor != 2) return 0;
+  if (ball < 0) return std::clamp((position - q[iq]) / time_constant, -speed, speed);
+  return ball_target(*this, ball_error(*this, q))[ball];
+}
+
+double Mechanism::Dof::target_acceleration(const double* q, const double* v) const {
+  if (motor != 2) return 0;
+  if (ball < 0)  // (position - q) / time_constant moves at -q' / time_constant until it is capped
+    return std::abs(position - q[iq]) < speed * time_constant ? -v[iv] / time_constant : 0.0;
+  // E = R^T R_t turns as E' = -[w] E, so e' = -J_l(e)^-1 w with J_l SO(3)'s left Jacobian,
+  // J_l^-1(e) = 1 - [e]/2 + (1/t^2 - (1 + cos t) / (2 t sin t)) [e]^2, t = |e| (Barfoot, "State
+  // Estimation for Robotics", 2017, eq. 7.77). Held at w = e / time_constant (parallel to e), this
+  // is -w and e decays as exp(-t / time_constant) along a fixed axis.
+  const Vec3 e = ball_error(*this, q);
+  const Vec3 w(v[iv - ball], v[iv - ball + 1], v[iv - ball + 2]);
+  const double t = e.norm();
+  // The bracket's series below 1e-4 rad: 1/12 + t^2/720 (the closed form cancels to round-off).
+  const double c =
+      t < 1e-4 ? 1.0 / 12 + t * t / 720 : 1 / (t * t) - (1 + std::cos(t)) / (2 * t * std::sin(t));
+  const Vec3 ew = e.cross(w);
+  const Vec3 de = -(w - 0.5 * ew + c * e.cross(ew));
+  if (t <= speed * time_constant) return de[ball] / time_constant;
+  const Vec3 u = e / t;  // capped: speed u, u turning as (1 - u u^T) e' / |e|
+  return (speed / t * (de - u * u.dot(de)))[ball];
 }
 
 double Mechanism::Dof::lower_bound() const {
@@ -74,7 +113,7 @@ void Mechanism::event_values(const double* y, double* out) const {
     o[0] = d.has_lo && d.at_stop == 0 ? qk - d.lo : 1.0;
     o[1] = d.has_hi && d.at_stop == 0 ? d.hi - qk : 1.0;
     o[2] = d.active() ? std::min(d.lambda - d.lower_bound(), d.upper_bound() - d.lambda) : 1.0;
-    o[3] = d.motor != 0 && !d.hold ? d.push * (d.target_rate(qk) - vk) : 1.0;
+    o[3] = d.motor != 0 && !d.hold ? d.push * (d.target_rate(q) - vk) : 1.0;
     o[4] = d.friction > 0 && !d.stick ? d.slide * vk : 1.0;
   }
   // A slack rope reaching a bound; a taut rope's force changing sign (it would push: it goes
@@ -146,7 +185,7 @@ void Mechanism::refresh_rate_modes(const double* q, const double* v) {
     Dof& d = dofs[i];
     const double vk = v[d.iv];
     if (d.motor != 0) {
-      const double vt = d.target_rate(q[d.iq]);
+      const double vt = d.target_rate(q);
       d.hold = vk == vt;
       d.push = d.hold ? 0 : sign(vt - vk);
     }
@@ -200,7 +239,7 @@ void Mechanism::apply_events(double* y, const double* g0, const double* g1, cons
     if (hit(3)) {
       d.hold = true;
       d.push = 0;
-      v[d.iv] = d.target_rate(q[d.iq]);
+      v[d.iv] = d.target_rate(q);
     }
     if (hit(4)) {
       d.stick = true;
@@ -300,7 +339,7 @@ void Mechanism::start_modes(double* y, const Vec3& g, const Wrench* wr) {
     d.hold = d.stick = false;
     d.push = d.slide = 0;
     if (d.motor != 0) {
-      const double vt = d.target_rate(qk);
+      const double vt = d.target_rate(q);
       d.hold = vk == vt;
       d.push = d.hold ? 0 : sign(vt - vk);
     }
@@ -399,7 +438,7 @@ void Mechanism::project_dofs(double* y) {
     } else if (d.stick) {
       v[d.iv] = 0;
     } else if (d.hold) {
-      v[d.iv] = d.target_rate(q[d.iq]);
+      v[d.iv] = d.target_rate(q);
     }
   }
 }

@@ -442,8 +442,9 @@ TEST(ImportMjcf, SelfCollisionSkipsParentsAndExcludedPairs) {
   EXPECT_FALSE(ignored(on, "b", "d"));
 }
 
-// A ball joint's range bounds its rotation's angle (the second number; degrees by default) and its
-// stiffness and damping are a spring on the rotation vector, as in MuJoCo.
+// A ball joint's range bounds its rotation's angle (the second number; degrees by default), its
+// stiffness and damping are a spring on the rotation vector and its frictionloss a friction about
+// each axis, as in MuJoCo.
 TEST(ImportMjcf, BallJointRangeAndSpringLoad) {
   const Scene s = load_scene(write("ball.xml",
                                    "<mujoco><worldbody><body name=\"limb\" pos=\"0 0 1\">\n"
@@ -462,7 +463,8 @@ TEST(ImportMjcf, BallJointRangeAndSpringLoad) {
   EXPECT_EQ(j.spring->stiffness, 2.0);
   EXPECT_EQ(j.spring->damping, 0.1);
   EXPECT_EQ(j.spring->rest, 0.0);
-  EXPECT_TRUE(has(s.notes, "ball.xml:2: joint 'shoulder': a ball joint's frictionloss is not simulated"));
+  EXPECT_EQ(j.friction, 0.3);  // about each of the child's axes, as MuJoCo's per-dof rows
+  EXPECT_FALSE(has(s.notes, "frictionloss"));
   const Scene wide = load_scene(write("wide.xml",
                                       "<mujoco><worldbody><body name=\"limb\" pos=\"0 0 1\">\n"
                                       "<joint type=\"ball\" range=\"0 200\"/>\n"

@@ -251,8 +251,6 @@ TEST(SceneJoints, LimitsNeedACoordinate) {
 }
 
 TEST(SceneJoints, MotorsNeedACoordinateToDrive) {
-  EXPECT_JOINT_ERROR(kSpherical, "motor: { speed: 1, max_torque: 1 }", 11,
-                     "joints[0].motor: a spherical joint has no coordinate for a motor");
   EXPECT_JOINT_ERROR(kFixed, "motor: { speed: 1, max_torque: 1 }", 11,
                      "joints[0].motor: a fixed joint has no coordinate for a motor");
   EXPECT_JOINT_ERROR(kRevolute, "motor2: { speed: 1, max_torque: 1 }", 11,
@@ -274,9 +272,40 @@ TEST(SceneJoints, UniversalJointsTakeAMotorOnEachAngle) {
                      "joints[0].motor2.max_force: a universal joint's motor takes 'max_torque'");
 }
 
+// A ball joint's motor drives its angular velocity (a vector, the child's axes) or its rotation
+// (a rotation vector); its friction acts about each axis.
+TEST(SceneJoints, BallJointMotorsAndFrictionTakeVectors) {
+  const Scene s = load_scene(write_scene(
+      "bm.yaml", one_joint(kSpherical, "motor: { speed: [0, 1, 2], max_torque: 3 },\n      friction: 0.2")));
+  const JointDef& j = s.joints.at(0);
+  ASSERT_TRUE(j.motor);
+  EXPECT_EQ(j.motor->mode, JointMotor::Mode::speed);
+  EXPECT_EQ(j.motor->angular_velocity, Vec3(0, 1, 2));
+  EXPECT_EQ(j.motor->max_force, 3.0);
+  EXPECT_EQ(j.friction, 0.2);
+  const Scene p = load_scene(
+      write_scene("bp.yaml", one_joint(kSpherical,
+                                       "motor: { position: [0.5, 0, 0], speed: 2, time_constant: 0.3, "
+                                       "max_torque: 4 }")));
+  const JointMotor& m = *p.joints.at(0).motor;
+  EXPECT_EQ(m.mode, JointMotor::Mode::position);
+  EXPECT_EQ(m.rotation, Vec3(0.5, 0, 0));
+  EXPECT_EQ(m.speed, 2.0);
+  EXPECT_EQ(m.time_constant, 0.3);
+  EXPECT_JOINT_ERROR(
+      kSpherical, "motor: { speed: 1, max_torque: 1 }", 11,
+      "joints[0].motor.speed: a ball joint's target speed is an angular velocity [wx, wy, wz]");
+  EXPECT_JOINT_ERROR(kSpherical, "motor: { position: 0.5, max_torque: 1 }", 11,
+                     "joints[0].motor.position: a ball joint's target is a rotation vector [rx, ry, rz]");
+  EXPECT_JOINT_ERROR(kSpherical, "motor: { position: [0, 3.2, 0], max_torque: 1 }", 11,
+                     "joints[0].motor.position: a rotation vector's length is its angle, under pi rad");
+  EXPECT_JOINT_ERROR(kSpherical, "motor: { speed: [1, 0, 0], max_force: 1 }", 11,
+                     "joints[0].motor.max_force: a spherical joint's motor takes 'max_torque'");
+  EXPECT_JOINT_ERROR(kSpherical, "motor: { speed: [1, 0, 0] }", 11,
+                     "joints[0].motor: a motor needs 'max_torque'");
+}
+
 TEST(SceneJoints, FrictionNeedsACoordinate) {
-  EXPECT_JOINT_ERROR(kSpherical, "friction: 0.1", 11,
-                     "joints[0].friction: a spherical joint has no coordinate for friction");
   EXPECT_JOINT_ERROR(kFixed, "friction: 0.1", 11,
                      "joints[0].friction: a fixed joint has no coordinate for friction");
 }

@@ -173,6 +173,24 @@ TEST(Joints, ResumedRunWithBallJointStopsEqualsStraightRun) {
   EXPECT_LT(a.joint_angular_gap(), 1e-9);  // never past a stop
 }
 
+// A ball joint's motor and friction modes are state too: the bar spun up by a saturated motor
+// about one axis while friction holds and lets go of the others, resumed from saves taken in each.
+TEST(Joints, ResumedRunWithABallJointMotorAndFrictionEqualsStraightRun) {
+  BarPendulum p(1.0);
+  JointDef& j = p.cfg.joints[0];
+  j.type = JointType::spherical;
+  JointMotor m;
+  m.angular_velocity = Vec3(0, 0, 3);
+  m.max_force = 0.5;
+  j.motor = m;
+  j.friction = 0.3;
+  p.bodies[0].w_W = Vec3(1.5, 0, 0);
+  p.bodies[0].v_W = p.bodies[0].w_W.cross(p.bodies[0].p_WB - Vec3(0, 0, 2));
+  World a(p.cfg, p.bodies);
+  expect_resumes_bit_identically(a, p.cfg, p.bodies);
+  EXPECT_LT(a.joint_gap(), 1e-13);
+}
+
 TEST(Joints, SameBitsOnOneAndTwoThreads) {
   BarPendulum p1(1.0, 1), p2(1.0, 2);
   World a(p1.cfg, p1.bodies), b(p2.cfg, p2.bodies);
