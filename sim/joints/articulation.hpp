@@ -246,7 +246,10 @@ class Mechanism {
   // Modes: a stop reached, a rate captured or a holding force out of bounds over a substep
   // switches its mode at the substep's end (first order in the substep while in contact).
   void contact_velocities(double h, const Vec3& g);
-  void contact_positions(double h, const Vec3& g);
+  // True when the substep's events changed which rows are held (a stop reached or left, a rope
+  // gone taut or slack): P was then made again at the working state, and the contact rows' W
+  // and effective masses must be too, or the contacts would push held coordinates off their rows.
+  bool contact_positions(double h, const Vec3& g);
   const Mat3& link_R(int i) const { return work_[i].R_W; }  ///< after contact_positions / contact_begin
   const Vec3& link_x(int i) const { return work_[i].x_W; }
   void contact_end();  ///< q, v from the working state
@@ -280,9 +283,12 @@ class Mechanism {
   double frame_time = 0;  ///< s, the time at the start of the frame step (Articulations::set_time)
 
   long steps_taken = 0, steps_rejected = 0;  ///< internal steps over the run
-  bool exceeded = false;         ///< a frame step needed more internal steps than JointSettings::max_steps
-  bool contact_stepped = false;  ///< this frame step was taken by the contact solver (ArticulatedContacts)
-  bool asleep = false;           ///< its bodies sleep (the World's islands): not stepped
+  bool exceeded = false;           ///< a frame step needed more internal steps than JointSettings::max_steps
+  bool contact_stepped = false;    ///< this frame step was taken by the contact solver (ArticulatedContacts)
+  void contact_inverse_inertia();  ///< P_ at the current kinematics and held rows (contact_begin)
+  bool held_rows_changed();        ///< the held rows differ from the last call's (held_ updated)
+  std::vector<char> held_;         ///< per Dof and tether: held at the last held_rows_changed()
+  bool asleep = false;             ///< its bodies sleep (the World's islands): not stepped
 
  private:
   void kinematics(const double* q);  ///< X_, R_W_ for every link at q

@@ -27,6 +27,23 @@ void Mechanism::contact_begin(const Vec3& g) {
       Jl_.block<3, 1>(6 * i + 3, k) = work_[i].R_W * V_[i].tail<3>();
     }
   }
+  held_.assign(dofs.size() + tethers.size(), 0);
+  held_rows_changed();
+  contact_inverse_inertia();
+  if ((int)dq_.size() != nv) dq_.assign(nv, 0);
+}
+
+bool Mechanism::held_rows_changed() {
+  bool changed = false;
+  for (size_t i = 0; i < dofs.size() + tethers.size(); ++i) {
+    const char h = i < dofs.size() ? dofs[i].active() : tethers[i - dofs.size()].active();
+    changed = changed || h != held_[i];
+    held_[i] = h;
+  }
+  return changed;
+}
+
+void Mechanism::contact_inverse_inertia() {
   if (P_.rows() != nv) P_.setZero(nv, nv);
   ropes_free_ = true;
   bool rows = !loops.empty();
@@ -49,7 +66,6 @@ void Mechanism::contact_begin(const Vec3& g) {
     llt_.solveInPlace(P_);
   }
   ropes_free_ = false;
-  if ((int)dq_.size() != nv) dq_.assign(nv, 0);
 }
 
 void Mechanism::contact_row(int link, const Vec3& r, const Vec3& n, double* J) const {
@@ -68,7 +84,7 @@ void Mechanism::contact_velocities(double hs, const Vec3& g) {
   for (int k = 0; k < nv; ++k) y0_[nq + k] += hs * kd_[nq + k];
 }
 
-void Mechanism::contact_positions(double hs, const Vec3& g) {
+bool Mechanism::contact_positions(double hs, const Vec3& g) {
   // A taut rope the contacts made slacken (its ends now approach) lets go; one they stretched is
   // put back on its bound with the projections below.
   if (!tethers.empty()) {
@@ -101,6 +117,10 @@ void Mechanism::contact_positions(double hs, const Vec3& g) {
       project_velocities(y0_.data(), y0_.data() + nq);
   }
   kinematics(y0_.data());
+  if (!held_rows_changed()) return false;
+  contact_inverse_inertia();
+  kinematics(y0_.data());  // the poses the contact rows read (the factorisation may leave others)
+  return true;
 }
 
 void Mechanism::contact_end() {
@@ -292,24 +312,17 @@ void ArticulatedContacts::prepare(Articulations* articulations, const SolverInpu
   std::sort(mechs_.begin(), mechs_.end());
   std::vector<Mechanism>& ms = art.mechanisms();
   for (int m : mechs_) ms[m].contact_begin(in.gravity);
-  // Each row's J and W per direction and side, and its effective masses 1 / (J W + free terms).
+  changed_.assign(art.mechanism_count(), 0);
+  // Each row's J per direction and side, then its W and effective masses.
   for (Row& r : rows_) {
     for (Side* s : {&r.a, &r.b})
       if (s->mech >= 0) s->local = ms[s->mech].link_R(s->link).transpose() * s->r;
     const bool same = r.a.mech >= 0 && r.a.mech == r.b.mech;
     for (int k = 0; k < 3; ++k) {
-      double K = 0;
       r.j[k][0] = r.j[k][1] = -1;
       for (int side = 0; side < 2; ++side) {
         const Side& s = side == 0 ? r.a : r.b;
-        if (s.mech < 0) {
-          if (s.body != 0) {
-            const SolverBody& f = sb[s.body];
-            const Vec3 rd = s.r.cross(r.d[k]);
-            K += f.inv_mass + rd.dot(f.inv_I * rd);
-          }
-          continue;
-        }
+        if (s.mech < 0) continue;
         if (side == 0 && same) continue;  // two links of one mechanism: one row, J_b - J_a, on B's side
         Mechanism& m = ms[s.mech];
         const int o = (int)jw_.size();
@@ -326,12 +339,32 @@ void ArticulatedContacts::prepare(Articulations* articulations, const SolverInpu
         double Jmax = 0;
         for (int x = 0; x < m.nv; ++x) Jmax = std::max(Jmax, std::abs(J[x]));
         if (Jmax < 1e-12) std::fill(J, J + m.nv, 0.0);
-        m.contact_response(J, J + m.nv);
-        for (int x = 0; x < m.nv; ++x) K += J[x] * J[m.nv + x];
         r.j[k][side] = o;
       }
-      r.mass[k] = K > 0 ? 1.0 / K : 0.0;
     }
+    masses(r, sb);
+  }
+}
+
+void ArticulatedContacts::masses(Row& r, const std::vector<SolverBody>& sb) {
+  // W = P J^T per direction and mechanism side, and the effective masses 1 / (J W + free terms).
+  const std::vector<Mechanism>& ms = art_->mechanisms();
+  for (int k = 0; k < 3; ++k) {
+    double K = 0;
+    for (int side = 0; side < 2; ++side) {
+      const Side& s = side == 0 ? r.a : r.b;
+      if (r.j[k][side] >= 0) {
+        const Mechanism& m = ms[s.mech];
+        double* J = jw_.data() + r.j[k][side];
+        m.contact_response(J, J + m.nv);
+        for (int x = 0; x < m.nv; ++x) K += J[x] * J[m.nv + x];
+      } else if (s.mech < 0 && s.body != 0) {
+        const SolverBody& f = sb[s.body];
+        const Vec3 rd = s.r.cross(r.d[k]);
+        K += f.inv_mass + rd.dot(f.inv_I * rd);
+      }
+    }
+    r.mass[k] = K > 0 ? 1.0 / K : 0.0;
   }
 }
 
@@ -442,7 +475,17 @@ void ArticulatedContacts::solve(std::vector<SolverBody>& sb, double h, bool use_
 
 void ArticulatedContacts::integrate_positions(double h, const std::vector<SolverBody>& sb) {
   std::vector<Mechanism>& ms = art_->mechanisms();
-  for (int m : mechs_) ms[m].contact_positions(h, in_.gravity);
+  bool changed = false;
+  for (int m : mechs_) {
+    const bool c = ms[m].contact_positions(h, in_.gravity);
+    changed_[m] = c;
+    changed = changed || c;
+  }
+  // A mechanism whose held rows changed (a stop reached or left) answers impulses differently:
+  // its rows' W = P J^T and effective masses again, J kept from the step's start.
+  if (changed)
+    for (Row& r : rows_)
+      if ((r.a.mech >= 0 && changed_[r.a.mech]) || (r.b.mech >= 0 && changed_[r.b.mech])) masses(r, sb);
   for (Row& r : rows_) {
     const Vec3 da = anchor(r.a, sb) - r.a.p0, db = anchor(r.b, sb) - r.b.p0;
     r.s = r.s0 + r.d[0].dot(db - da);

@@ -73,12 +73,14 @@ class ArticulatedContacts {
   void normal(Row& r, std::vector<SolverBody>& sb, double h, bool use_bias);
   void tangents(Row& r, std::vector<SolverBody>& sb);
   Vec3 anchor(const Side& s, const std::vector<SolverBody>& sb) const;  ///< now, world
+  void masses(Row& r, const std::vector<SolverBody>& sb);  ///< W = P J^T and the effective masses
   Articulations* art_ = nullptr;
   SolverInput in_;
   std::vector<Row> rows_;
-  std::vector<double> jw_;    ///< J then W (nv each) per direction and mechanism side
-  std::vector<int> mechs_;    ///< mechanisms with rows this step, ascending
-  std::vector<char> pushed_;  ///< per mechanism: some row pushed it this step
+  std::vector<double> jw_;     ///< J then W (nv each) per direction and mechanism side
+  std::vector<int> mechs_;     ///< mechanisms with rows this step, ascending
+  std::vector<char> pushed_;   ///< per mechanism: some row pushed it this step
+  std::vector<char> changed_;  ///< per mechanism: its held rows changed in this substep
 };
 
 }  // namespace simreel
