@@ -557,14 +557,13 @@ void place_model(const Model& m, const ImportSpec& spec, Scene& scene, MeshLibra
       for (size_t k = joints_before; k < scene.joints.size(); ++k) scene.joints[k].anchor_W += up;
     }
   }
-  // Without self_collision a model's links collide with the world, not with each other (PyBullet's
-  // default: meshes of neighbouring links often overlap where they are joined). MuJoCo collides
-  // them by default, but contacts between bodies of one mechanism still add energy here (MuJoCo's
-  // humanoid falling: 48 J gained between two frames with them, 8 J without), so they are asked
-  // for: then every pair collides but those the file excludes (MJCF <contact><exclude>) and a
-  // body and its parent.
+  // Each format's own default: a URDF model's links collide with the world, not with each other
+  // (PyBullet's default: meshes of neighbouring links often overlap where they are joined); an
+  // MJCF model's collide by MuJoCo's rule, every pair but those the file excludes (<contact>
+  // <exclude>) and a body and its parent (the humanoid falling then gains at most 0.02 J a frame,
+  // the soft contacts' push-out).
   const int last = (int)scene.bodies.size();
-  const bool self = spec.self_collision.value_or(false);
+  const bool self = spec.self_collision.value_or(m.format == "mjcf");
   if (!self) {
     for (int a = first; a < last; ++a)
       for (int b = a + 1; b < last; ++b) scene.ignore_pairs.emplace_back(a, b);

@@ -32,7 +32,7 @@ struct ImportSpec {
   bool show_colliders = false;  ///< draw the collision shapes instead of the visual ones
   bool hold = false;            ///< each moving joint held at its start by a motor (the file's effort)
   /// The model's links collide with each other (never a body and its parent, nor pairs the file
-  /// excludes); unset: no (PyBullet's default).
+  /// excludes); unset: the format's default (MJCF yes, as MuJoCo; URDF no, as PyBullet).
   std::optional<bool> self_collision;
   bool decompose = false;  ///< moving links' collision meshes collide as convex decompositions
   /// Moved up or down so that the lowest point of its collision shapes rests at ground_height.

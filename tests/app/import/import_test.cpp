@@ -413,8 +413,9 @@ TEST(ImportMjcf, FourBarWithClassesIncludeAndLoop) {
   EXPECT_GT(std::fabs(w.joint_position(0)), 0.1);  // it moved
 }
 
-// self_collision: true follows MuJoCo's rule: every pair of the model's bodies may touch but a
-// body and its parent (through helper bodies) and the pairs <contact><exclude> names.
+// An MJCF model's links collide by MuJoCo's rule (its default, and self_collision: true): every
+// pair of the model's bodies may touch but a body and its parent (through helper bodies) and the
+// pairs <contact><exclude> names; self_collision: false turns them all off.
 TEST(ImportMjcf, SelfCollisionSkipsParentsAndExcludedPairs) {
   const std::string xml = write("m.xml", R"(<mujoco>
   <worldbody>
@@ -428,8 +429,8 @@ TEST(ImportMjcf, SelfCollisionSkipsParentsAndExcludedPairs) {
   <contact><exclude body1="c" body2="d"/></contact>
 </mujoco>
 )");
-  const Scene off = load_scene(write("off.yaml", "imports: [ { file: " + xml + " } ]\n"));
-  const Scene on = load_scene(write("on.yaml", "imports: [ { file: " + xml + ", self_collision: true } ]\n"));
+  const Scene off = load_scene(write("off.yaml", "imports: [ { file: " + xml + ", self_collision: false } ]\n"));
+  const Scene on = load_scene(write("on.yaml", "imports: [ { file: " + xml + " } ]\n"));
   auto ignored = [&](const Scene& s, const char* x, const char* y) {
     const int i = body(s, x), j = body(s, y);
     const std::pair<int, int> p(std::min(i, j), std::max(i, j));
