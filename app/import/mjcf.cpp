@@ -108,7 +108,7 @@ class MjcfReader {
     for (XMLElement* e = root->FirstChildElement(); e; e = e->NextSiblingElement()) {
       const std::string tag = e->Name();
       if (tag == "compiler" || tag == "default" || tag == "asset" || tag == "worldbody" ||
-          tag == "equality" || tag == "contact")
+          tag == "equality" || tag == "contact" || tag == "actuator")
         continue;
       if (noted.insert(tag).second)
         note(e, "<" + tag + "> is " +
@@ -121,6 +121,8 @@ class MjcfReader {
       equality(q);
     for (XMLElement* q = root->FirstChildElement("contact"); q; q = q->NextSiblingElement("contact"))
       contact(q);
+    for (XMLElement* a = root->FirstChildElement("actuator"); a; a = a->NextSiblingElement("actuator"))
+      actuators(a);
     return std::move(m_);
   }
 
@@ -141,6 +143,7 @@ class MjcfReader {
   std::map<std::string, std::string> textures_;  // name -> resolved file
   std::map<std::string, MjMesh> meshes_;
   std::map<std::string, int> body_index_;
+  std::map<int, double> actuator_cap_;  // joint index: its actuatorfrcrange bound
   std::set<std::string> noted_;
 
   // ---- where things come from
@@ -583,6 +586,11 @@ class MjcfReader {
       else
         j.armature = a;
     }
+    if (auto r = nums(e, "actuatorfrcrange", cls, what); r && r->size() == 2) {
+      const char* l = get(e, "actuatorfrclimited", cls);
+      if (!(l && std::string(l) == "false"))
+        actuator_cap_[(int)m_.joints.size()] = std::max(std::abs((*r)[0]), std::abs((*r)[1]));
+    }
     m_.joints.push_back(j);
   }
 
@@ -713,6 +721,65 @@ class MjcfReader {
     m_.links[link].shapes.push_back(std::move(s));
   }
 
+  // <actuator>: no controller drives them here, but each bounds the force on its joint, which
+  // `hold: true` gives the motor that holds the joint (URDF's <limit effort>): |gear| times the
+  // actuator's force bound, its forcerange, or for a motor (force = ctrl) or a general actuator
+  // without bias (force = gain ctrl) its ctrlrange times the gain; several on one joint add up,
+  // and the joint's actuatorfrcrange caps the sum (MuJoCo's rules). Actuators on tendons, sites
+  // or bodies are notes.
+  void actuators(const XMLElement* a) {
+    static const std::set<std::string> kKinds = {"motor",  "position", "velocity", "general",  "intvelocity",
+                                                 "damper", "cylinder", "muscle",   "adhesion", "plugin"};
+    std::map<std::string, int> joint_of;
+    for (int k = 0; k < (int)m_.joints.size(); ++k) joint_of.emplace(m_.joints[k].name, k);
+    for (const XMLElement* e = a->FirstChildElement(); e; e = e->NextSiblingElement()) {
+      const std::string tag = e->Name();
+      const std::string cls = class_of(e, "");
+      const std::string what = "actuator '" + attr_or(e, "name", tag) + "'";
+      if (!kKinds.count(tag)) {
+        note_once(e, "actuator-" + tag, "<actuator><" + tag + "> is not an actuator simreel knows; ignored");
+        continue;
+      }
+      const char* jn = e->Attribute("joint");
+      if (!jn) {
+        note_once(e, "actuator-transmission",
+                  "actuators on tendons, sites and bodies are not used (simreel bounds a held joint's "
+                  "motor by the actuators on that joint)");
+        continue;
+      }
+      const auto it = joint_of.find(jn);
+      if (it == joint_of.end())
+        fail(e, what, std::string("drives joint '") + jn + "', which the file does not define");
+      // A range is in force when `limited` says so, or (MuJoCo's "auto") when it is given.
+      auto bound = [&](const char* range, const char* limited) -> double {
+        const auto r = nums(e, range, cls, what);
+        const char* l = get(e, limited, cls);
+        if (!r || r->size() != 2 || (l && std::string(l) == "false")) return 0.0;
+        return std::max(std::abs((*r)[0]), std::abs((*r)[1]));
+      };
+      double force = bound("forcerange", "forcelimited");
+      if (force == 0 && (tag == "motor" || tag == "general")) {
+        double gain = 1;
+        if (tag == "general") {
+          const char* bias = get(e, "biastype", cls);
+          const auto g = nums(e, "gainprm", cls, what);
+          if (bias && std::string(bias) != "none") gain = 0;  // a servo: unbounded without forcerange
+          if (g && !g->empty()) gain *= (*g)[0];
+        }
+        force = std::abs(gain) * bound("ctrlrange", "ctrllimited");
+      }
+      const auto gear = nums(e, "gear", cls, what);
+      const double G = gear && !gear->empty() ? std::abs((*gear)[0]) : 1.0;
+      if (force == 0) {
+        note(e, "no force bound (forcerange or ctrlrange): it gives its joint no effort for `hold`", what);
+        continue;
+      }
+      ModelJoint& j = m_.joints[it->second];
+      j.effort += G * force;
+      const auto cap = actuator_cap_.find(it->second);
+      if (cap != actuator_cap_.end()) j.effort = std::min(j.effort, cap->second);
+    }
+  }
   // <contact><exclude body1 body2>: pairs that never collide; <pair> (explicit contacts) is a note.
   void contact(const XMLElement* q) {
     for (const XMLElement* e = q->FirstChildElement(); e; e = e->NextSiblingElement()) {

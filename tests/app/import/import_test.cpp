@@ -429,7 +429,8 @@ TEST(ImportMjcf, SelfCollisionSkipsParentsAndExcludedPairs) {
   <contact><exclude body1="c" body2="d"/></contact>
 </mujoco>
 )");
-  const Scene off = load_scene(write("off.yaml", "imports: [ { file: " + xml + ", self_collision: false } ]\n"));
+  const Scene off =
+      load_scene(write("off.yaml", "imports: [ { file: " + xml + ", self_collision: false } ]\n"));
   const Scene on = load_scene(write("on.yaml", "imports: [ { file: " + xml + " } ]\n"));
   auto ignored = [&](const Scene& s, const char* x, const char* y) {
     const int i = body(s, x), j = body(s, y);
@@ -473,6 +474,44 @@ TEST(ImportMjcf, BallJointRangeAndSpringLoad) {
                                       "</body></worldbody></mujoco>\n"));
   EXPECT_FALSE(wide.joints.at(0).ball_limits);
   EXPECT_TRUE(has(wide.notes, "a ball joint's range of pi or more leaves it free"));
+}
+
+// MJCF actuators bound the force of the motor `hold: true` puts on their joint, by MuJoCo's rules:
+// |gear| times the forcerange, or a motor's ctrlrange (through a default class); several on one
+// joint add up, capped by the joint's actuatorfrcrange. A position servo without forcerange and an
+// actuator on a tendon give none (notes).
+TEST(ImportMjcf, ActuatorsBoundTheHeldJointsMotors) {
+  const std::string xml = write("act.xml", R"(<mujoco>
+  <default><motor ctrlrange="-1 1" ctrllimited="true"/></default>
+  <worldbody><body name="a" pos="0 0 1"><joint name="j1" axis="0 1 0"/><geom size="0.1"/>
+    <body name="b" pos="0 0 -0.3"><joint name="j2" axis="0 1 0" actuatorfrcrange="-5 5"/><geom size="0.1"/>
+      <body name="c" pos="0 0 -0.3"><joint name="j3" axis="0 1 0"/><geom size="0.1"/></body>
+    </body></body></worldbody>
+  <tendon><fixed name="t"><joint joint="j1" coef="1"/></fixed></tendon>
+  <actuator>
+    <motor joint="j1" gear="50"/>
+    <position joint="j2" kp="10" gear="2" forcerange="-3 3"/>
+    <motor joint="j2" gear="1" ctrlrange="-0.5 0.5"/>
+    <position joint="j3" kp="10"/>
+    <motor tendon="t" gear="1"/>
+  </actuator>
+</mujoco>
+)");
+  const Scene s = load_scene(write("act.yaml", "imports: [ { file: " + xml + ", hold: true } ]\n"));
+  auto motor_of = [&](const char* name) -> std::optional<JointMotor> {
+    for (const JointDef& j : s.joints)
+      if (j.name == name) return j.motor;
+    ADD_FAILURE() << "no joint " << name;
+    return std::nullopt;
+  };
+  ASSERT_TRUE(motor_of("j1"));
+  EXPECT_EQ(motor_of("j1")->max_force, 50.0);  // gear 50 x ctrlrange 1 (the default class's)
+  ASSERT_TRUE(motor_of("j2"));
+  EXPECT_EQ(motor_of("j2")->max_force, 5.0);  // 2 x 3 + 1 x 0.5, capped by actuatorfrcrange
+  EXPECT_FALSE(motor_of("j3"));               // a servo with no forcerange: no bound
+  EXPECT_TRUE(has(s.notes, "no force bound (forcerange or ctrlrange)"));
+  EXPECT_TRUE(has(s.notes, "actuators on tendons, sites and bodies are not used"));
+  EXPECT_TRUE(has(s.notes, "joint 'j3': no effort limit: no motor holds it"));
 }
 
 // A hinge's armature is its rotor inertia; a ball joint's is a note.
