@@ -800,11 +800,45 @@ class MjcfReader {
     }
   }
 
+  // <equality><joint joint1 joint2 polycoef>: joint1 = c0 + c1 joint2 (+ c2 joint2^2 ...), from the
+  // reference pose: a coupling of two coordinates, simreel's mimic (joint1 follows joint2 with
+  // multiplier c1 and offset c0). Only the linear part is held; a curve's higher terms are a note,
+  // and joint1 alone (locked at c0) is one too.
+  void joint_equality(const XMLElement* e, const std::string& what) {
+    const char* a = e->Attribute("joint1");
+    const char* b = e->Attribute("joint2");
+    if (!a) fail(e, what, "needs joint1");
+    int ia = -1, ib = -1;
+    for (int k = 0; k < (int)m_.joints.size(); ++k) {
+      if (m_.joints[k].name == a) ia = k;
+      if (b && m_.joints[k].name == b) ib = k;
+    }
+    if (ia < 0 || (b && ib < 0))
+      fail(e, what, std::string("names joint '") + (ia < 0 ? a : b) + "', which the file does not define");
+    if (!b) {
+      note(e, "a joint locked alone (no joint2) is not simulated; ignored", what);
+      return;
+    }
+    std::vector<double> c = {0, 1, 0, 0, 0};
+    if (auto p = nums(e, "polycoef", "main", what))
+      for (size_t k = 0; k < p->size() && k < c.size(); ++k) c[k] = (*p)[k];
+    if (c[2] != 0 || c[3] != 0 || c[4] != 0) note(e, "only the polynomial's linear part is held", what);
+    ModelJoint& j = m_.joints[ia];
+    j.mimic_joint = b;
+    j.mimic_multiplier = c[1];
+    j.mimic_offset = c[0];
+  }
+
   void equality(const XMLElement* q) {
     for (const XMLElement* e = q->FirstChildElement(); e; e = e->NextSiblingElement()) {
       const std::string tag = e->Name();
       const std::string name = attr_or(e, "name", tag + std::to_string(m_.joints.size()));
       const std::string what = "equality " + tag + " '" + name + "'";
+      if (tag == "joint") {
+        if (!(e->Attribute("active") && std::string(e->Attribute("active")) == "false"))
+          joint_equality(e, what);
+        continue;
+      }
       if (tag != "connect" && tag != "weld") {
         note(e, "<" + tag + "> constraints are not simulated; ignored", what);
         continue;

@@ -183,7 +183,9 @@ void place_model(const Model& m, const ImportSpec& spec, Scene& scene, MeshLibra
     const int l = leader_of[k];
     if (l < 0 || l == (int)k || !one(j.kind) || !one(m.joints[l].kind) || !m.joints[l].mimic_joint.empty() ||
         j.mimic_multiplier == 0) {
-      scene.notes.push_back(j.src.str() + ": <mimic joint=\"" + j.mimic_joint + "\"> " +
+      scene.notes.push_back(j.src.str() + ": " +
+                            (m.format == "mjcf" ? "<equality joint> to '" + j.mimic_joint + "' "
+                                                : "<mimic joint=\"" + j.mimic_joint + "\"> ") +
                             (l < 0 ? "names no joint of the file"
                                    : "cannot be held (simreel couples a revolute or "
                                      "prismatic joint to another that mimics none, "

@@ -305,6 +305,47 @@ TEST(Import, UrdfMimicCouplesTheFollowerToItsLeader) {
   EXPECT_FALSE(held.joints[1].motor);
 }
 
+// MJCF's <equality><joint joint1 joint2 polycoef="c0 c1 ...">: joint1 = c0 + c1 joint2, simreel's
+// mimic. Two fingers on slides, the second coupled to the first with c1 = -1 (a parallel gripper):
+// pushed apart by gravity along a tilted rail, they keep q2 = -q1 to 1e-12 m. A quadratic term and
+// a joint locked alone are notes.
+TEST(ImportMjcf, JointEqualityCouplesTwoCoordinates) {
+  const std::string xml = write("grip.xml", R"(<mujoco>
+  <worldbody>
+    <body name="f1" pos="0 0 1"><joint name="s1" type="slide" axis="1 0 1"/><geom size="0.05"/></body>
+    <body name="f2" pos="1 0 1"><joint name="s2" type="slide" axis="1 0 0"/><geom size="0.05" mass="3"/></body>
+    <body name="f3" pos="2 0 1"><joint name="s3" type="slide" axis="0 0 1"/><geom size="0.05"/></body>
+  </worldbody>
+  <equality>
+    <joint joint1="s2" joint2="s1" polycoef="0 -1 0 0 0"/>
+    <joint joint1="s3" joint2="s1" polycoef="0 2 0.5 0 0"/>
+  </equality>
+</mujoco>
+)");
+  const Scene s =
+      load_scene(write("grip.yaml", "imports: [ { file: " + xml + ", self_collision: false } ]\n"));
+  ASSERT_EQ(s.joints.size(), 3u);
+  ASSERT_TRUE(s.joints[1].mimic);
+  EXPECT_EQ(s.joints[1].mimic->leader, 0);
+  EXPECT_EQ(s.joints[1].mimic->multiplier, -1.0);
+  ASSERT_TRUE(s.joints[2].mimic);
+  EXPECT_EQ(s.joints[2].mimic->multiplier, 2.0);  // the linear part
+  EXPECT_TRUE(has(s.notes, "only the polynomial's linear part is held"));
+  World w(world_config(s, 1), s.bodies);
+  double worst = 0;
+  for (int i = 0; i < 120; ++i) {
+    w.step();
+    worst = std::max(worst, std::abs(w.joint_position(1) + w.joint_position(0)));
+  }
+  EXPECT_GT(std::abs(w.joint_position(0)), 0.1);  // it moved (down its tilted rail)
+  EXPECT_LT(worst, 1e-12);
+  const Scene locked =
+      load_scene(write("lock.xml",
+                       "<mujoco><worldbody><body><joint name=\"h\"/><geom size=\"0.1\"/></body></worldbody>"
+                       "<equality><joint joint1=\"h\"/></equality></mujoco>\n"));
+  EXPECT_TRUE(has(locked.notes, "a joint locked alone (no joint2) is not simulated"));
+}
+
 TEST(Import, PathsPackagesAndTolerance) {
   const Scene in_pkg = load_scene(kData + "pkg/my_robot/urdf/box_robot.urdf");
   EXPECT_EQ(in_pkg.bodies.size(), 2u);  // the robot and the ground
