@@ -1582,7 +1582,18 @@ double Articulations::gap(const MotionState* st) const {
     } else {
       worst = std::max(worst, (ac - ap).norm());
     }
+    if (d.mimic && d.type == JointType::prismatic) worst = std::max(worst, coupling_gap((int)j));
   }
+  return worst;
+}
+
+double Articulations::coupling_gap(int j) const {
+  // A mimic's residual q - multiplier q_leader, in the follower's unit (rad or m).
+  const Mechanism& m = mechanisms_[joint_link_[j].first];
+  double worst = 0;
+  for (int t = 0; t < (int)m.tethers.size(); ++t)
+    if (m.tethers[t].joint == j && m.tethers[t].measure == Mechanism::Tether::Measure::coupling)
+      worst = std::max(worst, m.tether_gap(t));
   return worst;
 }
 
@@ -1597,6 +1608,7 @@ double Articulations::angular_gap(const MotionState* st) const {
       continue;
     }
     if (d.type != JointType::revolute && d.type != JointType::prismatic) continue;
+    if (d.mimic && d.type == JointType::revolute) worst = std::max(worst, coupling_gap((int)j));
     const Side& s = sides_[j];
     const bool moving_parent = d.parent >= 0 && jointed(d.parent);
     const Vec3 a = moving_parent ? Vec3(st[d.parent].q_WP * s.a_p) : s.a_p;

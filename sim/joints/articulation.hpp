@@ -449,8 +449,10 @@ class Articulations {
   double position(int j, int k = 0) const;
   double speed(int j, int k = 0) const;
   // The largest gap between the two anchor points of any joint (m), and the largest angle between
-  // the two sides' axes (rad; hinge axes, slider directions, welds), read from the bodies' states.
+  // the two sides' axes (rad; hinge axes, slider directions, welds), read from the bodies' states;
+  // a mimic's residual counts in its follower's unit, a ball joint's overshoot of a stop as an angle.
   double gap(const MotionState* st) const;
+  double coupling_gap(int j) const;  ///< joint j's mimic residual |q - multiplier q_leader|
   /// J, what the joints' springs store now: k (q - rest)^2 / 2 per sprung coordinate, and
   /// k (L - rest)^2 / 2 per sprung distance joint (from the poses of the last frame).
   double spring_energy() const;
