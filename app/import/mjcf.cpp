@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <map>
 #include <numbers>
@@ -375,12 +376,35 @@ class MjcfReader {
           for (size_t i = 0; i + 2 < v->size(); i += 3) pts.emplace_back((*v)[i], (*v)[i + 1], (*v)[i + 2]);
           if (auto s = vec<3>(e, "scale", cls, "mesh"))
             for (Vec3& p : pts) p = p.cwiseProduct(*s);
-          if (e->Attribute("face"))
-            note(e, "faces are not read: the mesh is the convex hull of its vertices", "mesh '" + name + "'");
-          try {
-            mesh.inline_mesh = std::make_shared<const TriangleMesh>(convex_hull(pts));
-          } catch (const InputError& err) {
-            fail(e, "mesh '" + name + "'", err.what());
+          if (auto f = nums(e, "face", cls, "mesh '" + name + "'")) {
+            // Its own triangles (counter-clockwise from outside, as MuJoCo's): drawn and weighed as
+            // the mesh they make; a moving body collides with their convex hull, as MuJoCo's does.
+            if (f->empty() || f->size() % 3 != 0)
+              fail(e, "mesh '" + name + "'", "face needs vertex indices in threes");
+            TriangleMesh tm;
+            tm.vertices = pts;
+            for (size_t i = 0; i + 2 < f->size(); i += 3) {
+              std::array<int, 3> t;
+              for (int k = 0; k < 3; ++k) {
+                const double x = (*f)[i + k];
+                if (x != std::floor(x) || x < 0 || x >= (double)pts.size()) {
+                  char num[32];
+                  std::snprintf(num, sizeof num, "%g", x);
+                  fail(e, "mesh '" + name + "'",
+                       std::string("face index ") + num + " is not a vertex (0 to " +
+                           std::to_string(pts.size() - 1) + ")");
+                }
+                t[k] = (int)x;
+              }
+              tm.triangles.push_back(t);
+            }
+            mesh.inline_mesh = std::make_shared<const TriangleMesh>(std::move(tm));
+          } else {
+            try {
+              mesh.inline_mesh = std::make_shared<const TriangleMesh>(convex_hull(pts));
+            } catch (const InputError& err) {
+              fail(e, "mesh '" + name + "'", err.what());
+            }
           }
         } else {
           note(e, "a mesh with neither file nor vertex is left out", "mesh '" + name + "'");

@@ -77,7 +77,14 @@ Collider shape_collider(const ModelShape& s, const Pose& pose, MeshLibrary& mesh
     if (weigh) {
       MeshMassOptions opt;
       opt.density = 1.0;
-      c.props_C = analyze_mesh(*s.inline_mesh, opt).props;
+      try {
+        c.props_C = analyze_mesh(*s.inline_mesh, opt).props;
+      } catch (const InputError& e) {  // faces that close no solid
+        opt.mode = MassMode::hull;
+        c.props_C = analyze_mesh(*s.inline_mesh, opt).props;
+        notes.push_back(s.src.str() + ": its mesh's faces are not a closed solid (" + e.what() +
+                        "); weighed as their convex hull");
+      }
     }
   } else if (s.kind == K::mesh) {
     c.mesh = meshes.surface(s.mesh_file, s.scale);

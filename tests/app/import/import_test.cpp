@@ -346,6 +346,31 @@ TEST(ImportMjcf, JointEqualityCouplesTwoCoordinates) {
   EXPECT_TRUE(has(locked.notes, "a joint locked alone (no joint2) is not simulated"));
 }
 
+// An inline MJCF mesh with faces is the mesh they make: an L-shaped prism (3 unit squares by
+// 0.5 m, 1.5 m^3) weighs 1500 kg at 1000 kg/m^3, not its convex hull's 1750; without faces, the
+// vertices' hull. A face naming no vertex is an error at its line.
+TEST(ImportMjcf, InlineMeshFacesAreTheSolid) {
+  const std::string v = "0 0 0 2 0 0 2 0 1 1 0 1 1 0 2 0 0 2 0 0.5 0 2 0.5 0 2 0.5 1 1 0.5 1 1 0.5 2 0 0.5 2";
+  const std::string f =
+      "3 4 5 9 11 10 3 5 0 9 6 11 3 0 1 9 7 6 3 1 2 9 8 7 0 7 1 0 6 7 1 8 2 1 7 8 2 9 3 2 8 9 3 10 4 3 9 10 "
+      "4 "
+      "11 5 4 10 11 5 6 0 5 11 6";
+  auto mass = [&](const std::string& mesh) {
+    const Scene s =
+        load_scene(write("l.xml", "<mujoco><asset>" + mesh +
+                                      "</asset><worldbody><body name=\"b\" pos=\"0 0 3\"><freejoint/>"
+                                      "<geom type=\"mesh\" mesh=\"L\" density=\"1000\"/></body>"
+                                      "</worldbody></mujoco>\n"));
+    World w(world_config(s, 1), s.bodies);
+    return w.mass(body(s, "b"));
+  };
+  EXPECT_NEAR(mass("<mesh name=\"L\" vertex=\"" + v + "\" face=\"" + f + "\"/>"), 1500.0, 1e-9);
+  EXPECT_NEAR(mass("<mesh name=\"L\" vertex=\"" + v + "\"/>"), 1750.0, 1e-9);
+  const std::string e = error_of(write("bad.xml", "<mujoco><asset><mesh name=\"L\" vertex=\"" + v +
+                                                      "\" face=\"0 1 12\"/></asset><worldbody/></mujoco>\n"));
+  EXPECT_NE(e.find("bad.xml:1: mesh 'L': face index 12 is not a vertex (0 to 11)"), std::string::npos) << e;
+}
+
 TEST(Import, PathsPackagesAndTolerance) {
   const Scene in_pkg = load_scene(kData + "pkg/my_robot/urdf/box_robot.urdf");
   EXPECT_EQ(in_pkg.bodies.size(), 2u);  // the robot and the ground
