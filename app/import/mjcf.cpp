@@ -145,6 +145,12 @@ class MjcfReader {
   std::map<std::string, MjMesh> meshes_;
   std::map<std::string, int> body_index_;
   std::map<int, double> actuator_cap_;  // joint index: its actuatorfrcrange bound
+  std::vector<int> link_parent_;        // per link: the link it hangs from (-1: the world)
+  struct Site {
+    int link = -1;
+    Pose pose;  // in the link's frame
+  };
+  std::map<std::string, Site> sites_;
   std::set<std::string> noted_;
 
   // ---- where things come from
@@ -444,7 +450,8 @@ class MjcfReader {
   }
 
   // ---- bodies
-  int add_link(const std::string& name, const XMLElement* e, const Pose& pose) {
+  int add_link(const std::string& name, const XMLElement* e, const Pose& pose, int parent) {
+    link_parent_.push_back(parent);
     ModelLink l;
     l.name = name;
     l.pose = pose;
@@ -460,7 +467,7 @@ class MjcfReader {
       const std::string tag = e->Name();
       if (tag == "geom") {
         if (world_link < 0) {
-          world_link = add_link("world", w, Pose{});
+          world_link = add_link("world", w, Pose{}, -1);
           m_.links[world_link].name = "world";
           ModelJoint j;  // welded to the world
           j.name = "world";
@@ -472,6 +479,8 @@ class MjcfReader {
         geom(e, world_link, "");
       } else if (tag == "body") {
         body(e, -1, "");
+      } else if (tag == "site") {
+        site(e, -1, "");  // a point of the world
       } else {
         note_once(e, "world-" + tag, "<" + tag + "> is not used by simreel; ignored");
       }
@@ -515,13 +524,13 @@ class MjcfReader {
     Pose rel = pose;
     std::vector<int> helpers;
     for (size_t k = 0; k + 1 < joints.size(); ++k) {
-      const int h = add_link(name + "#" + std::to_string(k + 1), e, rel);
+      const int h = add_link(name + "#" + std::to_string(k + 1), e, rel, prev);
       helpers.push_back(h);
       joint(joints[k], prev, h, childclass);
       prev = h;
       rel = Pose{};
     }
-    const int self = add_link(name, e, rel);
+    const int self = add_link(name, e, rel, prev);
     body_index_[name] = self;
     for (int h : helpers) m_.links[h].helper_of = self;
     if (!joints.empty()) {
@@ -545,9 +554,25 @@ class MjcfReader {
         body(c, self, childclass);
       else if (tag == "joint" || tag == "freejoint")
         continue;
+      else if (tag == "site")
+        site(c, self, childclass);
       else
         note_once(c, "body-" + tag, "<" + tag + "> is not used by simreel; ignored");
     }
+  }
+
+  // A site: a named frame on a body (equality constraints may join two). Sites have no physics.
+  void site(const XMLElement* e, int link, const std::string& childclass) {
+    const char* n = e->Attribute("name");
+    if (!n) return;  // nothing can name it
+    const std::string cls = class_of(e, childclass);
+    sites_[n] = {link, frame(e, cls, std::string("site '") + n + "'")};
+  }
+  // A link's frame in the world at the start (the poses compose from the root).
+  Pose world_pose(int link) const {
+    Pose x;
+    for (int l = link; l >= 0; l = link_parent_[l]) x = m_.links[l].pose * x;
+    return x;
   }
 
   void joint(const XMLElement* e, int parent, int child, const std::string& childclass) {
@@ -885,19 +910,53 @@ class MjcfReader {
         }
         return it->second;
       };
-      if (e->Attribute("site1") || e->Attribute("site2")) {
-        note(e, "site-based equality constraints are not read; ignored", what);
-        continue;
-      }
-      const int b1 = body_of("body1", false), b2 = body_of("body2", true);
       ModelJoint j;
       j.name = name;
       j.loop = true;
       j.src = src(e, what);
+      j.kind = tag == "connect" ? ModelJoint::Kind::spherical : ModelJoint::Kind::fixed;
+      if (e->Attribute("site1") || e->Attribute("site2")) {
+        // Two sites held together: connect, their origins; weld, their frames. Held as they are
+        // at the start: sites apart there stay apart (MuJoCo's soft constraint would pull them
+        // together), with a note.
+        auto site_of = [&](const char* key) -> const Site& {
+          const char* n = e->Attribute(key);
+          if (!n) fail(e, what, std::string("needs ") + key + " (site1 and site2 together)");
+          const auto it = sites_.find(n);
+          if (it == sites_.end()) {
+            std::vector<std::string> names;
+            for (const auto& [k, v] : sites_) names.push_back(k);
+            std::string msg = std::string(key) + " names site '" + n + "', which the file does not define";
+            if (auto sn = nearest_name(n, names)) msg += "; did you mean '" + *sn + "'?";
+            fail(e, what, msg);
+          }
+          return it->second;
+        };
+        const Site& s1 = site_of("site1");
+        const Site& s2 = site_of("site2");
+        if (s1.link == s2.link) {
+          note(e, "both sites are on one body; nothing to hold", what);
+          continue;
+        }
+        const Pose w1 = world_pose(s1.link) * s1.pose, w2 = world_pose(s2.link) * s2.pose;
+        const double apart = (w1.p - w2.p).norm();
+        if (apart > 1e-6 || (tag == "weld" && w1.q.angularDistance(w2.q) > 1e-6))
+          note(e, "its sites are apart at the start (" + std::to_string(apart) + " m): held as they are",
+               what);
+        j.child = s1.link;
+        j.parent = s2.link;
+        j.anchor = s1.pose.p;
+        if (j.child < 0) {
+          std::swap(j.child, j.parent);
+          j.anchor = s2.pose.p;
+        }
+        m_.joints.push_back(j);
+        continue;
+      }
+      const int b1 = body_of("body1", false), b2 = body_of("body2", true);
       // simreel's child: body1 (the anchor is in its frame); the other body or the world the parent.
       j.child = b1;
       j.parent = b2;
-      j.kind = tag == "connect" ? ModelJoint::Kind::spherical : ModelJoint::Kind::fixed;
       if (auto a = vec<3>(e, "anchor", "main", what))
         j.anchor = *a;
       else if (tag == "connect")
