@@ -569,8 +569,8 @@ void place_model(const Model& m, const ImportSpec& spec, Scene& scene, MeshLibra
   // Each format's own default: a URDF model's links collide with the world, not with each other
   // (PyBullet's default: meshes of neighbouring links often overlap where they are joined); an
   // MJCF model's collide by MuJoCo's rule, every pair but those the file excludes (<contact>
-  // <exclude>) and a body and its parent (the humanoid falling then gains at most 0.02 J a frame,
-  // the soft contacts' push-out).
+  // <exclude>) and a body and its parent (the humanoid falling then gains at most 0.02 J in any
+  // frame).
   const int last = (int)scene.bodies.size();
   const bool self = spec.self_collision.value_or(m.format == "mjcf");
   if (!self) {
