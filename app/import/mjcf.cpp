@@ -165,6 +165,21 @@ class MjcfReader {
   [[noreturn]] void fail(const XMLElement* e, const std::string& what, const std::string& msg) const {
     throw InputError(src(e, what).str() + ": " + msg);
   }
+  // The entry `n` of a name map (bodies, sites), or an error naming the attribute `key` and the
+  // nearest name the file defines.
+  template <class Map>
+  const typename Map::mapped_type& named(const XMLElement* e, const std::string& what, const Map& m,
+                                         const char* key, const char* n, const char* kind) const {
+    const auto it = m.find(n);
+    if (it == m.end()) {
+      std::vector<std::string> names;
+      for (const auto& [k, v] : m) names.push_back(k);
+      std::string msg = std::string(key) + " names " + kind + " '" + n + "', which the file does not define";
+      if (auto sn = nearest_name(n, names)) msg += "; did you mean '" + *sn + "'?";
+      fail(e, what, msg);
+    }
+    return it->second;
+  }
   void note(const XMLElement* e, const std::string& msg, const std::string& what = "") {
     m_.notes.push_back(src(e, what).str() + ": " + msg);
   }
@@ -900,15 +915,7 @@ class MjcfReader {
           fail(e, what, std::string("needs ") + key);
         }
         if (std::string(n) == "world") return -1;
-        const auto it = body_index_.find(n);
-        if (it == body_index_.end()) {
-          std::vector<std::string> names;
-          for (const auto& [k, v] : body_index_) names.push_back(k);
-          std::string msg = std::string(key) + " names body '" + n + "', which the file does not define";
-          if (auto s = nearest_name(n, names)) msg += "; did you mean '" + *s + "'?";
-          fail(e, what, msg);
-        }
-        return it->second;
+        return named(e, what, body_index_, key, n, "body");
       };
       ModelJoint j;
       j.name = name;
@@ -922,15 +929,7 @@ class MjcfReader {
         auto site_of = [&](const char* key) -> const Site& {
           const char* n = e->Attribute(key);
           if (!n) fail(e, what, std::string("needs ") + key + " (site1 and site2 together)");
-          const auto it = sites_.find(n);
-          if (it == sites_.end()) {
-            std::vector<std::string> names;
-            for (const auto& [k, v] : sites_) names.push_back(k);
-            std::string msg = std::string(key) + " names site '" + n + "', which the file does not define";
-            if (auto sn = nearest_name(n, names)) msg += "; did you mean '" + *sn + "'?";
-            fail(e, what, msg);
-          }
-          return it->second;
+          return named(e, what, sites_, key, n, "site");
         };
         const Site& s1 = site_of("site1");
         const Site& s2 = site_of("site2");
