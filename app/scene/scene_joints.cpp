@@ -122,68 +122,20 @@ BallLimits load_ball_limits(const YAML::Node& l, const Ctx& c) {
   return out;
 }
 
-// A ball joint's motor: `{ speed: [wx, wy, wz], max_torque }` (rad/s, the child's axes) or
-// `{ position: [rx, ry, rz], max_torque, speed, time_constant }` (a rotation vector, rad; speed
-// caps the approach rate's length).
-JointMotor load_ball_motor(const YAML::Node& m, const Ctx& c) {
-  if (!m.IsMap())
-    c.fail(m,
-           "expected { speed: [wx, wy, wz], max_torque: N m } or { position: [rx, ry, rz], max_torque: "
-           "N m }, got " +
-               show(m));
-  check_keys(m, c, {"speed", "position", "time_constant", "max_torque", "max_force"});
-  if (m["max_force"])
-    c.child("max_force")
-        .fail(m["max_force"],
-              "a spherical joint's motor takes 'max_torque' (N m, about each axis), not 'max_force'");
-  if (!m["max_torque"])
-    c.fail(m, "a motor needs 'max_torque' (N m, > 0): the most it may push with about each axis");
-  JointMotor out;
-  out.max_force = positive(m["max_torque"], c.child("max_torque"));
-  if (m["position"]) {
-    out.mode = JointMotor::Mode::position;
-    const Ctx pc = c.child("position");
-    if (!m["position"].IsSequence())
-      pc.fail(m["position"],
-              "a ball joint's target is a rotation vector [rx, ry, rz] (rad: axis times angle), got " +
-                  show(m["position"]));
-    out.rotation = vec<3>(m["position"], pc);
-    if (!(out.rotation.norm() < std::numbers::pi))
-      pc.fail(m["position"], "a rotation vector's length is its angle, under pi rad");
-    out.speed = m["speed"] ? positive(m["speed"], c.child("speed")) : std::numeric_limits<double>::infinity();
-    if (m["time_constant"]) out.time_constant = positive(m["time_constant"], c.child("time_constant"));
-  } else if (m["speed"]) {
-    out.mode = JointMotor::Mode::speed;
-    const Ctx sc = c.child("speed");
-    if (!m["speed"].IsSequence())
-      sc.fail(m["speed"], "a ball joint's target speed is an angular velocity [wx, wy, wz] (rad/s), got " +
-                              show(m["speed"]));
-    out.angular_velocity = vec<3>(m["speed"], sc);
-    if (m["time_constant"])
-      c.child("time_constant")
-          .fail(m["time_constant"],
-                "is for a position motor (with 'position'); a speed motor holds its speed");
-  } else {
-    c.fail(m,
-           "a motor needs 'speed' (an angular velocity [wx, wy, wz], rad/s) or 'position' (a rotation "
-           "vector [rx, ry, rz], rad)");
-  }
-  return out;
-}
-
 // `motor: { speed, max_torque }` or `{ position, max_torque, speed, time_constant }` (max_force on
-// a slider).
+// a slider). On a ball joint the targets are vectors: `speed: [wx, wy, wz]` (rad/s, the child's
+// axes) or `position: [rx, ry, rz]` (a rotation vector, rad), and `speed` with a position caps the
+// approach rate's length.
 JointMotor load_motor(const YAML::Node& m, const Ctx& c, JointType type) {
-  if (type == JointType::spherical) return load_ball_motor(m, c);
   if (type == JointType::fixed) c.fail(m, "a fixed joint has no coordinate for a motor");
   const bool slider = type == JointType::prismatic;  // a wheel's motor drives its axle: N m
+  const bool ball = type == JointType::spherical;
   const char* max_key = slider ? "max_force" : "max_torque";
   const char* wrong_key = slider ? "max_torque" : "max_force";
-  const std::string force_unit = slider ? "N" : "N m";
-  const std::string rate_unit = slider ? "m/s" : "rad/s";
-  const std::string pos_unit = slider ? "m" : "rad";
+  const std::string force_unit = slider ? "N" : ball ? "N m, about each axis" : "N m";
+  const std::string rate = ball ? "[wx, wy, wz]" : "RATE", target = ball ? "[rx, ry, rz]" : "TARGET";
   if (!m.IsMap())
-    c.fail(m, std::string("expected { speed: RATE, ") + max_key + ": MAX } or { position: TARGET, " +
+    c.fail(m, "expected { speed: " + rate + ", " + max_key + ": MAX } or { position: " + target + ", " +
                   max_key + ": MAX }, got " + show(m));
   check_keys(m, c, {"speed", "position", "time_constant", "max_torque", "max_force"});
   if (m[wrong_key])
@@ -197,19 +149,40 @@ JointMotor load_motor(const YAML::Node& m, const Ctx& c, JointType type) {
   out.max_force = positive(m[max_key], c.child(max_key));
   if (m["position"]) {
     out.mode = JointMotor::Mode::position;
-    out.position = number(m["position"], c.child("position"));
+    const Ctx pc = c.child("position");
+    if (ball) {
+      if (!m["position"].IsSequence())
+        pc.fail(m["position"],
+                "a ball joint's target is a rotation vector [rx, ry, rz] (rad: axis times angle), got " +
+                    show(m["position"]));
+      out.rotation = vec<3>(m["position"], pc);
+      if (!(out.rotation.norm() < std::numbers::pi))
+        pc.fail(m["position"], "a rotation vector's length is its angle, under pi rad");
+    } else {
+      out.position = number(m["position"], pc);
+    }
     out.speed = m["speed"] ? positive(m["speed"], c.child("speed")) : std::numeric_limits<double>::infinity();
     if (m["time_constant"]) out.time_constant = positive(m["time_constant"], c.child("time_constant"));
   } else if (m["speed"]) {
     out.mode = JointMotor::Mode::speed;
-    out.speed = number(m["speed"], c.child("speed"));
+    const Ctx sc = c.child("speed");
+    if (ball) {
+      if (!m["speed"].IsSequence())
+        sc.fail(m["speed"], "a ball joint's target speed is an angular velocity [wx, wy, wz] (rad/s), got " +
+                                show(m["speed"]));
+      out.angular_velocity = vec<3>(m["speed"], sc);
+    } else {
+      out.speed = number(m["speed"], sc);
+    }
     if (m["time_constant"])
       c.child("time_constant")
           .fail(m["time_constant"],
                 "is for a position motor (with 'position'); a speed motor holds its speed");
   } else {
-    c.fail(m, "a motor needs 'speed' (a target rate, " + rate_unit + ") or 'position' (a target, " +
-                  pos_unit + ")");
+    c.fail(m, ball ? std::string("a motor needs 'speed' (an angular velocity [wx, wy, wz], rad/s) or "
+                                 "'position' (a rotation vector [rx, ry, rz], rad)")
+                   : "a motor needs 'speed' (a target rate, " + std::string(slider ? "m/s" : "rad/s") +
+                         ") or 'position' (a target, " + (slider ? "m" : "rad") + ")");
   }
   return out;
 }

@@ -540,15 +540,15 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
       // The parent's motion relative to the child about (along) the axis by q is the child's
       // about (along) the reversed axis by q: the coordinate keeps the meaning the joint gave it.
       if (d.type == JointType::revolute || d.type == JointType::prismatic) d.axis_W = -d.axis_W;
-      // A ball joint's twist of the parent relative to the child is minus the child's (its
-      // quaternion's vector part changes sign): the stops swap and change sign. Its swing, whole
-      // angle and spring are the same either way.
-      // Its motor's target turns the other way: minus the angular velocity, the inverse rotation
-      // (whose rotation vector is minus the same axis-angle, in either body's axes).
+      // A ball joint's motor target turns the other way: minus the angular velocity, the inverse
+      // rotation (whose rotation vector is minus the same axis-angle, in either body's axes).
       if (d.type == JointType::spherical && d.motor) {
         d.motor->angular_velocity = -d.motor->angular_velocity;
         d.motor->rotation = -d.motor->rotation;
       }
+      // Its twist of the parent relative to the child is minus the child's (its quaternion's
+      // vector part changes sign): the stops swap and change sign. Its swing, whole angle and
+      // spring are the same either way.
       if (d.ball_limits) {
         BallLimits& B = *d.ball_limits;
         const double lower = B.twist_lower;

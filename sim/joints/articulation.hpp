@@ -61,6 +61,10 @@ struct Link {
   int dof_index = -1;                           ///< its Mechanism::Dof (limits, motor, friction), or -1
 };
 
+// The rotation vector (axis times angle, rad; the angle in [0, pi]) of a rotation: a ball joint's
+// spring stretch and its position motor's rotation still to go (sim/joints/ball_limits.cpp).
+Vec3 rotation_vector(Quat r);
+
 class Mechanism {
  public:
   std::vector<Link> links;  ///< parents before children
@@ -283,14 +287,14 @@ class Mechanism {
   double frame_time = 0;  ///< s, the time at the start of the frame step (Articulations::set_time)
 
   long steps_taken = 0, steps_rejected = 0;  ///< internal steps over the run
-  bool exceeded = false;           ///< a frame step needed more internal steps than JointSettings::max_steps
-  bool contact_stepped = false;    ///< this frame step was taken by the contact solver (ArticulatedContacts)
-  void contact_inverse_inertia();  ///< P_ at the current kinematics and held rows (contact_begin)
-  bool held_rows_changed();        ///< the held rows differ from the last call's (held_ updated)
-  std::vector<char> held_;         ///< per Dof and tether: held at the last held_rows_changed()
-  bool asleep = false;             ///< its bodies sleep (the World's islands): not stepped
+  bool exceeded = false;         ///< a frame step needed more internal steps than JointSettings::max_steps
+  bool contact_stepped = false;  ///< this frame step was taken by the contact solver (ArticulatedContacts)
+  bool asleep = false;           ///< its bodies sleep (the World's islands): not stepped
 
  private:
+  void contact_inverse_inertia();    ///< P_ at the current kinematics and held rows (contact_begin)
+  bool held_rows_changed();          ///< the held rows differ from the last call's (held_ updated)
+  std::vector<char> held_;           ///< per Dof and tether: held at the last held_rows_changed()
   void kinematics(const double* q);  ///< X_, R_W_ for every link at q
   // Loop rows at the current kinematics: positions C(q); velocities for link velocities V (link
   // frames); accelerations for V and true link accelerations A. out has loop_rows entries.

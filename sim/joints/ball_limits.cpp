@@ -162,13 +162,16 @@ double Mechanism::ball_readout(const Tether& t, double* rate) const {
   return measure_angle(t, R);
 }
 
-Vec3 Mechanism::ball_rotation_vector(const Link& l, const double* q) {
-  Quat r(q[l.iq], q[l.iq + 1], q[l.iq + 2], q[l.iq + 3]);
+Vec3 rotation_vector(Quat r) {
   r.normalize();
   if (r.w() < 0) r.coeffs() = -r.coeffs();
   const double sn = r.vec().norm();
   // angle = 2 atan2(|v|, s); near 0 the ratio angle / |v| tends to 2 / s.
   return sn < 1e-300 ? Vec3::Zero() : Vec3((2 * std::atan2(sn, r.w()) / sn) * r.vec());
+}
+
+Vec3 Mechanism::ball_rotation_vector(const Link& l, const double* q) {
+  return rotation_vector(Quat(q[l.iq], q[l.iq + 1], q[l.iq + 2], q[l.iq + 3]));
 }
 
 }  // namespace simreel

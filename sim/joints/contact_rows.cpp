@@ -118,8 +118,7 @@ bool Mechanism::contact_positions(double hs, const Vec3& g) {
   }
   kinematics(y0_.data());
   if (!held_rows_changed()) return false;
-  contact_inverse_inertia();
-  kinematics(y0_.data());  // the poses the contact rows read (the factorisation may leave others)
+  contact_inverse_inertia();  // at the poses just computed, which the contact rows read too
   return true;
 }
 

@@ -50,10 +50,7 @@ namespace {
 // with its length capped at `speed`.
 Vec3 ball_error(const Mechanism::Dof& d, const double* q) {
   const Quat Q = Quat(q[d.iq], q[d.iq + 1], q[d.iq + 2], q[d.iq + 3]).normalized();
-  Quat E = Q.conjugate() * d.target;
-  if (E.w() < 0) E.coeffs() = -E.coeffs();  // the shorter way round
-  const double sn = E.vec().norm();
-  return sn < 1e-300 ? Vec3::Zero() : Vec3((2 * std::atan2(sn, E.w()) / sn) * E.vec());
+  return rotation_vector(Q.conjugate() * d.target);  // the shorter way round
 }
 Vec3 ball_target(const Mechanism::Dof& d, const Vec3& e) {
   const double n = e.norm();
