@@ -209,7 +209,7 @@ bool AabbTree::rebuild() {
   if (leaves_ < 3) return false;
   build_.clear();
   for (int i = 0; i < (int)nodes_.size(); ++i)
-    if (nodes_[i].height == 0) build_.push_back({i, nodes_[i].box.lo + nodes_[i].box.hi});
+    if (nodes_[i].height == 0) build_.push_back({nodes_[i].box, nodes_[i].box.lo + nodes_[i].box.hi, i});
   remap_.assign(nodes_.size(), -1);
   fresh_.clear();
   fresh_.reserve(2 * build_.size());
@@ -251,7 +251,7 @@ int AabbTree::build(int begin, int end, int parent) {
     for (int i = begin; i < end; ++i) {
       const int k = bin(build_[i]);
       ++count[k];
-      box[k] = merge(box[k], nodes_[build_[i].leaf].box);
+      box[k] = merge(box[k], build_[i].box);
     }
     // Cost of splitting after bin k: (area of the left boxes) x (their count) + the same right.
     double left_cost[kBins];

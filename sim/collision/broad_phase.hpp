@@ -80,9 +80,12 @@ class AabbTree {
   std::vector<Node> nodes_;
   int root_ = -1, free_ = -1, leaves_ = 0;
   mutable std::vector<int> stack_;
+  // A leaf's box travels with it through the build's partitions: reading it through the leaf's
+  // id was a random access per leaf and level, most of the rebuild's time among 100,000 leaves.
   struct BuildItem {
-    int leaf;
+    Aabb box;
     Vec3 c;  ///< the box's centre, doubled
+    int leaf;
   };
   std::vector<BuildItem> build_;
   std::vector<int> remap_;
@@ -133,7 +136,7 @@ class BroadPhase {
   // fat box, which then reaches kDriftSteps steps ahead along it. Shapes only: never changes
   // the pairs. nullptr: fat boxes grow alike on every side.
   void set_drift(const std::vector<Vec3>* drift) { drift_ = drift; }
-  static constexpr double kDriftSteps = 8;
+  static constexpr double kDriftSteps = 32;
   size_t candidates() const { return candidates_.size() + dormant_.size(); }  ///< live and dormant
   // f(shape) for every shape whose fat box overlaps `box`: a superset of the shapes whose box of
   // the last update does (every box lies in its fat box).
@@ -176,7 +179,9 @@ class BroadPhase {
 // its fat box; and on the side it moves toward, as far as it moves in kDriftSteps steps (`ahead`),
 // so a moving shape keeps its fat box for several steps without the box swelling toward the
 // neighbours behind or beside it (Bullet's dbvt prediction). Among 10,000 boxes falling from rest
-// for 1000 steps, 51% of body-steps left the isotropic fat box.
+// for 1000 steps, 51% of body-steps left the isotropic fat box, 9.5% one reaching 8 steps ahead
+// and 3.3% one reaching 32 (each exit is a tree walk and a query that miss the cache once the
+// tree outgrows it); a shape at rest has no lead, so piles keep their pairs.
 inline Aabb fatten(const Aabb& b, const Vec3& ahead = Vec3::Zero()) {
   const double m = std::max(1e-3, 0.1 * (b.hi - b.lo).maxCoeff());
   return Aabb{b.lo - Vec3::Constant(m) + ahead.cwiseMin(0.0), b.hi + Vec3::Constant(m) + ahead.cwiseMax(0.0)};
@@ -261,9 +266,13 @@ void BroadPhase::update(const std::vector<Aabb>& boxes, const std::vector<int>& 
     for (int s : active) {
       if (contains(fat_[s], boxes[s])) continue;
       fat_[s] = drift_ ? fatten(boxes[s], kDriftSteps * (*drift_)[s]) : fatten(boxes[s]);
-      tree_.enlarge(leaf_[s], fat_[s]);
       moved_.push_back(s);
     }
+    // In the tree's order (leaves are laid out depth first at each rebuild, so near in space):
+    // consecutive enlargements and queries then walk the same upper nodes while they are still
+    // in the cache. The pairs found do not depend on the order.
+    std::sort(moved_.begin(), moved_.end(), [&](int a, int b) { return leaf_[a] < leaf_[b]; });
+    for (int s : moved_) tree_.enlarge(leaf_[s], fat_[s]);
     moves_since_rebuild_ += (long)moved_.size();
   }
   // Rebuilt once the moves since the last build reach the number of leaves (and when made from

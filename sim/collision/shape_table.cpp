@@ -62,6 +62,7 @@ ShapeTable::ShapeTable(const std::vector<BodyDef>& defs, const std::vector<BodyM
       r.collider = k;
       r.R_PC = (q_PB * c.q_BC).toRotationMatrix();
       r.p_PC = q_PB * (c.p_BC - m.c_B);
+      r.classify();
       r.friction = c.friction;
       r.restitution = c.restitution;
       r.group = c.group;
@@ -149,6 +150,25 @@ double rounding_radius(const CollideShape& g) {
     default:
       return 0;
   }
+}
+
+void ShapeRecord::classify() {
+  centred = p_PC == Vec3::Zero();
+  int8_t p[3] = {0, 0, 0};
+  for (int j = 0; j < 3; ++j) {
+    int nonzero = 0;
+    for (int i = 0; i < 3; ++i) {
+      if (R_PC(i, j) == 0) continue;
+      ++nonzero;
+      if (R_PC(i, j) == 1) p[j] = (int8_t)(1 + i);
+      if (R_PC(i, j) == -1) p[j] = (int8_t)(-1 - i);
+    }
+    if (nonzero != 1 || p[j] == 0) {
+      perm[0] = perm[1] = perm[2] = 0;
+      return;
+    }
+  }
+  for (int j = 0; j < 3; ++j) perm[j] = p[j];
 }
 
 Aabb ShapeTable::bounds(const CollideShape& g, const Pose& x) {

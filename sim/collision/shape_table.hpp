@@ -4,6 +4,7 @@
 // frame P (the frame the state integrates: origin at the centre of mass), the contact material
 // and the collision filter. Mass-only colliders (`collide: false`) have no record.
 #pragma once
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -23,6 +24,14 @@ struct ShapeRecord {
   double friction = 0.6;         ///< Coulomb coefficient
   double restitution = 0;        ///< [0, 1]
   uint32_t group = 1, mask = ~0u;
+  // R_PC as a signed permutation (most shapes: a box's or a primitive's principal axes are its own,
+  // up to order and sign): perm[j] = +-(1 + i) when column j of R_PC is +-e_i, else all 0; and
+  // whether p_PC is zero. world_pose then picks columns instead of multiplying, with the same
+  // values (each product term but one is an exact zero): the 3x3 product was 9% of a step among
+  // 100,000 falling boxes. Set by classify() after R_PC and p_PC.
+  int8_t perm[3] = {0, 0, 0};
+  bool centred = false;
+  void classify();
 };
 
 // World-frame axis-aligned box.
@@ -52,8 +61,13 @@ class ShapeTable {
   static Pose world_pose(const ShapeRecord& s, const MotionState& st) {
     Pose x;
     const Mat3 R_WP = st.q_WP.toRotationMatrix();
-    x.R = R_WP * s.R_PC;
-    x.p = st.x_W + R_WP * s.p_PC;
+    if (s.perm[0] != 0) {
+      for (int j = 0; j < 3; ++j)
+        x.R.col(j) = s.perm[j] > 0 ? Vec3(R_WP.col(s.perm[j] - 1)) : Vec3(-R_WP.col(-s.perm[j] - 1));
+    } else {
+      x.R = R_WP * s.R_PC;
+    }
+    x.p = s.centred ? st.x_W : Vec3(st.x_W + R_WP * s.p_PC);
     return x;
   }
   // Tight world box of a (non-plane) shape at pose x.

@@ -45,6 +45,7 @@ void WorldImpl::init_contacts() {
   drift_.assign(st.size(), Vec3::Zero());
   broad_.set_drift(&drift_);
   poses_.assign(st.size(), Pose{});
+  pose_step_.assign(st.size(), -1);
   bool any_moving = false;
   for (int i = 0; i < st.size(); ++i) {
     const ShapeRecord& r = st[i];
@@ -149,8 +150,7 @@ void WorldImpl::place_compound(int c) {
 void WorldImpl::make_shape_box(int i) {
   const ShapeRecord& r = (*shapes_)[i];
   const MotionState& s = state_[r.body];
-  poses_[i] = ShapeTable::world_pose(r, s);  // kept for collide: the state does not change between
-  const Aabb b = ShapeTable::bounds(r.geom, poses_[i]);
+  const Aabb b = ShapeTable::bounds(r.geom, ShapeTable::world_pose(r, s));
   margins_[i] = box_margin(cfg_.contacts.speculative_distance, s.v_W.norm(), extents_.shape_reach[i],
                            s.w_P.norm(), cfg_.dt);
   const Vec3 m = Vec3::Constant(margins_[i]);
@@ -266,6 +266,14 @@ __attribute__((flatten)) void WorldImpl::stage_broad_phase() {
     }
   }
   profile_.pairs += (long)pairs.size();
+  // The narrow phase's poses of the moving shapes in live pairs (the state does not change
+  // between here and the collide stage).
+  for (uint64_t key : pairs)
+    for (int k : {pair_first(key), pair_second(key)})
+      if (shape_moving_[k] && pose_step_[k] != broad_step_) {
+        pose_step_[k] = broad_step_;
+        poses_[k] = ShapeTable::world_pose((*shapes_)[k], state_[(*shapes_)[k].body]);
+      }
 }
 
 ContactSet::Step WorldImpl::collide_step() const {
@@ -277,6 +285,8 @@ ContactSet::Step WorldImpl::collide_step() const {
   in.ccd = &ccd_;
   in.shape_moving = shape_moving_.data();
   in.poses = poses_.data();
+  in.pose_step = pose_step_.data();
+  in.broad_step = broad_step_;
   in.boxes = boxes_.data();
   in.dt = cfg_.dt;
   in.gravity = cfg_.gravity;

@@ -302,8 +302,7 @@ double ContactSet::collide_pair(const Step& in, const CollideJob& job, Contact& 
   Manifold m;
   Vec3 offset[4] = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
   // World poses: the broad phase's for moving shapes (made from this same state).
-  const Pose xa = in.shape_moving[a] ? in.poses[a] : ShapeTable::world_pose(A, sa);
-  const Pose xb = in.shape_moving[b] ? in.poses[b] : ShapeTable::world_pose(B, sb);
+  const Pose xa = in.pose(a, A), xb = in.pose(b, B);
   // A fast pair's speculative manifold is taken where it will touch (sim/world/continuous.cpp).
   const int n = fast_pair(in, a, b, closing)
                     ? collide_ahead(in, a, b, xa, xb, spec, closing, c.cache, m, offset)

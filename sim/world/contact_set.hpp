@@ -45,13 +45,20 @@ class ContactSet {
     const MotionState* state = nullptr;        ///< per body
     const ContinuousCollision* ccd = nullptr;  ///< fast pairs: whether on, which bodies are bullets
     const char* shape_moving = nullptr;        ///< per shape: its body is not static
-    const Pose* poses = nullptr;               ///< per moving shape: world pose this step (broad phase)
-    const Aabb* boxes = nullptr;               ///< per shape: box this step (broad phase)
-    double dt = 0;                             ///< s
-    Vec3 gravity = Vec3::Zero();               ///< m/s^2
-    double speculative_distance = 0;           ///< m
-    double linear_slop = 0;                    ///< m
-    bool timing = false;                       ///< time each pair's narrow phase (Profile::narrow_seconds)
+    // Per shape: its world pose this step, made by the broad phase where pose_step[k] ==
+    // broad_step (the moving shapes of live pairs); pose() makes any other from the state.
+    const Pose* poses = nullptr;
+    const long* pose_step = nullptr;
+    long broad_step = 0;
+    Pose pose(int k, const ShapeRecord& r) const {
+      return pose_step[k] == broad_step ? poses[k] : ShapeTable::world_pose(r, state[r.body]);
+    }
+    const Aabb* boxes = nullptr;      ///< per shape: box this step (broad phase)
+    double dt = 0;                    ///< s
+    Vec3 gravity = Vec3::Zero();      ///< m/s^2
+    double speculative_distance = 0;  ///< m
+    double linear_slop = 0;           ///< m
+    bool timing = false;              ///< time each pair's narrow phase (Profile::narrow_seconds)
     int threads = 1;
     WorkerPool* pool = nullptr;  ///< threads for the pairs (null: the calling thread alone)
     // The broad phase's dormant pairs (no shape of an awake body; BroadPhase::dormant_pairs), key

@@ -91,6 +91,7 @@ class ContinuousCollision {
   std::vector<long> sweep_stamp_;  ///< per body: the stage run its sweep is from
   std::vector<double> moved_;      ///< per awake body: m, how far its centre moved this step
   std::vector<double> turned_;     ///< per awake body: rad, how far it turned this step
+  std::vector<char> cover_kind_;   ///< per shape: 0 not tested for coverage, 1 mesh, 2 other
   long run_ = 0;                   ///< stage runs with a fast body
   std::vector<int> escaped_;       ///< moving shapes whose swept box left their broad-phase box
   std::vector<uint64_t> pairs_;    ///< shape pairs (pair_key) to sweep, this step

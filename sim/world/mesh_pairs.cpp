@@ -29,7 +29,7 @@ int ContactSet::collide_mesh_pair(const Step& in, const CollideJob& job, Contact
   const ShapeRecord& M = mesh_is_a ? A : B;
   const ShapeRecord& C = mesh_is_a ? B : A;
   const Pose xm = ShapeTable::world_pose(M, in.state[M.body]);
-  const Pose xc = in.shape_moving[convex] ? in.poses[convex] : ShapeTable::world_pose(C, in.state[C.body]);
+  const Pose xc = in.pose(convex, C);
   const double reach_a = in.extents->shape_reach[a] * sa.w_P.norm();
   const double reach_b = in.extents->shape_reach[b] * sb.w_P.norm();
   const double closing = ((sa.v_W - sb.v_W).norm() + reach_a + reach_b) * in.dt;
