@@ -24,11 +24,10 @@ namespace {
 
 // Elements MuJoCo knows that describe no body, shape, joint or look simreel draws: skipped with
 // one note each (what they drive: actuators, sensors, tendons, ...).
-const std::set<std::string> kUnused = {"option",   "size",      "visual",  "statistic", "extension",
-                                       "custom",   "contact",   "tendon",  "actuator",  "sensor",
-                                       "keyframe", "light",     "camera",  "site",      "deformable",
-                                       "flexcomp", "replicate", "frame",   "composite", "plugin",
-                                       "skin",     "hfield",    "numeric", "text",      "tuple"};
+const std::set<std::string> kUnused = {
+    "option",   "size",   "visual",   "statistic", "extension", "custom",     "contact",  "tendon",
+    "actuator", "sensor", "keyframe", "light",     "camera",    "deformable", "flexcomp", "composite",
+    "plugin",   "skin",   "hfield",   "numeric",   "text",      "tuple"};
 
 // MJCF's attributes per element (MuJoCo 3.x): read here or knowingly unused. Anything else is a
 // note (a typo, or an attribute newer than this list), never an error.
@@ -109,7 +108,7 @@ class MjcfReader {
     for (XMLElement* e = root->FirstChildElement(); e; e = e->NextSiblingElement()) {
       const std::string tag = e->Name();
       if (tag == "compiler" || tag == "default" || tag == "asset" || tag == "worldbody" ||
-          tag == "equality" || tag == "contact" || tag == "actuator")
+          tag == "equality" || tag == "contact" || tag == "actuator" || tag == "tendon")
         continue;
       if (noted.insert(tag).second)
         note(e, "<" + tag + "> is " +
@@ -122,6 +121,13 @@ class MjcfReader {
       equality(q);
     for (XMLElement* q = root->FirstChildElement("contact"); q; q = q->NextSiblingElement("contact"))
       contact(q);
+    for (XMLElement* t = root->FirstChildElement("tendon"); t; t = t->NextSiblingElement("tendon"))
+      for (const XMLElement* e = t->FirstChildElement(); e; e = e->NextSiblingElement())
+        for (const std::string& v : variants(e)) {
+          suffix_ = v;
+          tendon(e);
+        }
+    suffix_.clear();
     for (XMLElement* a = root->FirstChildElement("actuator"); a; a = a->NextSiblingElement("actuator"))
       actuators(a);
     return std::move(m_);
@@ -151,6 +157,8 @@ class MjcfReader {
     Pose pose;  // in the link's frame
   };
   std::map<std::string, Site> sites_;
+  // Per name defined inside a <replicate>: the copies' suffixes, in order (bodies, sites, joints).
+  std::map<std::string, std::vector<std::string>> copies_;
   std::set<std::string> noted_;
 
   // ---- where things come from
@@ -475,35 +483,122 @@ class MjcfReader {
     return (int)m_.links.size() - 1;
   }
 
+  // Where an element's children go: a frame inside their body (or the world) that <frame> and
+  // <replicate> move them by, and the suffix <replicate> appends to the names they define.
+  struct Place {
+    Pose offset;
+    std::string suffix;
+  };
+
   void worldbody(const XMLElement* w) {
-    // Geoms straight in the world: one static link.
-    int world_link = -1;
-    for (const XMLElement* e = w->FirstChildElement(); e; e = e->NextSiblingElement()) {
+    int world_link = -1;  // geoms straight in the world: one static link, made at the first
+    children(w, -1, "", Place{}, world_link);
+  }
+
+  // The children of the worldbody (link -1) or of a body's link: geoms, sites, bodies, and the
+  // <frame>s and <replicate>s that place them (MuJoCo 3). A frame moves its children by its pose
+  // (and may set their childclass); a replicate makes `count` copies, copy i moved by the step
+  // (offset, euler) i times over, each taken in the previous copy's frame, and its names
+  // suffixed with sep and i (as many digits as count - 1 has; an inner replicate's suffix
+  // first), as MuJoCo does.
+  void children(const XMLElement* parent, int link, const std::string& childclass, const Place& at,
+                int& world_link) {
+    for (const XMLElement* e = parent->FirstChildElement(); e; e = e->NextSiblingElement()) {
       const std::string tag = e->Name();
       if (tag == "geom") {
-        if (world_link < 0) {
-          world_link = add_link("world", w, Pose{}, -1);
-          m_.links[world_link].name = "world";
+        if (link < 0 && world_link < 0) {
+          world_link = add_link("world", parent, Pose{}, -1);
           ModelJoint j;  // welded to the world
           j.name = "world";
           j.kind = ModelJoint::Kind::fixed;
           j.child = world_link;
-          j.src = src(w, "worldbody");
+          j.src = src(parent, "worldbody");
           m_.joints.push_back(j);
         }
-        geom(e, world_link, "");
+        geom(e, link < 0 ? world_link : link, childclass, at.offset);
       } else if (tag == "body") {
-        body(e, -1, "");
+        body(e, link, childclass, at);
       } else if (tag == "site") {
-        site(e, -1, "");  // a point of the world
+        site(e, link, childclass, at);
+      } else if (tag == "frame") {
+        const std::string cc = e->Attribute("childclass") ? e->Attribute("childclass") : childclass;
+        if (!cc.empty() && !class_parent_.count(cc))
+          fail(e, "frame", "childclass '" + cc + "' is not defined");
+        children(e, link, cc,
+                 Place{at.offset * frame(e, class_of(e, childclass, "frame"), "frame"), at.suffix},
+                 world_link);
+      } else if (tag == "replicate") {
+        const auto count = nums(e, "count", "main", "replicate");
+        if (!count || count->size() != 1 || !((*count)[0] >= 1) || (*count)[0] != std::floor((*count)[0]))
+          fail(e, "replicate", "count must be a positive whole number");
+        const int n = (int)(*count)[0];
+        Pose step;
+        if (auto o = vec<3>(e, "offset", "main", "replicate")) step.p = *o;
+        if (e->Attribute("euler")) step.q = orientation(e, "main", "replicate");
+        const std::string sep = attr_or(e, "sep", "");
+        const int digits = (int)std::to_string(n - 1).size();
+        Pose copy;  // copy i's frame in the replicate's parent: step applied i times
+        for (int i = 0; i < n; ++i) {
+          std::string index = std::to_string(i);
+          index.insert(0, digits - index.size(), '0');
+          children(e, link, childclass, Place{at.offset * copy, sep + index + at.suffix}, world_link);
+          copy = copy * step;
+        }
+      } else if (tag == "inertial" && link >= 0) {
+        inertial(e, link, "body '" + m_.links[link].name + "'");
+      } else if ((tag == "joint" || tag == "freejoint") && link >= 0) {
+        continue;  // read with their body
       } else {
-        note_once(e, "world-" + tag, "<" + tag + "> is not used by simreel; ignored");
+        note_once(e, (link < 0 ? "world-" : "body-") + tag, "<" + tag + "> is not used by simreel; ignored");
       }
     }
   }
+  // The copies an element outside a <replicate> that names what it copies is made in (MuJoCo
+  // copies such an element with them): the suffixes of the copied names it refers to, in its
+  // attributes or its children's; one copy, with no suffix, when it names none.
+  std::vector<std::string> variants(const XMLElement* e) {
+    static const char* kKeys[] = {"body1",  "body2", "site1", "site2", "joint1",
+                                  "joint2", "site",  "body",  "joint"};
+    const std::vector<std::string>* found = nullptr;
+    auto scan = [&](const XMLElement* x) {
+      for (const char* k : kKeys) {
+        const char* v = x->Attribute(k);
+        if (!v || defined(v)) continue;
+        const auto it = copies_.find(v);
+        if (it == copies_.end()) continue;
+        if (found && *found != it->second)
+          fail(x, e->Name(),
+               std::string("names '") + v + "', copied by another <replicate> than its other names");
+        found = &it->second;
+      }
+    };
+    scan(e);
+    for (const XMLElement* c = e->FirstChildElement(); c; c = c->NextSiblingElement()) scan(c);
+    return found ? *found : std::vector<std::string>{""};
+  }
+  bool defined(const std::string& n) const {
+    if (body_index_.count(n) || sites_.count(n)) return true;
+    for (const ModelJoint& j : m_.joints)
+      if (j.name == n) return true;
+    return false;
+  }
+  // A name an element refers to, in the copy variants() is on (suffix_).
+  std::string ref(const char* n) const {
+    if (!n) return "";
+    return !suffix_.empty() && copies_.count(n) && !defined(n) ? n + suffix_ : std::string(n);
+  }
+  std::string suffix_;
 
-  void body(const XMLElement* e, int parent, const std::string& parent_childclass) {
-    std::string name = attr_or(e, "name", "");
+  // A name a <replicate> copies: `name` and the copy's suffix, remembered so that what refers to
+  // the name from outside (equality, exclude, tendon) is copied with it.
+  std::string replicated(const std::string& name, const std::string& suffix) {
+    if (suffix.empty() || name.empty()) return name;
+    copies_[name].push_back(suffix);
+    return name + suffix;
+  }
+
+  void body(const XMLElement* e, int parent, const std::string& parent_childclass, const Place& at) {
+    std::string name = replicated(attr_or(e, "name", ""), at.suffix);
     if (name.empty()) name = "body" + std::to_string(m_.links.size());
     const std::string what = "body '" + name + "'";
     check_attributes(e);
@@ -513,7 +608,7 @@ class MjcfReader {
     if (!childclass.empty() && !class_parent_.count(childclass))
       fail(e, what, "childclass '" + childclass + "' is not defined");
     const std::string cls = class_of(e, parent_childclass);
-    const Pose pose = frame(e, cls, what);
+    const Pose pose = at.offset * frame(e, cls, what);
     // Its joints, in order.
     std::vector<const XMLElement*> joints;
     bool free = false;
@@ -541,7 +636,7 @@ class MjcfReader {
     for (size_t k = 0; k + 1 < joints.size(); ++k) {
       const int h = add_link(name + "#" + std::to_string(k + 1), e, rel, prev);
       helpers.push_back(h);
-      joint(joints[k], prev, h, childclass);
+      joint(joints[k], prev, h, childclass, at.suffix);
       prev = h;
       rel = Pose{};
     }
@@ -549,7 +644,7 @@ class MjcfReader {
     body_index_[name] = self;
     for (int h : helpers) m_.links[h].helper_of = self;
     if (!joints.empty()) {
-      joint(joints.back(), prev, self, childclass);
+      joint(joints.back(), prev, self, childclass, at.suffix);
     } else if (!free) {
       ModelJoint j;  // welded to its parent (or to the world)
       j.name = name + "/weld";
@@ -559,29 +654,16 @@ class MjcfReader {
       j.src = src(e, what);
       m_.joints.push_back(j);
     }
-    for (const XMLElement* c = e->FirstChildElement(); c; c = c->NextSiblingElement()) {
-      const std::string tag = c->Name();
-      if (tag == "geom")
-        geom(c, self, childclass);
-      else if (tag == "inertial")
-        inertial(c, self, what);
-      else if (tag == "body")
-        body(c, self, childclass);
-      else if (tag == "joint" || tag == "freejoint")
-        continue;
-      else if (tag == "site")
-        site(c, self, childclass);
-      else
-        note_once(c, "body-" + tag, "<" + tag + "> is not used by simreel; ignored");
-    }
+    int unused = -1;
+    children(e, self, childclass, Place{Pose{}, at.suffix}, unused);
   }
 
   // A site: a named frame on a body (equality constraints may join two). Sites have no physics.
-  void site(const XMLElement* e, int link, const std::string& childclass) {
+  void site(const XMLElement* e, int link, const std::string& childclass, const Place& at) {
     const char* n = e->Attribute("name");
     if (!n) return;  // nothing can name it
     const std::string cls = class_of(e, childclass);
-    sites_[n] = {link, frame(e, cls, std::string("site '") + n + "'")};
+    sites_[replicated(n, at.suffix)] = {link, at.offset * frame(e, cls, std::string("site '") + n + "'")};
   }
   // A link's frame in the world at the start (the poses compose from the root).
   Pose world_pose(int link) const {
@@ -590,10 +672,12 @@ class MjcfReader {
     return x;
   }
 
-  void joint(const XMLElement* e, int parent, int child, const std::string& childclass) {
+  void joint(const XMLElement* e, int parent, int child, const std::string& childclass,
+             const std::string& suffix) {
     const std::string cls = class_of(e, childclass);
     ModelJoint j;
-    j.name = attr_or(e, "name", m_.links[child].name + "/joint");
+    j.name =
+        e->Attribute("name") ? replicated(e->Attribute("name"), suffix) : m_.links[child].name + "/joint";
     const std::string what = "joint '" + j.name + "'";
     j.src = src(e, what);
     j.parent = parent;
@@ -682,7 +766,7 @@ class MjcfReader {
     m_.links[link].inertial = I;
   }
 
-  void geom(const XMLElement* e, int link, const std::string& childclass) {
+  void geom(const XMLElement* e, int link, const std::string& childclass, const Pose& offset) {
     ModelShape s;
     const std::string name = attr_or(e, "name", "");
     const std::string what =
@@ -712,6 +796,7 @@ class MjcfReader {
       s.pose.q = Quat::FromTwoVectors(Vec3::UnitZ(), (b - a).normalized());
       half = 0.5 * (b - a).norm();
     }
+    s.pose = offset * s.pose;
     if (type == "sphere") {
       s.kind = K::sphere;
       s.radius = sz(0);
@@ -757,6 +842,21 @@ class MjcfReader {
     const auto group = nums(e, "group", cls, what);
     s.visual = !(group && !group->empty() && (*group)[0] >= 3);
     if (auto f = nums(e, "friction", cls, what); f && !f->empty()) s.friction = (*f)[0];
+    // MuJoCo's contact is a spring and damper set by solref: (time constant, damping ratio z), or
+    // (-stiffness, -damping). A linear spring-damper with z < 1 parts at exp(-pi z / sqrt(1 - z^2))
+    // of its approach speed, none from z >= 1 (the default, z = 1); with no damping, all of it.
+    // A negative pair with damping is a ratio that depends on the masses: a note, restitution 0.
+    if (auto r = nums(e, "solref", cls, what); r && r->size() == 2) {
+      const double a = (*r)[0], b = (*r)[1];
+      if (a > 0 && b >= 0)
+        s.restitution = b < 1 ? std::exp(-M_PI * b / std::sqrt(1 - b * b)) : 0.0;
+      else if (a < 0 && b == 0)
+        s.restitution = 1.0;
+      else
+        note_once(e, "solref-damped",
+                  "a solref of stiffness and damping (" + std::to_string(a) + ", " + std::to_string(b) +
+                      ") has no restitution of its own; 0 is used");
+    }
     if (auto d = nums(e, "density", cls, what); d && !d->empty()) s.density = (*d)[0];
     if (auto mm = nums(e, "mass", cls, what); mm && !mm->empty()) s.mass = (*mm)[0];
     s.weighs = !(s.mass && *s.mass == 0) && !(s.density && *s.density == 0) && s.kind != K::plane;
@@ -844,6 +944,83 @@ class MjcfReader {
       if (cap != actuator_cap_.end()) j.effort = std::min(j.effort, cap->second);
     }
   }
+  // <tendon><spatial> through two sites with a limited length: a rope between them (a string of
+  // Newton's cradle), slack below the range's top, pulling at it (and pushing at its bottom when
+  // that is above zero), exact where MuJoCo's limit is a soft spring. Tendons through more sites,
+  // wrapping geoms, unlimited tendons (MuJoCo drives or senses them) and fixed tendons are notes.
+  void tendon(const XMLElement* e) {
+    const std::string tag = e->Name();
+    const std::string name =
+        e->Attribute("name") ? e->Attribute("name") + suffix_ : "tendon" + std::to_string(m_.ropes.size());
+    const std::string what = "tendon '" + name + "'";
+    if (tag != "spatial") {
+      note(e, "<" + tag + "> tendons are not simulated; ignored", what);
+      return;
+    }
+    // Attributes through the default classes, whose element is <tendon>.
+    const std::string cls = class_of(e, "", what);
+    auto attr = [&](const char* key) -> const char* {
+      if (const char* v = e->Attribute(key)) return v;
+      for (std::string c = cls; !c.empty();) {
+        const auto p = class_proto_.find(c);
+        if (p != class_proto_.end())
+          for (const char* t : {"tendon", "spatial"})
+            if (const auto d = p->second.find(t); d != p->second.end())
+              if (const char* v = d->second->Attribute(key)) return v;
+        const auto up = class_parent_.find(c);
+        c = up == class_parent_.end() ? "" : up->second;
+      }
+      return nullptr;
+    };
+    std::vector<const XMLElement*> sites;
+    for (const XMLElement* c = e->FirstChildElement(); c; c = c->NextSiblingElement()) {
+      if (std::string(c->Name()) == "site") {
+        sites.push_back(c);
+      } else {
+        note(c, "a tendon wrapping a geom or over a pulley is not simulated; tendon ignored", what);
+        return;
+      }
+    }
+    if (sites.size() != 2) {
+      note(e,
+           "a tendon through " + std::to_string(sites.size()) +
+               " sites is not simulated (two: a rope); ignored",
+           what);
+      return;
+    }
+    const char* range_text = attr("range");
+    const char* limited = attr("limited");
+    const bool on = range_text && !(limited && std::string(limited) == "false");
+    if (!on) {
+      note(e, "a tendon without a limited length pulls nothing here (MuJoCo drives or senses it); ignored",
+           what);
+      return;
+    }
+    const auto range = parse_numbers(range_text);
+    if (!range || range->size() != 2 || !((*range)[1] > 0) || !((*range)[0] <= (*range)[1]))
+      fail(e, what,
+           std::string("range \"") + range_text + "\" must be two lengths, low to high, the high above 0");
+    auto site_of = [&](const XMLElement* c) -> const Site& {
+      if (!c->Attribute("site")) fail(c, what, "a tendon's <site> needs site=\"NAME\"");
+      return named(c, what, sites_, "site", ref(c->Attribute("site")).c_str(), "site");
+    };
+    const Site& a = site_of(sites[0]);
+    const Site& b = site_of(sites[1]);
+    for (const char* k : {"stiffness", "damping", "frictionloss"})
+      if (const char* v = attr(k); v && std::atof(v) != 0)
+        note(e, std::string("its ") + k + " is not simulated (a rope between its length's bounds)", what);
+    ModelRope r;
+    r.name = name;
+    r.link_a = a.link;
+    r.point_a = a.pose.p;
+    r.link_b = b.link;
+    r.point_b = b.pose.p;
+    r.max_length = (*range)[1];
+    if ((*range)[0] > 0) r.min_length = (*range)[0];
+    r.src = src(e, what);
+    m_.ropes.push_back(r);
+  }
+
   // <contact><exclude body1 body2>: pairs that never collide; <pair> (explicit contacts) is a note.
   void contact(const XMLElement* q) {
     for (const XMLElement* e = q->FirstChildElement(); e; e = e->NextSiblingElement()) {
@@ -852,15 +1029,16 @@ class MjcfReader {
                   std::string("<contact><") + e->Name() + "> is not used; ignored");
         continue;
       }
-      const char* a = e->Attribute("body1");
-      const char* b = e->Attribute("body2");
-      const auto ia = a ? body_index_.find(a) : body_index_.end();
-      const auto ib = b ? body_index_.find(b) : body_index_.end();
-      if (ia == body_index_.end() || ib == body_index_.end())
-        fail(e, "contact exclude",
-             std::string("names body '") + (ia == body_index_.end() ? (a ? a : "") : (b ? b : "")) +
-                 "', which the file does not define");
-      m_.exclude.emplace_back(ia->second, ib->second);
+      for (const std::string& v : variants(e)) {
+        suffix_ = v;
+        const std::string a = ref(e->Attribute("body1")), b = ref(e->Attribute("body2"));
+        const auto ia = body_index_.find(a), ib = body_index_.find(b);
+        if (ia == body_index_.end() || ib == body_index_.end())
+          fail(e, "contact exclude",
+               "names body '" + (ia == body_index_.end() ? a : b) + "', which the file does not define");
+        m_.exclude.emplace_back(ia->second, ib->second);
+      }
+      suffix_.clear();
     }
   }
 
@@ -869,9 +1047,10 @@ class MjcfReader {
   // multiplier c1 and offset c0). Only the linear part is held; a curve's higher terms are a note,
   // and joint1 alone (locked at c0) is one too.
   void joint_equality(const XMLElement* e, const std::string& what) {
-    const char* a = e->Attribute("joint1");
-    const char* b = e->Attribute("joint2");
-    if (!a) fail(e, what, "needs joint1");
+    if (!e->Attribute("joint1")) fail(e, what, "needs joint1");
+    const std::string an = ref(e->Attribute("joint1")), bn = ref(e->Attribute("joint2"));
+    const char* a = an.c_str();
+    const char* b = e->Attribute("joint2") ? bn.c_str() : nullptr;
     int ia = -1, ib = -1;
     for (int k = 0; k < (int)m_.joints.size(); ++k) {
       if (m_.joints[k].name == a) ia = k;
@@ -894,28 +1073,37 @@ class MjcfReader {
   }
 
   void equality(const XMLElement* q) {
-    for (const XMLElement* e = q->FirstChildElement(); e; e = e->NextSiblingElement()) {
+    for (const XMLElement* e = q->FirstChildElement(); e; e = e->NextSiblingElement())
+      for (const std::string& v : variants(e)) {
+        suffix_ = v;
+        equality_one(e);
+      }
+    suffix_.clear();
+  }
+  void equality_one(const XMLElement* e) {
+    {
       const std::string tag = e->Name();
-      const std::string name = attr_or(e, "name", tag + std::to_string(m_.joints.size()));
+      const std::string name =
+          e->Attribute("name") ? e->Attribute("name") + suffix_ : tag + std::to_string(m_.joints.size());
       const std::string what = "equality " + tag + " '" + name + "'";
       if (tag == "joint") {
         if (!(e->Attribute("active") && std::string(e->Attribute("active")) == "false"))
           joint_equality(e, what);
-        continue;
+        return;
       }
       if (tag != "connect" && tag != "weld") {
         note(e, "<" + tag + "> constraints are not simulated; ignored", what);
-        continue;
+        return;
       }
-      if (e->Attribute("active") && std::string(e->Attribute("active")) == "false") continue;
+      if (e->Attribute("active") && std::string(e->Attribute("active")) == "false") return;
       auto body_of = [&](const char* key, bool optional) -> int {
-        const char* n = e->Attribute(key);
-        if (!n) {
+        if (!e->Attribute(key)) {
           if (optional) return -1;
           fail(e, what, std::string("needs ") + key);
         }
-        if (std::string(n) == "world") return -1;
-        return named(e, what, body_index_, key, n, "body");
+        const std::string n = ref(e->Attribute(key));
+        if (n == "world") return -1;
+        return named(e, what, body_index_, key, n.c_str(), "body");
       };
       ModelJoint j;
       j.name = name;
@@ -927,15 +1115,14 @@ class MjcfReader {
         // at the start: sites apart there stay apart (MuJoCo's soft constraint would pull them
         // together), with a note.
         auto site_of = [&](const char* key) -> const Site& {
-          const char* n = e->Attribute(key);
-          if (!n) fail(e, what, std::string("needs ") + key + " (site1 and site2 together)");
-          return named(e, what, sites_, key, n, "site");
+          if (!e->Attribute(key)) fail(e, what, std::string("needs ") + key + " (site1 and site2 together)");
+          return named(e, what, sites_, key, ref(e->Attribute(key)).c_str(), "site");
         };
         const Site& s1 = site_of("site1");
         const Site& s2 = site_of("site2");
         if (s1.link == s2.link) {
           note(e, "both sites are on one body; nothing to hold", what);
-          continue;
+          return;
         }
         const Pose w1 = world_pose(s1.link) * s1.pose, w2 = world_pose(s2.link) * s2.pose;
         const double apart = (w1.p - w2.p).norm();
@@ -950,7 +1137,7 @@ class MjcfReader {
           j.anchor = s2.pose.p;
         }
         m_.joints.push_back(j);
-        continue;
+        return;
       }
       const int b1 = body_of("body1", false), b2 = body_of("body2", true);
       // simreel's child: body1 (the anchor is in its frame); the other body or the world the parent.

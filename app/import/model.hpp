@@ -46,6 +46,8 @@ struct ModelShape {
   std::string texture;                        ///< resolved image path, or ""
   bool visual = false, collision = false;     ///< drawn; collides
   std::optional<double> friction;
+  /// Coefficient of restitution where the file implies one (MJCF's solref: see the reader).
+  std::optional<double> restitution;
   uint32_t group = 1, mask = 0xFFFFFFFFu;
   std::optional<double> density;  ///< kg/m^3 where the file gives one (MJCF)
   std::optional<double> mass;     ///< kg where the file gives the shape's mass (MJCF)
@@ -98,6 +100,17 @@ struct ModelJoint {
   SourceRef src;
 };
 
+/// A rope between two links' points (MJCF's spatial tendon between two sites, with a limited
+/// length): slack below max_length, pulling at it; pushing at min_length when one is given.
+struct ModelRope {
+  std::string name;
+  int link_a = -1, link_b = -1;                         ///< -1: the world
+  Vec3 point_a = Vec3::Zero(), point_b = Vec3::Zero();  ///< m, in each link's frame (the world's)
+  std::optional<double> min_length;                     ///< m
+  double max_length = 0;                                ///< m
+  SourceRef src;
+};
+
 struct Model {
   std::string file;    ///< as read
   std::string format;  ///< "urdf", "mjcf"
@@ -106,7 +119,8 @@ struct Model {
   std::vector<ModelJoint> joints;
   std::vector<std::string> notes;            ///< what was ignored or repaired, with file and line
   std::vector<std::pair<int, int>> exclude;  ///< link pairs that never collide (MJCF contact exclude)
-  std::vector<std::string> files;            ///< every file read: the model's and those it includes
+  std::vector<ModelRope> ropes;
+  std::vector<std::string> files;  ///< every file read: the model's and those it includes
 };
 
 }  // namespace simreel

@@ -117,6 +117,7 @@ Collider shape_collider(const ModelShape& s, const Pose& pose, MeshLibrary& mesh
     }
   }
   if (s.friction) c.friction = *s.friction;
+  if (s.restitution) c.restitution = *s.restitution;
   c.group = s.group;
   c.mask = s.mask;
   return c;
@@ -553,6 +554,41 @@ void place_model(const Model& m, const ImportSpec& spec, Scene& scene, MeshLibra
     if (leader_of[k] >= 0 && scene_joint[k] >= 0 && scene_joint[leader_of[k]] >= 0)
       scene.joints[scene_joint[k]].mimic =
           JointMimic{scene_joint[leader_of[k]], m.joints[k].mimic_multiplier};
+  // Ropes: distance joints between their two points, slack up to their length.
+  for (const ModelRope& r : m.ropes) {
+    auto end = [&](int link, const Vec3& p, int& body, Vec3& p_W) {
+      const bool fixed = link < 0 || is_world[link] || body_of[link] < 0 || is_static[body_of[link]];
+      body = fixed ? -1 : body_of[link];
+      p_W = link < 0 ? spec.pose * p : X[link] * p;
+    };
+    int ba = -1, bb = -1;
+    Vec3 pa, pb;
+    end(r.link_a, r.point_a, ba, pa);
+    end(r.link_b, r.point_b, bb, pb);
+    if (ba == bb) {
+      scene.notes.push_back(r.src.str() + ": both ends are on one " + (ba < 0 ? "fixed frame" : "body") +
+                            "; nothing to hold");
+      continue;
+    }
+    const double start = (pb - pa).norm();
+    if (start > r.max_length * (1 + 1e-9) || (r.min_length && start < *r.min_length * (1 - 1e-9)))
+      throw InputError(r.src.str() + ": its ends start " + std::to_string(start) +
+                       " m apart, outside its length range");
+    JointDef d;
+    d.name = prefix + r.name;
+    d.type = JointType::distance;
+    if (bb < 0) {  // the moving end is the child
+      std::swap(ba, bb);
+      std::swap(pa, pb);
+    }
+    d.parent = ba < 0 ? -1 : bodies[ba].index;
+    d.child = bodies[bb].index;
+    d.anchor_W = pa;
+    d.anchor2_W = pb;
+    d.max_length = std::max(r.max_length, start);
+    if (r.min_length && *r.min_length > 0) d.min_length = std::min(*r.min_length, start);
+    scene.joints.push_back(std::move(d));
+  }
 
   // Lifted (or lowered) so that the lowest point of what collides rests on the ground.
   if (spec.on_ground) {
@@ -563,7 +599,10 @@ void place_model(const Model& m, const ImportSpec& spec, Scene& scene, MeshLibra
     if (std::isfinite(lo)) {
       const Vec3 up(0, 0, spec.ground_height - lo);
       for (int i = first; i < (int)scene.bodies.size(); ++i) scene.bodies[i].p_WB += up;
-      for (size_t k = joints_before; k < scene.joints.size(); ++k) scene.joints[k].anchor_W += up;
+      for (size_t k = joints_before; k < scene.joints.size(); ++k) {
+        scene.joints[k].anchor_W += up;
+        scene.joints[k].anchor2_W += up;
+      }
     }
   }
   // Each format's own default: a URDF model's links collide with the world, not with each other

@@ -884,9 +884,11 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
       if (k["contact_hertz"]) cs.contact_hertz = positive(k["contact_hertz"], kc.child("contact_hertz"));
       if (k["damping_ratio"]) cs.damping_ratio = non_negative(k["damping_ratio"], kc.child("damping_ratio"));
       if (k["max_push_out"]) cs.max_push_out = non_negative(k["max_push_out"], kc.child("max_push_out"));
-      if (k["restitution_threshold"])
+      if (k["restitution_threshold"]) {
         cs.restitution_threshold =
             non_negative(k["restitution_threshold"], kc.child("restitution_threshold"));
+        s.restitution_threshold_given = true;
+      }
       if (k["speculative_distance"])
         cs.speculative_distance = non_negative(k["speculative_distance"], kc.child("speculative_distance"));
       if (k["linear_slop"]) cs.linear_slop = non_negative(k["linear_slop"], kc.child("linear_slop"));
@@ -1092,6 +1094,20 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
   if (root["imports"]) {
     load_imports(root["imports"], path, s, library);
     for (size_t i = bodies.size(); i < s.bodies.size(); ++i) names.insert(s.bodies[i].name);
+    // A file whose contacts bounce (MJCF's solref) was written for an engine that bounces at any
+    // speed; below the default threshold (1 m/s) a cradle's 0.6 m/s impacts would stick. Unless the
+    // scene sets its own, the threshold drops to what the cradle demos use.
+    constexpr double kImportedThreshold = 0.05;  // m/s
+    bool bounces = false;
+    for (size_t i = bodies.size(); i < s.bodies.size(); ++i)
+      for (const Collider& col : s.bodies[i].colliders)
+        bounces = bounces || (col.collide && col.restitution > 0);
+    if (bounces && !s.restitution_threshold_given && s.contacts.restitution_threshold > kImportedThreshold) {
+      s.contacts.restitution_threshold = kImportedThreshold;
+      s.notes.push_back(
+          "simulation.contacts.restitution_threshold set to 0.05 m/s: an imported file's contacts bounce "
+          "(restitution from solref), at any speed in the engine it was written for; set the key to choose");
+    }
   }
   if (s.ground) {  // the ground body comes last: the scene's own bodies keep their indices
     if (names.count("ground")) {

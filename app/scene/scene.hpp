@@ -105,10 +105,11 @@ struct Scene {
   RenderSpec render;
   MotionBlurSpec motion_blur;  ///< render.motion_blur (app/scene/camera_motion.hpp)
   std::vector<BodyDef> bodies;
-  std::vector<BodyLook> looks;       ///< parallel to bodies
-  std::optional<GroundSpec> ground;  ///< the top-level `ground` (its body is the last of `bodies`)
-  ContactSettings contacts;          ///< simulation.contacts
-  TestSpec test;                     ///< test: what `simreel check` compares
+  std::vector<BodyLook> looks;               ///< parallel to bodies
+  std::optional<GroundSpec> ground;          ///< the top-level `ground` (its body is the last of `bodies`)
+  ContactSettings contacts;                  ///< simulation.contacts
+  bool restitution_threshold_given = false;  ///< simulation.contacts.restitution_threshold is in the file
+  TestSpec test;                             ///< test: what `simreel check` compares
   OverlaySpec overlays;  ///< bodies' `show:` and the `overlays:` block (app/scene/scene_overlays.hpp)
   TimeSpec time;         ///< `time:`: playback speed, segments, holds (app/scene/scene_time.hpp)
   ViewsSpec views;       ///< `panes:` and `variants:` (app/scene/scene_views.hpp)

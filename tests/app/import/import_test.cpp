@@ -642,6 +642,84 @@ TEST(ImportMjcf, SiteConnectClosesALoopWhereTheSitesMeet) {
       << e;
 }
 
+// MuJoCo 3's <frame> and <replicate>: copies placed step by step (each step taken in the previous
+// copy's frame), names suffixed as MuJoCo does (sep, then the index with as many digits as
+// count - 1, an inner replicate's first), and what names a copied thing outside the replicate (a
+// tendon, an equality) copied with it. A spatial tendon between two sites with a limited length
+// is a rope: a ball hung 0.1 m slack below its top falls, is caught (restitution 0) and hangs at
+// the rope's length to round-off.
+TEST(ImportMjcf, ReplicateFrameAndTendonRopes) {
+  const std::string xml = R"(<mujoco>
+  <default><tendon limited="true" range="0 0.8"/></default>
+  <worldbody>
+    <frame pos="0 0 2" euler="0 0 90">
+      <replicate count="3" offset="0.5 0 0" sep="-">
+        <site name="top" pos="0 0 0.5"/>
+        <body name="b" pos="0 0 -0.2">
+          <freejoint/>
+          <geom size="0.05" solref="0.02 0.5"/>
+          <site name="s" pos="0 0 0"/>
+        </body>
+      </replicate>
+    </frame>
+    <replicate count="2" offset="0 5 0" euler="0 0 90">
+      <replicate count="12" sep="_" offset="0 0 1">
+        <body name="c" pos="10 0 1"><freejoint/><geom size="0.05" solref="-1e8 -0"/></body>
+      </replicate>
+    </replicate>
+  </worldbody>
+  <tendon><spatial name="rope"><site site="top"/><site site="s"/></spatial></tendon>
+  <equality><connect name="pin" body1="c" anchor="0 0 0"/></equality>
+</mujoco>
+)";
+  const Scene s = load_scene(write("rep.yaml",
+                                   "simulation: { sleep: false }\n"
+                                   "imports: [ { file: " +
+                                       write("rep.xml", xml) + " } ]\n"));
+  // The frame turns the row 90 degrees about z: copy i at (0, 0.5 i, 2 - 0.2).
+  for (int i = 0; i < 3; ++i) {
+    const BodyDef& b = s.bodies[body(s, "b-" + std::to_string(i))];
+    EXPECT_LT((b.p_WB - Vec3(0, 0.5 * i, 1.8)).norm(), 1e-12) << i;
+  }
+  // Outer copy 1 is 5 m along y and turned 90 degrees; its inner copies stack 1 m apart in its frame.
+  const BodyDef& c = s.bodies[body(s, "c_051")];
+  EXPECT_LT((c.p_WB - Vec3(0, 5 + 10, 1 + 5)).norm(), 1e-12) << c.p_WB.transpose();
+  body(s, "c_110");
+  int ropes = 0, pins = 0;
+  for (const JointDef& j : s.joints) {
+    if (j.type == JointType::distance) {
+      ++ropes;
+      EXPECT_EQ(*j.max_length, 0.8);
+      EXPECT_FALSE(j.min_length);
+      EXPECT_NEAR((j.anchor2_W - j.anchor_W).norm(), 0.7, 1e-12);
+    }
+    pins += j.name.rfind("pin_", 0) == 0;
+  }
+  EXPECT_EQ(ropes, 3);
+  EXPECT_EQ(pins, 24);  // the connect copied with every c
+  // solref (0.02 s, damping ratio 0.5): a spring-damper's exp(-pi z / sqrt(1 - z^2)); (-k, -0): 1.
+  EXPECT_NEAR(s.bodies[body(s, "b-0")].colliders[0].restitution, std::exp(-M_PI * 0.5 / std::sqrt(0.75)),
+              1e-15);
+  EXPECT_EQ(s.bodies[body(s, "c_000")].colliders[0].restitution, 1.0);
+  EXPECT_TRUE(has(s.notes, "restitution_threshold set to 0.05 m/s"));
+  World w(world_config(s, 1), s.bodies);
+  const int b0 = body(s, "b-1");
+  for (int i = 0; i < 3 * 240; ++i) w.step();
+  EXPECT_NEAR((w.centroid(b0) - Vec3(0, 0.5, 2.5)).norm(), 0.8, 1e-9);
+  EXPECT_LT(w.linear_velocity(b0).norm(), 1e-9);
+  // A tendon through three sites, and one without a limit, are notes.
+  std::string three = xml;
+  three.replace(three.find("<site site=\"s\"/>"), 16, "<site site=\"s\"/><site site=\"top\"/>");
+  EXPECT_TRUE(
+      has(load_scene(write("r3.yaml", "imports: [ { file: " + write("r3.xml", three) + " } ]\n")).notes,
+          "a tendon through 3 sites is not simulated"));
+  std::string free = xml;
+  free.replace(free.find("limited=\"true\""), 14, "limited=\"false\"");
+  EXPECT_TRUE(
+      has(load_scene(write("r4.yaml", "imports: [ { file: " + write("r4.xml", free) + " } ]\n")).notes,
+          "a tendon without a limited length pulls nothing here"));
+}
+
 // An undefined class, a joint type MuJoCo does not have, a connect to a missing body.
 TEST(ImportMjcf, MistakesAreNamedByFileAndLine) {
   auto err = [&](const std::string& xml) { return error_of(write("m.xml", xml)); };
