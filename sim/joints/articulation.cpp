@@ -218,6 +218,7 @@ void Mechanism::derivative(const double* y, double* dy, const Vec3& g, const Wre
     }
   }
   if (!tethers.empty()) tether_springs();
+  if (loop_springs_on) loop_springs();
   if (!loads.empty()) apply_loads();
   // Pass 2, leaves to root: articulated inertias and bias forces, each link's turned in place
   // into what its parent receives (Ia = IA - U D^-1 U^T, pa = pA + Ia c + U D^-1 u).
@@ -428,6 +429,10 @@ bool Mechanism::advance(double dt, const Vec3& g, const Wrench* wr, const Motion
       event = true;  // the state moved: no first-same-as-last, no step-size proposal from this one
     }
     std::swap(y0_, y1_);
+    if (loop_springs_on) {  // the sprung hinges' angles at the new state, for the next step's stages
+      kinematics(y0_.data());
+      track_loop_angles();
+    }
     // First same as last: the 7th stage was evaluated at the new state, unless a projection or a
     // mode change moved it. (Quaternions drift off unit length by the tolerance only; they are
     // renormalised once the frame step is done.)
@@ -688,7 +693,11 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
         throw InputError(name_of(j) +
                          ": closes a loop; a wheel joint cannot close one (close the loop with another "
                          "joint and put the wheel on the tree)");
-      if (d.spring) throw InputError(name_of(j) + ": a joint that closes a loop cannot carry a spring yet");
+      if (d.spring && d.type != JointType::revolute && d.type != JointType::prismatic)
+        throw InputError(name_of(j) +
+                         ": a spring on a joint that closes a loop needs a revolute or prismatic "
+                         "joint (this one is " +
+                         to_string(d.type) + ")");
       if (d.limits || d.ball_limits || d.motor || d.motor2 || d.friction > 0)
         throw InputError(name_of(j) +
                          ": a joint that closes a loop cannot carry limits, a motor or friction yet");
@@ -1091,6 +1100,12 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
     L.q_a0 = qa;
     L.q_b0 = qb;
     L.axis_W0 = d.axis_W;
+    if (d.spring) {
+      L.stiffness = d.spring->stiffness;
+      L.damping = d.spring->damping;
+      L.rest = d.spring->rest;
+      m.loop_springs_on = true;
+    }
     m.loops.push_back(L);
     m.loop_rows += L.rows();
     Side& sd = sides_[j];
@@ -1543,6 +1558,11 @@ double Articulations::spring_energy() const {
       if (l.stiffness != 0 && l.kind == LinkJoint::spherical)
         e += 0.5 * l.stiffness * Mechanism::ball_rotation_vector(l, m.q.data()).squaredNorm();
     }
+    for (int k = 0; k < (int)m.loops.size(); ++k)
+      if (m.loops[k].stiffness != 0) {
+        const double x = m.loop_angle(k) - m.loops[k].rest;
+        e += 0.5 * m.loops[k].stiffness * x * x;
+      }
     for (int t = 0; t < (int)m.tethers.size(); ++t)
       if (m.tethers[t].stiffness != 0) {
         const double x = m.tether_length(t) - m.tethers[t].rest;

@@ -93,6 +93,13 @@ class Mechanism {
     Mat3 R0;             ///< prismatic, fixed: b's start orientation relative to a's (R_a^T R_b at t = 0)
     Quat q_a0, q_b0;     ///< the links' start orientations (read-outs of the angle)
     Vec3 axis_W0;        ///< the hinge axis at t = 0
+    // A spring on a hinge's angle or a slider's slide (both zero at the start, as loop_angle reads
+    // them): N m/rad or N/m, N m s/rad or N s/m, rad or m.
+    double stiffness = 0, damping = 0, rest = 0;
+    // A sprung hinge's angle, continuous past +-pi (saved state): at the start of the internal
+    // step (or contact substep) being taken. A stage's angle is the value nearest it of the
+    // relative rotation's, which is only known modulo 2 pi.
+    double angle = 0;
     int rows() const {
       switch (kind) {
         case Kind::spherical:
@@ -111,6 +118,7 @@ class Mechanism {
   };
   std::vector<Loop> loops;
   int loop_rows = 0;
+  bool loop_springs_on = false;  ///< any loop carries a spring
 
   // A distance joint's rod or rope, or a pulley's rope (docs/joints.md, "Rods, ropes and
   // pulleys"): one row on the tree's coordinates, on the length
@@ -319,6 +327,14 @@ class Mechanism {
   // Springs along tethers: their forces on the segments' ends into the links' bias forces (pass 1
   // of the ABA done: kinematics and velocities); f_out (per tether, N) when given.
   void tether_springs();
+  // Springs on loop-closing hinges and sliders (Loop::stiffness): a torque about the hinge's axis
+  // (a force along the slider's, both at b's anchor) on the two links, at the current kinematics
+  // and link velocities; subtracted from f (joint_wrench) or the ABA's bias forces (after pass 1).
+  void loop_springs(std::vector<Vec6>* f = nullptr);
+  // A sprung hinge's angle at the current kinematics, the one nearest its saved Loop::angle;
+  // track_loop_angles() saves it after a step (kinematics of the new state done).
+  double sprung_angle(const Loop& L) const;
+  void track_loop_angles();
   // The forces a tether's row and spring put on the links (link frames, about their origins),
   // subtracted from f (joint_wrench: external to the tree).
   void tether_loads(const Tether& t, double force, std::vector<Vec6>& f) const;

@@ -117,6 +117,7 @@ bool Mechanism::contact_positions(double hs, const Vec3& g) {
       project_velocities(y0_.data(), y0_.data() + nq);
   }
   kinematics(y0_.data());
+  if (loop_springs_on) track_loop_angles();
   if (!held_rows_changed()) return false;
   contact_inverse_inertia();  // at the poses just computed, which the contact rows read too
   return true;
@@ -247,6 +248,7 @@ void Mechanism::joint_wrench(int link, const Vec3& g, Vec3& force_W, Vec3& torqu
     add(L.la, -1);
   }
   for (const Tether& t : tethers) tether_loads(t, t.lambda + tether_spring_force(t), rf_);
+  if (loop_springs_on) loop_springs(&rf_);
   if (!loads.empty()) apply_loads(&rf_);  // the force list's forces on the links
   for (int i = n; i-- > 0;)
     if (links[i].parent >= 0) rf_[links[i].parent] += transform_force_back(work_[i].E, work_[i].r, rf_[i]);

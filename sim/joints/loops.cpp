@@ -17,6 +17,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 namespace simreel {
 
@@ -286,6 +287,60 @@ inline void subtract_point_force(const Mat3& R, const Vec3& p, const Vec3& F_W, 
   f.tail<3>() -= F;
 }
 }  // namespace
+
+namespace {
+// The value of principal + 2 pi k nearest `near`.
+double unwrap_near(double principal, double near) {
+  return principal + 2 * std::numbers::pi * std::round((near - principal) / (2 * std::numbers::pi));
+}
+}  // namespace
+
+double Mechanism::sprung_angle(const Loop& L) const {
+  // b's turn since the start relative to a's, about the start axis (as loop_angle reads it).
+  const Quat qa = L.la < 0 ? Quat::Identity() : Quat(work_[L.la].R_W);
+  const Quat rel = (qa * L.q_a0.conjugate()).conjugate() * (Quat(work_[L.lb].R_W) * L.q_b0.conjugate());
+  return unwrap_near(2 * std::atan2(rel.vec().dot(L.axis_W0), rel.w()), L.angle);
+}
+
+void Mechanism::track_loop_angles() {
+  for (Loop& L : loops)
+    if (L.kind == Loop::Kind::hinge && (L.stiffness != 0 || L.damping != 0)) L.angle = sprung_angle(L);
+}
+
+void Mechanism::loop_springs(std::vector<Vec6>* f) {
+  for (const Loop& L : loops) {
+    if (L.stiffness == 0 && L.damping == 0) continue;
+    const Mat3 Ra = L.la < 0 ? Mat3::Identity() : work_[L.la].R_W;
+    const Mat3& Rb = work_[L.lb].R_W;
+    const Vec3 axis_W = Ra * (L.q_a0.conjugate() * L.axis_W0);  // fixed in a
+    const Vec3 wa = L.la < 0 ? Vec3::Zero() : Vec3(Ra * work_[L.la].vel.head<3>());
+    const Vec3 wb = Rb * work_[L.lb].vel.head<3>();
+    Vec6& fb = f ? (*f)[L.lb] : work_[L.lb].pA;
+    Vec6* fa = L.la < 0 ? nullptr : f ? &(*f)[L.la] : &work_[L.la].pA;
+    if (L.kind == Loop::Kind::hinge) {
+      // The angle, continuous past +-pi (a crank's linkage may turn its coupler all the way
+      // round); its rate about the axis a carries. The torque's power is the spring's
+      // -k (x - rest) x' - c x'^2 exactly: the rows hold the turn about the axis.
+      const double angle = sprung_angle(L);
+      const double tau = -L.stiffness * (angle - L.rest) - L.damping * (wb - wa).dot(axis_W);
+      fb.head<3>() -= Rb.transpose() * (tau * axis_W);
+      if (fa) fa->head<3>() += Ra.transpose() * (tau * axis_W);
+    } else {
+      // The slide along the axis, and both forces at b's anchor: a's point there moves with a,
+      // so the force pair's power is the spring's along the slide's rate (which includes the
+      // axis's turning with a).
+      const Vec3 xa = L.la < 0 ? Vec3::Zero() : work_[L.la].x_W;
+      const Vec3 P = work_[L.lb].x_W + Rb * L.pb;
+      const Vec3 gap = P - (xa + Ra * L.pa);
+      const Vec3 pa_local = Ra.transpose() * (P - xa);
+      const Vec3 vb = Rb * point_velocity(work_[L.lb].vel, L.pb);
+      const Vec3 va = L.la < 0 ? Vec3::Zero() : Vec3(Ra * point_velocity(work_[L.la].vel, pa_local));
+      const double F = -L.stiffness * (axis_W.dot(gap) - L.rest) - L.damping * axis_W.dot(vb - va);
+      subtract_point_force(Rb, L.pb, F * axis_W, fb);
+      if (fa) subtract_point_force(Ra, pa_local, -F * axis_W, *fa);
+    }
+  }
+}
 
 double Mechanism::tether_spring_force(const Tether& t) const {
   if (t.stiffness == 0 && t.damping == 0) return 0;
@@ -595,7 +650,8 @@ double Mechanism::loop_angle(int k) const {
     return (qa * L.aa).dot(gap);
   }
   if (!L.hinge) return 2 * std::atan2(rel.vec().norm(), std::abs(rel.w()));
-  return 2 * std::atan2(rel.vec().dot(L.axis_W0), rel.w());
+  const double a = 2 * std::atan2(rel.vec().dot(L.axis_W0), rel.w());
+  return L.stiffness != 0 || L.damping != 0 ? unwrap_near(a, L.angle) : a;
 }
 
 double Mechanism::loop_speed(int k) const {

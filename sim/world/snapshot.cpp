@@ -200,6 +200,9 @@ void WorldImpl::save_state(std::ostream& os) const {
     for (double x : m.q) o.f64(x);
     for (double x : m.v) o.f64(x);
     o.f64(m.h);
+    // Sprung loop hinges' continuous angles (only where a loop carries a spring).
+    for (const Mechanism::Loop& L : m.loops)
+      if (L.kind == Mechanism::Loop::Kind::hinge && (L.stiffness != 0 || L.damping != 0)) o.f64(L.angle);
     // The modes of limits, motors and friction (only when the mechanism has any).
     if (m.events_on()) {
       o.u8(m.started ? 1 : 0);
@@ -320,6 +323,7 @@ void WorldImpl::restore_state(std::istream& is) {
   }
   std::vector<std::vector<double>> mq, mv;
   std::vector<double> mh;
+  std::vector<std::vector<double>> angles;
   std::vector<std::vector<int>> modes;
   for (const Mechanism& m : joints_.mechanisms()) {
     mq.emplace_back(m.q.size());
@@ -328,6 +332,12 @@ void WorldImpl::restore_state(std::istream& is) {
     for (double& x : mv.back()) x = in.f64();
     mh.push_back(in.f64());
     bool ok = std::isfinite(mh.back()) && mh.back() >= 0;
+    angles.emplace_back();
+    for (const Mechanism::Loop& L : m.loops)
+      if (L.kind == Mechanism::Loop::Kind::hinge && (L.stiffness != 0 || L.damping != 0)) {
+        angles.back().push_back(in.f64());
+        ok = ok && std::isfinite(angles.back().back());
+      }
     for (double x : mq.back()) ok = ok && std::isfinite(x);
     for (double x : mv.back()) ok = ok && std::isfinite(x);
     if (m.events_on()) {
@@ -355,6 +365,10 @@ void WorldImpl::restore_state(std::istream& is) {
     m.q = std::move(mq[k]);
     m.v = std::move(mv[k]);
     m.h = mh[k];
+    size_t a = 0;
+    for (Mechanism::Loop& L : m.loops)
+      if (L.kind == Mechanism::Loop::Kind::hinge && (L.stiffness != 0 || L.damping != 0))
+        L.angle = angles[k][a++];
     if (m.events_on()) {
       const std::vector<int>& md = modes[k];
       m.started = md[0] != 0;
