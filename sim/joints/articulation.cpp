@@ -429,7 +429,7 @@ bool Mechanism::advance(double dt, const Vec3& g, const Wrench* wr, const Motion
       event = true;  // the state moved: no first-same-as-last, no step-size proposal from this one
     }
     std::swap(y0_, y1_);
-    if (loop_springs_on) {  // the sprung hinges' angles at the new state, for the next step's stages
+    if (loop_tracked_on) {  // the tracked hinges' angles at the new state, for the next step's stages
       kinematics(y0_.data());
       track_loop_angles();
     }
@@ -698,9 +698,11 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
                          ": a spring on a joint that closes a loop needs a revolute or prismatic "
                          "joint (this one is " +
                          to_string(d.type) + ")");
-      if (d.limits || d.ball_limits || d.motor || d.motor2 || d.friction > 0)
+      if ((d.limits && d.type != JointType::revolute) || d.ball_limits || d.motor || d.motor2 ||
+          d.friction > 0)
         throw InputError(name_of(j) +
-                         ": a joint that closes a loop cannot carry limits, a motor or friction yet");
+                         ": a joint that closes a loop can carry a spring, and limits on a revolute one; not "
+                         "limits of this type, a motor or friction yet");
       loop_joints.push_back(j);
       continue;
     }
@@ -1106,7 +1108,21 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
       L.rest = d.spring->rest;
       m.loop_springs_on = true;
     }
+    L.tracked = L.kind == K::hinge && (d.spring || d.limits);
+    m.loop_tracked_on = m.loop_tracked_on || L.tracked;
     m.loops.push_back(L);
+    if (d.limits) {  // its stops: a slack rope on the hinge's angle between them
+      Mechanism::Tether t;
+      t.joint = j;
+      t.measure = Mechanism::Tether::Measure::hinge;
+      t.loop = (int)m.loops.size() - 1;
+      t.has_lo = t.has_hi = true;
+      t.lo = d.limits->lower;
+      t.hi = d.limits->upper;
+      t.restitution = d.limits->restitution;
+      m.tethers.push_back(t);
+      m.allocate();
+    }
     m.loop_rows += L.rows();
     Side& sd = sides_[j];
     sd.p_p = L.la < 0 ? d.anchor_W : L.pa;

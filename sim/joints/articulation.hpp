@@ -96,9 +96,10 @@ class Mechanism {
     // A spring on a hinge's angle or a slider's slide (both zero at the start, as loop_angle reads
     // them): N m/rad or N/m, N m s/rad or N s/m, rad or m.
     double stiffness = 0, damping = 0, rest = 0;
-    // A sprung hinge's angle, continuous past +-pi (saved state): at the start of the internal
-    // step (or contact substep) being taken. A stage's angle is the value nearest it of the
-    // relative rotation's, which is only known modulo 2 pi.
+    // A hinge with a spring or stops (tracked) keeps its angle continuous past +-pi (saved
+    // state): the angle at the start of the internal step (or contact substep) being taken. A
+    // stage's angle is the value nearest it of the relative rotation's, only known modulo 2 pi.
+    bool tracked = false;
     double angle = 0;
     int rows() const {
       switch (kind) {
@@ -119,6 +120,7 @@ class Mechanism {
   std::vector<Loop> loops;
   int loop_rows = 0;
   bool loop_springs_on = false;  ///< any loop carries a spring
+  bool loop_tracked_on = false;  ///< any loop hinge keeps a continuous angle (Loop::tracked)
 
   // A distance joint's rod or rope, or a pulley's rope (docs/joints.md, "Rods, ropes and
   // pulleys"): one row on the tree's coordinates, on the length
@@ -135,10 +137,11 @@ class Mechanism {
   // s = q_link - ratio q_link2, held at 0 as a rod.
   struct Tether {
     int joint = -1;
-    enum class Measure { length, swing, twist, angle, coupling } measure = Measure::length;
+    enum class Measure { length, swing, twist, angle, coupling, hinge } measure = Measure::length;
     int link = -1;              ///< swing, twist, angle: the ball joint's link; coupling: the follower's
     int link2 = -1;             ///< coupling: the leader's link (s = q_link - ratio q_link2, held at 0)
     double ratio = 1;           ///< coupling: the mimic's multiplier
+    int loop = -1;              ///< hinge: the loop whose hinge angle (loop_angle) it stops
     Vec3 axis = Vec3::UnitZ();  ///< swing, twist: unit, joint frame
     int nseg = 1;
     int la[2] = {-1, -1}, lb[2] = {-1, -1};  ///< links (-1: the fixed base)
@@ -331,9 +334,12 @@ class Mechanism {
   // (a force along the slider's, both at b's anchor) on the two links, at the current kinematics
   // and link velocities; subtracted from f (joint_wrench) or the ABA's bias forces (after pass 1).
   void loop_springs(std::vector<Vec6>* f = nullptr);
-  // A sprung hinge's angle at the current kinematics, the one nearest its saved Loop::angle;
-  // track_loop_angles() saves it after a step (kinematics of the new state done).
-  double sprung_angle(const Loop& L) const;
+  // A tracked hinge's angle at the current kinematics, the one nearest its saved Loop::angle;
+  // track_loop_angles() saves it after a step (kinematics of the new state done). Its rate and
+  // second derivative for link velocities V and true link accelerations A (a stop's row).
+  double hinge_angle(const Loop& L) const;
+  double hinge_rate(const Loop& L, const std::vector<Vec6>& V) const;
+  double hinge_acceleration(const Loop& L, const std::vector<Vec6>& V, const std::vector<Vec6>& A) const;
   void track_loop_angles();
   // The forces a tether's row and spring put on the links (link frames, about their origins),
   // subtracted from f (joint_wrench: external to the tree).

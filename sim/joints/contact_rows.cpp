@@ -117,7 +117,7 @@ bool Mechanism::contact_positions(double hs, const Vec3& g) {
       project_velocities(y0_.data(), y0_.data() + nq);
   }
   kinematics(y0_.data());
-  if (loop_springs_on) track_loop_angles();
+  if (loop_tracked_on) track_loop_angles();
   if (!held_rows_changed()) return false;
   contact_inverse_inertia();  // at the poses just computed, which the contact rows read too
   return true;

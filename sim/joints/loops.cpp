@@ -224,6 +224,7 @@ double Mechanism::coordinate_acceleration(int i, const std::vector<Vec6>& V,
 // direction and adds nothing.
 double Mechanism::tether_position(const Tether& t, const double* q) const {
   if (t.measure == Tether::Measure::coupling) return q[links[t.link].iq] - t.ratio * q[links[t.link2].iq];
+  if (t.measure == Tether::Measure::hinge) return hinge_angle(loops[t.loop]);
   if (t.measure != Tether::Measure::length) return ball_angle(t);
   double s = 0;
   for (int k = 0; k < t.nseg; ++k)
@@ -235,6 +236,7 @@ double Mechanism::tether_position(const Tether& t, const double* q) const {
 double Mechanism::tether_rate(const Tether& t, const std::vector<Vec6>& V, double wheel_rate) const {
   if (t.measure == Tether::Measure::coupling)
     return coordinate_rate(t.link, V) - t.ratio * coordinate_rate(t.link2, V);
+  if (t.measure == Tether::Measure::hinge) return hinge_rate(loops[t.loop], V);
   if (t.measure != Tether::Measure::length) return ball_rate(t, V);
   double r = t.wheel_iv >= 0 ? t.wheel_c * wheel_rate : 0.0;
   for (int k = 0; k < t.nseg; ++k) {
@@ -254,6 +256,7 @@ double Mechanism::tether_acceleration(const Tether& t, const std::vector<Vec6>& 
                                       double wheel_acc) const {
   if (t.measure == Tether::Measure::coupling)
     return coordinate_acceleration(t.link, V, A) - t.ratio * coordinate_acceleration(t.link2, V, A);
+  if (t.measure == Tether::Measure::hinge) return hinge_acceleration(loops[t.loop], V, A);
   if (t.measure != Tether::Measure::length) return ball_acceleration(t, V, A);
   double r = t.wheel_iv >= 0 ? t.wheel_c * wheel_acc : 0.0;
   for (int k = 0; k < t.nseg; ++k) {
@@ -295,7 +298,7 @@ double unwrap_near(double principal, double near) {
 }
 }  // namespace
 
-double Mechanism::sprung_angle(const Loop& L) const {
+double Mechanism::hinge_angle(const Loop& L) const {
   // b's turn since the start relative to a's, about the start axis (as loop_angle reads it).
   const Quat qa = L.la < 0 ? Quat::Identity() : Quat(work_[L.la].R_W);
   const Quat rel = (qa * L.q_a0.conjugate()).conjugate() * (Quat(work_[L.lb].R_W) * L.q_b0.conjugate());
@@ -304,7 +307,27 @@ double Mechanism::sprung_angle(const Loop& L) const {
 
 void Mechanism::track_loop_angles() {
   for (Loop& L : loops)
-    if (L.kind == Loop::Kind::hinge && (L.stiffness != 0 || L.damping != 0)) L.angle = sprung_angle(L);
+    if (L.tracked) L.angle = hinge_angle(L);
+}
+
+// The hinge's axis is fixed in a: x' = (w_b - w_a) . n, n = R_a n_a, and
+// x'' = (alpha_b - alpha_a) . n + (w_b - w_a) . (w_a x n), world angular accelerations being
+// R alpha_link (the link-frame spatial acceleration's angular part).
+double Mechanism::hinge_rate(const Loop& L, const std::vector<Vec6>& V) const {
+  const Mat3 Ra = L.la < 0 ? Mat3::Identity() : work_[L.la].R_W;
+  const Vec3 n = Ra * (L.q_a0.conjugate() * L.axis_W0);
+  const Vec3 wa = L.la < 0 ? Vec3::Zero() : Vec3(Ra * V[L.la].head<3>());
+  return (work_[L.lb].R_W * V[L.lb].head<3>() - wa).dot(n);
+}
+
+double Mechanism::hinge_acceleration(const Loop& L, const std::vector<Vec6>& V,
+                                     const std::vector<Vec6>& A) const {
+  const Mat3 Ra = L.la < 0 ? Mat3::Identity() : work_[L.la].R_W;
+  const Mat3& Rb = work_[L.lb].R_W;
+  const Vec3 n = Ra * (L.q_a0.conjugate() * L.axis_W0);
+  const Vec3 wa = L.la < 0 ? Vec3::Zero() : Vec3(Ra * V[L.la].head<3>());
+  const Vec3 aa = L.la < 0 ? Vec3::Zero() : Vec3(Ra * A[L.la].head<3>());
+  return (Rb * A[L.lb].head<3>() - aa).dot(n) + (Rb * V[L.lb].head<3>() - wa).dot(wa.cross(n));
 }
 
 void Mechanism::loop_springs(std::vector<Vec6>* f) {
@@ -321,7 +344,7 @@ void Mechanism::loop_springs(std::vector<Vec6>* f) {
       // The angle, continuous past +-pi (a crank's linkage may turn its coupler all the way
       // round); its rate about the axis a carries. The torque's power is the spring's
       // -k (x - rest) x' - c x'^2 exactly: the rows hold the turn about the axis.
-      const double angle = sprung_angle(L);
+      const double angle = hinge_angle(L);
       const double tau = -L.stiffness * (angle - L.rest) - L.damping * (wb - wa).dot(axis_W);
       fb.head<3>() -= Rb.transpose() * (tau * axis_W);
       if (fa) fa->head<3>() += Ra.transpose() * (tau * axis_W);
@@ -413,8 +436,17 @@ void Mechanism::apply_loads(std::vector<Vec6>* f) {
 }
 
 void Mechanism::tether_loads(const Tether& t, double force, std::vector<Vec6>& f) const {
-  // A ball joint's stop acts between the joint's own two links, a coupling along its joints' own
-  // axes (as a motor): what the joints transmit.
+  // A loop hinge's stop: a torque about the axis on its two links, external to the tree as the
+  // loop's own rows are. A ball joint's stop acts between the joint's own two links, a coupling
+  // along its joints' own axes (as a motor): what the joints transmit.
+  if (t.measure == Tether::Measure::hinge) {
+    const Loop& L = loops[t.loop];
+    const Mat3 Ra = L.la < 0 ? Mat3::Identity() : work_[L.la].R_W;
+    const Vec3 T = force * (Ra * (L.q_a0.conjugate() * L.axis_W0));  // on b; -T on a
+    f[L.lb].head<3>() -= work_[L.lb].R_W.transpose() * T;
+    if (L.la >= 0) f[L.la].head<3>() += Ra.transpose() * T;
+    return;
+  }
   if (t.measure != Tether::Measure::length) return;
   for (int k = 0; k < t.nseg; ++k) {
     const Vec3 d = point_W(t.lb[k], t.pb[k]) - point_W(t.la[k], t.pa[k]);
@@ -651,7 +683,7 @@ double Mechanism::loop_angle(int k) const {
   }
   if (!L.hinge) return 2 * std::atan2(rel.vec().norm(), std::abs(rel.w()));
   const double a = 2 * std::atan2(rel.vec().dot(L.axis_W0), rel.w());
-  return L.stiffness != 0 || L.damping != 0 ? unwrap_near(a, L.angle) : a;
+  return L.tracked ? unwrap_near(a, L.angle) : a;
 }
 
 double Mechanism::loop_speed(int k) const {
@@ -679,6 +711,10 @@ double Mechanism::tether_length(int ti, int seg, double* rate) const {
     const Link &f = links[t.link], &l = links[t.link2];
     if (rate) *rate = v[f.iv] - t.ratio * v[l.iv];
     return q[f.iq] - t.ratio * q[l.iq];
+  }
+  if (t.measure == Tether::Measure::hinge) {
+    if (rate) *rate = loop_speed(t.loop);
+    return loop_angle(t.loop);
   }
   if (t.measure != Tether::Measure::length) return ball_readout(t, rate);
   auto point = [&](int l, const Vec3& p) { return l < 0 ? p : Vec3(out_x_[l] + out_q_[l] * p); };

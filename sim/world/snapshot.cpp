@@ -200,9 +200,9 @@ void WorldImpl::save_state(std::ostream& os) const {
     for (double x : m.q) o.f64(x);
     for (double x : m.v) o.f64(x);
     o.f64(m.h);
-    // Sprung loop hinges' continuous angles (only where a loop carries a spring).
+    // Tracked loop hinges' continuous angles (only where a loop hinge carries a spring or stops).
     for (const Mechanism::Loop& L : m.loops)
-      if (L.kind == Mechanism::Loop::Kind::hinge && (L.stiffness != 0 || L.damping != 0)) o.f64(L.angle);
+      if (L.tracked) o.f64(L.angle);
     // The modes of limits, motors and friction (only when the mechanism has any).
     if (m.events_on()) {
       o.u8(m.started ? 1 : 0);
@@ -334,7 +334,7 @@ void WorldImpl::restore_state(std::istream& is) {
     bool ok = std::isfinite(mh.back()) && mh.back() >= 0;
     angles.emplace_back();
     for (const Mechanism::Loop& L : m.loops)
-      if (L.kind == Mechanism::Loop::Kind::hinge && (L.stiffness != 0 || L.damping != 0)) {
+      if (L.tracked) {
         angles.back().push_back(in.f64());
         ok = ok && std::isfinite(angles.back().back());
       }
@@ -367,8 +367,7 @@ void WorldImpl::restore_state(std::istream& is) {
     m.h = mh[k];
     size_t a = 0;
     for (Mechanism::Loop& L : m.loops)
-      if (L.kind == Mechanism::Loop::Kind::hinge && (L.stiffness != 0 || L.damping != 0))
-        L.angle = angles[k][a++];
+      if (L.tracked) L.angle = angles[k][a++];
     if (m.events_on()) {
       const std::vector<int>& md = modes[k];
       m.started = md[0] != 0;
