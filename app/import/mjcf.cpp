@@ -276,12 +276,14 @@ class MjcfReader {
     }
   }
   // An attribute of `e` (tag `tag`): its own, else its class's default, else the class's parents'.
-  const char* get(const XMLElement* e, const char* key, const std::string& cls) const {
+  // `tag`: the element whose defaults apply, when not e's own (a <spatial> tendon's are <tendon>).
+  const char* get(const XMLElement* e, const char* key, const std::string& cls,
+                  const char* tag = nullptr) const {
     if (const char* v = e->Attribute(key)) return v;
     for (std::string c = cls; !c.empty();) {
       const auto p = class_proto_.find(c);
       if (p != class_proto_.end()) {
-        const auto t = p->second.find(e->Name());
+        const auto t = p->second.find(tag ? tag : e->Name());
         if (t != p->second.end())
           if (const char* v = t->second->Attribute(key)) return v;
       }
@@ -959,19 +961,7 @@ class MjcfReader {
     }
     // Attributes through the default classes, whose element is <tendon>.
     const std::string cls = class_of(e, "", what);
-    auto attr = [&](const char* key) -> const char* {
-      if (const char* v = e->Attribute(key)) return v;
-      for (std::string c = cls; !c.empty();) {
-        const auto p = class_proto_.find(c);
-        if (p != class_proto_.end())
-          for (const char* t : {"tendon", "spatial"})
-            if (const auto d = p->second.find(t); d != p->second.end())
-              if (const char* v = d->second->Attribute(key)) return v;
-        const auto up = class_parent_.find(c);
-        c = up == class_parent_.end() ? "" : up->second;
-      }
-      return nullptr;
-    };
+    auto attr = [&](const char* key) { return get(e, key, cls, "tendon"); };
     std::vector<const XMLElement*> sites;
     for (const XMLElement* c = e->FirstChildElement(); c; c = c->NextSiblingElement()) {
       if (std::string(c->Name()) == "site") {

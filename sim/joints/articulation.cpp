@@ -1096,7 +1096,7 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
       L.t2 = a.cross(L.t1);
     }
     if (L.kind == K::hinge) L.ab = qb.conjugate() * d.axis_W;
-    if (L.kind == K::prismatic || L.kind == K::universal) L.aa = a;
+    L.aa = a;  // (its hinge, slide or first axis)
     if (L.kind == K::universal) L.ab = qb.conjugate() * d.axis2_W;
     L.R0 = (qa.conjugate() * qb).toRotationMatrix();
     L.q_a0 = qa;

@@ -89,7 +89,7 @@ class Mechanism {
     bool hinge = false;  ///< kind == hinge
     Vec3 t1, t2;         ///< hinge, prismatic: perpendiculars to the axis, fixed in a (world for the base)
     Vec3 ab;             ///< hinge: the axis in b's frame; universal: axis2 in b's frame
-    Vec3 aa;             ///< prismatic, universal: the axis in a's frame
+    Vec3 aa;             ///< hinge, prismatic, universal: the (first) axis in a's frame
     Mat3 R0;             ///< prismatic, fixed: b's start orientation relative to a's (R_a^T R_b at t = 0)
     Quat q_a0, q_b0;     ///< the links' start orientations (read-outs of the angle)
     Vec3 axis_W0;        ///< the hinge axis at t = 0

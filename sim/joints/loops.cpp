@@ -315,7 +315,7 @@ void Mechanism::track_loop_angles() {
 // R alpha_link (the link-frame spatial acceleration's angular part).
 double Mechanism::hinge_rate(const Loop& L, const std::vector<Vec6>& V) const {
   const Mat3 Ra = L.la < 0 ? Mat3::Identity() : work_[L.la].R_W;
-  const Vec3 n = Ra * (L.q_a0.conjugate() * L.axis_W0);
+  const Vec3 n = Ra * L.aa;
   const Vec3 wa = L.la < 0 ? Vec3::Zero() : Vec3(Ra * V[L.la].head<3>());
   return (work_[L.lb].R_W * V[L.lb].head<3>() - wa).dot(n);
 }
@@ -324,7 +324,7 @@ double Mechanism::hinge_acceleration(const Loop& L, const std::vector<Vec6>& V,
                                      const std::vector<Vec6>& A) const {
   const Mat3 Ra = L.la < 0 ? Mat3::Identity() : work_[L.la].R_W;
   const Mat3& Rb = work_[L.lb].R_W;
-  const Vec3 n = Ra * (L.q_a0.conjugate() * L.axis_W0);
+  const Vec3 n = Ra * L.aa;
   const Vec3 wa = L.la < 0 ? Vec3::Zero() : Vec3(Ra * V[L.la].head<3>());
   const Vec3 aa = L.la < 0 ? Vec3::Zero() : Vec3(Ra * A[L.la].head<3>());
   return (Rb * A[L.lb].head<3>() - aa).dot(n) + (Rb * V[L.lb].head<3>() - wa).dot(wa.cross(n));
@@ -335,7 +335,7 @@ void Mechanism::loop_springs(std::vector<Vec6>* f) {
     if (L.stiffness == 0 && L.damping == 0) continue;
     const Mat3 Ra = L.la < 0 ? Mat3::Identity() : work_[L.la].R_W;
     const Mat3& Rb = work_[L.lb].R_W;
-    const Vec3 axis_W = Ra * (L.q_a0.conjugate() * L.axis_W0);  // fixed in a
+    const Vec3 axis_W = Ra * L.aa;  // fixed in a
     const Vec3 wa = L.la < 0 ? Vec3::Zero() : Vec3(Ra * work_[L.la].vel.head<3>());
     const Vec3 wb = Rb * work_[L.lb].vel.head<3>();
     Vec6& fb = f ? (*f)[L.lb] : work_[L.lb].pA;
@@ -442,7 +442,7 @@ void Mechanism::tether_loads(const Tether& t, double force, std::vector<Vec6>& f
   if (t.measure == Tether::Measure::hinge) {
     const Loop& L = loops[t.loop];
     const Mat3 Ra = L.la < 0 ? Mat3::Identity() : work_[L.la].R_W;
-    const Vec3 T = force * (Ra * (L.q_a0.conjugate() * L.axis_W0));  // on b; -T on a
+    const Vec3 T = force * (Ra * L.aa);  // on b; -T on a
     f[L.lb].head<3>() -= work_[L.lb].R_W.transpose() * T;
     if (L.la >= 0) f[L.la].head<3>() += Ra.transpose() * T;
     return;
@@ -698,7 +698,7 @@ double Mechanism::loop_speed(int k) const {
     return (qa * L.aa).dot(vb - va);  // the slide's rate (the axis's own turning moves no anchor along it)
   }
   if (!L.hinge) return (wb - wa).norm();
-  return (wb - wa).dot(qa * (L.q_a0.conjugate() * L.axis_W0));
+  return (wb - wa).dot(qa * L.aa);
 }
 
 }  // namespace simreel

@@ -195,7 +195,8 @@ bool ContinuousCollision::step(const Step& in, MayTouch&& may_touch) {
     moved_.assign(x0_.size(), 0);
     turned_.assign(x0_.size(), 0);
     // Per shape, what the coverage test below needs of it, so that it reads no shape's record
-    // (among 100,000 falling boxes the stage took 80 ns a body-step reading them, 55 with this):
+    // (among 100,000 falling boxes the stage took 66-70 ns a body-step reading them, 48 with this
+    // and the broad phase's changes of the same run):
     // 0 not tested (a plane, or a static shape), 1 a mesh (never covered), 2 any other.
     cover_kind_.assign(shapes.size(), 0);
     for (int k = 0; k < shapes.size(); ++k)

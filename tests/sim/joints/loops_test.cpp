@@ -231,6 +231,30 @@ TEST(Loops, OscillatingCylinderKeepsItsEnergy) {
   EXPECT_LT(art.gap(b.state.data()), 1e-12);
 }
 
+// The four-bar of the tests below: crank, coupler and rocker (bodies 0, 1, 2 of `b`), the rocker
+// hinged to the world 1.2 m from the crank (a non-Grashof linkage: no link turns fully, but the
+// coupler turns more than half a turn from the rocker under gravity). The coupler-rocker hinge
+// closes the loop (closing) or is in the tree with its axis reversed, so that its angle keeps its
+// sign, the crank's pin then closing. Returns the joints and, in `hinge`, the coupler-rocker's.
+std::vector<JointDef> make_four_bar(Bodies& b, bool closing, int& hinge) {
+  const int crank = b.add("crank", 1.0, Vec3(0.02, 0.03, 0.025), Vec3(0.15, 0, 0.2));
+  const int coupler = b.add("coupler", 1.5, Vec3(0.04, 0.06, 0.05), Vec3(0.65, 0, 0.5));
+  const int rocker = b.add("rocker", 2.0, Vec3(0.05, 0.07, 0.06), Vec3(1.1, 0, 0.3));
+  const Vec3 B(0.3, 0, 0.4), C(1.0, 0, 0.6);
+  std::vector<JointDef> js;
+  js.push_back(joint(JointType::revolute, -1, crank, Vec3::Zero(), Vec3::UnitY()));
+  js.push_back(joint(JointType::revolute, -1, rocker, Vec3(1.2, 0, 0), Vec3::UnitY()));
+  if (closing) {
+    js.push_back(joint(JointType::revolute, crank, coupler, B, Vec3::UnitY()));
+    js.push_back(joint(JointType::revolute, coupler, rocker, C, Vec3::UnitY()));  // closes
+  } else {
+    js.push_back(joint(JointType::revolute, rocker, coupler, C, -Vec3::UnitY()));
+    js.push_back(joint(JointType::revolute, crank, coupler, B, Vec3::UnitY()));  // closes
+  }
+  hinge = closing ? 3 : 2;
+  return js;
+}
+
 // A spring on a loop's closing joint is the same physics as the same spring on a tree joint. A
 // four-bar under gravity whose coupler-rocker hinge carries a spring (5 N m/rad, rest 0.3 rad from
 // the start), once with that hinge closing the loop and once with it in the tree (the crank's pin
@@ -251,21 +275,10 @@ SpringRun spring_run(bool four_bar, bool closing, double damping) {
   double grav = g;
   int watched = 0;
   if (four_bar) {
-    const int crank = b.add("crank", 1.0, Vec3(0.02, 0.03, 0.025), Vec3(0.15, 0, 0.2));
-    const int coupler = b.add("coupler", 1.5, Vec3(0.04, 0.06, 0.05), Vec3(0.65, 0, 0.5));
-    const int rocker = b.add("rocker", 2.0, Vec3(0.05, 0.07, 0.06), Vec3(1.1, 0, 0.3));
-    const Vec3 B(0.3, 0, 0.4), C(1.0, 0, 0.6);
-    js.push_back(joint(JointType::revolute, -1, crank, Vec3::Zero(), Vec3::UnitY()));
-    js.push_back(joint(JointType::revolute, -1, rocker, Vec3(1.2, 0, 0), Vec3::UnitY()));
-    if (closing) {
-      js.push_back(joint(JointType::revolute, crank, coupler, B, Vec3::UnitY()));
-      js.push_back(joint(JointType::revolute, coupler, rocker, C, Vec3::UnitY()));  // closes
-    } else {
-      js.push_back(joint(JointType::revolute, rocker, coupler, C, -Vec3::UnitY()));
-      js.push_back(joint(JointType::revolute, crank, coupler, B, Vec3::UnitY()));  // closes
-    }
-    js[closing ? 3 : 2].spring = spring;
-    watched = crank;
+    int hinge = 0;
+    js = make_four_bar(b, closing, hinge);
+    js[hinge].spring = spring;
+    watched = 0;  // the crank
   } else {
     // Two carts on rails along x (1 kg at the origin, 2 kg 1 m on), a slider between them along x
     // carrying the spring: the slider or the second cart's rail closes the loop (its other rows
@@ -327,22 +340,16 @@ TEST(Loops, SprungClosingHingePastHalfATurnResumes) {
   cfg.dt = 1.0 / 60;
   cfg.gravity = Vec3(0, 0, -g);
   cfg.contacts.sleep = false;
+  Bodies bodies;
+  int hinge = 0;
+  cfg.joints = make_four_bar(bodies, true, hinge);
+  cfg.joints[hinge].spring = JointSpring{5.0, 0, 0.3};
   std::vector<BodyDef> defs;
-  auto add = [&](const char* name, double m, const Vec3& I, const Vec3& x) {
-    BodyDef d;
-    d.name = name;
-    d.p_WB = x;
-    d.mass_override = MassProperties{m, Vec3::Zero(), I.asDiagonal()};
-    defs.push_back(d);
-  };
-  add("crank", 1.0, Vec3(0.02, 0.03, 0.025), Vec3(0.15, 0, 0.2));
-  add("coupler", 1.5, Vec3(0.04, 0.06, 0.05), Vec3(0.65, 0, 0.5));
-  add("rocker", 2.0, Vec3(0.05, 0.07, 0.06), Vec3(1.1, 0, 0.3));
-  cfg.joints.push_back(joint(JointType::revolute, -1, 0, Vec3::Zero(), Vec3::UnitY()));
-  cfg.joints.push_back(joint(JointType::revolute, -1, 2, Vec3(1.2, 0, 0), Vec3::UnitY()));
-  cfg.joints.push_back(joint(JointType::revolute, 0, 1, Vec3(0.3, 0, 0.4), Vec3::UnitY()));
-  cfg.joints.push_back(joint(JointType::revolute, 1, 2, Vec3(1.0, 0, 0.6), Vec3::UnitY()));  // closes
-  cfg.joints.back().spring = JointSpring{5.0, 0, 0.3};
+  for (size_t i = 0; i < bodies.defs.size(); ++i) {  // the same bodies, their mass stated
+    defs.push_back(bodies.defs[i]);
+    defs.back().mass_override =
+        MassProperties{bodies.model[i].mass, Vec3::Zero(), bodies.model[i].I_P.asDiagonal()};
+  }
   auto saved = [](const World& w) {
     std::ostringstream os;
     w.save_state(os);
@@ -359,7 +366,7 @@ TEST(Loops, SprungClosingHingePastHalfATurnResumes) {
     a.step();
     b.step();
     drift = std::max(drift, std::abs(a.kinetic_energy() + a.potential_energy() - E0));
-    if (saved_at < 0 && std::abs(a.joint_position(3)) > std::numbers::pi) {
+    if (saved_at < 0 && std::abs(a.joint_position(hinge)) > std::numbers::pi) {
       mid = saved(a);
       saved_at = k;
     }
@@ -385,21 +392,8 @@ TEST(Loops, StopsOnAClosingHingeActAsOnATreeHinge) {
     SCOPED_TRACE(e);
     auto run = [&](bool closing, double& worst_E, double& past, int& hits) {
       Bodies b;
-      const int crank = b.add("crank", 1.0, Vec3(0.02, 0.03, 0.025), Vec3(0.15, 0, 0.2));
-      const int coupler = b.add("coupler", 1.5, Vec3(0.04, 0.06, 0.05), Vec3(0.65, 0, 0.5));
-      const int rocker = b.add("rocker", 2.0, Vec3(0.05, 0.07, 0.06), Vec3(1.1, 0, 0.3));
-      const Vec3 B(0.3, 0, 0.4), C(1.0, 0, 0.6);
-      std::vector<JointDef> js;
-      js.push_back(joint(JointType::revolute, -1, crank, Vec3::Zero(), Vec3::UnitY()));
-      js.push_back(joint(JointType::revolute, -1, rocker, Vec3(1.2, 0, 0), Vec3::UnitY()));
-      if (closing) {
-        js.push_back(joint(JointType::revolute, crank, coupler, B, Vec3::UnitY()));
-        js.push_back(joint(JointType::revolute, coupler, rocker, C, Vec3::UnitY()));  // closes
-      } else {
-        js.push_back(joint(JointType::revolute, rocker, coupler, C, -Vec3::UnitY()));
-        js.push_back(joint(JointType::revolute, crank, coupler, B, Vec3::UnitY()));  // closes
-      }
-      const int stopped = closing ? 3 : 2;
+      int stopped = 0;
+      std::vector<JointDef> js = make_four_bar(b, closing, stopped);
       js[stopped].limits = JointLimits{-1.2, 0.4, e};
       Articulations art;
       std::vector<std::string> warnings;
