@@ -54,6 +54,7 @@ struct Link {
   Vec3 t0 = Vec3::Zero(), a_c = Vec3::UnitZ(), a_p = Vec3::UnitZ();
   double mass = 0;                              ///< kg
   Vec3 I_P = Vec3::Zero();                      ///< kg m^2, principal moments
+  Mat6 M = Mat6::Zero();                        ///< the spatial inertia diag(I_P, mass), in the link frame
   Mat6X S;                                      ///< motion subspace in the link frame (6 x nv), constant
   Vec6 s1 = Vec6::Zero();                       ///< S when nv = 1 (hinges and sliders: the common case)
   double stiffness = 0, damping = 0, rest = 0;  ///< a 1-coordinate joint's spring
@@ -303,10 +304,11 @@ class Mechanism {
   bool asleep = false;           ///< its bodies sleep (the World's islands): not stepped
 
  private:
-  void contact_inverse_inertia();    ///< P_ at the current kinematics and held rows (contact_begin)
-  bool held_rows_changed();          ///< the held rows differ from the last call's (held_ updated)
-  std::vector<char> held_;           ///< per Dof and tether: held at the last held_rows_changed()
-  void kinematics(const double* q);  ///< X_, R_W_ for every link at q
+  void contact_inverse_inertia();  ///< P_ at the current kinematics and held rows (contact_begin)
+  bool held_rows_changed();        ///< the held rows differ from the last call's (held_ updated)
+  std::vector<char> held_;         ///< per Dof and tether: held at the last held_rows_changed()
+  // Every link's transform from its parent at q, and (world) its pose in the world.
+  void kinematics(const double* q, bool world = true);
   // Loop rows at the current kinematics: positions C(q); velocities for link velocities V (link
   // frames); accelerations for V and true link accelerations A. out has loop_rows entries.
   void loop_position_rows(double* out) const;
@@ -417,6 +419,11 @@ class Mechanism {
     double Dinv1 = 0, u1 = 0;
   };
   std::vector<Work> work_;
+  bool lean_ = false;  ///< inside advance(), when no evaluation needs the links' world poses
+  // The last frame's end state and gravity, when k_[0] holds the derivative there (advance).
+  bool carry_k1_ = false;
+  std::vector<double> y_end_;
+  Vec3 g_end_ = Vec3::Zero();
   std::vector<double> y0_, y1_, ys_;
   std::vector<double> k_[7];
   // Loop scratch, sized once (allocate_loops).

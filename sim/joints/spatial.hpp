@@ -16,20 +16,39 @@ using Mat6X = Eigen::Matrix<double, 6, Eigen::Dynamic, 0, 6, 6>;
 using MatXX6 = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
 using VecX6 = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1>;
 
+// The products below on raw arrays write into out, which must not alias the inputs: the ABA's
+// passes call them once per link and evaluation, and Eigen's comma initialisers of 3-vector
+// halves were left out of line at -O2, with a stall each where scalar stores met a packed load.
+// The Vec6 forms return the same bits.
+
 // Motion cross product v x m (Featherstone eq. 2.31).
+inline void cross_motion(const double* __restrict v, const double* __restrict m, double* __restrict out) {
+  out[0] = v[1] * m[2] - v[2] * m[1];
+  out[1] = v[2] * m[0] - v[0] * m[2];
+  out[2] = v[0] * m[1] - v[1] * m[0];
+  out[3] = (v[1] * m[5] - v[2] * m[4]) + (v[4] * m[2] - v[5] * m[1]);
+  out[4] = (v[2] * m[3] - v[0] * m[5]) + (v[5] * m[0] - v[3] * m[2]);
+  out[5] = (v[0] * m[4] - v[1] * m[3]) + (v[3] * m[1] - v[4] * m[0]);
+}
 inline Vec6 cross_motion(const Vec6& v, const Vec6& m) {
-  const Vec3 w = v.head<3>(), u = v.tail<3>(), mw = m.head<3>(), mu = m.tail<3>();
-  Vec6 r;
-  r << w.cross(mw), w.cross(mu) + u.cross(mw);
-  return r;
+  Vec6 out;
+  cross_motion(v.data(), m.data(), out.data());
+  return out;
 }
 
 // Force cross product v x* f (Featherstone eq. 2.32).
+inline void cross_force(const double* __restrict v, const double* __restrict f, double* __restrict out) {
+  out[0] = (v[1] * f[2] - v[2] * f[1]) + (v[4] * f[5] - v[5] * f[4]);
+  out[1] = (v[2] * f[0] - v[0] * f[2]) + (v[5] * f[3] - v[3] * f[5]);
+  out[2] = (v[0] * f[1] - v[1] * f[0]) + (v[3] * f[4] - v[4] * f[3]);
+  out[3] = v[1] * f[5] - v[2] * f[4];
+  out[4] = v[2] * f[3] - v[0] * f[5];
+  out[5] = v[0] * f[4] - v[1] * f[3];
+}
 inline Vec6 cross_force(const Vec6& v, const Vec6& f) {
-  const Vec3 w = v.head<3>(), u = v.tail<3>(), n = f.head<3>(), ff = f.tail<3>();
-  Vec6 r;
-  r << w.cross(n) + u.cross(ff), w.cross(ff);
-  return r;
+  Vec6 out;
+  cross_force(v.data(), f.data(), out.data());
+  return out;
 }
 
 // The motion transform from frame A to frame B, where E rotates A-coordinates into B-coordinates
@@ -44,21 +63,32 @@ inline Mat6 motion_transform(const Mat3& E, const Vec3& r) {
 }
 
 // The same transform applied without forming the 6x6 matrix: X v.
-inline Vec6 transform_motion(const Mat3& E, const Vec3& r, const Vec6& v) {
+inline void transform_motion(const Mat3& E, const Vec3& r, const double* __restrict v,
+                             double* __restrict out) {
   const double w0 = v[0], w1 = v[1], w2 = v[2];
   const double u0 = v[3] - (r[1] * w2 - r[2] * w1), u1 = v[4] - (r[2] * w0 - r[0] * w2),
                u2 = v[5] - (r[0] * w1 - r[1] * w0);
-  Vec6 out;
   for (int i = 0; i < 3; ++i) {
     out[i] = E(i, 0) * w0 + E(i, 1) * w1 + E(i, 2) * w2;
     out[i + 3] = E(i, 0) * u0 + E(i, 1) * u1 + E(i, 2) * u2;
   }
+}
+inline Vec6 transform_motion(const Mat3& E, const Vec3& r, const Vec6& v) {
+  Vec6 out;
+  transform_motion(E, r, v.data(), out.data());
   return out;
+}
+// out = X v + a.
+inline void transform_motion_add(const Mat3& E, const Vec3& r, const double* __restrict v,
+                                 const double* __restrict a, double* __restrict out) {
+  double o[6];
+  transform_motion(E, r, v, o);
+  for (int i = 0; i < 6; ++i) out[i] = o[i] + a[i];
 }
 
 // X^T f: a force on frame B's side carried back to frame A (Featherstone eq. 2.25 transposed).
-inline Vec6 transform_force_back(const Mat3& E, const Vec3& r, const Vec6& f) {
-  Vec6 out;
+inline void transform_force_back(const Mat3& E, const Vec3& r, const double* __restrict f,
+                                 double* __restrict out) {
   for (int i = 0; i < 3; ++i) {
     out[i] = E(0, i) * f[0] + E(1, i) * f[1] + E(2, i) * f[2];
     out[i + 3] = E(0, i) * f[3] + E(1, i) * f[4] + E(2, i) * f[5];
@@ -66,7 +96,18 @@ inline Vec6 transform_force_back(const Mat3& E, const Vec3& r, const Vec6& f) {
   out[0] += r[1] * out[5] - r[2] * out[4];
   out[1] += r[2] * out[3] - r[0] * out[5];
   out[2] += r[0] * out[4] - r[1] * out[3];
+}
+inline Vec6 transform_force_back(const Mat3& E, const Vec3& r, const Vec6& f) {
+  Vec6 out;
+  transform_force_back(E, r, f.data(), out.data());
   return out;
+}
+// out += X^T f.
+inline void add_transform_force_back(const Mat3& E, const Vec3& r, const double* __restrict f,
+                                     double* __restrict out) {
+  double o[6];
+  transform_force_back(E, r, f, o);
+  for (int i = 0; i < 6; ++i) out[i] += o[i];
 }
 
 // out += X^T I X: a symmetric spatial inertia I = [A B; B^T C] given in frame B, carried to frame
@@ -127,6 +168,11 @@ inline Vec6 mat6_vec(const Mat6& I, const Vec6& v) {
     o[i] =
         I(i, 0) * v[0] + I(i, 1) * v[1] + I(i, 2) * v[2] + I(i, 3) * v[3] + I(i, 4) * v[4] + I(i, 5) * v[5];
   return o;
+}
+// out += I v.
+inline void add_mat6_vec(const Mat6& I, const Vec6& v, double* __restrict out) {
+  const Vec6 o = mat6_vec(I, v);
+  for (int i = 0; i < 6; ++i) out[i] += o[i];
 }
 
 // A rigid body's spatial inertia about its centre of mass, in its principal axes.

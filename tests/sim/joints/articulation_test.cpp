@@ -315,6 +315,22 @@ TEST(Spatial, BlockTransformsMatchTheMatrices) {
   Mat6 acc = I;  // added onto what is there
   add_transform_inertia_back(E, r, I, acc);
   EXPECT_LT((acc - I - X.transpose() * I * X).norm(), 1e-13);
+  // The raw-array forms the ABA's passes use: the same sums in the same order, so the same bits.
+  const Vec6 m = Vec6::Random(), a = Vec6::Random();
+  const Vec3 w = v.head<3>(), u = v.tail<3>(), m0 = m.head<3>(), m1 = m.tail<3>();
+  Vec6 out;
+  out << w.cross(m0), w.cross(m1) + u.cross(m0);  // Featherstone eq. 2.31
+  EXPECT_EQ(cross_motion(v, m), out);
+  out << w.cross(m0) + u.cross(m1), w.cross(m1);  // eq. 2.32
+  EXPECT_EQ(cross_force(v, m), out);
+  transform_motion_add(E, r, v.data(), a.data(), out.data());
+  EXPECT_EQ(out, Vec6(transform_motion(E, r, v) + a));
+  out = a;
+  add_transform_force_back(E, r, v.data(), out.data());
+  EXPECT_EQ(out, Vec6(a + transform_force_back(E, r, v)));
+  out = a;
+  add_mat6_vec(I, v, out.data());
+  EXPECT_EQ(out, Vec6(a + mat6_vec(I, v)));
 }
 
 }  // namespace
