@@ -157,6 +157,7 @@ class Mechanism {
     double restitution = 0;
     double stiffness = 0, damping = 0, rest = 0;  ///< N/m, N s/m, m
     int taut = 0;       ///< a rope's mode (saved state): +1 held at hi, -1 held at lo, 0 slack
+    double aim = NAN;   ///< m: where project_positions puts a taut rope, when not at its bound
     double lambda = 0;  ///< N: the row's multiplier (the force along the rope; < 0 pulls)
     bool active() const { return rod || taut != 0; }
   };

@@ -646,7 +646,8 @@ void Mechanism::project_positions(double* q) {
     // A rod at its length, a taut rope at its bound.
     for (size_t t = 0; t < tethers.size(); ++t) {
       const Tether& T = tethers[t];
-      rows_(tether_row((int)t)) = T.active() ? tether_position(T, q) - (T.taut < 0 ? T.lo : T.hi) : 0.0;
+      const double at = !std::isnan(T.aim) ? T.aim : T.taut < 0 ? T.lo : T.hi;
+      rows_(tether_row((int)t)) = T.active() ? tether_position(T, q) - at : 0.0;
     }
     if (rows_.lpNorm<Eigen::Infinity>() < 1e-14) return;
     rhs_ = -rows_;

@@ -39,6 +39,9 @@ constexpr double kStartSlack = 1e-9;
 // A slack rope is caught this far (relative to 1 + its bound, m) past its bound: far under the
 // event location's own resolution, far over round-off.
 constexpr double kRopeSlack = 1e-12;
+// A rebounding rope is put this far (relative to 1 + its bound) inside its event function's
+// offset: a few times project_positions' own resolution (1e-14).
+constexpr double kRebound = 3e-14;
 inline int sign(double x) {
   return (x > 0) - (x < 0);
 }
@@ -121,8 +124,8 @@ void Mechanism::event_values(const double* y, double* out) const {
     const double s = rope && t.taut == 0 ? tether_position(t, q) : 0.0;
     // Offset by kRopeSlack: a rope let go at its bound is there only to round-off, and a function
     // starting a hair under zero would never be seen to cross it.
-    o[0] = rope && t.taut == 0 && t.has_hi ? t.hi + kRopeSlack * (1 + t.hi) - s : 1.0;
-    o[1] = rope && t.taut == 0 && t.has_lo ? s - t.lo + kRopeSlack * (1 + t.lo) : 1.0;
+    o[0] = rope && t.taut == 0 && t.has_hi ? t.hi + kRopeSlack * (1 + std::abs(t.hi)) - s : 1.0;
+    o[1] = rope && t.taut == 0 && t.has_lo ? s - t.lo + kRopeSlack * (1 + std::abs(t.lo)) : 1.0;
     o[2] = rope && t.taut != 0 ? (t.taut > 0 ? -t.lambda : t.lambda) : 1.0;
     o += 3;
   }
@@ -212,6 +215,8 @@ void Mechanism::apply_events(double* y, const double* g0, const double* g1, cons
   std::fill(vtarget_.begin(), vtarget_.end(), std::numeric_limits<double>::quiet_NaN());
   const size_t D = dofs.size();
   bool caught = false;
+  std::vector<int>& rebound = rebound_;
+  rebound.assign(tethers.size(), 0);
   for (size_t i = 0; i < tethers.size(); ++i) {
     const double* a = g0 + 5 * D + 3 * i;
     const double* b = g1 + 5 * D + 3 * i;
@@ -220,6 +225,7 @@ void Mechanism::apply_events(double* y, const double* g0, const double* g1, cons
       vtarget_[D + i] = rope_impact((int)i, hit(0) ? 1 : -1, q, v);
       impact = true;
       caught = caught || tethers[i].taut != 0;
+      if (tethers[i].taut == 0) rebound[i] = hit(0) ? 1 : -1;
     }
     if (hit(2)) tethers[i].taut = 0;
   }
@@ -249,8 +255,25 @@ void Mechanism::apply_events(double* y, const double* g0, const double* g1, cons
     impulse(q, v, vtarget_);
   }
   // A rope caught past its bound (by the event's resolution, or by a contact substep's travel)
-  // is put on it before anything may let it go again: a rope let go there must start slack.
-  if (caught) project_positions(q);
+  // is put on it before anything may let it go again: a rope let go there must start slack. One
+  // that rebounds is put just inside its event function's offset, so that the function starts
+  // its next step above zero and the rope's return is seen: left where the event was located (a
+  // hair past, the function at -6e-17), a return within one step went unseen. Just inside, by
+  // kRebound: a rope put a distance d from where it was, under an acceleration a toward the
+  // bound, returns at sqrt(2 a d) however slowly it left, so the bounces would never fall under
+  // kRestRate (d = kRopeSlack gave 7.8e-6 m/s at a = 15 m/s^2; d = kRebound gives 9e-7).
+  bool rebounds = false;
+  for (size_t i = 0; i < tethers.size(); ++i) {
+    if (!rebound[i]) continue;
+    Tether& t = tethers[i];
+    const double bound = rebound[i] > 0 ? t.hi : t.lo;
+    t.taut = rebound[i];
+    t.aim = bound + rebound[i] * (kRopeSlack - kRebound) * (1 + std::abs(bound));
+    rebounds = true;
+  }
+  if (caught || rebounds) project_positions(q);
+  for (size_t i = 0; i < tethers.size(); ++i)
+    if (rebound[i]) tethers[i].taut = 0, tethers[i].aim = NAN;
   settle_modes(y, g, wr);
 }
 
@@ -266,9 +289,9 @@ bool Mechanism::catch_stretched(double* y, const Vec3& g, const Wrench* wr) {
     // Past the event functions' own offset (where an event leaves a rope it caught), and moving
     // further out: one coming back in is seen by its event function once inside again.
     const double s = tether_position(t, q);
-    const int bound = t.has_hi && s > t.hi + 2 * kRopeSlack * (1 + t.hi)   ? 1
-                      : t.has_lo && s < t.lo - 2 * kRopeSlack * (1 + t.lo) ? -1
-                                                                           : 0;
+    const int bound = t.has_hi && s > t.hi + 2 * kRopeSlack * (1 + std::abs(t.hi))   ? 1
+                      : t.has_lo && s < t.lo - 2 * kRopeSlack * (1 + std::abs(t.lo)) ? -1
+                                                                                     : 0;
     if (bound == 0) continue;
     const double rate = tether_rate(t, V_, t.wheel_iv >= 0 ? v[t.wheel_iv] : 0.0);
     if (bound * rate <= 0) continue;
