@@ -978,35 +978,70 @@ class MjcfReader {
            what);
       return;
     }
+    // Its spring: -stiffness (L - springlength) - damping L'. One springlength (or two equal), or
+    // a negative one (the default), is a rest length (the negative: the length in the file's pose,
+    // MuJoCo's qpos0); two different values are a dead band, not simulated.
+    std::optional<JointSpring> spring;
+    {
+      auto real = [&](const char* key) {
+        const char* v = attr(key);
+        if (!v) return 0.0;
+        const auto n = parse_numbers(v);
+        if (!n || n->size() != 1) fail(e, what, std::string(key) + " \"" + v + "\" must be one number");
+        return (*n)[0];
+      };
+      const double k = real("stiffness"), c = real("damping");
+      if (k < 0 || c < 0) fail(e, what, "stiffness and damping must not be negative");
+      double rest = std::numeric_limits<double>::quiet_NaN();
+      bool band = false;
+      if (const char* sl = attr("springlength")) {
+        const auto v = parse_numbers(sl);
+        if (!v || v->empty() || v->size() > 2)
+          fail(e, what, std::string("springlength \"") + sl + "\" must be one or two lengths");
+        band = v->size() == 2 && (*v)[0] != (*v)[1];
+        if (!band && (*v)[0] >= 0) rest = (*v)[0];
+      }
+      if (band && (k > 0 || c > 0))
+        note(e, "a dead-band spring (two springlength values) is not simulated; its spring ignored", what);
+      else if (k > 0 || c > 0)
+        spring = JointSpring{k, c, rest};
+    }
     const char* range_text = attr("range");
     const char* limited = attr("limited");
     const bool on = range_text && !(limited && std::string(limited) == "false");
-    if (!on) {
-      note(e, "a tendon without a limited length pulls nothing here (MuJoCo drives or senses it); ignored",
+    if (!on && !spring) {
+      note(e,
+           "a tendon without a limited length or a spring pulls nothing here (MuJoCo drives or senses it); "
+           "ignored",
            what);
       return;
     }
-    const auto range = parse_numbers(range_text);
-    if (!range || range->size() != 2 || !((*range)[1] > 0) || !((*range)[0] <= (*range)[1]))
-      fail(e, what,
-           std::string("range \"") + range_text + "\" must be two lengths, low to high, the high above 0");
+    std::optional<std::vector<double>> range;
+    if (on) {
+      range = parse_numbers(range_text);
+      if (!range || range->size() != 2 || !((*range)[1] > 0) || !((*range)[0] <= (*range)[1]))
+        fail(e, what,
+             std::string("range \"") + range_text + "\" must be two lengths, low to high, the high above 0");
+    }
     auto site_of = [&](const XMLElement* c) -> const Site& {
       if (!c->Attribute("site")) fail(c, what, "a tendon's <site> needs site=\"NAME\"");
       return named(c, what, sites_, "site", ref(c->Attribute("site")).c_str(), "site");
     };
     const Site& a = site_of(sites[0]);
     const Site& b = site_of(sites[1]);
-    for (const char* k : {"stiffness", "damping", "frictionloss"})
-      if (const char* v = attr(k); v && std::atof(v) != 0)
-        note(e, std::string("its ") + k + " is not simulated (a rope between its length's bounds)", what);
+    if (const char* v = attr("frictionloss"); v && std::atof(v) != 0)
+      note(e, "its frictionloss is not simulated", what);
     ModelRope r;
     r.name = name;
     r.link_a = a.link;
     r.point_a = a.pose.p;
     r.link_b = b.link;
     r.point_b = b.pose.p;
-    r.max_length = (*range)[1];
-    if ((*range)[0] > 0) r.min_length = (*range)[0];
+    if (range) {
+      r.max_length = (*range)[1];
+      if ((*range)[0] > 0) r.min_length = (*range)[0];
+    }
+    r.spring = spring;
     r.src = src(e, what);
     m_.ropes.push_back(r);
   }

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include <simreel/joints.hpp>
 #include <simreel/math.hpp>
 #include <simreel/mesh.hpp>
 
@@ -100,14 +101,18 @@ struct ModelJoint {
   SourceRef src;
 };
 
-/// A rope between two links' points (MJCF's spatial tendon between two sites, with a limited
-/// length): slack below max_length, pulling at it; pushing at min_length when one is given.
+/// A rope between two links' points (MJCF's spatial tendon between two sites): with a limited
+/// length, slack below max_length, pulling at it, pushing at min_length when one is given; with a
+/// spring, pulling -stiffness (L - rest) - damping L' along it (within the bounds, or without
+/// any: a spring alone).
 struct ModelRope {
   std::string name;
   int link_a = -1, link_b = -1;                         ///< -1: the world
   Vec3 point_a = Vec3::Zero(), point_b = Vec3::Zero();  ///< m, in each link's frame (the world's)
   std::optional<double> min_length;                     ///< m
-  double max_length = 0;                                ///< m
+  std::optional<double> max_length;                     ///< m; none: no bounds (a spring alone)
+  /// N/m, N s/m, m; a NaN rest is the length in the file's pose.
+  std::optional<JointSpring> spring;
   SourceRef src;
 };
 

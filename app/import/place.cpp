@@ -571,9 +571,36 @@ void place_model(const Model& m, const ImportSpec& spec, Scene& scene, MeshLibra
       continue;
     }
     const double start = (pb - pa).norm();
-    if (start > r.max_length * (1 + 1e-9) || (r.min_length && start < *r.min_length * (1 - 1e-9)))
+    if ((r.max_length && start > *r.max_length * (1 + 1e-9)) ||
+        (r.min_length && start < *r.min_length * (1 - 1e-9)))
       throw InputError(r.src.str() + ": its ends start " + std::to_string(start) +
                        " m apart, outside its length range");
+    std::optional<JointSpring> spring = r.spring;
+    if (spring && std::isnan(spring->rest)) spring->rest = start;  // the length in the file's pose
+    if (!r.max_length && !r.min_length) {
+      // A spring alone: the force list's spring between the two points (no bounds to hold).
+      ForceDef f;
+      f.kind = ForceKind::spring;
+      auto point_in = [&](int b, const Vec3& p_W, int& index, Vec3& at_B) {
+        const BodyDef& body = scene.bodies[bodies[b].index];
+        index = bodies[b].index;
+        at_B = body.q_WB.conjugate() * (p_W - body.p_WB);
+      };
+      if (ba < 0) std::swap(ba, bb), std::swap(pa, pb);  // the first end moves
+      point_in(ba, pa, f.body, f.at_B);
+      f.at_centroid = false;
+      if (bb < 0) {
+        f.anchor_W = pb;
+      } else {
+        point_in(bb, pb, f.body_b, f.at_b_B);
+        f.at_b_centroid = false;
+      }
+      f.stiffness = spring->stiffness;
+      f.damping = spring->damping;
+      f.rest_length = spring->rest;
+      scene.forces.push_back(f);
+      continue;
+    }
     JointDef d;
     d.name = prefix + r.name;
     d.type = JointType::distance;
@@ -585,8 +612,9 @@ void place_model(const Model& m, const ImportSpec& spec, Scene& scene, MeshLibra
     d.child = bodies[bb].index;
     d.anchor_W = pa;
     d.anchor2_W = pb;
-    d.max_length = std::max(r.max_length, start);
+    if (r.max_length) d.max_length = std::max(*r.max_length, start);
     if (r.min_length && *r.min_length > 0) d.min_length = std::min(*r.min_length, start);
+    d.spring = spring;
     scene.joints.push_back(std::move(d));
   }
 

@@ -717,7 +717,77 @@ TEST(ImportMjcf, ReplicateFrameAndTendonRopes) {
   free.replace(free.find("limited=\"true\""), 14, "limited=\"false\"");
   EXPECT_TRUE(
       has(load_scene(write("r4.yaml", "imports: [ { file: " + write("r4.xml", free) + " } ]\n")).notes,
-          "a tendon without a limited length pulls nothing here"));
+          "a tendon without a limited length or a spring pulls nothing here"));
+}
+
+// A spatial tendon's spring: -stiffness (L - springlength) - damping L'. Without a range it is a
+// spring alone (a bungee): a 1 kg ball hung from a site on one of 100 N/m, rest 0.5 m, bobs at
+// sqrt(k / m) (the mean of seven periods from the crossings of its rest height, each found by
+// linear interpolation between 1/240 s frames: within 1e-5), and with damping settles at
+// 0.5 + m g / k to 1e-7 m. With a range it is the rope's spring, resting at the length in the
+// file's pose when springlength is not given. A dead band (two springlength values) is a note.
+TEST(ImportMjcf, TendonSpringsPullAlongTheTendon) {
+  auto xml = [](const std::string& spring) {
+    return R"(<mujoco>
+  <worldbody>
+    <site name="hook" pos="0 0 3"/>
+    <body name="ball" pos="0 0 2"><freejoint/>
+      <geom type="sphere" size="0.1" mass="1"/><site name="top" pos="0 0 0.1"/>
+    </body>
+    <site name="hook2" pos="1 0 3"/>
+    <body name="ball2" pos="1 0 2.2"><freejoint/>
+      <geom type="sphere" size="0.1" mass="1"/><site name="top2" pos="0 0 0.1"/>
+    </body>
+  </worldbody>
+  <tendon>
+    <spatial name="cord" )" +
+           spring + R"(><site site="hook"/><site site="top"/></spatial>
+    <spatial name="rope" range="0 0.95" stiffness="50"><site site="hook2"/><site site="top2"/></spatial>
+  </tendon>
+</mujoco>
+)";
+  };
+  const double k = 100, m = 1, L_eq = 0.5 + m * 9.81 / k;
+  auto load = [&](const std::string& name, const std::string& spring) {
+    return load_scene(write(name + ".yaml", "simulation: { sleep: false }\nimports: [ { file: " +
+                                                write(name + ".xml", xml(spring)) + " } ]\n"));
+  };
+  const Scene s = load("ts", "stiffness=\"100\" springlength=\"0.5\"");
+  ASSERT_EQ(s.forces.size(), 1u);
+  EXPECT_EQ(s.forces[0].kind, ForceKind::spring);
+  EXPECT_EQ(s.forces[0].stiffness, 100);
+  EXPECT_EQ(s.forces[0].rest_length, 0.5);
+  const JointDef* rope = nullptr;
+  for (const JointDef& j : s.joints)
+    if (j.type == JointType::distance) rope = &j;
+  ASSERT_TRUE(rope && rope->spring);
+  EXPECT_EQ(rope->spring->stiffness, 50);
+  EXPECT_NEAR(rope->spring->rest, 0.7, 1e-12);  // the length in the file's pose
+  EXPECT_EQ(*rope->max_length, 0.95);
+  {
+    World w(world_config(s, 1), s.bodies);
+    const int b = body(s, "ball");
+    const double z_eq = 3 - L_eq - 0.1, dt = w.config().dt;
+    std::vector<double> up;
+    double prev = w.centroid(b).z() - z_eq;
+    for (int i = 1; i <= 5 * 240 && up.size() < 8; ++i) {
+      w.step();
+      const double x = w.centroid(b).z() - z_eq;
+      if (prev < 0 && x >= 0) up.push_back((i - 1) * dt + dt * prev / (prev - x));
+      prev = x;
+    }
+    ASSERT_EQ(up.size(), 8u);
+    const double T = (up.back() - up.front()) / 7, T_ref = 2 * M_PI / std::sqrt(k / m);
+    EXPECT_NEAR(T / T_ref, 1, 1e-5) << T << " " << T_ref;
+  }
+  {
+    const Scene d = load("td", "stiffness=\"100\" damping=\"2\" springlength=\"0.5\"");
+    World w(world_config(d, 1), d.bodies);
+    for (int i = 0; i < 25 * 240; ++i) w.step();
+    EXPECT_NEAR(3 - (w.centroid(body(d, "ball")).z() + 0.1), L_eq, 1e-7);
+  }
+  EXPECT_TRUE(has(load("tb", "stiffness=\"100\" springlength=\"0.2 0.5\"").notes,
+                  "a dead-band spring (two springlength values) is not simulated"));
 }
 
 // An undefined class, a joint type MuJoCo does not have, a connect to a missing body.
@@ -731,13 +801,12 @@ TEST(ImportMjcf, MistakesAreNamedByFileAndLine) {
                 "</worldbody></mujoco>\n")
                 .find("m.xml:2: joint 'b/joint': unknown joint type 'twist' (hinge, slide, ball, free)"),
             std::string::npos);
-  EXPECT_NE(
-      err("<mujoco><worldbody><body name=\"b\"><joint/><geom size=\"0.1\"/></body></worldbody>\n"
-          "<equality><connect body1=\"bb\" body2=\"b\" anchor=\"0 0 0\"/></equality></mujoco>\n")
-          .find(
-              "m.xml:2: equality connect 'connect1': body1 names body 'bb', which the file does not define; "
-              "did you mean 'b'?"),
-      std::string::npos);
+  EXPECT_NE(err("<mujoco><worldbody><body name=\"b\"><joint/><geom size=\"0.1\"/></body></worldbody>\n"
+                "<equality><connect body1=\"bb\" body2=\"b\" anchor=\"0 0 0\"/></equality></mujoco>\n")
+                .find("m.xml:2: equality connect 'connect1': body1 names body 'bb', which the file does "
+                      "not define; "
+                      "did you mean 'b'?"),
+            std::string::npos);
   EXPECT_NE(err("<robot/>\n").find("expected a <mujoco> element"), std::string::npos);
 }
 
