@@ -464,9 +464,15 @@ bool Mechanism::advance(double dt, const Vec3& g, const Wrench* wr, const Motion
     if (projected()) {
       normalize_quaternions(*this, y1_.data());
       project_positions(y1_.data());
+      // A coordinate that rebounded off its stop left the projection a hair past it (the loop's
+      // rows move every coordinate by their round-off): back on it, so that its stop's event
+      // function starts the next step at zero and a return within that step is seen (left past,
+      // a slider in a loop ran 0.13 m through its stop).
+      if (event) back_on_stops(y1_.data());
       project_velocities(y1_.data(), y1_.data() + nq);
-    } else if (any_active()) {
-      project_dofs(y1_.data());
+    } else {
+      if (event) back_on_stops(y1_.data());  // nothing moved it: only the marks are cleared
+      if (any_active()) project_dofs(y1_.data());
     }
     if (!tethers.empty() && catch_stretched(y1_.data(), g, wr)) {
       project_velocities(y1_.data(), y1_.data() + nq);
@@ -748,11 +754,12 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
                          ": a spring on a joint that closes a loop needs a revolute or prismatic "
                          "joint (this one is " +
                          to_string(d.type) + ")");
-      if ((d.limits && d.type != JointType::revolute) || d.ball_limits || d.motor || d.motor2 ||
-          d.friction > 0)
-        throw InputError(name_of(j) +
-                         ": a joint that closes a loop can carry a spring, and limits on a revolute one; not "
-                         "limits of this type, a motor or friction yet");
+      if ((d.limits && d.type != JointType::revolute && d.type != JointType::prismatic) || d.ball_limits ||
+          d.motor || d.motor2 || d.friction > 0)
+        throw InputError(
+            name_of(j) +
+            ": a joint that closes a loop can carry a spring, and limits on a revolute or prismatic "
+            "one; not limits of this type, a motor or friction yet");
       loop_joints.push_back(j);
       continue;
     }
@@ -1162,10 +1169,10 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
     L.tracked = L.kind == K::hinge && (d.spring || d.limits);
     m.loop_tracked_on = m.loop_tracked_on || L.tracked;
     m.loops.push_back(L);
-    if (d.limits) {  // its stops: a slack rope on the hinge's angle between them
+    if (d.limits) {  // its stops: a slack rope on the hinge's angle (the slide) between them
       Mechanism::Tether t;
       t.joint = j;
-      t.measure = Mechanism::Tether::Measure::hinge;
+      t.measure = L.kind == K::hinge ? Mechanism::Tether::Measure::hinge : Mechanism::Tether::Measure::slide;
       t.loop = (int)m.loops.size() - 1;
       t.has_lo = t.has_hi = true;
       t.lo = d.limits->lower;

@@ -138,11 +138,11 @@ class Mechanism {
   // s = q_link - ratio q_link2, held at 0 as a rod.
   struct Tether {
     int joint = -1;
-    enum class Measure { length, swing, twist, angle, coupling, hinge } measure = Measure::length;
+    enum class Measure { length, swing, twist, angle, coupling, hinge, slide } measure = Measure::length;
     int link = -1;              ///< swing, twist, angle: the ball joint's link; coupling: the follower's
     int link2 = -1;             ///< coupling: the leader's link (s = q_link - ratio q_link2, held at 0)
     double ratio = 1;           ///< coupling: the mimic's multiplier
-    int loop = -1;              ///< hinge: the loop whose hinge angle (loop_angle) it stops
+    int loop = -1;              ///< hinge, slide: the loop whose angle or slide (loop_angle) it stops
     Vec3 axis = Vec3::UnitZ();  ///< swing, twist: unit, joint frame
     int nseg = 1;
     int la[2] = {-1, -1}, lb[2] = {-1, -1};  ///< links (-1: the fixed base)
@@ -198,6 +198,7 @@ class Mechanism {
     double friction = 0;
     // Mode (saved state).
     int at_stop = 0;     ///< -1 resting on the lower stop, +1 on the upper, 0 free
+    int rebounded = 0;   ///< -1, +1: it has just left that stop (an event of this step; not saved)
     bool hold = false;   ///< the motor holds the rate at its target
     int push = 0;        ///< a saturated motor pushes with push * max_force
     bool stick = false;  ///< friction holds the coordinate still
@@ -343,6 +344,11 @@ class Mechanism {
   double hinge_angle(const Loop& L) const;
   double hinge_rate(const Loop& L, const std::vector<Vec6>& V) const;
   double hinge_acceleration(const Loop& L, const std::vector<Vec6>& V, const std::vector<Vec6>& A) const;
+  // A loop slider's slide n . (P_b - P_a) (m; n = R_a aa, the axis fixed in a; P the anchors) and
+  // its first two time derivatives.
+  double slide_position(const Loop& L) const;
+  double slide_rate(const Loop& L, const std::vector<Vec6>& V) const;
+  double slide_acceleration(const Loop& L, const std::vector<Vec6>& V, const std::vector<Vec6>& A) const;
   void track_loop_angles();
   // The forces a tether's row and spring put on the links (link frames, about their origins),
   // subtracted from f (joint_wrench: external to the tree).
@@ -379,6 +385,7 @@ class Mechanism {
   // taut when that is under the rest threshold.
   double rope_impact(int t, int bound, const double* q, const double* v);
   void keep_held_rows();  ///< impulse targets of 0 for every row already held (stops, rods, taut ropes)
+  void back_on_stops(double* q);  ///< coordinates that just rebounded, a round-off past the stop, put on it
   // Slack ropes found past their bounds (a projection of other rows, or a contact substep's
   // travel, moved them there unseen by the event functions) are caught there: an impact if they
   // were moving out, then put back on the bound. True when any was.

@@ -225,6 +225,7 @@ double Mechanism::coordinate_acceleration(int i, const std::vector<Vec6>& V,
 double Mechanism::tether_position(const Tether& t, const double* q) const {
   if (t.measure == Tether::Measure::coupling) return q[links[t.link].iq] - t.ratio * q[links[t.link2].iq];
   if (t.measure == Tether::Measure::hinge) return hinge_angle(loops[t.loop]);
+  if (t.measure == Tether::Measure::slide) return slide_position(loops[t.loop]);
   if (t.measure != Tether::Measure::length) return ball_angle(t);
   double s = 0;
   for (int k = 0; k < t.nseg; ++k)
@@ -237,6 +238,7 @@ double Mechanism::tether_rate(const Tether& t, const std::vector<Vec6>& V, doubl
   if (t.measure == Tether::Measure::coupling)
     return coordinate_rate(t.link, V) - t.ratio * coordinate_rate(t.link2, V);
   if (t.measure == Tether::Measure::hinge) return hinge_rate(loops[t.loop], V);
+  if (t.measure == Tether::Measure::slide) return slide_rate(loops[t.loop], V);
   if (t.measure != Tether::Measure::length) return ball_rate(t, V);
   double r = t.wheel_iv >= 0 ? t.wheel_c * wheel_rate : 0.0;
   for (int k = 0; k < t.nseg; ++k) {
@@ -257,6 +259,7 @@ double Mechanism::tether_acceleration(const Tether& t, const std::vector<Vec6>& 
   if (t.measure == Tether::Measure::coupling)
     return coordinate_acceleration(t.link, V, A) - t.ratio * coordinate_acceleration(t.link2, V, A);
   if (t.measure == Tether::Measure::hinge) return hinge_acceleration(loops[t.loop], V, A);
+  if (t.measure == Tether::Measure::slide) return slide_acceleration(loops[t.loop], V, A);
   if (t.measure != Tether::Measure::length) return ball_acceleration(t, V, A);
   double r = t.wheel_iv >= 0 ? t.wheel_c * wheel_acc : 0.0;
   for (int k = 0; k < t.nseg; ++k) {
@@ -328,6 +331,44 @@ double Mechanism::hinge_acceleration(const Loop& L, const std::vector<Vec6>& V,
   const Vec3 wa = L.la < 0 ? Vec3::Zero() : Vec3(Ra * V[L.la].head<3>());
   const Vec3 aa = L.la < 0 ? Vec3::Zero() : Vec3(Ra * A[L.la].head<3>());
   return (Rb * A[L.lb].head<3>() - aa).dot(n) + (Rb * V[L.lb].head<3>() - wa).dot(wa.cross(n));
+}
+
+// The slide is s = n . g with n = R_a aa (fixed in a) and g = P_b - P_a, a's anchor a point of a:
+// s' = n' . g + n . g', s'' = n'' . g + 2 n' . g' + n . g'', with n' = w_a x n and
+// n'' = alpha_a x n + w_a x (w_a x n). The rows keep g along n, so the n' terms are round-off
+// there but are kept, so that the row is the slide's exact derivative.
+double Mechanism::slide_position(const Loop& L) const {
+  const Mat3 Ra = L.la < 0 ? Mat3::Identity() : work_[L.la].R_W;
+  return (Ra * L.aa).dot(point_W(L.lb, L.pb) - point_W(L.la, L.pa));
+}
+
+double Mechanism::slide_rate(const Loop& L, const std::vector<Vec6>& V) const {
+  const Mat3 Ra = L.la < 0 ? Mat3::Identity() : work_[L.la].R_W;
+  const Vec3 n = Ra * L.aa, g = point_W(L.lb, L.pb) - point_W(L.la, L.pa);
+  Vec3 dg = work_[L.lb].R_W * point_velocity(V[L.lb], L.pb);
+  Vec3 dn = Vec3::Zero();
+  if (L.la >= 0) {
+    dg -= Ra * point_velocity(V[L.la], L.pa);
+    dn = (Ra * V[L.la].head<3>()).cross(n);
+  }
+  return dn.dot(g) + n.dot(dg);
+}
+
+double Mechanism::slide_acceleration(const Loop& L, const std::vector<Vec6>& V,
+                                     const std::vector<Vec6>& A) const {
+  const Mat3 Ra = L.la < 0 ? Mat3::Identity() : work_[L.la].R_W;
+  const Mat3& Rb = work_[L.lb].R_W;
+  const Vec3 n = Ra * L.aa, g = point_W(L.lb, L.pb) - point_W(L.la, L.pa);
+  Vec3 dg = Rb * point_velocity(V[L.lb], L.pb), ddg = Rb * point_acceleration(V[L.lb], A[L.lb], L.pb);
+  Vec3 dn = Vec3::Zero(), ddn = Vec3::Zero();
+  if (L.la >= 0) {
+    dg -= Ra * point_velocity(V[L.la], L.pa);
+    ddg -= Ra * point_acceleration(V[L.la], A[L.la], L.pa);
+    const Vec3 wa = Ra * V[L.la].head<3>(), ala = Ra * A[L.la].head<3>();
+    dn = wa.cross(n);
+    ddn = ala.cross(n) + wa.cross(dn);
+  }
+  return ddn.dot(g) + 2 * dn.dot(dg) + n.dot(ddg);
 }
 
 void Mechanism::loop_springs(std::vector<Vec6>* f) {
@@ -445,6 +486,16 @@ void Mechanism::tether_loads(const Tether& t, double force, std::vector<Vec6>& f
     const Vec3 T = force * (Ra * L.aa);  // on b; -T on a
     f[L.lb].head<3>() -= work_[L.lb].R_W.transpose() * T;
     if (L.la >= 0) f[L.la].head<3>() += Ra.transpose() * T;
+    return;
+  }
+  // A loop slider's stop: a force along the axis at b's anchor, and its opposite on a at the same
+  // point (a's point there, which moves with a: the pair's virtual work is the slide's).
+  if (t.measure == Tether::Measure::slide) {
+    const Loop& L = loops[t.loop];
+    const Mat3 Ra = L.la < 0 ? Mat3::Identity() : work_[L.la].R_W;
+    const Vec3 F = force * (Ra * L.aa), P = point_W(L.lb, L.pb);  // on b; -F on a
+    subtract_point_force(work_[L.lb].R_W, L.pb, F, f[L.lb]);
+    if (L.la >= 0) subtract_point_force(Ra, Ra.transpose() * (P - work_[L.la].x_W), -F, f[L.la]);
     return;
   }
   if (t.measure != Tether::Measure::length) return;
@@ -713,7 +764,7 @@ double Mechanism::tether_length(int ti, int seg, double* rate) const {
     if (rate) *rate = v[f.iv] - t.ratio * v[l.iv];
     return q[f.iq] - t.ratio * q[l.iq];
   }
-  if (t.measure == Tether::Measure::hinge) {
+  if (t.measure == Tether::Measure::hinge || t.measure == Tether::Measure::slide) {
     if (rate) *rate = loop_speed(t.loop);
     return loop_angle(t.loop);
   }

@@ -237,6 +237,7 @@ void Mechanism::apply_events(double* y, const double* g0, const double* g1, cons
     if (hit(0) || hit(1)) {
       stop_impact(d, hit(0), q, v, vtarget_[i]);
       impact = true;
+      if (d.at_stop == 0) d.rebounded = hit(0) ? -1 : 1;
     }
     if (hit(2)) release(d, d.lambda < d.lower_bound() ? 1 : -1);
     if (hit(3)) {
@@ -337,6 +338,15 @@ bool Mechanism::catch_past_stops(double* y, const Vec3& g, const Wrench* wr) {
   impulse(q, v, vtarget_);
   settle_modes(y, g, wr);
   return true;
+}
+
+void Mechanism::back_on_stops(double* q) {
+  for (Dof& d : dofs) {
+    double& x = q[d.iq];
+    if (d.rebounded > 0 && x > d.hi && x - d.hi < kRopeSlack * (1 + std::abs(d.hi))) x = d.hi;
+    if (d.rebounded < 0 && x < d.lo && d.lo - x < kRopeSlack * (1 + std::abs(d.lo))) x = d.lo;
+    d.rebounded = 0;
+  }
 }
 
 void Mechanism::keep_held_rows() {

@@ -434,5 +434,77 @@ TEST(Loops, StopsOnAClosingHingeActAsOnATreeHinge) {
   }
 }
 
+// Stops on a slider that closes a loop are the same physics as on a tree slider. An inverted
+// slider-crank (an oscillating cylinder): a crank hinged to the world at O, a rocker hinged to the
+// world at Q 0.6 m away, and a rod hinged to the crank's tip B and sliding through the rocker
+// along B -> Q, its slide stopped at [-0.1, 0.1] m (free it runs -0.23..0.17 as the crank turns
+// under gravity). The slider closes the loop, or sits in the tree with the crank-rod hinge closing
+// it. The rocker turns, so the slide's axis does: the rows' terms in its turning rate are in play.
+// With restitution 1 the energy holds through every stop and the runs agree to 1e-8 m; with 0.5
+// both bounce to rest in as many impacts; with 0 both rest on the stop alike.
+TEST(Loops, StopsOnAClosingSliderActAsOnATreeSlider) {
+  const Vec3 O(0, 0, 0), Q(0.6, 0, 0), B(0, 0, 0.2), u = (Q - B).normalized();
+  for (const double e : {1.0, 0.5, 0.0}) {
+    SCOPED_TRACE(e);
+    auto run = [&](bool closing, double& worst_E, double& past, int& hits, double& travel) {
+      Bodies b;
+      const int crank = b.add("crank", 1.0, Vec3(0.004, 0.004, 0.0005), Vec3(0.02, 0, 0.1));
+      const int rocker = b.add("rocker", 0.5, Vec3(0.002, 0.003, 0.002), Q);
+      const int rod = b.add("rod", 0.8, Vec3(0.01, 0.012, 0.001), B + 0.3 * u);
+      JointDef slide = joint(JointType::prismatic, rocker, rod, Q, u);
+      slide.limits = JointLimits{-0.1, 0.1, e};
+      const JointDef pin = joint(JointType::revolute, crank, rod, B, Vec3::UnitY());
+      std::vector<JointDef> js{joint(JointType::revolute, -1, crank, O, Vec3::UnitY()),
+                               joint(JointType::revolute, -1, rocker, Q, Vec3::UnitY())};
+      js.push_back(closing ? pin : slide);
+      js.push_back(closing ? slide : pin);  // the last closes the loop
+      const int stopped = closing ? 3 : 2;
+      b.state[crank].w_P = Vec3(0, 1.0, 0);  // set going: the crank starts upright
+      Articulations art;
+      std::vector<std::string> warnings;
+      art.build(js, {}, b.defs, b.model, b.state, warnings);
+      const double E0 = b.energy(g);
+      worst_E = past = travel = 0;
+      std::vector<Vec3> x;
+      for (int f = 1; f <= 180; ++f) {
+        EXPECT_TRUE(art.step(1.0 / 60, Vec3(0, 0, -g), nullptr, b.state.data()));
+        worst_E = std::max(worst_E, std::abs(b.energy(g) - E0));
+        const double q = art.position(stopped);
+        past = std::max({past, -0.1 - q, q - 0.1});
+        travel = std::max(travel, std::abs(q));
+        if (f % 15 == 0)
+          for (const MotionState& st : b.state) x.push_back(st.x_W);
+      }
+      hits = 0;
+      for (const Mechanism& m : art.mechanisms()) hits += (int)m.events;
+      EXPECT_LT(art.gap(b.state.data()), 1e-12);
+      return x;
+    };
+    double Ea = 0, Eb = 0, pa = 0, pb = 0, ta = 0, tb = 0;
+    int ha = 0, hb = 0;
+    const std::vector<Vec3> xa = run(true, Ea, pa, ha, ta), xb = run(false, Eb, pb, hb, tb);
+    double worst = 0;
+    for (size_t i = 0; i < xa.size(); ++i) worst = std::max(worst, (xa[i] - xb[i]).norm());
+    std::printf("slider stops, restitution %g: %d / %d impacts, runs %.1e m apart, energy %.1e / %.1e J\n", e,
+                ha, hb, worst, Ea, Eb);
+    EXPECT_GE(ha, e > 0 ? 4 : 1);  // it met its stops
+    EXPECT_NEAR(ha, hb, 2);
+    if (e < 1) {  // at rest on the stop by the end
+      EXPECT_NEAR(ta, 0.1, 1e-12);
+      EXPECT_NEAR(tb, 0.1, 1e-12);
+    }
+    EXPECT_LT(pa, 1e-9);
+    EXPECT_LT(pb, 1e-9);
+    // Each run locates its impacts to the integrator's tolerance through different coordinates,
+    // and the crank's swing carries the difference on: 1.4e-8 m after five impacts with
+    // restitution 1, 4e-11 with 0.5.
+    EXPECT_LT(worst, 1e-7);
+    if (e == 1.0) {
+      EXPECT_LT(Ea, 1e-8);
+      EXPECT_LT(Eb, 1e-8);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace simreel
