@@ -249,8 +249,8 @@ void Mechanism::derivative(const double* y, double* dy, const Vec3& g, const Wre
       if (l.dof_index >= 0) u += tau_[l.iv];
       w.Dinv1 = Dinv;
       w.u1 = u;
-      // Locals, so that the compiler sees that Ia's entries and U's cannot alias (the update was a
-      // sixth of a chain's evaluation while it re-read them from the link's record).
+      // Locals, so that the compiler sees that Ia's entries and U's cannot alias (re-read from the
+      // link's record, the update costs a sixth of a chain's evaluation).
       double U[6], UD[6];
       for (int k = 0; k < 6; ++k) U[k] = w.U1[k], UD[k] = Dinv * U[k];
       double* I = Ia.data();
@@ -467,7 +467,7 @@ bool Mechanism::advance(double dt, const Vec3& g, const Wrench* wr, const Motion
       // A coordinate that rebounded off its stop left the projection a hair past it (the loop's
       // rows move every coordinate by their round-off): back on it, so that its stop's event
       // function starts the next step at zero and a return within that step is seen (left past,
-      // a slider in a loop ran 0.13 m through its stop).
+      // the return goes unseen and the coordinate runs through its stop).
       if (event) back_on_stops(y1_.data());
       project_velocities(y1_.data(), y1_.data() + nq);
     } else {

@@ -335,8 +335,10 @@ double Mechanism::hinge_acceleration(const Loop& L, const std::vector<Vec6>& V,
 
 // The slide is s = n . g with n = R_a aa (fixed in a) and g = P_b - P_a, a's anchor a point of a:
 // s' = n' . g + n . g', s'' = n'' . g + 2 n' . g' + n . g'', with n' = w_a x n and
-// n'' = alpha_a x n + w_a x (w_a x n). The rows keep g along n, so the n' terms are round-off
-// there but are kept, so that the row is the slide's exact derivative.
+// n'' = alpha_a x n + w_a x (w_a x n). The rows keep g along n, so n' . g in the rate is round-off;
+// in the second derivative n'' . g + 2 n' . g' is a point's centripetal acceleration along a
+// turning axis (s |w_a|^2 in a plane): a stop held without it lets the assembly lose 1e-2 of its
+// energy in 2 s.
 double Mechanism::slide_position(const Loop& L) const {
   const Mat3 Ra = L.la < 0 ? Mat3::Identity() : work_[L.la].R_W;
   return (Ra * L.aa).dot(point_W(L.lb, L.pb) - point_W(L.la, L.pa));

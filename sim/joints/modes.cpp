@@ -259,10 +259,10 @@ void Mechanism::apply_events(double* y, const double* g0, const double* g1, cons
   // is put on it before anything may let it go again: a rope let go there must start slack. One
   // that rebounds is put just inside its event function's offset, so that the function starts
   // its next step above zero and the rope's return is seen: left where the event was located (a
-  // hair past, the function at -6e-17), a return within one step went unseen. Just inside, by
+  // hair past, the function at -6e-17), a return within one step goes unseen. Just inside, by
   // kRebound: a rope put a distance d from where it was, under an acceleration a toward the
   // bound, returns at sqrt(2 a d) however slowly it left, so the bounces would never fall under
-  // kRestRate (d = kRopeSlack gave 7.8e-6 m/s at a = 15 m/s^2; d = kRebound gives 9e-7).
+  // kRestRate (d = kRopeSlack would give 7.8e-6 m/s at a = 15 m/s^2; d = kRebound gives 9e-7).
   bool rebounds = false;
   for (size_t i = 0; i < tethers.size(); ++i) {
     if (!rebound[i]) continue;
