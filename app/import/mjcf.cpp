@@ -955,6 +955,10 @@ class MjcfReader {
     const std::string name =
         e->Attribute("name") ? e->Attribute("name") + suffix_ : "tendon" + std::to_string(m_.ropes.size());
     const std::string what = "tendon '" + name + "'";
+    if (tag == "fixed") {
+      fixed_tendon(e, what);
+      return;
+    }
     if (tag != "spatial") {
       note(e, "<" + tag + "> tendons are not simulated; ignored", what);
       return;
@@ -1044,6 +1048,58 @@ class MjcfReader {
     r.spring = spring;
     r.src = src(e, what);
     m_.ropes.push_back(r);
+  }
+
+  // <tendon><fixed> over two joints with a limited range: c1 q1 + c2 q2 within [lo, hi] (a
+  // hamstring spanning hip and knee) is the first joint's coupling to the second,
+  // q1 - (-c2 / c1) q2 within [lo, hi] / c1, a stop on the combination. MuJoCo's coordinates are
+  // ours where the joints' ref is 0 (the file's pose). More joints, no range, or a spring are notes.
+  void fixed_tendon(const XMLElement* e, const std::string& what) {
+    const std::string cls = class_of(e, "", what);
+    auto attr = [&](const char* key) { return get(e, key, cls, "tendon"); };
+    std::vector<std::pair<int, double>> terms;
+    for (const XMLElement* c = e->FirstChildElement(); c; c = c->NextSiblingElement()) {
+      if (std::string(c->Name()) != "joint") continue;
+      if (!c->Attribute("joint")) fail(c, what, "a fixed tendon's <joint> needs joint=\"NAME\"");
+      const std::string jn = ref(c->Attribute("joint"));
+      int k = -1;
+      for (int i = 0; i < (int)m_.joints.size(); ++i)
+        if (m_.joints[i].name == jn) k = i;
+      if (k < 0) fail(c, what, "names joint '" + jn + "', which the file does not define");
+      const auto coef = parse_numbers(c->Attribute("coef") ? c->Attribute("coef") : "1");
+      if (!coef || coef->size() != 1) fail(c, what, "coef must be one number");
+      terms.emplace_back(k, (*coef)[0]);
+    }
+    for (const char* k : {"stiffness", "damping", "frictionloss"})
+      if (const char* v = attr(k); v && std::atof(v) != 0)
+        note(e, std::string("a fixed tendon's ") + k + " is not simulated", what);
+    const char* range_text = attr("range");
+    const char* limited = attr("limited");
+    if (!range_text || (limited && std::string(limited) == "false")) {
+      note(e, "a fixed tendon without a limited range is not simulated (MuJoCo drives or senses it); ignored",
+           what);
+      return;
+    }
+    if (terms.size() != 2 || terms[0].second == 0 || terms[1].second == 0 ||
+        terms[0].first == terms[1].first) {
+      note(e, "a fixed tendon is simulated over two joints with nonzero coefficients; ignored", what);
+      return;
+    }
+    const auto range = parse_numbers(range_text);
+    if (!range || range->size() != 2 || !((*range)[0] < (*range)[1]))
+      fail(e, what, std::string("range \"") + range_text + "\" must be two numbers, low to high");
+    ModelJoint& j = m_.joints[terms[0].first];
+    if (!j.coupled_joint.empty()) {
+      note(e, "joint '" + j.name + "' already has a fixed tendon's limit; this one is ignored", what);
+      return;
+    }
+    const double c1 = terms[0].second, c2 = terms[1].second;
+    double lo = (*range)[0] / c1, hi = (*range)[1] / c1;
+    if (lo > hi) std::swap(lo, hi);
+    j.coupled_joint = m_.joints[terms[1].first].name;
+    j.coupled_multiplier = -c2 / c1;
+    j.coupled_range = {lo, hi};
+    j.coupled_src = src(e, what);
   }
 
   // <contact><exclude body1 body2>: pairs that never collide; <pair> (explicit contacts) is a note.

@@ -95,6 +95,12 @@ struct ModelJoint {
   /// URDF mimic: this coordinate is multiplier times joint `mimic_joint`'s plus offset.
   std::string mimic_joint;
   double mimic_multiplier = 1, mimic_offset = 0;
+  /// MJCF's limited fixed tendon on two joints: this coordinate minus multiplier times joint
+  /// `coupled_joint`'s is kept within coupled_range (both measured from the file's pose).
+  std::string coupled_joint;
+  double coupled_multiplier = 0;
+  std::array<double, 2> coupled_range{0, 0};
+  SourceRef coupled_src;
   /// Closes a loop (MJCF's equality connect or weld): not a tree edge; `anchor` is then in the
   /// child's frame and `parent` may be -1 (the world).
   bool loop = false;

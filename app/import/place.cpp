@@ -553,7 +553,30 @@ void place_model(const Model& m, const ImportSpec& spec, Scene& scene, MeshLibra
   for (size_t k = 0; k < m.joints.size(); ++k)
     if (leader_of[k] >= 0 && scene_joint[k] >= 0 && scene_joint[leader_of[k]] >= 0)
       scene.joints[scene_joint[k]].mimic =
-          JointMimic{scene_joint[leader_of[k]], m.joints[k].mimic_multiplier};
+          JointMimic{scene_joint[leader_of[k]], m.joints[k].mimic_multiplier, std::nullopt};
+  // Limited fixed tendons: a coupling kept within a range (a stop on the combination).
+  for (size_t k = 0; k < m.joints.size(); ++k) {
+    const ModelJoint& j = m.joints[k];
+    if (j.coupled_joint.empty()) continue;
+    int l = -1;
+    for (size_t i = 0; i < m.joints.size(); ++i)
+      if (m.joints[i].name == j.coupled_joint) l = (int)i;
+    using K = ModelJoint::Kind;
+    auto one = [&](int i) {
+      const K x = m.joints[i].kind;
+      return (x == K::revolute || x == K::continuous || x == K::prismatic) && scene_joint[i] >= 0 &&
+             !m.joints[i].loop && m.joints[i].mimic_joint.empty() && leader_of[i] < 0;
+    };
+    const double lo = j.coupled_range[0], hi = j.coupled_range[1];
+    if (l < 0 || !one((int)k) || !one(l) || !m.joints[l].coupled_joint.empty() || lo > 0 || hi < 0) {
+      scene.notes.push_back(j.coupled_src.str() +
+                            ": its joints cannot carry the limit (simreel keeps a range on two revolute or "
+                            "prismatic tree joints, neither coupled otherwise, with the file's pose inside "
+                            "it); ignored");
+      continue;
+    }
+    scene.joints[scene_joint[k]].mimic = JointMimic{scene_joint[l], j.coupled_multiplier, std::pair{lo, hi}};
+  }
   // Ropes: distance joints between their two points, slack up to their length.
   for (const ModelRope& r : m.ropes) {
     auto end = [&](int link, const Vec3& p, int& body, Vec3& p_W) {

@@ -508,8 +508,9 @@ std::vector<JointDef> load_joints(const YAML::Node& list, const std::string& fil
     if (out[k].type != JointType::revolute && out[k].type != JointType::prismatic)
       mc.fail(mm, std::string("only a revolute or prismatic joint can mimic another (this is ") +
                       to_string(out[k].type) + ")");
-    if (!mm.IsMap()) mc.fail(mm, "expected { joint: NAME, multiplier: m }, got " + show(mm));
-    check_keys(mm, mc, {"joint", "multiplier"});
+    if (!mm.IsMap())
+      mc.fail(mm, "expected { joint: NAME, multiplier: m, range: [lower, upper] }, got " + show(mm));
+    check_keys(mm, mc, {"joint", "multiplier", "range"});
     if (!mm["joint"]) mc.fail(mm, "missing key 'joint' (the joint whose coordinate this one follows)");
     const std::string leader = text(mm["joint"], mc.child("joint"));
     std::vector<std::string> names;
@@ -535,6 +536,14 @@ std::vector<JointDef> load_joints(const YAML::Node& list, const std::string& fil
       if (m.multiplier == 0)
         mc.child("multiplier")
             .fail(mm["multiplier"], "must not be 0 (a coordinate held at 0 is a fixed joint)");
+    }
+    if (const YAML::Node r = mm["range"]) {  // q - multiplier q_leader kept within it, not at 0
+      const Ctx rc = mc.child("range");
+      if (!r.IsSequence() || r.size() != 2) rc.fail(r, "expected [lower, upper] (rad or m), got " + show(r));
+      const double lo = number(r[0], rc.index(0)), hi = number(r[1], rc.index(1));
+      if (!(lo < hi) || lo > 0 || hi < 0)
+        rc.fail(r, "expected lower < upper with 0 (the start pose) between them, got " + show(r));
+      m.range = std::pair{lo, hi};
     }
     out[k].mimic = m;
   }

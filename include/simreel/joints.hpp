@@ -11,6 +11,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 
 #include <simreel/math.hpp>
 
@@ -110,9 +111,14 @@ struct JointMotor {
 /// coordinate q stays multiplier times joint `leader`'s, both zero in the start pose, by a
 /// constraint row, so the two move as one freedom and the row's force is what couples them. The
 /// follower and its leader are revolute or prismatic joints of the tree (neither closes a loop).
+///
+/// With a range, the combination q - multiplier q_leader is only kept within [lower, upper] (rad
+/// or m, 0 inside): a stop on it, met with restitution 0 (MJCF's limited fixed tendon, such as a
+/// hamstring spanning hip and knee), and the two joints otherwise move freely.
 struct JointMimic {
   int leader = -1;  ///< joint index
   double multiplier = 1;
+  std::optional<std::pair<double, double>> range = std::nullopt;
 };
 
 struct JointDef {

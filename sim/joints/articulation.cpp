@@ -794,6 +794,11 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
                        " closes a loop");
     if (!std::isfinite(d.mimic->multiplier) || d.mimic->multiplier == 0)
       throw InputError(name_of(j) + ": the mimic's multiplier must be a finite, nonzero number");
+    if (const auto& r = d.mimic->range; r && !(std::isfinite(r->first) && std::isfinite(r->second) &&
+                                               r->first <= 0 && 0 <= r->second && r->first < r->second))
+      throw InputError(name_of(j) +
+                       ": the mimic's range must be two finite numbers, lower < upper, with 0 (the "
+                       "start pose) between them");
   }
   // Mechanisms: bodies joined by any joint (loops included) move together; union-find over them.
   std::vector<int> group(nb);
@@ -1225,7 +1230,8 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
     }
     m.allocate();
   }
-  // Mimics: s = q_follower - multiplier q_leader held at 0, a rod's row.
+  // Mimics: s = q_follower - multiplier q_leader held at 0, a rod's row; with a range, a rope slack
+  // between its bounds.
   for (int j = 0; j < (int)joints_.size(); ++j) {
     const JointDef& d = joints_[j];
     if (!d.mimic) continue;
@@ -1238,9 +1244,15 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
     t.link = li;
     t.link2 = li2;
     t.ratio = d.mimic->multiplier;
-    t.rod = true;
-    t.has_hi = true;
-    t.hi = 0;
+    if (d.mimic->range) {
+      t.has_lo = t.has_hi = true;
+      t.lo = d.mimic->range->first;
+      t.hi = d.mimic->range->second;
+    } else {
+      t.rod = true;
+      t.has_hi = true;
+      t.hi = 0;
+    }
     (void)mi2;  // the same mechanism: the union above
     m.tethers.push_back(t);
     m.allocate();

@@ -790,6 +790,62 @@ TEST(ImportMjcf, TendonSpringsPullAlongTheTendon) {
                   "a dead-band spring (two springlength values) is not simulated"));
 }
 
+// A limited fixed tendon over two joints (a hamstring: 0.5 hip - 0.5 knee within [-0.3, 0.2]) is
+// a stop on that combination: a two-bar leg released horizontal swings down, and the combination
+// reaches its bound and never passes it (1e-9), where without the tendon it runs past. Over three
+// joints it is a note.
+TEST(ImportMjcf, LimitedFixedTendonStopsItsJointsCombination) {
+  auto xml = [](const std::string& tendon) {
+    return R"(<mujoco><worldbody>
+  <body name="thigh" pos="0 0 2"><joint name="hip" axis="0 1 0"/>
+    <geom type="capsule" fromto="0 0 0 0.4 0 0" size="0.03"/>
+    <body name="shank" pos="0.4 0 0"><joint name="knee" axis="0 1 0"/>
+      <geom type="capsule" fromto="0 0 0 0.4 0 0" size="0.03"/>
+      <body name="foot" pos="0.4 0 0"><joint name="ankle" axis="0 1 0"/>
+        <geom type="capsule" fromto="0 0 0 0.1 0 0" size="0.02"/></body>
+    </body>
+  </body></worldbody>
+  <tendon>)" +
+           tendon +
+           R"(</tendon></mujoco>
+)";
+  };
+  const std::string ham =
+      R"(<fixed name="ham" limited="true" range="-0.3 0.2"><joint joint="hip" coef="0.5"/>)"
+      R"(<joint joint="knee" coef="-0.5"/></fixed>)";
+  auto swing = [&](const std::string& name, const std::string& tendon, double& lo, double& hi) {
+    const Scene s = load_scene(write(name + ".yaml", "simulation: { sleep: false }\nimports: [ { file: " +
+                                                         write(name + ".xml", xml(tendon)) + " } ]\n"));
+    World w(world_config(s, 1), s.bodies);
+    const int hip = w.find_joint("hip"), knee = w.find_joint("knee");
+    lo = hi = 0;
+    for (int i = 0; i < 2 * 240; ++i) {
+      w.step();
+      const double c = 0.5 * w.joint_position(hip) - 0.5 * w.joint_position(knee);
+      lo = std::min(lo, c);
+      hi = std::max(hi, c);
+    }
+    return s;
+  };
+  double lo, hi, flo, fhi;
+  const Scene s = swing("ft", ham, lo, hi);
+  const JointDef& j = s.joints[0];  // the hip follows the knee within the range
+  ASSERT_TRUE(j.mimic && j.mimic->range);
+  EXPECT_EQ(j.mimic->multiplier, 1);
+  EXPECT_NEAR(j.mimic->range->first, -0.6, 1e-15);
+  EXPECT_NEAR(j.mimic->range->second, 0.4, 1e-15);
+  swing("ff", "", flo, fhi);
+  EXPECT_TRUE(flo < -0.3 - 1e-3 || fhi > 0.2 + 1e-3) << flo << " " << fhi;  // free, it runs past
+  EXPECT_GE(lo, -0.3 - 1e-9);
+  EXPECT_LE(hi, 0.2 + 1e-9);
+  EXPECT_TRUE(lo < -0.3 + 1e-9 || hi > 0.2 - 1e-9) << lo << " " << hi;  // it met its bound
+  const std::string three =
+      R"(<fixed limited="true" range="-1 1"><joint joint="hip" coef="1"/><joint joint="knee" coef="1"/>)"
+      R"(<joint joint="ankle" coef="1"/></fixed>)";
+  double a, b;
+  EXPECT_TRUE(has(swing("f3", three, a, b).notes, "a fixed tendon is simulated over two joints"));
+}
+
 // An undefined class, a joint type MuJoCo does not have, a connect to a missing body.
 TEST(ImportMjcf, MistakesAreNamedByFileAndLine) {
   auto err = [&](const std::string& xml) { return error_of(write("m.xml", xml)); };

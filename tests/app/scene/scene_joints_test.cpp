@@ -227,6 +227,15 @@ TEST(SceneJoints, MimicFollowsANamedJoint) {
   EXPECT_NE(
       error(scene("{ joint: gear_a, multiplier: 0 }")).find("joints[0].mimic.multiplier: must not be 0"),
       std::string::npos);
+  // With a range, the combination is only kept within it (0, the start pose, inside).
+  const Scene r =
+      load_scene(write_scene("mr.yaml", scene("{ joint: gear_a, multiplier: 1, range: [-0.6, 0.4] }")));
+  ASSERT_TRUE(r.joints.at(0).mimic && r.joints[0].mimic->range);
+  EXPECT_EQ(r.joints[0].mimic->range->first, -0.6);
+  EXPECT_EQ(r.joints[0].mimic->range->second, 0.4);
+  EXPECT_NE(error(scene("{ joint: gear_a, range: [0.1, 0.4] }"))
+                .find("joints[0].mimic.range: expected lower < upper with 0 (the start pose) between them"),
+            std::string::npos);
   // A hinge may follow a slider (a rack and pinion: the multiplier in rad/m).
   EXPECT_EQ(error(scene("{ joint: gear_a, multiplier: 10 }", "prismatic")), "loaded");
   EXPECT_NE(error(scene("{ multiplier: 2 }")).find("joints[0].mimic: missing key 'joint'"),
