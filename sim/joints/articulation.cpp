@@ -470,9 +470,8 @@ bool Mechanism::advance(double dt, const Vec3& g, const Wrench* wr, const Motion
       // the return goes unseen and the coordinate runs through its stop).
       if (event) back_on_stops(y1_.data());
       project_velocities(y1_.data(), y1_.data() + nq);
-    } else {
-      if (event) back_on_stops(y1_.data());  // nothing moved it: only the marks are cleared
-      if (any_active()) project_dofs(y1_.data());
+    } else if (any_active()) {
+      project_dofs(y1_.data());
     }
     if (!tethers.empty() && catch_stretched(y1_.data(), g, wr)) {
       project_velocities(y1_.data(), y1_.data() + nq);

@@ -198,7 +198,7 @@ class Mechanism {
     double friction = 0;
     // Mode (saved state).
     int at_stop = 0;     ///< -1 resting on the lower stop, +1 on the upper, 0 free
-    int rebounded = 0;   ///< -1, +1: it has just left that stop (an event of this step; not saved)
+    int rebounded = 0;   ///< -1, +1: it left that stop at the last apply_events (not saved)
     bool hold = false;   ///< the motor holds the rate at its target
     int push = 0;        ///< a saturated motor pushes with push * max_force
     bool stick = false;  ///< friction holds the coordinate still
@@ -385,7 +385,8 @@ class Mechanism {
   // taut when that is under the rest threshold.
   double rope_impact(int t, int bound, const double* q, const double* v);
   void keep_held_rows();  ///< impulse targets of 0 for every row already held (stops, rods, taut ropes)
-  void back_on_stops(double* q);  ///< coordinates that just rebounded, a round-off past the stop, put on it
+  void back_on_stops(
+      double* q) const;  ///< coordinates that just rebounded, a round-off past the stop, put on it
   // Slack ropes found past their bounds (a projection of other rows, or a contact substep's
   // travel, moved them there unseen by the event functions) are caught there: an impact if they
   // were moving out, then put back on the bound. True when any was.

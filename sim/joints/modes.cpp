@@ -42,6 +42,10 @@ constexpr double kRopeSlack = 1e-12;
 // A rebounding rope is put this far (relative to 1 + its bound) inside its event function's
 // offset: a few times project_positions' own resolution (1e-14).
 constexpr double kRebound = 3e-14;
+// The slack past a bound (rad or m) at which a rope's event function reads zero.
+inline double rope_slack(double bound) {
+  return kRopeSlack * (1 + std::abs(bound));
+}
 inline int sign(double x) {
   return (x > 0) - (x < 0);
 }
@@ -124,8 +128,8 @@ void Mechanism::event_values(const double* y, double* out) const {
     const double s = rope && t.taut == 0 ? tether_position(t, q) : 0.0;
     // Offset by kRopeSlack: a rope let go at its bound is there only to round-off, and a function
     // starting a hair under zero would never be seen to cross it.
-    o[0] = rope && t.taut == 0 && t.has_hi ? t.hi + kRopeSlack * (1 + std::abs(t.hi)) - s : 1.0;
-    o[1] = rope && t.taut == 0 && t.has_lo ? s - t.lo + kRopeSlack * (1 + std::abs(t.lo)) : 1.0;
+    o[0] = rope && t.taut == 0 && t.has_hi ? t.hi + rope_slack(t.hi) - s : 1.0;
+    o[1] = rope && t.taut == 0 && t.has_lo ? s - t.lo + rope_slack(t.lo) : 1.0;
     o[2] = rope && t.taut != 0 ? (t.taut > 0 ? -t.lambda : t.lambda) : 1.0;
     o += 3;
   }
@@ -234,6 +238,7 @@ void Mechanism::apply_events(double* y, const double* g0, const double* g1, cons
     const double* a = g0 + 5 * i;
     const double* b = g1 + 5 * i;
     auto hit = [&](int k) { return a[k] >= 0 && b[k] < 0; };
+    d.rebounded = 0;
     if (hit(0) || hit(1)) {
       stop_impact(d, hit(0), q, v, vtarget_[i]);
       impact = true;
@@ -269,7 +274,7 @@ void Mechanism::apply_events(double* y, const double* g0, const double* g1, cons
     Tether& t = tethers[i];
     const double bound = rebound[i] > 0 ? t.hi : t.lo;
     t.taut = rebound[i];
-    t.aim = bound + rebound[i] * (kRopeSlack - kRebound) * (1 + std::abs(bound));
+    t.aim = bound + rebound[i] * (1 - kRebound / kRopeSlack) * rope_slack(bound);
     rebounds = true;
   }
   if (caught || rebounds) project_positions(q);
@@ -290,9 +295,9 @@ bool Mechanism::catch_stretched(double* y, const Vec3& g, const Wrench* wr) {
     // Past the event functions' own offset (where an event leaves a rope it caught), and moving
     // further out: one coming back in is seen by its event function once inside again.
     const double s = tether_position(t, q);
-    const int bound = t.has_hi && s > t.hi + 2 * kRopeSlack * (1 + std::abs(t.hi))   ? 1
-                      : t.has_lo && s < t.lo - 2 * kRopeSlack * (1 + std::abs(t.lo)) ? -1
-                                                                                     : 0;
+    const int bound = t.has_hi && s > t.hi + 2 * rope_slack(t.hi)   ? 1
+                      : t.has_lo && s < t.lo - 2 * rope_slack(t.lo) ? -1
+                                                                    : 0;
     if (bound == 0) continue;
     const double rate = tether_rate(t, V_, t.wheel_iv >= 0 ? v[t.wheel_iv] : 0.0);
     if (bound * rate <= 0) continue;
@@ -340,12 +345,11 @@ bool Mechanism::catch_past_stops(double* y, const Vec3& g, const Wrench* wr) {
   return true;
 }
 
-void Mechanism::back_on_stops(double* q) {
-  for (Dof& d : dofs) {
+void Mechanism::back_on_stops(double* q) const {
+  for (const Dof& d : dofs) {
     double& x = q[d.iq];
-    if (d.rebounded > 0 && x > d.hi && x - d.hi < kRopeSlack * (1 + std::abs(d.hi))) x = d.hi;
-    if (d.rebounded < 0 && x < d.lo && d.lo - x < kRopeSlack * (1 + std::abs(d.lo))) x = d.lo;
-    d.rebounded = 0;
+    if (d.rebounded > 0 && x > d.hi && x - d.hi < rope_slack(d.hi)) x = d.hi;
+    if (d.rebounded < 0 && x < d.lo && d.lo - x < rope_slack(d.lo)) x = d.lo;
   }
 }
 

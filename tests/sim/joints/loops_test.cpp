@@ -243,6 +243,34 @@ double farthest_apart(const std::vector<Vec3>& xa, const std::vector<Vec3>& xb) 
   return worst;
 }
 
+// A mechanism with a stopped coordinate run for 3 s under gravity: the worst energy change (J),
+// how far the coordinate went past [lo, hi] and how far from 0 it read at a frame's end, the
+// mode changes, and the bodies' positions every 1/4 s (through the bouncing, not only at rest).
+struct StopRun {
+  std::vector<Vec3> x;
+  double worst_E = 0, past = 0, travel = 0;
+  int hits = 0;
+};
+StopRun run_stopped(Bodies& b, const std::vector<JointDef>& js, int stopped, double lo, double hi) {
+  Articulations art;
+  std::vector<std::string> warnings;
+  art.build(js, {}, b.defs, b.model, b.state, warnings);
+  const double E0 = b.energy(g);
+  StopRun r;
+  for (int f = 1; f <= 180; ++f) {
+    EXPECT_TRUE(art.step(1.0 / 60, Vec3(0, 0, -g), nullptr, b.state.data()));
+    r.worst_E = std::max(r.worst_E, std::abs(b.energy(g) - E0));
+    const double q = art.position(stopped);
+    r.past = std::max({r.past, lo - q, q - hi});
+    r.travel = std::max(r.travel, std::abs(q));
+    if (f % 15 == 0)
+      for (const MotionState& st : b.state) r.x.push_back(st.x_W);
+  }
+  for (const Mechanism& m : art.mechanisms()) r.hits += (int)m.events;
+  EXPECT_LT(art.gap(b.state.data()), 1e-12);
+  return r;
+}
+
 std::vector<JointDef> make_four_bar(Bodies& b, bool closing, int& hinge) {
   const int crank = b.add("crank", 1.0, Vec3(0.02, 0.03, 0.025), Vec3(0.15, 0, 0.2));
   const int coupler = b.add("coupler", 1.5, Vec3(0.04, 0.06, 0.05), Vec3(0.65, 0, 0.5));
@@ -398,34 +426,17 @@ TEST(Loops, SprungClosingHingePastHalfATurnResumes) {
 TEST(Loops, StopsOnAClosingHingeActAsOnATreeHinge) {
   for (const double e : {1.0, 0.5, 0.0}) {
     SCOPED_TRACE(e);
-    auto run = [&](bool closing, double& worst_E, double& past, int& hits) {
+    auto run = [&](bool closing) {
       Bodies b;
       int stopped = 0;
       std::vector<JointDef> js = make_four_bar(b, closing, stopped);
       js[stopped].limits = JointLimits{-1.2, 0.4, e};
-      Articulations art;
-      std::vector<std::string> warnings;
-      art.build(js, {}, b.defs, b.model, b.state, warnings);
-      const double E0 = b.energy(g);
-      worst_E = past = 0;
-      std::vector<Vec3> x;
-      for (int f = 1; f <= 180; ++f) {
-        EXPECT_TRUE(art.step(1.0 / 60, Vec3(0, 0, -g), nullptr, b.state.data()));
-        worst_E = std::max(worst_E, std::abs(b.energy(g) - E0));
-        const double q = art.position(stopped);
-        past = std::max({past, -1.2 - q, q - 0.4});
-        if (f % 15 == 0)  // sampled through the bouncing, not only at rest
-          for (const MotionState& st : b.state) x.push_back(st.x_W);
-      }
-      hits = 0;
-      for (const Mechanism& m : art.mechanisms()) hits += (int)m.events;
-      EXPECT_LT(art.gap(b.state.data()), 1e-12);
-      return x;
+      return run_stopped(b, js, stopped, -1.2, 0.4);
     };
-    double Ea = 0, Eb = 0, pa = 0, pb = 0;
-    int ha = 0, hb = 0;
-    const std::vector<Vec3> xa = run(true, Ea, pa, ha), xb = run(false, Eb, pb, hb);
-    const double worst = farthest_apart(xa, xb);
+    const StopRun a = run(true), t = run(false);
+    const double worst = farthest_apart(a.x, t.x);
+    const int ha = a.hits, hb = t.hits;
+    const double pa = a.past, pb = t.past, Ea = a.worst_E, Eb = t.worst_E;
     EXPECT_GE(ha, e > 0 ? 4 : 1);  // it met its stops
     // With restitution 0.5 the bounces die out within a frame and the hinge rests, in as many
     // impacts either way (22; each return seen by its event function).
@@ -452,7 +463,7 @@ TEST(Loops, StopsOnAClosingSliderActAsOnATreeSlider) {
   const Vec3 O(0, 0, 0), Q(0.6, 0, 0), B(0, 0, 0.2), u = (Q - B).normalized();
   for (const double e : {1.0, 0.5, 0.0}) {
     SCOPED_TRACE(e);
-    auto run = [&](bool closing, double& worst_E, double& past, int& hits, double& travel) {
+    auto run = [&](bool closing) {
       Bodies b;
       const int crank = b.add("crank", 1.0, Vec3(0.004, 0.004, 0.0005), Vec3(0.02, 0, 0.1));
       const int rocker = b.add("rocker", 0.5, Vec3(0.002, 0.003, 0.002), Q);
@@ -463,33 +474,14 @@ TEST(Loops, StopsOnAClosingSliderActAsOnATreeSlider) {
       std::vector<JointDef> js{joint(JointType::revolute, -1, crank, O, Vec3::UnitY()),
                                joint(JointType::revolute, -1, rocker, Q, Vec3::UnitY())};
       js.push_back(closing ? pin : slide);
-      js.push_back(closing ? slide : pin);  // the last closes the loop
-      const int stopped = closing ? 3 : 2;
+      js.push_back(closing ? slide : pin);   // the last closes the loop
       b.state[crank].w_P = Vec3(0, 1.0, 0);  // set going: the crank starts upright
-      Articulations art;
-      std::vector<std::string> warnings;
-      art.build(js, {}, b.defs, b.model, b.state, warnings);
-      const double E0 = b.energy(g);
-      worst_E = past = travel = 0;
-      std::vector<Vec3> x;
-      for (int f = 1; f <= 180; ++f) {
-        EXPECT_TRUE(art.step(1.0 / 60, Vec3(0, 0, -g), nullptr, b.state.data()));
-        worst_E = std::max(worst_E, std::abs(b.energy(g) - E0));
-        const double q = art.position(stopped);
-        past = std::max({past, -0.1 - q, q - 0.1});
-        travel = std::max(travel, std::abs(q));
-        if (f % 15 == 0)
-          for (const MotionState& st : b.state) x.push_back(st.x_W);
-      }
-      hits = 0;
-      for (const Mechanism& m : art.mechanisms()) hits += (int)m.events;
-      EXPECT_LT(art.gap(b.state.data()), 1e-12);
-      return x;
+      return run_stopped(b, js, closing ? 3 : 2, -0.1, 0.1);
     };
-    double Ea = 0, Eb = 0, pa = 0, pb = 0, ta = 0, tb = 0;
-    int ha = 0, hb = 0;
-    const std::vector<Vec3> xa = run(true, Ea, pa, ha, ta), xb = run(false, Eb, pb, hb, tb);
-    const double worst = farthest_apart(xa, xb);
+    const StopRun a = run(true), t = run(false);
+    const double worst = farthest_apart(a.x, t.x);
+    const int ha = a.hits, hb = t.hits;
+    const double pa = a.past, pb = t.past, Ea = a.worst_E, Eb = t.worst_E, ta = a.travel, tb = t.travel;
     std::printf("slider stops, restitution %g: %d / %d impacts, runs %.1e m apart, energy %.1e / %.1e J\n", e,
                 ha, hb, worst, Ea, Eb);
     EXPECT_GE(ha, e > 0 ? 4 : 1);  // it met its stops
@@ -519,7 +511,7 @@ TEST(Loops, StopsOnAClosingSliderActAsOnATreeSlider) {
 // (restitution 0) and the whole turns as one body on. Nothing acts about z: the angular momentum
 // about O holds to 1e-10 throughout, the energy after the impact, and the runs agree to 1e-8 m.
 TEST(Loops, ClosingSliderHeldOnItsStopWhileItsAxisTurns) {
-  auto run = [&](bool closing, double& dL, double& dE, double& held) {
+  auto run = [&](bool closing, double& dL, double& dE, int& held) {
     Bodies b;
     const int arm = b.add("arm", 1.0, Vec3(0.001, 0.03, 0.03), Vec3(0.3, 0, 0));
     const int l1 = b.add("link1", 0.2, Vec3(0.0005, 0.002, 0.002), Vec3(0.4, 0.15, 0));
@@ -551,7 +543,8 @@ TEST(Loops, ClosingSliderHeldOnItsStopWhileItsAxisTurns) {
     };
     const double L0 = Lz();
     double E_held = NAN;
-    dL = dE = held = 0;
+    dL = dE = 0;
+    held = 0;
     std::vector<Vec3> x;
     for (int f = 1; f <= 120; ++f) {
       EXPECT_TRUE(art.step(1.0 / 60, Vec3(0, 0, -g), nullptr, b.state.data()));
@@ -560,7 +553,7 @@ TEST(Loops, ClosingSliderHeldOnItsStopWhileItsAxisTurns) {
       if (std::abs(q - 0.1) < 1e-12) {
         if (std::isnan(E_held)) E_held = b.energy(g);
         dE = std::max(dE, std::abs(b.energy(g) - E_held) / E_held);
-        held = std::max(held, 1.0);
+        held = std::max(held, 1);
       } else if (!std::isnan(E_held)) {
         held = 2;  // left the stop after resting on it
       }
@@ -570,7 +563,8 @@ TEST(Loops, ClosingSliderHeldOnItsStopWhileItsAxisTurns) {
     EXPECT_LT(art.gap(b.state.data()), 1e-12);
     return x;
   };
-  double La, Lb, Ea, Eb, ha, hb;
+  double La, Lb, Ea, Eb;
+  int ha, hb;
   const std::vector<Vec3> xa = run(true, La, Ea, ha), xb = run(false, Lb, Eb, hb);
   const double worst = farthest_apart(xa, xb);
   std::printf("held slider: L_z %.1e / %.1e, energy while held %.1e / %.1e, runs %.1e m apart\n", La, Lb, Ea,
