@@ -580,11 +580,33 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
   std::vector<int> parent_joint(nb, -1);  // per body: the joint it is the child of
   std::vector<int> loop_joints;           // joints that close a loop (constraints, not tree edges)
   std::vector<int> tether_joints;         // distance and pulley joints (rows, never tree edges)
-  for (int j = 0; j < (int)joints_.size(); ++j) {
+  const int nj = (int)joints_.size();
+  for (int j = 0; j < nj; ++j) {
     JointDef& d = joints_[j];
     if (d.name.empty()) d.name = "joint" + std::to_string(j);
     for (int k = 0; k < j; ++k)
       if (joints_[k].name == d.name) throw InputError(name_of(j) + ": the name is used by an earlier joint");
+  }
+  // The tree takes first the joints that only a tree edge can carry (a motor, friction, a wheel,
+  // cone or twist stops, armature, a mimic's either end, a spring or limits on a joint without one
+  // coordinate), then the rest, each group in file order: a loop is closed by a plain joint
+  // wherever it has one, whichever joint the file wrote last. A scene whose loops were already
+  // closed by plain joints gets the same tree as in file order.
+  std::vector<char> tree_only(nj, 0);
+  for (int j = 0; j < nj; ++j) {
+    const JointDef& d = joints_[j];
+    const bool one_axis = d.type == JointType::revolute || d.type == JointType::prismatic;
+    if (d.type == JointType::wheel || d.motor || d.motor2 || d.steering || d.friction != 0 || d.ball_limits ||
+        d.armature != 0 || d.mimic || (d.spring && !one_axis) || (d.limits && !one_axis))
+      tree_only[j] = 1;
+    if (d.mimic && d.mimic->leader >= 0 && d.mimic->leader < nj) tree_only[d.mimic->leader] = 1;
+  }
+  std::vector<int> order;
+  for (int pass = 1; pass >= 0; --pass)
+    for (int j = 0; j < nj; ++j)
+      if (tree_only[j] == pass) order.push_back(j);
+  for (int j : order) {
+    JointDef& d = joints_[j];
     if (d.child < -1 || d.child >= nb || d.parent < -1 || d.parent >= nb)
       throw InputError(name_of(j) + ": body index out of range");
     if (d.child == d.parent)
@@ -744,26 +766,22 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
       if (parent_joint[x] < 0) break;
     }
     if (closes) {
-      if (d.type == JointType::wheel)
-        throw InputError(name_of(j) +
-                         ": closes a loop; a wheel joint cannot close one (close the loop with another "
-                         "joint and put the wheel on the tree)");
-      if (d.spring && d.type != JointType::revolute && d.type != JointType::prismatic)
-        throw InputError(name_of(j) +
-                         ": a spring on a joint that closes a loop needs a revolute or prismatic "
-                         "joint (this one is " +
-                         to_string(d.type) + ")");
-      if ((d.limits && d.type != JointType::revolute && d.type != JointType::prismatic) || d.ball_limits ||
-          d.motor || d.motor2 || d.friction > 0)
+      if (tree_only[j])
         throw InputError(
             name_of(j) +
-            ": a joint that closes a loop can carry a spring, and limits on a revolute or prismatic "
-            "one; not limits of this type, a motor or friction yet");
+            ": closes a loop but carries what only a tree joint can (a motor, friction, armature, a "
+            "wheel, cone or twist stops, a mimic, or a spring or limits on a joint without one "
+            "coordinate), and the tree takes such joints first: no plain joint of this loop can close "
+            "it. Make one of the loop's joints plain (a spring, and limits on a revolute or prismatic "
+            "joint, are allowed on it)");
       loop_joints.push_back(j);
       continue;
     }
     parent_joint[d.child] = j;
   }
+  // Built in priority order above; the loops' rows and the tethers follow file order.
+  std::sort(loop_joints.begin(), loop_joints.end());
+  std::sort(tether_joints.begin(), tether_joints.end());
   // Children of each body, in joint order.
   std::vector<std::vector<int>> child_joints(nb);
   std::vector<int> base_joints;
