@@ -72,7 +72,13 @@ const std::map<std::string, std::set<std::string>> kAttributes = {
 
 struct MjMaterial {
   std::optional<std::array<float, 4>> rgba;
-  std::string texture;  // texture asset name
+  std::string texture;      // texture asset name
+  double texrepeat = 1;     // repeats of the texture image (along its first axis)
+  bool texuniform = false;  // texrepeat per metre, not across the object
+};
+// A built-in 2D checker texture: a 2x2 image of squares in rgb1 and rgb2 (MuJoCo's `checker`).
+struct MjChecker {
+  std::array<float, 3> rgb1{0.8f, 0.8f, 0.8f}, rgb2{0.5f, 0.5f, 0.5f};
 };
 struct MjMesh {
   std::string file;  // resolved
@@ -148,6 +154,8 @@ class MjcfReader {
   std::map<std::string, std::map<std::string, const XMLElement*>> class_proto_;
   std::map<std::string, MjMaterial> materials_;
   std::map<std::string, std::string> textures_;  // name -> resolved file
+  std::map<std::string, MjChecker> checkers_;    // name -> built-in checker
+  double plane_half_ = 0;                        // the plane geom being read: its size[0], m
   std::map<std::string, MjMesh> meshes_;
   std::map<std::string, int> body_index_;
   std::map<int, double> actuator_cap_;  // joint index: its actuatorfrcrange bound
@@ -447,13 +455,30 @@ class MjcfReader {
       } else if (tag == "texture") {
         const std::string name = attr_or(e, "name", "");
         const std::string type = attr_or(e, "type", "cube");
+        const std::string builtin = attr_or(e, "builtin", "");
+        // MuJoCo's defaults for a built-in texture's colours.
+        auto rgb = [&](const char* key, std::array<float, 3> dflt) {
+          if (auto v = vec<3>(e, key, "", "texture"))
+            return std::array<float, 3>{(float)(*v)[0], (float)(*v)[1], (float)(*v)[2]};
+          return dflt;
+        };
         if (e->Attribute("file") && type == "2d") {
           try {
             textures_[name] = asset_file(e, texturedir_, "texture");
           } catch (const InputError& err) {
             m_.notes.push_back(std::string(err.what()) + "; its materials are drawn in their colour");
           }
-        } else if (type != "skybox") {
+        } else if (type == "2d" && builtin == "checker") {
+          // Drawn where it lies on the floor plane (the scene's ground takes its colours); its
+          // marks are lines simreel's ground does not draw.
+          checkers_[name] = MjChecker{rgb("rgb1", {0.8f, 0.8f, 0.8f}), rgb("rgb2", {0.5f, 0.5f, 0.5f})};
+          if (e->Attribute("mark") && attr_or(e, "mark", "none") != "none")
+            note_once(e, "texture-mark", "a built-in texture's mark lines are not drawn");
+        } else if (type == "skybox" && builtin == "gradient") {
+          m_.sky = ModelSky{rgb("rgb1", {0.8f, 0.8f, 0.8f}), rgb("rgb2", {0.5f, 0.5f, 0.5f})};
+        } else if (type == "skybox") {
+          note_once(e, "texture-skybox", "a skybox other than a built-in gradient is not drawn");
+        } else {
           note_once(
               e, "texture-" + type + (e->Attribute("builtin") ? "-builtin" : ""),
               std::string("a ") + (e->Attribute("builtin") ? "built-in " : "") + type +
@@ -465,6 +490,9 @@ class MjcfReader {
         if (auto v = vec<4>(e, "rgba", cls, "material"))
           mat.rgba = std::array<float, 4>{(float)(*v)[0], (float)(*v)[1], (float)(*v)[2], (float)(*v)[3]};
         if (const char* t = get(e, "texture", cls)) mat.texture = t;
+        if (auto r = nums(e, "texrepeat", cls, "material"); r && !r->empty() && (*r)[0] > 0)
+          mat.texrepeat = (*r)[0];
+        if (const char* u = get(e, "texuniform", cls)) mat.texuniform = std::string(u) == "true";
         materials_[attr_or(e, "name", "")] = mat;
       } else if (tag != "hfield" && tag != "skin" && tag != "model" && tag != "plugin") {
         note(e, "<" + tag + "> asset is not used; ignored");
@@ -816,6 +844,7 @@ class MjcfReader {
       s.radii = Vec3(sz(0), sz(1), sz(2));
     } else if (type == "plane") {
       s.kind = K::plane;
+      plane_half_ = sz(0);
       if (m_.links[link].name != "world") fail(e, what, "a plane must be a geom of the worldbody");
     } else if (type == "mesh") {
       s.kind = K::mesh;
@@ -875,6 +904,14 @@ class MjcfReader {
         if (!it->second.texture.empty()) {
           const auto t = textures_.find(it->second.texture);
           if (t != textures_.end()) s.texture = t->second;
+          const auto c = checkers_.find(it->second.texture);
+          if (c != checkers_.end() && s.kind == K::plane) {
+            // The 2x2 image repeats texrepeat times a metre (texuniform), else across the plane's
+            // width (2 size[0]; an infinite plane, size 0, is taken per metre).
+            const MjMaterial& mt = it->second;
+            const double across = mt.texuniform || !(plane_half_ > 0) ? 1.0 : 2 * plane_half_;
+            s.checker = ModelChecker{c->second.rgb1, c->second.rgb2, across / (2 * mt.texrepeat)};
+          }
         }
       }
     }

@@ -31,6 +31,19 @@ struct Pose {
   Vec3 operator*(const Vec3& x) const { return p + q * x; }
 };
 
+/// A floor drawn as a checker (MJCF's built-in checker texture on a plane): its two colours
+/// (display RGB, as the file gives them) and the side of one square, m.
+struct ModelChecker {
+  std::array<float, 3> rgb1{}, rgb2{};
+  double tile = 1;
+};
+
+/// A sky whose colour runs from `top` straight up to `bottom` straight down (MJCF's gradient
+/// skybox), display RGB as the file gives them.
+struct ModelSky {
+  std::array<float, 3> top{}, bottom{};
+};
+
 struct ModelShape {
   enum class Kind { box, sphere, cylinder, capsule, ellipsoid, mesh, plane };
   Kind kind = Kind::box;
@@ -45,6 +58,7 @@ struct ModelShape {
   Pose pose;                                  ///< in the link frame
   std::optional<std::array<float, 3>> color;  ///< display RGB (sRGB-encoded, as files give it)
   std::string texture;                        ///< resolved image path, or ""
+  std::optional<ModelChecker> checker;        ///< a plane's built-in checker texture
   bool visual = false, collision = false;     ///< drawn; collides
   std::optional<double> friction;
   /// Coefficient of restitution where the file implies one (MJCF's solref: see the reader).
@@ -132,6 +146,7 @@ struct Model {
   std::vector<std::pair<int, int>> exclude;  ///< link pairs that never collide (MJCF contact exclude)
   std::vector<ModelRope> ropes;
   std::vector<std::string> files;  ///< every file read: the model's and those it includes
+  std::optional<ModelSky> sky;     ///< the file's sky, where it gives one
 };
 
 }  // namespace simreel

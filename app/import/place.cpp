@@ -134,6 +134,7 @@ double lowest_z(const Collider& c, const Vec3& p_WB, const Quat& q_WB) {
 void place_model(const Model& m, const ImportSpec& spec, Scene& scene, MeshLibrary& meshes) {
   const size_t n = m.links.size();
   const std::string prefix = spec.name.empty() ? "" : spec.name + "/";
+  bool floor_look = false;  // the file's floor checker became the ground's
   // The tree: each link's parent joint (or -1), children in file order.
   std::vector<int> parent_joint(n, -1);
   for (size_t k = 0; k < m.joints.size(); ++k)
@@ -316,6 +317,15 @@ void place_model(const Model& m, const ImportSpec& spec, Scene& scene, MeshLibra
           if ((X_WS.q * Vec3::UnitZ()).z() > 1 - 1e-12 &&
               std::fabs(X_WS.p.z() - scene.ground->height) < 1e-9) {
             scene.notes.push_back(s.src.str() + ": the file's floor plane is the scene's ground; left out");
+            if (s.checker && !scene.look_given) {  // drawn in the file's checker
+              const auto lin = [](const std::array<float, 3>& c) {
+                return std::array<float, 3>{srgb_to_linear(c[0]), srgb_to_linear(c[1]), srgb_to_linear(c[2])};
+              };
+              scene.render.ground_color = lin(s.checker->rgb1);
+              scene.render.ground_color2 = lin(s.checker->rgb2);
+              scene.render.ground_tile = s.checker->tile;
+              floor_look = true;
+            }
             continue;
           }
         }
@@ -686,6 +696,18 @@ void place_model(const Model& m, const ImportSpec& spec, Scene& scene, MeshLibra
     }
     scene.ignore_pairs.insert(scene.ignore_pairs.end(), pairs.begin(), pairs.end());
   }
+  // The file's sky (MJCF's gradient skybox: its top colour straight up, the mean of its two at the
+  // horizon, where the gradient is half way), unless the scene gives its own.
+  if (m.sky && !scene.look_given) {
+    std::array<float, 3> mid;
+    for (int k = 0; k < 3; ++k) mid[k] = 0.5f * (m.sky->top[k] + m.sky->bottom[k]);
+    for (int k = 0; k < 3; ++k) {
+      scene.render.background[k] = srgb_to_linear(m.sky->top[k]);
+      scene.render.horizon[k] = srgb_to_linear(mid[k]);
+    }
+    scene.render.sky_gradient = true;
+  }
+  if (m.sky || floor_look) scene.look_given = true;  // the first file's look holds
   for (const std::string& note : m.notes) scene.notes.push_back(note);
   // What the scene now depends on (its goldens notice when one changes).
   scene.inputs.insert(scene.inputs.end(), m.files.begin(), m.files.end());

@@ -954,6 +954,7 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
   // The drawn ground's look, from `ground:` or `render.ground:`: a checker colour pair, or an image
   // (beside the scene, or as given) repeating every `texture_size` m.
   auto ground_look = [&](const YAML::Node& g, const Ctx& gc) {
+    if (g["colors"] || g["texture"] || g["tile"]) s.look_given = true;
     if (const YAML::Node cs = g["colors"]) {
       const Ctx cc = gc.child("colors");
       if (!cs.IsSequence() || cs.size() != 2)
@@ -982,6 +983,7 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
         r, c,
         {"shadows", "antialiasing", "background", "horizon", "sky", "quality", "ground", "motion_blur"});
     if (r["motion_blur"]) s.motion_blur = motion_blur(r["motion_blur"], c.child("motion_blur"));
+    if (r["sky"] || r["background"] || r["horizon"]) s.look_given = true;
     if (r["sky"]) {
       const std::string k = text(r["sky"], c.child("sky"));
       if (k != "gradient" && k != "flat")

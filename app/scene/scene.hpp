@@ -103,6 +103,9 @@ struct Scene {
   VideoSpec video;
   CameraSpec camera;
   RenderSpec render;
+  /// The scene gives its sky or its ground's colours or tiles itself: an imported file's sky and
+  /// floor checker (MJCF) are not taken (otherwise the first file's that has them are).
+  bool look_given = false;
   MotionBlurSpec motion_blur;  ///< render.motion_blur (app/scene/camera_motion.hpp)
   std::vector<BodyDef> bodies;
   std::vector<BodyLook> looks;               ///< parallel to bodies

@@ -14,6 +14,8 @@
 #include "app/import/urdf.hpp"
 #include "app/runner/run.hpp"
 #include "app/scene/scene.hpp"
+#include "app/scene/scene_imports.hpp"
+#include "render/material.hpp"
 #include "sim/geometry/point_triangle.hpp"
 #include "tests/scratch.hpp"
 
@@ -847,6 +849,53 @@ TEST(ImportMjcf, LimitedFixedTendonStopsItsJointsCombination) {
 }
 
 // An undefined class, a joint type MuJoCo does not have, a connect to a missing body.
+// MJCF's built-in textures that set a scene's look: a checker on the floor plane becomes the
+// ground's two colours and its square (the 2x2 image repeated texrepeat times a metre with
+// texuniform, else across the plane's width), a gradient skybox the sky (its top colour straight
+// up, half way to its bottom colour at the horizon). Colours are the file's display values, the
+// scene's linear ones. A scene that sets its own sky or ground look keeps it.
+TEST(ImportMjcf, BuiltInCheckerFloorAndGradientSkyAreTheScenesLook) {
+  auto xml = [](const std::string& material) {
+    return R"(<mujoco>
+  <asset>
+    <texture type="skybox" builtin="gradient" rgb1=".3 .5 .7" rgb2="0 0 0" width="32" height="512"/>
+    <texture name="grid" type="2d" builtin="checker" width="512" height="512" rgb1=".1 .2 .3" rgb2=".2 .3 .4" mark="edge"/>
+    <material name="grid" texture="grid" )" +
+           material + R"(/>
+  </asset>
+  <worldbody>
+    <geom name="floor" type="plane" size="4 4 .1" material="grid"/>
+    <body name="ball" pos="0 0 1"><freejoint/><geom type="sphere" size="0.1"/></body>
+  </worldbody>
+</mujoco>
+)";
+  };
+  auto lin = [](float c) { return srgb_to_linear(c); };
+  const std::string per_metre = write("look/per_metre.xml", xml(R"(texrepeat="2 2" texuniform="true")"));
+  const Scene s = load_scene(write("look/per_metre.yaml", scene_for_model_file(per_metre)));
+  EXPECT_FLOAT_EQ(s.render.ground_color[1], lin(0.2f));
+  EXPECT_FLOAT_EQ(s.render.ground_color2[2], lin(0.4f));
+  EXPECT_DOUBLE_EQ(s.render.ground_tile, 0.25);  // 2 images of 2 squares a metre
+  EXPECT_FLOAT_EQ(s.render.background[0], lin(0.3f));
+  EXPECT_FLOAT_EQ(s.render.horizon[2], lin(0.35f));
+  EXPECT_TRUE(s.render.sky_gradient);
+  EXPECT_TRUE(has(s.notes, "mark lines are not drawn"));
+  // Across the plane: 8 m wide, 4 images of 2 squares.
+  const std::string across = write("look/across.xml", xml(R"(texrepeat="4 4")"));
+  EXPECT_DOUBLE_EQ(load_scene(write("look/across.yaml", scene_for_model_file(across))).render.ground_tile,
+                   1.0);
+  // The scene's own sky and ground colours win.
+  const Scene own =
+      load_scene(write("look/own.yaml",
+                       "ground: { colors: [[0.5, 0.5, 0.5], [0.2, 0.2, 0.2]] }\nrender: { sky: flat }\n"
+                       "imports: [ { file: " +
+                           per_metre + " } ]\n"));
+  EXPECT_FLOAT_EQ(own.render.ground_color[0], 0.5f);
+  EXPECT_DOUBLE_EQ(own.render.ground_tile, RenderLook{}.ground_tile);
+  EXPECT_FALSE(own.render.sky_gradient);
+  EXPECT_FLOAT_EQ(own.render.background[0], RenderLook{}.background[0]);
+}
+
 TEST(ImportMjcf, MistakesAreNamedByFileAndLine) {
   auto err = [&](const std::string& xml) { return error_of(write("m.xml", xml)); };
   EXPECT_NE(err("<mujoco>\n<default><default class=\"bar\"/></default>\n<worldbody>\n"
