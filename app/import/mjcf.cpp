@@ -116,6 +116,10 @@ class MjcfReader {
       if (tag == "compiler" || tag == "default" || tag == "asset" || tag == "worldbody" ||
           tag == "equality" || tag == "contact" || tag == "actuator" || tag == "tendon")
         continue;
+      if (tag == "option") {
+        option(e);
+        continue;
+      }
       if (noted.insert(tag).second)
         note(e, "<" + tag + "> is " +
                     (kUnused.count(tag) ? "not used by simreel" : "not an MJCF element simreel knows") +
@@ -247,6 +251,25 @@ class MjcfReader {
       }
       e = next;
     }
+  }
+
+  // <option>: its gravity is the model's (the scene's when the file is simulated directly);
+  // simreel chooses its own steps and integrators, and has no medium (wind, density, viscosity).
+  void option(const XMLElement* o) {
+    if (auto g = vec<3>(o, "gravity", "", "option")) {
+      if (!g->allFinite()) fail(o, "option", "gravity must be three finite numbers (m/s^2)");
+      m_.gravity = *g;
+    }
+    for (const tinyxml2::XMLAttribute* a = o->FirstAttribute(); a; a = a->Next()) {
+      const std::string n = a->Name();
+      if (n == "gravity") continue;
+      note(o, n == "timestep" || n == "integrator"
+                  ? "<option " + n +
+                        "> is not used: simreel takes its own steps (simulation.timestep, integrator)"
+                  : "<option " + n + "> is not used by simreel; ignored");
+    }
+    if (o->FirstChildElement())
+      note(o, "<option>'s <flag> and other children are not used by simreel; ignored");
   }
 
   void compiler(const XMLElement* c, const fs::path& dir) {

@@ -147,6 +147,7 @@ struct Model {
   std::vector<ModelRope> ropes;
   std::vector<std::string> files;  ///< every file read: the model's and those it includes
   std::optional<ModelSky> sky;     ///< the file's sky, where it gives one
+  std::optional<Vec3> gravity;     ///< m/s^2, world frame, where the file gives it (MJCF <option>)
 };
 
 }  // namespace simreel

@@ -708,6 +708,20 @@ void place_model(const Model& m, const ImportSpec& spec, Scene& scene, MeshLibra
     scene.render.sky_gradient = true;
   }
   if (m.sky || floor_look) scene.look_given = true;  // the first file's look holds
+  // The file's gravity is the scene's unless the scene gives its own (or an earlier file did).
+  auto fmt_vec = [](const Vec3& v) {
+    char b[96];
+    std::snprintf(b, sizeof b, "[%g, %g, %g]", v.x(), v.y(), v.z());
+    return std::string(b);
+  };
+  if (m.gravity && *m.gravity != scene.gravity) {
+    if (scene.gravity_given)
+      scene.notes.push_back(m.file + ": its gravity (" + fmt_vec(*m.gravity) +
+                            " m/s^2) is not the scene's (" + fmt_vec(scene.gravity) + "); the scene's acts");
+    else
+      scene.gravity = *m.gravity;
+  }
+  if (m.gravity) scene.gravity_given = true;
   for (const std::string& note : m.notes) scene.notes.push_back(note);
   // What the scene now depends on (its goldens notice when one changes).
   scene.inputs.insert(scene.inputs.end(), m.files.begin(), m.files.end());

@@ -909,7 +909,7 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
     }
     if (sim["duration"]) s.duration = positive(sim["duration"], c.child("duration"));
     if (sim["timestep"]) s.timestep = positive(sim["timestep"], c.child("timestep"));
-    if (sim["gravity"]) s.gravity = vec<3>(sim["gravity"], c.child("gravity"));
+    if (sim["gravity"]) s.gravity = vec<3>(sim["gravity"], c.child("gravity")), s.gravity_given = true;
     if (sim["integrator"]) s.integrator = integrator(sim["integrator"], c.child("integrator"));
     if (s.timestep > s.duration) c.child("timestep").fail(sim["timestep"], "is longer than the duration");
     // The step count must be a number a run can count to (4.9e-324 made it infinite: zero steps).

@@ -100,6 +100,7 @@ struct Scene {
   double timestep = 1.0 / 240;  ///< s
   Integrator integrator = Integrator::automatic;
   Vec3 gravity = Vec3(0, 0, -9.81);  ///< m/s^2
+  bool gravity_given = false;        ///< simulation.gravity is in the file (an import's does not apply)
   VideoSpec video;
   CameraSpec camera;
   RenderSpec render;

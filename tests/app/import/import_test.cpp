@@ -896,6 +896,32 @@ TEST(ImportMjcf, BuiltInCheckerFloorAndGradientSkyAreTheScenesLook) {
   EXPECT_FLOAT_EQ(own.render.background[0], RenderLook{}.background[0]);
 }
 
+// <option gravity> is the model's: a file simulated directly falls by it; a scene that gives
+// its own gravity keeps it, with a note. The option's steps and integrator are notes.
+TEST(ImportMjcf, OptionGravityActsUnlessTheSceneGivesItsOwn) {
+  const std::string xml = write("gravity/moon.xml", R"(<mujoco>
+  <option gravity="0 0 -1.62" timestep="0.002"/>
+  <worldbody><body name="ball" pos="0 0 3"><freejoint/><geom type="sphere" size="0.1"/></body></worldbody>
+</mujoco>
+)");
+  const Scene direct = load_scene(write("gravity/direct.yaml", scene_for_model_file(xml)));
+  EXPECT_EQ(direct.gravity, Vec3(0, 0, -1.62));
+  EXPECT_TRUE(has(direct.notes, "<option timestep> is not used"));
+  // Released from rest in free fall (no ground under it for 1 s): z drops by g t^2 / 2.
+  const Scene fall =
+      load_scene(write("gravity/fall.yaml",
+                       "simulation: { duration: 1, sleep: false }\nimports: [ { file: " + xml + " } ]\n"));
+  World w(world_config(fall, 1), fall.bodies);
+  const double z0 = w.centroid(0).z();
+  const int n = (int)std::lround(1.0 / fall.timestep);
+  for (int i = 0; i < n; ++i) w.step();
+  EXPECT_NEAR(z0 - w.centroid(0).z(), 0.5 * 1.62 * 1.0, 1e-9);
+  const Scene own = load_scene(write(
+      "gravity/own.yaml", "simulation: { gravity: [0, 0, -9.81] }\nimports: [ { file: " + xml + " } ]\n"));
+  EXPECT_EQ(own.gravity, Vec3(0, 0, -9.81));
+  EXPECT_TRUE(has(own.notes, "is not the scene's"));
+}
+
 TEST(ImportMjcf, MistakesAreNamedByFileAndLine) {
   auto err = [&](const std::string& xml) { return error_of(write("m.xml", xml)); };
   EXPECT_NE(err("<mujoco>\n<default><default class=\"bar\"/></default>\n<worldbody>\n"
