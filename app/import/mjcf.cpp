@@ -120,6 +120,10 @@ class MjcfReader {
         option(e);
         continue;
       }
+      if (tag == "keyframe") {
+        keyframe(e);
+        continue;
+      }
       if (noted.insert(tag).second)
         note(e, "<" + tag + "> is " +
                     (kUnused.count(tag) ? "not used by simreel" : "not an MJCF element simreel knows") +
@@ -270,6 +274,26 @@ class MjcfReader {
     }
     if (o->FirstChildElement())
       note(o, "<option>'s <flag> and other children are not used by simreel; ignored");
+  }
+
+  // <keyframe>: each <key>'s qpos (MuJoCo's internal units: rad and m whatever the compiler's
+  // angle), applied on import by name (imports: keyframe); its velocities, activations and
+  // controls are notes.
+  void keyframe(const XMLElement* k) {
+    for (const XMLElement* e = k->FirstChildElement(); e; e = e->NextSiblingElement()) {
+      if (std::string(e->Name()) != "key") {
+        note(e, std::string("<") + e->Name() + "> in <keyframe> is not an MJCF key; ignored");
+        continue;
+      }
+      Model::Key key;
+      key.name = attr_or(e, "name", "key" + std::to_string(m_.keys.size()));
+      key.src = src(e, "key '" + key.name + "'");
+      if (auto q = nums(e, "qpos", "", "key '" + key.name + "'")) key.qpos = *q;
+      for (const char* a : {"qvel", "act", "ctrl", "mpos", "mquat"})
+        if (e->Attribute(a))
+          note_once(e, std::string("key-") + a, std::string("a key's ") + a + " is not used (its qpos is)");
+      m_.keys.push_back(std::move(key));
+    }
   }
 
   void compiler(const XMLElement* c, const fs::path& dir) {
@@ -695,6 +719,7 @@ class MjcfReader {
     }
     const int self = add_link(name, e, rel, prev);
     body_index_[name] = self;
+    if (free) m_.qpos_layout.push_back(Model::QposSlot{-1, self, 7, 0.0});
     for (int h : helpers) m_.links[h].helper_of = self;
     if (!joints.empty()) {
       joint(joints.back(), prev, self, childclass, at.suffix);
@@ -792,6 +817,11 @@ class MjcfReader {
       if (!(l && std::string(l) == "false"))
         actuator_cap_[(int)m_.joints.size()] = std::max(std::abs((*r)[0]), std::abs((*r)[1]));
     }
+    double ref = 0;
+    if (auto r = nums(e, "ref", cls, what); r && !r->empty())
+      ref = j.kind == ModelJoint::Kind::prismatic ? (*r)[0] : angle((*r)[0]);
+    m_.qpos_layout.push_back(
+        Model::QposSlot{(int)m_.joints.size(), -1, j.kind == ModelJoint::Kind::spherical ? 4 : 1, ref});
     m_.joints.push_back(j);
   }
 

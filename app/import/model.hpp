@@ -148,6 +148,22 @@ struct Model {
   std::vector<std::string> files;  ///< every file read: the model's and those it includes
   std::optional<ModelSky> sky;     ///< the file's sky, where it gives one
   std::optional<Vec3> gravity;     ///< m/s^2, world frame, where the file gives it (MJCF <option>)
+  /// Named poses (MJCF <key qpos>), each the file's joint coordinates laid out as `qpos_layout`.
+  struct Key {
+    std::string name;
+    std::vector<double> qpos;
+    SourceRef src;
+  };
+  std::vector<Key> keys;
+  /// The file's coordinates in its own order (MuJoCo's qpos: joints as the file writes them,
+  /// depth first): a joint of `joints` (hinge, slide: 1 number, `ref` at the file's pose; ball: 4,
+  /// a quaternion) or a free body's link (7: position, then quaternion w x y z).
+  struct QposSlot {
+    int joint = -1, link = -1;
+    int width = 1;
+    double ref = 0;  ///< rad or m
+  };
+  std::vector<QposSlot> qpos_layout;
 };
 
 }  // namespace simreel

@@ -131,6 +131,54 @@ double lowest_z(const Collider& c, const Vec3& p_WB, const Quat& q_WB) {
 
 }  // namespace
 
+void apply_keyframe(Model& m, ImportSpec& spec, std::vector<std::string>& notes) {
+  const std::string where = spec.src.str() + ".keyframe: ";
+  const auto it = std::find_if(m.keys.begin(), m.keys.end(),
+                               [&](const Model::Key& k) { return k.name == spec.keyframe; });
+  if (it == m.keys.end()) {
+    std::vector<std::string> names;
+    for (const Model::Key& k : m.keys) names.push_back(k.name);
+    std::string msg = where + m.file + " has no key named '" + spec.keyframe + "'";
+    if (names.empty())
+      msg += " (it has no <keyframe>)";
+    else if (auto s = nearest(spec.keyframe, names))
+      msg += "; did you mean '" + *s + "'?";
+    throw InputError(msg);
+  }
+  const std::vector<double>& q = it->qpos;
+  size_t need = 0;
+  for (const Model::QposSlot& s : m.qpos_layout) need += (size_t)s.width;
+  if (q.size() != need)
+    throw InputError(where + it->src.str() + ": key '" + it->name + "' has " + std::to_string(q.size()) +
+                     " qpos numbers; the file's joints take " + std::to_string(need) +
+                     " (a free joint 7, a ball joint 4, a hinge or slide 1)");
+  for (double x : q)
+    if (!std::isfinite(x))
+      throw InputError(where + it->src.str() + ": key '" + it->name + "' has a number that is not finite");
+  size_t at = 0;
+  for (const Model::QposSlot& s : m.qpos_layout) {
+    const double* v = q.data() + at;
+    at += (size_t)s.width;
+    if (s.link >= 0) {  // a free body: its pose in the file's world frame
+      const Quat r(v[3], v[4], v[5], v[6]);
+      if (!(r.norm() > 0))
+        throw InputError(where + it->src.str() + ": key '" + it->name + "': body '" + m.links[s.link].name +
+                         "' has a zero quaternion");
+      m.links[s.link].pose = Pose{Vec3(v[0], v[1], v[2]), r.normalized()};
+      continue;
+    }
+    const ModelJoint& j = m.joints[s.joint];
+    if (s.width == 4) {
+      if (!(v[0] == 1 && v[1] == 0 && v[2] == 0 && v[3] == 0))
+        notes.push_back(
+            where + "key '" + it->name + "': joint '" + j.name +
+            "' is a ball joint; its rotation in the key is not applied (it starts as the file places it)");
+      continue;
+    }
+    if (!spec.joint_positions.count(j.name)) spec.joint_positions[j.name] = v[0] - s.ref;
+  }
+}
+
 void place_model(const Model& m, const ImportSpec& spec, Scene& scene, MeshLibrary& meshes) {
   const size_t n = m.links.size();
   const std::string prefix = spec.name.empty() ? "" : spec.name + "/";

@@ -41,6 +41,9 @@ struct ImportSpec {
   /// Start values of joint coordinates by the file's joint names (rad, m): the model is placed
   /// in that pose (simreel's coordinates are zero there, its limits shifted to match).
   std::map<std::string, double> joint_positions;
+  /// A named pose of the file (MJCF <key>): its free bodies placed and its joints started there
+  /// (joint_positions given here win); "" none.
+  std::string keyframe;
   SourceRef src;  ///< the import's place in the scene file
 };
 
@@ -51,5 +54,11 @@ struct ImportSpec {
 // naming the file, line and link for what no simulation can take (a moving link with no mass and
 // nothing to weigh).
 void place_model(const Model& model, const ImportSpec& spec, Scene& scene, MeshLibrary& meshes);
+
+// spec.keyframe applied to the model before it is placed: a free body's pose becomes the key's
+// (the file's world frame), each hinge or slide coordinate's value minus its `ref` joins
+// spec.joint_positions unless given there. Throws InputError naming the import for a key the file
+// lacks or one whose numbers do not fit the file's joints; a ball joint's rotation is a note.
+void apply_keyframe(Model& model, ImportSpec& spec, std::vector<std::string>& notes);
 
 }  // namespace simreel

@@ -46,10 +46,10 @@ void load_imports(const YAML::Node& list, const std::string& path, Scene& scene,
     const YAML::Node n = list[k];
     const Ctx c = top.index(k);
     if (!n.IsMap()) c.fail(n, "expected { file: robot.urdf, name, position, ... }, got " + show(n));
-    check_keys(
-        n, c,
-        {"file", "name", "position", "orientation", "euler", "axis_angle", "fixed_base", "inertia",
-         "package_paths", "show", "hold", "self_collision", "on_ground", "joint_positions", "collision"});
+    check_keys(n, c,
+               {"file", "name", "position", "orientation", "euler", "axis_angle", "fixed_base", "inertia",
+                "package_paths", "show", "hold", "self_collision", "on_ground", "joint_positions",
+                "collision", "keyframe"});
     if (!n["file"]) c.fail(n, "missing key 'file' (a URDF file)");
     ImportSpec spec;
     const std::string f = text(n["file"], c.child("file"));
@@ -83,6 +83,7 @@ void load_imports(const YAML::Node& list, const std::string& path, Scene& scene,
         spec.joint_positions[name] = number(kv.second, jc.child(name));
       }
     }
+    if (n["keyframe"]) spec.keyframe = text(n["keyframe"], c.child("keyframe"));
     if (n["collision"]) {
       const std::string v = text(n["collision"], c.child("collision"));
       if (v != "hull" && v != "decompose")
@@ -130,9 +131,12 @@ void load_imports(const YAML::Node& list, const std::string& path, Scene& scene,
     const std::string ext = lower_extension(spec.file);
     Model model;
     if (ext == ".urdf" || ext == ".xacro") {
+      if (!spec.keyframe.empty())
+        c.child("keyframe").fail(n["keyframe"], "a URDF file has no keyframes (give joint_positions)");
       model = read_urdf(spec.file, spec.paths);
     } else if (ext == ".xml" || ext == ".mjcf") {
       model = read_mjcf(spec.file, spec.paths);
+      if (!spec.keyframe.empty()) apply_keyframe(model, spec, scene.notes);
     } else {
       c.child("file").fail(n["file"], "'" + f + "' is not a URDF (.urdf) or MJCF (.xml, .mjcf) file");
     }

@@ -922,6 +922,61 @@ TEST(ImportMjcf, OptionGravityActsUnlessTheSceneGivesItsOwn) {
   EXPECT_TRUE(has(own.notes, "is not the scene's"));
 }
 
+// A named pose of the file (imports: keyframe): the key's qpos in MuJoCo's order (a free body's
+// position and quaternion, then each joint as the file writes it) places the free body and starts
+// each hinge and slide at the key's value less its ref; key numbers are radians whatever the
+// compiler's angle. joint_positions given beside it win; a key the file lacks or one of the wrong
+// length is an error naming the import.
+TEST(ImportMjcf, KeyframePlacesFreeBodiesAndStartsJoints) {
+  const std::string xml = write("key/arm.xml", R"(<mujoco>
+  <compiler angle="degree"/>
+  <worldbody>
+    <body name="base" pos="0 0 1"><freejoint/>
+      <geom type="box" size="0.1 0.1 0.1"/>
+      <body name="arm" pos="0.3 0 0">
+        <joint name="elbow" type="hinge" axis="0 1 0" ref="10"/>
+        <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.03"/>
+        <body name="tip" pos="0.3 0 0">
+          <joint name="ext" type="slide" axis="1 0 0"/>
+          <geom type="sphere" size="0.04"/>
+        </body>
+      </body>
+    </body>
+  </worldbody>
+  <keyframe>
+    <key name="bent" qpos="0.1 0.2 1.5  0.9 0 0.3 0  0.6  0.05" qvel="0 0 0 0 0 0 0 0"/>
+    <key name="short" qpos="0 0 1"/>
+  </keyframe>
+</mujoco>
+)");
+  auto load = [&](const std::string& name, const std::string& extra) {
+    return load_scene(write("key/" + name + ".yaml", "imports: [ { file: " + xml + extra + " } ]\n"));
+  };
+  const Scene s = load("bent", ", keyframe: bent");
+  const BodyDef &base = s.bodies[body(s, "base")], &arm = s.bodies[body(s, "arm")],
+                &tip = s.bodies[body(s, "tip")];
+  EXPECT_LT((base.p_WB - Vec3(0.1, 0.2, 1.5)).norm(), 1e-15);
+  const Quat qb = Quat(0.9, 0, 0.3, 0).normalized();
+  EXPECT_LT(base.q_WB.angularDistance(qb), 1e-15);
+  // The elbow turned by 0.6 rad less its ref of 10 degrees about y (the file's pose is at ref).
+  const double turn = 0.6 - 10 * std::numbers::pi / 180;
+  EXPECT_LT((base.q_WB.conjugate() * arm.q_WB).angularDistance(Quat(Eigen::AngleAxisd(turn, Vec3::UnitY()))),
+            1e-12);
+  // The tip slid 0.05 m out along the arm.
+  EXPECT_NEAR((arm.q_WB.conjugate() * (tip.p_WB - arm.p_WB)).x(), 0.35, 1e-12);
+  EXPECT_TRUE(has(s.notes, "a key's qvel is not used"));
+  // joint_positions beside the key win.
+  const Scene w = load("wins", ", keyframe: bent, joint_positions: { ext: 0.1 }");
+  const BodyDef &arm2 = w.bodies[body(w, "arm")], &tip2 = w.bodies[body(w, "tip")];
+  EXPECT_NEAR((arm2.q_WB.conjugate() * (tip2.p_WB - arm2.p_WB)).x(), 0.4, 1e-12);
+  EXPECT_NE(error_of(write("key/missing.yaml", "imports: [ { file: " + xml + ", keyframe: bnet } ]\n"))
+                .find("has no key named 'bnet'; did you mean 'bent'?"),
+            std::string::npos);
+  EXPECT_NE(error_of(write("key/short.yaml", "imports: [ { file: " + xml + ", keyframe: short } ]\n"))
+                .find("key 'short' has 3 qpos numbers; the file's joints take 9"),
+            std::string::npos);
+}
+
 TEST(ImportMjcf, MistakesAreNamedByFileAndLine) {
   auto err = [&](const std::string& xml) { return error_of(write("m.xml", xml)); };
   EXPECT_NE(err("<mujoco>\n<default><default class=\"bar\"/></default>\n<worldbody>\n"
@@ -1171,6 +1226,18 @@ TEST(ImportCorpus, MujocoModelsLoadAndTheHumanoidFallsAsARagdoll) {
   EXPECT_LT(E, E0);
   EXPECT_LT(drift.joint_gap(), 1e-6);
   EXPECT_LT(w.centroid(body(s, "torso")).z(), z0 - 0.5);  // it fell
+  // Its "squat" key: the torso turned as the key says, the right knee bent by -2.65 rad about its
+  // axis, the file's -y (the shin's turn from the thigh: +2.65 rad about y).
+  const std::string yaml = write(
+      "humanoid_squat.yaml",
+      "ground: true\nimports: [ { file: " + (fs::absolute(kMujoco) / "model/humanoid/humanoid.xml").string() +
+          ", keyframe: squat, on_ground: true } ]\n");
+  const Scene sq = load_scene(yaml);
+  const BodyDef &torso = sq.bodies[body(sq, "torso")], &thigh = sq.bodies[body(sq, "thigh_right")],
+                &shin = sq.bodies[body(sq, "shin_right")];
+  EXPECT_LT(torso.q_WB.angularDistance(Quat(0.988015, 0, 0.154359, 0).normalized()), 1e-12);
+  const Eigen::AngleAxisd knee(thigh.q_WB.conjugate() * shin.q_WB);
+  EXPECT_NEAR(knee.angle() * knee.axis().y(), 2.65, 1e-9);
 }
 
 // A pile of Stanford bunnies (a scan with holes: decomposed as the solid it nearly bounds). Where
