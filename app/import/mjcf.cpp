@@ -817,9 +817,14 @@ class MjcfReader {
       if (!(l && std::string(l) == "false"))
         actuator_cap_[(int)m_.joints.size()] = std::max(std::abs((*r)[0]), std::abs((*r)[1]));
     }
+    // MuJoCo's qpos is ref in the file's pose: its range and springref are qpos values, simreel's
+    // coordinates start at 0 there.
     double ref = 0;
-    if (auto r = nums(e, "ref", cls, what); r && !r->empty())
+    if (auto r = nums(e, "ref", cls, what); r && !r->empty() && j.kind != ModelJoint::Kind::spherical) {
       ref = j.kind == ModelJoint::Kind::prismatic ? (*r)[0] : angle((*r)[0]);
+      if (j.limits) (*j.limits)[0] -= ref, (*j.limits)[1] -= ref;
+      j.rest -= ref;
+    }
     m_.qpos_layout.push_back(
         Model::QposSlot{(int)m_.joints.size(), -1, j.kind == ModelJoint::Kind::spherical ? 4 : 1, ref});
     m_.joints.push_back(j);

@@ -924,9 +924,9 @@ TEST(ImportMjcf, OptionGravityActsUnlessTheSceneGivesItsOwn) {
 
 // A named pose of the file (imports: keyframe): the key's qpos in MuJoCo's order (a free body's
 // position and quaternion, then each joint as the file writes it) places the free body and starts
-// each hinge and slide at the key's value less its ref; key numbers are radians whatever the
-// compiler's angle. joint_positions given beside it win; a key the file lacks or one of the wrong
-// length is an error naming the import.
+// each hinge and slide at the key's value less its ref (the range, in qpos too, shifts by ref);
+// key numbers are radians whatever the compiler's angle. joint_positions given beside it win; a key the file
+// lacks or one of the wrong length is an error naming the import.
 TEST(ImportMjcf, KeyframePlacesFreeBodiesAndStartsJoints) {
   const std::string xml = write("key/arm.xml", R"(<mujoco>
   <compiler angle="degree"/>
@@ -934,7 +934,7 @@ TEST(ImportMjcf, KeyframePlacesFreeBodiesAndStartsJoints) {
     <body name="base" pos="0 0 1"><freejoint/>
       <geom type="box" size="0.1 0.1 0.1"/>
       <body name="arm" pos="0.3 0 0">
-        <joint name="elbow" type="hinge" axis="0 1 0" ref="10"/>
+        <joint name="elbow" type="hinge" axis="0 1 0" ref="10" range="-30 90"/>
         <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.03"/>
         <body name="tip" pos="0.3 0 0">
           <joint name="ext" type="slide" axis="1 0 0"/>
@@ -965,6 +965,14 @@ TEST(ImportMjcf, KeyframePlacesFreeBodiesAndStartsJoints) {
   // The tip slid 0.05 m out along the arm.
   EXPECT_NEAR((arm.q_WB.conjugate() * (tip.p_WB - arm.p_WB)).x(), 0.35, 1e-12);
   EXPECT_TRUE(has(s.notes, "a key's qvel is not used"));
+  // The range is in qpos too: from the file's pose (at ref) the elbow turns -40 to 80 degrees.
+  const Scene plain = load("plain", "");
+  for (const JointDef& j : plain.joints)
+    if (j.name == "elbow") {
+      ASSERT_TRUE(j.limits);
+      EXPECT_NEAR(j.limits->lower, -40 * std::numbers::pi / 180, 1e-12);
+      EXPECT_NEAR(j.limits->upper, 80 * std::numbers::pi / 180, 1e-12);
+    }
   // joint_positions beside the key win.
   const Scene w = load("wins", ", keyframe: bent, joint_positions: { ext: 0.1 }");
   const BodyDef &arm2 = w.bodies[body(w, "arm")], &tip2 = w.bodies[body(w, "tip")];
