@@ -121,6 +121,9 @@ void Mechanism::allocate() {
   kd_.assign(ny, 0);
   y_end_.assign(ny, 0);
   carry_k1_ = false;
+  for (auto* x : {&span.y0, &span_y1_, &span_k7_, &span_out_}) x->assign(ny, 0);
+  for (auto& c : span_rc_) c.assign(ny, 0);
+  span.valid = false;
   out_q_.resize(links.size());
   out_x_.resize(links.size());
   out_v_.resize(links.size());
@@ -337,6 +340,48 @@ double Mechanism::rk_step(double hs, const Vec3& g, const Wrench* wr, const Moti
   return std::sqrt(e2 / std::max(ny, 1));
 }
 
+void Mechanism::keep_span(double t0, double hs, const Vec3& g) {
+  // Dormand-Prince's continuous extension (Hairer, Norsett & Wanner I, II.6, the coefficients of
+  // their DOPRI5's dense output): y(t0 + th hs) = r0 + th (r1 + (1 - th) (r2 + th (r3 + (1 - th) r4))),
+  // y0 and y1 at th = 0 and 1, slopes k1 and k7 there, 4th order in between.
+  constexpr double d1 = -12715105075.0 / 11282082432.0, d3 = 87487479700.0 / 32700410799.0,
+                   d4 = -10690763975.0 / 1880347072.0, d5 = 701980252875.0 / 199316789632.0,
+                   d6 = -1453857185.0 / 822651844.0, d7 = 69997945.0 / 29380423.0;
+  const int ny = nq + nv;
+  for (int j = 0; j < ny; ++j) {
+    const double dy = y1_[j] - y0_[j], r2 = hs * k_[0][j] - dy;
+    span_rc_[0][j] = y0_[j];
+    span_rc_[1][j] = dy;
+    span_rc_[2][j] = r2;
+    span_rc_[3][j] = dy - hs * k_[6][j] - r2;
+    span_rc_[4][j] =
+        hs * (d1 * k_[0][j] + d3 * k_[2][j] + d4 * k_[3][j] + d5 * k_[4][j] + d6 * k_[5][j] + d7 * k_[6][j]);
+  }
+  std::copy(y0_.begin(), y0_.end(), span.y0.begin());
+  std::copy(y1_.begin(), y1_.end(), span_y1_.begin());
+  std::copy(k_[6].begin(), k_[6].end(), span_k7_.begin());
+  span.t0 = t0;
+  span.len = hs;
+  span.g = g;
+  span.valid = true;
+  span.retake = false;
+}
+
+void Mechanism::read_span(double t, double* y) const {
+  const double th = (t - span.t0) / span.len, u = 1 - th;
+  for (int j = 0; j < nq + nv; ++j)
+    y[j] = span_rc_[0][j] +
+           th * (span_rc_[1][j] + u * (span_rc_[2][j] + th * (span_rc_[3][j] + u * span_rc_[4][j])));
+}
+
+void Mechanism::retake_span(const Vec3& g, const Wrench* wr, const MotionState* st) {
+  std::copy(span.y0.begin(), span.y0.end(), y0_.begin());
+  time_ = t_step_ = span.t0;
+  derivative(y0_.data(), k_[0].data(), g, wr, st);
+  rk_step(span.len, g, wr, st, 1.0);
+  keep_span(span.t0, span.len, g);
+}
+
 namespace {
 // Some event function went from >= 0 at the step's start to < 0.
 bool crossed(const std::vector<double>& g0, const std::vector<double>& g1) {
@@ -378,13 +423,44 @@ bool Mechanism::advance(double dt, const Vec3& g, const Wrench* wr, const Motion
                    return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b);
                  });
   carry_k1_ = false;
+  // Lean, and coordinates whose rates are their derivatives (no quaternions to renormalise at the
+  // frame): the last step runs past the frame's end (Span).
+  const bool may_span = lean_ && nq == nv;
+  if (span.valid) {
+    const bool same =
+        may_span && g == span.g && std::abs(frame_time - span.t_out) <= 1e-9 * dt &&
+        (span.retake || std::equal(y0_.begin(), y0_.end(), span_out_.begin(), [](double a, double b) {
+           return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b);
+         }));
+    span.valid = false;
+    if (same) {
+      if (span.retake) retake_span(g, wr, st);
+      const double t_end = frame_time + dt, t1 = span.t0 + span.len;
+      if (t_end <= t1) {  // the frame ends within the step: read it there
+        read_span(t_end, y0_.data());
+        span.valid = true;
+        span.t_out = t_end;
+        std::copy(y0_.begin(), y0_.end(), span_out_.begin());
+        time_ = t_end;
+        std::copy(y0_.begin(), y0_.begin() + nq, q.begin());
+        std::copy(y0_.begin() + nq, y0_.end(), v.begin());
+        return true;
+      }
+      // On from the step's end, its last stage the next step's first.
+      std::copy(span_y1_.begin(), span_y1_.end(), y0_.begin());
+      std::copy(span_k7_.begin(), span_k7_.end(), k_[0].begin());
+      have_k1 = true;
+      t = t1 - frame_time;
+    }
+  }
+  bool spanned = false;
   while (t < dt) {
     if (++steps > js.max_steps) {
       exceeded = true;
       return false;
     }
     bool last = h >= dt - t;
-    double hs = last ? dt - t : h;
+    double hs = last && !may_span ? dt - t : h;
     t_step_ = frame_time + t;
     // A load switching on or off ends the step at its edge: each side is smooth.
     bool cut = false;
@@ -408,6 +484,14 @@ bool Mechanism::advance(double dt, const Vec3& g, const Wrench* wr, const Motion
       h = hs * std::min(fac, 1.0);
       ++steps_rejected;
       continue;
+    }
+    if (last && may_span && hs > dt - t) {  // past the frame's end: kept, and the frame read from it
+      keep_span(frame_time + t, hs, g);
+      read_span(frame_time + dt, y0_.data());
+      ++steps_taken;
+      h = hs * fac;
+      spanned = true;
+      break;
     }
     bool event = false;
     if (events_on) {
@@ -493,8 +577,12 @@ bool Mechanism::advance(double dt, const Vec3& g, const Wrench* wr, const Motion
     // A step cut short to land on the frame or an event does not set the next proposal.
     if (!event && !cut && (!last || hs >= h)) h = hs * fac;
   }
+  if (spanned) {
+    span.t_out = frame_time + dt;
+    std::copy(y0_.begin(), y0_.end(), span_out_.begin());
+  }
   // Quaternion coordinates are renormalised below, which would move the state off k_[0]'s.
-  carry_k1_ = lean_ && have_k1 && nq == nv;
+  carry_k1_ = lean_ && have_k1 && nq == nv && !spanned;
   if (carry_k1_) {
     std::copy(y0_.begin(), y0_.end(), y_end_.begin());
     g_end_ = g;
@@ -1479,6 +1567,13 @@ bool Articulations::step_range(int begin, int end, double dt, const Vec3& g, con
   bool ok = true;
   for (int k = begin; k < end; ++k) {
     Mechanism& m = mechanisms_[k];
+    // The frame's end is the next frame's start (the World sets it each step anyway): a step
+    // running past the frame is read on only in the frame that follows it (Mechanism::Span).
+    struct Next {
+      Mechanism& m;
+      double dt;
+      ~Next() { m.frame_time += dt; }
+    } next{m, dt};
     if (m.asleep) continue;   // its bodies keep their poses, at rest
     if (m.contact_stepped) {  // the contact solver took this step (sim/joints/contact_rows.hpp)
       m.contact_stepped = false;

@@ -72,6 +72,21 @@ class Mechanism {
   int nq = 0, nv = 0;
   std::vector<double> q, v;  ///< joint coordinates and velocities (saved state)
   double h = 0;              ///< s, the next internal step the controller proposes (saved state)
+  // A lean mechanism (nothing acts on it that changes at a frame: no contact, force, stop, motor,
+  // loop or rope; no ball or free joint) does not cut its last internal step at the frame's end:
+  // the step runs on, and the frame's state is read from the step's dense output (Dormand and
+  // Prince's continuous extension, 4th order). The next frame reads the same step while it
+  // reaches, then steps on from its end. (Saved state: a restored run takes the step again from
+  // its start, to the same bits.)
+  struct Span {
+    bool valid = false;
+    bool retake = false;     ///< restored: take the step again from y0 before reading it
+    double t0 = 0, len = 0;  ///< s: the step's start (the world's time) and length
+    double t_out = 0;        ///< s: the frame end at which its state was last read
+    Vec3 g = Vec3::Zero();   ///< m/s^2: the gravity it was taken under
+    std::vector<double> y0;  ///< the state at its start
+  };
+  Span span;
 
   // A joint that closes a loop (docs/joints.md, "Closed loops"): constraint rows on the tree's
   // coordinates holding two links' anchor points together (3 rows) and, for a hinge, the axes
@@ -369,6 +384,13 @@ class Mechanism {
   // One Dormand-Prince step of size hs from y0_ (k_[0] evaluated there): the 5th-order result in
   // ys_ (and y1_), the error norm returned.
   double rk_step(double hs, const Vec3& g, const Wrench* wr, const MotionState* st, double tol);
+  // The step just taken (y0_, y1_, k_) kept as the span starting at t0 (the world's time); and its
+  // state at t (within it) written to y. retake_span: a restored span's step taken again.
+  void keep_span(double t0, double hs, const Vec3& g);
+  void read_span(double t, double* y) const;
+  void retake_span(const Vec3& g, const Wrench* wr, const MotionState* st);
+  std::vector<double> span_y1_, span_k7_, span_out_;  ///< the span's end, its derivative, the state read
+  std::vector<double> span_rc_[5];                    ///< its dense output's coefficients
   // Event functions of the modes at a state whose derivative was just evaluated (positive while
   // the mode holds), into out (one slot per function, fixed layout).
   void event_values(const double* y, double* out) const;

@@ -225,6 +225,17 @@ void WorldImpl::save_state(std::ostream& os) const {
       o.i32((int32_t)i);
       o.f64(roll_h[i]);
     }
+  // Version 5: the mechanisms' steps running past the frame (retaken from their start on restore).
+  uint32_t spans = 0;
+  for (const Mechanism& m : joints_.mechanisms()) spans += m.span.valid ? 1 : 0;
+  o.u32(spans);
+  for (size_t k = 0; k < joints_.mechanisms().size(); ++k) {
+    const Mechanism::Span& sp = joints_.mechanisms()[k].span;
+    if (!sp.valid) continue;
+    o.i32((int32_t)k);
+    for (double x : {sp.t0, sp.len, sp.t_out, sp.g.x(), sp.g.y(), sp.g.z()}) o.f64(x);
+    for (double x : sp.y0) o.f64(x);
+  }
   if (!os) throw std::runtime_error("could not write the saved state");
 }
 
@@ -395,6 +406,45 @@ void WorldImpl::restore_state(std::istream& is) {
       roll_h[i] = h;
       prev = i;
     }
+  }
+  std::vector<Mechanism::Span> spans(joints_.mechanisms().size());
+  if (version >= 5) {
+    const uint32_t n = in.u32();
+    if (n > spans.size()) throw InputError("saved state is damaged (joint steps)");
+    int prev = -1;
+    for (uint32_t k = 0; k < n; ++k) {
+      const int i = in.i32();
+      if (i <= prev || i >= (int)spans.size())
+        throw InputError("saved state is damaged (joint step " + std::to_string(k) + ")");
+      const Mechanism& m = joints_.mechanisms()[i];
+      Mechanism::Span& sp = spans[i];
+      sp.t0 = in.f64();
+      sp.len = in.f64();
+      sp.t_out = in.f64();
+      for (int c = 0; c < 3; ++c) sp.g[c] = in.f64();
+      sp.y0.resize((size_t)(m.nq + m.nv));
+      bool ok = sp.len > 0 && std::isfinite(sp.len) && std::isfinite(sp.t0) && std::isfinite(sp.t_out) &&
+                sp.g.allFinite() && m.nq == m.nv && sp.t0 <= sp.t_out &&
+                sp.t_out <= sp.t0 + sp.len * (1 + 1e-9);
+      for (double& x : sp.y0) ok = ok && std::isfinite(x = in.f64());
+      if (!ok) throw InputError("saved state is damaged (joint step " + std::to_string(k) + ")");
+      sp.valid = sp.retake = true;
+      prev = i;
+    }
+  }
+  for (size_t k = 0; k < spans.size(); ++k) {
+    Mechanism::Span& sp = joints_.mechanisms()[k].span;
+    if (!spans[k].valid) {
+      sp.valid = false;
+      continue;
+    }
+    const Mechanism::Span& in_sp = spans[k];
+    sp.valid = sp.retake = true;
+    sp.t0 = in_sp.t0;
+    sp.len = in_sp.len;
+    sp.t_out = in_sp.t_out;
+    sp.g = in_sp.g;
+    std::copy(in_sp.y0.begin(), in_sp.y0.end(), sp.y0.begin());  // sized by the mechanism (allocate)
   }
   forces_.restore_fired(std::move(fired));
   if (!roll_h.empty() && rolling_.proposals().size() == roll_h.size())

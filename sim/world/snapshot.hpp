@@ -14,7 +14,10 @@
 //   u32 force count, per force: u8 1 if it is an impulse already applied, else 0.
 // Version 3 adds the impact settling substeps and each body's still time and island, then the
 // mechanisms' coordinates, velocities, step proposals and modes; version 4 then u32 n and n times
-// (i32 body, f64 s): the rolling bodies' proposed next internal step (sim/solver/rolling_contact.hpp).
+// (i32 body, f64 s): the rolling bodies' proposed next internal step (sim/solver/rolling_contact.hpp);
+// version 5 then u32 n and n times (i32 mechanism, f64 start, length and last read time in s, f64 x3
+// gravity, f64 x (nq + nv) start state): the mechanisms' steps running past the frame
+// (Mechanism::Span).
 // The fingerprint also covers the force list (kinds and bodies) when there is one.
 #pragma once
 #include <cstdint>
@@ -22,6 +25,6 @@
 
 namespace simreel {
 
-constexpr uint32_t kStateVersion = 4;
+constexpr uint32_t kStateVersion = 5;
 
 }  // namespace simreel
