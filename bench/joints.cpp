@@ -1022,11 +1022,11 @@ int main(int argc, char** argv) {
   // that is already at round-off, so the chain sweep stops at the default, 1e-10.
   const std::vector<double> tols =
       o.quick ? std::vector<double>{1e-6, 1e-8, 1e-10, 1e-12}
-              : std::vector<double>{1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12, 1e-13, 1e-14};
+              : std::vector<double>{1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12, 1e-13, 1e-14};
   const std::vector<double> chain_tols =
-      o.quick ? std::vector<double>{1e-5, 1e-8} : std::vector<double>{1e-5, 1e-6, 1e-7, 1e-8, 1e-10};
+      o.quick ? std::vector<double>{1e-5, 1e-8} : std::vector<double>{1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-10};
   const std::vector<double> chain90_tols =
-      o.quick ? std::vector<double>{1e-5, 1e-8} : std::vector<double>{1e-5, 1e-6, 1e-8, 1e-10};
+      o.quick ? std::vector<double>{1e-5, 1e-8} : std::vector<double>{1e-3, 1e-4, 1e-5, 1e-6, 1e-8, 1e-10};
   const std::vector<int> dts =
       o.quick ? std::vector<int>{60, 240, 1000} : std::vector<int>{60, 120, 240, 500, 1000, 2000};
 
@@ -1076,6 +1076,7 @@ int main(int argc, char** argv) {
     const std::vector<Config> tc{simreel_cfg(JointSettings{}.tolerance),
                                  simreel_cfg(1e-6),
                                  simreel_cfg(1e-4),
+                                 simreel_cfg(1e-3),
                                  bullet_hinge_cfg(60),
                                  bullet_mb_cfg(60),
                                  mujoco_cfg("RK4", 60),
