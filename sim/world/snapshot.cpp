@@ -434,17 +434,10 @@ void WorldImpl::restore_state(std::istream& is) {
   }
   for (size_t k = 0; k < spans.size(); ++k) {
     Mechanism::Span& sp = joints_.mechanisms()[k].span;
-    if (!spans[k].valid) {
+    if (spans[k].valid)
+      sp = spans[k];  // retaken from its start at the next step
+    else
       sp.valid = false;
-      continue;
-    }
-    const Mechanism::Span& in_sp = spans[k];
-    sp.valid = sp.retake = true;
-    sp.t0 = in_sp.t0;
-    sp.len = in_sp.len;
-    sp.t_out = in_sp.t_out;
-    sp.g = in_sp.g;
-    std::copy(in_sp.y0.begin(), in_sp.y0.end(), sp.y0.begin());  // sized by the mechanism (allocate)
   }
   forces_.restore_fired(std::move(fired));
   if (!roll_h.empty() && rolling_.proposals().size() == roll_h.size())
