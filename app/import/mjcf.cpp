@@ -1145,10 +1145,10 @@ class MjcfReader {
     m_.ropes.push_back(r);
   }
 
-  // <tendon><fixed> over two joints with a limited range: c1 q1 + c2 q2 within [lo, hi] (a
-  // hamstring spanning hip and knee) is the first joint's coupling to the second,
-  // q1 - (-c2 / c1) q2 within [lo, hi] / c1, a stop on the combination. MuJoCo's coordinates are
-  // ours where the joints' ref is 0 (the file's pose). More joints, no range, or a spring are notes.
+  // <tendon><fixed> over two or more joints with a limited range: sum c_k q_k within [lo, hi] (a
+  // hamstring spanning hip and knee) is the first joint's coupling to the others,
+  // q1 - sum (-c_k / c1) q_k within [lo, hi] / c1, a stop on the combination. MuJoCo's coordinates
+  // are ours where the joints' ref is 0 (the file's pose). No range, or a spring, are notes.
   void fixed_tendon(const XMLElement* e, const std::string& what) {
     const std::string cls = class_of(e, "", what);
     auto attr = [&](const char* key) { return get(e, key, cls, "tendon"); };
@@ -1175,9 +1175,15 @@ class MjcfReader {
            what);
       return;
     }
-    if (terms.size() != 2 || terms[0].second == 0 || terms[1].second == 0 ||
-        terms[0].first == terms[1].first) {
-      note(e, "a fixed tendon is simulated over two joints with nonzero coefficients; ignored", what);
+    bool usable = terms.size() >= 2;
+    for (size_t a = 0; a < terms.size(); ++a) {
+      usable = usable && terms[a].second != 0;
+      for (size_t b = 0; b < a; ++b) usable = usable && terms[a].first != terms[b].first;
+    }
+    if (!usable) {
+      note(e,
+           "a fixed tendon is simulated over two or more distinct joints with nonzero coefficients; ignored",
+           what);
       return;
     }
     const auto range = parse_numbers(range_text);
@@ -1193,6 +1199,8 @@ class MjcfReader {
     if (lo > hi) std::swap(lo, hi);
     j.coupled_joint = m_.joints[terms[1].first].name;
     j.coupled_multiplier = -c2 / c1;
+    for (size_t a = 2; a < terms.size(); ++a)
+      j.coupled_more.emplace_back(m_.joints[terms[a].first].name, -terms[a].second / c1);
     j.coupled_range = {lo, hi};
     j.coupled_src = src(e, what);
   }

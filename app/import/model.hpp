@@ -113,6 +113,7 @@ struct ModelJoint {
   /// `coupled_joint`'s is kept within coupled_range (both measured from the file's pose).
   std::string coupled_joint;
   double coupled_multiplier = 0;
+  std::vector<std::pair<std::string, double>> coupled_more;  ///< further joints (a tendon over more than two)
   std::array<double, 2> coupled_range{0, 0};
   SourceRef coupled_src;
   /// Closes a loop (MJCF's equality connect or weld): not a tree edge; `anchor` is then in the

@@ -626,14 +626,26 @@ void place_model(const Model& m, const ImportSpec& spec, Scene& scene, MeshLibra
              !m.joints[i].loop && m.joints[i].mimic_joint.empty() && leader_of[i] < 0;
     };
     const double lo = j.coupled_range[0], hi = j.coupled_range[1];
-    if (l < 0 || !one((int)k) || !one(l) || !m.joints[l].coupled_joint.empty() || lo > 0 || hi < 0) {
+    std::vector<std::pair<int, double>> more;
+    bool more_ok = true;
+    for (const auto& [name, c] : j.coupled_more) {
+      int i2 = -1;
+      for (size_t i = 0; i < m.joints.size(); ++i)
+        if (m.joints[i].name == name) i2 = (int)i;
+      more_ok = more_ok && i2 >= 0 && one(i2) && m.joints[i2].coupled_joint.empty();
+      if (i2 >= 0) more.emplace_back(i2, c);
+    }
+    if (l < 0 || !one((int)k) || !one(l) || !m.joints[l].coupled_joint.empty() || !more_ok || lo > 0 ||
+        hi < 0) {
       scene.notes.push_back(j.coupled_src.str() +
-                            ": its joints cannot carry the limit (simreel keeps a range on two revolute or "
-                            "prismatic tree joints, neither coupled otherwise, with the file's pose inside "
+                            ": its joints cannot carry the limit (simreel keeps a range on revolute or "
+                            "prismatic tree joints, none coupled otherwise, with the file's pose inside "
                             "it); ignored");
       continue;
     }
-    scene.joints[scene_joint[k]].mimic = JointMimic{scene_joint[l], j.coupled_multiplier, std::pair{lo, hi}};
+    JointMimic mimic{scene_joint[l], j.coupled_multiplier, std::pair{lo, hi}};
+    for (const auto& [i2, c] : more) mimic.also.emplace_back(scene_joint[i2], c);
+    scene.joints[scene_joint[k]].mimic = mimic;
   }
   // Ropes: distance joints between their two points, slack up to their length.
   for (const ModelRope& r : m.ropes) {

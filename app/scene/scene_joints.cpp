@@ -510,27 +510,30 @@ std::vector<JointDef> load_joints(const YAML::Node& list, const std::string& fil
                       to_string(out[k].type) + ")");
     if (!mm.IsMap())
       mc.fail(mm, "expected { joint: NAME, multiplier: m, range: [lower, upper] }, got " + show(mm));
-    check_keys(mm, mc, {"joint", "multiplier", "range"});
+    check_keys(mm, mc, {"joint", "multiplier", "range", "also"});
     if (!mm["joint"]) mc.fail(mm, "missing key 'joint' (the joint whose coordinate this one follows)");
-    const std::string leader = text(mm["joint"], mc.child("joint"));
-    std::vector<std::string> names;
-    int found = -1;
-    for (size_t i = 0; i < out.size(); ++i) {
-      if (i != k) names.push_back(out[i].name);
-      if (out[i].name == leader) found = (int)i;
-    }
-    if (found < 0) {
-      std::string msg = "no joint is named '" + leader + "'";
-      if (auto n = nearest(leader, names)) msg += "; did you mean '" + *n + "'?";
-      mc.child("joint").fail(mm["joint"], msg);
-    }
-    if (found == (int)k) mc.child("joint").fail(mm["joint"], "a joint cannot mimic itself");
-    if (out[found].type != JointType::revolute && out[found].type != JointType::prismatic)
-      mc.child("joint").fail(mm["joint"],
-                             "'" + leader + "' is a " + to_string(out[found].type) +
-                                 " joint: a mimic follows a revolute or prismatic joint's coordinate");
+    // A leader by name: a revolute or prismatic joint of the list other than this one.
+    auto leader_index = [&](const YAML::Node& n, const Ctx& c) {
+      const std::string leader = text(n, c);
+      std::vector<std::string> names;
+      int found = -1;
+      for (size_t i = 0; i < out.size(); ++i) {
+        if (i != k) names.push_back(out[i].name);
+        if (out[i].name == leader) found = (int)i;
+      }
+      if (found < 0) {
+        std::string msg = "no joint is named '" + leader + "'";
+        if (auto nm = nearest(leader, names)) msg += "; did you mean '" + *nm + "'?";
+        c.fail(n, msg);
+      }
+      if (found == (int)k) c.fail(n, "a joint cannot mimic itself");
+      if (out[found].type != JointType::revolute && out[found].type != JointType::prismatic)
+        c.fail(n, "'" + leader + "' is a " + to_string(out[found].type) +
+                      " joint: a mimic follows a revolute or prismatic joint's coordinate");
+      return found;
+    };
     JointMimic m;
-    m.leader = found;
+    m.leader = leader_index(mm["joint"], mc.child("joint"));
     if (mm["multiplier"]) {
       m.multiplier = number(mm["multiplier"], mc.child("multiplier"));
       if (m.multiplier == 0)
@@ -544,6 +547,21 @@ std::vector<JointDef> load_joints(const YAML::Node& list, const std::string& fil
       if (!(lo < hi) || lo > 0 || hi < 0)
         rc.fail(r, "expected lower < upper with 0 (the start pose) between them, got " + show(r));
       m.range = std::pair{lo, hi};
+    }
+    // More leaders: { NAME: multiplier, ... }, q - multiplier q_leader - sum m_k q_k the combination.
+    if (const YAML::Node a = mm["also"]) {
+      const Ctx ac = mc.child("also");
+      if (!a.IsMap() || a.size() == 0) ac.fail(a, "expected { JOINT: multiplier, ... }, got " + show(a));
+      for (const auto& kv : a) {
+        const Ctx ec = ac.child(kv.first.as<std::string>());
+        const int idx = leader_index(kv.first, ec);
+        const double mult = number(kv.second, ec);
+        if (mult == 0) ec.fail(kv.second, "must not be 0");
+        for (const auto& [other, c] : m.also)
+          if (other == idx) ec.fail(kv.first, "names a joint twice");
+        if (idx == m.leader) ec.fail(kv.first, "is the mimic's joint already");
+        m.also.emplace_back(idx, mult);
+      }
     }
     out[k].mimic = m;
   }

@@ -12,6 +12,7 @@
 #include <string>
 #include <string_view>
 #include <utility>
+#include <vector>
 
 #include <simreel/math.hpp>
 
@@ -115,10 +116,14 @@ struct JointMotor {
 /// With a range, the combination q - multiplier q_leader is only kept within [lower, upper] (rad
 /// or m, 0 inside): a stop on it, met with restitution 0 (MJCF's limited fixed tendon, such as a
 /// hamstring spanning hip and knee), and the two joints otherwise move freely.
+///
+/// `also` adds leaders: q - multiplier q_leader - sum m_k q_k is the combination held (an MJCF
+/// fixed tendon over three or more joints, c1 q1 + c2 q2 + c3 q3 within a range).
 struct JointMimic {
   int leader = -1;  ///< joint index
   double multiplier = 1;
   std::optional<std::pair<double, double>> range = std::nullopt;
+  std::vector<std::pair<int, double>> also = {};  ///< further leaders: (joint index, multiplier)
 };
 
 struct JointDef {

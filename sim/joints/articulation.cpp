@@ -687,7 +687,10 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
     if (d.type == JointType::wheel || d.motor || d.motor2 || d.steering || d.friction != 0 || d.ball_limits ||
         d.armature != 0 || d.mimic || (d.spring && !one_axis) || (d.limits && !one_axis))
       tree_only[j] = 1;
-    if (d.mimic && d.mimic->leader >= 0 && d.mimic->leader < nj) tree_only[d.mimic->leader] = 1;
+    if (!d.mimic) continue;
+    if (d.mimic->leader >= 0 && d.mimic->leader < nj) tree_only[d.mimic->leader] = 1;
+    for (const auto& [l, c] : d.mimic->also)
+      if (l >= 0 && l < nj) tree_only[l] = 1;
   }
   std::vector<int> order;
   for (int pass = 1; pass >= 0; --pass)
@@ -899,6 +902,25 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
                        " closes a loop");
     if (!std::isfinite(d.mimic->multiplier) || d.mimic->multiplier == 0)
       throw InputError(name_of(j) + ": the mimic's multiplier must be a finite, nonzero number");
+    std::vector<int> leaders{l};
+    for (const auto& [a, c] : d.mimic->also) {
+      if (a < 0 || a >= (int)joints_.size() || a == j)
+        throw InputError(name_of(j) + ": a further leader of its mimic is no other joint of the scene");
+      if (std::find(leaders.begin(), leaders.end(), a) != leaders.end())
+        throw InputError(name_of(j) + ": its mimic names " + name_of(a) + " twice");
+      if (!one(joints_[a]))
+        throw InputError(name_of(j) + ": its mimic names " + name_of(a) +
+                         ", which is not a revolute or prismatic joint");
+      if (joints_[a].mimic)
+        throw InputError(name_of(j) + ": its mimic names " + name_of(a) + ", which mimics another itself");
+      if (is_loop[a])
+        throw InputError(name_of(j) + ": a mimic's joints must be tree joints; " + name_of(a) +
+                         " closes a loop");
+      if (!std::isfinite(c) || c == 0)
+        throw InputError(name_of(j) + ": the mimic's multiplier for " + name_of(a) +
+                         " must be a finite, nonzero number");
+      leaders.push_back(a);
+    }
     if (const auto& r = d.mimic->range; r && !(std::isfinite(r->first) && std::isfinite(r->second) &&
                                                r->first <= 0 && 0 <= r->second && r->first < r->second))
       throw InputError(name_of(j) +
@@ -923,8 +945,11 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
   }
   for (const auto& [a, b] : bonds)
     if (!fixed_base(a) && !fixed_base(b)) group[root_of(a)] = root_of(b);
-  for (const JointDef& d : joints_)  // a mimic couples its two joints' mechanisms
-    if (d.mimic) group[root_of(d.child)] = root_of(joints_[d.mimic->leader].child);
+  for (const JointDef& d : joints_)  // a mimic couples its joints' mechanisms
+    if (d.mimic) {
+      group[root_of(d.child)] = root_of(joints_[d.mimic->leader].child);
+      for (const auto& [a, c] : d.mimic->also) group[root_of(d.child)] = root_of(joints_[a].child);
+    }
   std::vector<int> mech_of_group(nb, -1);
   auto mechanism_for = [&](int body) {
     int& m = mech_of_group[root_of(body)];
@@ -1349,6 +1374,7 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
     t.link = li;
     t.link2 = li2;
     t.ratio = d.mimic->multiplier;
+    for (const auto& [a, c] : d.mimic->also) t.more.emplace_back(joint_link_[a].second, c);
     if (d.mimic->range) {
       t.has_lo = t.has_hi = true;
       t.lo = d.mimic->range->first;

@@ -154,9 +154,10 @@ class Mechanism {
   struct Tether {
     int joint = -1;
     enum class Measure { length, swing, twist, angle, coupling, hinge, slide } measure = Measure::length;
-    int link = -1;              ///< swing, twist, angle: the ball joint's link; coupling: the follower's
-    int link2 = -1;             ///< coupling: the leader's link (s = q_link - ratio q_link2, held at 0)
-    double ratio = 1;           ///< coupling: the mimic's multiplier
+    int link = -1;     ///< swing, twist, angle: the ball joint's link; coupling: the follower's
+    int link2 = -1;    ///< coupling: the leader's link (s = q_link - ratio q_link2, held at 0)
+    double ratio = 1;  ///< coupling: the mimic's multiplier
+    std::vector<std::pair<int, double>> more;  ///< coupling: further (link, ratio): s -= ratio q_link
     int loop = -1;              ///< hinge, slide: the loop whose angle or slide (loop_angle) it stops
     Vec3 axis = Vec3::UnitZ();  ///< swing, twist: unit, joint frame
     int nseg = 1;

@@ -223,7 +223,11 @@ double Mechanism::coordinate_acceleration(int i, const std::vector<Vec6>& V,
 // (the second term: n_k turns as the segment swings). A segment shorter than 1e-12 m has no
 // direction and adds nothing.
 double Mechanism::tether_position(const Tether& t, const double* q) const {
-  if (t.measure == Tether::Measure::coupling) return q[links[t.link].iq] - t.ratio * q[links[t.link2].iq];
+  if (t.measure == Tether::Measure::coupling) {
+    double s = q[links[t.link].iq] - t.ratio * q[links[t.link2].iq];
+    for (const auto& [l, r] : t.more) s -= r * q[links[l].iq];
+    return s;
+  }
   if (t.measure == Tether::Measure::hinge) return hinge_angle(loops[t.loop]);
   if (t.measure == Tether::Measure::slide) return slide_position(loops[t.loop]);
   if (t.measure != Tether::Measure::length) return ball_angle(t);
@@ -235,8 +239,11 @@ double Mechanism::tether_position(const Tether& t, const double* q) const {
 }
 
 double Mechanism::tether_rate(const Tether& t, const std::vector<Vec6>& V, double wheel_rate) const {
-  if (t.measure == Tether::Measure::coupling)
-    return coordinate_rate(t.link, V) - t.ratio * coordinate_rate(t.link2, V);
+  if (t.measure == Tether::Measure::coupling) {
+    double r = coordinate_rate(t.link, V) - t.ratio * coordinate_rate(t.link2, V);
+    for (const auto& [l, c] : t.more) r -= c * coordinate_rate(l, V);
+    return r;
+  }
   if (t.measure == Tether::Measure::hinge) return hinge_rate(loops[t.loop], V);
   if (t.measure == Tether::Measure::slide) return slide_rate(loops[t.loop], V);
   if (t.measure != Tether::Measure::length) return ball_rate(t, V);
@@ -256,8 +263,11 @@ double Mechanism::tether_rate(const Tether& t, const std::vector<Vec6>& V, doubl
 
 double Mechanism::tether_acceleration(const Tether& t, const std::vector<Vec6>& V, const std::vector<Vec6>& A,
                                       double wheel_acc) const {
-  if (t.measure == Tether::Measure::coupling)
-    return coordinate_acceleration(t.link, V, A) - t.ratio * coordinate_acceleration(t.link2, V, A);
+  if (t.measure == Tether::Measure::coupling) {
+    double a = coordinate_acceleration(t.link, V, A) - t.ratio * coordinate_acceleration(t.link2, V, A);
+    for (const auto& [l, c] : t.more) a -= c * coordinate_acceleration(l, V, A);
+    return a;
+  }
   if (t.measure == Tether::Measure::hinge) return hinge_acceleration(loops[t.loop], V, A);
   if (t.measure == Tether::Measure::slide) return slide_acceleration(loops[t.loop], V, A);
   if (t.measure != Tether::Measure::length) return ball_acceleration(t, V, A);
@@ -763,8 +773,10 @@ double Mechanism::tether_length(int ti, int seg, double* rate) const {
   const Tether& t = tethers[ti];
   if (t.measure == Tether::Measure::coupling) {
     const Link &f = links[t.link], &l = links[t.link2];
-    if (rate) *rate = v[f.iv] - t.ratio * v[l.iv];
-    return q[f.iq] - t.ratio * q[l.iq];
+    double s = q[f.iq] - t.ratio * q[l.iq], r = v[f.iv] - t.ratio * v[l.iv];
+    for (const auto& [k, c] : t.more) s -= c * q[links[k].iq], r -= c * v[links[k].iv];
+    if (rate) *rate = r;
+    return s;
   }
   if (t.measure == Tether::Measure::hinge || t.measure == Tether::Measure::slide) {
     if (rate) *rate = loop_speed(t.loop);

@@ -794,8 +794,8 @@ TEST(ImportMjcf, TendonSpringsPullAlongTheTendon) {
 
 // A limited fixed tendon over two joints (a hamstring: 0.5 hip - 0.5 knee within [-0.3, 0.2]) is
 // a stop on that combination: a two-bar leg released horizontal swings down, and the combination
-// reaches its bound and never passes it (1e-9), where without the tendon it runs past. Over three
-// joints it is a note.
+// reaches its bound and never passes it (1e-9), where without the tendon it runs past. The same
+// over three joints (the first following the other two); a joint named twice is a note.
 TEST(ImportMjcf, LimitedFixedTendonStopsItsJointsCombination) {
   auto xml = [](const std::string& tendon) {
     return R"(<mujoco><worldbody>
@@ -815,17 +815,20 @@ TEST(ImportMjcf, LimitedFixedTendonStopsItsJointsCombination) {
   const std::string ham =
       R"(<fixed name="ham" limited="true" range="-0.3 0.2"><joint joint="hip" coef="0.5"/>)"
       R"(<joint joint="knee" coef="-0.5"/></fixed>)";
-  auto swing = [&](const std::string& name, const std::string& tendon, double& lo, double& hi) {
+  // The leg released horizontal for 2 s: the extremes of c_hip q_hip + c_knee q_knee + c_ankle q_ankle.
+  auto swing = [&](const std::string& name, const std::string& tendon, double& lo, double& hi,
+                   std::array<double, 3> c = {0.5, -0.5, 0}) {
     const Scene s = load_scene(write(name + ".yaml", "simulation: { sleep: false }\nimports: [ { file: " +
                                                          write(name + ".xml", xml(tendon)) + " } ]\n"));
     World w(world_config(s, 1), s.bodies);
-    const int hip = w.find_joint("hip"), knee = w.find_joint("knee");
+    const int hip = w.find_joint("hip"), knee = w.find_joint("knee"), ankle = w.find_joint("ankle");
     lo = hi = 0;
     for (int i = 0; i < 2 * 240; ++i) {
       w.step();
-      const double c = 0.5 * w.joint_position(hip) - 0.5 * w.joint_position(knee);
-      lo = std::min(lo, c);
-      hi = std::max(hi, c);
+      const double x =
+          c[0] * w.joint_position(hip) + c[1] * w.joint_position(knee) + c[2] * w.joint_position(ankle);
+      lo = std::min(lo, x);
+      hi = std::max(hi, x);
     }
     return s;
   };
@@ -841,14 +844,26 @@ TEST(ImportMjcf, LimitedFixedTendonStopsItsJointsCombination) {
   EXPECT_GE(lo, -0.3 - 1e-9);
   EXPECT_LE(hi, 0.2 + 1e-9);
   EXPECT_TRUE(lo < -0.3 + 1e-9 || hi > 0.2 - 1e-9) << lo << " " << hi;  // it met its bound
+  // Over three joints: 0.5 hip - 0.5 knee + 0.4 ankle within [-0.3, 0.2], the hip following the
+  // other two (multipliers 1 and -0.8, range [-0.6, 0.4]); free, the combination runs past.
   const std::string three =
-      R"(<fixed limited="true" range="-1 1"><joint joint="hip" coef="1"/><joint joint="knee" coef="1"/>)"
-      R"(<joint joint="ankle" coef="1"/></fixed>)";
+      R"(<fixed limited="true" range="-0.3 0.2"><joint joint="hip" coef="0.5"/><joint joint="knee" coef="-0.5"/>)"
+      R"(<joint joint="ankle" coef="0.4"/></fixed>)";
+  const Scene s3 = swing("f3", three, lo, hi, {0.5, -0.5, 0.4});
+  ASSERT_TRUE(s3.joints[0].mimic && s3.joints[0].mimic->range);
+  ASSERT_EQ(s3.joints[0].mimic->also.size(), 1u);
+  EXPECT_NEAR(s3.joints[0].mimic->also[0].second, -0.8, 1e-15);
+  swing("f3free", "", flo, fhi, {0.5, -0.5, 0.4});
+  EXPECT_TRUE(flo < -0.3 - 1e-3 || fhi > 0.2 + 1e-3) << flo << " " << fhi;
+  EXPECT_GE(lo, -0.3 - 1e-9);
+  EXPECT_LE(hi, 0.2 + 1e-9);
+  EXPECT_TRUE(lo < -0.3 + 1e-9 || hi > 0.2 - 1e-9) << lo << " " << hi;
+  const std::string twice =
+      R"(<fixed limited="true" range="-1 1"><joint joint="hip" coef="1"/><joint joint="hip" coef="1"/></fixed>)";
   double a, b;
-  EXPECT_TRUE(has(swing("f3", three, a, b).notes, "a fixed tendon is simulated over two joints"));
+  EXPECT_TRUE(has(swing("f2", twice, a, b).notes, "over two or more distinct joints"));
 }
 
-// An undefined class, a joint type MuJoCo does not have, a connect to a missing body.
 // MJCF's built-in textures that set a scene's look: a checker on the floor plane becomes the
 // ground's two colours and its square (the 2x2 image repeated texrepeat times a metre with
 // texuniform, else across the plane's width), a gradient skybox the sky (its top colour straight
@@ -985,6 +1000,7 @@ TEST(ImportMjcf, KeyframePlacesFreeBodiesAndStartsJoints) {
             std::string::npos);
 }
 
+// An undefined class, a joint type MuJoCo does not have, a connect to a missing body.
 TEST(ImportMjcf, MistakesAreNamedByFileAndLine) {
   auto err = [&](const std::string& xml) { return error_of(write("m.xml", xml)); };
   EXPECT_NE(err("<mujoco>\n<default><default class=\"bar\"/></default>\n<worldbody>\n"

@@ -236,6 +236,29 @@ TEST(SceneJoints, MimicFollowsANamedJoint) {
   EXPECT_NE(error(scene("{ joint: gear_a, range: [0.1, 0.4] }"))
                 .find("joints[0].mimic.range: expected lower < upper with 0 (the start pose) between them"),
             std::string::npos);
+  // Further leaders: q_b - (-0.5) q_a - 0.25 q_c, a differential.
+  const std::string three =
+      std::string(kBodies) +
+      "  - { name: gear_b, type: revolute, bodies: [world, arm2], anchor: [15, 0, 2], "
+      "axis: [0, 1, 0],\n      mimic: { joint: gear_a, multiplier: -0.5, also: ALSO } }\n"
+      "  - { name: gear_a, type: revolute, bodies: [world, arm], anchor: [0, 0, 2], axis: [0, 1, 0] }\n"
+      "  - { name: gear_c, type: revolute, bodies: [world, welded], anchor: [12, 0, 2], axis: [0, 1, 0] }\n";
+  auto with_also = [&](const std::string& also) {
+    std::string t = three;
+    t.replace(t.find("ALSO"), 4, also);
+    return t;
+  };
+  const Scene d = load_scene(write_scene("md.yaml", with_also("{ gear_c: 0.25 }")));
+  ASSERT_TRUE(d.joints.at(0).mimic);
+  ASSERT_EQ(d.joints[0].mimic->also.size(), 1u);
+  EXPECT_EQ(d.joints[0].mimic->also[0], (std::pair<int, double>{2, 0.25}));
+  EXPECT_NE(
+      error(with_also("{ gear_d: 0.25 }")).find("joints[0].mimic.also.gear_d: no joint is named 'gear_d'"),
+      std::string::npos)
+      << error(with_also("{ gear_d: 0.25 }"));
+  EXPECT_NE(error(with_also("{ gear_a: 1 }")).find("is the mimic's joint already"), std::string::npos);
+  EXPECT_NE(error(with_also("{ gear_c: 0 }")).find("joints[0].mimic.also.gear_c: must not be 0"),
+            std::string::npos);
   // A hinge may follow a slider (a rack and pinion: the multiplier in rad/m).
   EXPECT_EQ(error(scene("{ joint: gear_a, multiplier: 10 }", "prismatic")), "loaded");
   EXPECT_NE(error(scene("{ multiplier: 2 }")).find("joints[0].mimic: missing key 'joint'"),

@@ -68,6 +68,52 @@ struct RotorPendulum {
   bool step(double dt) { return art.step(dt, Vec3(0, 0, -g), nullptr, b.state.data()); }
 };
 
+// A differential: a flywheel whose angle is n q_a + n q_b of two identical pendulums released
+// together (JointMimic with a further leader, `also`). The flywheel pushes both alike, so
+// q_a = q_b = phi, and its 2 n phi' shares its energy between them: each swings as one pendulum
+// with rotor inertia Iw (2 n)^2 / 2. The flywheel keeps its combination to round-off, and energy
+// holds. (With n1 != n2 the two would be pushed unequally and part.)
+TEST(JointMimic, DifferentialSharesItsFlywheelBetweenTwoPendulums) {
+  const double n1 = -1, n2 = -1, Iw = GearedPendulum::Iw, g = GearedPendulum::g;
+  Bodies b;
+  b.add("bob_a", 1, Vec3::Constant(1e-3), Vec3(-1, 0, 0));
+  b.add("bob_b", 1, Vec3::Constant(1e-3), Vec3(-1, 5, 0));
+  b.add("flywheel", 2, Vec3(Iw, Iw, Iw), Vec3(3, 0, 0));
+  JointDef pa;
+  pa.name = "pivot_a";
+  pa.type = JointType::revolute;
+  pa.child = 0;
+  pa.axis_W = Vec3::UnitY();
+  JointDef pb = pa;
+  pb.name = "pivot_b";
+  pb.child = 1;
+  pb.anchor_W = Vec3(0, 5, 0);
+  JointDef axle = pa;
+  axle.name = "axle";
+  axle.child = 2;
+  axle.anchor_W = Vec3(3, 0, 0);
+  axle.mimic = JointMimic{0, n1, std::nullopt, {{1, n2}}};
+  Articulations art;
+  std::vector<std::string> warnings;
+  art.build({pa, pb, axle}, {}, b.defs, b.model, b.state, warnings);
+  RotorPendulum rotor(Iw * (n1 + n2) * (n1 + n2) / 2);
+  const double E0 = b.energy(g);
+  double apart = 0, energy = 0, coupled = 0;
+  for (int i = 1; i <= 240; ++i) {
+    ASSERT_TRUE(art.step(1.0 / 60, Vec3(0, 0, -g), nullptr, b.state.data()));
+    ASSERT_TRUE(rotor.step(1.0 / 60));
+    apart = std::max(apart, std::abs(art.position(0) - rotor.art.position(0)));
+    energy = std::max(energy, std::abs(b.energy(g) - E0));
+    coupled = std::max(coupled, std::abs(art.position(2) - n1 * art.position(0) - n2 * art.position(1)));
+  }
+  std::printf("differential against rotor: %.1e rad apart over 4 s, energy %.1e J, combination %.1e\n", apart,
+              energy, coupled);
+  EXPECT_GT(std::abs(art.position(2)), 0.5);  // the flywheel turned
+  EXPECT_LT(apart, 1e-8);                     // 9e-10 measured
+  EXPECT_LT(energy, 3e-8);                    // J, of 2 m g d = 19.6 (1e-8 measured)
+  EXPECT_LT(coupled, 1e-12);
+}
+
 TEST(JointArmature, RotorInertiaIsTheGearsReflectedInertia) {
   const double n = -2, Iw = GearedPendulum::Iw;
   GearedPendulum geared(n);
