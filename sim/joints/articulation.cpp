@@ -676,7 +676,7 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
       if (joints_[k].name == d.name) throw InputError(name_of(j) + ": the name is used by an earlier joint");
   }
   // The tree takes first the joints that only a tree edge can carry (a motor, friction, a wheel,
-  // cone or twist stops, armature, a mimic's either end, a spring or limits on a joint without one
+  // cone or twist stops, armature, a mimic's joints, a spring or limits on a joint without one
   // coordinate), then the rest, each group in file order: a loop is closed by a plain joint
   // wherever it has one, whichever joint the file wrote last. A scene whose loops were already
   // closed by plain joints gets the same tree as in file order.
