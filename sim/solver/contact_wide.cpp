@@ -9,57 +9,60 @@ namespace simreel::wide {
 namespace {
 
 // Lane-wise arithmetic is the vector types' own (IEEE, per lane, no contraction: the build has
-// -ffp-contract=off), so a lane computes what the same expression on doubles would.
-inline Real splat(double x) {
+// -ffp-contract=off), so a lane computes what the same expression on doubles would. Every helper
+// that takes or returns a vector type is always inlined: the solver's functions are cloned per
+// target (AVX-512, AVX2, default), and a helper left out of line (a Debug build) returns its
+// vector by the default target's convention to a caller expecting another's (a crash at -O0).
+__attribute__((always_inline)) inline Real splat(double x) {
   Real r;
   for (int l = 0; l < kLanes; ++l) r[l] = x;
   return r;
 }
-inline Mask msplat(std::int64_t x) {
+__attribute__((always_inline)) inline Mask msplat(std::int64_t x) {
   Mask r;
   for (int l = 0; l < kLanes; ++l) r[l] = x;
   return r;
 }
 constexpr Mask kNone = {};     ///< every lane false
 constexpr Mask kAll = ~kNone;  ///< every lane true
-inline Real sel(Mask m, Real a, Real b) {
+__attribute__((always_inline)) inline Real sel(Mask m, Real a, Real b) {
   return (Real)((m & (Mask)a) | (~m & (Mask)b));
 }
-inline Real vmax(Real a, Real b) {
+__attribute__((always_inline)) inline Real vmax(Real a, Real b) {
   return sel(a < b, b, a);
 }  // std::max's order
-inline Real vmin(Real a, Real b) {
+__attribute__((always_inline)) inline Real vmin(Real a, Real b) {
   return sel(b < a, b, a);
 }  // std::min's order
-inline Real vabs(Real a) {
+__attribute__((always_inline)) inline Real vabs(Real a) {
   return sel(a < 0.0, -a, a);
 }
 // The lanes' square roots (IEEE: each lane's is std::sqrt's; one vector instruction where the
 // file is built without errno for sqrt, CMakeLists.txt).
-inline Real vsqrt(Real a) {
+__attribute__((always_inline)) inline Real vsqrt(Real a) {
   Real r;
   for (int l = 0; l < kLanes; ++l) r[l] = __builtin_sqrt(a[l]);
   return r;
 }
-inline bool any(Mask m) {
+__attribute__((always_inline)) inline bool any(Mask m) {
   std::int64_t o = 0;
   for (int l = 0; l < kLanes; ++l) o |= m[l];
   return o != 0;
 }
 
-inline Vec operator+(const Vec& a, const Vec& b) {
+__attribute__((always_inline)) inline Vec operator+(const Vec& a, const Vec& b) {
   return {a.x + b.x, a.y + b.y, a.z + b.z};
 }
-inline Vec operator-(const Vec& a, const Vec& b) {
+__attribute__((always_inline)) inline Vec operator-(const Vec& a, const Vec& b) {
   return {a.x - b.x, a.y - b.y, a.z - b.z};
 }
-inline Vec operator*(Real s, const Vec& a) {
+__attribute__((always_inline)) inline Vec operator*(Real s, const Vec& a) {
   return {s * a.x, s * a.y, s * a.z};
 }
-inline Real dot(const Vec& a, const Vec& b) {
+__attribute__((always_inline)) inline Real dot(const Vec& a, const Vec& b) {
   return a.x * b.x + a.y * b.y + a.z * b.z;
 }
-inline Vec cross(const Vec& a, const Vec& b) {
+__attribute__((always_inline)) inline Vec cross(const Vec& a, const Vec& b) {
   return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
 
@@ -67,7 +70,7 @@ inline Vec cross(const Vec& a, const Vec& b) {
 struct Sym {
   Real xx, xy, xz, yy, yz, zz;
 };
-inline Vec operator*(const Sym& I, const Vec& v) {
+__attribute__((always_inline)) inline Vec operator*(const Sym& I, const Vec& v) {
   return {I.xx * v.x + I.xy * v.y + I.xz * v.z, I.xy * v.x + I.yy * v.y + I.yz * v.z,
           I.xz * v.x + I.yz * v.y + I.zz * v.z};
 }
@@ -157,7 +160,7 @@ __attribute__((always_inline)) inline Mask ldlt_solve(const Real* A, const Real*
 
 // Point j's normal mass 1 / K_jj, as ContactSolver::normal_terms makes it (K_jj is the same sum,
 // bit for bit; an absent point's K_jj is 1).
-inline Real normal_mass(const Bundle& k, int j) {
+__attribute__((always_inline)) inline Real normal_mass(const Bundle& k, int j) {
   const Real Kjj = k.K[lower(j, j)];
   return sel(Kjj > 0.0, 1.0 / Kjj, splat(0));
 }
@@ -177,7 +180,7 @@ void start_normal_velocity(const Bundle& k, int j, const BodyImpulse* start, dou
   }
 }
 
-inline Mask lane_count(const Bundle& k) {
+__attribute__((always_inline)) inline Mask lane_count(const Bundle& k) {
   Mask m;
   for (int l = 0; l < kLanes; ++l) m[l] = k.count[l];
   return m;
