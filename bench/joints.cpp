@@ -1020,11 +1020,12 @@ int main(int argc, char** argv) {
   // the explicit step is held by stability, about 15 internal steps per frame whatever the
   // tolerance above 1e-5, and each tighter decade costs more steps without lowering an energy error
   // that is already at round-off, so the chain sweep stops at the default, 1e-10.
-  const std::vector<double> tols =
-      o.quick ? std::vector<double>{1e-6, 1e-8, 1e-10, 1e-12}
-              : std::vector<double>{1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12, 1e-13, 1e-14};
-  const std::vector<double> chain_tols =
-      o.quick ? std::vector<double>{1e-5, 1e-8} : std::vector<double>{1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-10};
+  const std::vector<double> tols = o.quick ? std::vector<double>{1e-6, 1e-8, 1e-10, 1e-12}
+                                           : std::vector<double>{1e-3, 1e-4,  1e-5,  1e-6,  1e-7,  1e-8,
+                                                                 1e-9, 1e-10, 1e-11, 1e-12, 1e-13, 1e-14};
+  const std::vector<double> chain_tols = o.quick
+                                             ? std::vector<double>{1e-5, 1e-8}
+                                             : std::vector<double>{1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-10};
   const std::vector<double> chain90_tols =
       o.quick ? std::vector<double>{1e-5, 1e-8} : std::vector<double>{1e-3, 1e-4, 1e-5, 1e-6, 1e-8, 1e-10};
   const std::vector<int> dts =

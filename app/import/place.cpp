@@ -616,9 +616,12 @@ void place_model(const Model& m, const ImportSpec& spec, Scene& scene, MeshLibra
   for (size_t k = 0; k < m.joints.size(); ++k) {
     const ModelJoint& j = m.joints[k];
     if (j.coupled_joint.empty()) continue;
-    int l = -1;
-    for (size_t i = 0; i < m.joints.size(); ++i)
-      if (m.joints[i].name == j.coupled_joint) l = (int)i;
+    auto index_of = [&](const std::string& name) {
+      for (size_t i = 0; i < m.joints.size(); ++i)
+        if (m.joints[i].name == name) return (int)i;
+      return -1;
+    };
+    const int l = index_of(j.coupled_joint);
     using K = ModelJoint::Kind;
     auto one = [&](int i) {
       const K x = m.joints[i].kind;
@@ -629,9 +632,7 @@ void place_model(const Model& m, const ImportSpec& spec, Scene& scene, MeshLibra
     std::vector<std::pair<int, double>> more;
     bool more_ok = true;
     for (const auto& [name, c] : j.coupled_more) {
-      int i2 = -1;
-      for (size_t i = 0; i < m.joints.size(); ++i)
-        if (m.joints[i].name == name) i2 = (int)i;
+      const int i2 = index_of(name);
       more_ok = more_ok && i2 >= 0 && one(i2) && m.joints[i2].coupled_joint.empty();
       if (i2 >= 0) more.emplace_back(i2, c);
     }
@@ -759,11 +760,9 @@ void place_model(const Model& m, const ImportSpec& spec, Scene& scene, MeshLibra
   // The file's sky (MJCF's gradient skybox: its top colour straight up, the mean of its two at the
   // horizon, where the gradient is half way), unless the scene gives its own.
   if (m.sky && !scene.look_given) {
-    std::array<float, 3> mid;
-    for (int k = 0; k < 3; ++k) mid[k] = 0.5f * (m.sky->top[k] + m.sky->bottom[k]);
     for (int k = 0; k < 3; ++k) {
       scene.render.background[k] = srgb_to_linear(m.sky->top[k]);
-      scene.render.horizon[k] = srgb_to_linear(mid[k]);
+      scene.render.horizon[k] = srgb_to_linear(0.5f * (m.sky->top[k] + m.sky->bottom[k]));
     }
     scene.render.sky_gradient = true;
   }

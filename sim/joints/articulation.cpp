@@ -383,6 +383,12 @@ void Mechanism::retake_span(const Vec3& g, const Wrench* wr, const MotionState* 
 }
 
 namespace {
+// Two states equal to the bit (a derivative or a step taken at one holds at the other).
+bool same_bits(const std::vector<double>& a, const std::vector<double>& b) {
+  return std::equal(a.begin(), a.end(), b.begin(), [](double x, double y) {
+    return std::bit_cast<std::uint64_t>(x) == std::bit_cast<std::uint64_t>(y);
+  });
+}
 // Some event function went from >= 0 at the step's start to < 0.
 bool crossed(const std::vector<double>& g0, const std::vector<double>& g1) {
   for (size_t i = 0; i < g0.size(); ++i)
@@ -418,20 +424,14 @@ bool Mechanism::advance(double dt, const Vec3& g, const Wrench* wr, const Motion
   // frame's final stage is this frame's first when neither changed since (one derivative in 7 of
   // a frame taken in one step). The comparison is of the bits: a state set from outside, restored
   // or woken differently evaluates afresh, with the same result it would have had.
-  bool have_k1 = lean_ && carry_k1_ && g == g_end_ &&
-                 std::equal(y0_.begin(), y0_.end(), y_end_.begin(), [](double a, double b) {
-                   return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b);
-                 });
+  bool have_k1 = lean_ && carry_k1_ && g == g_end_ && same_bits(y0_, y_end_);
   carry_k1_ = false;
   // Lean, and coordinates whose rates are their derivatives (no quaternions to renormalise at the
   // frame): the last step runs past the frame's end (Span).
   const bool may_span = lean_ && nq == nv;
   if (span.valid) {
-    const bool same =
-        may_span && g == span.g && std::abs(frame_time - span.t_out) <= 1e-9 * dt &&
-        (span.retake || std::equal(y0_.begin(), y0_.end(), span_out_.begin(), [](double a, double b) {
-           return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b);
-         }));
+    const bool same = may_span && g == span.g && std::abs(frame_time - span.t_out) <= 1e-9 * dt &&
+                      (span.retake || same_bits(y0_, span_out_));
     span.valid = false;
     if (same) {
       if (span.retake) retake_span(g, wr, st);
