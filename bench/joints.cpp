@@ -154,13 +154,13 @@ class Sim {
 // ---------------------------------------------------------------- simreel
 class SimreelSim : public Sim {
  public:
-  SimreelSim(const std::vector<Scene>& scenes, double dt, double tol) : scenes_(scenes) {
+  SimreelSim(const std::vector<Scene>& scenes, double dt, const JointSettings& js) : scenes_(scenes) {
     WorldConfig cfg;
     cfg.dt = dt;
     cfg.gravity = Vec3(0, 0, -kG);
     cfg.threads = 1;
     cfg.contacts.sleep = false;
-    cfg.joint_settings.tolerance = tol;
+    cfg.joint_settings = js;
     std::vector<BodyDef> bodies;
     for (size_t c = 0; c < scenes.size(); ++c) {
       const Scene& s = scenes[c];
@@ -533,7 +533,22 @@ Config simreel_cfg(double tol, double dt = 1.0 / 60) {
   char s[64];
   std::snprintf(s, sizeof s, "tol=%.0e", tol);
   Config c{"simreel", "ABA+DOPRI5(4)", s, dt, tol, true, nullptr};
-  c.make = [dt, tol](const std::vector<Scene>& sc) { return std::make_unique<SimreelSim>(sc, dt, tol); };
+  JointSettings js;
+  js.tolerance = tol;
+  c.make = [dt, js](const std::vector<Scene>& sc) { return std::make_unique<SimreelSim>(sc, dt, js); };
+  return c;
+}
+// Velocity Verlet, `substeps` steps a frame (0: chosen from the fastest mode).
+Config simreel_verlet_cfg(int substeps, int per_second = 60) {
+  const std::string s = substeps > 0
+                            ? "dt=1/" + std::to_string(per_second) + " substeps=" + std::to_string(substeps)
+                            : "dt=1/" + std::to_string(per_second) + " substeps=auto";
+  const double dt = 1.0 / per_second;
+  Config c{"simreel", "ABA+Verlet(2)", s, dt, NAN, true, nullptr};
+  JointSettings js;
+  js.integrator = JointIntegrator::verlet;
+  js.substeps = substeps;
+  c.make = [dt, js](const std::vector<Scene>& sc) { return std::make_unique<SimreelSim>(sc, dt, js); };
   return c;
 }
 std::string dt_setting(int dtinv) {
@@ -1034,6 +1049,7 @@ int main(int argc, char** argv) {
   if (want_wp) {
     std::vector<Config> dp;
     for (double t : tols) dp.push_back(simreel_cfg(t));
+    for (int n : {0, 2, 4, 8, 16}) dp.push_back(simreel_verlet_cfg(n));
     for (const char* in : {"RK4", "Euler"})
       for (int d : dts) dp.push_back(mujoco_cfg(in, d));
     for (int d : dts) dp.push_back(bullet_hinge_cfg(d));
@@ -1044,9 +1060,11 @@ int main(int argc, char** argv) {
     // deeper than 96, so MuJoCo runs 90 links (as the anchors did) and simreel runs 90 too beside it.
     std::vector<Config> c100, c90;
     for (double t : chain_tols) c100.push_back(simreel_cfg(t));
+    c100.push_back(simreel_verlet_cfg(0));
     for (int d : dts) c100.push_back(bullet_hinge_cfg(d));
     for (int d : dts) c100.push_back(bullet_mb_cfg(d));
     for (double t : chain90_tols) c90.push_back(simreel_cfg(t));
+    c90.push_back(simreel_verlet_cfg(0));
     for (const char* in : {"RK4", "Euler"})
       for (int d : dts) c90.push_back(mujoco_cfg(in, d));
     wp_chain("chain_R1000_N100", 100, c100, o);
@@ -1078,6 +1096,7 @@ int main(int argc, char** argv) {
                                  simreel_cfg(1e-6),
                                  simreel_cfg(1e-4),
                                  simreel_cfg(1e-3),
+                                 simreel_verlet_cfg(0),
                                  bullet_hinge_cfg(60),
                                  bullet_mb_cfg(60),
                                  mujoco_cfg("RK4", 60),

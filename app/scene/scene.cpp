@@ -854,8 +854,27 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
         {"duration", "timestep", "integrator", "gravity", "contacts", "ignore_pairs", "sleep", "joints"});
     if (const YAML::Node jn = sim["joints"]) {
       const Ctx jc = c.child("joints");
-      if (!jn.IsMap()) jc.fail(jn, "expected { tolerance: 1e-10, max_steps: 100000 }, got " + show(jn));
-      check_keys(jn, jc, {"tolerance", "max_steps"});
+      if (!jn.IsMap())
+        jc.fail(jn, "expected { integrator: dopri5, tolerance: 1e-10, max_steps: 100000 }, got " + show(jn));
+      check_keys(jn, jc, {"integrator", "tolerance", "max_steps", "substeps"});
+      if (const YAML::Node in = jn["integrator"]) {
+        const std::string name = in.IsScalar() ? in.as<std::string>() : "";
+        if (name == "dopri5")
+          s.joint_settings.integrator = JointIntegrator::dopri5;
+        else if (name == "verlet")
+          s.joint_settings.integrator = JointIntegrator::verlet;
+        else
+          jc.child("integrator").fail(in, "expected dopri5 or verlet, got " + show(in));
+      }
+      if (jn["substeps"]) {
+        const double n = positive(jn["substeps"], jc.child("substeps"));
+        if (n != std::floor(n) || n > 1e6)
+          jc.child("substeps").fail(jn["substeps"], "must be a whole number");
+        if (s.joint_settings.integrator != JointIntegrator::verlet)
+          jc.child("substeps")
+              .fail(jn["substeps"], "is verlet's (dopri5 chooses its steps by the tolerance)");
+        s.joint_settings.substeps = (int)n;
+      }
       if (jn["tolerance"]) {
         s.joint_settings.tolerance = positive(jn["tolerance"], jc.child("tolerance"));
         if (s.joint_settings.tolerance >= 1e-2)

@@ -236,6 +236,22 @@ void WorldImpl::save_state(std::ostream& os) const {
     for (double x : {sp.t0, sp.len, sp.t_out, sp.g.x(), sp.g.y(), sp.g.z()}) o.f64(x);
     for (double x : sp.y0) o.f64(x);
   }
+  // Version 6: the Verlet mechanisms' carried accelerations and measured fastest modes.
+  auto verlet_started = [](const Mechanism& m) { return m.verlet.carry || m.verlet.rate > 0; };
+  uint32_t verlets = 0;
+  for (const Mechanism& m : joints_.mechanisms()) verlets += verlet_started(m) ? 1 : 0;
+  o.u32(verlets);
+  for (size_t k = 0; k < joints_.mechanisms().size(); ++k) {
+    const Mechanism::Verlet& vl = joints_.mechanisms()[k].verlet;
+    if (!verlet_started(joints_.mechanisms()[k])) continue;
+    o.i32((int32_t)k);
+    o.u8(vl.carry ? 1 : 0);
+    for (double x : {vl.rate, vl.growth, vl.g.x(), vl.g.y(), vl.g.z()}) o.f64(x);
+    o.i64(vl.next);
+    o.i32(vl.every);
+    for (double x : vl.x) o.f64(x);
+    for (double x : vl.a) o.f64(x);
+  }
   if (!os) throw std::runtime_error("could not write the saved state");
 }
 
@@ -431,6 +447,53 @@ void WorldImpl::restore_state(std::istream& is) {
       sp.valid = sp.retake = true;
       prev = i;
     }
+  }
+  std::vector<Mechanism::Verlet> verlets(joints_.mechanisms().size());
+  for (size_t k = 0; k < verlets.size(); ++k) {
+    const Mechanism& m = joints_.mechanisms()[k];
+    Mechanism::Verlet& vl = verlets[k];
+    vl.a.assign(m.nv, 0);
+    vl.x.assign(m.nq + m.nv, 0);
+    vl.y = m.q;  // restored above
+    vl.y.insert(vl.y.end(), m.v.begin(), m.v.end());
+  }
+  if (version >= 6) {
+    const uint32_t n = in.u32();
+    if (n > verlets.size()) throw InputError("saved state is damaged (verlet mechanisms)");
+    int prev = -1;
+    for (uint32_t k = 0; k < n; ++k) {
+      const int i = in.i32();
+      if (i <= prev || i >= (int)verlets.size())
+        throw InputError("saved state is damaged (verlet mechanism " + std::to_string(k) + ")");
+      Mechanism::Verlet& vl = verlets[i];
+      const uint8_t carry = in.u8();
+      vl.carry = carry == 1;
+      vl.rate = in.f64();
+      vl.growth = in.f64();
+      for (int c = 0; c < 3; ++c) vl.g[c] = in.f64();
+      vl.next = in.i64();
+      vl.every = in.i32();
+      bool ok = carry <= 1 && std::isfinite(vl.rate) && vl.rate >= 0 && vl.g.allFinite() &&
+                std::isfinite(vl.growth) && vl.growth >= 1 && vl.every >= 1 &&
+                vl.every <= Mechanism::kVerletEvery;
+      for (double& x : vl.x) ok = ok && std::isfinite(x = in.f64());
+      for (double& x : vl.a) ok = ok && std::isfinite(x = in.f64());
+      if (!ok) throw InputError("saved state is damaged (verlet mechanism " + std::to_string(k) + ")");
+      prev = i;
+    }
+  }
+  for (size_t k = 0; k < verlets.size(); ++k) {  // the saved fields; the scratch and counts stay
+    Mechanism::Verlet& to = joints_.mechanisms()[k].verlet;
+    Mechanism::Verlet& from = verlets[k];
+    to.carry = from.carry;
+    to.g = from.g;
+    to.a = std::move(from.a);
+    to.y = std::move(from.y);
+    to.x = std::move(from.x);
+    to.rate = from.rate;
+    to.growth = from.growth;
+    to.next = from.next;
+    to.every = from.every;
   }
   for (size_t k = 0; k < spans.size(); ++k) {
     Mechanism::Span& sp = joints_.mechanisms()[k].span;

@@ -17,7 +17,10 @@
 // (i32 body, f64 s): the rolling bodies' proposed next internal step (sim/solver/rolling_contact.hpp);
 // version 5 then u32 n and n times (i32 mechanism, f64 start, length and last read time in s, f64 x3
 // gravity, f64 x (nq + nv) start state): the mechanisms' steps running past the frame
-// (Mechanism::Span).
+// (Mechanism::Span); version 6 then u32 n and n times (i32 mechanism, u8 carry, f64 rate in 1/s,
+// f64 growth, f64 x3 gravity, i64 next measured frame, i32 frames between measurements,
+// f64 x (nq + nv) power-iteration vector, f64 x nv carried acceleration): the Verlet mechanisms'
+// state (Mechanism::Verlet).
 // The fingerprint also covers the force list (kinds and bodies) when there is one.
 #pragma once
 #include <cstdint>
@@ -25,6 +28,6 @@
 
 namespace simreel {
 
-constexpr uint32_t kStateVersion = 5;
+constexpr uint32_t kStateVersion = 6;
 
 }  // namespace simreel

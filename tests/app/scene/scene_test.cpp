@@ -455,6 +455,23 @@ TEST(Scene, ContactSettings) {
              "simulation.contacts.substep: unknown key 'substep'; did you mean 'substeps'?");
 }
 
+TEST(Scene, JointIntegratorSettings) {
+  const std::string b = "bodies:\n  - name: a\n" + std::string(kBox);
+  const Scene v =
+      load_scene(write_scene("ji.yaml", "simulation:\n  joints: { integrator: verlet, substeps: 3 }\n" + b));
+  EXPECT_EQ(v.joint_settings.integrator, JointIntegrator::verlet);
+  EXPECT_EQ(v.joint_settings.substeps, 3);
+  const Scene d = load_scene(write_scene("ji2.yaml", b));
+  EXPECT_EQ(d.joint_settings.integrator, JointIntegrator::dopri5);
+  EXPECT_EQ(d.joint_settings.substeps, 0);  // chosen from the fastest mode
+  EXPECT_HAS(error_of("simulation:\n  joints: { integrator: rk4 }\n" + b),
+             "bad.yaml:2:25: simulation.joints.integrator: expected dopri5 or verlet, got 'rk4'");
+  EXPECT_HAS(error_of("simulation:\n  joints: { integrator: verlet, substeps: 1.5 }\n" + b),
+             "simulation.joints.substeps: must be a whole number");
+  EXPECT_HAS(error_of("simulation:\n  joints: { substeps: 2 }\n" + b),
+             "simulation.joints.substeps: is verlet's (dopri5 chooses its steps by the tolerance)");
+}
+
 TEST(Scene, IgnorePairsByName) {
   const std::string bodies =
       "ground: {}\nbodies:\n  - name: left\n" + std::string(kBox) + "  - name: right\n" + kBox;
