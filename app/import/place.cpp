@@ -168,11 +168,20 @@ void apply_keyframe(Model& m, ImportSpec& spec, std::vector<std::string>& notes)
       continue;
     }
     const ModelJoint& j = m.joints[s.joint];
-    if (s.width == 4) {
-      if (!(v[0] == 1 && v[1] == 0 && v[2] == 0 && v[3] == 0))
-        notes.push_back(
-            where + "key '" + it->name + "': joint '" + j.name +
-            "' is a ball joint; its rotation in the key is not applied (it starts as the file places it)");
+    if (s.width == 4) {  // a ball joint: w x y z
+      const Quat r(v[0], v[1], v[2], v[3]);
+      if (!(r.norm() > 0))
+        throw InputError(where + it->src.str() + ": key '" + it->name + "': ball joint '" + j.name +
+                         "' has a zero quaternion");
+      const Quat u = r.normalized();
+      if (u.angularDistance(Quat::Identity()) == 0) continue;
+      spec.ball_rotations[j.name] = u;
+      // simreel measures a ball joint's range and spring from its start pose; MuJoCo from the
+      // file's (qpos = 1 0 0 0).
+      if (j.limits || j.stiffness > 0)
+        notes.push_back(where + "key '" + it->name + "': ball joint '" + j.name +
+                        "' starts turned by the key; its " + (j.limits ? "range" : "spring") +
+                        " is measured from there, not from the file's pose");
       continue;
     }
     if (!spec.joint_positions.count(j.name)) spec.joint_positions[j.name] = v[0] - s.ref;
@@ -260,7 +269,14 @@ void place_model(const Model& m, const ImportSpec& spec, Scene& scene, MeshLibra
     if (done[l]) return X[l];
     const int jk = parent_joint[l];
     Pose rel = m.links[l].pose;
-    if (jk >= 0 && q0[jk] != 0) {
+    if (jk >= 0 && m.joints[jk].kind == ModelJoint::Kind::spherical) {
+      if (const auto b = spec.ball_rotations.find(m.joints[jk].name); b != spec.ball_rotations.end()) {
+        Pose move;  // in the child frame, about the anchor
+        move.q = b->second;
+        move.p = m.joints[jk].anchor - move.q * m.joints[jk].anchor;
+        rel = rel * move;
+      }
+    } else if (jk >= 0 && q0[jk] != 0) {
       const ModelJoint& j = m.joints[jk];
       Pose move;  // in the child frame: about (along) the axis through the anchor
       if (j.kind == ModelJoint::Kind::prismatic) {

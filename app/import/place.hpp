@@ -41,6 +41,9 @@ struct ImportSpec {
   /// Start values of joint coordinates by the file's joint names (rad, m): the model is placed
   /// in that pose (simreel's coordinates are zero there, its limits shifted to match).
   std::map<std::string, double> joint_positions;
+  /// Start rotations of ball joints by name (a key's unit quaternion: the child's frame turned
+  /// about the joint's anchor, in its own axes, from the file's pose).
+  std::map<std::string, Quat> ball_rotations;
   /// A named pose of the file (MJCF <key>): its free bodies placed and its joints started there
   /// (joint_positions given here win); "" none.
   std::string keyframe;
@@ -57,8 +60,9 @@ void place_model(const Model& model, const ImportSpec& spec, Scene& scene, MeshL
 
 // spec.keyframe applied to the model before it is placed: a free body's pose becomes the key's
 // (the file's world frame), each hinge or slide coordinate's value minus its `ref` joins
-// spec.joint_positions unless given there. Throws InputError naming the import for a key the file
-// lacks or one whose numbers do not fit the file's joints; a ball joint's rotation is a note.
+// spec.joint_positions unless given there, each ball joint's rotation spec.ball_rotations. Throws
+// InputError naming the import for a key the file lacks or one whose numbers do not fit the file's
+// joints.
 void apply_keyframe(Model& model, ImportSpec& spec, std::vector<std::string>& notes);
 
 }  // namespace simreel

@@ -1000,6 +1000,43 @@ TEST(ImportMjcf, KeyframePlacesFreeBodiesAndStartsJoints) {
             std::string::npos);
 }
 
+// A ball joint in a key: its child turned by the key's quaternion about the joint's anchor, in the
+// child's own axes (MuJoCo's xquat = parent's * body quat * qpos), so the anchor stays where the
+// file puts it; the range is then measured from there (a note); a zero quaternion is an error.
+TEST(ImportMjcf, KeyframeTurnsBallJoints) {
+  const std::string xml = write("key/ball.xml", R"(<mujoco>
+  <worldbody>
+    <body name="post" pos="0 0 1" euler="0 0 90">
+      <geom type="box" size="0.05 0.05 0.05"/>
+      <body name="bob" pos="0 0 -0.5">
+        <joint name="neck" type="ball" pos="0 0 0.5" range="0 60" limited="true"/>
+        <geom type="sphere" size="0.1"/>
+      </body>
+    </body>
+  </worldbody>
+  <keyframe>
+    <key name="tilt" qpos="0.8660254037844387 0.5 0 0"/>
+    <key name="zero" qpos="0 0 0 0"/>
+  </keyframe>
+</mujoco>
+)");
+  const Scene s = load_scene(
+      write("key/ball.yaml", "imports: [ { file: " + xml + ", keyframe: tilt, fixed_base: true } ]\n"));
+  const Scene plain =
+      load_scene(write("key/ball_plain.yaml", "imports: [ { file: " + xml + ", fixed_base: true } ]\n"));
+  const BodyDef &bob = s.bodies[body(s, "bob")], &bob0 = plain.bodies[body(plain, "bob")];
+  // 60 degrees about the bob's own x axis (world y, the post turned 90 degrees about z).
+  const Quat key(Eigen::AngleAxisd(std::numbers::pi / 3, Vec3::UnitX()));
+  EXPECT_LT(bob.q_WB.angularDistance(bob0.q_WB * key), 1e-12);
+  // The anchor, 0.5 m above the bob's origin in its frame, is where the file puts it: (0, 0, 1).
+  EXPECT_LT((bob.p_WB + bob.q_WB * Vec3(0, 0, 0.5) - Vec3(0, 0, 1)).norm(), 1e-12);
+  EXPECT_LT((bob0.p_WB - Vec3(0, 0, 0.5)).norm(), 1e-12);
+  EXPECT_TRUE(has(s.notes, "ball joint 'neck' starts turned by the key; its range is measured from there"));
+  EXPECT_NE(error_of(write("key/ball_zero.yaml", "imports: [ { file: " + xml + ", keyframe: zero } ]\n"))
+                .find("ball joint 'neck' has a zero quaternion"),
+            std::string::npos);
+}
+
 // An undefined class, a joint type MuJoCo does not have, a connect to a missing body.
 TEST(ImportMjcf, MistakesAreNamedByFileAndLine) {
   auto err = [&](const std::string& xml) { return error_of(write("m.xml", xml)); };
