@@ -61,6 +61,9 @@ const std::map<std::string, std::set<std::string>> kAttributes = {
       "frictionloss",
       "user"}},
     {"freejoint", {"name", "group", "align"}},
+    {"camera", {"name",   "class",      "mode",      "target",         "pos",          "quat", "axisangle",
+                "xyaxes", "zaxis",      "euler",     "fovy",           "orthographic", "ipd",  "resolution",
+                "focal",  "focalpixel", "principal", "principalpixel", "sensorsize",   "user"}},
     {"geom", {"name",         "class",    "type",       "contype",   "conaffinity", "condim", "group",
               "priority",     "size",     "material",   "rgba",      "friction",    "mass",   "density",
               "shellinertia", "solmix",   "solref",     "solimp",    "margin",      "gap",    "fromto",
@@ -131,6 +134,7 @@ class MjcfReader {
     }
     for (XMLElement* w = root->FirstChildElement("worldbody"); w; w = w->NextSiblingElement("worldbody"))
       worldbody(w);
+    resolve_camera_targets();
     for (XMLElement* q = root->FirstChildElement("equality"); q; q = q->NextSiblingElement("equality"))
       equality(q);
     for (XMLElement* q = root->FirstChildElement("contact"); q; q = q->NextSiblingElement("contact"))
@@ -597,6 +601,8 @@ class MjcfReader {
         body(e, link, childclass, at);
       } else if (tag == "site") {
         site(e, link, childclass, at);
+      } else if (tag == "camera") {
+        camera(e, link, childclass, at);
       } else if (tag == "frame") {
         const std::string cc = e->Attribute("childclass") ? e->Attribute("childclass") : childclass;
         if (!cc.empty() && !class_parent_.count(cc))
@@ -743,6 +749,61 @@ class MjcfReader {
     const std::string cls = class_of(e, childclass);
     sites_[replicated(n, at.suffix)] = {link, at.offset * frame(e, cls, std::string("site '") + n + "'")};
   }
+  // A camera: its frame on the link (or the world), its vertical field of view and how it moves.
+  // Its target is looked up once every body is read (cameras_target_).
+  void camera(const XMLElement* e, int link, const std::string& childclass, const Place& at) {
+    check_attributes(e);
+    const std::string cls = class_of(e, childclass);
+    ModelCamera c;
+    c.name = e->Attribute("name") ? replicated(e->Attribute("name"), at.suffix)
+                                  : "camera" + std::to_string(m_.cameras.size());
+    const std::string what = "camera '" + c.name + "'";
+    for (const ModelCamera& o : m_.cameras)
+      if (o.name == c.name) fail(e, what, "another camera already has this name");
+    c.link = link;
+    c.pose = at.offset * frame(e, cls, what);
+    if (auto f = nums(e, "fovy", cls, what)) {
+      if (f->size() != 1 || !((*f)[0] > 0 && (*f)[0] < 180))
+        fail(e, what, "fovy must be one angle in (0, 180) degrees");
+      c.fovy = (*f)[0];
+    }
+    const std::string mode = attr_or(e, "mode", "fixed");
+    using M = ModelCamera::Mode;
+    static const std::map<std::string, M> kModes = {{"fixed", M::fixed},
+                                                    {"track", M::track},
+                                                    {"trackcom", M::trackcom},
+                                                    {"targetbody", M::targetbody},
+                                                    {"targetbodycom", M::targetbodycom}};
+    const auto it = kModes.find(mode);
+    if (it == kModes.end())
+      fail(e, what, "mode '" + mode + "' is not fixed, track, trackcom, targetbody or targetbodycom");
+    c.mode = it->second;
+    if ((c.mode == M::targetbody || c.mode == M::targetbodycom)) {
+      if (!e->Attribute("target")) fail(e, what, "mode " + mode + " needs a target body");
+      cameras_target_.push_back({m_.cameras.size(), e->Attribute("target"), at.suffix, e});
+    }
+    if (e->Attribute("orthographic") && attr_or(e, "orthographic", "false") == "true")
+      m_.notes.push_back(src(e, what).str() + ": an orthographic camera is drawn in perspective");
+    c.src = src(e, what);
+    m_.cameras.push_back(c);
+  }
+  struct CameraTarget {
+    size_t camera;
+    std::string body, suffix;  ///< a camera copied by a <replicate> looks at its own copy's body
+    const XMLElement* e;
+  };
+  std::vector<CameraTarget> cameras_target_;
+  void resolve_camera_targets() {
+    for (const CameraTarget& t : cameras_target_) {
+      auto it = body_index_.find(t.body + t.suffix);
+      if (it == body_index_.end()) it = body_index_.find(t.body);
+      if (it == body_index_.end())
+        fail(t.e, "camera '" + m_.cameras[t.camera].name + "'",
+             "target '" + t.body + "' is not a body of the file");
+      m_.cameras[t.camera].target = it->second;
+    }
+  }
+
   // A link's frame in the world at the start (the poses compose from the root).
   Pose world_pose(int link) const {
     Pose x;

@@ -44,6 +44,19 @@ struct ModelSky {
   std::array<float, 3> top{}, bottom{};
 };
 
+/// A camera the file names (MJCF <camera>): it looks along its frame's -z with +y up.
+struct ModelCamera {
+  std::string name;
+  int link = -1;     ///< the link it rides on; -1: the world
+  Pose pose;         ///< in that link's frame (the world's for -1)
+  double fovy = 45;  ///< degrees, vertical
+  /// fixed: rides on its link; track, trackcom: keeps its world orientation and its offset from the
+  /// link (its centre of mass); targetbody, targetbodycom: stays where it is and turns to `target`.
+  enum class Mode { fixed, track, trackcom, targetbody, targetbodycom } mode = Mode::fixed;
+  int target = -1;  ///< targetbody*: the link it turns to
+  SourceRef src;
+};
+
 struct ModelShape {
   enum class Kind { box, sphere, cylinder, capsule, ellipsoid, mesh, plane };
   Kind kind = Kind::box;
@@ -148,7 +161,8 @@ struct Model {
   std::vector<ModelRope> ropes;
   std::vector<std::string> files;  ///< every file read: the model's and those it includes
   std::optional<ModelSky> sky;     ///< the file's sky, where it gives one
-  std::optional<Vec3> gravity;     ///< m/s^2, world frame, where the file gives it (MJCF <option>)
+  std::vector<ModelCamera> cameras;
+  std::optional<Vec3> gravity;  ///< m/s^2, world frame, where the file gives it (MJCF <option>)
   /// Named poses (MJCF <key qpos>), each the file's joint coordinates laid out as `qpos_layout`.
   struct Key {
     std::string name;

@@ -188,6 +188,71 @@ void apply_keyframe(Model& m, ImportSpec& spec, std::vector<std::string>& notes)
   }
 }
 
+namespace {
+// The file's camera the import names (imports: camera) becomes the scene's: it looks along its
+// frame's -z with +y up, at its vertical field of view. On a moving body a fixed camera rides in
+// that body's frame (camera.frame); a tracking one follows the body (camera.follow: simreel aims
+// it at the body, where MuJoCo keeps the file's direction); a targeting one is placed aiming at
+// its target's start (MuJoCo turns it as the target moves). Without a name, the file's cameras
+// are listed in a note.
+void place_camera(const Model& m, const ImportSpec& spec, const std::vector<Pose>& X,
+                  const std::vector<int>& body_of, const std::vector<PlacedBody>& bodies,
+                  const std::vector<bool>& is_static, Scene& scene) {
+  if (spec.camera.empty()) {
+    if (m.cameras.empty()) return;
+    std::string list;
+    for (const ModelCamera& c : m.cameras) list += (list.empty() ? "'" : ", '") + c.name + "'";
+    scene.notes.push_back(m.file + ": its cameras " + list +
+                          " (imports: camera: NAME makes one the scene's)");
+    return;
+  }
+  const auto it = std::find_if(m.cameras.begin(), m.cameras.end(),
+                               [&](const ModelCamera& c) { return c.name == spec.camera; });
+  if (it == m.cameras.end()) {
+    std::vector<std::string> names;
+    for (const ModelCamera& c : m.cameras) names.push_back(c.name);
+    std::string msg = spec.src.str() + ".camera: " + m.file + " has no camera named '" + spec.camera + "'";
+    if (names.empty())
+      msg += " (it has no <camera>)";
+    else if (auto s = nearest(spec.camera, names))
+      msg += "; did you mean '" + *s + "'?";
+    throw InputError(msg);
+  }
+  const ModelCamera& c = *it;
+  const std::string prefix = spec.name.empty() ? "" : spec.name + "/";
+  const Pose W = (c.link < 0 ? spec.pose : X[c.link]) * c.pose;
+  const Vec3 eye = W.p, forward = W.q * Vec3(0, 0, -1), up = W.q * Vec3::UnitY();
+  CameraSpec cs;
+  cs.fov = c.fovy;
+  cs.position = eye;
+  cs.look_at = eye + forward;
+  cs.up = up;
+  const int b = c.link < 0 ? -1 : body_of[c.link];
+  const bool moving = b >= 0 && !is_static[b];
+  using M = ModelCamera::Mode;
+  if (moving && c.mode == M::fixed) {
+    const Pose& B = X[bodies[b].link];
+    const Quat qi = B.q.conjugate();
+    cs.frame_body = prefix + m.links[bodies[b].link].name;
+    cs.position = qi * (eye - B.p);
+    cs.look_at = qi * (eye + forward - B.p);
+    cs.up = qi * up;
+  } else if (moving && (c.mode == M::track || c.mode == M::trackcom)) {
+    cs.follow = prefix + m.links[bodies[b].link].name;
+    cs.look_at = X[c.link].p;
+    scene.notes.push_back(
+        c.src.str() + ": mode " + (c.mode == M::track ? "track" : "trackcom") +
+        " follows the body aimed at it (simreel's camera.follow; MuJoCo keeps the file's direction)");
+  } else if (c.mode == M::targetbody || c.mode == M::targetbodycom) {
+    cs.look_at = X[c.target].p;
+    scene.notes.push_back(c.src.str() + ": aimed at '" + m.links[c.target].name +
+                          "' where it starts; it does not turn as the body moves");
+  }
+  if ((cs.position - cs.look_at).norm() == 0) cs.look_at = eye + forward;
+  scene.camera = cs;
+}
+}  // namespace
+
 void place_model(const Model& m, const ImportSpec& spec, Scene& scene, MeshLibrary& meshes) {
   const size_t n = m.links.size();
   const std::string prefix = spec.name.empty() ? "" : spec.name + "/";
@@ -797,6 +862,7 @@ void place_model(const Model& m, const ImportSpec& spec, Scene& scene, MeshLibra
       scene.gravity = *m.gravity;
   }
   if (m.gravity) scene.gravity_given = true;
+  place_camera(m, spec, X, body_of, bodies, is_static, scene);
   for (const std::string& note : m.notes) scene.notes.push_back(note);
   // What the scene now depends on (its goldens notice when one changes).
   scene.inputs.insert(scene.inputs.end(), m.files.begin(), m.files.end());

@@ -47,6 +47,8 @@ struct ImportSpec {
   /// A named pose of the file (MJCF <key>): its free bodies placed and its joints started there
   /// (joint_positions given here win); "" none.
   std::string keyframe;
+  /// A camera of the file (MJCF <camera name>) that becomes the scene's camera; "" none.
+  std::string camera;
   SourceRef src;  ///< the import's place in the scene file
 };
 

@@ -947,6 +947,7 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
   }
   if (const YAML::Node cam = root["camera"]) {
     const Ctx c = top.child("camera");
+    s.camera_given = true;
     check_keys(cam, c, {"position", "look_at", "up", "fov", "follow", "auto", "frame", "path", "orbit"});
     if (cam["auto"]) s.camera.fit = boolean(cam["auto"], c.child("auto"));
     if (cam["position"]) s.camera.position = vec<3>(cam["position"], c.child("position"));

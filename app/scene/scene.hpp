@@ -107,6 +107,7 @@ struct Scene {
   /// The scene gives its sky or its ground's colours or tiles itself: an imported file's sky and
   /// floor checker (MJCF) are not taken (otherwise the first file's that has them are).
   bool look_given = false;
+  bool camera_given = false;   ///< the scene file has a `camera:` (an import's file camera may not also)
   MotionBlurSpec motion_blur;  ///< render.motion_blur (app/scene/camera_motion.hpp)
   std::vector<BodyDef> bodies;
   std::vector<BodyLook> looks;               ///< parallel to bodies

@@ -49,7 +49,7 @@ void load_imports(const YAML::Node& list, const std::string& path, Scene& scene,
     check_keys(n, c,
                {"file", "name", "position", "orientation", "euler", "axis_angle", "fixed_base", "inertia",
                 "package_paths", "show", "hold", "self_collision", "on_ground", "joint_positions",
-                "collision", "keyframe"});
+                "collision", "keyframe", "camera"});
     if (!n["file"]) c.fail(n, "missing key 'file' (a URDF file)");
     ImportSpec spec;
     const std::string f = text(n["file"], c.child("file"));
@@ -84,6 +84,12 @@ void load_imports(const YAML::Node& list, const std::string& path, Scene& scene,
       }
     }
     if (n["keyframe"]) spec.keyframe = text(n["keyframe"], c.child("keyframe"));
+    if (n["camera"]) {
+      spec.camera = text(n["camera"], c.child("camera"));
+      if (scene.camera_given)
+        c.child("camera").fail(n["camera"],
+                               "the scene gives its own camera: give one of camera, imports' camera");
+    }
     if (n["collision"]) {
       const std::string v = text(n["collision"], c.child("collision"));
       if (v != "hull" && v != "decompose")
@@ -133,6 +139,8 @@ void load_imports(const YAML::Node& list, const std::string& path, Scene& scene,
     if (ext == ".urdf" || ext == ".xacro") {
       if (!spec.keyframe.empty())
         c.child("keyframe").fail(n["keyframe"], "a URDF file has no keyframes (give joint_positions)");
+      if (!spec.camera.empty())
+        c.child("camera").fail(n["camera"], "a URDF file has no cameras (give the scene a camera)");
       model = read_urdf(spec.file, spec.paths);
     } else if (ext == ".xml" || ext == ".mjcf") {
       model = read_mjcf(spec.file, spec.paths);

@@ -1037,6 +1037,61 @@ TEST(ImportMjcf, KeyframeTurnsBallJoints) {
             std::string::npos);
 }
 
+// A file's camera named by the import becomes the scene's: it looks along its -z with +y up at
+// its fovy. In the world it stays put; fixed on a moving body it rides in the body's frame; a
+// tracking one follows its body; a targeting one aims at its target's start. Unnamed, the file's
+// cameras are listed in a note; a name the file lacks, or a scene camera beside it, is an error.
+TEST(ImportMjcf, FileCamerasBecomeTheScenesCamera) {
+  const std::string xml = write("cam/cams.xml", R"(<mujoco>
+  <worldbody>
+    <camera name="side" pos="0 -3 1" xyaxes="1 0 0 0 0 1" fovy="30"/>
+    <camera name="aim" pos="2 0 1" mode="targetbody" target="ball"/>
+    <body name="ball" pos="0 0 1" euler="0 0 90"><freejoint/>
+      <geom type="sphere" size="0.1"/>
+      <camera name="eye" pos="0.5 0 0" zaxis="1 0 0"/>
+      <camera name="chase" pos="0 -2 0" mode="trackcom" xyaxes="1 0 0 0 0 1"/>
+    </body>
+  </worldbody>
+</mujoco>
+)");
+  auto scene = [&](const std::string& name, const std::string& cam) {
+    return load_scene(
+        write("cam/" + name + ".yaml", "imports: [ { file: " + xml + ", camera: " + cam + " } ]\n"));
+  };
+  const Scene side = scene("side", "side");
+  // xyaxes x = (1 0 0), y = (0 0 1): -z looks along +y (toward the origin), up is +z.
+  EXPECT_LT((side.camera.position - Vec3(0, -3, 1)).norm(), 1e-12);
+  EXPECT_LT(((side.camera.look_at - side.camera.position).normalized() - Vec3(0, 1, 0)).norm(), 1e-12);
+  EXPECT_LT((side.camera.up - Vec3(0, 0, 1)).norm(), 1e-12);
+  EXPECT_EQ(side.camera.fov, 30);
+  EXPECT_TRUE(side.camera.frame_body.empty());
+  EXPECT_TRUE(side.camera.follow.empty());
+  // On the ball (turned 90 deg about z): in the ball's frame, 0.5 m along its x, its z axis along
+  // +x, so it looks back along -x at the ball.
+  const Scene eye = scene("eye", "eye");
+  EXPECT_EQ(eye.camera.frame_body, "ball");
+  EXPECT_EQ(eye.camera.fov, 45);  // MuJoCo's default
+  EXPECT_LT((eye.camera.position - Vec3(0.5, 0, 0)).norm(), 1e-12);
+  EXPECT_LT(((eye.camera.look_at - eye.camera.position) - Vec3(-1, 0, 0)).norm(), 1e-12);
+  const Scene chase = scene("chase", "chase");
+  EXPECT_EQ(chase.camera.follow, "ball");
+  EXPECT_LT((chase.camera.position - Vec3(2, 0, 1)).norm(), 1e-12);  // (0, -2, 0) turned 90 deg about z
+  EXPECT_TRUE(has(chase.notes, "trackcom follows the body aimed at it"));
+  const Scene aim = scene("aim", "aim");
+  EXPECT_LT((aim.camera.look_at - Vec3(0, 0, 1)).norm(), 1e-12);
+  EXPECT_TRUE(has(aim.notes, "aimed at 'ball' where it starts"));
+  // Unnamed: listed.
+  const Scene plain = load_scene(write("cam/plain.yaml", "imports: [ { file: " + xml + " } ]\n"));
+  EXPECT_TRUE(has(plain.notes, "its cameras 'side', 'aim', 'eye', 'chase'"));
+  EXPECT_NE(error_of(write("cam/typo.yaml", "imports: [ { file: " + xml + ", camera: sied } ]\n"))
+                .find("has no camera named 'sied'; did you mean 'side'?"),
+            std::string::npos);
+  EXPECT_NE(error_of(write("cam/both.yaml", "camera: { position: [1, 2, 3] }\nimports: [ { file: " + xml +
+                                                ", camera: side } ]\n"))
+                .find("imports[0].camera: the scene gives its own camera"),
+            std::string::npos);
+}
+
 // An undefined class, a joint type MuJoCo does not have, a connect to a missing body.
 TEST(ImportMjcf, MistakesAreNamedByFileAndLine) {
   auto err = [&](const std::string& xml) { return error_of(write("m.xml", xml)); };
