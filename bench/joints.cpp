@@ -1049,7 +1049,7 @@ int main(int argc, char** argv) {
   if (want_wp) {
     std::vector<Config> dp;
     for (double t : tols) dp.push_back(simreel_cfg(t));
-    for (int n : {0, 2, 4, 8, 16}) dp.push_back(simreel_verlet_cfg(n));
+    for (int n : {0, 1, 2, 4, 8, 16}) dp.push_back(simreel_verlet_cfg(n));
     for (const char* in : {"RK4", "Euler"})
       for (int d : dts) dp.push_back(mujoco_cfg(in, d));
     for (int d : dts) dp.push_back(bullet_hinge_cfg(d));
