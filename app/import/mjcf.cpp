@@ -1,5 +1,7 @@
 #include "app/import/mjcf.hpp"
 
+#include "app/import/heightfield.hpp"
+
 #include <tinyxml2.h>
 
 #include <algorithm>
@@ -61,6 +63,7 @@ const std::map<std::string, std::set<std::string>> kAttributes = {
       "frictionloss",
       "user"}},
     {"freejoint", {"name", "group", "align"}},
+    {"hfield", {"name", "content_type", "file", "nrow", "ncol", "elevation", "size"}},
     {"camera", {"name",   "class",      "mode",      "target",         "pos",          "quat", "axisangle",
                 "xyaxes", "zaxis",      "euler",     "fovy",           "orthographic", "ipd",  "resolution",
                 "focal",  "focalpixel", "principal", "principalpixel", "sensorsize",   "user"}},
@@ -135,6 +138,15 @@ class MjcfReader {
     for (XMLElement* w = root->FirstChildElement("worldbody"); w; w = w->NextSiblingElement("worldbody"))
       worldbody(w);
     resolve_camera_targets();
+    for (const auto& [link, e] : hfield_links_)  // every joint is read by now
+      for (int l = link; l >= 0; l = link_parent_[l]) {
+        // Welded to its parent (or to the world) or not: a free body has no joint of its own.
+        const auto j = std::find_if(m_.joints.begin(), m_.joints.end(),
+                                    [&](const ModelJoint& x) { return x.child == l && !x.loop; });
+        if (j == m_.joints.end() || j->kind != ModelJoint::Kind::fixed)
+          fail(e, "geom of body '" + m_.links[link].name + "'",
+               "an hfield geom must be on a static body (MuJoCo's rule): '" + m_.links[l].name + "' moves");
+      }
     for (XMLElement* q = root->FirstChildElement("equality"); q; q = q->NextSiblingElement("equality"))
       equality(q);
     for (XMLElement* q = root->FirstChildElement("contact"); q; q = q->NextSiblingElement("contact"))
@@ -545,13 +557,58 @@ class MjcfReader {
           mat.texrepeat = (*r)[0];
         if (const char* u = get(e, "texuniform", cls)) mat.texuniform = std::string(u) == "true";
         materials_[attr_or(e, "name", "")] = mat;
-      } else if (tag != "hfield" && tag != "skin" && tag != "model" && tag != "plugin") {
+      } else if (tag == "hfield") {
+        hfield(e, cls);
+      } else if (tag != "skin" && tag != "model" && tag != "plugin") {
         note(e, "<" + tag + "> asset is not used; ignored");
       } else {
         note_once(e, "asset-" + tag, "<" + tag + "> assets are not used by simreel; ignored");
       }
     }
   }
+
+  // A heightfield asset (size = x and y half-sizes, top, base): its elevations from a PNG (grey,
+  // the image's top row at +y) or from nrow x ncol `elevation` numbers (MuJoCo 3; row 0 at -y),
+  // made into the solid a static body's geom collides with (app/import/heightfield.hpp).
+  void hfield(const XMLElement* e, const std::string& cls) {
+    const std::string name = attr_or(e, "name", "");
+    const std::string what = "hfield '" + name + "'";
+    check_attributes(e);
+    if (name.empty()) fail(e, "hfield", "needs a name (geoms refer to it)");
+    const auto size = nums(e, "size", cls, what);
+    if (!size || size->size() != 4) fail(e, what, "size needs 4 numbers (x and y half-sizes, top, base)");
+    int nrow = 0, ncol = 0;
+    std::vector<double> z;
+    if (e->Attribute("file")) {
+      const std::string f = asset_file(e, meshdir_, "hfield");
+      const std::string ext = fs::path(f).extension().string();
+      if (ext != ".png" && ext != ".PNG")
+        fail(e, what, "file '" + attr_or(e, "file", "") + "': only PNG heightfields are read (convert it)");
+      try {
+        z = read_heightfield_png(f, nrow, ncol);
+      } catch (const InputError& err) {
+        fail(e, what, err.what());
+      }
+    } else if (e->Attribute("elevation")) {
+      const auto r = nums(e, "nrow", cls, what), c = nums(e, "ncol", cls, what);
+      if (!r || !c || r->size() != 1 || c->size() != 1 || (*r)[0] != std::floor((*r)[0]) ||
+          (*c)[0] != std::floor((*c)[0]) || (*r)[0] < 2 || (*c)[0] < 2 || (*r)[0] * (*c)[0] > 1e8)
+        fail(e, what, "elevation needs whole nrow and ncol of at least 2");
+      nrow = (int)(*r)[0];
+      ncol = (int)(*c)[0];
+      z = *nums(e, "elevation", cls, what);
+    } else {
+      note(e, "a heightfield with neither file nor elevation (filled in at run time) is left out", what);
+      return;
+    }
+    try {
+      hfields_[name] = std::make_shared<const TriangleMesh>(
+          heightfield_mesh(nrow, ncol, z, (*size)[0], (*size)[1], (*size)[2], (*size)[3]));
+    } catch (const InputError& err) {
+      fail(e, what, err.what());
+    }
+  }
+  std::map<std::string, std::shared_ptr<const TriangleMesh>> hfields_;
 
   // ---- bodies
   int add_link(const std::string& name, const XMLElement* e, const Pose& pose, int parent) {
@@ -793,6 +850,7 @@ class MjcfReader {
     const XMLElement* e;
   };
   std::vector<CameraTarget> cameras_target_;
+  std::vector<std::pair<int, const XMLElement*>> hfield_links_;  ///< links with an hfield geom
   void resolve_camera_targets() {
     for (const CameraTarget& t : cameras_target_) {
       auto it = body_index_.find(t.body + t.suffix);
@@ -974,11 +1032,22 @@ class MjcfReader {
       s.mesh_file = it->second.file;
       s.scale = it->second.scale;
       s.inline_mesh = it->second.inline_mesh;
+    } else if (type == "hfield") {
+      // MuJoCo's heightfields are static: a geom of the worldbody or of a body welded to it.
+      s.kind = K::mesh;
+      const char* hn = get(e, "hfield", cls);
+      if (!hn) fail(e, what, "an hfield geom needs hfield=\"NAME\"");
+      const auto it = hfields_.find(hn);
+      if (it == hfields_.end()) fail(e, what, std::string("hfield '") + hn + "' is not an asset");
+      s.inline_mesh = it->second;
+      s.mesh_file = std::string("hfield ") + hn;
+      hfield_links_.push_back({link, e});
     } else {
-      note(e,
-           "geom type '" + type +
-               "' is not simulated (plane, sphere, capsule, ellipsoid, cylinder, box, mesh); left out",
-           what);
+      note(
+          e,
+          "geom type '" + type +
+              "' is not simulated (plane, sphere, capsule, ellipsoid, cylinder, box, mesh, hfield); left out",
+          what);
       return;
     }
     // contype/conaffinity 0: drawn only. Groups 0-2 are drawn by MuJoCo's viewer by default, 3-5 hidden.

@@ -2,6 +2,7 @@
 // joints a scene would write, its mass properties are checked against its own geometry, its
 // mistakes are named by file and line, and the mechanisms move as physics says they must.
 #include <gtest/gtest.h>
+#include <png.h>
 
 #include <cmath>
 #include <filesystem>
@@ -1089,6 +1090,86 @@ TEST(ImportMjcf, FileCamerasBecomeTheScenesCamera) {
   EXPECT_NE(error_of(write("cam/both.yaml", "camera: { position: [1, 2, 3] }\nimports: [ { file: " + xml +
                                                 ", camera: side } ]\n"))
                 .find("imports[0].camera: the scene gives its own camera"),
+            std::string::npos);
+}
+
+// An MJCF heightfield becomes a closed solid on its static body. Its grid is MuJoCo's: inline
+// `elevation` row 0 at -y; a PNG's top row at +y, grey levels normalised to [0, 1] (MuJoCo 2.2.2
+// measured by mj_ray on this 3 x 2 image: 0.6 at (-1, -2), 1.0 at (1, -2), 0 at (-1, 2)). A V
+// valley (|x| under 45 degree slopes) holds 4 m^3 above its 0.8 m^3 base, and a ball dropped into
+// it settles on both slopes, its centre r sqrt(2) above the valley's floor line.
+TEST(ImportMjcf, HeightfieldIsTheSolidABallRestsIn) {
+  const std::string xml = write("hf/valley.xml", R"(<mujoco>
+  <asset><hfield name="v" nrow="2" ncol="3" elevation="7 5 7  7 5 7" size="1 2 1 0.1"/></asset>
+  <worldbody>
+    <geom type="hfield" hfield="v"/>
+    <body name="ball" pos="0.3 0 1"><freejoint/><geom type="sphere" size="0.1" mass="1"/></body>
+  </worldbody>
+</mujoco>
+)");
+  const Scene s = load_scene(write("hf/valley.yaml", "imports: [ { file: " + xml + " } ]\n"));
+  const Collider* hf = nullptr;
+  for (const BodyDef& b : s.bodies)
+    for (const Collider& c : b.colliders)
+      if (c.mesh && b.type == BodyType::static_body) hf = &c;
+  ASSERT_NE(hf, nullptr);
+  MeshMassOptions opt;
+  const MeshReport rep = analyze_mesh(*hf->mesh, opt);
+  EXPECT_TRUE(rep.closed);
+  EXPECT_TRUE(rep.consistently_oriented);
+  EXPECT_NEAR(rep.volume, 4.8, 1e-12);  // normalised: |x| from 0 to 1
+  World w(world_config(s, 1), s.bodies);
+  const int ball = body(s, "ball");
+  while (w.time() < 6) w.step();
+  const Vec3 x = w.centroid(ball);
+  std::printf("ball at rest: x %.2e, z %.6f (r sqrt 2 = %.6f)\n", x.x(), x.z(), 0.1 * std::sqrt(2.0));
+  EXPECT_NEAR(x.x(), 0, 1e-3);
+  EXPECT_NEAR(x.z(), 0.1 * std::sqrt(2.0), 1e-3);
+
+  // The PNG: written here (grey, 8 bits), its top row 0 51 102, its bottom 153 204 255.
+  const std::string png = (fs::path(xml).parent_path() / "steps.png").string();
+  const uint8_t px[6] = {0, 51, 102, 153, 204, 255};
+  png_image im{};
+  im.version = PNG_IMAGE_VERSION;
+  im.width = 3;
+  im.height = 2;
+  im.format = PNG_FORMAT_GRAY;
+  ASSERT_TRUE(png_image_write_to_file(&im, png.c_str(), 0, px, 0, nullptr));
+  const std::string xml2 = write("hf/steps.xml", R"(<mujoco>
+  <asset><hfield name="s" file="steps.png" size="1 2 1 0.1"/></asset>
+  <worldbody><geom type="hfield" hfield="s"/></worldbody>
+</mujoco>
+)");
+  const Scene s2 = load_scene(write("hf/steps.yaml", "imports: [ { file: " + xml2 + " } ]\n"));
+  const Collider* c2 = nullptr;
+  for (const BodyDef& b : s2.bodies)
+    for (const Collider& c : b.colliders)
+      if (c.mesh) c2 = &c;
+  ASSERT_NE(c2, nullptr);
+  auto height_at = [&](double xx, double yy) {
+    for (const Vec3& v : c2->mesh->vertices)
+      if (std::abs(v.x() - xx) < 1e-12 && std::abs(v.y() - yy) < 1e-12 && v.z() > -0.05) return v.z();
+    return -1.0;
+  };
+  EXPECT_NEAR(height_at(-1, -2), 0.6, 1e-12);
+  EXPECT_NEAR(height_at(1, -2), 1.0, 1e-12);
+  EXPECT_NEAR(height_at(-1, 2), 0.0, 1e-12);
+  EXPECT_NEAR(height_at(0, 2), 0.2, 1e-12);
+
+  // A heightfield on a moving body, and a file that is not PNG, are errors naming file and line.
+  EXPECT_NE(error_of(write("hf/moving.xml", R"(<mujoco>
+  <asset><hfield name="v" nrow="2" ncol="2" elevation="0 1 0 1" size="1 1 1 0.1"/></asset>
+  <worldbody><body name="b"><freejoint/><geom type="hfield" hfield="v"/></body></worldbody>
+</mujoco>
+)"))
+                .find("moving.xml:3: geom of body 'b': an hfield geom must be on a static body"),
+            std::string::npos);
+  write("hf/terrain.bin", "binary elevations");
+  EXPECT_NE(error_of(write("hf/bin.xml", R"(<mujoco>
+  <asset><hfield name="v" file="terrain.bin" size="1 1 1 0.1"/></asset>
+</mujoco>
+)"))
+                .find("only PNG heightfields are read"),
             std::string::npos);
 }
 
