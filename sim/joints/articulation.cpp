@@ -786,6 +786,16 @@ void Mechanism::write_bodies(MotionState* st) const {
 }
 
 // ------------------------------------------------------------------ building the mechanisms
+namespace {
+// 'a', 'b', ...: the bodies of a mechanism, for messages.
+std::string body_names(const Mechanism& m, const std::vector<BodyDef>& defs) {
+  std::string out;
+  for (const Link& l : m.links)
+    if (l.body >= 0) out += (out.empty() ? "'" : ", '") + defs[l.body].name + "'";
+  return out;
+}
+}  // namespace
+
 void Articulations::build(const std::vector<JointDef>& joints, const JointSettings& settings,
                           const std::vector<BodyDef>& defs, const std::vector<BodyModel>& model,
                           std::vector<MotionState>& state, std::vector<std::string>& warnings,
@@ -1567,14 +1577,8 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
     const double e_given = 0.5 * b.dot(W.asDiagonal() * b), e_lost = 0.5 * r.dot(W.asDiagonal() * r);
     if (e_lost > 1e-12 * std::max(e_given, 1e-300)) {
       std::ostringstream os;
-      os << "joints: the start velocities of ";
-      bool first = true;
-      for (const Link& l : m.links)
-        if (l.body >= 0) {
-          os << (first ? "" : ", ") << "'" << defs[l.body].name << "'";
-          first = false;
-        }
-      os << " are not all motions their joints allow; they were projected onto the joints' freedoms ("
+      os << "joints: the start velocities of " << body_names(m, defs)
+         << " are not all motions their joints allow; they were projected onto the joints' freedoms ("
          << e_lost << " J of " << e_given << " J of kinetic energy removed)";
       warnings.push_back(os.str());
     }
@@ -1583,14 +1587,7 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
     for (const Mechanism& m : mechanisms_) {
       if (m.verlet_ok()) continue;
       std::ostringstream os;
-      os << "joints: the mechanism of ";
-      bool first = true;
-      for (const Link& l : m.links)
-        if (l.body >= 0) {
-          os << (first ? "" : ", ") << "'" << defs[l.body].name << "'";
-          first = false;
-        }
-      os << " has "
+      os << "joints: the mechanism of " << body_names(m, defs) << " has "
          << (!m.loops.empty()     ? "a closed loop"
              : !m.tethers.empty() ? "a rod or rope"
              : !m.dofs.empty()    ? "limits, a motor or friction"
