@@ -186,7 +186,7 @@ class MjcfReader {
   std::vector<int> link_parent_;        // per link: the link it hangs from (-1: the world)
   struct Site {
     int link = -1;
-    Pose pose;  // in the link's frame
+    ModelPose pose;  // in the link's frame
   };
   std::map<std::string, Site> sites_;
   // Per name defined inside a <replicate>: the copies' suffixes, in order (bodies, sites, joints).
@@ -448,8 +448,8 @@ class MjcfReader {
     if (given > 1) fail(e, what, "give one of quat, axisangle, euler, xyaxes, zaxis");
     return q;
   }
-  Pose frame(const XMLElement* e, const std::string& cls, const std::string& what) const {
-    Pose p;
+  ModelPose frame(const XMLElement* e, const std::string& cls, const std::string& what) const {
+    ModelPose p;
     if (auto v = vec<3>(e, "pos", cls, what)) p.p = *v;
     p.q = orientation(e, cls, what);
     return p;
@@ -611,7 +611,7 @@ class MjcfReader {
   std::map<std::string, std::shared_ptr<const TriangleMesh>> hfields_;
 
   // ---- bodies
-  int add_link(const std::string& name, const XMLElement* e, const Pose& pose, int parent) {
+  int add_link(const std::string& name, const XMLElement* e, const ModelPose& pose, int parent) {
     link_parent_.push_back(parent);
     ModelLink l;
     l.name = name;
@@ -624,7 +624,7 @@ class MjcfReader {
   // Where an element's children go: a frame inside their body (or the world) that <frame> and
   // <replicate> move them by, and the suffix <replicate> appends to the names they define.
   struct Place {
-    Pose offset;
+    ModelPose offset;
     std::string suffix;
   };
 
@@ -645,7 +645,7 @@ class MjcfReader {
       const std::string tag = e->Name();
       if (tag == "geom") {
         if (link < 0 && world_link < 0) {
-          world_link = add_link("world", parent, Pose{}, -1);
+          world_link = add_link("world", parent, ModelPose{}, -1);
           ModelJoint j;  // welded to the world
           j.name = "world";
           j.kind = ModelJoint::Kind::fixed;
@@ -672,12 +672,12 @@ class MjcfReader {
         if (!count || count->size() != 1 || !((*count)[0] >= 1) || (*count)[0] != std::floor((*count)[0]))
           fail(e, "replicate", "count must be a positive whole number");
         const int n = (int)(*count)[0];
-        Pose step;
+        ModelPose step;
         if (auto o = vec<3>(e, "offset", "main", "replicate")) step.p = *o;
         if (e->Attribute("euler")) step.q = orientation(e, "main", "replicate");
         const std::string sep = attr_or(e, "sep", "");
         const int digits = (int)std::to_string(n - 1).size();
-        Pose copy;  // copy i's frame in the replicate's parent: step applied i times
+        ModelPose copy;  // copy i's frame in the replicate's parent: step applied i times
         for (int i = 0; i < n; ++i) {
           std::string index = std::to_string(i);
           index.insert(0, digits - index.size(), '0');
@@ -748,7 +748,7 @@ class MjcfReader {
     if (!childclass.empty() && !class_parent_.count(childclass))
       fail(e, what, "childclass '" + childclass + "' is not defined");
     const std::string cls = class_of(e, parent_childclass);
-    const Pose pose = at.offset * frame(e, cls, what);
+    const ModelPose pose = at.offset * frame(e, cls, what);
     // Its joints, in order.
     std::vector<const XMLElement*> joints;
     bool free = false;
@@ -771,14 +771,14 @@ class MjcfReader {
                        : "a body with a free joint has no other joints");
     // A body with several joints: helper links carry all but the last (same frame, no offset).
     int prev = parent;
-    Pose rel = pose;
+    ModelPose rel = pose;
     std::vector<int> helpers;
     for (size_t k = 0; k + 1 < joints.size(); ++k) {
       const int h = add_link(name + "#" + std::to_string(k + 1), e, rel, prev);
       helpers.push_back(h);
       joint(joints[k], prev, h, childclass, at.suffix);
       prev = h;
-      rel = Pose{};
+      rel = ModelPose{};
     }
     const int self = add_link(name, e, rel, prev);
     body_index_[name] = self;
@@ -796,7 +796,7 @@ class MjcfReader {
       m_.joints.push_back(j);
     }
     int unused = -1;
-    children(e, self, childclass, Place{Pose{}, at.suffix}, unused);
+    children(e, self, childclass, Place{ModelPose{}, at.suffix}, unused);
   }
 
   // A site: a named frame on a body (equality constraints may join two). Sites have no physics.
@@ -863,8 +863,8 @@ class MjcfReader {
   }
 
   // A link's frame in the world at the start (the poses compose from the root).
-  Pose world_pose(int link) const {
-    Pose x;
+  ModelPose world_pose(int link) const {
+    ModelPose x;
     for (int l = link; l >= 0; l = link_parent_[l]) x = m_.links[l].pose * x;
     return x;
   }
@@ -953,7 +953,7 @@ class MjcfReader {
     check_attributes(e);
     ModelInertial I;
     I.src = src(e, what + ", inertial");
-    const Pose p = frame(e, "main", what);
+    const ModelPose p = frame(e, "main", what);
     const auto mass = nums(e, "mass", "main", what);
     if (!mass || mass->size() != 1 || !((*mass)[0] > 0)) fail(e, what, "<inertial> needs a positive mass");
     I.mass = (*mass)[0];
@@ -973,7 +973,7 @@ class MjcfReader {
     m_.links[link].inertial = I;
   }
 
-  void geom(const XMLElement* e, int link, const std::string& childclass, const Pose& offset) {
+  void geom(const XMLElement* e, int link, const std::string& childclass, const ModelPose& offset) {
     ModelShape s;
     const std::string name = attr_or(e, "name", "");
     const std::string what =
@@ -1438,7 +1438,7 @@ class MjcfReader {
           note(e, "both sites are on one body; nothing to hold", what);
           return;
         }
-        const Pose w1 = world_pose(s1.link) * s1.pose, w2 = world_pose(s2.link) * s2.pose;
+        const ModelPose w1 = world_pose(s1.link) * s1.pose, w2 = world_pose(s2.link) * s2.pose;
         const double apart = (w1.p - w2.p).norm();
         if (apart > 1e-6 || (tag == "weld" && w1.q.angularDistance(w2.q) > 1e-6))
           note(e, "its sites are apart at the start (" + std::to_string(apart) + " m): held as they are",

@@ -24,10 +24,13 @@ struct SourceRef {
   std::string str() const;
 };
 
-struct Pose {
+// A frame in a model file: a rotation then a translation. (Not named Pose: the narrow phase's
+// simreel::Pose is another type, and two types of one name break the one-definition rule where
+// both are linked: their std::vector code is merged.)
+struct ModelPose {
   Vec3 p = Vec3::Zero();  ///< m
   Quat q = Quat::Identity();
-  Pose operator*(const Pose& o) const { return {p + q * o.p, (q * o.q).normalized()}; }
+  ModelPose operator*(const ModelPose& o) const { return {p + q * o.p, (q * o.q).normalized()}; }
   Vec3 operator*(const Vec3& x) const { return p + q * x; }
 };
 
@@ -48,7 +51,7 @@ struct ModelSky {
 struct ModelCamera {
   std::string name;
   int link = -1;     ///< the link it rides on; -1: the world
-  Pose pose;         ///< in that link's frame (the world's for -1)
+  ModelPose pose;    ///< in that link's frame (the world's for -1)
   double fovy = 45;  ///< degrees, vertical
   /// fixed: rides on its link; track, trackcom: keeps its world orientation and its offset from the
   /// link (its centre of mass); targetbody, targetbodycom: stays where it is and turns to `target`.
@@ -68,7 +71,7 @@ struct ModelShape {
   /// A mesh given in the file itself (MJCF `<mesh vertex=...>`: its convex hull), instead of a file.
   std::shared_ptr<const TriangleMesh> inline_mesh;
   Vec3 scale = Vec3::Ones();
-  Pose pose;                                  ///< in the link frame
+  ModelPose pose;                             ///< in the link frame
   std::optional<std::array<float, 3>> color;  ///< display RGB (sRGB-encoded, as files give it)
   std::string texture;                        ///< resolved image path, or ""
   std::optional<ModelChecker> checker;        ///< a plane's built-in checker texture
@@ -94,7 +97,7 @@ struct ModelInertial {
 
 struct ModelLink {
   std::string name;
-  Pose pose;  ///< in the parent link's frame (set by the reader for MJCF; from the joint for URDF)
+  ModelPose pose;  ///< in the parent link's frame (set by the reader for MJCF; from the joint for URDF)
   std::optional<ModelInertial> inertial;
   std::vector<ModelShape> shapes;
   /// A helper link (MJCF: a body with several joints becomes a chain of links, one joint each):

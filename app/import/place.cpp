@@ -40,7 +40,7 @@ std::string moments_str(const Vec3& m) {
 // A shape's collider with its mass properties at unit density (a mesh: from the library; an open
 // mesh weighs as its hull, with a note), placed at `pose` in the body frame.
 // A static body's meshes collide as their triangles and weigh nothing (weigh_mesh false).
-Collider shape_collider(const ModelShape& s, const Pose& pose, MeshLibrary& meshes, bool weigh,
+Collider shape_collider(const ModelShape& s, const ModelPose& pose, MeshLibrary& meshes, bool weigh,
                         bool weigh_mesh, bool decompose, std::vector<std::string>& notes) {
   Collider c;
   using K = ModelShape::Kind;
@@ -164,7 +164,7 @@ void apply_keyframe(Model& m, ImportSpec& spec, std::vector<std::string>& notes)
       if (!(r.norm() > 0))
         throw InputError(where + it->src.str() + ": key '" + it->name + "': body '" + m.links[s.link].name +
                          "' has a zero quaternion");
-      m.links[s.link].pose = Pose{Vec3(v[0], v[1], v[2]), r.normalized()};
+      m.links[s.link].pose = ModelPose{Vec3(v[0], v[1], v[2]), r.normalized()};
       continue;
     }
     const ModelJoint& j = m.joints[s.joint];
@@ -195,7 +195,7 @@ namespace {
 // it at the body, where MuJoCo keeps the file's direction); a targeting one is placed aiming at
 // its target's start (MuJoCo turns it as the target moves). Without a name, the file's cameras
 // are listed in a note.
-void place_camera(const Model& m, const ImportSpec& spec, const std::vector<Pose>& X,
+void place_camera(const Model& m, const ImportSpec& spec, const std::vector<ModelPose>& X,
                   const std::vector<int>& body_of, const std::vector<PlacedBody>& bodies,
                   const std::vector<bool>& is_static, Scene& scene) {
   if (spec.camera.empty()) {
@@ -220,7 +220,7 @@ void place_camera(const Model& m, const ImportSpec& spec, const std::vector<Pose
   }
   const ModelCamera& c = *it;
   const std::string prefix = spec.name.empty() ? "" : spec.name + "/";
-  const Pose W = (c.link < 0 ? spec.pose : X[c.link]) * c.pose;
+  const ModelPose W = (c.link < 0 ? spec.pose : X[c.link]) * c.pose;
   const Vec3 eye = W.p, forward = W.q * Vec3(0, 0, -1), up = W.q * Vec3::UnitY();
   CameraSpec cs;
   cs.fov = c.fovy;
@@ -231,7 +231,7 @@ void place_camera(const Model& m, const ImportSpec& spec, const std::vector<Pose
   const bool moving = b >= 0 && !is_static[b];
   using M = ModelCamera::Mode;
   if (moving && c.mode == M::fixed) {
-    const Pose& B = X[bodies[b].link];
+    const ModelPose& B = X[bodies[b].link];
     const Quat qi = B.q.conjugate();
     cs.frame_body = prefix + m.links[bodies[b].link].name;
     cs.position = qi * (eye - B.p);
@@ -328,22 +328,22 @@ void place_model(const Model& m, const ImportSpec& spec, Scene& scene, MeshLibra
     q0[k] = j.mimic_multiplier * q0[l] + j.mimic_offset;
   }
   // World poses of the links at the start, root first.
-  std::vector<Pose> X(n);
+  std::vector<ModelPose> X(n);
   std::vector<bool> done(n, false);
-  std::function<const Pose&(int)> pose_of = [&](int l) -> const Pose& {
+  std::function<const ModelPose&(int)> pose_of = [&](int l) -> const ModelPose& {
     if (done[l]) return X[l];
     const int jk = parent_joint[l];
-    Pose rel = m.links[l].pose;
+    ModelPose rel = m.links[l].pose;
     if (jk >= 0 && m.joints[jk].kind == ModelJoint::Kind::spherical) {
       if (const auto b = spec.ball_rotations.find(m.joints[jk].name); b != spec.ball_rotations.end()) {
-        Pose move;  // in the child frame, about the anchor
+        ModelPose move;  // in the child frame, about the anchor
         move.q = b->second;
         move.p = m.joints[jk].anchor - move.q * m.joints[jk].anchor;
         rel = rel * move;
       }
     } else if (jk >= 0 && q0[jk] != 0) {
       const ModelJoint& j = m.joints[jk];
-      Pose move;  // in the child frame: about (along) the axis through the anchor
+      ModelPose move;  // in the child frame: about (along) the axis through the anchor
       if (j.kind == ModelJoint::Kind::prismatic) {
         move.p = q0[jk] * j.axis;
       } else {
@@ -427,22 +427,22 @@ void place_model(const Model& m, const ImportSpec& spec, Scene& scene, MeshLibra
     def.q_WB = X[pb.link].q;
     def.type = is_static[b] ? BodyType::static_body : BodyType::dynamic;
     BodyLook look;
-    const Pose to_body_inv{-(def.q_WB.conjugate() * def.p_WB), def.q_WB.conjugate()};
+    const ModelPose to_body_inv{-(def.q_WB.conjugate() * def.p_WB), def.q_WB.conjugate()};
     // The file's mass properties (a link's stated inertial, else its shapes at their own
     // densities) and the geometry's (its shapes scaled to the stated mass, else the same).
     MassAccumulator file_mass, geom_unit;
     for (int l : pb.links) {
       const ModelLink& link = m.links[l];
-      const Pose X_BL = to_body_inv * X[l];  // the link's frame in the body's
+      const ModelPose X_BL = to_body_inv * X[l];  // the link's frame in the body's
       const Mat3 R_BL = X_BL.q.toRotationMatrix();
       // This link's weighing shapes at unit density (to scale to a stated mass), and each at its
       // own density or mass (the link's mass when it states none).
       MassAccumulator link_geom, link_own;
       for (const ModelShape& s : link.shapes) {
-        const Pose X_BS = X_BL * s.pose;
+        const ModelPose X_BS = X_BL * s.pose;
         // A file's own floor (MJCF's worldbody plane) where the scene already has its ground.
         if (s.kind == ModelShape::Kind::plane && scene.ground && is_static[b]) {
-          const Pose X_WS = X[l] * s.pose;
+          const ModelPose X_WS = X[l] * s.pose;
           if ((X_WS.q * Vec3::UnitZ()).z() > 1 - 1e-12 &&
               std::fabs(X_WS.p.z() - scene.ground->height) < 1e-9) {
             scene.notes.push_back(s.src.str() + ": the file's floor plane is the scene's ground; left out");

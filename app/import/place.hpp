@@ -25,7 +25,7 @@ enum class InertiaPolicy { check, geometry, file };
 struct ImportSpec {
   std::string file;         ///< resolved path of the URDF or MJCF file
   std::string name;         ///< prefix of its body and joint names ("NAME/link"); "" none
-  Pose pose;                ///< where the model's frame sits in the world
+  ModelPose pose;           ///< where the model's frame sits in the world
   bool fixed_base = false;  ///< the root link is welded to the world (static)
   InertiaPolicy inertia = InertiaPolicy::check;
   ImportPaths paths;

@@ -199,8 +199,8 @@ class UrdfReader {
   void note(const tinyxml2::XMLElement* e, const std::string& msg, const std::string& what = "") {
     m_.notes.push_back(src(e, what).str() + ": " + msg);
   }
-  Pose origin(const tinyxml2::XMLElement* parent, const std::string& what) const {
-    Pose p;
+  ModelPose origin(const tinyxml2::XMLElement* parent, const std::string& what) const {
+    ModelPose p;
     const auto* o = parent->FirstChildElement("origin");
     if (!o) return p;
     if (o->Attribute("xyz")) p.p = numbers<3>(o, "xyz", path_, what);
@@ -295,7 +295,7 @@ class UrdfReader {
     if (const auto* in = e->FirstChildElement("inertial")) {
       ModelInertial I;
       I.src = src(in, what + ", inertial");
-      const Pose o = origin(in, what);
+      const ModelPose o = origin(in, what);
       if (const auto* m = in->FirstChildElement("mass"))
         I.mass = number_attr(m, "value", path_, what);
       else
@@ -426,7 +426,7 @@ class UrdfReader {
       const Vec3 n = planar.axis;
       const Vec3 u = n.unitOrthogonal(), v = n.cross(u);
       int prev = planar.parent;
-      Pose rel = m_.links[child].pose;
+      ModelPose rel = m_.links[child].pose;
       for (int h = 0; h < 2; ++h) {
         ModelLink helper;
         helper.name = m_.links[child].name + "#" + std::to_string(h + 1);
@@ -444,9 +444,9 @@ class UrdfReader {
         if (planar.limits) slide.limits = planar.limits;
         m_.joints.push_back(slide);
         prev = slide.child;
-        rel = Pose{};
+        rel = ModelPose{};
       }
-      m_.links[child].pose = Pose{};
+      m_.links[child].pose = ModelPose{};
       ModelJoint& hinge = m_.joints[k];
       hinge.kind = ModelJoint::Kind::continuous;
       hinge.parent = prev;

@@ -70,7 +70,7 @@ TEST(UrdfdomCrosscheck, CorpusFilesReadAsTheReferenceParserReadsThem) {
           {urdf::Joint::PRISMATIC, K::prismatic}, {urdf::Joint::FLOATING, K::floating},
           {urdf::Joint::PLANAR, K::planar},       {urdf::Joint::FIXED, K::fixed}};
       EXPECT_EQ(j.kind, kinds.at(rj.type));
-      const Pose& o = ours.links[j.child].pose;
+      const ModelPose& o = ours.links[j.child].pose;
       EXPECT_LT((o.p - vec(rj.parent_to_joint_origin_transform.position)).norm(), 1e-15);
       const Quat rq = quat(rj.parent_to_joint_origin_transform.rotation);
       EXPECT_LT((o.q.toRotationMatrix() - rq.toRotationMatrix()).cwiseAbs().maxCoeff(), 1e-14);
