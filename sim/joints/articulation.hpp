@@ -88,7 +88,7 @@ class Mechanism {
   };
   Span span;
 
-  // Velocity Verlet (JointIntegrator::verlet, docs/joints.md "Integrators"), for a mechanism
+  // Velocity Verlet (JointIntegrator::verlet, docs/joints.md "Verlet"), for a mechanism
   // without rows or quaternion coordinates (verlet_ok). A step of length h:
   //   v+ = v + h/2 a,  q1 = q + h v+,  a1 = f(q1, v + h a),  v1 = v+ + h/2 a1.
   // a1 is evaluated at the Euler-predicted rate rather than at v1 (which would make the step
@@ -97,8 +97,9 @@ class Mechanism {
   // forces do not depend on rates. The step is stable while the fastest mode's rate (the largest
   // |eigenvalue| of the linearised first-order system) times h stays under 2: that rate is measured
   // by power iteration on finite differences of f, and the frame split into enough steps to keep
-  // rate h under kVerletReach. The rate is measured again every kVerletEvery frames while it holds
-  // within 10%, and at every frame (the interval halving) while it changes faster: a chain
+  // rate h under kVerletReach. The rate is measured again at intervals that double up to
+  // kVerletEvery frames while it holds within 10% and halve to every frame while it changes
+  // faster: a chain
   // released level tightens from slack to 180 1/s in under a second; a growth seen over the last
   // interval is assumed to go on over the next.
   struct Verlet {
@@ -121,7 +122,8 @@ class Mechanism {
   // max |v+|, the Euler predictor's error against the motion) does not resolve the motion: a whip,
   // a stiff damper's transient, an impact of forces, or a mode past the stability limit (which
   // grows 2.4-fold a step). The frame is then taken by dopri5, to its tolerance, and Verlet goes
-  // on from the next. A smooth motion at w stays near (w h)^2 / 2: 4e-3 for a chain's swing.
+  // on from the next. A smooth motion at w stays near (w h)^2 / 2; a chain's swing, whose fastest
+  // modes carry a little of it, measured 0.07 (0.25 at its release, where v+ is small).
   static constexpr double kVerletResolve = 0.3;
   bool verlet_ok() const { return !has_rows() && !loop_springs_on && nq == nv; }
   // The frame step by velocity Verlet: done, failed (the state stopped being finite, or the
