@@ -404,11 +404,12 @@ bool crossed(const std::vector<double>& g0, const std::vector<double>& g1) {
 void Mechanism::measure_rate(int pairs, const Vec3& g, const Wrench* wr, const MotionState* st) {
   const int ny = nq + nv;
   double* x = verlet.x.data();
-  if (!(verlet.rate > 0)) {
-    // A start with every coordinate and rate, alternating in sign: the fastest modes of chains
-    // alternate from link to link, so the iteration starts near them.
+  // A start with every coordinate and rate, alternating in sign: the fastest modes of chains
+  // alternate from link to link, so the iteration starts near them.
+  auto start = [&] {
     for (int j = 0; j < ny; ++j) x[j] = (j % 2 ? -1.0 : 1.0) * (1 + 0.01 * j);
-  }
+  };
+  if (!(verlet.rate > 0)) start();
   double size = 0;
   for (int j = 0; j < ny; ++j) size = std::max(size, std::abs(y0_[j]));
   // A perturbation of 1e-7 of the state's size: f's round-off (1e-16 relative) stays 1e-9 of the
@@ -433,7 +434,7 @@ void Mechanism::measure_rate(int pairs, const Vec3& g, const Wrench* wr, const M
   for (int p = 0; p < pairs; ++p) rate = std::sqrt(apply() * apply());
   if (!std::isfinite(rate) || !(rate > 0)) {  // no stiffness, damping or coupling: one step a frame
     rate = 0;
-    for (int j = 0; j < ny; ++j) x[j] = (j % 2 ? -1.0 : 1.0) * (1 + 0.01 * j);
+    start();
     normalize(x);
   }
   verlet.rate = rate;

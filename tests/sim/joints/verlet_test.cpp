@@ -212,7 +212,9 @@ TEST(Verlet, DampedSpringMeasuresItsFastRootAndDecaysAsTheClosedForm) {
   // resolve: dopri5 takes those frames; Verlet's second order then follows the slow root.
   EXPECT_GT(m.verlet.unresolved, 0);
   EXPECT_LT(m.verlet.unresolved, 20);
-  EXPECT_LT(worst, 1e-6);  // 2e-4 of the amplitude: (0.75 h)^2 / 12 over the decay, with margin
+  // 9.5e-7 measured (2e-4 of the 5e-3 amplitude): the frames dopri5 takes are exact to its
+  // tolerance, the rest second order; which frames those are moves it by a few tenths.
+  EXPECT_LT(worst, 2e-6);
 
   Bodies b1;
   Articulations a1;
