@@ -277,6 +277,57 @@ std::pair<int, int> simreel_contact_check(std::vector<BodyDef> defs) {
   return {pairs, (int)w.profile().contact_points};
 }
 
+// (d): the cylinder of radius 0.3 m and height 0.2 m as the hull of its two rims, 1,500 points
+// each (the upper rim turned a little, so no two side points are coplanar with a third).
+constexpr int kRimPoints = 1500;
+std::vector<Vec3> rim_points() {
+  std::vector<Vec3> pts;
+  for (int i = 0; i < kRimPoints; ++i) {
+    const double a = 2 * M_PI * i / kRimPoints;
+    pts.push_back(Vec3(0.3 * std::cos(a), 0.3 * std::sin(a), -0.1));
+    pts.push_back(Vec3(0.3 * std::cos(a + 0.001), 0.3 * std::sin(a + 0.001), 0.1));
+  }
+  return pts;
+}
+const Vec3 kStackAt[2] = {Vec3(0, 0, 0.1), Vec3(0.03, -0.01, 0.3)};
+const Quat kStackTurn[2] = {Quat::Identity(), Quat(Eigen::AngleAxisd(0.7, Vec3::UnitZ()))};
+
+Row simreel_detailed(long warmup, long steps) {
+  auto hull = std::make_shared<const ConvexPolyhedron>(convex_polyhedron(rim_points()));
+  std::vector<BodyDef> defs;
+  BodyDef g;
+  g.name = "ground";
+  g.type = BodyType::static_body;
+  g.add_collider(plane_collider());
+  defs.push_back(g);
+  for (int k = 0; k < 2; ++k) {
+    BodyDef b;
+    b.name = "hull" + std::to_string(k);
+    b.p_WB = kStackAt[k];
+    b.q_WB = kStackTurn[k];
+    Collider c;
+    c.shape = ShapeKind::mesh;
+    c.hulls = {hull};
+    c.props_C = cylinder_collider(0.3, 0.2, 800.0).props_C;
+    b.add_collider(c);
+    defs.push_back(b);
+  }
+  World w(free_config(false), defs);
+  for (long s = 0; s < warmup; ++s) w.step();
+  w.set_profiling(true);
+  const Profile before = w.profile();
+  const Vec3 x0 = w.centroid(2);
+  Row r{"detailed_hulls", "simreel", 2};
+  timed_steps(steps, r, [&] { w.step(); });
+  char buf[200];
+  std::snprintf(buf, sizeof buf,
+                "2 hulls of %zu vertices; top at z %.5f m (0.3 less slops); moved %.1e m while timed",
+                hull->vertices.size(), w.centroid(2).z(), (w.centroid(2) - x0).norm());
+  r.notes = buf;
+  print_profile("detailed_hulls", 2, w, before);
+  return r;
+}
+
 // -------------------------------------------------------------------------------------- Bullet
 #ifdef SIMREEL_BENCH_BULLET
 using bench::PhasedWorld;
@@ -420,57 +471,6 @@ Row bullet_compound(const BodyDef& def, long steps) {
                 compound->getNumChildShapes(), z, expect);
   r.notes = buf;
   print_phases("compound_16k", kCompoundBoxes, B.world, steps);
-  return r;
-}
-
-// (d): the cylinder of radius 0.3 m and height 0.2 m as the hull of its two rims, 1,500 points
-// each (the upper rim turned a little, so no two side points are coplanar with a third).
-constexpr int kRimPoints = 1500;
-std::vector<Vec3> rim_points() {
-  std::vector<Vec3> pts;
-  for (int i = 0; i < kRimPoints; ++i) {
-    const double a = 2 * M_PI * i / kRimPoints;
-    pts.push_back(Vec3(0.3 * std::cos(a), 0.3 * std::sin(a), -0.1));
-    pts.push_back(Vec3(0.3 * std::cos(a + 0.001), 0.3 * std::sin(a + 0.001), 0.1));
-  }
-  return pts;
-}
-const Vec3 kStackAt[2] = {Vec3(0, 0, 0.1), Vec3(0.03, -0.01, 0.3)};
-const Quat kStackTurn[2] = {Quat::Identity(), Quat(Eigen::AngleAxisd(0.7, Vec3::UnitZ()))};
-
-Row simreel_detailed(long warmup, long steps) {
-  auto hull = std::make_shared<const ConvexPolyhedron>(convex_polyhedron(rim_points()));
-  std::vector<BodyDef> defs;
-  BodyDef g;
-  g.name = "ground";
-  g.type = BodyType::static_body;
-  g.add_collider(plane_collider());
-  defs.push_back(g);
-  for (int k = 0; k < 2; ++k) {
-    BodyDef b;
-    b.name = "hull" + std::to_string(k);
-    b.p_WB = kStackAt[k];
-    b.q_WB = kStackTurn[k];
-    Collider c;
-    c.shape = ShapeKind::mesh;
-    c.hulls = {hull};
-    c.props_C = cylinder_collider(0.3, 0.2, 800.0).props_C;
-    b.add_collider(c);
-    defs.push_back(b);
-  }
-  World w(free_config(false), defs);
-  for (long s = 0; s < warmup; ++s) w.step();
-  w.set_profiling(true);
-  const Profile before = w.profile();
-  const Vec3 x0 = w.centroid(2);
-  Row r{"detailed_hulls", "simreel", 2};
-  timed_steps(steps, r, [&] { w.step(); });
-  char buf[200];
-  std::snprintf(buf, sizeof buf,
-                "2 hulls of %zu vertices; top at z %.5f m (0.3 less slops); moved %.1e m while timed",
-                hull->vertices.size(), w.centroid(2).z(), (w.centroid(2) - x0).norm());
-  r.notes = buf;
-  print_profile("detailed_hulls", 2, w, before);
   return r;
 }
 
