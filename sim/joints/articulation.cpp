@@ -1,6 +1,7 @@
 #include "sim/joints/articulation.hpp"
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -126,14 +127,22 @@ void Mechanism::allocate() {
   verlet.x.assign(ny, 0);
   verlet.y.assign(ny, 0);
   verlet.y_start.assign(ny, 0);
+  world_q_.assign(nq, 0);
+  world_at_q_ = false;
   for (auto& c : span_rc_) c.assign(ny, 0);
   span.valid = false;
+  for (const Link& l : links)
+    if (l.parent < 0) {
+      origin_ = l.p_pF;
+      break;
+    }
   out_q_.resize(links.size());
   out_x_.resize(links.size());
   out_v_.resize(links.size());
 }
 
 void Mechanism::kinematics(const double* q, bool world) {
+  world_at_q_ = false;
   for (size_t i = 0; i < links.size(); ++i) {
     const Link& l = links[i];
     Work& w = work_[i];
@@ -318,6 +327,183 @@ void Mechanism::derivative(const double* y, double* dy, const Vec3& g, const Wre
   }
 }
 
+namespace {
+// Packed symmetric 6x6 (the upper triangle by rows, 21 entries): kSym[r][c] is entry (r, c)'s slot.
+// Articulated inertias are symmetric, so derivative_world keeps 21 of their 36 entries.
+constexpr std::array<std::array<int, 6>, 6> kSym = [] {
+  std::array<std::array<int, 6>, 6> t{};
+  int k = 0;
+  for (int r = 0; r < 6; ++r)
+    for (int c = r; c < 6; ++c) t[r][c] = t[c][r] = k++;
+  return t;
+}();
+inline void sym_vec(const double* __restrict I, const double* __restrict x, double* __restrict y) {
+#pragma GCC unroll 6
+  for (int r = 0; r < 6; ++r) {
+    double s = 0;
+#pragma GCC unroll 6
+    for (int c = 0; c < 6; ++c) s += I[kSym[r][c]] * x[c];
+    y[r] = s;
+  }
+}
+}  // namespace
+
+void Mechanism::derivative_world(const double* y, double* dy, const Vec3& g, const Wrench* wr) {
+  const double* q = y;
+  const double* v = y + nq;
+  double* dq = dy;
+  double* dv = dy + nq;
+  kinematics(q, true);
+  const size_t n = links.size();
+  for (const Dof& d : dofs) {  // as derivative(): constant generalised forces of their modes
+    double f = 0;
+    if (d.motor != 0 && !d.hold) f += d.push * d.max_force;
+    if (d.friction > 0 && !d.stick) f -= d.slide * d.friction;
+    tau_[d.iv] = f;
+  }
+  // Pass 1, root to leaves. Motion vectors are [w; v_O] (v_O: the velocity of the body point at
+  // origin_), force vectors [n_O; f], all in world axes; s, the joint's motion subspace, moves
+  // with its link, so the velocity-product term is v x s q' (Featherstone eq. 7.38).
+  for (size_t i = 0; i < n; ++i) {
+    const Link& l = links[i];
+    Work& w = work_[i];
+    const Mat3& R = w.R_W;
+    const double c[3] = {w.x_W[0] - origin_[0], w.x_W[1] - origin_[1], w.x_W[2] - origin_[2]};
+    double* vel = w.vel.data();
+    if (l.nv == 1) {
+      dq[l.iq] = v[l.iv];
+      // s at the centre of mass in link axes, [a; b], carried to world axes about origin_:
+      // [R a; R b + c x R a].
+      const double* s = l.s1.data();
+      double ra[3], rb[3];
+      for (int k = 0; k < 3; ++k) {
+        ra[k] = R(k, 0) * s[0] + R(k, 1) * s[1] + R(k, 2) * s[2];
+        rb[k] = R(k, 0) * s[3] + R(k, 1) * s[4] + R(k, 2) * s[5];
+      }
+      double* sO = w.sO.data();
+      sO[0] = ra[0], sO[1] = ra[1], sO[2] = ra[2];
+      sO[3] = rb[0] + (c[1] * ra[2] - c[2] * ra[1]);
+      sO[4] = rb[1] + (c[2] * ra[0] - c[0] * ra[2]);
+      sO[5] = rb[2] + (c[0] * ra[1] - c[1] * ra[0]);
+      const double qd = v[l.iv];
+      double vJ[6];
+      for (int k = 0; k < 6; ++k) vJ[k] = sO[k] * qd;
+      if (l.parent < 0)
+        for (int k = 0; k < 6; ++k) vel[k] = vJ[k];
+      else
+        for (int k = 0; k < 6; ++k) vel[k] = work_[l.parent].vel[k] + vJ[k];
+      cross_motion(vel, vJ, w.c.data());
+    } else {
+      w.sO.setZero();
+      w.c.setZero();
+      if (l.parent < 0)
+        w.vel.setZero();
+      else
+        w.vel = work_[l.parent].vel;
+    }
+    // The body's spatial inertia about origin_: [Ic + m (|c|^2 1 - c c^T), m [c]x; m [c]x^T, m 1]
+    // with Ic = R diag(I_P) R^T (Featherstone eq. 2.63 with the shift of eq. 2.66).
+    const double m = l.mass;
+    double* I = w.Iw;
+    double Ic[3][3];
+    for (int r = 0; r < 3; ++r) {
+      const double d0 = R(r, 0) * l.I_P[0], d1 = R(r, 1) * l.I_P[1], d2 = R(r, 2) * l.I_P[2];
+      for (int k = r; k < 3; ++k) Ic[r][k] = Ic[k][r] = d0 * R(k, 0) + d1 * R(k, 1) + d2 * R(k, 2);
+    }
+    const double cc = c[0] * c[0] + c[1] * c[1] + c[2] * c[2];
+#pragma GCC unroll 3
+    for (int r = 0; r < 3; ++r)
+#pragma GCC unroll 3
+      for (int k = r; k < 3; ++k) I[kSym[r][k]] = Ic[r][k] + m * ((r == k ? cc : 0.0) - c[r] * c[k]);
+    const double mc[3] = {m * c[0], m * c[1], m * c[2]};
+    // Top right m [c]x (rows r, columns 3 + k); bottom right m 1.
+    I[kSym[0][3]] = 0, I[kSym[0][4]] = -mc[2], I[kSym[0][5]] = mc[1];
+    I[kSym[1][3]] = mc[2], I[kSym[1][4]] = 0, I[kSym[1][5]] = -mc[0];
+    I[kSym[2][3]] = -mc[1], I[kSym[2][4]] = mc[0], I[kSym[2][5]] = 0;
+    I[kSym[3][3]] = m, I[kSym[3][4]] = 0, I[kSym[3][5]] = 0;
+    I[kSym[4][4]] = m, I[kSym[4][5]] = 0, I[kSym[5][5]] = m;
+    // Bias force v x* h with h = I v = [Ic w + c x p; p], p = m (v_O + w x c) the momentum.
+    const double pm[3] = {m * (vel[3] + (vel[1] * c[2] - vel[2] * c[1])),
+                          m * (vel[4] + (vel[2] * c[0] - vel[0] * c[2])),
+                          m * (vel[5] + (vel[0] * c[1] - vel[1] * c[0]))};
+    double h[6];
+    for (int r = 0; r < 3; ++r) h[r] = Ic[r][0] * vel[0] + Ic[r][1] * vel[1] + Ic[r][2] * vel[2];
+    h[0] += c[1] * pm[2] - c[2] * pm[1];
+    h[1] += c[2] * pm[0] - c[0] * pm[2];
+    h[2] += c[0] * pm[1] - c[1] * pm[0];
+    h[3] = pm[0], h[4] = pm[1], h[5] = pm[2];
+    cross_force(vel, h, w.pA.data());
+    if (wr && l.body >= 0 && !lean_) {
+      // The external wrench's force acts at the centre of mass: about origin_, n_O = tau + c x f.
+      const Wrench& f = wr[l.body];
+      const Vec3 nO = f.tau_W + Vec3(c[0], c[1], c[2]).cross(f.f_W);
+      w.pA.head<3>() -= nO;
+      w.pA.tail<3>() -= f.f_W;
+    }
+  }
+  // Pass 2, leaves to root: Ia = IA - U U^T / D and pa = pA + Ia c + U u / D, added to the
+  // parent's as they are (same axes, same point).
+  for (size_t i = n; i-- > 0;) {
+    const Link& l = links[i];
+    Work& w = work_[i];
+    double* I = w.Iw;
+    double* P = w.pA.data();
+    if (l.nv == 1) {
+      const double* s = w.sO.data();
+      double U[6];
+      sym_vec(I, s, U);
+      const double Dinv = 1 / (s[0] * U[0] + s[1] * U[1] + s[2] * U[2] + s[3] * U[3] + s[4] * U[4] +
+                               s[5] * U[5] + l.armature);
+      double u = -(s[0] * P[0] + s[1] * P[1] + s[2] * P[2] + s[3] * P[3] + s[4] * P[4] + s[5] * P[5]);
+      if (l.stiffness != 0 || l.damping != 0) u += -l.stiffness * (q[l.iq] - l.rest) - l.damping * v[l.iv];
+      if (l.dof_index >= 0) u += tau_[l.iv];
+      for (int k = 0; k < 6; ++k) w.U1[k] = U[k];
+      w.Dinv1 = Dinv;
+      w.u1 = u;
+      if (l.parent < 0) continue;
+      double UD[6];
+      for (int k = 0; k < 6; ++k) UD[k] = Dinv * U[k];
+#pragma GCC unroll 6
+      for (int r = 0; r < 6; ++r)
+#pragma GCC unroll 6
+        for (int k = r; k < 6; ++k) I[kSym[r][k]] -= UD[r] * U[k];
+      double Ic[6];
+      sym_vec(I, w.c.data(), Ic);
+      const double f = Dinv * u;
+      for (int r = 0; r < 6; ++r) P[r] += U[r] * f + Ic[r];
+    }
+    if (l.parent < 0) continue;
+    Work& p = work_[l.parent];
+    for (int k = 0; k < 21; ++k) p.Iw[k] += I[k];
+    double* pP = p.pA.data();
+    for (int k = 0; k < 6; ++k) pP[k] += P[k];
+  }
+  // Pass 3, root to leaves: accelerations, the world's -g putting gravity on every link.
+  const double a_world[6] = {0, 0, 0, -g.x(), -g.y(), -g.z()};
+  for (size_t i = 0; i < n; ++i) {
+    const Link& l = links[i];
+    Work& w = work_[i];
+    const double* ap0 = l.parent < 0 ? a_world : work_[l.parent].acc.data();
+    double* acc = w.acc.data();
+    if (l.nv == 1) {
+      double ap[6];
+      for (int k = 0; k < 6; ++k) ap[k] = ap0[k] + w.c[k];
+      const double* U = w.U1.data();
+      const double qdd =
+          w.Dinv1 *
+          (w.u1 - (U[0] * ap[0] + U[1] * ap[1] + U[2] * ap[2] + U[3] * ap[3] + U[4] * ap[4] + U[5] * ap[5]));
+      dv[l.iv] = qdd;
+      for (int k = 0; k < 6; ++k) acc[k] = ap[k] + w.sO[k] * qdd;
+    } else {
+      for (int k = 0; k < 6; ++k) acc[k] = ap0[k];
+    }
+  }
+  // A Verlet step's last evaluation is at its end's coordinates (q1): write_bodies reads the
+  // frame's poses from these kinematics.
+  world_at_q_ = true;
+  std::copy(q, q + nq, world_q_.begin());
+}
+
 double Mechanism::rk_step(double hs, const Vec3& g, const Wrench* wr, const MotionState* st, double tol) {
   const int ny = nq + nv;
   for (int s = 1; s < 7; ++s) {
@@ -426,12 +612,16 @@ void Mechanism::measure_rate(int pairs, const Vec3& g, const Wrench* wr, const M
   normalize(x);
   auto apply = [&]() {  // x <- J x / |J x|, returning |J x| (x unit)
     for (int j = 0; j < ny; ++j) ys_[j] = y0_[j] + eps * x[j];
-    derivative(ys_.data(), k_[1].data(), g, wr, st);
+    verlet_derivative(ys_.data(), k_[1].data(), g, wr, st);
     for (int j = 0; j < ny; ++j) x[j] = (k_[1][j] - k_[0][j]) / eps;
     return normalize(x);
   };
   double rate = 0;
-  for (int p = 0; p < pairs; ++p) rate = std::sqrt(apply() * apply());
+  for (int p = 0; p < pairs; ++p) {
+    const double before = rate;
+    rate = std::sqrt(apply() * apply());
+    if (p > 0 && std::abs(rate - before) <= kVerletConverged * rate) break;
+  }
   if (!std::isfinite(rate) || !(rate > 0)) {  // no stiffness, damping or coupling: one step a frame
     rate = 0;
     start();
@@ -454,11 +644,12 @@ Mechanism::VerletFrame Mechanism::advance_verlet(double dt, const Vec3& g, const
     std::copy(verlet.a.begin(), verlet.a.end(), a);
   } else {
     time_ = frame_time;
-    derivative(y0_.data(), k_[0].data(), g, wr, st);
+    verlet_derivative(y0_.data(), k_[0].data(), g, wr, st);
   }
-  // The first measurement iterates to convergence from a fixed start (the two fastest modes of a
-  // 20-link chain differ by 12%, so 16 pairs leave the rate within 0.1%); later ones refine it
-  // from the last vector, which the slow change of the configuration keeps near the fastest mode.
+  // The first measurement iterates from a fixed start until the rate holds within
+  // kVerletConverged (the two fastest modes of a 20-link chain differ by 12%: 5 pairs, 0.6% low);
+  // later ones refine it from the last vector, which the slow change of the configuration keeps
+  // near the fastest mode.
   if (measure) {
     const double before = verlet.rate;
     measure_rate(measured ? 1 : 16, g, wr, st);
@@ -488,7 +679,7 @@ Mechanism::VerletFrame Mechanism::advance_verlet(double dt, const Vec3& g, const
     }
     t_step_ = frame_time + s * hs;
     time_ = t_step_ + hs;
-    derivative(ys_.data(), k_[1].data(), g, wr, st);
+    verlet_derivative(ys_.data(), k_[1].data(), g, wr, st);
     const double* a1 = k_[1].data() + nq;
     bool finite = true;
     double change = 0;
@@ -745,6 +936,10 @@ void Mechanism::link_velocities(const double* qq, const double* vv, std::vector<
 }
 
 void Mechanism::write_bodies(MotionState* st) const {
+  if (world_at_q_ && std::equal(q.begin(), q.end(), world_q_.begin())) {
+    write_bodies_world(st);
+    return;
+  }
   // Poses by quaternion products (not the matrices of the derivative), so that a body's
   // orientation carries no rotation-matrix round trip.
   std::vector<Quat>& qW = out_q_;
@@ -762,7 +957,7 @@ void Mechanism::write_bodies(MotionState* st) const {
       const Quat qJ = joint_rotation(l, qq);
       const Vec3 pJ = l.kind == LinkJoint::prismatic ? Vec3(l.axis_F * qq[0]) : Vec3::Zero();
       qpi = l.q_pF * qJ * l.q_cF.conjugate();
-      t = l.p_pF + l.q_pF * (pJ - qJ * (l.q_cF.conjugate() * l.p_cF));
+      t = l.p_pF + l.q_pF * (pJ - qJ * l.p_cF_F);
     }
     if (l.parent < 0) {
       qW[i] = qpi;
@@ -783,6 +978,29 @@ void Mechanism::write_bodies(MotionState* st) const {
     s.x_W = xW[i];
     s.w_P = vel[i].head<3>();
     s.v_W = qW[i] * Vec3(vel[i].tail<3>());
+  }
+}
+
+void Mechanism::write_bodies_world(MotionState* st) const {
+  std::vector<Vec6>& vel = out_v_;
+  for (size_t i = 0; i < links.size(); ++i) {
+    const Link& l = links[i];
+    const Work& w = work_[i];
+    // v_i = v_parent + s q' (world axes about origin_, as derivative_world).
+    double* vi = vel[i].data();
+    for (int k = 0; k < 6; ++k) vi[k] = l.parent < 0 ? 0.0 : vel[l.parent][k];
+    if (l.nv == 1)
+      for (int k = 0; k < 6; ++k) vi[k] += w.sO[k] * v[l.iv];
+    if (l.body < 0) continue;
+    MotionState& s = st[l.body];
+    Quat qW(w.R_W);
+    qW.normalize();
+    if (qW.dot(s.q_WP) < 0) qW.coeffs() = -qW.coeffs();  // the sign the body had: no flip between frames
+    s.q_WP = qW;
+    s.x_W = w.x_W;
+    const Vec3 wW(vi[0], vi[1], vi[2]), c = w.x_W - origin_;
+    s.w_P = w.R_W.transpose() * wW;
+    s.v_W = Vec3(vi[3], vi[4], vi[5]) + wW.cross(c);
   }
 }
 
@@ -1286,6 +1504,7 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
       l.t0 = l.p_pF - l.R0 * l.p_cF;
       l.a_c = l.R_cF * l.axis_F;
       l.a_p = l.R_pF * l.axis_F;
+      l.p_cF_F = l.q_cF.conjugate() * l.p_cF;
       l.iq = m.nq;
       l.iv = m.nv;
       m.nq += l.nq;

@@ -52,11 +52,12 @@ struct Link {
   // its origin by a_p q).
   Mat3 R0 = Mat3::Identity();
   Vec3 t0 = Vec3::Zero(), a_c = Vec3::UnitZ(), a_p = Vec3::UnitZ();
-  double mass = 0;                              ///< kg
-  Vec3 I_P = Vec3::Zero();                      ///< kg m^2, principal moments
-  Mat6 M = Mat6::Zero();                        ///< the spatial inertia diag(I_P, mass), in the link frame
-  Mat6X S;                                      ///< motion subspace in the link frame (6 x nv), constant
-  Vec6 s1 = Vec6::Zero();                       ///< S when nv = 1 (hinges and sliders: the common case)
+  Vec3 p_cF_F = Vec3::Zero();  ///< the centre of mass in the joint frame (q_cF^-1 p_cF): write_bodies
+  double mass = 0;             ///< kg
+  Vec3 I_P = Vec3::Zero();     ///< kg m^2, principal moments
+  Mat6 M = Mat6::Zero();       ///< the spatial inertia diag(I_P, mass), in the link frame
+  Mat6X S;                     ///< motion subspace in the link frame (6 x nv), constant
+  Vec6 s1 = Vec6::Zero();      ///< S when nv = 1 (hinges and sliders: the common case)
   double stiffness = 0, damping = 0, rest = 0;  ///< a 1-coordinate joint's spring
   double armature = 0;                          ///< kg m^2 or kg: rotor inertia on a 1-coordinate joint
   int dof_index = -1;                           ///< its Mechanism::Dof (limits, motor, friction), or -1
@@ -117,7 +118,11 @@ class Mechanism {
   };
   Verlet verlet;
   static constexpr double kVerletReach = 1.4;  ///< rate h per step (stability ends at 2)
-  static constexpr int kVerletEvery = 32;      ///< the most frames between measurements of the rate
+  // The first measurement iterates until a pair moves the rate by less than this share: a
+  // percent is what the step count needs (rate h is kept at 1.4 against stability's 2), and the
+  // later measurements, one pair each, go on converging from the vector kept.
+  static constexpr double kVerletConverged = 1e-2;
+  static constexpr int kVerletEvery = 32;  ///< the most frames between measurements of the rate
   // A step whose acceleration changes by more than this share of the rates (h |a1 - a| / 2 against
   // max |v+|, the Euler predictor's error against the motion) does not resolve the motion: a whip,
   // a stiff damper's transient, an impact of forces, or a mode past the stability limit (which
@@ -126,6 +131,23 @@ class Mechanism {
   // modes carry a little of it, measured 0.07 (0.25 at its release, where v+ is small).
   static constexpr double kVerletResolve = 0.3;
   bool verlet_ok() const { return !has_rows() && !loop_springs_on && nq == nv; }
+  // Verlet's evaluations on a mechanism without loads (every link then has at most one
+  // coordinate, as nq == nv) take derivative_world: the same articulated-body algorithm with
+  // every spatial quantity in world axes about one point of the mechanism (Featherstone 2008,
+  // sec. 7.3, "ABA in world coordinates"). A link's articulated inertia then passes to its parent
+  // as it is: the 6x6 congruence X^T I X per link (a quarter of a chain's evaluation in link
+  // frames) becomes 21 additions, and the rotations move to one R I R^T per body. It rounds
+  // differently from derivative(), which dopri5 keeps so that its trajectories keep their bits.
+  bool world_aba_ok() const { return verlet_ok() && loads.empty(); }
+  void derivative_world(const double* y, double* dy, const Vec3& g, const Wrench* wr);
+  // Verlet's evaluation: derivative_world where world_aba_ok(), else derivative().
+  void verlet_derivative(const double* y, double* dy, const Vec3& g, const Wrench* wr,
+                         const MotionState* st) {
+    if (world_aba_ok())
+      derivative_world(y, dy, g, wr);
+    else
+      derivative(y, dy, g, wr, st);
+  }
   // The frame step by velocity Verlet: done, failed (the state stopped being finite, or the
   // steps the rate needs exceed JointSettings::max_steps), or unresolved (y0_ back at the frame's
   // start, for dopri5 to take).
@@ -312,6 +334,10 @@ class Mechanism {
   bool advance(double dt, const Vec3& g, const Wrench* wr, const MotionState* st, const JointSettings& js);
   // Forward kinematics of q, q' into the bodies' motion states.
   void write_bodies(MotionState* st) const;
+  // The same from derivative_world's last kinematics, when that was at q (a Verlet frame's end):
+  // poses from the world rotations (not the quaternion products), velocities summed in world
+  // axes; a third of write_bodies' cost.
+  void write_bodies_world(MotionState* st) const;
   // The velocities of every body, link frame ([w; v] at the centre of mass), at q and q'.
   void link_velocities(const double* q, const double* v, std::vector<Vec6>& out);
   // Contacts on the mechanism's bodies (sim/joints/contact_rows.hpp): while a frame step has
@@ -485,21 +511,34 @@ class Mechanism {
   Eigen::MatrixXd P_;       ///< nv x nv: constrained inverse inertia (contacts)
   std::vector<double> dq_;  ///< nv scratch
   std::vector<Vec6> rf_;    ///< joint_wrench scratch
+  // What an evaluation touches first, then what only multi-coordinate joints and the mass matrix
+  // use: a chain's evaluation streams every link's record, and at 100 chains of 20 links the
+  // records (1.7 kB each) outgrow the 2 MB L2 of the machines measured on.
   struct Work {
     Mat3 E;    ///< motion transform parent link -> this link (Featherstone's X = (E, r)):
     Vec3 r;    ///< E rotates parent coordinates into this link's, r is this link's origin in the parent's
     Mat3 R_W;  ///< this link's frame to world
     Vec3 x_W;  ///< this link's origin in the world
-    Mat6 Ic;   ///< composite inertia (mass_matrix)
     Vec6 vel, c, pA, acc;
     Mat6 IA;
+    Vec6 U1;        ///< U, 1/D and u of a one-coordinate joint
+    Vec6 sO;        ///< derivative_world: the joint's motion subspace in world axes about origin_
+    double Iw[21];  ///< derivative_world: the articulated inertia there (packed symmetric)
+    double Dinv1 = 0, u1 = 0;
     Mat6X U;
     MatXX6 Dinv;
     VecX6 u;
-    Vec6 U1;  ///< U, 1/D and u of a one-coordinate joint
-    double Dinv1 = 0, u1 = 0;
+    Mat6 Ic;  ///< composite inertia (mass_matrix)
   };
   std::vector<Work> work_;
+  // m: derivative_world's reference point, fixed in the world (the first root's anchor): spatial
+  // inertias about it carry m |c|^2 terms, so it is kept near the mechanism rather than at the
+  // world's origin (a chain 100 m out would lose 8 digits of a 1 cm link's inertia there).
+  Vec3 origin_ = Vec3::Zero();
+  // derivative_world's last kinematics were at world_q_ (cleared by any other kinematics):
+  // write_bodies reads the poses from them when that is q.
+  bool world_at_q_ = false;
+  std::vector<double> world_q_;
   bool lean_ = false;  ///< inside advance(), when no evaluation needs the links' world poses
   // The last frame's end state and gravity, when k_[0] holds the derivative there (advance).
   bool carry_k1_ = false;

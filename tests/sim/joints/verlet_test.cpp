@@ -103,8 +103,10 @@ struct Chain {
 // The fastest mode's rate, measured by power iteration at the first frame, against the largest
 // eigenfrequency of the linearised hanging chain: M q'' = -K q with M_jk = sum_i m L_ij L_ik + I
 // delta_jk and K diagonal, m g times the length of chain below each joint's link (rods: a link's
-// centre at l / 2). 16 pairs of iterations from the alternating start leave (116 / 132)^32 of the
-// next mode: the rate to 1e-3.
+// centre at l / 2). The first frame iterates until a pair moves the rate by under 1% (the next
+// mode at 116 / 132 of it leaves the estimate about as far again below: within 1e-2, what the
+// step count needs); the later measurements' single pairs converge on it: within 1e-3 after a
+// second (6 of them).
 TEST(Verlet, MeasuredRateIsTheHangingChainsFastestEigenfrequency) {
   const int n = 20;
   const double l = 0.1, ml = 0.01, g = 9.81, I = ml * l * l / 12;
@@ -119,10 +121,14 @@ TEST(Verlet, MeasuredRateIsTheHangingChainsFastestEigenfrequency) {
   const Eigen::MatrixXd M = ml * L.transpose() * L + I * Eigen::MatrixXd::Identity(n, n);
   Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> es(K, M);
   const double w_max = std::sqrt(es.eigenvalues().maxCoeff());
-  const double rate = c.art.mechanisms()[0].verlet.rate;
-  std::printf("measured %.4f 1/s, linearised chain %.4f 1/s\n", rate, w_max);
-  EXPECT_NEAR(rate / w_max, 1, 1e-3);
+  const double first = c.art.mechanisms()[0].verlet.rate;
+  EXPECT_NEAR(first / w_max, 1, 1e-2);
   EXPECT_EQ(c.art.internal_steps(), 2);  // 132 / 60 = 2.2 per frame: two steps keep it under 1.4
+  for (int i = 1; i < 60; ++i) ASSERT_TRUE(c.art.step(1.0 / 60, Vec3(0, 0, -g), nullptr, c.b.state.data()));
+  const double rate = c.art.mechanisms()[0].verlet.rate;
+  std::printf("measured %.4f 1/s at the first frame, %.4f after a second; linearised chain %.4f 1/s\n", first,
+              rate, w_max);
+  EXPECT_NEAR(rate / w_max, 1, 1e-3);
 }
 
 // The chain released from 30 degrees at 1/60 s: two steps a frame (one frame in ten three, where
