@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <fstream>
 #include <memory>
 
 #include <simreel/error.hpp>
@@ -83,6 +85,32 @@ std::vector<double> read_heightfield_png(const std::string& file, int& nrow, int
       out[(size_t)r * ncol + c] = (p[0] + p[1] + p[2]) / 3.0;
     }
   return out;
+}
+
+std::vector<double> read_heightfield_bin(const std::string& file, int& nrow, int& ncol) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw InputError(file + ": cannot open the heightfield file");
+  in.seekg(0, std::ios::end);
+  const auto bytes = (long long)in.tellg();
+  in.seekg(0);
+  std::int32_t head[2] = {0, 0};
+  if (bytes < 8 || !in.read(reinterpret_cast<char*>(head), sizeof head))
+    throw InputError(file + ": a binary heightfield starts with two int32 (nrow, ncol); the file has " +
+                     std::to_string(bytes) + " bytes");
+  if (head[0] < 2 || head[1] < 2 || head[0] > 16384 || head[1] > 16384)
+    throw InputError(file + ": nrow " + std::to_string(head[0]) + ", ncol " + std::to_string(head[1]) +
+                     ": each must be 2 to 16384");
+  const long long want = 8 + 4LL * head[0] * head[1];
+  if (bytes != want)
+    throw InputError(file + ": " + std::to_string(head[0]) + " x " + std::to_string(head[1]) +
+                     " float32 elevations need " + std::to_string(want) + " bytes; the file has " +
+                     std::to_string(bytes));
+  nrow = head[0];
+  ncol = head[1];
+  std::vector<float> f((size_t)nrow * ncol);
+  in.read(reinterpret_cast<char*>(f.data()), (std::streamsize)(4 * f.size()));
+  if (!in) throw InputError(file + ": could not read its elevations");
+  return std::vector<double>(f.begin(), f.end());  // row 0 at -y, as stored (MuJoCo keeps the order)
 }
 
 }  // namespace simreel

@@ -21,4 +21,10 @@ TriangleMesh heightfield_mesh(int nrow, int ncol, const std::vector<double>& ele
 // row (MuJoCo puts the image's top at +y). Throws InputError naming the file when it cannot be read.
 std::vector<double> read_heightfield_png(const std::string& file, int& nrow, int& ncol);
 
+// MuJoCo's binary heightfield: int32 nrow, int32 ncol, then nrow x ncol float32, all
+// little-endian, row-major with row 0 at -y (measured with MuJoCo 2.2.2's mj_ray: the file's order
+// is kept, and its elevations are normalised as a PNG's are). Throws InputError naming the file
+// when the header or the size is wrong.
+std::vector<double> read_heightfield_bin(const std::string& file, int& nrow, int& ncol);
+
 }  // namespace simreel

@@ -582,10 +582,10 @@ class MjcfReader {
     if (e->Attribute("file")) {
       const std::string f = asset_file(e, meshdir_, "hfield");
       const std::string ext = fs::path(f).extension().string();
-      if (ext != ".png" && ext != ".PNG")
-        fail(e, what, "file '" + attr_or(e, "file", "") + "': only PNG heightfields are read (convert it)");
+      const bool png = ext == ".png" || ext == ".PNG";
       try {
-        z = read_heightfield_png(f, nrow, ncol);
+        // MuJoCo reads a PNG by its extension and any other file as its binary format.
+        z = png ? read_heightfield_png(f, nrow, ncol) : read_heightfield_bin(f, nrow, ncol);
       } catch (const InputError& err) {
         fail(e, what, err.what());
       }

@@ -1156,20 +1156,46 @@ TEST(ImportMjcf, HeightfieldIsTheSolidABallRestsIn) {
   EXPECT_NEAR(height_at(-1, 2), 0.0, 1e-12);
   EXPECT_NEAR(height_at(0, 2), 0.2, 1e-12);
 
-  // A heightfield on a moving body, and a file that is not PNG, are errors naming file and line.
+  // MuJoCo's binary file (any other extension): int32 nrow, ncol, then float32 rows from -y.
+  // MuJoCo 2.2.2's mj_ray on this file (3 rows of 2: 2 3 / 6 4 / 12 5, size 1 2 1 0.1) found
+  // z = 0, 0.1 at y = -2; 0.4, 0.2 at y = 0; 1, 0.3 at y = 2 (normalised from [2, 12]).
+  const auto binary = [&](const std::string& name, int nrow, int ncol, std::vector<float> z) {
+    std::ofstream f((fs::path(xml).parent_path() / name).string(), std::ios::binary);
+    const int32_t head[2] = {nrow, ncol};
+    f.write(reinterpret_cast<const char*>(head), sizeof head);
+    f.write(reinterpret_cast<const char*>(z.data()), (std::streamsize)(4 * z.size()));
+  };
+  binary("terrain.bin", 3, 2, {2, 3, 6, 4, 12, 5});
+  const std::string xml3 = write("hf/bin.xml", R"(<mujoco>
+  <asset><hfield name="t" file="terrain.bin" size="1 2 1 0.1"/></asset>
+  <worldbody><geom type="hfield" hfield="t"/></worldbody>
+</mujoco>
+)");
+  const Scene s3 = load_scene(write("hf/bin.yaml", "imports: [ { file: " + xml3 + " } ]\n"));
+  c2 = nullptr;
+  for (const BodyDef& b : s3.bodies)
+    for (const Collider& c : b.colliders)
+      if (c.mesh) c2 = &c;
+  ASSERT_NE(c2, nullptr);
+  const double mujoco[3][2] = {{0, 0.1}, {0.4, 0.2}, {1, 0.3}};
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 2; ++c) EXPECT_NEAR(height_at(c ? 1 : -1, -2 + 2 * r), mujoco[r][c], 1e-7) << r << c;
+  binary("short.bin", 3, 2, {2, 3, 6, 4, 12});  // a value short
+  EXPECT_NE(error_of(write("hf/short.xml", R"(<mujoco>
+  <asset><hfield name="t" file="short.bin" size="1 2 1 0.1"/></asset>
+</mujoco>
+)"))
+                .find("short.xml:2: hfield 't': " + (fs::path(xml).parent_path() / "short.bin").string() +
+                      ": 3 x 2 float32 elevations need 32 bytes; the file has 28"),
+            std::string::npos);
+
+  // A heightfield on a moving body is an error naming file and line.
   EXPECT_NE(error_of(write("hf/moving.xml", R"(<mujoco>
   <asset><hfield name="v" nrow="2" ncol="2" elevation="0 1 0 1" size="1 1 1 0.1"/></asset>
   <worldbody><body name="b"><freejoint/><geom type="hfield" hfield="v"/></body></worldbody>
 </mujoco>
 )"))
                 .find("moving.xml:3: geom of body 'b': an hfield geom must be on a static body"),
-            std::string::npos);
-  write("hf/terrain.bin", "binary elevations");
-  EXPECT_NE(error_of(write("hf/bin.xml", R"(<mujoco>
-  <asset><hfield name="v" file="terrain.bin" size="1 1 1 0.1"/></asset>
-</mujoco>
-)"))
-                .find("only PNG heightfields are read"),
             std::string::npos);
 }
 
