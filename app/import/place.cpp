@@ -192,8 +192,8 @@ namespace {
 // The file's camera the import names (imports: camera) becomes the scene's: it looks along its
 // frame's -z with +y up, at its vertical field of view. On a moving body a fixed camera rides in
 // that body's frame (camera.frame); a tracking one follows the body (camera.follow: simreel aims
-// it at the body, where MuJoCo keeps the file's direction); a targeting one is placed aiming at
-// its target's start (MuJoCo turns it as the target moves). Without a name, the file's cameras
+// it at the body, where MuJoCo keeps the file's direction); a targeting one turns to its target
+// (camera.aim) from where it stands in its body. Without a name, the file's cameras
 // are listed in a note.
 void place_camera(const Model& m, const ImportSpec& spec, const std::vector<ModelPose>& X,
                   const std::vector<int>& body_of, const std::vector<PlacedBody>& bodies,
@@ -244,9 +244,36 @@ void place_camera(const Model& m, const ImportSpec& spec, const std::vector<Mode
         c.src.str() + ": mode " + (c.mode == M::track ? "track" : "trackcom") +
         " follows the body aimed at it (simreel's camera.follow; MuJoCo keeps the file's direction)");
   } else if (c.mode == M::targetbody || c.mode == M::targetbodycom) {
+    // MuJoCo: the position stays in the camera's body, the camera turns to the target body's
+    // frame origin (targetbody) or its subtree's centre of mass (targetbodycom). simreel aims at
+    // centres of mass (camera.aim): targetbody's differs by the target's own offset, in a note
+    // when there is one.
     cs.look_at = X[c.target].p;
-    scene.notes.push_back(c.src.str() + ": aimed at '" + m.links[c.target].name +
-                          "' where it starts; it does not turn as the body moves");
+    if (moving) {
+      const ModelPose& B = X[bodies[b].link];
+      const Quat qi = B.q.conjugate();
+      cs.frame_body = prefix + m.links[bodies[b].link].name;
+      cs.position = qi * (eye - B.p);
+      cs.look_at = qi * (cs.look_at - B.p);
+      cs.up = qi * up;
+    }
+    std::vector<bool> in(m.links.size(), false);  // the target's subtree (targetbody: itself)
+    in[c.target] = true;
+    if (c.mode == M::targetbodycom)
+      for (bool grew = true; grew;) {
+        grew = false;
+        for (const ModelJoint& j : m.joints)
+          if (!j.loop && in[j.parent] && !in[j.child]) in[j.child] = grew = true;
+      }
+    std::vector<int> aimed;
+    for (size_t l = 0; l < m.links.size(); ++l) {
+      const int tb = in[l] ? body_of[l] : -1;
+      if (tb >= 0 && std::find(aimed.begin(), aimed.end(), tb) == aimed.end()) aimed.push_back(tb);
+    }
+    for (int tb : aimed) cs.aim.push_back(prefix + m.links[bodies[tb].link].name);
+    if (c.mode == M::targetbody && !aimed.empty())
+      scene.notes.push_back(c.src.str() + ": turns to '" + m.links[c.target].name +
+                            "''s centre of mass (camera.aim; MuJoCo aims at its frame's origin)");
   }
   if ((cs.position - cs.look_at).norm() == 0) cs.look_at = eye + forward;
   scene.camera = cs;

@@ -948,7 +948,8 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
   if (const YAML::Node cam = root["camera"]) {
     const Ctx c = top.child("camera");
     s.camera_given = true;
-    check_keys(cam, c, {"position", "look_at", "up", "fov", "follow", "auto", "frame", "path", "orbit"});
+    check_keys(cam, c,
+               {"position", "look_at", "up", "fov", "follow", "auto", "frame", "path", "orbit", "aim"});
     if (cam["auto"]) s.camera.fit = boolean(cam["auto"], c.child("auto"));
     if (cam["position"]) s.camera.position = vec<3>(cam["position"], c.child("position"));
     if (cam["look_at"]) s.camera.look_at = vec<3>(cam["look_at"], c.child("look_at"));
@@ -963,6 +964,21 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
     if (!s.camera.follow.empty() && !s.camera.frame_body.empty())
       c.child("follow").fail(cam["follow"],
                              "a camera riding in a body's frame does not also follow one: give one");
+    if (const YAML::Node a = cam["aim"]) {
+      const Ctx ca = c.child("aim");
+      if (a.IsScalar()) {
+        s.camera.aim.push_back(text(a, ca));
+      } else if (a.IsSequence() && a.size() > 0) {
+        for (size_t i = 0; i < a.size(); ++i) s.camera.aim.push_back(text(a[i], ca.index(i)));
+      } else {
+        ca.fail(a, "expected a body name or a list of them, got " + show(a));
+      }
+      if (!s.camera.follow.empty())
+        ca.fail(a,
+                "a camera that follows a body moves with it; one that aims turns to it from where it is: "
+                "give one");
+      if (s.camera.fit) ca.fail(a, "camera.auto places a still camera aimed at everything: give one");
+    }
     if (s.camera.fit && !s.camera.frame_body.empty())
       c.child("auto").fail(
           cam["auto"], "camera.auto frames the world: a camera riding in a body's frame is placed by hand");
@@ -1195,6 +1211,15 @@ Scene load_scene_text(const std::string& yaml, const std::string& path) {
   if (!s.camera.follow.empty() && !names.count(s.camera.follow))
     top.child("camera").child("follow").fail(root["camera"]["follow"],
                                              "no body is named '" + s.camera.follow + "'");
+  for (size_t i = 0; i < s.camera.aim.size(); ++i)
+    if (!names.count(s.camera.aim[i])) {
+      const YAML::Node a = root["camera"]["aim"];
+      const Ctx ca = top.child("camera").child("aim");
+      if (a.IsSequence())
+        ca.index(i).fail(a[i], "no body is named '" + s.camera.aim[i] + "'");
+      else
+        ca.fail(a, "no body is named '" + s.camera.aim[i] + "'");
+    }
   if (!s.camera.frame_body.empty() && !names.count(s.camera.frame_body))
     top.child("camera").child("frame").child("body").fail(root["camera"]["frame"],
                                                           "no body is named '" + s.camera.frame_body + "'");

@@ -39,6 +39,10 @@ struct CameraSpec {
   std::string frame_body;
   /// s, `follow: { body, damping }`: the time constant the camera lags the body by (0: rigid)
   double follow_damping = 0;
+  /// `aim: BODY` or `aim: [BODY, ...]`: at every frame the camera turns to the bodies' centre of
+  /// mass (mass-weighted), staying where it is (in the world, or in `frame`'s body); look_at is
+  /// only its direction until the first frame.
+  std::vector<std::string> aim;
   CameraPath path;                   ///< `path:` keys (app/scene/camera_motion.hpp); empty: none
   std::optional<CameraOrbit> orbit;  ///< `orbit:`
 };

@@ -162,6 +162,14 @@ void load_camera_motion(const YAML::Node& root, const std::string& path, Scene& 
     c.child("frame").fail(cam["frame"],
                           "an orbit circles a point or a body in the world; a camera riding in a body's "
                           "frame is placed by hand (a path works in the body's frame)");
+  if (o && !cs.aim.empty())
+    c.child("aim").fail(cam["aim"], "an orbit looks at its centre or its body: give one of orbit, aim");
+  if (p && !cs.aim.empty())
+    for (size_t i = 0; i < p.size(); ++i)
+      if (p[i].IsMap() && p[i]["look_at"])
+        c.child("path").index(i).child("look_at").fail(
+            p[i]["look_at"],
+            "camera.aim turns the camera to its bodies: a path's look_at keys would too; give one");
   if (p) cs.path = load_path(p, c.child("path"), cs);
   if (o) cs.orbit = load_orbit(o, c.child("orbit"), cs, s);
 }

@@ -16,7 +16,7 @@ namespace {
 constexpr uint8_t kGutter[4] = {24, 28, 36, 255};  // the gutters and the title band, display RGB
 
 // The scene's camera with a pane's keys over it. A pane that places its camera itself (position,
-// look_at, up, follow or frame) has no part in the scene camera's path or orbit; one that sets
+// look_at, up, follow or frame) has no part in the scene camera's path, orbit or aim; one that sets
 // only fov (or nothing) moves with them (a path's fov keys over the pane's fov). A pane's follow
 // keeps the scene's follow damping.
 CameraSpec pane_camera(const CameraSpec& base, const PaneCamera& p) {
@@ -25,6 +25,7 @@ CameraSpec pane_camera(const CameraSpec& base, const PaneCamera& p) {
   if (p.position || p.look_at || p.up || p.follow || p.frame_body) {
     c.path = CameraPath();
     c.orbit.reset();
+    c.aim.clear();
   }
   if (p.position) c.position = *p.position;
   if (p.look_at) c.look_at = *p.look_at;

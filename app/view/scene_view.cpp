@@ -76,6 +76,9 @@ SceneView::SceneView(const Scene& scene, const World& world, const ViewOptions& 
   camera.fov_deg = scene.camera.fov;
   path = scene.camera.path;
   orbit = scene.camera.orbit;
+  for (const std::string& name : scene.camera.aim)
+    for (int i = 0; i < world.body_count(); ++i)
+      if (world.def(i).name == name) aim.push_back(i);
   for (int i = 0; i < world.body_count(); ++i) {
     if (world.def(i).name == scene.camera.follow) follow = i;
     if (world.def(i).name == scene.camera.frame_body) ride = i;
@@ -114,6 +117,17 @@ const uint8_t* SceneView::draw(Renderer& r, const World& world, uint8_t* out, lo
     dl_.camera.eye = world.local_to_world(ride, cam.eye);
     dl_.camera.target = world.local_to_world(ride, cam.target);
     dl_.camera.up = world.local_to_world_vec(ride, cam.up);
+  }
+  if (!aim.empty()) {  // camera.aim: turned to the bodies' centre of mass, from where it stands
+    Vec3 sum = Vec3::Zero();
+    double mass = 0;
+    for (int i : aim) {
+      const double m = world.mass(i) > 0 ? world.mass(i) : 1.0;  // a massless static shape: its point
+      sum += m * world.centroid(i);
+      mass += m;
+    }
+    const Vec3 target = sum / mass;
+    if ((target - dl_.camera.eye).norm() > 0) dl_.camera.target = target;
   }
   if (overlays) overlays->build(world, frame >= 0 ? frame : std::lround(world.time() * fps_), dl_);
   if (!overlays) dl_.overlay.clear();

@@ -37,6 +37,7 @@ struct SceneView {
   CameraPath path;                       ///< keys of `camera.path` (empty: none)
   std::optional<CameraOrbit> orbit;      ///< `camera.orbit`
   int orbit_body = -1;                   ///< the body the orbit circles, or -1 (its fixed centre)
+  std::vector<int> aim;                  ///< `camera.aim`: the bodies whose centre of mass it turns to
   std::unique_ptr<DampedFollow> damped;  ///< `follow: { damping > 0 }`, advanced by step_hook()
   RenderSettings settings;
   AntiAliasing aa = AntiAliasing::fxaa;
@@ -59,7 +60,7 @@ struct SceneView {
   // The last frame's overlay geometry (arrows, ghosts, snapshots), for tests.
   const OverlayList& overlay() const { return dl_.overlay; }
   // Whether the camera moves by path or orbit (a fixed camera otherwise, unless it follows or rides).
-  bool moving() const { return !path.empty() || orbit.has_value(); }
+  bool moving() const { return !path.empty() || orbit.has_value() || !aim.empty(); }
   // For FrameLoop::Hooks::step: records trails and joints' periods, and advances a damped follow,
   // at every physics step (empty if there is none of these).
   std::function<void(const World&)> step_hook();

@@ -1040,7 +1040,7 @@ TEST(ImportMjcf, KeyframeTurnsBallJoints) {
 
 // A file's camera named by the import becomes the scene's: it looks along its -z with +y up at
 // its fovy. In the world it stays put; fixed on a moving body it rides in the body's frame; a
-// tracking one follows its body; a targeting one aims at its target's start. Unnamed, the file's
+// tracking one follows its body; a targeting one turns to its target. Unnamed, the file's
 // cameras are listed in a note; a name the file lacks, or a scene camera beside it, is an error.
 TEST(ImportMjcf, FileCamerasBecomeTheScenesCamera) {
   const std::string xml = write("cam/cams.xml", R"(<mujoco>
@@ -1080,7 +1080,10 @@ TEST(ImportMjcf, FileCamerasBecomeTheScenesCamera) {
   EXPECT_TRUE(has(chase.notes, "trackcom follows the body aimed at it"));
   const Scene aim = scene("aim", "aim");
   EXPECT_LT((aim.camera.look_at - Vec3(0, 0, 1)).norm(), 1e-12);
-  EXPECT_TRUE(has(aim.notes, "aimed at 'ball' where it starts"));
+  EXPECT_EQ(aim.camera.aim, std::vector<std::string>{"ball"});  // turned to it at every frame
+  EXPECT_TRUE(aim.camera.frame_body.empty());                   // from the world, where it stands
+  EXPECT_LT((aim.camera.position - Vec3(2, 0, 1)).norm(), 1e-12);
+  EXPECT_TRUE(has(aim.notes, "turns to 'ball''s centre of mass (camera.aim"));
   // Unnamed: listed.
   const Scene plain = load_scene(write("cam/plain.yaml", "imports: [ { file: " + xml + " } ]\n"));
   EXPECT_TRUE(has(plain.notes, "its cameras 'side', 'aim', 'eye', 'chase'"));
