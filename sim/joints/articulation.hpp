@@ -336,7 +336,7 @@ class Mechanism {
   void write_bodies(MotionState* st) const;
   // The same from derivative_world's last kinematics, when that was at q (a Verlet frame's end):
   // poses from the world rotations (not the quaternion products), velocities summed in world
-  // axes; a third of write_bodies' cost.
+  // axes (write_bodies' quaternion products and 6x6 transforms were a fifth of a chain's frame).
   void write_bodies_world(MotionState* st) const;
   // The velocities of every body, link frame ([w; v] at the centre of mass), at q and q'.
   void link_velocities(const double* q, const double* v, std::vector<Vec6>& out);
@@ -511,9 +511,9 @@ class Mechanism {
   Eigen::MatrixXd P_;       ///< nv x nv: constrained inverse inertia (contacts)
   std::vector<double> dq_;  ///< nv scratch
   std::vector<Vec6> rf_;    ///< joint_wrench scratch
-  // What an evaluation touches first, then what only multi-coordinate joints and the mass matrix
-  // use: a chain's evaluation streams every link's record, and at 100 chains of 20 links the
-  // records (1.7 kB each) outgrow the 2 MB L2 of the machines measured on.
+  // What an evaluation touches first (960 bytes), then what only multi-coordinate joints and the
+  // mass matrix use (960 more): a chain's evaluation streams every link's record, and 100 chains
+  // of 20 links' records (3.8 MB) outgrow the 2 MB L2 of the machines measured on.
   struct Work {
     Mat3 E;    ///< motion transform parent link -> this link (Featherstone's X = (E, r)):
     Vec3 r;    ///< E rotates parent coordinates into this link's, r is this link's origin in the parent's

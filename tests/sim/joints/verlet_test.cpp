@@ -320,5 +320,72 @@ TEST(Verlet, ResumesBitForBitAndThreadsAgree) {
   }
 }
 
+// Verlet's evaluation in world axes (derivative_world) and its read-out (write_bodies_world)
+// against the link-frame algorithm dopri5 uses, on a mechanism with every feature they share:
+// hinges and sliders on skew axes, bodies turned off their principal axes, a sprung and damped
+// hinge with a rotor's armature, and a wrench on one body, 2 m from the world's origin. The two
+// differ only in rounding: the accelerations agree to 1e-12 of their size, the bodies' written
+// poses and velocities to 1e-13 (measured 4e-15 of 14.6 rad/s^2, and 1.4e-15).
+TEST(Verlet, WorldAxesEvaluationMatchesTheLinkFrameOne) {
+  Bodies b;
+  std::vector<JointDef> joints;
+  Vec3 p(1.3, -1.2, 1.0);
+  for (int i = 0; i < 6; ++i) {
+    const Quat q(Eigen::AngleAxisd(0.3 * i + 0.2, Vec3(1, 2, 3).normalized()));
+    const Vec3 x = p + Vec3(0.1, 0.05 * i, -0.1);
+    b.add("l" + std::to_string(i), 0.5 + 0.1 * i, Vec3(0.01, 0.02, 0.015 + 0.001 * i), x, q);
+    JointDef j;
+    j.type = i % 3 == 2 ? JointType::prismatic : JointType::revolute;
+    j.parent = i - 1;
+    j.child = i;
+    j.anchor_W = p;
+    j.axis_W = Vec3(std::sin(i), std::cos(i), 0.3 * i).normalized();
+    if (i == 1) {
+      j.spring = JointSpring{2.0, 0.3, 0.1};
+      j.armature = 0.004;
+    }
+    joints.push_back(j);
+    p = x + Vec3(0.05, 0, -0.05);
+  }
+  Articulations art;
+  std::vector<std::string> warnings;
+  art.build(joints, verlet(), b.defs, b.model, b.state, warnings);
+  Mechanism& m = art.mechanisms()[0];
+  ASSERT_TRUE(m.world_aba_ok());
+  const int n = m.nq + m.nv;
+  std::vector<double> y(n), d_link(n), d_world(n);
+  for (int k = 0; k < m.nq; ++k) y[k] = 0.4 * std::sin(1.7 * k + 0.3), y[m.nq + k] = 1.5 * std::cos(2.3 * k);
+  std::vector<Wrench> wr(b.state.size());
+  wr[3].f_W = Vec3(0.7, -0.2, 1.1);
+  wr[3].tau_W = Vec3(0.05, 0.02, -0.03);
+  const Vec3 g(0, 0, -9.81);
+  m.derivative(y.data(), d_link.data(), g, wr.data(), nullptr);
+  m.derivative_world(y.data(), d_world.data(), g, wr.data());
+  double size = 0, diff = 0;
+  for (int k = 0; k < n; ++k) {
+    size = std::max(size, std::abs(d_link[k]));
+    diff = std::max(diff, std::abs(d_world[k] - d_link[k]));
+  }
+  std::printf("accelerations: largest %.3g, largest difference %.2e\n", size, diff);
+  EXPECT_LT(diff, 1e-12 * size);
+
+  // The read-outs at the mechanism's own coordinates and rates.
+  std::copy(y.begin(), y.begin() + m.nq, m.q.begin());
+  std::copy(y.begin() + m.nq, y.end(), m.v.begin());
+  std::vector<MotionState> world_read = b.state, link_read = b.state;
+  m.derivative_world(y.data(), d_world.data(), g, nullptr);
+  m.write_bodies(world_read.data());  // derivative_world's kinematics are at q: the world read-out
+  m.derivative(y.data(), d_link.data(), g, nullptr, nullptr);
+  m.write_bodies(link_read.data());  // they are not any more: the link-frame one
+  double worst = 0;
+  for (size_t i = 0; i < b.state.size(); ++i) {
+    const MotionState &a = world_read[i], &c = link_read[i];
+    worst = std::max({worst, (a.x_W - c.x_W).norm(), (a.v_W - c.v_W).norm(), (a.w_P - c.w_P).norm(),
+                      a.q_WP.angularDistance(c.q_WP)});
+  }
+  std::printf("bodies written: largest difference %.2e\n", worst);
+  EXPECT_LT(worst, 1e-13);
+}
+
 }  // namespace
 }  // namespace simreel
