@@ -355,12 +355,7 @@ void Mechanism::derivative_world(const double* y, double* dy, const Vec3& g, con
   double* dv = dy + nq;
   kinematics(q, true);
   const size_t n = links.size();
-  for (const Dof& d : dofs) {  // as derivative(): constant generalised forces of their modes
-    double f = 0;
-    if (d.motor != 0 && !d.hold) f += d.push * d.max_force;
-    if (d.friction > 0 && !d.stick) f -= d.slide * d.friction;
-    tau_[d.iv] = f;
-  }
+  // No stops, motors or friction here (verlet_ok: no Dofs), so no generalised forces of modes.
   // Pass 1, root to leaves. Motion vectors are [w; v_O] (v_O: the velocity of the body point at
   // origin_), force vectors [n_O; f], all in world axes; s, the joint's motion subspace, moves
   // with its link, so the velocity-product term is v x s q' (Featherstone eq. 7.38).
@@ -456,7 +451,6 @@ void Mechanism::derivative_world(const double* y, double* dy, const Vec3& g, con
                                s[5] * U[5] + l.armature);
       double u = -(s[0] * P[0] + s[1] * P[1] + s[2] * P[2] + s[3] * P[3] + s[4] * P[4] + s[5] * P[5]);
       if (l.stiffness != 0 || l.damping != 0) u += -l.stiffness * (q[l.iq] - l.rest) - l.damping * v[l.iv];
-      if (l.dof_index >= 0) u += tau_[l.iv];
       for (int k = 0; k < 6; ++k) w.U1[k] = U[k];
       w.Dinv1 = Dinv;
       w.u1 = u;
