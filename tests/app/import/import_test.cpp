@@ -1143,11 +1143,15 @@ TEST(ImportMjcf, HeightfieldIsTheSolidABallRestsIn) {
   <worldbody><geom type="hfield" hfield="s"/></worldbody>
 </mujoco>
 )");
+  auto mesh_of = [](const Scene& sc) {  // the terrain's collider
+    const Collider* out = nullptr;
+    for (const BodyDef& b : sc.bodies)
+      for (const Collider& c : b.colliders)
+        if (c.mesh) out = &c;
+    return out;
+  };
   const Scene s2 = load_scene(write("hf/steps.yaml", "imports: [ { file: " + xml2 + " } ]\n"));
-  const Collider* c2 = nullptr;
-  for (const BodyDef& b : s2.bodies)
-    for (const Collider& c : b.colliders)
-      if (c.mesh) c2 = &c;
+  const Collider* c2 = mesh_of(s2);
   ASSERT_NE(c2, nullptr);
   auto height_at = [&](double xx, double yy) {
     for (const Vec3& v : c2->mesh->vertices)
@@ -1175,10 +1179,7 @@ TEST(ImportMjcf, HeightfieldIsTheSolidABallRestsIn) {
 </mujoco>
 )");
   const Scene s3 = load_scene(write("hf/bin.yaml", "imports: [ { file: " + xml3 + " } ]\n"));
-  c2 = nullptr;
-  for (const BodyDef& b : s3.bodies)
-    for (const Collider& c : b.colliders)
-      if (c.mesh) c2 = &c;
+  c2 = mesh_of(s3);
   ASSERT_NE(c2, nullptr);
   const double mujoco[3][2] = {{0, 0.1}, {0.4, 0.2}, {1, 0.3}};
   for (int r = 0; r < 3; ++r)
