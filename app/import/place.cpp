@@ -246,8 +246,8 @@ void place_camera(const Model& m, const ImportSpec& spec, const std::vector<Mode
   } else if (c.mode == M::targetbody || c.mode == M::targetbodycom) {
     // MuJoCo: the position stays in the camera's body, the camera turns to the target body's
     // frame origin (targetbody) or its subtree's centre of mass (targetbodycom). simreel aims at
-    // centres of mass (camera.aim): targetbody's differs by the target's own offset, in a note
-    // when there is one.
+    // centres of mass (camera.aim): for targetbody that differs by the target's own offset from
+    // its frame, which a note says.
     cs.look_at = X[c.target].p;
     if (moving) {
       const ModelPose& B = X[bodies[b].link];
