@@ -17,6 +17,7 @@
 
 #include "sim/base/dormand_prince.hpp"
 #include "sim/base/enum_names.hpp"
+#include "sim/base/sincos.hpp"
 #include "sim/dynamics/forces.hpp"
 
 namespace simreel {
@@ -139,6 +140,8 @@ void Mechanism::allocate() {
   out_q_.resize(links.size());
   out_x_.resize(links.size());
   out_v_.resize(links.size());
+  ke_a_.resize(links.size());
+  ke_b_.resize(links.size());
 }
 
 void Mechanism::kinematics(const double* q, bool world) {
@@ -151,20 +154,13 @@ void Mechanism::kinematics(const double* q, bool world) {
     Vec3 t = l.t0;
     switch (l.kind) {
       case LinkJoint::revolute: {
-        // R = R0 Rot(a_c, q), Rot(a, q) = cos q 1 + sin q [a]x + (1 - cos q) a a^T (Rodrigues).
-        const double c = std::cos(q[l.iq]), s = std::sin(q[l.iq]), k = 1 - c;
-        const Vec3& a = l.a_c;
-        const double Rot[3][3] = {
-            {c + k * a.x() * a.x(), k * a.x() * a.y() - s * a.z(), k * a.x() * a.z() + s * a.y()},
-            {k * a.y() * a.x() + s * a.z(), c + k * a.y() * a.y(), k * a.y() * a.z() - s * a.x()},
-            {k * a.z() * a.x() - s * a.y(), k * a.z() * a.y() + s * a.x(), c + k * a.z() * a.z()}};
-        // Written out: Eigen leaves the 3x3 products out of line at -O2 (a tenth of a chain's
-        // evaluation with the world pose's product below); same sums in the same order.
+        double s, c;
+        sin_cos(q[l.iq], s, c);
+        const double k = 1 - c;
+        // Written out: Eigen leaves the 3x3 sums out of line at -O2.
         for (int i = 0; i < 3; ++i)
-          for (int j = 0; j < 3; ++j)
-            R(i, j) = l.R0(i, 0) * Rot[0][j] + l.R0(i, 1) * Rot[1][j] + l.R0(i, 2) * Rot[2][j];
-        for (int i = 0; i < 3; ++i)
-          t[i] = l.p_pF[i] - (R(i, 0) * l.p_cF[0] + R(i, 1) * l.p_cF[1] + R(i, 2) * l.p_cF[2]);
+          for (int j = 0; j < 3; ++j) R(i, j) = l.R0(i, j) + s * l.Rs(i, j) + k * l.Rk(i, j);
+        for (int i = 0; i < 3; ++i) t[i] = l.t0[i] - s * l.ts[i] - k * l.tk[i];
         break;
       }
       case LinkJoint::prismatic:
@@ -509,7 +505,7 @@ double Mechanism::rk_step(double hs, const Vec3& g, const Wrench* wr, const Moti
     // Loads switch only at steps' ends (advance cuts steps there): a step's stages all see the
     // loads of its interior, read at its middle (its end may be an edge).
     time_ = t_step_ + 0.5 * hs;
-    derivative(ys_.data(), k_[s].data(), g, wr, st);
+    step_derivative(ys_.data(), k_[s].data(), g, wr, st);
   }
   // The 7th stage is evaluated at the 5th-order solution (its row of A is b): ys_ holds y1.
   double e2 = 0;
@@ -561,7 +557,7 @@ void Mechanism::read_span(double t, double* y) const {
 void Mechanism::retake_span(const Vec3& g, const Wrench* wr, const MotionState* st) {
   std::copy(span.y0.begin(), span.y0.end(), y0_.begin());
   time_ = t_step_ = span.t0;
-  derivative(y0_.data(), k_[0].data(), g, wr, st);
+  step_derivative(y0_.data(), k_[0].data(), g, wr, st);
   rk_step(span.len, g, wr, st, 1.0);
   keep_span(span.t0, span.len, g);
 }
@@ -606,7 +602,7 @@ void Mechanism::measure_rate(int pairs, const Vec3& g, const Wrench* wr, const M
   normalize(x);
   auto apply = [&]() {  // x <- J x / |J x|, returning |J x| (x unit)
     for (int j = 0; j < ny; ++j) ys_[j] = y0_[j] + eps * x[j];
-    verlet_derivative(ys_.data(), k_[1].data(), g, wr, st);
+    step_derivative(ys_.data(), k_[1].data(), g, wr, st);
     for (int j = 0; j < ny; ++j) x[j] = (k_[1][j] - k_[0][j]) / eps;
     return normalize(x);
   };
@@ -624,6 +620,36 @@ void Mechanism::measure_rate(int pairs, const Vec3& g, const Wrench* wr, const M
   verlet.rate = rate;
 }
 
+void Mechanism::kinetic_energies(const double* a, const double* b, double& Ea, double& Eb) {
+  Ea = Eb = 0;
+  for (size_t i = 0; i < links.size(); ++i) {
+    const Link& l = links[i];
+    const Work& w = work_[i];
+    Vec6 ja = Vec6::Zero(), jb = Vec6::Zero();
+    if (l.nv == 1) {
+      ja = l.s1 * a[l.iv];
+      jb = l.s1 * b[l.iv];
+    } else if (l.nv > 0) {
+      ja = l.S * Eigen::Map<const VecX6>(a + l.iv, l.nv);
+      jb = l.S * Eigen::Map<const VecX6>(b + l.iv, l.nv);
+    }
+    if (l.parent < 0) {
+      ke_a_[i] = ja;
+      ke_b_[i] = jb;
+    } else {
+      transform_motion_add(w.E, w.r, ke_a_[l.parent].data(), ja.data(), ke_a_[i].data());
+      transform_motion_add(w.E, w.r, ke_b_[l.parent].data(), jb.data(), ke_b_[i].data());
+    }
+    // Link frames are principal at the centre of mass: 2 T = I_P . w^2 + m |v|^2.
+    const Vec6& A = ke_a_[i];
+    const Vec6& B = ke_b_[i];
+    for (int k = 0; k < 3; ++k) {
+      Ea += l.I_P[k] * A[k] * A[k] + l.mass * A[k + 3] * A[k + 3];
+      Eb += l.I_P[k] * B[k] * B[k] + l.mass * B[k + 3] * B[k + 3];
+    }
+  }
+}
+
 Mechanism::VerletFrame Mechanism::advance_verlet(double dt, const Vec3& g, const Wrench* wr,
                                                  const MotionState* st, const JointSettings& js) {
   const bool measured =
@@ -638,7 +664,7 @@ Mechanism::VerletFrame Mechanism::advance_verlet(double dt, const Vec3& g, const
     std::copy(verlet.a.begin(), verlet.a.end(), a);
   } else {
     time_ = frame_time;
-    verlet_derivative(y0_.data(), k_[0].data(), g, wr, st);
+    step_derivative(y0_.data(), k_[0].data(), g, wr, st);
   }
   // The first measurement iterates from a fixed start until the rate holds within
   // kVerletConverged (the two fastest modes of a 20-link chain differ by 12%: 5 pairs, 0.6% low);
@@ -663,28 +689,37 @@ Mechanism::VerletFrame Mechanism::advance_verlet(double dt, const Vec3& g, const
   for (int s = 0; s < n; ++s) {
     const double hs = dt / n;
     const double* y = y0_.data();
-    double vmax = 0;
     for (int j = 0; j < nv; ++j) {
       const double vh = y[nq + j] + 0.5 * hs * a[j];
       ys_[j] = y[j] + hs * vh;              // q1
       ys_[nq + j] = y[nq + j] + hs * a[j];  // the predicted rate
       y1_[nq + j] = vh;
-      vmax = std::max(vmax, std::abs(vh));
     }
     t_step_ = frame_time + s * hs;
     time_ = t_step_ + hs;
-    verlet_derivative(ys_.data(), k_[1].data(), g, wr, st);
+    step_derivative(ys_.data(), k_[1].data(), g, wr, st);
     const double* a1 = k_[1].data() + nq;
     bool finite = true;
-    double change = 0;
+    double change = 0, vmax = 0;
     for (int j = 0; j < nv; ++j) {
-      y1_[j] = ys_[j];
-      y1_[nq + j] += 0.5 * hs * a1[j];
       change = std::max(change, std::abs(a1[j] - a[j]));
+      vmax = std::max(vmax, std::abs(y1_[nq + j]));
+      y1_[j] = ys_[j];
+      k_[2][j] = 0.5 * hs * (a1[j] - a[j]);  // the predictor's error, for the energy test
+      y1_[nq + j] += 0.5 * hs * a1[j];
       finite = finite && std::isfinite(y1_[nq + j]) && std::isfinite(y1_[j]);
     }
     ++steps_taken;
-    if (js.substeps == 0 && !(0.5 * hs * change <= kVerletResolve * vmax)) {
+    // Resolved if the predictor's error is within kVerletResolve of the largest rate, or else
+    // carries at most kVerletEnergyShare of the kinetic energy: a fast mode in light links (a
+    // heavy chain's) can carry the largest rates and almost none of the energy.
+    bool resolved = 0.5 * hs * change <= kVerletResolve * vmax;
+    if (!resolved && finite) {
+      double Ee = 0, Ev = 0;
+      kinetic_energies(k_[2].data(), y1_.data() + nq, Ee, Ev);
+      resolved = Ee <= kVerletEnergyShare * Ev;
+    }
+    if (js.substeps == 0 && !resolved) {
       // Not resolved (or not finite): dopri5 takes the frame from its start, and the rate is
       // measured again at the next.
       std::copy(verlet.y_start.begin(), verlet.y_start.end(), y0_.begin());
@@ -796,7 +831,7 @@ bool Mechanism::advance(double dt, const Vec3& g, const Wrench* wr, const Motion
         }
     if (!have_k1) {
       time_ = t_step_;
-      derivative(y0_.data(), k_[0].data(), g, wr, st);
+      step_derivative(y0_.data(), k_[0].data(), g, wr, st);
       if (events_on) event_values(y0_.data(), g0_.data());
     }
     have_k1 = true;
@@ -944,7 +979,13 @@ void Mechanism::write_bodies(MotionState* st) const {
     const double* qq = q.data() + l.iq;
     Quat qpi;
     Vec3 t;
-    if (l.kind == LinkJoint::free) {
+    if (l.kind == LinkJoint::revolute) {
+      double sh, ch;
+      sin_cos(0.5 * qq[0], sh, ch);
+      qpi.coeffs() = ch * l.qh0.coeffs() + sh * l.qh1.coeffs();
+      const double sq = 2 * sh * ch, kq = 2 * sh * sh;  // sin q, 1 - cos q
+      t = l.th0 - sq * l.th1 - kq * l.th2;
+    } else if (l.kind == LinkJoint::free) {
       qpi = joint_rotation(l, qq);
       t = Vec3(qq[0], qq[1], qq[2]);
     } else {
@@ -962,10 +1003,16 @@ void Mechanism::write_bodies(MotionState* st) const {
     }
     qW[i].normalize();
     // Velocity: v_i = X v_parent + S q' (the transform from the same pose).
-    const Mat3 E = qpi.conjugate().toRotationMatrix();
     Vec6 vJ = Vec6::Zero();
-    if (l.nv > 0) vJ = l.S * Eigen::Map<const VecX6>(v.data() + l.iv, l.nv);
-    vel[i] = l.parent < 0 ? vJ : Vec6(motion_transform(E, t) * vel[l.parent] + vJ);
+    if (l.nv == 1)
+      vJ = l.s1 * v[l.iv];
+    else if (l.nv > 0)
+      vJ = l.S * Eigen::Map<const VecX6>(v.data() + l.iv, l.nv);
+    if (l.parent < 0)
+      vel[i] = vJ;
+    else
+      transform_motion_add(qpi.conjugate().toRotationMatrix(), t, vel[l.parent].data(), vJ.data(),
+                           vel[i].data());
     if (l.body < 0) continue;
     MotionState& s = st[l.body];
     s.q_WP = qW[i];
@@ -1499,6 +1546,18 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
       l.a_c = l.R_cF * l.axis_F;
       l.a_p = l.R_pF * l.axis_F;
       l.p_cF_F = l.q_cF.conjugate() * l.p_cF;
+      if (l.kind == LinkJoint::revolute) {
+        l.Rs = l.R0 * skew(l.a_c);
+        l.Rk = l.Rs * skew(l.a_c);
+        l.ts = l.Rs * l.p_cF;
+        l.tk = l.Rk * l.p_cF;
+        const Vec3& a = l.axis_F;
+        l.qh0 = l.q_pF * l.q_cF.conjugate();
+        l.qh1 = l.q_pF * Quat(0, a.x(), a.y(), a.z()) * l.q_cF.conjugate();
+        l.th0 = l.p_pF - l.q_pF * l.p_cF_F;
+        l.th1 = l.q_pF * a.cross(l.p_cF_F);
+        l.th2 = l.q_pF * a.cross(a.cross(l.p_cF_F));
+      }
       l.iq = m.nq;
       l.iv = m.nv;
       m.nq += l.nq;

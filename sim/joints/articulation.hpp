@@ -52,6 +52,15 @@ struct Link {
   // its origin by a_p q).
   Mat3 R0 = Mat3::Identity();
   Vec3 t0 = Vec3::Zero(), a_c = Vec3::UnitZ(), a_p = Vec3::UnitZ();
+  // A hinge's pose in its parent as a polynomial in (sin q, 1 - cos q): Rot(a, q) = 1 + sin q [a]x +
+  // (1 - cos q) [a]x^2 (Rodrigues), so R = R0 + sin q Rs + (1 - cos q) Rk with Rs = R0 [a_c]x,
+  // Rk = R0 [a_c]x^2, and its origin t0 - sin q Rs p_cF - (1 - cos q) Rk p_cF.
+  Mat3 Rs = Mat3::Zero(), Rk = Mat3::Zero();
+  Vec3 ts = Vec3::Zero(), tk = Vec3::Zero();
+  // The same pose for write_bodies, as quaternions: q_pF (cos(q/2) + sin(q/2) axis_F) q_cF^-1 =
+  // cos(q/2) qh0 + sin(q/2) qh1, and the origin th0 - sin q th1 - (1 - cos q) th2.
+  Quat qh0 = Quat::Identity(), qh1 = Quat::Identity();
+  Vec3 th0 = Vec3::Zero(), th1 = Vec3::Zero(), th2 = Vec3::Zero();
   Vec3 p_cF_F = Vec3::Zero();  ///< the centre of mass in the joint frame (q_cF^-1 p_cF): write_bodies
   double mass = 0;             ///< kg
   Vec3 I_P = Vec3::Zero();     ///< kg m^2, principal moments
@@ -130,24 +139,35 @@ class Mechanism {
   // on from the next. A smooth motion at w stays near (w h)^2 / 2; a chain's swing, whose fastest
   // modes carry a little of it, measured 0.07 (0.25 at its release, where v+ is small).
   static constexpr double kVerletResolve = 0.3;
+  // A step failing that test is still resolved when its predictor's error, as a velocity, has at
+  // most this share of the motion's kinetic energy (the error's at most 1e-2 of the motion's as a
+  // velocity in the mass metric). The 1000:1 chain's fast mode scored at most 2.6e-3 there (median
+  // 4e-5: the light links' oscillation, a millionth of the energy), while the level chain's
+  // whip, where the energy runs into the last links, scores a median 0.4; a largest-rate test
+  // alone handed the heavy chain's frames to dopri5, 7 times the cost for the same energy error.
+  static constexpr double kVerletEnergyShare = 1e-4;
   bool verlet_ok() const { return !has_rows() && !loop_springs_on && nq == nv; }
-  // Verlet's evaluations on a mechanism without loads (every link then has at most one
-  // coordinate, as nq == nv) take derivative_world: the same articulated-body algorithm with
-  // every spatial quantity in world axes about one point of the mechanism (Featherstone 2008,
-  // sec. 7.3, "ABA in world coordinates"). A link's articulated inertia then passes to its parent
-  // as it is: the 6x6 congruence X^T I X per link (a quarter of a chain's evaluation in link
-  // frames) becomes 21 additions, and the rotations move to one R I R^T per body. It rounds
-  // differently from derivative(), which dopri5 keeps so that its trajectories keep their bits.
+  // The integrators' evaluations on a mechanism without rows, loop springs or loads (every link
+  // then has at most one coordinate, as nq == nv) take derivative_world: the same articulated-body
+  // algorithm with every spatial quantity in world axes about one point of the mechanism
+  // (Featherstone 2008, sec. 7.3, "ABA in world coordinates"). A link's articulated inertia then
+  // passes to its parent as it is: the 6x6 congruence X^T I X per link (a quarter of a chain's
+  // evaluation in link frames) becomes 21 additions, and the rotations move to one R I R^T per
+  // body. derivative() stays for everything else (modes, loops, contact rows), which reads its
+  // link-frame quantities afterwards.
   bool world_aba_ok() const { return verlet_ok() && loads.empty(); }
   void derivative_world(const double* y, double* dy, const Vec3& g, const Wrench* wr);
-  // Verlet's evaluation: derivative_world where world_aba_ok(), else derivative().
-  void verlet_derivative(const double* y, double* dy, const Vec3& g, const Wrench* wr,
-                         const MotionState* st) {
+  // A step's evaluation (Verlet's and dopri5's): derivative_world where world_aba_ok(), else
+  // derivative().
+  void step_derivative(const double* y, double* dy, const Vec3& g, const Wrench* wr, const MotionState* st) {
     if (world_aba_ok())
       derivative_world(y, dy, g, wr);
     else
       derivative(y, dy, g, wr, st);
   }
+  // Twice the kinetic energies (J) of joint velocities a and b, a^T M a and b^T M b, at the last
+  // evaluation's configuration (its kinematics): each link's velocity carried out from the root.
+  void kinetic_energies(const double* a, const double* b, double& Ea, double& Eb);
   // The frame step by velocity Verlet: done, failed (the state stopped being finite, or the
   // steps the rate needs exceed JointSettings::max_steps), or unresolved (y0_ back at the frame's
   // start, for dopri5 to take).
@@ -554,6 +574,7 @@ class Mechanism {
   mutable std::vector<Quat> out_q_;  ///< write_bodies' scratch: no allocation per step
   mutable std::vector<Vec3> out_x_;
   mutable std::vector<Vec6> out_v_;
+  std::vector<Vec6> ke_a_, ke_b_;  ///< kinetic_energies' link velocities
 };
 
 class Articulations {
