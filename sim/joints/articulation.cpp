@@ -1088,20 +1088,26 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
   // coordinate), then the rest, each group in file order: a loop is closed by a plain joint
   // wherever it has one, whichever joint the file wrote last. A scene whose loops were already
   // closed by plain joints gets the same tree as in file order.
+  // A ball joint with a spring (tree_only 2) is taken into the tree after those and before the
+  // rest, and may close a loop that has no plain joint: its torque then acts between the two bodies
+  // as a loop's hinge spring does.
   std::vector<char> tree_only(nj, 0);
   for (int j = 0; j < nj; ++j) {
     const JointDef& d = joints_[j];
     const bool one_axis = d.type == JointType::revolute || d.type == JointType::prismatic;
+    const bool ball_spring = d.spring && d.type == JointType::spherical;
     if (d.type == JointType::wheel || d.motor || d.motor2 || d.steering || d.friction != 0 || d.ball_limits ||
-        d.armature != 0 || d.mimic || (d.spring && !one_axis) || (d.limits && !one_axis))
+        d.armature != 0 || d.mimic || (d.spring && !one_axis && !ball_spring) || (d.limits && !one_axis))
       tree_only[j] = 1;
+    else if (ball_spring)
+      tree_only[j] = 2;
     if (!d.mimic) continue;
     if (d.mimic->leader >= 0 && d.mimic->leader < nj) tree_only[d.mimic->leader] = 1;
     for (const auto& [l, c] : d.mimic->also)
       if (l >= 0 && l < nj) tree_only[l] = 1;
   }
   std::vector<int> order;
-  for (int pass = 1; pass >= 0; --pass)
+  for (int pass : {1, 2, 0})
     for (int j = 0; j < nj; ++j)
       if (tree_only[j] == pass) order.push_back(j);
   for (int j : order) {
@@ -1265,14 +1271,14 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
       if (parent_joint[x] < 0) break;
     }
     if (closes) {
-      if (tree_only[j])
+      if (tree_only[j] == 1)
         throw InputError(
             name_of(j) +
             ": closes a loop but carries what only a tree joint can (a motor, friction, armature, a "
-            "wheel, cone or twist stops, a mimic, or a spring or limits on a joint without one "
-            "coordinate), and the tree takes such joints first: no plain joint of this loop can close "
-            "it. Make one of the loop's joints plain (a spring, and limits on a revolute or prismatic "
-            "joint, are allowed on it)");
+            "wheel, cone or twist stops, a mimic, or a spring or limits on a universal joint), and the "
+            "tree takes such joints first: no plain joint of this loop can close it. Make one of the "
+            "loop's joints plain (a spring on it, and limits on a revolute or prismatic joint, are "
+            "allowed)");
       loop_joints.push_back(j);
       continue;
     }

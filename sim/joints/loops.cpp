@@ -401,6 +401,17 @@ void Mechanism::loop_springs(std::vector<Vec6>* f) {
       const double tau = -L.stiffness * (angle - L.rest) - L.damping * (wb - wa).dot(axis_W);
       fb.head<3>() -= Rb.transpose() * (tau * axis_W);
       if (fa) fa->head<3>() += Ra.transpose() * (tau * axis_W);
+    } else if (L.kind == Loop::Kind::spherical) {
+      // A ball joint's spring: k |phi|^2 / 2 with phi the rotation vector of b's turn relative to
+      // a's since the start, in a's axes (D = (R_a^T R_b) (R_a0^T R_b0)^T). Turning b by dt w_b
+      // turns D by dt R_a^T w_b on the left, and phi is the fixed vector of D's rotation, so the
+      // potential's rate is k phi . R_a^T w_b: the torque on b is -k R_a phi (on a its opposite),
+      // with the dashpot -c (w_b - w_a), as on a ball joint in the tree.
+      const Quat qa = L.la < 0 ? Quat::Identity() : Quat(Ra);
+      const Vec3 phi = rotation_vector(qa.conjugate() * Quat(Rb) * (L.q_a0.conjugate() * L.q_b0).conjugate());
+      const Vec3 T = -L.stiffness * (Ra * phi) - L.damping * (wb - wa);
+      fb.head<3>() -= Rb.transpose() * T;
+      if (fa) fa->head<3>() += Ra.transpose() * T;
     } else {
       // The slide along the axis, and both forces at b's anchor: a's point there moves with a,
       // so the force pair's power is the spring's along the slide's rate (which includes the

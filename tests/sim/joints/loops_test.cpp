@@ -610,5 +610,100 @@ TEST(Loops, ClosingSliderHeldOnItsStopWhileItsAxisTurns) {
   EXPECT_LT(worst, 1e-8);
 }
 
+// A ball joint with a spring may close a loop none of whose joints is plain. A body (principal
+// moments 0.1, 0.2, 0.3 kg m^2) on a hinge about z through its centre of mass, the hinge carrying a
+// rotor's armature (so the tree must take it), and a ball joint at the same point with a spring
+// k = 3 N m/rad closing the loop. Started turning at w0 = 1 rad/s about z, no gravity: the spring's
+// torque is -k q about z (phi stays on the axis), so q = (w0 / w) sin(w t) with
+// w = sqrt(k / (I_z + armature)) exactly, and the energy, spring and rotor included, holds.
+TEST(Loops, SprungBallJointClosesALoopAndTurnsAtItsClosedForm) {
+  const double k = 3, Iz = 0.3, arm = 0.05, w0 = 1.0;
+  for (bool ball_first : {false, true}) {
+    SCOPED_TRACE(ball_first ? "ball written first" : "hinge written first");
+    Bodies b;
+    b.add("body", 2.0, Vec3(0.1, 0.2, Iz), Vec3(0.3, -0.2, 1.0));
+    b.state[0].w_P = Vec3(0, 0, w0);
+    JointDef h = joint(JointType::revolute, -1, 0, Vec3(0.3, -0.2, 1.0), Vec3::UnitZ());
+    h.armature = arm;
+    JointDef ball = joint(JointType::spherical, -1, 0, Vec3(0.3, -0.2, 1.0), Vec3::UnitZ());
+    ball.spring = JointSpring{k, 0, 0};
+    std::vector<JointDef> js = ball_first ? std::vector<JointDef>{ball, h} : std::vector<JointDef>{h, ball};
+    Articulations art;
+    std::vector<std::string> warnings;
+    art.build(js, JointSettings{}, b.defs, b.model, b.state, warnings);
+    const int hinge = ball_first ? 1 : 0;
+    ASSERT_EQ(art.mechanisms()[0].loops.size(), 1u);
+    const double w = std::sqrt(k / (Iz + arm));
+    const double E0 = 0.5 * (Iz + arm) * w0 * w0;
+    double worst = 0, worst_E = 0;
+    for (int i = 1; i <= 180; ++i) {
+      ASSERT_TRUE(art.step(1.0 / 60, Vec3::Zero(), nullptr, b.state.data()));
+      const double t = i / 60.0;
+      worst = std::max(worst, std::abs(art.position(hinge) - w0 / w * std::sin(w * t)));
+      const double E = 0.5 * b.state[0].w_P.dot(Vec3(0.1, 0.2, Iz).cwiseProduct(b.state[0].w_P)) +
+                       art.spring_energy() + art.armature_energy();
+      worst_E = std::max(worst_E, std::abs(E - E0) / E0);
+    }
+    EXPECT_LT(worst, 1e-8);    // rad: dopri5 at its default tolerance
+    EXPECT_LT(worst_E, 1e-8);  // of E0
+  }
+}
+
+// The same spring in three dimensions: a body in a gimbal (an outer ring on a hinge about x with
+// armature, the body on a hinge about y in it with armature, both axes through the body's centre)
+// held to the world at that centre by a sprung ball joint, which closes the loop. Spun about both
+// hinges, the body wobbles against the spring; no gravity. The energy (body, ring, rotors, spring)
+// holds, and a dashpot on the ball joint (c = 0.2 N m s/rad) dissipates exactly its power:
+// E(t) = E0 - integral of c |w_b - w_a|^2.
+TEST(Loops, SprungBallJointClosingAGimbalKeepsItsEnergy) {
+  for (double c : {0.0, 0.2}) {
+    SCOPED_TRACE(c == 0 ? "undamped" : "damped");
+    Bodies b;
+    const Vec3 O(0.1, 0.4, 0.8);
+    b.add("ring", 0.5, Vec3(0.02, 0.01, 0.01), O);
+    // The body starts turned off the world's axes (so b's start rotation relative to a's is not
+    // the identity, and R_a phi differs from R_b phi).
+    const Quat q0(Eigen::AngleAxisd(0.7, Vec3(1, -2, 0.5).normalized()));
+    b.add("body", 2.0, Vec3(0.1, 0.2, 0.3), O, q0);
+    b.state[0].w_P = Vec3(1.5, 0, 0);
+    b.state[1].w_P = q0.conjugate() * Vec3(1.5, -2.0, 0);
+    JointDef outer = joint(JointType::revolute, -1, 0, O, Vec3::UnitX());
+    outer.armature = 0.01;
+    JointDef inner = joint(JointType::revolute, 0, 1, O, Vec3::UnitY());
+    inner.armature = 0.02;
+    JointDef ball = joint(JointType::spherical, -1, 1, O, Vec3::UnitZ());
+    ball.spring = JointSpring{4.0, c, 0};
+    Articulations art;
+    std::vector<std::string> warnings;
+    art.build({outer, inner, ball}, JointSettings{}, b.defs, b.model, b.state, warnings);
+    ASSERT_EQ(art.mechanisms()[0].loops.size(), 1u);
+    auto energy = [&] {
+      double E = art.spring_energy() + art.armature_energy();
+      for (int i = 0; i < 2; ++i) E += 0.5 * b.state[i].w_P.dot(b.model[i].I_P.cwiseProduct(b.state[i].w_P));
+      return E;
+    };
+    const double E0 = energy();
+    double dissipated = 0, worst = 0, turned = 0;
+    Vec3 w_prev = b.state[1].q_WP * b.state[1].w_P;
+    // The dashpot's work by the trapezoid rule on 1/480 s steps (its own error about 1e-6 of it).
+    const int n = 8;
+    for (int i = 1; i <= 240; ++i) {
+      for (int s = 0; s < n; ++s) {
+        ASSERT_TRUE(art.step(1.0 / (60 * n), Vec3::Zero(), nullptr, b.state.data()));
+        const Vec3 w = b.state[1].q_WP * b.state[1].w_P;
+        dissipated += c * 0.5 * (w_prev.squaredNorm() + w.squaredNorm()) / (60 * n);
+        w_prev = w;
+      }
+      worst = std::max(worst, std::abs(energy() + dissipated - E0));
+      turned = std::max(turned, art.mechanisms()[0].loop_angle(0));
+    }
+    EXPECT_GT(turned, 0.3);  // the spring wound (rad)
+    if (c == 0)
+      EXPECT_LT(worst, 1e-8 * E0);
+    else
+      EXPECT_LT(worst, 1e-4 * dissipated);
+  }
+}
+
 }  // namespace
 }  // namespace simreel
