@@ -1088,18 +1088,19 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
   // coordinate), then the rest, each group in file order: a loop is closed by a plain joint
   // wherever it has one, whichever joint the file wrote last. A scene whose loops were already
   // closed by plain joints gets the same tree as in file order.
-  // A ball joint with a spring (tree_only 2) is taken into the tree after those and before the
-  // rest, and may close a loop that has no plain joint: its torque then acts between the two bodies
-  // as a loop's hinge spring does.
+  // A ball joint with a spring or stops (tree_only 2) is taken into the tree after those and before
+  // the rest, and may close a loop that has no plain joint: its spring then acts between the two
+  // bodies as a loop's hinge spring does, and its stops measure b's rotation relative to a's.
   std::vector<char> tree_only(nj, 0);
   for (int j = 0; j < nj; ++j) {
     const JointDef& d = joints_[j];
     const bool one_axis = d.type == JointType::revolute || d.type == JointType::prismatic;
-    const bool ball_spring = d.spring && d.type == JointType::spherical;
-    if (d.type == JointType::wheel || d.motor || d.motor2 || d.steering || d.friction != 0 || d.ball_limits ||
-        d.armature != 0 || d.mimic || (d.spring && !one_axis && !ball_spring) || (d.limits && !one_axis))
+    const bool ball = d.type == JointType::spherical;
+    if (d.type == JointType::wheel || d.motor || d.motor2 || d.steering || d.friction != 0 ||
+        (d.ball_limits && !ball) || d.armature != 0 || d.mimic || (d.spring && !one_axis && !ball) ||
+        (d.limits && !one_axis))
       tree_only[j] = 1;
-    else if (ball_spring)
+    else if (ball && (d.spring || d.ball_limits))
       tree_only[j] = 2;
     if (!d.mimic) continue;
     if (d.mimic->leader >= 0 && d.mimic->leader < nj) tree_only[d.mimic->leader] = 1;
@@ -1755,13 +1756,16 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
   // A ball joint's stops: its swing and twist, each a slack rope between its bounds.
   for (int j = 0; j < (int)joints_.size(); ++j) {
     const JointDef& d = joints_[j];
-    if (!d.ball_limits || is_loop[j]) continue;
+    if (!d.ball_limits) continue;
     const auto [mi, li] = joint_link_[j];
     Mechanism& m = mechanisms_[mi];
     const BallLimits& B = *d.ball_limits;
     Mechanism::Tether t;
     t.joint = j;
-    t.link = li;
+    if (is_loop[j])
+      t.loop = -1 - li;  // joint_link_ holds a loop's index as -1 - index
+    else
+      t.link = li;
     t.axis = d.axis_W.norm() > 0 ? Vec3(d.axis_W.normalized())
                                  : Vec3::UnitZ();  // joint frame = world axes at t = 0
     t.restitution = B.restitution;

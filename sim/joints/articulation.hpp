@@ -279,6 +279,9 @@ class Mechanism {
   double tether_gap(int t) const;
   // A ball joint's swing, twist or whole angle (rad) and its rate at the last written poses.
   double ball_readout(const Tether& t, double* rate = nullptr) const;
+  // A loop-closing ball joint's rotation of b relative to a in its joint frame (the world's axes at
+  // the start), from the two links' world rotations.
+  static Mat3 loop_ball_rotation(const Loop& L, const Mat3& Ra, const Mat3& Rb);
   // A ball joint's rotation vector (rad; |phi| <= pi) from its coordinates: its spring's stretch.
   static Vec3 ball_rotation_vector(const Link& l, const double* q);
   bool events_on() const { return !dofs.empty() || !tethers.empty(); }

@@ -109,7 +109,21 @@ double measure_derivative(const Mechanism::Tether& t, const Mat3& R, const Vec3&
 
 }  // namespace
 
+// A ball joint that closes a loop: its joint frame is the world's axes at the start, so b's
+// rotation relative to a's in it is (R_a R_a0^T)^T (R_b R_b0^T), and the relative rate in b's joint
+// frame is R_b0 (w_b - R_b^T R_a w_a) from the link-frame rates, whose derivative is
+// R_b0 (alpha_b - R_ba alpha_a + w_b x R_ba w_a) with R_ba = R_b^T R_a (the tree's formula below
+// with the loop's two links in place of a link and its parent).
+Mat3 Mechanism::loop_ball_rotation(const Loop& L, const Mat3& Ra, const Mat3& Rb) {
+  return L.q_a0.toRotationMatrix() * Ra.transpose() * Rb * L.q_b0.conjugate().toRotationMatrix();
+}
+
 double Mechanism::ball_angle(const Tether& t) const {
+  if (t.loop >= 0) {
+    const Loop& L = loops[t.loop];
+    const Mat3 Ra = L.la < 0 ? Mat3::Identity() : work_[L.la].R_W;
+    return measure_angle(t, loop_ball_rotation(L, Ra, work_[L.lb].R_W));
+  }
   // R from the link's transform: E^T = R_pF R R_cF^T (kinematics).
   const Link& l = links[t.link];
   const Mat3 R = l.R_pF.transpose() * work_[t.link].E.transpose() * l.R_cF;
@@ -126,6 +140,14 @@ Vec3 relative_rate(const Link& l, const Mat3& E, const std::vector<Vec6>& V, int
 }  // namespace
 
 double Mechanism::ball_rate(const Tether& t, const std::vector<Vec6>& V) const {
+  if (t.loop >= 0) {
+    const Loop& L = loops[t.loop];
+    const Mat3 Ra = L.la < 0 ? Mat3::Identity() : work_[L.la].R_W;
+    const Mat3& Rb = work_[L.lb].R_W;
+    Vec3 wl = V[L.lb].head<3>();
+    if (L.la >= 0) wl -= Rb.transpose() * (Ra * V[L.la].head<3>());
+    return measure_derivative(t, loop_ball_rotation(L, Ra, Rb), L.q_b0 * wl, nullptr);
+  }
   const Link& l = links[t.link];
   const Mat3& E = work_[t.link].E;
   const Mat3 R = l.R_pF.transpose() * E.transpose() * l.R_cF;
@@ -135,6 +157,20 @@ double Mechanism::ball_rate(const Tether& t, const std::vector<Vec6>& V) const {
 
 double Mechanism::ball_acceleration(const Tether& t, const std::vector<Vec6>& V,
                                     const std::vector<Vec6>& A) const {
+  if (t.loop >= 0) {
+    const Loop& L = loops[t.loop];
+    const Mat3 Ra = L.la < 0 ? Mat3::Identity() : work_[L.la].R_W;
+    const Mat3& Rb = work_[L.lb].R_W;
+    Vec3 wl = V[L.lb].head<3>(), al = A[L.lb].head<3>();
+    if (L.la >= 0) {
+      const Mat3 Rba = Rb.transpose() * Ra;
+      const Vec3 wa = Rba * V[L.la].head<3>();
+      wl -= wa;
+      al += V[L.lb].head<3>().cross(wa) - Rba * A[L.la].head<3>();
+    }
+    const Vec3 wd = L.q_b0 * al;
+    return measure_derivative(t, loop_ball_rotation(L, Ra, Rb), L.q_b0 * wl, &wd);
+  }
   const Link& l = links[t.link];
   const Mat3& E = work_[t.link].E;
   const Mat3 R = l.R_pF.transpose() * E.transpose() * l.R_cF;
@@ -148,6 +184,18 @@ double Mechanism::ball_acceleration(const Tether& t, const std::vector<Vec6>& V,
 }
 
 double Mechanism::ball_readout(const Tether& t, double* rate) const {
+  if (t.loop >= 0) {  // from the written poses of the loop's two links
+    const Loop& L = loops[t.loop];
+    const Mat3 Ra = L.la < 0 ? Mat3::Identity() : out_q_[L.la].toRotationMatrix();
+    const Mat3 Rb = out_q_[L.lb].toRotationMatrix();
+    const Mat3 R = loop_ball_rotation(L, Ra, Rb);
+    if (rate) {
+      Vec3 wl = out_v_[L.lb].head<3>();
+      if (L.la >= 0) wl -= Rb.transpose() * (Ra * out_v_[L.la].head<3>());
+      *rate = measure_derivative(t, R, L.q_b0 * wl, nullptr);
+    }
+    return measure_angle(t, R);
+  }
   // From the written poses: the link's and its parent's world rotations (the base's: identity).
   const Link& l = links[t.link];
   const Mat3 Rc = out_q_[t.link].toRotationMatrix();

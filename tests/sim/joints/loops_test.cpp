@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <sstream>
 
@@ -649,6 +650,43 @@ TEST(Loops, SprungBallJointClosesALoopAndTurnsAtItsClosedForm) {
   }
 }
 
+// A gimbal about O: a ring (0.5 kg) on a hinge to the world about `outer_axis` with a rotor, and a
+// body (2 kg) on a hinge about y in it with a rotor, both axes through the body's centre; the body
+// starts turned off the world's axes (so b's start rotation relative to a's is not the identity,
+// and R_a phi differs from R_b phi), both spinning. Its joints, then a ball joint at O from
+// `ball_parent` (-1: the world; 0: the ring) to the body, which closes the loop.
+struct Gimbal {
+  Bodies b;
+  std::vector<JointDef> joints;
+  JointDef& ball() { return joints[2]; }
+  Gimbal(const Vec3& outer_axis, int ball_parent) {
+    const Vec3 O(0.1, 0.4, 0.8);
+    b.add("ring", 0.5, Vec3(0.02, 0.01, 0.01), O);
+    const Quat q0(Eigen::AngleAxisd(0.7, Vec3(1, -2, 0.5).normalized()));
+    b.add("body", 2.0, Vec3(0.1, 0.2, 0.3), O, q0);
+    b.state[0].w_P = Vec3(1.5, 0, 0);
+    b.state[1].w_P = q0.conjugate() * Vec3(1.5, -2.0, 0);
+    joints.push_back(joint(JointType::revolute, -1, 0, O, outer_axis));
+    joints.back().armature = 0.01;
+    joints.push_back(joint(JointType::revolute, 0, 1, O, Vec3::UnitY()));
+    joints.back().armature = 0.02;
+    joints.push_back(joint(JointType::spherical, ball_parent, 1, O, Vec3::UnitZ()));
+  }
+  Articulations art;
+  /// Builds the mechanism (after the ball joint's options are set): one loop.
+  size_t build() {
+    std::vector<std::string> warnings;
+    art.build(joints, JointSettings{}, b.defs, b.model, b.state, warnings);
+    return art.mechanisms()[0].loops.size();
+  }
+  /// J: the bodies' turning, the rotors' and the springs'.
+  double energy() const {
+    double E = art.spring_energy() + art.armature_energy();
+    for (int i = 0; i < 2; ++i) E += 0.5 * b.state[i].w_P.dot(b.model[i].I_P.cwiseProduct(b.state[i].w_P));
+    return E;
+  }
+};
+
 // The same spring in three dimensions: a body in a gimbal (an outer ring on a hinge about x with
 // armature, the body on a hinge about y in it with armature, both axes through the body's centre)
 // held to the world at that centre by a sprung ball joint, which closes the loop. Spun about both
@@ -658,30 +696,12 @@ TEST(Loops, SprungBallJointClosesALoopAndTurnsAtItsClosedForm) {
 TEST(Loops, SprungBallJointClosingAGimbalKeepsItsEnergy) {
   for (double c : {0.0, 0.2}) {
     SCOPED_TRACE(c == 0 ? "undamped" : "damped");
-    Bodies b;
-    const Vec3 O(0.1, 0.4, 0.8);
-    b.add("ring", 0.5, Vec3(0.02, 0.01, 0.01), O);
-    // The body starts turned off the world's axes (so b's start rotation relative to a's is not
-    // the identity, and R_a phi differs from R_b phi).
-    const Quat q0(Eigen::AngleAxisd(0.7, Vec3(1, -2, 0.5).normalized()));
-    b.add("body", 2.0, Vec3(0.1, 0.2, 0.3), O, q0);
-    b.state[0].w_P = Vec3(1.5, 0, 0);
-    b.state[1].w_P = q0.conjugate() * Vec3(1.5, -2.0, 0);
-    JointDef outer = joint(JointType::revolute, -1, 0, O, Vec3::UnitX());
-    outer.armature = 0.01;
-    JointDef inner = joint(JointType::revolute, 0, 1, O, Vec3::UnitY());
-    inner.armature = 0.02;
-    JointDef ball = joint(JointType::spherical, -1, 1, O, Vec3::UnitZ());
-    ball.spring = JointSpring{4.0, c, 0};
-    Articulations art;
-    std::vector<std::string> warnings;
-    art.build({outer, inner, ball}, JointSettings{}, b.defs, b.model, b.state, warnings);
-    ASSERT_EQ(art.mechanisms()[0].loops.size(), 1u);
-    auto energy = [&] {
-      double E = art.spring_energy() + art.armature_energy();
-      for (int i = 0; i < 2; ++i) E += 0.5 * b.state[i].w_P.dot(b.model[i].I_P.cwiseProduct(b.state[i].w_P));
-      return E;
-    };
+    Gimbal gim(Vec3::UnitX(), -1);
+    Bodies& b = gim.b;
+    gim.ball().spring = JointSpring{4.0, c, 0};
+    ASSERT_EQ(gim.build(), 1u);
+    Articulations& art = gim.art;
+    auto energy = [&] { return gim.energy(); };
     const double E0 = energy();
     double dissipated = 0, worst = 0, turned = 0;
     Vec3 w_prev = b.state[1].q_WP * b.state[1].w_P;
@@ -702,6 +722,105 @@ TEST(Loops, SprungBallJointClosingAGimbalKeepsItsEnergy) {
       EXPECT_LT(worst, 1e-8 * E0);
     else
       EXPECT_LT(worst, 1e-4 * dissipated);
+  }
+}
+
+// A ball joint's stops on a joint that closes a loop measure b's rotation relative to a's. A body
+// turning at w0 = 2 rad/s on a hinge about z with a rotor (so the tree takes the hinge), closed to
+// the world by a ball joint at its centre whose whole-rotation stop is 0.5 rad: no gravity, so it
+// turns at constant speed between impacts, and each impact (at |q| = 0.5) reverses its rate times
+// the restitution. With e = 1 the angle is a triangle wave of period 2 / w0 after the first
+// quarter, 0.5 / w0; with e = 0.5 each crossing takes twice as long as the last.
+TEST(Loops, StopsOnAClosingBallJointBounceAtTheirClosedForm) {
+  const double w0 = 2.0, bound = 0.5;
+  for (double e : {1.0, 0.5}) {
+    SCOPED_TRACE(e == 1 ? "restitution 1" : "restitution 0.5");
+    Bodies b;
+    b.add("body", 2.0, Vec3(0.1, 0.2, 0.3), Vec3(0.3, -0.2, 1.0));
+    b.state[0].w_P = Vec3(0, 0, w0);
+    JointDef h = joint(JointType::revolute, -1, 0, Vec3(0.3, -0.2, 1.0), Vec3::UnitZ());
+    h.armature = 0.05;
+    JointDef ball = joint(JointType::spherical, -1, 0, Vec3(0.3, -0.2, 1.0), Vec3::UnitZ());
+    ball.ball_limits = BallLimits{};
+    ball.ball_limits->angle = bound;
+    ball.ball_limits->restitution = e;
+    Articulations art;
+    std::vector<std::string> warnings;
+    art.build({ball, h}, JointSettings{}, b.defs, b.model, b.state, warnings);
+    ASSERT_EQ(art.mechanisms()[0].loops.size(), 1u);
+    // The closed form: sweeps of 2 * bound (the first of bound), each at the speed left.
+    auto angle = [&](double t) {
+      double t0 = 0, q0 = 0, w = w0, span = bound;
+      while (t > t0 + span / std::abs(w)) {
+        t0 += span / std::abs(w);
+        q0 += std::copysign(span, w);
+        w = -e * w;
+        span = 2 * bound;
+      }
+      return q0 + w * (t - t0);
+    };
+    double worst = 0, past = 0;
+    for (int i = 1; i <= 150; ++i) {
+      ASSERT_TRUE(art.step(1.0 / 60, Vec3::Zero(), nullptr, b.state.data()));
+      worst = std::max(worst, std::abs(art.position(1) - angle(i / 60.0)));
+      past = std::max(past, std::abs(art.position(1)) - bound);
+    }
+    std::printf("ball stop e=%.1f: %ld mode changes, worst %.2e rad, past the stop %.2e rad\n", e,
+                art.mechanisms()[0].events, worst, past);
+    EXPECT_GE(art.mechanisms()[0].events, e == 1 ? 4 : 2);  // impacts in 2.5 s
+    EXPECT_LT(worst, 1e-9);                                 // rad: impacts located to 1e-12 of a step
+    EXPECT_LT(past, 1e-9);
+  }
+}
+
+// The same stops between two moving bodies: the gimbal of SprungBallJointClosingAGimbalKeepsItsEnergy
+// with a ball joint from the ring to the body (closing the loop the inner hinge opens) whose cone
+// stop (0.4 rad about z) the body's turn about the inner hinge's y axis sweeps into, while the ring
+// turns (about an axis askew to the inner one). The inner hinge's angle (the swing here) stays
+// within the cone's 0.4 rad; with restitution 1 the energy holds through every impact, with 0 the
+// body stays on the wall once there.
+TEST(Loops, ConeStopOnAClosingBallJointKeepsTheBodyInside) {
+  for (double e : {1.0, 0.0}) {
+    SCOPED_TRACE(e == 1 ? "restitution 1" : "restitution 0");
+    // The outer axis askew, so that the ring's turn has a part about the inner axis, which the
+    // relative rate must take away.
+    Gimbal gim(Vec3(1, 0.6, 0).normalized(), 0);
+    Bodies& b = gim.b;
+    gim.ball().ball_limits = BallLimits{};
+    gim.ball().ball_limits->cone = 0.4;
+    gim.ball().ball_limits->restitution = e;
+    ASSERT_EQ(gim.build(), 1u);
+    Articulations& art = gim.art;
+    auto energy = [&] { return gim.energy(); };
+    const double E0 = energy();
+    double worst = 0, past = 0, reach = 0, held = 0, E_prev = E0, gained = 0;
+    for (int i = 1; i <= 240; ++i) {
+      ASSERT_TRUE(art.step(1.0 / 60, Vec3::Zero(), nullptr, b.state.data()));
+      const double E = energy();
+      worst = std::max(worst, std::abs(E - E0));
+      gained = std::max(gained, E - E_prev);
+      E_prev = E;
+      past = std::max(past, art.angular_gap(b.state.data()));
+      reach = std::max(reach, std::abs(art.position(1)));
+      if (i > 60) held = std::max(held, 0.4 - std::abs(art.position(1)));
+    }
+    const Mechanism& m = art.mechanisms()[0];
+    std::printf(
+        "cone e=%.0f: %ld mode changes, energy %.2e of E0 (largest gain in a frame %.1e), past the "
+        "cone %.2e rad, off it after 1 s %.2e rad\n",
+        e, m.events, worst / E0, gained / E0, past, held);
+    EXPECT_GE(m.events, e == 1 ? 2 : 1);  // it struck the cone's wall
+    EXPECT_LT(past, 1e-9);                // rad past the cone
+    EXPECT_GT(reach, 0.35);               // at the frames; the impacts fall between them
+    EXPECT_LT(reach, 0.4 + 1e-9);         // the inner hinge's angle is the swing here
+    if (e == 1) {
+      EXPECT_LT(worst, 1e-8 * E0);
+    } else {
+      // Plastic: the body comes to rest against the wall and stays there while the ring turns
+      // (held by the stop's row at the acceleration level), losing energy only at its impact.
+      EXPECT_LT(held, 1e-9);
+      EXPECT_LT(gained, 1e-9 * E0);
+    }
   }
 }
 
