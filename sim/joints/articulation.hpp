@@ -252,13 +252,15 @@ class Mechanism {
     int loop = -1;              ///< hinge, slide: the loop whose angle or slide (loop_angle) it stops
     Vec3 axis = Vec3::UnitZ();  ///< swing, twist: unit, joint frame
     int nseg = 1;
-    int la[2] = {-1, -1}, lb[2] = {-1, -1};  ///< links (-1: the fixed base)
-    Vec3 pa[2], pb[2];                       ///< the points in the links' frames (the base's: world)
+    int la[2] = {-1, -1}, lb[2] = {-1, -1};     ///< links (-1: the fixed base)
+    Vec3 pa[2] = {Vec3::Zero(), Vec3::Zero()};  ///< the points in the links' frames (the base's: world)
+    Vec3 pb[2] = {Vec3::Zero(), Vec3::Zero()};
     double w[2] = {1, 1};
     int wheel_iq = -1, wheel_iv = -1;  ///< the wheel's coordinate, or -1
     double wheel_c = 0;                ///< m: its weight c in s (-(+-r): the rope's lever on the wheel)
     int wheel_link = -1;
-    Vec3 wheel_point[2];  ///< where segment k leaves the wheel (world, fixed): the rope pulls it there
+    Vec3 wheel_point[2] = {Vec3::Zero(), Vec3::Zero()};  ///< where segment k leaves the wheel (world,
+                                                         ///< fixed): the rope pulls it there
     bool rod = false, has_lo = false, has_hi = false;
     double lo = 0, hi = 0;  ///< m; a rod's length is hi
     double restitution = 0;
