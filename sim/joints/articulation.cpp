@@ -984,7 +984,7 @@ void Mechanism::write_bodies(MotionState* st) const {
       sin_cos(0.5 * qq[0], sh, ch);
       qpi.coeffs() = ch * l.qh0.coeffs() + sh * l.qh1.coeffs();
       const double sq = 2 * sh * ch, kq = 2 * sh * sh;  // sin q, 1 - cos q
-      t = l.th0 - sq * l.th1 - kq * l.th2;
+      t = l.t0 - sq * l.ts - kq * l.tk;
     } else if (l.kind == LinkJoint::free) {
       qpi = joint_rotation(l, qq);
       t = Vec3(qq[0], qq[1], qq[2]);
@@ -1561,9 +1561,6 @@ void Articulations::build(const std::vector<JointDef>& joints, const JointSettin
         const Vec3& a = l.axis_F;
         l.qh0 = l.q_pF * l.q_cF.conjugate();
         l.qh1 = l.q_pF * Quat(0, a.x(), a.y(), a.z()) * l.q_cF.conjugate();
-        l.th0 = l.p_pF - l.q_pF * l.p_cF_F;
-        l.th1 = l.q_pF * a.cross(l.p_cF_F);
-        l.th2 = l.q_pF * a.cross(a.cross(l.p_cF_F));
       }
       l.iq = m.nq;
       l.iv = m.nv;

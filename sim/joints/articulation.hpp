@@ -57,10 +57,9 @@ struct Link {
   // Rk = R0 [a_c]x^2, and its origin t0 - sin q Rs p_cF - (1 - cos q) Rk p_cF.
   Mat3 Rs = Mat3::Zero(), Rk = Mat3::Zero();
   Vec3 ts = Vec3::Zero(), tk = Vec3::Zero();
-  // The same pose for write_bodies, as quaternions: q_pF (cos(q/2) + sin(q/2) axis_F) q_cF^-1 =
-  // cos(q/2) qh0 + sin(q/2) qh1, and the origin th0 - sin q th1 - (1 - cos q) th2.
+  // The same rotation for write_bodies, as a quaternion: q_pF (cos(q/2) + sin(q/2) axis_F) q_cF^-1 =
+  // cos(q/2) qh0 + sin(q/2) qh1 (the origin is kinematics', from t0, ts and tk).
   Quat qh0 = Quat::Identity(), qh1 = Quat::Identity();
-  Vec3 th0 = Vec3::Zero(), th1 = Vec3::Zero(), th2 = Vec3::Zero();
   Vec3 p_cF_F = Vec3::Zero();  ///< the centre of mass in the joint frame (q_cF^-1 p_cF): write_bodies
   double mass = 0;             ///< kg
   Vec3 I_P = Vec3::Zero();     ///< kg m^2, principal moments
